@@ -1,0 +1,14 @@
+# Every dependency comes from the distribution's packages (scripts/setup.sh installs them)
+# and is found the CMake way.
+find_package(GSL 2.6 REQUIRED)
+
+if(TUMBLE_BUILD_TESTS)
+  # CMocka 1.1.5 ships a config that only sets variables; wrap them in an imported target.
+  find_package(cmocka CONFIG REQUIRED)
+  if(NOT TARGET cmocka::cmocka)
+    add_library(cmocka::cmocka INTERFACE IMPORTED)
+    set_target_properties(cmocka::cmocka PROPERTIES
+      INTERFACE_INCLUDE_DIRECTORIES "${CMOCKA_INCLUDE_DIR}"
+      INTERFACE_LINK_LIBRARIES "${CMOCKA_LIBRARIES}")
+  endif()
+endif()

@@ -1,0 +1,47 @@
+/* Rigid bodies: the state integrated in time and the definition a body is made from. */
+#ifndef TUMBLE_BODY_H
+#define TUMBLE_BODY_H
+
+#include "tumble/mass.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The state of one body, 13 doubles with no padding, so an array of N states is one flat
+ * array of 13 N doubles (the array integrators see):
+ *   x  centre-of-mass position, world frame, m
+ *   q  unit quaternion (w, x, y, z) rotating body (principal) frame vectors into the world
+ *   P  linear momentum, world frame, kg m/s
+ *   L  angular momentum about the centre of mass, world frame, kg m^2/s
+ * Keeping momenta (not velocities) in the state means a torque-free body keeps L exactly
+ * under every Runge-Kutta method. */
+typedef struct tb_body_state {
+    double x[3];
+    double q[4];
+    double P[3];
+    double L[3];
+} tb_body_state;
+
+#define TB_STATE_SIZE 13 /* doubles per body */
+
+/* How a body is made. Fill with tb_body_def_default(), then set the fields.
+ * The body frame is the principal frame of mass; the pose below is the pose of the shape
+ * frame (the frame mass.center and mass.rotation refer to), so a user never deals with the
+ * principal frame unless they want to. */
+typedef struct tb_body_def {
+    tb_mass_properties mass;     /* required: the default has mass 0, which is rejected */
+    double position[3];          /* world position of the centre of mass, m; default 0 */
+    double orientation[4];       /* shape frame -> world unit quaternion (w,x,y,z); identity */
+    double velocity[3];          /* centre-of-mass velocity, world frame, m/s; default 0 */
+    double angular_velocity[3];  /* world frame, rad/s; default 0 */
+    int internal_cookie;         /* set by tb_body_def_default */
+} tb_body_def;
+
+tb_body_def tb_body_def_default(void);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,133 @@
+/* A scene: rigid bodies, their states as one flat array, and the effects acting on them.
+ * The scene is an ODE system for the generic integrators (tumble/ode.h). */
+#ifndef TUMBLE_SCENE_H
+#define TUMBLE_SCENE_H
+
+#include "tumble/body.h"
+#include "tumble/ode.h"
+#include "tumble/status.h"
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct tb_scene tb_scene;
+
+typedef struct tb_scene_def {
+    size_t body_capacity;         /* bodies to allocate room for up front; default 16 */
+    size_t effect_capacity;       /* effects to allocate room for up front; default 8 */
+    bool renormalize_quaternions; /* post-step hook q <- q/|q|; default true */
+    int internal_cookie;          /* set by tb_scene_def_default */
+} tb_scene_def;
+
+tb_scene_def tb_scene_def_default(void);
+
+/* On failure *out_scene is NULL and out_error (may be NULL) says why. */
+tb_status tb_scene_create(const tb_scene_def *def, tb_scene **out_scene, tb_error *out_error);
+
+/* Frees the scene and everything it owns; accepts NULL. */
+void tb_scene_destroy(tb_scene *scene);
+
+/* Detail of the scene's last failure ("" if none); owned by the scene. */
+const char *tb_scene_detail(const tb_scene *scene);
+
+/* --- Bodies ------------------------------------------------------------------------------ */
+
+/* Adds a body; its id is the index 0, 1, ... in order of addition. May grow the state array,
+ * which moves it: re-read tb_scene_states() and recreate integrators after adding bodies. */
+tb_status tb_scene_add_body(tb_scene *scene, const tb_body_def *def, size_t *out_id);
+
+size_t tb_scene_body_count(const tb_scene *scene);
+
+/* The flat state array: 13 * tb_scene_body_count() doubles, body i at [13 i, 13 i + 13).
+ * Owned by the scene; valid until the next tb_scene_add_body. */
+double *tb_scene_states(tb_scene *scene);
+const double *tb_scene_states_const(const tb_scene *scene);
+
+/* Reads or writes one body's state. set validates it (finite, unit quaternion within 1e-4,
+ * which is then normalised exactly) and changes nothing on failure. */
+tb_status tb_scene_get_state(const tb_scene *scene, size_t id, tb_body_state *out_state);
+tb_status tb_scene_set_state(tb_scene *scene, size_t id, const tb_body_state *state);
+
+/* Sets a body's centre-of-mass velocity (m/s) and angular velocity (rad/s), both world
+ * frame, by converting them to P = M v and L = I(t) omega at its current orientation. */
+tb_status tb_scene_set_velocity(tb_scene *scene, size_t id, const double velocity[3],
+                                const double angular_velocity[3]);
+
+/* A body's constant mass properties, as given when it was added. */
+tb_status tb_scene_get_mass(const tb_scene *scene, size_t id, tb_mass_properties *out_mass);
+
+/* --- Read-outs (from a state array y of the scene's size; pass tb_scene_states(scene) for
+ * the current state). Quaternions are used normalised. ------------------------------------ */
+
+/* Body (principal) frame -> world rotation matrix, row-major. */
+tb_status tb_scene_body_rotation(const tb_scene *scene, const double *y, size_t id,
+                                 double out_R[9]);
+/* Centre-of-mass velocity v = P / M, world frame, m/s. */
+tb_status tb_scene_body_velocity(const tb_scene *scene, const double *y, size_t id,
+                                 double out_v[3]);
+/* Angular velocity omega = R I_body^-1 R^T L, world frame, rad/s. */
+tb_status tb_scene_body_angular_velocity(const tb_scene *scene, const double *y, size_t id,
+                                         double out_omega[3]);
+/* Pose of the body's shape frame (the frame of tb_body_def.orientation): world position of
+ * the shape origin (m) and shape -> world unit quaternion. */
+tb_status tb_scene_body_shape_pose(const tb_scene *scene, const double *y, size_t id,
+                                   double out_position[3], double out_orientation[4]);
+
+/* Total kinetic energy, sum P^2 / 2M + omega . L / 2, J. */
+tb_status tb_scene_kinetic_energy(const tb_scene *scene, const double *y, double *out_energy);
+/* Total linear momentum, world frame, kg m/s. */
+tb_status tb_scene_linear_momentum(const tb_scene *scene, const double *y, double out_P[3]);
+/* Total angular momentum about the world point `point` (m): sum (x_i - point) x P_i + L_i. */
+tb_status tb_scene_angular_momentum(const tb_scene *scene, const double *y, const double point[3],
+                                    double out_L[3]);
+
+/* --- Effects (each adds to the forces F and torques tau of the bodies it names) ---------- */
+
+/* Uniform gravitational acceleration g (m/s^2, world frame) on every body: F += M g. */
+tb_status tb_scene_add_gravity(tb_scene *scene, const double g[3]);
+
+typedef enum tb_frame {
+    TB_FRAME_WORLD = 0, /* the vector is fixed in the world */
+    TB_FRAME_BODY       /* the vector is fixed in the body's shape frame and turns with it */
+} tb_frame;
+
+/* Constant force (N) on body id, applied at a point fixed in the body, given in the body's
+ * shape frame (m, relative to the shape origin). frame says whether the force's direction is
+ * fixed in the world or turns with the body. F += f, tau += (p - x) x f. */
+tb_status tb_scene_add_force(tb_scene *scene, size_t id, const double force[3],
+                             const double point[3], tb_frame frame);
+
+/* Constant torque (N m) on body id, fixed in the world or turning with the body. */
+tb_status tb_scene_add_torque(tb_scene *scene, size_t id, const double torque[3], tb_frame frame);
+
+size_t tb_scene_effect_count(const tb_scene *scene);
+
+/* --- Integration ------------------------------------------------------------------------- */
+
+/* The scene as an ODE system: n = 13 N, derivative tb_scene_derivative, post-step hook
+ * tb_scene_normalize_quaternions when renormalisation is on. */
+tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system);
+
+/* Switches the quaternion-renormalisation hook (takes effect for systems made after). */
+void tb_scene_set_renormalize(tb_scene *scene, bool renormalize);
+
+/* The rigid-body derivative (ctx is the scene): dx = P/M, dq = 1/2 (0, omega) (x) q,
+ * dP = F, dL = tau. Pure; allocates nothing. Returns -1 if ctx is NULL. */
+int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx);
+
+/* Post-step hook: q <- q / |q| for every body. Returns 1 if some |q| is zero or not finite. */
+int tb_scene_normalize_quaternions(double t, double *y, void *ctx);
+
+/* Creates an integrator over the scene's own state array at time t0. */
+tb_status tb_scene_integrator_create(tb_scene *scene, const tb_integrator_def *def, double t0,
+                                     tb_integrator **out_integrator);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,12 @@
+/* tumble: rigid-body simulation for animation. Include this one header. */
+#ifndef TUMBLE_H
+#define TUMBLE_H
+
+#include "tumble/version.h"
+#include "tumble/status.h"
+#include "tumble/ode.h"
+#include "tumble/mass.h"
+#include "tumble/body.h"
+#include "tumble/scene.h"
+
+#endif

@@ -1,0 +1,89 @@
+/* The rigid-body derivative and the quaternion-renormalisation hook: the hot loop. */
+#include "scene_internal.h"
+
+#include "tb_math.h"
+
+void tb__unit_quaternion(const double *y, size_t i, double q[4])
+{
+    const double *raw = y + TB_STATE_SIZE * i + 3;
+    const double inv_norm = 1.0 / tb__q_norm(raw);
+    for (int k = 0; k < 4; ++k) {
+        q[k] = raw[k] * inv_norm;
+    }
+}
+
+/* omega = R I_body^-1 R^T L, by rotating L into the body frame and back rather than forming
+ * the world inverse inertia. */
+static void angular_velocity(const tb__body *body, const double q[4], const double L[3],
+                             double omega[3])
+{
+    double w_body[3];
+    tb__q_rotate_inverse(w_body, q, L);
+    for (int k = 0; k < 3; ++k) {
+        w_body[k] *= body->inv_moments[k];
+    }
+    tb__q_rotate(omega, q, w_body);
+}
+
+void tb__angular_velocity(const tb_scene *scene, const double *y, size_t i, double omega[3])
+{
+    double q[4];
+    tb__unit_quaternion(y, i, q);
+    angular_velocity(&scene->bodies[i], q, y + TB_STATE_SIZE * i + 10, omega);
+}
+
+int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
+{
+    const tb_scene *scene = ctx;
+    if (scene == NULL) {
+        return -1;
+    }
+    const size_t n = scene->body_count;
+    for (size_t i = 0; i < n; ++i) {
+        const double *s = y + TB_STATE_SIZE * i;
+        double *d = dydt + TB_STATE_SIZE * i;
+        const tb__body *body = &scene->bodies[i];
+        double q[4], omega[3];
+        /* The rotation uses q/|q| so a quaternion that drifted off the unit sphere still
+         * means a rotation; dq uses q itself, for which 1/2 (0, omega) (x) q is tangent to the
+         * sphere |q| = const. */
+        tb__unit_quaternion(y, i, q);
+        angular_velocity(body, q, s + 10, omega);
+        const double *qr = s + 3;
+        for (int k = 0; k < 3; ++k) {
+            d[k] = s[7 + k] * body->inv_mass;
+        }
+        d[3] = 0.5 * (-omega[0] * qr[1] - omega[1] * qr[2] - omega[2] * qr[3]);
+        d[4] = 0.5 * (omega[0] * qr[0] + omega[1] * qr[3] - omega[2] * qr[2]);
+        d[5] = 0.5 * (-omega[0] * qr[3] + omega[1] * qr[0] + omega[2] * qr[1]);
+        d[6] = 0.5 * (omega[0] * qr[2] - omega[1] * qr[1] + omega[2] * qr[0]);
+        for (int k = 7; k < TB_STATE_SIZE; ++k) {
+            d[k] = 0.0;
+        }
+    }
+    const tb__effect *effects = scene->effects;
+    for (size_t e = 0; e < scene->effect_count; ++e) {
+        effects[e].apply(&effects[e], scene, t, y, dydt);
+    }
+    return 0;
+}
+
+int tb_scene_normalize_quaternions(double t, double *y, void *ctx)
+{
+    (void)t;
+    const tb_scene *scene = ctx;
+    if (scene == NULL) {
+        return -1;
+    }
+    for (size_t i = 0; i < scene->body_count; ++i) {
+        double *q = y + TB_STATE_SIZE * i + 3;
+        const double norm = tb__q_norm(q);
+        if (!(norm > 0) || !isfinite(norm)) {
+            return 1;
+        }
+        for (int k = 0; k < 4; ++k) {
+            q[k] /= norm;
+        }
+    }
+    return 0;
+}

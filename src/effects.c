@@ -1,0 +1,198 @@
+/* Effects: each compiles to one entry of the scene's effect list, whose apply function adds
+ * forces into dP/dt and torques into dL/dt. The derivative visits only the entries the scene
+ * holds. */
+#include "scene_internal.h"
+
+#include "detail.h"
+#include "tb_math.h"
+
+#include <stdlib.h>
+
+tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect)
+{
+    if (scene->effect_count == scene->effect_capacity) {
+        const size_t capacity = scene->effect_capacity > 0 ? 2 * scene->effect_capacity : 8;
+        tb__effect *grown = realloc(scene->effects, capacity * sizeof *grown);
+        if (grown == NULL) {
+            return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "room for %zu effects",
+                                  capacity);
+        }
+        scene->effects = grown;
+        scene->effect_capacity = capacity;
+    }
+    scene->effects[scene->effect_count++] = *effect;
+    return TB_STATUS_OK;
+}
+
+size_t tb_scene_effect_count(const tb_scene *scene)
+{
+    return scene == NULL ? 0 : scene->effect_count;
+}
+
+static tb_status check_effect_vector(tb_scene *scene, const double *v, const char *what)
+{
+    if (v == NULL) {
+        return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "%s is NULL", what);
+    }
+    if (!tb__all_finite(v, 3)) {
+        return tb__scene_fail(scene, TB_STATUS_NOT_FINITE,
+                              "%s: contains NaN or infinity (%g, %g, %g)", what, v[0], v[1], v[2]);
+    }
+    return TB_STATUS_OK;
+}
+
+/* --- gravity: F_i += M_i g for every body ------------------------------------------------ */
+
+static void apply_gravity(const tb__effect *effect, const tb_scene *scene, double t,
+                          const double *y, double *dydt)
+{
+    (void)t;
+    (void)y;
+    for (size_t i = 0; i < scene->body_count; ++i) {
+        tb__v3_axpy(dydt + TB_STATE_SIZE * i + 7, scene->bodies[i].mass, effect->vector);
+    }
+}
+
+tb_status tb_scene_add_gravity(tb_scene *scene, const double g[3])
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    scene->detail[0] = '\0';
+    tb_status status = check_effect_vector(scene, g, "g");
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    tb__effect effect = {.apply = apply_gravity};
+    tb__v3_copy(effect.vector, g);
+    return tb__scene_push_effect(scene, &effect);
+}
+
+/* --- constant force at a body point, constant torque ------------------------------------ */
+
+/* F += f, tau += (p - x) x f with the lever arm p - x = R r (r in the principal frame). */
+static void add_force_at(const tb__effect *effect, const double q[4], const double force[3],
+                         double *d)
+{
+    double arm[3], torque[3];
+    tb__q_rotate(arm, q, effect->point);
+    tb__v3_cross(torque, arm, force);
+    tb__v3_axpy(d + 7, 1.0, force);
+    tb__v3_axpy(d + 10, 1.0, torque);
+}
+
+static void apply_world_force(const tb__effect *effect, const tb_scene *scene, double t,
+                              const double *y, double *dydt)
+{
+    (void)scene;
+    (void)t;
+    double q[4];
+    tb__unit_quaternion(y, effect->body, q);
+    add_force_at(effect, q, effect->vector, dydt + TB_STATE_SIZE * effect->body);
+}
+
+static void apply_body_force(const tb__effect *effect, const tb_scene *scene, double t,
+                             const double *y, double *dydt)
+{
+    (void)scene;
+    (void)t;
+    double q[4], force[3];
+    tb__unit_quaternion(y, effect->body, q);
+    tb__q_rotate(force, q, effect->vector);
+    add_force_at(effect, q, force, dydt + TB_STATE_SIZE * effect->body);
+}
+
+static void apply_world_torque(const tb__effect *effect, const tb_scene *scene, double t,
+                               const double *y, double *dydt)
+{
+    (void)scene;
+    (void)t;
+    (void)y;
+    tb__v3_axpy(dydt + TB_STATE_SIZE * effect->body + 10, 1.0, effect->vector);
+}
+
+static void apply_body_torque(const tb__effect *effect, const tb_scene *scene, double t,
+                              const double *y, double *dydt)
+{
+    (void)scene;
+    (void)t;
+    double q[4], torque[3];
+    tb__unit_quaternion(y, effect->body, q);
+    tb__q_rotate(torque, q, effect->vector);
+    tb__v3_axpy(dydt + TB_STATE_SIZE * effect->body + 10, 1.0, torque);
+}
+
+/* A vector fixed in the shape frame, expressed in the principal frame. */
+static void shape_to_principal(const tb_mass_properties *props, const double v[3], double out[3])
+{
+    tb__q_rotate_inverse(out, props->rotation, v);
+}
+
+static tb_status check_frame(tb_scene *scene, tb_frame frame)
+{
+    if (frame != TB_FRAME_WORLD && frame != TB_FRAME_BODY) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT, "frame: unknown frame %d",
+                              (int)frame);
+    }
+    return TB_STATUS_OK;
+}
+
+tb_status tb_scene_add_force(tb_scene *scene, size_t id, const double force[3],
+                             const double point[3], tb_frame frame)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    scene->detail[0] = '\0';
+    tb_status status = tb__scene_check_id(scene, id, "id");
+    if (status == TB_STATUS_OK) {
+        status = check_effect_vector(scene, force, "force");
+    }
+    if (status == TB_STATUS_OK) {
+        status = check_effect_vector(scene, point, "point");
+    }
+    if (status == TB_STATUS_OK) {
+        status = check_frame(scene, frame);
+    }
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    const tb_mass_properties *props = &scene->mass_props[id];
+    tb__effect effect = {.apply = frame == TB_FRAME_WORLD ? apply_world_force : apply_body_force,
+                         .body = id};
+    const double arm_shape[3] = {point[0] - props->center[0], point[1] - props->center[1],
+                                 point[2] - props->center[2]};
+    shape_to_principal(props, arm_shape, effect.point);
+    if (frame == TB_FRAME_WORLD) {
+        tb__v3_copy(effect.vector, force);
+    } else {
+        shape_to_principal(props, force, effect.vector);
+    }
+    return tb__scene_push_effect(scene, &effect);
+}
+
+tb_status tb_scene_add_torque(tb_scene *scene, size_t id, const double torque[3], tb_frame frame)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    scene->detail[0] = '\0';
+    tb_status status = tb__scene_check_id(scene, id, "id");
+    if (status == TB_STATUS_OK) {
+        status = check_effect_vector(scene, torque, "torque");
+    }
+    if (status == TB_STATUS_OK) {
+        status = check_frame(scene, frame);
+    }
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    tb__effect effect = {.apply = frame == TB_FRAME_WORLD ? apply_world_torque : apply_body_torque,
+                         .body = id};
+    if (frame == TB_FRAME_WORLD) {
+        tb__v3_copy(effect.vector, torque);
+    } else {
+        shape_to_principal(&scene->mass_props[id], torque, effect.vector);
+    }
+    return tb__scene_push_effect(scene, &effect);
+}

@@ -1,0 +1,126 @@
+/* Read-outs: quantities derived from a state array (rotation, velocities, energy, momenta). */
+#include "scene_internal.h"
+
+#include "tb_math.h"
+
+static tb_status check(const tb_scene *scene, const double *y, const void *out)
+{
+    return scene == NULL || y == NULL || out == NULL ? TB_STATUS_NULL_POINTER : TB_STATUS_OK;
+}
+
+static tb_status check_body(const tb_scene *scene, const double *y, size_t id, const void *out)
+{
+    tb_status status = check(scene, y, out);
+    return status == TB_STATUS_OK ? tb__scene_check_id(scene, id, "id") : status;
+}
+
+tb_status tb_scene_body_rotation(const tb_scene *scene, const double *y, size_t id,
+                                 double out_R[9])
+{
+    tb_status status = check_body(scene, y, id, out_R);
+    if (status == TB_STATUS_OK) {
+        double q[4];
+        tb__unit_quaternion(y, id, q);
+        tb__q_to_matrix(out_R, q);
+    }
+    return status;
+}
+
+tb_status tb_scene_body_velocity(const tb_scene *scene, const double *y, size_t id,
+                                 double out_v[3])
+{
+    tb_status status = check_body(scene, y, id, out_v);
+    if (status == TB_STATUS_OK) {
+        const double *P = y + TB_STATE_SIZE * id + 7;
+        const double inv_mass = scene->bodies[id].inv_mass;
+        tb__v3_set(out_v, P[0] * inv_mass, P[1] * inv_mass, P[2] * inv_mass);
+    }
+    return status;
+}
+
+tb_status tb_scene_body_angular_velocity(const tb_scene *scene, const double *y, size_t id,
+                                         double out_omega[3])
+{
+    tb_status status = check_body(scene, y, id, out_omega);
+    if (status == TB_STATUS_OK) {
+        tb__angular_velocity(scene, y, id, out_omega);
+    }
+    return status;
+}
+
+tb_status tb_scene_body_shape_pose(const tb_scene *scene, const double *y, size_t id,
+                                   double out_position[3], double out_orientation[4])
+{
+    tb_status status = check_body(scene, y, id, out_position);
+    if (status == TB_STATUS_OK && out_orientation == NULL) {
+        status = TB_STATUS_NULL_POINTER;
+    }
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    const tb_mass_properties *props = &scene->mass_props[id];
+    const double *r = props->rotation;
+    const double principal_from_shape[4] = {r[0], -r[1], -r[2], -r[3]};
+    double q[4], offset[3];
+    tb__unit_quaternion(y, id, q);
+    tb__q_mul(out_orientation, q, principal_from_shape); /* shape -> principal -> world */
+    tb__q_rotate(offset, out_orientation, props->center);
+    const double *x = y + TB_STATE_SIZE * id;
+    tb__v3_set(out_position, x[0] - offset[0], x[1] - offset[1], x[2] - offset[2]);
+    return TB_STATUS_OK;
+}
+
+tb_status tb_scene_kinetic_energy(const tb_scene *scene, const double *y, double *out_energy)
+{
+    tb_status status = check(scene, y, out_energy);
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    double energy = 0.0;
+    for (size_t i = 0; i < scene->body_count; ++i) {
+        const double *s = y + TB_STATE_SIZE * i;
+        double omega[3];
+        tb__angular_velocity(scene, y, i, omega);
+        energy += 0.5 * tb__v3_dot(s + 7, s + 7) * scene->bodies[i].inv_mass +
+                  0.5 * tb__v3_dot(omega, s + 10);
+    }
+    *out_energy = energy;
+    return TB_STATUS_OK;
+}
+
+tb_status tb_scene_linear_momentum(const tb_scene *scene, const double *y, double out_P[3])
+{
+    tb_status status = check(scene, y, out_P);
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    double P[3] = {0, 0, 0};
+    for (size_t i = 0; i < scene->body_count; ++i) {
+        tb__v3_axpy(P, 1.0, y + TB_STATE_SIZE * i + 7);
+    }
+    tb__v3_copy(out_P, P);
+    return TB_STATUS_OK;
+}
+
+tb_status tb_scene_angular_momentum(const tb_scene *scene, const double *y, const double point[3],
+                                    double out_L[3])
+{
+    tb_status status = check(scene, y, out_L);
+    if (status == TB_STATUS_OK && point == NULL) {
+        status = TB_STATUS_NULL_POINTER;
+    }
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    double L[3] = {0, 0, 0};
+    for (size_t i = 0; i < scene->body_count; ++i) {
+        const double *s = y + TB_STATE_SIZE * i;
+        const double arm[3] = {s[0] - point[0], s[1] - point[1], s[2] - point[2]};
+        double orbital[3];
+        tb__v3_cross(orbital, arm, s + 7);
+        tb__v3_axpy(L, 1.0, orbital);
+        tb__v3_axpy(L, 1.0, s + 10);
+    }
+    tb__v3_copy(out_L, L);
+    return TB_STATUS_OK;
+}

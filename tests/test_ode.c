@@ -1,0 +1,257 @@
+/* The generic ODE layer on problems with known solutions, and its failure behaviour. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "near.h"
+#include "tumble/ode.h"
+
+#include <math.h>
+#include <string.h>
+
+/* x' = v, v' = -x: x = cos t, v = -sin t from (1, 0). */
+static int harmonic(double t, const double *y, double *dydt, void *ctx)
+{
+    (void)t;
+    (void)ctx;
+    dydt[0] = y[1];
+    dydt[1] = -y[0];
+    return 0;
+}
+
+static double harmonic_error(tb_method method, double dt, double T)
+{
+    double y[2] = {1.0, 0.0};
+    tb_ode_system system = {2, harmonic, NULL, NULL};
+    tb_integrator_def def = tb_integrator_def_default();
+    def.method = method;
+    def.dt = dt;
+    tb_integrator *integrator = NULL;
+    assert_int_equal(tb_integrator_create(&system, &def, 0.0, y, &integrator, NULL), TB_STATUS_OK);
+    assert_int_equal(tb_integrator_advance(integrator, T), TB_STATUS_OK);
+    tb_integrator_destroy(integrator);
+    return fmax(fabs(y[0] - cos(T)), fabs(y[1] + sin(T)));
+}
+
+/* Halving h divides the global error by 2^p. Measured over two halvings in the asymptotic
+ * range (errors 1e-2 .. 1e-11, far above round-off); 10% slack covers the higher-order terms
+ * still present at these step sizes. */
+static void test_steppers_converge_at_their_classical_orders(void **state)
+{
+    (void)state;
+    for (int m = 0; m < TB_METHOD_COUNT; ++m) {
+        const int order = tb_method_order((tb_method)m);
+        double previous = harmonic_error((tb_method)m, 0.05, 2.0);
+        for (int k = 1; k <= 2; ++k) {
+            const double error = harmonic_error((tb_method)m, 0.05 / (1 << k), 2.0);
+            const double measured = log2(previous / error);
+            print_message("%-8s h = %-8g error %.3e  order %.3f\n", tb_method_name((tb_method)m),
+                          0.05 / (1 << k), error, measured);
+            assert_true(fabs(measured - order) <= 0.1 * order);
+            previous = error;
+        }
+    }
+}
+
+/* y' = 1: y equals t exactly at every step, so landing is checked to the last bit. */
+static int unit_slope(double t, const double *y, double *dydt, void *ctx)
+{
+    (void)t;
+    (void)y;
+    (void)ctx;
+    dydt[0] = 1.0;
+    return 0;
+}
+
+static void test_advance_lands_exactly_on_the_target_without_a_sliver_step(void **state)
+{
+    (void)state;
+    double y[1] = {0.0};
+    tb_ode_system system = {1, unit_slope, NULL, NULL};
+    tb_integrator_def def = tb_integrator_def_default();
+    def.dt = 0.1; /* 0.1 is not a binary fraction: ten steps do not sum to 1.0 exactly */
+    tb_integrator *integrator = NULL;
+    assert_int_equal(tb_integrator_create(&system, &def, 0.0, y, &integrator, NULL), TB_STATUS_OK);
+    assert_int_equal(tb_integrator_advance(integrator, 1.0), TB_STATUS_OK);
+    tb_integrator_stats stats;
+    tb_integrator_get_stats(integrator, &stats);
+    assert_int_equal(stats.steps, 10);
+    assert_true(tb_integrator_time(integrator) == 1.0);
+    assert_near(y[0], 1.0, 1e-15);
+
+    assert_int_equal(tb_integrator_advance(integrator, 1.25), TB_STATUS_OK);
+    tb_integrator_get_stats(integrator, &stats);
+    assert_int_equal(stats.steps, 13); /* 0.1, 0.1, then a shortened 0.05 */
+    assert_near(stats.last_step, 0.05, 1e-15);
+    assert_true(tb_integrator_time(integrator) == 1.25);
+    assert_int_equal(stats.derivative_evals, 13 * 4);
+
+    /* Advancing to the current time is a no-op; going back is an error. */
+    assert_int_equal(tb_integrator_advance(integrator, 1.25), TB_STATUS_OK);
+    assert_int_equal(tb_integrator_advance(integrator, 1.0), TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(strstr(tb_integrator_detail(integrator), "t_target"));
+    tb_integrator_destroy(integrator);
+}
+
+/* A derivative that refuses to be evaluated past t = 0.35. */
+static int fails_after(double t, const double *y, double *dydt, void *ctx)
+{
+    (void)y;
+    (void)ctx;
+    dydt[0] = 1.0;
+    return t > 0.35 ? 7 : 0;
+}
+
+static void test_derivative_error_keeps_the_last_good_state(void **state)
+{
+    (void)state;
+    for (int m = 0; m < TB_METHOD_COUNT; ++m) {
+        double y[1] = {0.0};
+        tb_ode_system system = {1, fails_after, NULL, NULL};
+        tb_integrator_def def = tb_integrator_def_default();
+        def.method = (tb_method)m;
+        def.dt = 0.1;
+        tb_integrator *integrator = NULL;
+        assert_int_equal(tb_integrator_create(&system, &def, 0.0, y, &integrator, NULL),
+                         TB_STATUS_OK);
+        assert_int_equal(tb_integrator_advance(integrator, 1.0), TB_STATUS_DERIVATIVE_FAILED);
+        /* Euler evaluates at step starts only, so it fails in the step from 0.4; midpoint and
+         * RK4 evaluate at t + h/2 and fail in the step from 0.3. */
+        const double last_good = m == TB_METHOD_EULER ? 0.4 : 0.3;
+        assert_near(tb_integrator_time(integrator), last_good, 1e-15);
+        assert_near(y[0], last_good, 1e-15);
+        assert_non_null(strstr(tb_integrator_detail(integrator), "returned 7"));
+        tb_integrator_destroy(integrator);
+    }
+}
+
+typedef struct hook_log {
+    int calls;
+    int fail_on_call;
+} hook_log;
+
+/* Counts calls; fails on the requested call. */
+static int counting_hook(double t, double *y, void *ctx)
+{
+    (void)t;
+    (void)y;
+    hook_log *log = ctx;
+    return ++log->calls == log->fail_on_call ? 5 : 0;
+}
+
+static void test_post_step_hook_runs_once_per_step_and_can_stop_the_run(void **state)
+{
+    (void)state;
+    hook_log log = {0, 0};
+    double y[1] = {0.0};
+    tb_ode_system system = {1, unit_slope, counting_hook, &log};
+    tb_integrator_def def = tb_integrator_def_default();
+    def.dt = 0.25;
+    tb_integrator *integrator = NULL;
+    assert_int_equal(tb_integrator_create(&system, &def, 0.0, y, &integrator, NULL), TB_STATUS_OK);
+    assert_int_equal(tb_integrator_advance(integrator, 1.0), TB_STATUS_OK);
+    assert_int_equal(log.calls, 4);
+
+    log.fail_on_call = 6;
+    assert_int_equal(tb_integrator_advance(integrator, 2.0), TB_STATUS_HOOK_FAILED);
+    assert_near(tb_integrator_time(integrator), 1.25, 1e-15);
+    assert_near(y[0], 1.25, 1e-15);
+    tb_integrator_destroy(integrator);
+}
+
+/* y' = y^2 from 1e100: Euler's second step overflows to infinity. */
+static int quadratic(double t, const double *y, double *dydt, void *ctx)
+{
+    (void)t;
+    (void)ctx;
+    dydt[0] = y[0] * y[0];
+    return 0;
+}
+
+static void test_a_state_that_overflows_is_reported_and_not_kept(void **state)
+{
+    (void)state;
+    double y[1] = {1e100};
+    tb_ode_system system = {1, quadratic, NULL, NULL};
+    tb_integrator_def def = tb_integrator_def_default();
+    def.method = TB_METHOD_EULER;
+    def.dt = 1.0;
+    tb_integrator *integrator = NULL;
+    assert_int_equal(tb_integrator_create(&system, &def, 0.0, y, &integrator, NULL), TB_STATUS_OK);
+    assert_int_equal(tb_integrator_advance(integrator, 5.0), TB_STATUS_STATE_NOT_FINITE);
+    assert_near(y[0], 1e100 + 1e200, 1e185);
+    assert_near(tb_integrator_time(integrator), 1.0, 0.0);
+    assert_non_null(strstr(tb_integrator_detail(integrator), "y[0]"));
+    tb_integrator_destroy(integrator);
+}
+
+typedef struct bad_case {
+    const char *label;
+    void (*spoil)(tb_ode_system *system, tb_integrator_def *def);
+    tb_status expected;
+    const char *named;
+} bad_case;
+
+static void zero_n(tb_ode_system *s, tb_integrator_def *d) { (void)d, s->n = 0; }
+static void no_derivative(tb_ode_system *s, tb_integrator_def *d) { (void)d, s->derivative = NULL; }
+static void zero_dt(tb_ode_system *s, tb_integrator_def *d) { (void)s, d->dt = 0.0; }
+static void nan_dt(tb_ode_system *s, tb_integrator_def *d) { (void)s, d->dt = NAN; }
+static void bad_method(tb_ode_system *s, tb_integrator_def *d) { (void)s, d->method = 99; }
+static void no_cookie(tb_ode_system *s, tb_integrator_def *d) { (void)s, d->internal_cookie = 0; }
+
+static void test_invalid_definitions_are_rejected_with_the_field_named(void **state)
+{
+    (void)state;
+    static const bad_case cases[] = {
+        {"n = 0", zero_n, TB_STATUS_INVALID_ARGUMENT, "system.n"},
+        {"no derivative", no_derivative, TB_STATUS_NULL_POINTER, "system.derivative"},
+        {"dt = 0", zero_dt, TB_STATUS_INVALID_ARGUMENT, "def.dt"},
+        {"dt = NaN", nan_dt, TB_STATUS_INVALID_ARGUMENT, "def.dt"},
+        {"method 99", bad_method, TB_STATUS_INVALID_ARGUMENT, "def.method"},
+        {"no cookie", no_cookie, TB_STATUS_INVALID_ARGUMENT, "tb_integrator_def_default"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        double y[2] = {1, 0};
+        tb_ode_system system = {2, harmonic, NULL, NULL};
+        tb_integrator_def def = tb_integrator_def_default();
+        cases[i].spoil(&system, &def);
+        tb_integrator *integrator = (tb_integrator *)&y; /* must be overwritten with NULL */
+        tb_error error;
+        tb_status status = tb_integrator_create(&system, &def, 0.0, y, &integrator, &error);
+        print_message("%-14s -> %s: %s\n", cases[i].label, tb_status_name(status), error.message);
+        assert_int_equal(status, cases[i].expected);
+        assert_null(integrator);
+        assert_non_null(strstr(error.message, cases[i].named));
+        assert_near(y[0], 1.0, 0.0);
+    }
+}
+
+static void test_method_names_round_trip(void **state)
+{
+    (void)state;
+    for (int m = 0; m < TB_METHOD_COUNT; ++m) {
+        tb_method parsed;
+        assert_int_equal(tb_method_from_name(tb_method_name((tb_method)m), &parsed), TB_STATUS_OK);
+        assert_int_equal(parsed, m);
+    }
+    tb_method parsed;
+    assert_int_equal(tb_method_from_name("rk45", &parsed), TB_STATUS_INVALID_ARGUMENT);
+    assert_null(tb_method_name(TB_METHOD_COUNT));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_steppers_converge_at_their_classical_orders),
+        cmocka_unit_test(test_advance_lands_exactly_on_the_target_without_a_sliver_step),
+        cmocka_unit_test(test_derivative_error_keeps_the_last_good_state),
+        cmocka_unit_test(test_post_step_hook_runs_once_per_step_and_can_stop_the_run),
+        cmocka_unit_test(test_a_state_that_overflows_is_reported_and_not_kept),
+        cmocka_unit_test(test_invalid_definitions_are_rejected_with_the_field_named),
+        cmocka_unit_test(test_method_names_round_trip),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
