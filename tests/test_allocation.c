@@ -1,1 +1,91 @@
-int main(void){return 0;}
+/* Memory is allocated when objects are created, never per step or per derivative. This test
+ * replaces malloc and friends for the whole process (the executable's definitions take
+ * precedence over libc's for every caller, the shared libtumble included) and counts calls
+ * while scenes are stepped. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "bodies.h"
+#include "tumble/tumble.h"
+
+#include <stdlib.h>
+
+/* glibc's own entry points, which the replacements forward to. */
+extern void *__libc_malloc(size_t size);
+extern void *__libc_calloc(size_t count, size_t size);
+extern void *__libc_realloc(void *pointer, size_t size);
+extern void __libc_free(void *pointer);
+
+static long allocations;
+
+void *malloc(size_t size)
+{
+    ++allocations;
+    return __libc_malloc(size);
+}
+void *calloc(size_t count, size_t size)
+{
+    ++allocations;
+    return __libc_calloc(count, size);
+}
+void *realloc(void *pointer, size_t size)
+{
+    ++allocations;
+    return __libc_realloc(pointer, size);
+}
+void free(void *pointer) { __libc_free(pointer); }
+
+/* The counter is live: creating a scene is seen to allocate, so a zero below means
+ * something. */
+static void test_the_counter_sees_allocations(void **state)
+{
+    (void)state;
+    const long before = allocations;
+    tb_scene *scene = test_scene_one_body(1.0, (double[]){1, 2, 3}, NULL, (double[]){1, 0, 1});
+    assert_true(allocations > before);
+    tb_scene_destroy(scene);
+}
+
+static void test_stepping_allocates_nothing(void **state)
+{
+    (void)state;
+    for (int m = 0; m < TB_METHOD_COUNT; ++m) {
+        tb_scene *scene = test_scene_one_body(1.0, (double[]){1, 2, 3}, NULL, (double[]){1, 0, 1});
+        assert_int_equal(tb_scene_add_gravity(scene, (double[]){0, 0, -9.81}), TB_STATUS_OK);
+        assert_int_equal(tb_scene_add_force(scene, 0, (double[]){1, 0, 0}, (double[]){0, 1, 0},
+                                            TB_FRAME_BODY),
+                         TB_STATUS_OK);
+        tb_integrator_def def = tb_integrator_def_default();
+        def.method = (tb_method)m;
+        tb_integrator *integrator = NULL;
+        assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator), TB_STATUS_OK);
+        const long before = allocations;
+        assert_int_equal(tb_integrator_advance(integrator, 5.0), TB_STATUS_OK);
+        for (int k = 0; k < 100; ++k) {
+            assert_int_equal(tb_integrator_step(integrator), TB_STATUS_OK);
+        }
+        double energy, P[3], L[3], y_dot[TB_STATE_SIZE];
+        const double *y = tb_scene_states(scene);
+        tb_scene_kinetic_energy(scene, y, &energy);
+        tb_scene_linear_momentum(scene, y, P);
+        tb_scene_angular_momentum(scene, y, (double[]){0, 0, 0}, L);
+        tb_scene_derivative(0.0, y, y_dot, scene);
+        const long during = allocations - before;
+        assert_int_equal(during, 0);
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_the_counter_sees_allocations),
+        cmocka_unit_test(test_stepping_allocates_nothing),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -98,7 +98,8 @@ tb_status tb_mass_combine(const tb_mass_part *parts, size_t count, tb_mass_prope
 /* The inertia tensor of props about its centre of mass in the shape frame (row-major). */
 tb_status tb_mass_tensor(const tb_mass_properties *props, double out_inertia[9]);
 
-/* Inverse of a symmetric positive definite 3x3 tensor (row-major). */
+/* Inverse of an inertia tensor (row-major), validated as tb_mass_from_tensor does:
+ * symmetric, positive definite, triangle inequality. */
 tb_status tb_mass_tensor_inverse(const double inertia[9], double out_inverse[9],
                                  tb_error *out_error);
 

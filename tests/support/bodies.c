@@ -1,0 +1,48 @@
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "bodies.h"
+
+tb_scene *test_scene_one_body(double mass, const double moments[3], const double q0[4],
+                              const double omega_body[3])
+{
+    tb_scene_def scene_def = tb_scene_def_default();
+    tb_scene *scene = NULL;
+    assert_int_equal(tb_scene_create(&scene_def, &scene, NULL), TB_STATUS_OK);
+    tb_body_def def = tb_body_def_default();
+    const double I[9] = {moments[0], 0, 0, 0, moments[1], 0, 0, 0, moments[2]};
+    const double origin[3] = {0, 0, 0};
+    assert_int_equal(tb_mass_from_tensor(mass, origin, I, &def.mass, NULL), TB_STATUS_OK);
+    if (q0 != NULL) {
+        for (int k = 0; k < 4; ++k) {
+            def.orientation[k] = q0[k];
+        }
+    }
+    /* World angular velocity R(q0) omega_body, by the rotation matrix written out here. */
+    const double *q = def.orientation;
+    const double w = q[0], x = q[1], y = q[2], z = q[3];
+    const double R[9] = {1 - 2 * (y * y + z * z), 2 * (x * y - w * z),     2 * (x * z + w * y),
+                         2 * (x * y + w * z),     1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
+                         2 * (x * z - w * y),     2 * (y * z + w * x),     1 - 2 * (x * x + y * y)};
+    for (int i = 0; i < 3; ++i) {
+        def.angular_velocity[i] =
+            R[3 * i] * omega_body[0] + R[3 * i + 1] * omega_body[1] + R[3 * i + 2] * omega_body[2];
+    }
+    assert_int_equal(tb_scene_add_body(scene, &def, NULL), TB_STATUS_OK);
+    return scene;
+}
+
+void test_body_omega(const tb_scene *scene, size_t id, double omega_body[3])
+{
+    double R[9], omega[3];
+    const double *y = tb_scene_states_const(scene);
+    assert_int_equal(tb_scene_body_rotation(scene, y, id, R), TB_STATUS_OK);
+    assert_int_equal(tb_scene_body_angular_velocity(scene, y, id, omega), TB_STATUS_OK);
+    for (int i = 0; i < 3; ++i) { /* R^T omega */
+        omega_body[i] = R[i] * omega[0] + R[3 + i] * omega[1] + R[6 + i] * omega[2];
+    }
+}
