@@ -14,8 +14,7 @@ tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect)
         const size_t capacity = scene->effect_capacity > 0 ? 2 * scene->effect_capacity : 8;
         tb__effect *grown = realloc(scene->effects, capacity * sizeof *grown);
         if (grown == NULL) {
-            return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "room for %zu effects",
-                                  capacity);
+            return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "room for %zu effects", capacity);
         }
         scene->effects = grown;
         scene->effect_capacity = capacity;

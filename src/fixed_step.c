@@ -49,11 +49,11 @@ static int midpoint_step(const tb_ode_system *system, double t, double h, const 
 
 /* Classical RK4, y_new = y + h/6 (k1 + 2 k2 + 2 k3 + k4), accumulated stage by stage so the
  * workspace is one stage vector and one stage state (2n) instead of four stages. */
-static int rk4_step(const tb_ode_system *system, double t, double h, const double *y,
-                    double *y_new, double *work, long *evals)
+static int rk4_step(const tb_ode_system *system, double t, double h, const double *y, double *y_new,
+                    double *work, long *evals)
 {
-    static const double stage_time[4] = {0.0, 0.5, 0.5, 1.0};  /* c_i */
-    static const double next_stage[3] = {0.5, 0.5, 1.0};       /* a_{i+1,i} */
+    static const double stage_time[4] = {0.0, 0.5, 0.5, 1.0};             /* c_i */
+    static const double next_stage[3] = {0.5, 0.5, 1.0};                  /* a_{i+1,i} */
     static const double weight[4] = {1.0 / 6, 1.0 / 3, 1.0 / 3, 1.0 / 6}; /* b_i */
     const size_t n = system->n;
     double *k = work, *y_stage = work + n;

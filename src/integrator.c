@@ -61,7 +61,9 @@ static tb_status validate(const tb_ode_system *system, const tb_integrator_def *
 {
     if (system == NULL || def == NULL || y == NULL) {
         return tb__set_error(error, TB_STATUS_NULL_POINTER, "%s is NULL",
-                             system == NULL ? "system" : def == NULL ? "def" : "y");
+                             system == NULL ? "system"
+                             : def == NULL  ? "def"
+                                            : "y");
     }
     if (def->internal_cookie != TB__INTEGRATOR_COOKIE) {
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
@@ -75,8 +77,8 @@ static tb_status validate(const tb_ode_system *system, const tb_integrator_def *
         return tb__set_error(error, TB_STATUS_NULL_POINTER, "system.derivative is NULL");
     }
     if ((int)def->method < 0 || def->method >= TB_METHOD_COUNT) {
-        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
-                             "def.method: unknown method %d", (int)def->method);
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT, "def.method: unknown method %d",
+                             (int)def->method);
     }
     if (!(def->dt > 0) || !isfinite(def->dt)) {
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
@@ -88,9 +90,8 @@ static tb_status validate(const tb_ode_system *system, const tb_integrator_def *
     return TB_STATUS_OK;
 }
 
-tb_status tb_integrator_create(const tb_ode_system *system, const tb_integrator_def *def,
-                               double t0, double *y, tb_integrator **out_integrator,
-                               tb_error *out_error)
+tb_status tb_integrator_create(const tb_ode_system *system, const tb_integrator_def *def, double t0,
+                               double *y, tb_integrator **out_integrator, tb_error *out_error)
 {
     tb__clear_error(out_error);
     if (out_integrator == NULL) {
@@ -150,8 +151,8 @@ static tb_status take_step(tb_integrator *integrator, double h, double t_end)
     if (rc != 0) {
         ++integrator->stats.failed_steps;
         return tb__set_detail(integrator->detail, TB_STATUS_DERIVATIVE_FAILED,
-                              "derivative returned %d in the %s step from t = %.17g (h = %g)",
-                              rc, integrator->stepper->name, t, h);
+                              "derivative returned %d in the %s step from t = %.17g (h = %g)", rc,
+                              integrator->stepper->name, t, h);
     }
     if (system->post_step != NULL) {
         rc = system->post_step(t_end, integrator->y_new, system->ctx);
@@ -224,15 +225,14 @@ tb_status tb_integrator_reset(tb_integrator *integrator, double t)
         return TB_STATUS_NULL_POINTER;
     }
     if (!isfinite(t)) {
-        return tb__set_detail(integrator->detail, TB_STATUS_NOT_FINITE,
-                              "t: must be finite, got %g", t);
+        return tb__set_detail(integrator->detail, TB_STATUS_NOT_FINITE, "t: must be finite, got %g",
+                              t);
     }
     integrator->t = t;
     return TB_STATUS_OK;
 }
 
-tb_status tb_integrator_get_stats(const tb_integrator *integrator,
-                                  tb_integrator_stats *out_stats)
+tb_status tb_integrator_get_stats(const tb_integrator *integrator, tb_integrator_stats *out_stats)
 {
     if (integrator == NULL || out_stats == NULL) {
         return TB_STATUS_NULL_POINTER;

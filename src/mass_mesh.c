@@ -140,16 +140,15 @@ static void integrate(const mesh_view *mesh, const double o[3], double *volume, 
         tb__v3_axpy(first, tet_volume / 4.0, s);
         for (int i = 0; i < 3; ++i) {
             for (int j = 0; j < 3; ++j) {
-                const double outer = p[0][i] * p[0][j] + p[1][i] * p[1][j] + p[2][i] * p[2][j] +
-                                     s[i] * s[j];
+                const double outer =
+                    p[0][i] * p[0][j] + p[1][i] * p[1][j] + p[2][i] * p[2][j] + s[i] * s[j];
                 C[3 * i + j] += tet_volume / 20.0 * outer;
             }
         }
     }
 }
 
-static tb_status check_inputs(const mesh_view *mesh, const tb_mass_properties *out,
-                              tb_error *error)
+static tb_status check_inputs(const mesh_view *mesh, const tb_mass_properties *out, tb_error *error)
 {
     if (mesh->vertices == NULL || mesh->triangles == NULL || out == NULL) {
         return tb__set_error(error, TB_STATUS_NULL_POINTER, "%s is NULL",
@@ -171,9 +170,8 @@ static tb_status check_inputs(const mesh_view *mesh, const tb_mass_properties *o
 }
 
 tb_status tb_mass_from_mesh(tb_mass_mode mode, double value, const double *vertices,
-                            size_t vertex_count, const unsigned *triangles,
-                            size_t triangle_count, tb_mass_properties *out_props,
-                            tb_error *out_error)
+                            size_t vertex_count, const unsigned *triangles, size_t triangle_count,
+                            tb_mass_properties *out_props, tb_error *out_error)
 {
     tb__clear_error(out_error);
     const mesh_view mesh = {vertices, vertex_count, triangles, triangle_count};
@@ -201,8 +199,8 @@ tb_status tb_mass_from_mesh(tb_mass_mode mode, double value, const double *verti
     }
     const double density = mode == TB_MASS_DENSITY ? value : value / volume;
     if (!(density > 0) || !isfinite(density)) {
-        return tb__set_error(out_error, isfinite(value) ? TB_STATUS_INVALID_ARGUMENT
-                                                        : TB_STATUS_NOT_FINITE,
+        return tb__set_error(out_error,
+                             isfinite(value) ? TB_STATUS_INVALID_ARGUMENT : TB_STATUS_NOT_FINITE,
                              "%s: must be finite and > 0, got %g",
                              mode == TB_MASS_DENSITY ? "density" : "mass", value);
     }

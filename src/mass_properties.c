@@ -49,8 +49,7 @@ static tb_status resolve_mass(tb_mass_mode mode, double value, double volume, do
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT, "mode: unknown mass mode %d",
                              (int)mode);
     }
-    tb_status status =
-        tb__check_positive(value, mode == TB_MASS_GIVEN ? "mass" : "density", error);
+    tb_status status = tb__check_positive(value, mode == TB_MASS_GIVEN ? "mass" : "density", error);
     if (status != TB_STATUS_OK) {
         return status;
     }
@@ -118,8 +117,8 @@ tb_status tb_mass_from_box(tb_mass_mode mode, double value, const double size[3]
         return status;
     }
     const double x2 = size[0] * size[0], y2 = size[1] * size[1], z2 = size[2] * size[2];
-    return from_diagonal(mass, mass * (y2 + z2) / 12, mass * (x2 + z2) / 12,
-                         mass * (x2 + y2) / 12, out_props, out_error);
+    return from_diagonal(mass, mass * (y2 + z2) / 12, mass * (x2 + z2) / 12, mass * (x2 + y2) / 12,
+                         out_props, out_error);
 }
 
 static tb_status check_radius_length(double radius, double length, tb_error *error)
@@ -158,8 +157,8 @@ tb_status tb_mass_from_capsule(tb_mass_mode mode, double value, double radius, d
     double mass;
     tb_status status = check_radius_length(radius, length, out_error);
     if (status == TB_STATUS_OK) {
-        status = resolve_mass(mode, value, cylinder_volume + 2 * hemisphere_volume, &mass,
-                              out_error);
+        status =
+            resolve_mass(mode, value, cylinder_volume + 2 * hemisphere_volume, &mass, out_error);
     }
     if (status != TB_STATUS_OK) {
         return status;
@@ -188,15 +187,15 @@ tb_status tb_mass_from_ellipsoid(tb_mass_mode mode, double value, const double s
     double mass;
     tb_status status = check_three_positive(s, "semi_axes", out_error);
     if (status == TB_STATUS_OK) {
-        status = resolve_mass(mode, value, 4.0 / 3.0 * TB__PI * s[0] * s[1] * s[2], &mass,
-                              out_error);
+        status =
+            resolve_mass(mode, value, 4.0 / 3.0 * TB__PI * s[0] * s[1] * s[2], &mass, out_error);
     }
     if (status != TB_STATUS_OK) {
         return status;
     }
     const double a2 = s[0] * s[0], b2 = s[1] * s[1], c2 = s[2] * s[2];
-    return from_diagonal(mass, mass * (b2 + c2) / 5, mass * (a2 + c2) / 5,
-                         mass * (a2 + b2) / 5, out_props, out_error);
+    return from_diagonal(mass, mass * (b2 + c2) / 5, mass * (a2 + c2) / 5, mass * (a2 + b2) / 5,
+                         out_props, out_error);
 }
 
 void tb__add_point_inertia(double I[9], double m, const double d[3])
@@ -254,7 +253,9 @@ tb_status tb_mass_from_tensor(double mass, const double center[3], const double 
     tb__clear_error(out_error);
     if (center == NULL || inertia == NULL || out_props == NULL) {
         return tb__set_error(out_error, TB_STATUS_NULL_POINTER, "%s is NULL",
-                             center == NULL ? "center" : inertia == NULL ? "inertia" : "out_props");
+                             center == NULL    ? "center"
+                             : inertia == NULL ? "inertia"
+                                               : "out_props");
     }
     tb_status status = tb__check_positive(mass, "mass", out_error);
     if (status != TB_STATUS_OK) {
@@ -306,8 +307,7 @@ tb_status tb_mass_validate(const tb_mass_properties *props, tb_error *out_error)
     if (status != TB_STATUS_OK) {
         return status;
     }
-    const double I[9] = {props->moments[0], 0, 0, 0, props->moments[1], 0, 0, 0,
-                         props->moments[2]};
+    const double I[9] = {props->moments[0], 0, 0, 0, props->moments[1], 0, 0, 0, props->moments[2]};
     double moments[3], rotation[4];
     return tb__principal_axes(I, "moments", moments, rotation, out_error);
 }

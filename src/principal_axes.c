@@ -114,9 +114,8 @@ tb_status tb__principal_axes(const double I[9], const char *what, double out_mom
         return status;
     }
     double moments[3], V[9];
-    const bool diagonal = fabs(I[1]) + fabs(I[2]) + fabs(I[3]) + fabs(I[5]) + fabs(I[6]) +
-                              fabs(I[7]) ==
-                          0.0;
+    const bool diagonal =
+        fabs(I[1]) + fabs(I[2]) + fabs(I[3]) + fabs(I[5]) + fabs(I[6]) + fabs(I[7]) == 0.0;
     if (diagonal) {
         tb__v3_set(moments, I[0], I[4], I[8]);
     } else {

@@ -14,8 +14,7 @@ static tb_status check_body(const tb_scene *scene, const double *y, size_t id, c
     return status == TB_STATUS_OK ? tb__scene_check_id(scene, id, "id") : status;
 }
 
-tb_status tb_scene_body_rotation(const tb_scene *scene, const double *y, size_t id,
-                                 double out_R[9])
+tb_status tb_scene_body_rotation(const tb_scene *scene, const double *y, size_t id, double out_R[9])
 {
     tb_status status = check_body(scene, y, id, out_R);
     if (status == TB_STATUS_OK) {
@@ -26,8 +25,7 @@ tb_status tb_scene_body_rotation(const tb_scene *scene, const double *y, size_t 
     return status;
 }
 
-tb_status tb_scene_body_velocity(const tb_scene *scene, const double *y, size_t id,
-                                 double out_v[3])
+tb_status tb_scene_body_velocity(const tb_scene *scene, const double *y, size_t id, double out_v[3])
 {
     tb_status status = check_body(scene, y, id, out_v);
     if (status == TB_STATUS_OK) {

@@ -139,8 +139,8 @@ const char *tb_scene_detail(const tb_scene *scene)
 static tb_status check_vector(tb_scene *scene, const double v[3], const char *what)
 {
     if (!tb__all_finite(v, 3)) {
-        return tb__scene_fail(scene, TB_STATUS_NOT_FINITE, "%s: contains NaN or infinity (%g, %g, %g)",
-                              what, v[0], v[1], v[2]);
+        return tb__scene_fail(scene, TB_STATUS_NOT_FINITE,
+                              "%s: contains NaN or infinity (%g, %g, %g)", what, v[0], v[1], v[2]);
     }
     return TB_STATUS_OK;
 }

@@ -23,7 +23,10 @@ static inline double tb__v3_dot(const double a[3], const double b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-static inline double tb__v3_norm(const double a[3]) { return sqrt(tb__v3_dot(a, a)); }
+static inline double tb__v3_norm(const double a[3])
+{
+    return sqrt(tb__v3_dot(a, a));
+}
 
 /* out = a x b; out may alias neither input. */
 static inline void tb__v3_cross(double out[3], const double a[3], const double b[3])
@@ -150,8 +153,7 @@ static inline void tb__m3_mul(double out[9], const double A[9], const double B[9
 {
     for (int i = 0; i < 3; ++i) {
         for (int j = 0; j < 3; ++j) {
-            out[3 * i + j] =
-                A[3 * i] * B[j] + A[3 * i + 1] * B[3 + j] + A[3 * i + 2] * B[6 + j];
+            out[3 * i + j] = A[3 * i] * B[j] + A[3 * i + 1] * B[3 + j] + A[3 * i + 2] * B[6 + j];
         }
     }
 }
@@ -170,9 +172,8 @@ static inline void tb__m3_rotate_diagonal(double out[9], const double R[9], cons
 {
     for (int i = 0; i < 3; ++i) {
         for (int j = 0; j < 3; ++j) {
-            out[3 * i + j] =
-                R[3 * i] * d[0] * R[3 * j] + R[3 * i + 1] * d[1] * R[3 * j + 1] +
-                R[3 * i + 2] * d[2] * R[3 * j + 2];
+            out[3 * i + j] = R[3 * i] * d[0] * R[3 * j] + R[3 * i + 1] * d[1] * R[3 * j + 1] +
+                             R[3 * i + 2] * d[2] * R[3 * j + 2];
         }
     }
 }

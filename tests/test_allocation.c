@@ -37,7 +37,10 @@ void *realloc(void *pointer, size_t size)
     ++allocations;
     return __libc_realloc(pointer, size);
 }
-void free(void *pointer) { __libc_free(pointer); }
+void free(void *pointer)
+{
+    __libc_free(pointer);
+}
 
 /* The counter is live: creating a scene is seen to allocate, so a zero below means
  * something. */
@@ -56,9 +59,9 @@ static void test_stepping_allocates_nothing(void **state)
     for (int m = 0; m < TB_METHOD_COUNT; ++m) {
         tb_scene *scene = test_scene_one_body(1.0, (double[]){1, 2, 3}, NULL, (double[]){1, 0, 1});
         assert_int_equal(tb_scene_add_gravity(scene, (double[]){0, 0, -9.81}), TB_STATUS_OK);
-        assert_int_equal(tb_scene_add_force(scene, 0, (double[]){1, 0, 0}, (double[]){0, 1, 0},
-                                            TB_FRAME_BODY),
-                         TB_STATUS_OK);
+        assert_int_equal(
+            tb_scene_add_force(scene, 0, (double[]){1, 0, 0}, (double[]){0, 1, 0}, TB_FRAME_BODY),
+            TB_STATUS_OK);
         tb_integrator_def def = tb_integrator_def_default();
         def.method = (tb_method)m;
         tb_integrator *integrator = NULL;

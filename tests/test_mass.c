@@ -57,19 +57,17 @@ static void test_primitives_match_textbook_moments(void **state)
     assert_near(p.moments[0], 13.0, 1e-13);                /* shape axes kept */
     assert_near(p.rotation[0], 1.0, 0.0);
 
-    assert_int_equal(tb_mass_from_cylinder(TB_MASS_GIVEN, 12.0, 1.0, 2.0, &p, NULL),
-                     TB_STATUS_OK);
+    assert_int_equal(tb_mass_from_cylinder(TB_MASS_GIVEN, 12.0, 1.0, 2.0, &p, NULL), TB_STATUS_OK);
     assert_moments_near(&p, (double[]){7, 7, 6}, 1e-14); /* m(3r^2+h^2)/12, m r^2/2 */
 
-    assert_int_equal(
-        tb_mass_from_ellipsoid(TB_MASS_GIVEN, 5.0, (double[]){1, 2, 3}, &p, NULL), TB_STATUS_OK);
+    assert_int_equal(tb_mass_from_ellipsoid(TB_MASS_GIVEN, 5.0, (double[]){1, 2, 3}, &p, NULL),
+                     TB_STATUS_OK);
     assert_moments_near(&p, (double[]){13, 10, 5}, 1e-14); /* m (b^2 + c^2) / 5 */
 
     /* Density mode: mass = density * volume. */
     assert_int_equal(tb_mass_from_sphere(TB_MASS_DENSITY, 1000.0, 0.1, &p, NULL), TB_STATUS_OK);
     assert_near(p.mass, 1000.0 * 4.0 / 3.0 * PI * 1e-3, 1e-12);
-    assert_int_equal(tb_mass_from_capsule(TB_MASS_DENSITY, 1.0, 1.0, 2.0, &p, NULL),
-                     TB_STATUS_OK);
+    assert_int_equal(tb_mass_from_capsule(TB_MASS_DENSITY, 1.0, 1.0, 2.0, &p, NULL), TB_STATUS_OK);
     assert_near(p.mass, PI * 2.0 + 4.0 / 3.0 * PI, 1e-12);
 }
 
@@ -98,9 +96,8 @@ static void test_box_mesh_is_a_box_even_far_from_the_origin(void **state)
 static double mesh_error(test_mesh mesh, const tb_mass_properties *exact)
 {
     tb_mass_properties meshed;
-    assert_int_equal(tb_mass_from_mesh(TB_MASS_GIVEN, exact->mass, mesh.vertices,
-                                       mesh.vertex_count, mesh.triangles, mesh.triangle_count,
-                                       &meshed, NULL),
+    assert_int_equal(tb_mass_from_mesh(TB_MASS_GIVEN, exact->mass, mesh.vertices, mesh.vertex_count,
+                                       mesh.triangles, mesh.triangle_count, &meshed, NULL),
                      TB_STATUS_OK);
     double a[3], e[3];
     sorted3(meshed.moments, a);
@@ -227,9 +224,9 @@ static void test_composites_obey_the_parallel_axis_theorem(void **state)
     tb_mass_part parts[2];
     memset(parts, 0, sizeof parts);
     for (int k = 0; k < 2; ++k) {
-        assert_int_equal(tb_mass_from_box(TB_MASS_GIVEN, 1.0, (double[]){1, 1, 1}, &parts[k].props,
-                                          NULL),
-                         TB_STATUS_OK);
+        assert_int_equal(
+            tb_mass_from_box(TB_MASS_GIVEN, 1.0, (double[]){1, 1, 1}, &parts[k].props, NULL),
+            TB_STATUS_OK);
         parts[k].position[0] = k == 0 ? 0.5 : -0.5;
         parts[k].orientation[0] = 1.0;
     }
@@ -347,20 +344,44 @@ static tb_status from_box_mesh(void (*spoil)(test_mesh *), tb_mass_properties *o
     test_mesh_free(&mesh);
     return s;
 }
-static void drop_triangle(test_mesh *m) { m->triangle_count--; }
+static void drop_triangle(test_mesh *m)
+{
+    m->triangle_count--;
+}
 static void flip_one(test_mesh *m)
 {
     unsigned s = m->triangles[1];
     m->triangles[1] = m->triangles[2];
     m->triangles[2] = s;
 }
-static void collapse_vertex(test_mesh *m) { memcpy(m->vertices + 3, m->vertices, 3 * sizeof(double)); }
-static void bad_index(test_mesh *m) { m->triangles[4] = 99; }
-static tb_status open_mesh(tb_mass_properties *o, tb_error *e) { return from_box_mesh(drop_triangle, o, e); }
-static tb_status inverted_mesh(tb_mass_properties *o, tb_error *e) { return from_box_mesh(test_mesh_flip, o, e); }
-static tb_status inconsistent_mesh(tb_mass_properties *o, tb_error *e) { return from_box_mesh(flip_one, o, e); }
-static tb_status degenerate_mesh(tb_mass_properties *o, tb_error *e) { return from_box_mesh(collapse_vertex, o, e); }
-static tb_status index_out_of_range(tb_mass_properties *o, tb_error *e) { return from_box_mesh(bad_index, o, e); }
+static void collapse_vertex(test_mesh *m)
+{
+    memcpy(m->vertices + 3, m->vertices, 3 * sizeof(double));
+}
+static void bad_index(test_mesh *m)
+{
+    m->triangles[4] = 99;
+}
+static tb_status open_mesh(tb_mass_properties *o, tb_error *e)
+{
+    return from_box_mesh(drop_triangle, o, e);
+}
+static tb_status inverted_mesh(tb_mass_properties *o, tb_error *e)
+{
+    return from_box_mesh(test_mesh_flip, o, e);
+}
+static tb_status inconsistent_mesh(tb_mass_properties *o, tb_error *e)
+{
+    return from_box_mesh(flip_one, o, e);
+}
+static tb_status degenerate_mesh(tb_mass_properties *o, tb_error *e)
+{
+    return from_box_mesh(collapse_vertex, o, e);
+}
+static tb_status index_out_of_range(tb_mass_properties *o, tb_error *e)
+{
+    return from_box_mesh(bad_index, o, e);
+}
 
 static void test_unphysical_inputs_are_rejected_with_the_input_named(void **state)
 {
@@ -372,7 +393,8 @@ static void test_unphysical_inputs_are_rejected_with_the_input_named(void **stat
         {"negative size", negative_size, TB_STATUS_INVALID_ARGUMENT, "size[1]"},
         {"infinite semi-axis", infinite_semi_axis, TB_STATUS_NOT_FINITE, "semi_axes[2]"},
         {"asymmetric tensor", asymmetric_tensor, TB_STATUS_BAD_MASS_PROPERTIES, "symmetric"},
-        {"indefinite tensor", indefinite_tensor, TB_STATUS_BAD_MASS_PROPERTIES, "positive definite"},
+        {"indefinite tensor", indefinite_tensor, TB_STATUS_BAD_MASS_PROPERTIES,
+         "positive definite"},
         {"triangle inequality", triangle_inequality, TB_STATUS_BAD_MASS_PROPERTIES, "triangle"},
         {"NaN in tensor", nan_tensor, TB_STATUS_NOT_FINITE, "inertia"},
         {"collinear points", collinear_points, TB_STATUS_BAD_MASS_PROPERTIES, "collinear"},
@@ -390,8 +412,7 @@ static void test_unphysical_inputs_are_rejected_with_the_input_named(void **stat
         const tb_mass_properties before = out;
         tb_error error;
         tb_status status = cases[i].attempt(&out, &error);
-        print_message("%-22s -> %-22s %s\n", cases[i].label, tb_status_name(status),
-                      error.message);
+        print_message("%-22s -> %-22s %s\n", cases[i].label, tb_status_name(status), error.message);
         assert_int_equal(status, cases[i].expected);
         assert_int_equal(error.status, cases[i].expected);
         assert_non_null(strstr(error.message, cases[i].named));

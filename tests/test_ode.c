@@ -195,12 +195,30 @@ typedef struct bad_case {
     const char *named;
 } bad_case;
 
-static void zero_n(tb_ode_system *s, tb_integrator_def *d) { (void)d, s->n = 0; }
-static void no_derivative(tb_ode_system *s, tb_integrator_def *d) { (void)d, s->derivative = NULL; }
-static void zero_dt(tb_ode_system *s, tb_integrator_def *d) { (void)s, d->dt = 0.0; }
-static void nan_dt(tb_ode_system *s, tb_integrator_def *d) { (void)s, d->dt = NAN; }
-static void bad_method(tb_ode_system *s, tb_integrator_def *d) { (void)s, d->method = 99; }
-static void no_cookie(tb_ode_system *s, tb_integrator_def *d) { (void)s, d->internal_cookie = 0; }
+static void zero_n(tb_ode_system *s, tb_integrator_def *d)
+{
+    (void)d, s->n = 0;
+}
+static void no_derivative(tb_ode_system *s, tb_integrator_def *d)
+{
+    (void)d, s->derivative = NULL;
+}
+static void zero_dt(tb_ode_system *s, tb_integrator_def *d)
+{
+    (void)s, d->dt = 0.0;
+}
+static void nan_dt(tb_ode_system *s, tb_integrator_def *d)
+{
+    (void)s, d->dt = NAN;
+}
+static void bad_method(tb_ode_system *s, tb_integrator_def *d)
+{
+    (void)s, d->method = 99;
+}
+static void no_cookie(tb_ode_system *s, tb_integrator_def *d)
+{
+    (void)s, d->internal_cookie = 0;
+}
 
 static void test_invalid_definitions_are_rejected_with_the_field_named(void **state)
 {

@@ -35,8 +35,8 @@ static void test_projectile_follows_the_exact_parabola(void **state)
     (void)state;
     const double g[3] = {0.0, 0.0, -9.81}, v0[3] = {3.0, -1.0, 12.0}, T = 2.0, h = 0.01;
     for (int m = 0; m < TB_METHOD_COUNT; ++m) {
-        tb_scene *scene = test_scene_one_body(2.0, (double[]){0.1, 0.2, 0.25}, NULL,
-                                              (double[]){1.0, 5.0, 0.5});
+        tb_scene *scene =
+            test_scene_one_body(2.0, (double[]){0.1, 0.2, 0.25}, NULL, (double[]){1.0, 5.0, 0.5});
         assert_int_equal(tb_scene_set_velocity(scene, 0, v0, (double[]){1.0, 5.0, 0.5}),
                          TB_STATUS_OK);
         assert_int_equal(tb_scene_add_gravity(scene, g), TB_STATUS_OK);
@@ -145,8 +145,8 @@ static void test_torque_free_body_keeps_angular_momentum_exactly(void **state)
         tb_scene_get_state(scene, 0, &end);
         assert_memory_equal(end.L, start.L, sizeof start.L);
         tb_scene_kinetic_energy(scene, tb_scene_states(scene), &E1);
-        print_message("%-8s relative energy drift over 60 s: %+.3e\n",
-                      tb_method_name((tb_method)m), (E1 - E0) / E0);
+        print_message("%-8s relative energy drift over 60 s: %+.3e\n", tb_method_name((tb_method)m),
+                      (E1 - E0) / E0);
         if (m == TB_METHOD_RK4) {
             assert_true(fabs(E1 - E0) < 1e-9 * E0);
         }
@@ -173,8 +173,8 @@ static double predicted_norm_factor(tb_method method, double z)
     }
 }
 
-static void test_quaternion_norm_drifts_as_stability_theory_predicts_unless_renormalised(
-    void **state)
+static void
+test_quaternion_norm_drifts_as_stability_theory_predicts_unless_renormalised(void **state)
 {
     (void)state;
     const long steps = 100000;
@@ -187,7 +187,8 @@ static void test_quaternion_norm_drifts_as_stability_theory_predicts_unless_reno
         assert_int_equal(tb_integrator_advance(integrator, h * steps), TB_STATUS_OK);
         tb_body_state s;
         tb_scene_get_state(scene, 0, &s);
-        const double norm = sqrt(s.q[0] * s.q[0] + s.q[1] * s.q[1] + s.q[2] * s.q[2] + s.q[3] * s.q[3]);
+        const double norm =
+            sqrt(s.q[0] * s.q[0] + s.q[1] * s.q[1] + s.q[2] * s.q[2] + s.q[3] * s.q[3]);
         const double z = 0.5 * omega[m] * h;
         const double predicted = pow(predicted_norm_factor((tb_method)m, z), 0.5 * steps);
         print_message("%-8s |q| after 1e5 steps without hook %.15f, predicted %.15f\n",
@@ -203,7 +204,8 @@ static void test_quaternion_norm_drifts_as_stability_theory_predicts_unless_reno
         for (long k = 0; k < steps; ++k) {
             assert_int_equal(tb_integrator_step(integrator), TB_STATUS_OK);
             const double *q = tb_scene_states(scene) + 3;
-            worst = fmax(worst, fabs(sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]) - 1.0));
+            worst = fmax(worst,
+                         fabs(sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]) - 1.0));
         }
         print_message("%-8s with hook: largest | |q| - 1 | over 1e5 steps %.2e\n",
                       tb_method_name((tb_method)m), worst);
@@ -222,8 +224,8 @@ static void test_off_centre_force_exerts_the_lever_arm_torque(void **state)
     (void)state;
     const double s = sqrt(0.5);
     const double quarter_turn_z[4] = {s, 0.0, 0.0, s};
-    tb_scene *scene = test_scene_one_body(2.0, (double[]){1, 1, 1}, quarter_turn_z,
-                                          (double[]){0, 0, 0});
+    tb_scene *scene =
+        test_scene_one_body(2.0, (double[]){1, 1, 1}, quarter_turn_z, (double[]){0, 0, 0});
     const double r[3] = {1.0, 0.0, 0.0}, f[3] = {0.0, 0.0, 5.0};
     assert_int_equal(tb_scene_add_force(scene, 0, f, r, TB_FRAME_WORLD), TB_STATUS_OK);
     double dydt[TB_STATE_SIZE];
@@ -237,9 +239,9 @@ static void test_off_centre_force_exerts_the_lever_arm_torque(void **state)
     tb_scene_destroy(scene);
 
     scene = test_scene_one_body(2.0, (double[]){1, 1, 1}, quarter_turn_z, (double[]){0, 0, 0});
-    assert_int_equal(tb_scene_add_force(scene, 0, (double[]){1, 0, 0}, (double[]){0, 0, 0},
-                                        TB_FRAME_BODY),
-                     TB_STATUS_OK);
+    assert_int_equal(
+        tb_scene_add_force(scene, 0, (double[]){1, 0, 0}, (double[]){0, 0, 0}, TB_FRAME_BODY),
+        TB_STATUS_OK);
     assert_int_equal(tb_scene_add_torque(scene, 0, (double[]){0, 2, 0}, TB_FRAME_BODY),
                      TB_STATUS_OK);
     assert_int_equal(tb_scene_derivative(0.0, tb_scene_states(scene), dydt, scene), 0);
@@ -257,7 +259,8 @@ int main(void)
         cmocka_unit_test(test_torque_free_top_matches_the_jacobi_elliptic_solution),
         cmocka_unit_test(test_free_body_converges_at_each_steppers_order),
         cmocka_unit_test(test_torque_free_body_keeps_angular_momentum_exactly),
-        cmocka_unit_test(test_quaternion_norm_drifts_as_stability_theory_predicts_unless_renormalised),
+        cmocka_unit_test(
+            test_quaternion_norm_drifts_as_stability_theory_predicts_unless_renormalised),
         cmocka_unit_test(test_off_centre_force_exerts_the_lever_arm_torque),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

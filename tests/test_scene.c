@@ -98,7 +98,8 @@ static void test_shape_pose_round_trips(void **state)
     for (int k = 0; k < 4; ++k) {
         assert_near(sign * q[k], orientation[k], 1e-15);
     }
-    /* R(120 deg about (1,1,1)) maps (x, y, z) to (z, x, y): c = (0.1, 0.2, 0.3) -> (0.3, 0.1, 0.2). */
+    /* R(120 deg about (1,1,1)) maps (x, y, z) to (z, x, y): c = (0.1, 0.2, 0.3) -> (0.3, 0.1, 0.2).
+     */
     assert_near(position[0], 10.0 - 0.3, 1e-14);
     assert_near(position[1], 20.0 - 0.1, 1e-14);
     assert_near(position[2], 30.0 - 0.2, 1e-14);
@@ -229,8 +230,14 @@ static tb_status torque_infinite(tb_scene *s)
 {
     return tb_scene_add_torque(s, 0, (double[]){INFINITY, 0, 0}, TB_FRAME_WORLD);
 }
-static tb_status gravity_nan(tb_scene *s) { return tb_scene_add_gravity(s, (double[]){0, 0, NAN}); }
-static tb_status gravity_null(tb_scene *s) { return tb_scene_add_gravity(s, NULL); }
+static tb_status gravity_nan(tb_scene *s)
+{
+    return tb_scene_add_gravity(s, (double[]){0, 0, NAN});
+}
+static tb_status gravity_null(tb_scene *s)
+{
+    return tb_scene_add_gravity(s, NULL);
+}
 
 static void test_bad_input_is_refused_and_changes_nothing(void **state)
 {

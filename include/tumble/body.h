@@ -30,12 +30,12 @@ typedef struct tb_body_state {
  * frame (the frame mass.center and mass.rotation refer to), so a user never deals with the
  * principal frame unless they want to. */
 typedef struct tb_body_def {
-    tb_mass_properties mass;     /* required: the default has mass 0, which is rejected */
-    double position[3];          /* world position of the centre of mass, m; default 0 */
-    double orientation[4];       /* shape frame -> world unit quaternion (w,x,y,z); identity */
-    double velocity[3];          /* centre-of-mass velocity, world frame, m/s; default 0 */
-    double angular_velocity[3];  /* world frame, rad/s; default 0 */
-    int internal_cookie;         /* set by tb_body_def_default */
+    tb_mass_properties mass;    /* required: the default has mass 0, which is rejected */
+    double position[3];         /* world position of the centre of mass, m; default 0 */
+    double orientation[4];      /* shape frame -> world unit quaternion (w,x,y,z); identity */
+    double velocity[3];         /* centre-of-mass velocity, world frame, m/s; default 0 */
+    double angular_velocity[3]; /* world frame, rad/s; default 0 */
+    int internal_cookie;        /* set by tb_body_def_default */
 } tb_body_def;
 
 tb_body_def tb_body_def_default(void);

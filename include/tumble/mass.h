@@ -71,9 +71,8 @@ tb_status tb_mass_from_points(const double *positions, const double *masses, siz
  * triangle mesh of uniform density: vertices[3 * vertex_count] (m),
  * triangles[3 * triangle_count] (vertex indices). Volume integrals by signed tetrahedra. */
 tb_status tb_mass_from_mesh(tb_mass_mode mode, double value, const double *vertices,
-                            size_t vertex_count, const unsigned *triangles,
-                            size_t triangle_count, tb_mass_properties *out_props,
-                            tb_error *out_error);
+                            size_t vertex_count, const unsigned *triangles, size_t triangle_count,
+                            tb_mass_properties *out_props, tb_error *out_error);
 
 /* A full inertia tensor I[9] (row-major, kg m^2, about the centre of mass, shape frame),
  * the mass and the centre of mass: diagonalised into principal moments and a proper

@@ -46,9 +46,9 @@ tb_status tb_method_from_name(const char *name, tb_method *out_method);
 int tb_method_order(tb_method method);
 
 typedef struct tb_integrator_def {
-    tb_method method; /* default TB_METHOD_RK4 */
-    double dt;        /* fixed step size in the system's time unit (s for scenes), > 0;
-                         default 1/240 */
+    tb_method method;    /* default TB_METHOD_RK4 */
+    double dt;           /* fixed step size in the system's time unit (s for scenes), > 0;
+                            default 1/240 */
     int internal_cookie; /* set by tb_integrator_def_default; catches defs not made by it */
 } tb_integrator_def;
 
@@ -68,9 +68,8 @@ typedef struct tb_integrator tb_integrator;
  * by the caller and must outlive the integrator; y is not read until the first step.
  * All memory the integrator will ever use is allocated here. On failure *out_integrator is
  * NULL and out_error (may be NULL) names the wrong input. */
-tb_status tb_integrator_create(const tb_ode_system *system, const tb_integrator_def *def,
-                               double t0, double *y, tb_integrator **out_integrator,
-                               tb_error *out_error);
+tb_status tb_integrator_create(const tb_ode_system *system, const tb_integrator_def *def, double t0,
+                               double *y, tb_integrator **out_integrator, tb_error *out_error);
 
 /* Frees an integrator; accepts NULL. Does not touch y. */
 void tb_integrator_destroy(tb_integrator *integrator);
@@ -92,8 +91,7 @@ double tb_integrator_time(const tb_integrator *integrator);
 tb_status tb_integrator_reset(tb_integrator *integrator, double t);
 
 /* Copies the statistics into *out_stats. */
-tb_status tb_integrator_get_stats(const tb_integrator *integrator,
-                                  tb_integrator_stats *out_stats);
+tb_status tb_integrator_get_stats(const tb_integrator *integrator, tb_integrator_stats *out_stats);
 
 /* The method the integrator was created with (TB_METHOD_COUNT for NULL). */
 tb_method tb_integrator_method(const tb_integrator *integrator);

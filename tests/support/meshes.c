@@ -68,7 +68,7 @@ test_mesh test_mesh_revolution(const double *r, const double *z, size_t count, s
     }
     v[3 * top] = v[3 * top + 1] = 0.0;
     v[3 * top + 2] = z[count - 1];
-#define RING(k, j) ((unsigned)(1 + (k) * slices + (j) % slices))
+#define RING(k, j) ((unsigned)(1 + (k)*slices + (j) % slices))
     for (size_t j = 0; j < slices; ++j) {
         put_triangle(&mesh, bottom, RING(0, j + 1), RING(0, j));
         for (size_t k = 0; k + 1 < rings; ++k) {
@@ -122,9 +122,10 @@ test_mesh test_mesh_capsule(double radius, double length, size_t rings, size_t s
 void test_mesh_transform(test_mesh *mesh, const double q[4], const double t[3])
 {
     const double w = q[0], x = q[1], y = q[2], zq = q[3];
-    const double R[9] = {1 - 2 * (y * y + zq * zq), 2 * (x * y - w * zq),     2 * (x * zq + w * y),
-                         2 * (x * y + w * zq),     1 - 2 * (x * x + zq * zq), 2 * (y * zq - w * x),
-                         2 * (x * zq - w * y),     2 * (y * zq + w * x),     1 - 2 * (x * x + y * y)};
+    const double R[9] = {
+        1 - 2 * (y * y + zq * zq), 2 * (x * y - w * zq),      2 * (x * zq + w * y),
+        2 * (x * y + w * zq),      1 - 2 * (x * x + zq * zq), 2 * (y * zq - w * x),
+        2 * (x * zq - w * y),      2 * (y * zq + w * x),      1 - 2 * (x * x + y * y)};
     for (size_t v = 0; v < mesh->vertex_count; ++v) {
         double *p = mesh->vertices + 3 * v;
         const double o[3] = {p[0], p[1], p[2]};
