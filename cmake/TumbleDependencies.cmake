@@ -1,6 +1,7 @@
 # Every dependency comes from the distribution's packages (scripts/setup.sh installs them)
 # and is found the CMake way.
 find_package(GSL 2.6 REQUIRED)
+find_package(SUNDIALS 6 REQUIRED CONFIG COMPONENTS cvode nvecserial)
 
 if(TUMBLE_BUILD_TESTS)
   # CMocka 1.1.5 ships a config that only sets variables; wrap them in an imported target.

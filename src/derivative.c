@@ -71,19 +71,22 @@ int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
 int tb_scene_normalize_quaternions(double t, double *y, void *ctx)
 {
     (void)t;
-    const tb_scene *scene = ctx;
+    tb_scene *scene = ctx;
     if (scene == NULL) {
         return -1;
     }
+    double drift = scene->quaternion_drift;
     for (size_t i = 0; i < scene->body_count; ++i) {
         double *q = y + TB_STATE_SIZE * i + 3;
         const double norm = tb__q_norm(q);
         if (!(norm > 0) || !isfinite(norm)) {
             return 1;
         }
+        drift = fmax(drift, fabs(norm - 1.0));
         for (int k = 0; k < 4; ++k) {
             q[k] /= norm;
         }
     }
+    scene->quaternion_drift = drift;
     return 0;
 }

@@ -1,8 +1,18 @@
-/* Fixed-step explicit Runge-Kutta steppers: Euler, midpoint (RK2) and classical RK4.
- * Each writes the new state into y_new and never touches y, so a failed step loses nothing. */
+/* Fixed-step explicit Runge-Kutta methods: Euler, midpoint (RK2) and classical RK4, and the
+ * backend that advances with them. Each stepper writes the new state into y_new and never
+ * touches y, so a failed step loses nothing. */
 #include "integrator.h"
 
+#include "detail.h"
+
+#include <math.h>
 #include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The last step of an advance may be stretched by this fraction of dt rather than leaving a
+ * sliver step of round-off size. */
+#define TB__LANDING_SLACK 1e-9
 
 /* out = y + s k */
 static void add_scaled(double *out, const double *y, double s, const double *k, size_t n)
@@ -58,9 +68,7 @@ static int rk4_step(const tb_ode_system *system, double t, double h, const doubl
     const size_t n = system->n;
     double *k = work, *y_stage = work + n;
     const double *stage_input = y;
-    for (size_t i = 0; i < n; ++i) {
-        y_new[i] = y[i];
-    }
+    memcpy(y_new, y, n * sizeof(double));
     for (int s = 0; s < 4; ++s) {
         ++*evals;
         int rc = system->derivative(t + stage_time[s] * h, stage_input, k, system->ctx);
@@ -78,8 +86,122 @@ static int rk4_step(const tb_ode_system *system, double t, double h, const doubl
     return 0;
 }
 
-const tb__stepper tb__steppers[TB_METHOD_COUNT] = {
-    [TB_METHOD_EULER] = {"euler", 1, euler_step},
-    [TB_METHOD_MIDPOINT] = {"midpoint", 2, midpoint_step},
-    [TB_METHOD_RK4] = {"rk4", 4, rk4_step},
+const tb__method_entry tb__methods[TB_METHOD_COUNT] = {
+    [TB_METHOD_EULER] = {"euler", 1, &tb__fixed_step_backend, euler_step},
+    [TB_METHOD_MIDPOINT] = {"midpoint", 2, &tb__fixed_step_backend, midpoint_step},
+    [TB_METHOD_RK4] = {"rk4", 4, &tb__fixed_step_backend, rk4_step},
+    [TB_METHOD_CVODE_ADAMS] = {"cvode-adams", 12, &tb__cvode_backend, NULL},
+    [TB_METHOD_CVODE_BDF] = {"cvode-bdf", 5, &tb__cvode_backend, NULL},
+};
+
+static tb_status fixed_create(tb_integrator *integrator, const tb_integrator_def *def,
+                              tb_error *error)
+{
+    if (!(def->dt > 0) || !isfinite(def->dt)) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "def.dt: must be finite and > 0, got %g", def->dt);
+    }
+    const size_t n = integrator->system.n;
+    integrator->y_new = malloc(3 * n * sizeof(double));
+    if (integrator->y_new == NULL) {
+        return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "integrator workspace of %zu doubles",
+                             3 * n);
+    }
+    integrator->work = integrator->y_new + n;
+    integrator->dt = def->dt;
+    integrator->stats.last_order = integrator->stats.current_order = integrator->entry->order;
+    integrator->stats.current_step = def->dt;
+    return TB_STATUS_OK;
+}
+
+static void fixed_destroy(tb_integrator *integrator)
+{
+    free(integrator->y_new);
+}
+
+/* Index of the first non-finite component, or n if all are finite. */
+static size_t first_non_finite(const double *y, size_t n)
+{
+    for (size_t i = 0; i < n; ++i) {
+        if (!isfinite(y[i])) {
+            return i;
+        }
+    }
+    return n;
+}
+
+/* One step of size h from the integrator's time; commits to y only if everything succeeded. */
+static tb_status take_step(tb_integrator *integrator, double h, double t_end)
+{
+    const tb_ode_system *system = &integrator->system;
+    const char *name = integrator->entry->name;
+    const double t = integrator->t;
+    int rc = integrator->entry->step(system, t, h, integrator->y, integrator->y_new,
+                                     integrator->work, &integrator->stats.derivative_evals);
+    if (rc != 0) {
+        ++integrator->stats.failed_steps;
+        return tb__set_detail(integrator->detail, TB_STATUS_DERIVATIVE_FAILED,
+                              "derivative returned %d in the %s step from t = %.17g (h = %g)", rc,
+                              name, t, h);
+    }
+    if (system->post_step != NULL) {
+        rc = system->post_step(t_end, integrator->y_new, system->ctx);
+        if (rc != 0) {
+            ++integrator->stats.failed_steps;
+            return tb__set_detail(integrator->detail, TB_STATUS_HOOK_FAILED,
+                                  "post-step hook returned %d at t = %.17g", rc, t_end);
+        }
+    }
+    size_t bad = first_non_finite(integrator->y_new, system->n);
+    if (bad < system->n) {
+        ++integrator->stats.failed_steps;
+        return tb__set_detail(integrator->detail, TB_STATUS_STATE_NOT_FINITE,
+                              "y[%zu] became %g in the %s step from t = %.17g (h = %g); the "
+                              "step size is beyond the method's stability limit or the "
+                              "system blew up",
+                              bad, integrator->y_new[bad], name, t, h);
+    }
+    memcpy(integrator->y, integrator->y_new, system->n * sizeof(double));
+    integrator->t = t_end;
+    integrator->stats.steps++;
+    integrator->stats.last_step = h;
+    return TB_STATUS_OK;
+}
+
+static tb_status fixed_step(tb_integrator *integrator)
+{
+    return take_step(integrator, integrator->dt, integrator->t + integrator->dt);
+}
+
+static tb_status fixed_advance(tb_integrator *integrator, double t_target)
+{
+    const double t_start = integrator->t, dt = integrator->dt;
+    /* Step times are t_start + i dt rather than a running sum, so round-off does not
+     * accumulate over long runs. */
+    for (long i = 1; integrator->t < t_target; ++i) {
+        double t_end = t_start + (double)i * dt;
+        if (t_end >= t_target - TB__LANDING_SLACK * dt) {
+            t_end = t_target;
+        }
+        tb_status status = take_step(integrator, t_end - integrator->t, t_end);
+        if (status != TB_STATUS_OK) {
+            return status;
+        }
+    }
+    return TB_STATUS_OK;
+}
+
+static tb_status fixed_reset(tb_integrator *integrator, double t)
+{
+    integrator->t = t;
+    return TB_STATUS_OK;
+}
+
+static void fixed_get_stats(const tb_integrator *integrator, tb_integrator_stats *stats)
+{
+    *stats = integrator->stats;
+}
+
+const tb__backend tb__fixed_step_backend = {
+    fixed_create, fixed_advance, fixed_step, fixed_reset, fixed_get_stats, fixed_destroy,
 };

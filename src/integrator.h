@@ -1,8 +1,21 @@
-/* Private: the integrator object and the fixed-step stepper table. */
+/* Private: the integrator object and its backends (fixed-step, CVODE). */
 #ifndef TUMBLE_INTEGRATOR_H
 #define TUMBLE_INTEGRATOR_H
 
 #include "tumble/ode.h"
+
+typedef struct tb_integrator tb_integrator;
+
+/* What a backend does; the public functions in integrator.c validate and dispatch. */
+typedef struct tb__backend {
+    /* Allocates everything the backend will use; on failure frees what it took. */
+    tb_status (*create)(tb_integrator *integrator, const tb_integrator_def *def, tb_error *error);
+    tb_status (*advance)(tb_integrator *integrator, double t_target);
+    tb_status (*step)(tb_integrator *integrator);
+    tb_status (*reset)(tb_integrator *integrator, double t);
+    void (*get_stats)(const tb_integrator *integrator, tb_integrator_stats *stats);
+    void (*destroy)(tb_integrator *integrator);
+} tb__backend;
 
 /* One explicit step from (t, y) to y_new at t + h. work holds 2n doubles of scratch.
  * Returns the derivative's status: 0 ok, anything else stops the step. *evals counts
@@ -10,26 +23,32 @@
 typedef int (*tb__step_fn)(const tb_ode_system *system, double t, double h, const double *y,
                            double *y_new, double *work, long *evals);
 
-typedef struct tb__stepper {
+/* A row of the method table, indexed by tb_method. */
+typedef struct tb__method_entry {
     const char *name;
     int order;
-    tb__step_fn step;
-} tb__stepper;
+    const tb__backend *backend;
+    tb__step_fn step; /* fixed-step methods only */
+} tb__method_entry;
 
-/* Indexed by tb_method. */
-extern const tb__stepper tb__steppers[TB_METHOD_COUNT];
+extern const tb__method_entry tb__methods[TB_METHOD_COUNT];
+extern const tb__backend tb__fixed_step_backend;
+extern const tb__backend tb__cvode_backend;
 
 struct tb_integrator {
     tb_ode_system system;
     tb_method method;
-    const tb__stepper *stepper;
-    double dt;
+    const tb__method_entry *entry;
     double t;
-    double *y;     /* caller's state, n doubles */
-    double *y_new; /* candidate state, n doubles; committed to y only when the step is good */
-    double *work;  /* 2n doubles for the stepper */
+    double *y; /* caller's state, n doubles */
     tb_integrator_stats stats;
     char detail[TB_DETAIL_SIZE];
+    /* fixed-step */
+    double dt;
+    double *y_new; /* candidate state, n doubles; committed to y only when the step is good */
+    double *work;  /* 2n doubles for the stepper */
+    /* CVODE */
+    struct tb__cvode *cvode;
 };
 
 #endif

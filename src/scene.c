@@ -5,6 +5,7 @@
 #include "mass_internal.h"
 #include "tb_math.h"
 
+#include <math.h>
 #include <stdarg.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -337,6 +338,58 @@ void tb_scene_set_renormalize(tb_scene *scene, bool renormalize)
     }
 }
 
+double tb_scene_quaternion_drift(const tb_scene *scene)
+{
+    return scene == NULL ? NAN : scene->quaternion_drift;
+}
+
+void tb_scene_reset_quaternion_drift(tb_scene *scene)
+{
+    if (scene != NULL) {
+        scene->quaternion_drift = 0.0;
+    }
+}
+
+tb_status tb_scene_absolute_tolerances(const tb_scene *scene, double scale, double *out_atol)
+{
+    if (scene == NULL || out_atol == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    if (!(scale > 0) || !isfinite(scale)) {
+        return tb__scene_fail((tb_scene *)scene, TB_STATUS_INVALID_ARGUMENT,
+                              "scale: must be finite and > 0, got %g", scale);
+    }
+    for (size_t i = 0; i < scene->body_count; ++i) {
+        const tb_mass_properties *props = &scene->mass_props[i];
+        const double largest = fmax(props->moments[0], fmax(props->moments[1], props->moments[2]));
+        const double length = sqrt(largest / props->mass);
+        const double block[TB_STATE_SIZE] = {length,
+                                             length,
+                                             length,
+                                             1.0,
+                                             1.0,
+                                             1.0,
+                                             1.0,
+                                             props->mass * length,
+                                             props->mass * length,
+                                             props->mass * length,
+                                             largest,
+                                             largest,
+                                             largest};
+        for (int k = 0; k < TB_STATE_SIZE; ++k) {
+            out_atol[TB_STATE_SIZE * i + k] = scale * block[k];
+        }
+    }
+    return TB_STATUS_OK;
+}
+
+/* The automatic absolute tolerance is this fraction of rtol times each component's natural
+ * scale: it matters only for components smaller than 1% of their scale. */
+#define TB__ATOL_FRACTION 1e-2
+
+/* Half-bandwidth that covers one body's 13 x 13 Jacobian block. */
+#define TB__BODY_HALF_BANDWIDTH (TB_STATE_SIZE - 1)
+
 tb_status tb_scene_integrator_create(tb_scene *scene, const tb_integrator_def *def, double t0,
                                      tb_integrator **out_integrator)
 {
@@ -345,8 +398,26 @@ tb_status tb_scene_integrator_create(tb_scene *scene, const tb_integrator_def *d
     if (status != TB_STATUS_OK) {
         return status;
     }
+    if (def == NULL) {
+        return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "def is NULL");
+    }
+    tb_integrator_def scene_def = *def;
+    double *atol = NULL;
+    if (tb_method_is_adaptive(def->method) && def->atol == 0.0 && def->atol_vector == NULL &&
+        def->rtol > 0 && isfinite(def->rtol)) {
+        atol = malloc(system.n * sizeof(double));
+        if (atol == NULL) {
+            return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "tolerance vector");
+        }
+        tb_scene_absolute_tolerances(scene, TB__ATOL_FRACTION * def->rtol, atol);
+        scene_def.atol_vector = atol;
+    }
+    if (scene_def.preconditioner_half_bandwidth < 0) {
+        scene_def.preconditioner_half_bandwidth = TB__BODY_HALF_BANDWIDTH;
+    }
     tb_error error;
-    status = tb_integrator_create(&system, def, t0, scene->states, out_integrator, &error);
+    status = tb_integrator_create(&system, &scene_def, t0, scene->states, out_integrator, &error);
+    free(atol); /* the integrator copied it */
     if (status != TB_STATUS_OK) {
         tb__scene_fail(scene, status, "integrator: %s", error.message);
     }

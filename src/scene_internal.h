@@ -36,6 +36,7 @@ struct tb_scene {
     size_t effect_count;
     size_t effect_capacity;
     bool renormalize;
+    double quaternion_drift; /* largest | |q| - 1 | seen by the renormalisation hook */
     char detail[TB_DETAIL_SIZE];
 };
 

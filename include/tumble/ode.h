@@ -30,36 +30,85 @@ typedef struct tb_ode_system {
 
 /* How to integrate, chosen as data. */
 typedef enum tb_method {
-    TB_METHOD_EULER = 0, /* explicit Euler, order 1, 1 derivative per step */
-    TB_METHOD_MIDPOINT,  /* explicit midpoint (RK2), order 2, 2 derivatives per step */
-    TB_METHOD_RK4,       /* classical Runge-Kutta, order 4, 4 derivatives per step */
+    TB_METHOD_EULER = 0,   /* explicit Euler, order 1, 1 derivative per step */
+    TB_METHOD_MIDPOINT,    /* explicit midpoint (RK2), order 2, 2 derivatives per step */
+    TB_METHOD_RK4,         /* classical Runge-Kutta, order 4, 4 derivatives per step */
+    TB_METHOD_CVODE_ADAMS, /* SUNDIALS CVODE, Adams-Moulton orders 1-12, fixed-point
+                              iteration: adaptive, for non-stiff problems */
+    TB_METHOD_CVODE_BDF,   /* SUNDIALS CVODE, BDF orders 1-5, Newton iteration: adaptive,
+                              for stiff problems (stiff springs, heavy damping) */
     TB_METHOD_COUNT
 } tb_method;
 
-/* "euler", "midpoint", "rk4"; NULL for an unknown method. */
+/* "euler", "midpoint", "rk4", "cvode-adams", "cvode-bdf"; NULL for an unknown method. */
 const char *tb_method_name(tb_method method);
 
 /* Parses a name given by tb_method_name; returns TB_STATUS_INVALID_ARGUMENT if unknown. */
 tb_status tb_method_from_name(const char *name, tb_method *out_method);
 
-/* Classical order of accuracy of a method (1, 2, 4). 0 for an unknown method. */
+/* Classical order of a fixed-step method (1, 2, 4); the largest order of an adaptive one
+ * (12 for Adams, 5 for BDF). 0 for an unknown method. */
 int tb_method_order(tb_method method);
 
+/* Non-zero for the error-controlled CVODE methods, which take rtol/atol instead of dt. */
+int tb_method_is_adaptive(tb_method method);
+
+/* Linear solver for the Newton iteration of TB_METHOD_CVODE_BDF. */
+typedef enum tb_linear_solver {
+    TB_LINEAR_SOLVER_AUTO = 0, /* dense up to 64 unknowns (about 5 bodies), Krylov above */
+    TB_LINEAR_SOLVER_DENSE,    /* dense difference-quotient Jacobian and LU: O(n^3) a setup */
+    TB_LINEAR_SOLVER_KRYLOV    /* matrix-free GMRES with difference-quotient Jacobian-vector
+                                  products and a banded preconditioner: O(n) a setup */
+} tb_linear_solver;
+
 typedef struct tb_integrator_def {
-    tb_method method;    /* default TB_METHOD_RK4 */
-    double dt;           /* fixed step size in the system's time unit (s for scenes), > 0;
-                            default 1/240 */
+    tb_method method; /* default TB_METHOD_RK4 */
+
+    /* Fixed-step methods. */
+    double dt; /* step size in the system's time unit (s for scenes), > 0; default 1/240 */
+
+    /* Adaptive methods: CVODE keeps each step's local error e_i below
+     * rtol |y_i| + atol_i (weighted RMS norm). */
+    double rtol;                       /* relative tolerance, > 0; default 1e-6 */
+    double atol;                       /* absolute tolerance for every component, >= 0; default 0,
+                                          meaning automatic: scenes derive one per component from the
+                                          bodies' sizes and masses (tb_scene_absolute_tolerances),
+                                          other systems use rtol * 1e-3 */
+    const double *atol_vector;         /* n absolute tolerances, >= 0, overriding atol; copied at
+                                          creation; default NULL */
+    long max_steps;                    /* internal steps allowed in one advance; default 100000 */
+    double initial_step;               /* first step size; 0 (default) lets CVODE estimate it */
+    double max_step;                   /* largest step size; 0 (default) for no limit */
+    int max_order;                     /* 0 (default) for the method's largest (Adams 12, BDF 5) */
+    tb_linear_solver linear_solver;    /* BDF only; default TB_LINEAR_SOLVER_AUTO */
+    int preconditioner_half_bandwidth; /* Krylov only: half-bandwidth of the banded
+                                          difference-quotient preconditioner; < 0 (default)
+                                          automatic: 12 for scenes (one body's 13 x 13
+                                          block exactly), 0 (diagonal) otherwise */
+
     int internal_cookie; /* set by tb_integrator_def_default; catches defs not made by it */
 } tb_integrator_def;
 
 tb_integrator_def tb_integrator_def_default(void);
 
-/* What an integrator has done since it was created or last reset. */
+/* What an integrator has done since it was created. */
 typedef struct tb_integrator_stats {
-    long steps;            /* accepted steps */
-    long derivative_evals; /* calls of the derivative */
-    long failed_steps;     /* steps rejected (derivative or hook error, non-finite state) */
-    double last_step;      /* size of the last accepted step */
+    long steps;                     /* accepted steps */
+    long derivative_evals;          /* all calls of the derivative, including those made to
+                                       approximate Jacobians and preconditioners */
+    long jacobian_derivative_evals; /* the part of derivative_evals spent on Jacobians and
+                                       preconditioners (BDF) */
+    long failed_steps;              /* steps rejected: error-test or nonlinear-solver failures
+                                       (adaptive), derivative or hook errors, non-finite states */
+    long error_test_failures;       /* adaptive: steps whose error estimate was too large */
+    long nonlinear_failures;        /* adaptive: nonlinear-solver convergence failures */
+    long linear_iterations;         /* Krylov iterations (BDF with the Krylov solver) */
+    double last_step;               /* size of the last accepted step */
+    double current_step;            /* size the next step will try */
+    int last_order;                 /* order of the last step (fixed-step: the method's) */
+    int current_order;              /* order the next step will use */
+    long reinitializations;         /* adaptive: restarts because the state was changed from
+                                       outside or tb_integrator_reset was called */
 } tb_integrator_stats;
 
 typedef struct tb_integrator tb_integrator;
@@ -74,20 +123,26 @@ tb_status tb_integrator_create(const tb_ode_system *system, const tb_integrator_
 /* Frees an integrator; accepts NULL. Does not touch y. */
 void tb_integrator_destroy(tb_integrator *integrator);
 
-/* Advances y to t_target (>= current time): whole steps of dt, the last one shortened or
- * slightly stretched (by at most 1e-9 dt) so the run lands exactly on t_target without a
- * sliver step. On failure y holds the state at the last good step, the integrator's time is
- * that step's time, and the detail message names the failure and its time. */
+/* Advances y to t_target (>= current time).
+ * Fixed-step: whole steps of dt, the last one shortened or slightly stretched (by at most
+ * 1e-9 dt) so the run lands exactly on t_target without a sliver step.
+ * Adaptive: CVODE steps as its error control decides, possibly past t_target, and y is its
+ * interpolated solution at t_target; so the times asked for (the frame rate) do not change
+ * the steps taken. The post-step hook is applied to that output (for BDF it also runs inside
+ * CVODE as a projection). If y was changed from outside since the last call, CVODE is
+ * restarted from it.
+ * On failure y holds the state at the last good step, the integrator's time is that step's
+ * time, and the detail message names the failure (CVODE's flag name) and its time. */
 tb_status tb_integrator_advance(tb_integrator *integrator, double t_target);
 
-/* Takes exactly one step of size dt. */
+/* Takes exactly one step: of size dt (fixed-step), or one internal CVODE step. */
 tb_status tb_integrator_step(tb_integrator *integrator);
 
 /* Current time of y. */
 double tb_integrator_time(const tb_integrator *integrator);
 
 /* Tells the integrator that the caller changed y (or wants a new time): the next step starts
- * from y at time t. Statistics are kept. */
+ * from y at time t (CVODE restarts at order 1). Statistics keep counting. */
 tb_status tb_integrator_reset(tb_integrator *integrator, double t);
 
 /* Copies the statistics into *out_stats. */

@@ -115,6 +115,24 @@ tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system);
 /* Switches the quaternion-renormalisation hook (takes effect for systems made after). */
 void tb_scene_set_renormalize(tb_scene *scene, bool renormalize);
 
+/* Largest | |q| - 1 | the renormalisation hook has found (and removed) since the scene was
+ * made or this was last reset: how far integration pushes quaternions off the unit sphere
+ * between renormalisations. Under CVODE the hook runs on every output (and, for BDF, as the
+ * projection after every step). */
+double tb_scene_quaternion_drift(const tb_scene *scene);
+void tb_scene_reset_quaternion_drift(tb_scene *scene);
+
+/* Absolute tolerances for adaptive integration, 13 per body, from each body's own scale:
+ * with l = sqrt(I_max / M) (its radius of gyration about its largest axis, m),
+ *   position  scale * l                 (m)
+ *   q         scale                     (dimensionless)
+ *   P         scale * M * l / (1 s)     (kg m/s: the momentum of moving l per second)
+ *   L         scale * I_max / (1 s)     (kg m^2/s: the spin of 1 rad/s)
+ * so errors are measured against the body's own size, mass and a 1-second time scale.
+ * tb_scene_integrator_create uses them with scale = rtol when the def leaves atol at 0.
+ * out_atol holds 13 * tb_scene_body_count() doubles. */
+tb_status tb_scene_absolute_tolerances(const tb_scene *scene, double scale, double *out_atol);
+
 /* The rigid-body derivative (ctx is the scene): dx = P/M, dq = 1/2 (0, omega) (x) q,
  * dP = F, dL = tau. Pure; allocates nothing. Returns -1 if ctx is NULL. */
 int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx);
@@ -122,7 +140,9 @@ int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx);
 /* Post-step hook: q <- q / |q| for every body. Returns 1 if some |q| is zero or not finite. */
 int tb_scene_normalize_quaternions(double t, double *y, void *ctx);
 
-/* Creates an integrator over the scene's own state array at time t0. */
+/* Creates an integrator over the scene's own state array at time t0. For adaptive methods a
+ * def with atol = 0 and no atol_vector gets tb_scene_absolute_tolerances(scene, rtol), and a
+ * negative preconditioner_half_bandwidth gets 12 (each body's 13 x 13 Jacobian block). */
 tb_status tb_scene_integrator_create(tb_scene *scene, const tb_integrator_def *def, double t0,
                                      tb_integrator **out_integrator);
 

@@ -6,6 +6,9 @@
 #include <cmocka.h>
 
 #include "bodies.h"
+#include "torque_free_top.h"
+
+#include <math.h>
 
 tb_scene *test_scene_one_body(double mass, const double moments[3], const double q0[4],
                               const double omega_body[3])
@@ -45,4 +48,36 @@ void test_body_omega(const tb_scene *scene, size_t id, double omega_body[3])
     for (int i = 0; i < 3; ++i) { /* R^T omega */
         omega_body[i] = R[i] * omega[0] + R[3 + i] * omega[1] + R[6 + i] * omega[2];
     }
+}
+
+const double test_top_moments[3] = {1.0, 2.0, 3.0};
+const double test_top_omega[3] = {1.5, 0.0, 1.0};
+const double test_top_q0[4] = {0.8, 0.36, -0.48, 0.0};
+
+double test_top_error(const tb_integrator_def *def, double T, int frames,
+                      tb_integrator_stats *stats)
+{
+    torque_free_top exact;
+    assert_int_equal(
+        torque_free_top_init(&exact, test_top_moments, test_top_omega[0], test_top_omega[2]), 0);
+    tb_scene *scene = test_scene_one_body(1.0, test_top_moments, test_top_q0, test_top_omega);
+    tb_integrator *integrator = NULL;
+    assert_int_equal(tb_scene_integrator_create(scene, def, 0.0, &integrator), TB_STATUS_OK);
+    double worst = 0.0;
+    for (int f = 1; f <= frames; ++f) {
+        const double t = T * f / frames;
+        assert_int_equal(tb_integrator_advance(integrator, t), TB_STATUS_OK);
+        double w[3], w_exact[3];
+        test_body_omega(scene, 0, w);
+        torque_free_top_omega(&exact, t, w_exact);
+        for (int i = 0; i < 3; ++i) {
+            worst = fmax(worst, fabs(w[i] - w_exact[i]));
+        }
+    }
+    if (stats != NULL) {
+        tb_integrator_get_stats(integrator, stats);
+    }
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+    return worst;
 }

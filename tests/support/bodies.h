@@ -13,4 +13,17 @@ tb_scene *test_scene_one_body(double mass, const double moments[3], const double
 /* Body-frame angular velocity of body id: R^T omega. */
 void test_body_omega(const tb_scene *scene, size_t id, double omega_body[3]);
 
+/* The asymmetric top of the tests: I = (1, 2, 3) kg m^2, omega_body(0) = (1.5, 0, 1) rad/s,
+ * which rotates about the I3 axis (L^2 > 2 E I2) with k^2 = 0.75, tilted by an arbitrary
+ * initial orientation so every world component moves. */
+extern const double test_top_moments[3];
+extern const double test_top_omega[3];
+extern const double test_top_q0[4];
+
+/* Integrates the top with def up to T and returns the largest error of its body-frame
+ * angular velocity against the Jacobi elliptic solution, over `frames` equally spaced output
+ * times. Fills *stats if not NULL. */
+double test_top_error(const tb_integrator_def *def, double T, int frames,
+                      tb_integrator_stats *stats);
+
 #endif

@@ -1,0 +1,578 @@
+/* Adaptive, error-controlled integration with SUNDIALS CVODE (Adams and BDF) as a backend of
+ * the generic ODE layer. The only file that includes SUNDIALS headers. SUNDIALS 6.x (what
+ * Debian 12 ships) is the target; 7.x differences sit behind SUNDIALS_VERSION_MAJOR. */
+#include "integrator.h"
+
+#include "detail.h"
+
+#include <cvode/cvode.h>
+#include <cvode/cvode_bandpre.h>
+#include <cvode/cvode_ls.h>
+#include <cvode/cvode_proj.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_config.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunlinsol/sunlinsol_spgmr.h>
+#include <sunmatrix/sunmatrix_dense.h>
+#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
+
+#include <math.h>
+#include <stdbool.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* TB_LINEAR_SOLVER_AUTO picks the dense solver up to this many unknowns. */
+#define TB__DENSE_LIMIT 64
+
+typedef struct tb__cvode {
+    SUNContext context;
+    void *mem;
+    N_Vector y;       /* wraps the caller's array: no copy */
+    N_Vector atol;    /* per-component absolute tolerances, or NULL */
+    N_Vector weights; /* error weights, for the dense Jacobian's increments */
+    SUNMatrix matrix;
+    SUNLinearSolver linear;
+    SUNNonlinearSolver nonlinear;
+    double *y_seen;           /* y as last handed out; a difference means the caller changed it */
+    bool band_preconditioner; /* CVBandPrec attached (its counters exist) */
+    bool started;             /* the first step since creation or restart has been taken */
+    long jacobian_evals;      /* derivative calls made by our dense Jacobian */
+    int derivative_status;    /* last non-zero return of the derivative, and its time */
+    double derivative_time;
+    tb_integrator_stats base;     /* counts from before the last CVodeReInit, which zeroes them */
+    char message[TB_DETAIL_SIZE]; /* CVODE's last message, captured instead of printed */
+} tb__cvode;
+
+/* --- callbacks ---------------------------------------------------------------------------- */
+
+static int derivative(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
+{
+    tb_integrator *integrator = user_data;
+    tb__cvode *cvode = integrator->cvode;
+    /* A fatal failure stays fatal for the rest of the run: SUNDIALS 6's fixed-point solver
+     * (Adams) reports a failed system function as a recoverable convergence failure, and
+     * CVODE would otherwise keep shrinking the step towards the failing time. */
+    if (cvode->derivative_status < 0) {
+        return cvode->derivative_status;
+    }
+    const tb_ode_system *system = &integrator->system;
+    const int rc =
+        system->derivative(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot), system->ctx);
+    if (rc != 0) {
+        cvode->derivative_status = rc;
+        cvode->derivative_time = t;
+    }
+    return rc; /* CVODE's convention is the layer's: > 0 recoverable, < 0 fatal */
+}
+
+/* The post-step hook as a CVODE projection (BDF): corr = hook(ycur) - ycur. */
+static int project(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype eps, N_Vector err,
+                   void *user_data)
+{
+    (void)eps;
+    (void)err; /* the error estimate is left unprojected: a conservative estimate */
+    tb_integrator *integrator = user_data;
+    N_VScale(1.0, ycur, corr);
+    if (integrator->system.post_step(t, N_VGetArrayPointer(corr), integrator->system.ctx) != 0) {
+        return -1;
+    }
+    N_VLinearSum(1.0, corr, -1.0, ycur, corr);
+    return 0;
+}
+
+/* Dense Jacobian by forward differences, column by column, with the increments CVODE's
+ * documentation gives for its own: sigma_j = max(sqrt(u) |y_j|, m / w_j) where u is the unit
+ * round-off, w the error weights and m = 1000 |h| u n ||f||_w (1 if f = 0). CVODE's
+ * built-in version allocates a vector wrapper on every call; this one allocates nothing. */
+static int dense_jacobian(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void *user_data,
+                          N_Vector tmp1, N_Vector tmp2, N_Vector tmp3)
+{
+    (void)tmp2, (void)tmp3;
+    tb_integrator *integrator = user_data;
+    tb__cvode *cvode = integrator->cvode;
+    const sunindextype n = N_VGetLength(y);
+    sunrealtype h = 0.0;
+    CVodeGetCurrentStep(cvode->mem, &h);
+    CVodeGetErrWeights(cvode->mem, cvode->weights);
+    const double round_off = SUN_UNIT_ROUNDOFF, root = sqrt(round_off);
+    const double f_norm = N_VWrmsNorm(fy, cvode->weights);
+    const double min_increment =
+        f_norm != 0.0 ? 1000.0 * fabs(h) * round_off * (double)n * f_norm : 1.0;
+    double *y_data = N_VGetArrayPointer(y), *f_data = N_VGetArrayPointer(fy);
+    double *f_shift = N_VGetArrayPointer(tmp1), *w = N_VGetArrayPointer(cvode->weights);
+    for (sunindextype j = 0; j < n; ++j) {
+        const double saved = y_data[j];
+        const double increment = fmax(root * fabs(saved), min_increment / w[j]);
+        y_data[j] = saved + increment;
+        const int rc = derivative(t, y, tmp1, user_data);
+        cvode->jacobian_evals++;
+        y_data[j] = saved;
+        if (rc != 0) {
+            return rc;
+        }
+        double *column = SUNDenseMatrix_Column(J, j);
+        for (sunindextype i = 0; i < n; ++i) {
+            column[i] = (f_shift[i] - f_data[i]) / increment;
+        }
+    }
+    return 0;
+}
+
+#if SUNDIALS_VERSION_MAJOR >= 7
+static void capture_message(int line, const char *function, const char *file, const char *msg,
+                            SUNErrCode code, void *data, SUNContext context)
+{
+    (void)line, (void)file, (void)code, (void)context;
+    tb__cvode *cvode = data;
+    snprintf(cvode->message, sizeof cvode->message, "%s: %s", function, msg);
+}
+#else
+static void capture_message(int code, const char *module, const char *function, char *msg,
+                            void *data)
+{
+    (void)code, (void)module;
+    tb__cvode *cvode = data;
+    snprintf(cvode->message, sizeof cvode->message, "%s: %s", function, msg);
+}
+#endif
+
+/* --- creation ----------------------------------------------------------------------------- */
+
+/* Formats CVODE's name for a return flag (CVodeGetReturnFlagName allocates it). */
+static void flag_name(int flag, char *out, size_t size)
+{
+    char *name = CVodeGetReturnFlagName(flag);
+    snprintf(out, size, "%s", name != NULL ? name : "unknown CVODE flag");
+    free(name);
+}
+
+static tb_status setup_failed(tb__cvode *cvode, const char *call, int flag, tb_error *error)
+{
+    char name[64];
+    flag_name(flag, name, sizeof name);
+    return tb__set_error(error, TB_STATUS_SOLVER_FAILED, "CVODE set-up: %s returned %s%s%s", call,
+                         name, cvode->message[0] ? ": " : "", cvode->message);
+}
+
+static tb_status validate(const tb_integrator *integrator, const tb_integrator_def *def,
+                          tb_error *error)
+{
+    const size_t n = integrator->system.n;
+    const int max_order = integrator->entry->order;
+    if (!(def->rtol >= 1e-15 && def->rtol < 1.0)) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "def.rtol: must be in [1e-15, 1), got %g", def->rtol);
+    }
+    if (!(def->atol >= 0) || !isfinite(def->atol)) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "def.atol: must be finite and >= 0, got %g", def->atol);
+    }
+    for (size_t i = 0; def->atol_vector != NULL && i < n; ++i) {
+        if (!(def->atol_vector[i] >= 0) || !isfinite(def->atol_vector[i])) {
+            return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                                 "def.atol_vector[%zu]: must be finite and >= 0, got %g", i,
+                                 def->atol_vector[i]);
+        }
+    }
+    if (def->max_steps <= 0) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "def.max_steps: must be > 0, got %ld", def->max_steps);
+    }
+    if (!(def->initial_step >= 0) || !isfinite(def->initial_step) || !(def->max_step >= 0) ||
+        !isfinite(def->max_step)) {
+        return tb__set_error(
+            error, TB_STATUS_INVALID_ARGUMENT,
+            "def.%s: must be finite and >= 0 (0 for automatic), got %g",
+            !(def->initial_step >= 0) || !isfinite(def->initial_step) ? "initial_step" : "max_step",
+            !(def->initial_step >= 0) || !isfinite(def->initial_step) ? def->initial_step
+                                                                      : def->max_step);
+    }
+    if (def->max_order < 0 || def->max_order > max_order) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "def.max_order: must be in [0, %d] for %s, got %d", max_order,
+                             integrator->entry->name, def->max_order);
+    }
+    if ((int)def->linear_solver < 0 || def->linear_solver > TB_LINEAR_SOLVER_KRYLOV) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "def.linear_solver: unknown solver %d", (int)def->linear_solver);
+    }
+    if (def->preconditioner_half_bandwidth >= (long)n) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "def.preconditioner_half_bandwidth: must be < n = %zu, got %d", n,
+                             def->preconditioner_half_bandwidth);
+    }
+    return TB_STATUS_OK;
+}
+
+static tb_status set_tolerances(tb__cvode *cvode, const tb_integrator_def *def, size_t n,
+                                tb_error *error)
+{
+    int flag;
+    if (def->atol_vector != NULL) {
+        cvode->atol = N_VNew_Serial((sunindextype)n, cvode->context);
+        if (cvode->atol == NULL) {
+            return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "tolerance vector");
+        }
+        memcpy(N_VGetArrayPointer(cvode->atol), def->atol_vector, n * sizeof(double));
+        flag = CVodeSVtolerances(cvode->mem, def->rtol, cvode->atol);
+    } else {
+        const double atol = def->atol > 0 ? def->atol : 1e-3 * def->rtol;
+        flag = CVodeSStolerances(cvode->mem, def->rtol, atol);
+    }
+    return flag == CV_SUCCESS ? TB_STATUS_OK
+                              : setup_failed(cvode, "CVodeSetTolerances", flag, error);
+}
+
+static tb_status set_options(tb__cvode *cvode, const tb_integrator_def *def, tb_error *error)
+{
+    int flag = CVodeSetMaxNumSteps(cvode->mem, def->max_steps);
+    if (flag == CV_SUCCESS && def->initial_step > 0) {
+        flag = CVodeSetInitStep(cvode->mem, def->initial_step);
+    }
+    if (flag == CV_SUCCESS && def->max_step > 0) {
+        flag = CVodeSetMaxStep(cvode->mem, def->max_step);
+    }
+    if (flag == CV_SUCCESS && def->max_order > 0) {
+        flag = CVodeSetMaxOrd(cvode->mem, def->max_order);
+    }
+    return flag == CV_SUCCESS ? TB_STATUS_OK : setup_failed(cvode, "CVodeSetOptions", flag, error);
+}
+
+/* Adams: fixed-point iteration, no linear algebra. BDF: Newton with a dense or Krylov
+ * linear solver. */
+static tb_status set_solvers(tb_integrator *integrator, const tb_integrator_def *def,
+                             tb_error *error)
+{
+    tb__cvode *cvode = integrator->cvode;
+    const size_t n = integrator->system.n;
+    if (integrator->method == TB_METHOD_CVODE_ADAMS) {
+        cvode->nonlinear = SUNNonlinSol_FixedPoint(cvode->y, 0, cvode->context);
+        if (cvode->nonlinear == NULL) {
+            return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "fixed-point solver");
+        }
+        const int flag = CVodeSetNonlinearSolver(cvode->mem, cvode->nonlinear);
+        return flag == CV_SUCCESS ? TB_STATUS_OK
+                                  : setup_failed(cvode, "CVodeSetNonlinearSolver", flag, error);
+    }
+    const bool dense = def->linear_solver == TB_LINEAR_SOLVER_DENSE ||
+                       (def->linear_solver == TB_LINEAR_SOLVER_AUTO && n <= TB__DENSE_LIMIT);
+    const int band =
+        def->preconditioner_half_bandwidth < 0 ? 0 : def->preconditioner_half_bandwidth;
+    if (dense) {
+        cvode->matrix = SUNDenseMatrix((sunindextype)n, (sunindextype)n, cvode->context);
+        cvode->linear =
+            cvode->matrix == NULL ? NULL : SUNLinSol_Dense(cvode->y, cvode->matrix, cvode->context);
+    } else {
+        cvode->linear = SUNLinSol_SPGMR(cvode->y, SUN_PREC_LEFT, 0, cvode->context);
+    }
+    if (cvode->linear == NULL) {
+        return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "linear solver for n = %zu", n);
+    }
+    int flag = CVodeSetLinearSolver(cvode->mem, cvode->linear, cvode->matrix);
+    if (flag == CV_SUCCESS && dense) {
+        cvode->weights = N_VClone(cvode->y);
+        flag = cvode->weights == NULL ? CV_MEM_FAIL : CVodeSetJacFn(cvode->mem, dense_jacobian);
+    }
+    if (flag == CV_SUCCESS && !dense) {
+        flag = CVBandPrecInit(cvode->mem, (sunindextype)n, band, band);
+        cvode->band_preconditioner = flag == CV_SUCCESS;
+    }
+    return flag == CV_SUCCESS ? TB_STATUS_OK
+                              : setup_failed(cvode, "CVodeSetLinearSolver", flag, error);
+}
+
+static void cvode_destroy(tb_integrator *integrator)
+{
+    tb__cvode *cvode = integrator->cvode;
+    if (cvode == NULL) {
+        return;
+    }
+    CVodeFree(&cvode->mem);
+    SUNNonlinSolFree(cvode->nonlinear);
+    SUNLinSolFree(cvode->linear);
+    SUNMatDestroy(cvode->matrix);
+    if (cvode->atol != NULL) {
+        N_VDestroy(cvode->atol);
+    }
+    if (cvode->weights != NULL) {
+        N_VDestroy(cvode->weights);
+    }
+    if (cvode->y != NULL) {
+        N_VDestroy(cvode->y); /* made with N_VMake_Serial: the caller's data is not freed */
+    }
+    if (cvode->context != NULL) {
+        SUNContext_Free(&cvode->context);
+    }
+    free(cvode->y_seen);
+    free(cvode);
+    integrator->cvode = NULL;
+}
+
+static tb_status create_memory(tb_integrator *integrator, tb_error *error)
+{
+    tb__cvode *cvode = integrator->cvode;
+    const size_t n = integrator->system.n;
+#if SUNDIALS_VERSION_MAJOR >= 7
+    int flag = SUNContext_Create(SUN_COMM_NULL, &cvode->context);
+#else
+    int flag = SUNContext_Create(NULL, &cvode->context);
+#endif
+    if (flag != 0) {
+        return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "SUNContext");
+    }
+#if SUNDIALS_VERSION_MAJOR >= 7
+    SUNContext_ClearErrHandlers(cvode->context);
+    SUNContext_PushErrHandler(cvode->context, capture_message, cvode);
+#endif
+    cvode->y = N_VMake_Serial((sunindextype)n, integrator->y, cvode->context);
+    cvode->mem =
+        CVodeCreate(integrator->method == TB_METHOD_CVODE_BDF ? CV_BDF : CV_ADAMS, cvode->context);
+    cvode->y_seen = malloc(n * sizeof(double));
+    if (cvode->y == NULL || cvode->mem == NULL || cvode->y_seen == NULL) {
+        return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "CVODE memory for n = %zu", n);
+    }
+#if SUNDIALS_VERSION_MAJOR < 7
+    CVodeSetErrHandlerFn(cvode->mem, capture_message, cvode);
+#endif
+    flag = CVodeInit(cvode->mem, derivative, integrator->t, cvode->y);
+    if (flag == CV_SUCCESS) {
+        flag = CVodeSetUserData(cvode->mem, integrator);
+    }
+    return flag == CV_SUCCESS ? TB_STATUS_OK : setup_failed(cvode, "CVodeInit", flag, error);
+}
+
+static tb_status cvode_create(tb_integrator *integrator, const tb_integrator_def *def,
+                              tb_error *error)
+{
+    tb_status status = validate(integrator, def, error);
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    integrator->cvode = calloc(1, sizeof(tb__cvode));
+    if (integrator->cvode == NULL) {
+        return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "CVODE integrator");
+    }
+    tb__cvode *cvode = integrator->cvode;
+    status = create_memory(integrator, error);
+    if (status == TB_STATUS_OK) {
+        status = set_tolerances(cvode, def, integrator->system.n, error);
+    }
+    if (status == TB_STATUS_OK) {
+        status = set_options(cvode, def, error);
+    }
+    if (status == TB_STATUS_OK) {
+        status = set_solvers(integrator, def, error);
+    }
+    if (status == TB_STATUS_OK && integrator->system.post_step != NULL &&
+        integrator->method == TB_METHOD_CVODE_BDF) {
+        /* SUNDIALS 6 projects only with BDF; Adams outputs are renormalised instead. */
+        int flag = CVodeSetProjFn(cvode->mem, project);
+        if (flag == CV_SUCCESS) {
+            flag = CVodeSetProjErrEst(cvode->mem, SUNFALSE);
+        }
+        status =
+            flag == CV_SUCCESS ? TB_STATUS_OK : setup_failed(cvode, "CVodeSetProjFn", flag, error);
+    }
+    if (status != TB_STATUS_OK) {
+        cvode_destroy(integrator);
+        return status;
+    }
+    memcpy(cvode->y_seen, integrator->y, integrator->system.n * sizeof(double));
+    return TB_STATUS_OK;
+}
+
+/* --- statistics --------------------------------------------------------------------------- */
+
+static void read_counters(const tb_integrator *integrator, tb_integrator_stats *out)
+{
+    const tb__cvode *cvode = integrator->cvode;
+    void *mem = cvode->mem;
+    long steps = 0, rhs = 0, error_fails = 0, nonlinear_fails = 0, linear_rhs = 0, iterations = 0,
+         band_rhs = 0;
+    sunrealtype last = 0, current = 0;
+    CVodeGetNumSteps(mem, &steps);
+    CVodeGetNumRhsEvals(mem, &rhs);
+    CVodeGetNumErrTestFails(mem, &error_fails);
+    CVodeGetNumNonlinSolvConvFails(mem, &nonlinear_fails);
+    CVodeGetLastStep(mem, &last);
+    CVodeGetCurrentStep(mem, &current);
+    CVodeGetLastOrder(mem, &out->last_order);
+    CVodeGetCurrentOrder(mem, &out->current_order);
+    if (cvode->linear != NULL) {
+        CVodeGetNumLinRhsEvals(mem, &linear_rhs);
+        CVodeGetNumLinIters(mem, &iterations);
+    }
+    if (cvode->band_preconditioner) {
+        CVBandPrecGetNumRhsEvals(mem, &band_rhs);
+    }
+    const tb_integrator_stats *base = &cvode->base;
+    out->steps = base->steps + steps;
+    const long jacobian = linear_rhs + band_rhs;
+    out->derivative_evals = base->derivative_evals + rhs + jacobian + cvode->jacobian_evals;
+    out->jacobian_derivative_evals =
+        base->jacobian_derivative_evals + jacobian + cvode->jacobian_evals;
+    out->error_test_failures = base->error_test_failures + error_fails;
+    out->nonlinear_failures = base->nonlinear_failures + nonlinear_fails;
+    out->failed_steps = out->error_test_failures + out->nonlinear_failures;
+    out->linear_iterations = base->linear_iterations + iterations;
+    out->last_step = last;
+    out->current_step = current;
+    out->reinitializations = base->reinitializations;
+}
+
+static void cvode_get_stats(const tb_integrator *integrator, tb_integrator_stats *stats)
+{
+    read_counters(integrator, stats);
+}
+
+/* --- stepping ----------------------------------------------------------------------------- */
+
+static tb_status restart(tb_integrator *integrator, double t)
+{
+    tb__cvode *cvode = integrator->cvode;
+    read_counters(integrator, &cvode->base); /* CVodeReInit zeroes CVODE's counters */
+    cvode->jacobian_evals = 0;               /* now part of base */
+    cvode->base.reinitializations++;
+    const int flag = CVodeReInit(cvode->mem, t, cvode->y);
+    if (flag != CV_SUCCESS) {
+        char name[64];
+        flag_name(flag, name, sizeof name);
+        return tb__set_detail(integrator->detail, TB_STATUS_SOLVER_FAILED,
+                              "CVODE restart at t = %.17g: CVodeReInit returned %s: %s", t, name,
+                              cvode->message);
+    }
+    integrator->t = t;
+    cvode->started = false;
+    memcpy(cvode->y_seen, integrator->y, integrator->system.n * sizeof(double));
+    return TB_STATUS_OK;
+}
+
+/* A state the caller changed since the last output means CVODE's history is stale. */
+static tb_status restart_if_changed(tb_integrator *integrator)
+{
+    tb__cvode *cvode = integrator->cvode;
+    if (memcmp(cvode->y_seen, integrator->y, integrator->system.n * sizeof(double)) != 0) {
+        return restart(integrator, integrator->t);
+    }
+    return TB_STATUS_OK;
+}
+
+/* Hands out y: applies the hook to the output (CVODE's history is untouched by this), and
+ * remembers it so a change from outside can be detected. */
+static tb_status hand_out(tb_integrator *integrator)
+{
+    const tb_ode_system *system = &integrator->system;
+    tb__cvode *cvode = integrator->cvode;
+    if (system->post_step != NULL && system->post_step(integrator->t, integrator->y, system->ctx)) {
+        memcpy(integrator->y, cvode->y_seen, system->n * sizeof(double));
+        return tb__set_detail(integrator->detail, TB_STATUS_HOOK_FAILED,
+                              "post-step hook failed on the output at t = %.17g", integrator->t);
+    }
+    memcpy(cvode->y_seen, integrator->y, system->n * sizeof(double));
+    return TB_STATUS_OK;
+}
+
+static tb_status failure_status(int flag, int derivative_status)
+{
+    if (derivative_status != 0) { /* the root cause, whatever CVODE made of it */
+        return TB_STATUS_DERIVATIVE_FAILED;
+    }
+    switch (flag) {
+    case CV_RHSFUNC_FAIL:
+    case CV_FIRST_RHSFUNC_ERR:
+    case CV_REPTD_RHSFUNC_ERR:
+    case CV_UNREC_RHSFUNC_ERR:
+        return TB_STATUS_DERIVATIVE_FAILED;
+    case CV_PROJFUNC_FAIL:
+    case CV_REPTD_PROJFUNC_ERR:
+        return TB_STATUS_HOOK_FAILED;
+    default:
+        return TB_STATUS_SOLVER_FAILED;
+    }
+}
+
+/* CVODE failed: it left y at its last successful step (time t_reached). Keep that state if it
+ * is finite, else the last output; say what happened. */
+static tb_status fail(tb_integrator *integrator, int flag, double t_reached, double t_target)
+{
+    tb__cvode *cvode = integrator->cvode;
+    const size_t n = integrator->system.n;
+    bool finite = isfinite(t_reached);
+    for (size_t i = 0; i < n && finite; ++i) {
+        finite = isfinite(integrator->y[i]);
+    }
+    if (finite && t_reached >= integrator->t) {
+        integrator->t = t_reached;
+        if (hand_out(integrator) != TB_STATUS_OK) {
+            memcpy(integrator->y, cvode->y_seen, n * sizeof(double));
+        }
+    } else {
+        memcpy(integrator->y, cvode->y_seen, n * sizeof(double));
+    }
+    char name[64], derivative_note[96] = "";
+    flag_name(flag, name, sizeof name);
+    if (cvode->derivative_status != 0) {
+        snprintf(derivative_note, sizeof derivative_note, "; derivative returned %d at t = %.17g",
+                 cvode->derivative_status, cvode->derivative_time);
+    }
+    return tb__set_detail(integrator->detail, failure_status(flag, cvode->derivative_status),
+                          "CVODE %s on the way to t = %.17g, stopped at t = %.17g%s: %s", name,
+                          t_target, integrator->t, derivative_note, cvode->message);
+}
+
+/* CVODE's first-step estimate is capped at a tenth of the distance to the first output time,
+ * so the frame rate would choose the first step and, through it, every later one. Instead the
+ * first step after creation or a restart is taken in one-step mode towards a fixed horizon of
+ * one time unit; an output time it overshoots is then interpolated. */
+#define TB__FIRST_STEP_HORIZON 1.0
+
+static tb_status run(tb_integrator *integrator, double t_out, int mode)
+{
+    tb__cvode *cvode = integrator->cvode;
+    tb_status status = restart_if_changed(integrator);
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    cvode->derivative_status = 0;
+    cvode->message[0] = '\0';
+    const double horizon = integrator->t + TB__FIRST_STEP_HORIZON;
+    sunrealtype t_reached = integrator->t;
+    int flag = CV_SUCCESS;
+    bool stepped = false;
+    if (!cvode->started) {
+        cvode->started = true;
+        stepped = true;
+        flag = CVode(cvode->mem, horizon, cvode->y, &t_reached, CV_ONE_STEP);
+    }
+    if (flag >= 0 && mode == CV_NORMAL) {
+        flag = t_reached >= t_out ? CVodeGetDky(cvode->mem, t_out, 0, cvode->y)
+                                  : CVode(cvode->mem, t_out, cvode->y, &t_reached, CV_NORMAL);
+    } else if (flag >= 0 && !stepped) {
+        flag = CVode(cvode->mem, horizon, cvode->y, &t_reached, CV_ONE_STEP);
+    }
+    if (flag < 0) {
+        return fail(integrator, flag, t_reached, t_out);
+    }
+    integrator->t = mode == CV_NORMAL ? t_out : t_reached;
+    return hand_out(integrator);
+}
+
+static tb_status cvode_advance(tb_integrator *integrator, double t_target)
+{
+    return run(integrator, t_target, CV_NORMAL);
+}
+
+static tb_status cvode_step(tb_integrator *integrator)
+{
+    return run(integrator, INFINITY, CV_ONE_STEP);
+}
+
+static tb_status cvode_reset(tb_integrator *integrator, double t)
+{
+    return restart(integrator, t);
+}
+
+const tb__backend tb__cvode_backend = {
+    cvode_create, cvode_advance, cvode_step, cvode_reset, cvode_get_stats, cvode_destroy,
+};
