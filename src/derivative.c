@@ -63,9 +63,41 @@ int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
     }
     const tb__effect *effects = scene->effects;
     for (size_t e = 0; e < scene->effect_count; ++e) {
-        effects[e].apply(&effects[e], scene, t, y, dydt);
+        const int rc = effects[e].apply(&effects[e], scene, t, y, dydt);
+        if (rc != 0) {
+            return rc;
+        }
     }
     return 0;
+}
+
+void tb__body_motion(const tb_scene *scene, const double *y, size_t i, tb__motion *out)
+{
+    const double *s = y + TB_STATE_SIZE * i;
+    const tb__body *body = &scene->bodies[i];
+    out->x = s;
+    tb__unit_quaternion(y, i, out->q);
+    angular_velocity(body, out->q, s + 10, out->omega);
+    tb__v3_set(out->v, s[7] * body->inv_mass, s[8] * body->inv_mass, s[9] * body->inv_mass);
+}
+
+void tb__point_arm(const tb__motion *motion, const double r[3], double arm[3])
+{
+    tb__q_rotate(arm, motion->q, r);
+}
+
+void tb__point_velocity(const tb__motion *motion, const double arm[3], double velocity[3])
+{
+    tb__v3_cross(velocity, motion->omega, arm);
+    tb__v3_axpy(velocity, 1.0, motion->v);
+}
+
+void tb__add_load(double *dydt, size_t i, const double arm[3], const double f[3])
+{
+    double torque[3];
+    tb__v3_cross(torque, arm, f);
+    tb__v3_axpy(dydt + TB_STATE_SIZE * i + 7, 1.0, f);
+    tb__v3_axpy(dydt + TB_STATE_SIZE * i + 10, 1.0, torque);
 }
 
 int tb_scene_normalize_quaternions(double t, double *y, void *ctx)

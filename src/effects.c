@@ -1,6 +1,6 @@
 /* Effects: each compiles to one entry of the scene's effect list, whose apply function adds
  * forces into dP/dt and torques into dL/dt. The derivative visits only the entries the scene
- * holds. */
+ * holds. This file: the list itself, gravity, constant forces and torques, user effects. */
 #include "scene_internal.h"
 
 #include "detail.h"
@@ -20,12 +20,33 @@ tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect)
         scene->effect_capacity = capacity;
     }
     scene->effects[scene->effect_count++] = *effect;
+    if (effect->states_per_contact > 0) {
+        const tb_status status = tb__scene_layout_states(scene, scene->body_count);
+        if (status != TB_STATUS_OK) {
+            scene->effect_count--;
+            return status;
+        }
+    }
     return TB_STATUS_OK;
 }
 
 size_t tb_scene_effect_count(const tb_scene *scene)
 {
     return scene == NULL ? 0 : scene->effect_count;
+}
+
+void tb__shape_point_to_principal(const tb_mass_properties *props, const double point[3],
+                                  double out[3])
+{
+    const double from_center[3] = {point[0] - props->center[0], point[1] - props->center[1],
+                                   point[2] - props->center[2]};
+    tb__q_rotate_inverse(out, props->rotation, from_center);
+}
+
+void tb__shape_vector_to_principal(const tb_mass_properties *props, const double v[3],
+                                   double out[3])
+{
+    tb__q_rotate_inverse(out, props->rotation, v);
 }
 
 static tb_status check_effect_vector(tb_scene *scene, const double *v, const char *what)
@@ -42,14 +63,15 @@ static tb_status check_effect_vector(tb_scene *scene, const double *v, const cha
 
 /* --- gravity: F_i += M_i g for every body ------------------------------------------------ */
 
-static void apply_gravity(const tb__effect *effect, const tb_scene *scene, double t,
-                          const double *y, double *dydt)
+static int apply_gravity(const tb__effect *effect, const tb_scene *scene, double t, const double *y,
+                         double *dydt)
 {
     (void)t;
     (void)y;
     for (size_t i = 0; i < scene->body_count; ++i) {
         tb__v3_axpy(dydt + TB_STATE_SIZE * i + 7, scene->bodies[i].mass, effect->vector);
     }
+    return 0;
 }
 
 tb_status tb_scene_add_gravity(tb_scene *scene, const double g[3])
@@ -62,7 +84,7 @@ tb_status tb_scene_add_gravity(tb_scene *scene, const double g[3])
     if (status != TB_STATUS_OK) {
         return status;
     }
-    tb__effect effect = {.apply = apply_gravity};
+    tb__effect effect = {.apply = apply_gravity, .body = TB_ALL_BODIES};
     tb__v3_copy(effect.vector, g);
     return tb__scene_push_effect(scene, &effect);
 }
@@ -70,48 +92,43 @@ tb_status tb_scene_add_gravity(tb_scene *scene, const double g[3])
 /* --- constant force at a body point, constant torque ------------------------------------ */
 
 /* F += f, tau += (p - x) x f with the lever arm p - x = R r (r in the principal frame). */
-static void add_force_at(const tb__effect *effect, const double q[4], const double force[3],
-                         double *d)
-{
-    double arm[3], torque[3];
-    tb__q_rotate(arm, q, effect->point);
-    tb__v3_cross(torque, arm, force);
-    tb__v3_axpy(d + 7, 1.0, force);
-    tb__v3_axpy(d + 10, 1.0, torque);
-}
-
-static void apply_world_force(const tb__effect *effect, const tb_scene *scene, double t,
-                              const double *y, double *dydt)
-{
-    (void)scene;
-    (void)t;
-    double q[4];
-    tb__unit_quaternion(y, effect->body, q);
-    add_force_at(effect, q, effect->vector, dydt + TB_STATE_SIZE * effect->body);
-}
-
-static void apply_body_force(const tb__effect *effect, const tb_scene *scene, double t,
+static int apply_world_force(const tb__effect *effect, const tb_scene *scene, double t,
                              const double *y, double *dydt)
 {
     (void)scene;
     (void)t;
-    double q[4], force[3];
+    double q[4], arm[3];
     tb__unit_quaternion(y, effect->body, q);
-    tb__q_rotate(force, q, effect->vector);
-    add_force_at(effect, q, force, dydt + TB_STATE_SIZE * effect->body);
+    tb__q_rotate(arm, q, effect->point);
+    tb__add_load(dydt, effect->body, arm, effect->vector);
+    return 0;
 }
 
-static void apply_world_torque(const tb__effect *effect, const tb_scene *scene, double t,
-                               const double *y, double *dydt)
+static int apply_body_force(const tb__effect *effect, const tb_scene *scene, double t,
+                            const double *y, double *dydt)
+{
+    (void)scene;
+    (void)t;
+    double q[4], arm[3], force[3];
+    tb__unit_quaternion(y, effect->body, q);
+    tb__q_rotate(arm, q, effect->point);
+    tb__q_rotate(force, q, effect->vector);
+    tb__add_load(dydt, effect->body, arm, force);
+    return 0;
+}
+
+static int apply_world_torque(const tb__effect *effect, const tb_scene *scene, double t,
+                              const double *y, double *dydt)
 {
     (void)scene;
     (void)t;
     (void)y;
     tb__v3_axpy(dydt + TB_STATE_SIZE * effect->body + 10, 1.0, effect->vector);
+    return 0;
 }
 
-static void apply_body_torque(const tb__effect *effect, const tb_scene *scene, double t,
-                              const double *y, double *dydt)
+static int apply_body_torque(const tb__effect *effect, const tb_scene *scene, double t,
+                             const double *y, double *dydt)
 {
     (void)scene;
     (void)t;
@@ -119,12 +136,7 @@ static void apply_body_torque(const tb__effect *effect, const tb_scene *scene, d
     tb__unit_quaternion(y, effect->body, q);
     tb__q_rotate(torque, q, effect->vector);
     tb__v3_axpy(dydt + TB_STATE_SIZE * effect->body + 10, 1.0, torque);
-}
-
-/* A vector fixed in the shape frame, expressed in the principal frame. */
-static void shape_to_principal(const tb_mass_properties *props, const double v[3], double out[3])
-{
-    tb__q_rotate_inverse(out, props->rotation, v);
+    return 0;
 }
 
 static tb_status check_frame(tb_scene *scene, tb_frame frame)
@@ -159,13 +171,11 @@ tb_status tb_scene_add_force(tb_scene *scene, size_t id, const double force[3],
     const tb_mass_properties *props = &scene->mass_props[id];
     tb__effect effect = {.apply = frame == TB_FRAME_WORLD ? apply_world_force : apply_body_force,
                          .body = id};
-    const double arm_shape[3] = {point[0] - props->center[0], point[1] - props->center[1],
-                                 point[2] - props->center[2]};
-    shape_to_principal(props, arm_shape, effect.point);
+    tb__shape_point_to_principal(props, point, effect.point);
     if (frame == TB_FRAME_WORLD) {
         tb__v3_copy(effect.vector, force);
     } else {
-        shape_to_principal(props, force, effect.vector);
+        tb__shape_vector_to_principal(props, force, effect.vector);
     }
     return tb__scene_push_effect(scene, &effect);
 }
@@ -191,7 +201,43 @@ tb_status tb_scene_add_torque(tb_scene *scene, size_t id, const double torque[3]
     if (frame == TB_FRAME_WORLD) {
         tb__v3_copy(effect.vector, torque);
     } else {
-        shape_to_principal(&scene->mass_props[id], torque, effect.vector);
+        tb__shape_vector_to_principal(&scene->mass_props[id], torque, effect.vector);
     }
     return tb__scene_push_effect(scene, &effect);
+}
+
+/* --- user effects ------------------------------------------------------------------------ */
+
+static int apply_user(const tb__effect *effect, const tb_scene *scene, double t, const double *y,
+                      double *dydt)
+{
+    return effect->user(t, scene, y, dydt, effect->user_ctx);
+}
+
+tb_status tb_scene_add_user_effect(tb_scene *scene, tb_user_effect_fn fn, void *ctx)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    scene->detail[0] = '\0';
+    if (fn == NULL) {
+        return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "fn is NULL");
+    }
+    tb__effect effect = {.apply = apply_user, .body = TB_ALL_BODIES, .user = fn, .user_ctx = ctx};
+    return tb__scene_push_effect(scene, &effect);
+}
+
+void tb_effect_add_force(const tb_scene *scene, const double *y, double *dydt, size_t id,
+                         const double force[3], const double point[3])
+{
+    (void)scene;
+    const double *x = y + TB_STATE_SIZE * id;
+    const double arm[3] = {point[0] - x[0], point[1] - x[1], point[2] - x[2]};
+    tb__add_load(dydt, id, arm, force);
+}
+
+void tb_effect_add_torque(const tb_scene *scene, double *dydt, size_t id, const double torque[3])
+{
+    (void)scene;
+    tb__v3_axpy(dydt + TB_STATE_SIZE * id + 10, 1.0, torque);
 }

@@ -70,10 +70,6 @@ static tb_status reserve_bodies(tb_scene *scene, size_t capacity)
     if (capacity > SIZE_MAX / (TB_STATE_SIZE * sizeof(double) + sizeof(tb_mass_properties))) {
         return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "%zu bodies", capacity);
     }
-    double *states = realloc(scene->states, capacity * TB_STATE_SIZE * sizeof(double));
-    if (states != NULL) {
-        scene->states = states;
-    }
     tb__body *bodies = realloc(scene->bodies, capacity * sizeof(tb__body));
     if (bodies != NULL) {
         scene->bodies = bodies;
@@ -82,11 +78,53 @@ static tb_status reserve_bodies(tb_scene *scene, size_t capacity)
     if (props != NULL) {
         scene->mass_props = props;
     }
-    if (states == NULL || bodies == NULL || props == NULL) {
+    if (bodies == NULL || props == NULL) {
         return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "room for %zu bodies", capacity);
     }
     scene->body_capacity = capacity;
     return TB_STATUS_OK;
+}
+
+/* Grows the state array to hold at least size doubles; nothing is lost on failure. */
+static tb_status reserve_states(tb_scene *scene, size_t size)
+{
+    if (size <= scene->state_capacity) {
+        return TB_STATUS_OK;
+    }
+    const size_t capacity = size > 2 * scene->state_capacity ? size : 2 * scene->state_capacity;
+    double *states = realloc(scene->states, capacity * sizeof(double));
+    if (states == NULL) {
+        return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "state array of %zu doubles",
+                              capacity);
+    }
+    scene->states = states;
+    scene->state_capacity = capacity;
+    return TB_STATUS_OK;
+}
+
+tb_status tb__scene_layout_states(tb_scene *scene, size_t body_count)
+{
+    size_t extra = 0;
+    for (size_t e = 0; e < scene->effect_count; ++e) {
+        extra += scene->effects[e].states_per_contact * scene->contact_count;
+    }
+    tb_status status = reserve_states(scene, TB_STATE_SIZE * body_count + extra);
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    size_t offset = TB_STATE_SIZE * body_count;
+    for (size_t e = 0; e < scene->effect_count; ++e) {
+        scene->effects[e].state_offset = offset;
+        offset += scene->effects[e].states_per_contact * scene->contact_count;
+    }
+    memset(scene->states + TB_STATE_SIZE * body_count, 0, extra * sizeof(double));
+    scene->extra_count = extra;
+    return TB_STATUS_OK;
+}
+
+size_t tb_scene_state_size(const tb_scene *scene)
+{
+    return scene == NULL ? 0 : TB_STATE_SIZE * scene->body_count + scene->extra_count;
 }
 
 tb_status tb_scene_create(const tb_scene_def *def, tb_scene **out_scene, tb_error *out_error)
@@ -106,7 +144,11 @@ tb_status tb_scene_create(const tb_scene_def *def, tb_scene **out_scene, tb_erro
         return tb__set_error(out_error, TB_STATUS_OUT_OF_MEMORY, "scene");
     }
     scene->renormalize = def->renormalize_quaternions;
-    tb_status status = reserve_bodies(scene, def->body_capacity > 0 ? def->body_capacity : 1);
+    const size_t capacity = def->body_capacity > 0 ? def->body_capacity : 1;
+    tb_status status = reserve_bodies(scene, capacity);
+    if (status == TB_STATUS_OK) {
+        status = reserve_states(scene, TB_STATE_SIZE * capacity);
+    }
     if (status == TB_STATUS_OK && def->effect_capacity > 0) {
         scene->effects = malloc(def->effect_capacity * sizeof(tb__effect));
         scene->effect_capacity = scene->effects != NULL ? def->effect_capacity : 0;
@@ -128,6 +170,7 @@ void tb_scene_destroy(tb_scene *scene)
         free(scene->bodies);
         free(scene->mass_props);
         free(scene->effects);
+        free(scene->contacts);
         free(scene);
     }
 }
@@ -195,6 +238,10 @@ tb_status tb_scene_add_body(tb_scene *scene, const tb_body_def *def, size_t *out
     tb_status status = validate_body_def(scene, def);
     if (status == TB_STATUS_OK && scene->body_count == scene->body_capacity) {
         status = reserve_bodies(scene, 2 * scene->body_capacity);
+    }
+    if (status == TB_STATUS_OK) {
+        /* Effect-owned states move up by one body and restart from zero. */
+        status = tb__scene_layout_states(scene, scene->body_count + 1);
     }
     if (status != TB_STATUS_OK) {
         return status;
@@ -324,7 +371,7 @@ tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
         return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
                               "scene has no bodies: nothing to integrate");
     }
-    out_system->n = TB_STATE_SIZE * scene->body_count;
+    out_system->n = tb_scene_state_size(scene);
     out_system->derivative = tb_scene_derivative;
     out_system->post_step = scene->renormalize ? tb_scene_normalize_quaternions : NULL;
     out_system->ctx = scene;
@@ -378,6 +425,13 @@ tb_status tb_scene_absolute_tolerances(const tb_scene *scene, double scale, doub
                                              largest};
         for (int k = 0; k < TB_STATE_SIZE; ++k) {
             out_atol[TB_STATE_SIZE * i + k] = scale * block[k];
+        }
+    }
+    for (size_t e = 0; e < scene->effect_count; ++e) {
+        const tb__effect *effect = &scene->effects[e];
+        const size_t count = effect->states_per_contact * scene->contact_count;
+        for (size_t k = 0; k < count; ++k) {
+            out_atol[effect->state_offset + k] = scale * effect->state_scale;
         }
     }
     return TB_STATUS_OK;

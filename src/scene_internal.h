@@ -2,6 +2,7 @@
 #ifndef TUMBLE_SCENE_INTERNAL_H
 #define TUMBLE_SCENE_INTERNAL_H
 
+#include "tumble/effects.h"
 #include "tumble/scene.h"
 
 /* What the derivative needs of a body, packed together for the hot loop. */
@@ -13,28 +14,50 @@ typedef struct tb__body {
 
 typedef struct tb__effect tb__effect;
 
-/* Adds the effect's forces into dydt[13 i + 7 .. 9] and torques into dydt[13 i + 10 .. 12].
- * Pure: reads y, writes only those slots. */
-typedef void (*tb__effect_apply)(const tb__effect *effect, const tb_scene *scene, double t,
-                                 const double *y, double *dydt);
+/* Adds the effect's forces into dydt[13 i + 7 .. 9] and torques into dydt[13 i + 10 .. 12],
+ * and writes the derivatives of the states it owns. Pure: reads y, writes only those slots.
+ * Returns 0, or the failure of a user callback. */
+typedef int (*tb__effect_apply)(const tb__effect *effect, const tb_scene *scene, double t,
+                                const double *y, double *dydt);
 
 /* One entry of the compiled effect list: the function and its parameters, nothing else. */
 struct tb__effect {
     tb__effect_apply apply;
-    size_t body;
-    double vector[3]; /* force, torque or acceleration (principal frame if body-fixed) */
-    double point[3];  /* application point, principal frame, relative to the centre of mass */
+    size_t body;      /* the body acted on, or TB_ALL_BODIES */
+    size_t other;     /* a spring's second body, or TB_WORLD */
+    double vector[3]; /* force, torque, acceleration, plane normal */
+    double point[3];  /* application point (principal frame, from the centre of mass) */
+    double other_point[3];
+    double param[12];          /* per-kind parameters, named where they are used */
+    size_t states_per_contact; /* states owned per contact point (ground planes: 2) */
+    size_t state_offset;       /* where in y those states start */
+    double state_scale;        /* natural size of those states, for absolute tolerances */
+    tb_user_effect_fn user;
+    void *user_ctx;
 };
+
+/* A contact point of a body, for ground planes. Points of one body are contiguous. */
+typedef struct tb__contact {
+    size_t body;
+    double r[3];   /* principal frame, from the centre of mass, m */
+    double radius; /* m */
+    double share;  /* 1 / (number of the body's contact points) */
+} tb__contact;
 
 struct tb_scene {
     size_t body_count;
     size_t body_capacity;
-    double *states;                 /* 13 * body_capacity */
+    double *states;        /* 13 * body_count body states, then extra_count effect states */
+    size_t state_capacity; /* doubles allocated in states */
+    size_t extra_count;
     tb__body *bodies;               /* body_capacity */
     tb_mass_properties *mass_props; /* body_capacity, as given */
     tb__effect *effects;
     size_t effect_count;
     size_t effect_capacity;
+    tb__contact *contacts;
+    size_t contact_count;
+    size_t contact_capacity;
     bool renormalize;
     double quaternion_drift; /* largest | |q| - 1 | seen by the renormalisation hook */
     char detail[TB_DETAIL_SIZE];
@@ -47,16 +70,49 @@ tb_status tb__scene_fail(tb_scene *scene, tb_status status, const char *format, 
 #endif
     ;
 
+/* value finite and >= 0, else a detail naming what. */
+tb_status tb__check_coefficient(tb_scene *scene, double value, const char *what);
+
 /* Checks id against the body count, writing the detail on failure. */
 tb_status tb__scene_check_id(const tb_scene *scene, size_t id, const char *what);
 
 /* Appends an effect, growing the list if needed; nothing changes on failure. */
 tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect);
 
+/* Recomputes where effect-owned states live (after the bodies' states), grows the state
+ * array if needed and zeroes those states. On failure nothing changes. */
+tb_status tb__scene_layout_states(tb_scene *scene, size_t body_count);
+
+/* A point fixed in a body's shape frame, as an offset from the centre of mass in the
+ * principal frame. */
+void tb__shape_point_to_principal(const tb_mass_properties *props, const double point[3],
+                                  double out[3]);
+/* A direction fixed in a body's shape frame, in the principal frame. */
+void tb__shape_vector_to_principal(const tb_mass_properties *props, const double v[3],
+                                   double out[3]);
+
 /* Body i's quaternion in y, normalised, into q. */
 void tb__unit_quaternion(const double *y, size_t i, double q[4]);
 
 /* omega (world) of body i from y. */
 void tb__angular_velocity(const tb_scene *scene, const double *y, size_t i, double omega[3]);
+
+/* How body i moves, read from y once for an effect that looks at several of its points. */
+typedef struct tb__motion {
+    const double *x; /* centre of mass, world */
+    double q[4];     /* unit */
+    double v[3];     /* centre-of-mass velocity */
+    double omega[3]; /* angular velocity, world */
+} tb__motion;
+
+void tb__body_motion(const tb_scene *scene, const double *y, size_t i, tb__motion *out);
+
+/* A body point r (principal frame, from the centre of mass): its lever arm R r (world),
+ * and the velocity v + omega x arm of the material point at arm. */
+void tb__point_arm(const tb__motion *motion, const double r[3], double arm[3]);
+void tb__point_velocity(const tb__motion *motion, const double arm[3], double velocity[3]);
+
+/* dP += f and dL += arm x f for body i. */
+void tb__add_load(double *dydt, size_t i, const double arm[3], const double f[3]);
 
 #endif

@@ -42,9 +42,12 @@ tb_status tb_scene_add_body(tb_scene *scene, const tb_body_def *def, size_t *out
 
 size_t tb_scene_body_count(const tb_scene *scene);
 
-/* The flat state array: 13 * tb_scene_body_count() doubles, body i at [13 i, 13 i + 13).
- * Owned by the scene; valid until the next tb_scene_add_body. */
+/* The flat state array: tb_scene_state_size() doubles; body i at [13 i, 13 i + 13), then
+ * the states some effects own (ground friction: 2 per contact point). Owned by the scene;
+ * valid until the next tb_scene_add_body, tb_scene_add_ground or
+ * tb_scene_set_contact_points, which may move it and reset the effects' states. */
 double *tb_scene_states(tb_scene *scene);
+size_t tb_scene_state_size(const tb_scene *scene);
 const double *tb_scene_states_const(const tb_scene *scene);
 
 /* Reads or writes one body's state. set validates it (finite, unit quaternion within 1e-4,
@@ -108,8 +111,8 @@ size_t tb_scene_effect_count(const tb_scene *scene);
 
 /* --- Integration ------------------------------------------------------------------------- */
 
-/* The scene as an ODE system: n = 13 N, derivative tb_scene_derivative, post-step hook
- * tb_scene_normalize_quaternions when renormalisation is on. */
+/* The scene as an ODE system: n = tb_scene_state_size(), derivative tb_scene_derivative, post-step
+ * hook tb_scene_normalize_quaternions when renormalisation is on. */
 tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system);
 
 /* Switches the quaternion-renormalisation hook (takes effect for systems made after). */
@@ -129,8 +132,9 @@ void tb_scene_reset_quaternion_drift(tb_scene *scene);
  *   P         scale * M * l / (1 s)     (kg m/s: the momentum of moving l per second)
  *   L         scale * I_max / (1 s)     (kg m^2/s: the spin of 1 rad/s)
  * so errors are measured against the body's own size, mass and a 1-second time scale.
- * tb_scene_integrator_create uses them with scale = rtol when the def leaves atol at 0.
- * out_atol holds 13 * tb_scene_body_count() doubles. */
+ * and for effect-owned states scale times their natural size (ground friction: the presliding
+ * deflection). tb_scene_integrator_create uses them with scale = rtol / 100 when the def
+ * leaves atol at 0. out_atol holds tb_scene_state_size() doubles. */
 tb_status tb_scene_absolute_tolerances(const tb_scene *scene, double scale, double *out_atol);
 
 /* The rigid-body derivative (ctx is the scene): dx = P/M, dq = 1/2 (0, omega) (x) q,

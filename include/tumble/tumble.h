@@ -8,5 +8,6 @@
 #include "tumble/mass.h"
 #include "tumble/body.h"
 #include "tumble/scene.h"
+#include "tumble/effects.h"
 
 #endif

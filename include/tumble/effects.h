@@ -1,0 +1,138 @@
+/* Effects beyond gravity and constant forces: drag, springs, contact with a ground plane
+ * with friction, and user callbacks. Each adds to the forces F and torques tau of the bodies
+ * it names; a scene pays only for the effects it holds. Units SI, vectors world frame unless
+ * stated. Every def is filled by its *_def_default() and checked when added; a refused
+ * effect changes nothing. */
+#ifndef TUMBLE_EFFECTS_H
+#define TUMBLE_EFFECTS_H
+
+#include "tumble/scene.h"
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Stands for "every body" where an effect takes a body id. */
+#define TB_ALL_BODIES ((size_t)-1)
+/* Stands for the fixed world where a spring takes its second body. */
+#define TB_WORLD ((size_t)-1)
+
+/* --- drag ---------------------------------------------------------------------------------
+ * F = -linear v - quadratic |v| v,   tau = -angular omega - angular_quadratic |omega| omega,
+ * on the centre-of-mass velocity v and angular velocity omega. */
+typedef struct tb_drag_def {
+    size_t body;              /* a body id or TB_ALL_BODIES (default) */
+    double linear;            /* N s/m, >= 0 */
+    double quadratic;         /* N s^2/m^2, >= 0 */
+    double angular;           /* N m s, >= 0 */
+    double angular_quadratic; /* N m s^2, >= 0 */
+    int internal_cookie;
+} tb_drag_def;
+
+tb_drag_def tb_drag_def_default(void);
+tb_status tb_scene_add_drag(tb_scene *scene, const tb_drag_def *def);
+
+/* --- springs ------------------------------------------------------------------------------
+ * A Hooke spring with damping between point_a fixed in body_a and point_b fixed in body_b
+ * (both in the bodies' shape frames, m) or, with body_b = TB_WORLD, the world point point_b.
+ * With d = p_a - p_b: F_a = -k (|d| - rest_length) d/|d| - c ((v_a - v_b) . d/|d|) d/|d| at
+ * p_a, and -F_a at p_b. At |d| = 0 the direction is undefined and the spring exerts nothing. */
+typedef struct tb_spring_def {
+    size_t body_a;
+    double point_a[3];
+    size_t body_b; /* a body id or TB_WORLD (default) */
+    double point_b[3];
+    double stiffness;   /* k, N/m, >= 0 */
+    double damping;     /* c, N s/m, >= 0 */
+    double rest_length; /* m, >= 0 */
+    int internal_cookie;
+} tb_spring_def;
+
+tb_spring_def tb_spring_def_default(void);
+tb_status tb_scene_add_spring(tb_scene *scene, const tb_spring_def *def);
+
+/* --- contact with a ground plane ------------------------------------------------------------
+ * Bodies touch the plane through contact points: points fixed in the body (shape frame) with
+ * a radius (0 for a corner, r for a sphere's centre). A point whose sphere dips below the
+ * plane n . x = offset by delta gets a normal force N = max(0, k delta - c v_n) at the
+ * sphere's lowest point, with k = M g / (support penetration) and c = 2 damping_ratio
+ * sqrt(k M / support) for a body of mass M whose weight rests on `support` of its points
+ * (4 of a box's 8 corners): at rest the body sinks by `penetration`, whatever its mass, and
+ * the contact rings at sqrt(g / penetration) rad/s (99 rad/s by default).
+ *
+ * Friction is Coulomb's, static and kinetic, through the LuGre bristle model (Canudas de Wit
+ * et al., IEEE Trans. Automatic Control 40(3), 1995): each contact point carries a tangential
+ * bristle deflection z with dz/dt = v_t - s0 |v_t| z / mu(v_t), mu(v) = mu_k + (mu_s - mu_k)
+ * exp(-(v / stribeck_velocity)^2), and the friction force is -N (s0 z + s1 dz/dt), with
+ * s0 = mu_s / presliding and bristle damping s1 exp(-(v / stribeck_velocity)^2),
+ * s1 = sqrt(s0 / g) (damping ratio 1/2 for the mass a point carries). At rest dz/dt = 0: a load
+ * below mu_s N is held with the bristles deflected by less than `presliding`, and the body does not
+ * creep. Sliding, the force tends to mu_k N. The bristles' relaxation rate s0 |v| / mu is
+ * capped at 400 per second so that RK4 at 240 steps per second stays stable; below
+ * |v| = 400 mu / s0 (3 cm/s by default) the model is LuGre's exactly. The deflections are extra
+ * state (2 doubles per contact point and plane) kept after the bodies' states; they relax to
+ * zero when a point leaves the plane. */
+typedef struct tb_ground_def {
+    double normal[3];         /* unit normal, pointing out of the ground; default (0,0,1) */
+    double offset;            /* the plane is normal . x = offset, m; default 0 */
+    double gravity;           /* g used to size the contact, m/s^2, > 0; default 9.81 */
+    double penetration;       /* static sinking under a body's own weight, m, > 0; 1e-3 */
+    double damping_ratio;     /* of the normal contact, >= 0; default 1 (critical) */
+    double static_friction;   /* mu_s >= mu_k; default 0.6 */
+    double kinetic_friction;  /* mu_k >= 0; default 0.5 */
+    double stribeck_velocity; /* m/s, > 0: speed over which mu falls from mu_s to mu_k;
+                                 default 0.01 */
+    double presliding;        /* bristle deflection at breakaway, m, > 0; default 1e-4 */
+    int internal_cookie;
+} tb_ground_def;
+
+tb_ground_def tb_ground_def_default(void);
+tb_status tb_scene_add_ground(tb_scene *scene, const tb_ground_def *def);
+
+typedef struct tb_contact_point {
+    double position[3]; /* in the body's shape frame, m */
+    double radius;      /* >= 0, m */
+} tb_contact_point;
+
+/* Sets (replaces) body id's contact points; count 0 removes them. Copies the array. support
+ * (1 .. count) is how many of them carry the body's weight when it rests: it sizes the
+ * contact stiffness (4 for a box's corners, 1 for a sphere, 2 for a capsule lying down). */
+tb_status tb_scene_set_contact_points(tb_scene *scene, size_t id, const tb_contact_point *points,
+                                      size_t count, size_t support);
+
+/* Contact points for common shapes, in the shape frame. out has room for `capacity` points;
+ * *out_count receives the number written (8 for a box, 1 for a sphere, 2 for a capsule);
+ * their support is 4, 1 and 2. */
+tb_status tb_contact_points_box(const double size[3], tb_contact_point *out, size_t capacity,
+                                size_t *out_count);
+tb_status tb_contact_points_sphere(double radius, tb_contact_point *out, size_t capacity,
+                                   size_t *out_count);
+tb_status tb_contact_points_capsule(double radius, double length, tb_contact_point *out,
+                                    size_t capacity, size_t *out_count);
+
+/* --- user effects -------------------------------------------------------------------------
+ * A callback that adds forces and torques. It receives the time and the scene's state array y
+ * as the derivative sees it (read it with the tb_scene_body_* read-outs, passing y), and adds
+ * its loads into dydt with tb_effect_add_force / tb_effect_add_torque only. Return 0, or
+ * non-zero to fail the derivative (> 0 recoverable, < 0 fatal). It must not change the scene,
+ * and must not allocate if the no-allocation guarantee is to hold. */
+typedef int (*tb_user_effect_fn)(double t, const tb_scene *scene, const double *y, double *dydt,
+                                 void *ctx);
+
+tb_status tb_scene_add_user_effect(tb_scene *scene, tb_user_effect_fn fn, void *ctx);
+
+/* For user effects: adds force f (N, world) at world point p (m) to body id: F += f,
+ * tau += (p - x) x f. */
+void tb_effect_add_force(const tb_scene *scene, const double *y, double *dydt, size_t id,
+                         const double force[3], const double point[3]);
+
+/* For user effects: adds torque (N m, world) to body id. */
+void tb_effect_add_torque(const tb_scene *scene, double *dydt, size_t id, const double torque[3]);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
