@@ -2,6 +2,9 @@
 # and is found the CMake way.
 find_package(GSL 2.6 REQUIRED)
 find_package(SUNDIALS 6 REQUIRED CONFIG COMPONENTS cvode nvecserial)
+# jansson ships a pkg-config file on Debian (no CMake config).
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(JANSSON REQUIRED IMPORTED_TARGET jansson>=2.13)
 
 if(TUMBLE_BUILD_TESTS)
   # CMocka 1.1.5 ships a config that only sets variables; wrap them in an imported target.

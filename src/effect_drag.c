@@ -77,7 +77,7 @@ tb_status tb_scene_add_drag(tb_scene *scene, const tb_drag_def *def)
     if (status != TB_STATUS_OK) {
         return status;
     }
-    tb__effect effect = {.apply = apply_drag, .body = def->body};
+    tb__effect effect = {.apply = apply_drag, .kind = TB__DRAG, .body = def->body};
     memcpy(effect.param, values, sizeof values);
     return tb__scene_push_effect(scene, &effect);
 }

@@ -207,7 +207,8 @@ tb_status tb_scene_add_ground(tb_scene *scene, const tb_ground_def *def)
     if (status != TB_STATUS_OK) {
         return status;
     }
-    tb__effect effect = {.apply = apply_ground, .body = TB_ALL_BODIES, .states_per_contact = 2};
+    tb__effect effect = {
+        .apply = apply_ground, .kind = TB__GROUND, .body = TB_ALL_BODIES, .states_per_contact = 2};
     const double length = tb__v3_norm(def->normal);
     tb__v3_set(effect.vector, def->normal[0] / length, def->normal[1] / length,
                def->normal[2] / length);

@@ -110,7 +110,8 @@ tb_status tb_scene_add_spring(tb_scene *scene, const tb_spring_def *def)
     if (status != TB_STATUS_OK) {
         return status;
     }
-    tb__effect effect = {.apply = apply_spring, .body = def->body_a, .other = def->body_b};
+    tb__effect effect = {
+        .apply = apply_spring, .kind = TB__SPRING, .body = def->body_a, .other = def->body_b};
     tb__shape_point_to_principal(&scene->mass_props[def->body_a], def->point_a, effect.point);
     if (def->body_b == TB_WORLD) {
         tb__v3_copy(effect.other_point, def->point_b);

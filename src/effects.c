@@ -84,7 +84,7 @@ tb_status tb_scene_add_gravity(tb_scene *scene, const double g[3])
     if (status != TB_STATUS_OK) {
         return status;
     }
-    tb__effect effect = {.apply = apply_gravity, .body = TB_ALL_BODIES};
+    tb__effect effect = {.apply = apply_gravity, .kind = TB__GRAVITY, .body = TB_ALL_BODIES};
     tb__v3_copy(effect.vector, g);
     return tb__scene_push_effect(scene, &effect);
 }
@@ -170,6 +170,7 @@ tb_status tb_scene_add_force(tb_scene *scene, size_t id, const double force[3],
     }
     const tb_mass_properties *props = &scene->mass_props[id];
     tb__effect effect = {.apply = frame == TB_FRAME_WORLD ? apply_world_force : apply_body_force,
+                         .kind = TB__FORCE,
                          .body = id};
     tb__shape_point_to_principal(props, point, effect.point);
     if (frame == TB_FRAME_WORLD) {
@@ -197,6 +198,7 @@ tb_status tb_scene_add_torque(tb_scene *scene, size_t id, const double torque[3]
         return status;
     }
     tb__effect effect = {.apply = frame == TB_FRAME_WORLD ? apply_world_torque : apply_body_torque,
+                         .kind = TB__TORQUE,
                          .body = id};
     if (frame == TB_FRAME_WORLD) {
         tb__v3_copy(effect.vector, torque);
@@ -223,7 +225,8 @@ tb_status tb_scene_add_user_effect(tb_scene *scene, tb_user_effect_fn fn, void *
     if (fn == NULL) {
         return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "fn is NULL");
     }
-    tb__effect effect = {.apply = apply_user, .body = TB_ALL_BODIES, .user = fn, .user_ctx = ctx};
+    tb__effect effect = {
+        .apply = apply_user, .kind = TB__USER, .body = TB_ALL_BODIES, .user = fn, .user_ctx = ctx};
     return tb__scene_push_effect(scene, &effect);
 }
 

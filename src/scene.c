@@ -8,6 +8,7 @@
 #include <math.h>
 #include <stdarg.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -78,7 +79,11 @@ static tb_status reserve_bodies(tb_scene *scene, size_t capacity)
     if (props != NULL) {
         scene->mass_props = props;
     }
-    if (bodies == NULL || props == NULL) {
+    char(*names)[TB_NAME_SIZE] = realloc(scene->names, capacity * sizeof *names);
+    if (names != NULL) {
+        scene->names = names;
+    }
+    if (bodies == NULL || props == NULL || names == NULL) {
         return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "room for %zu bodies", capacity);
     }
     scene->body_capacity = capacity;
@@ -169,6 +174,7 @@ void tb_scene_destroy(tb_scene *scene)
         free(scene->states);
         free(scene->bodies);
         free(scene->mass_props);
+        free(scene->names);
         free(scene->effects);
         free(scene->contacts);
         free(scene);
@@ -189,11 +195,33 @@ static tb_status check_vector(tb_scene *scene, const double v[3], const char *wh
     return TB_STATUS_OK;
 }
 
+static tb_status validate_name(tb_scene *scene, const char *name)
+{
+    if (name == NULL) {
+        return TB_STATUS_OK;
+    }
+    const size_t length = strlen(name);
+    if (length == 0 || length >= TB_NAME_SIZE) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "def.name: must have 1 to %d characters, got %zu", TB_NAME_SIZE - 1,
+                              length);
+    }
+    size_t existing;
+    if (tb_scene_find_body(scene, name, &existing) == TB_STATUS_OK) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "def.name: \"%s\" is already body %zu's name", name, existing);
+    }
+    return TB_STATUS_OK;
+}
+
 static tb_status validate_body_def(tb_scene *scene, const tb_body_def *def)
 {
     if (def->internal_cookie != TB__BODY_COOKIE) {
         return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
                               "def: not initialised by tb_body_def_default()");
+    }
+    if (validate_name(scene, def->name) != TB_STATUS_OK) {
+        return TB_STATUS_INVALID_ARGUMENT;
     }
     tb_error error;
     tb_status status = tb_mass_validate(&def->mass, &error);
@@ -249,6 +277,11 @@ tb_status tb_scene_add_body(tb_scene *scene, const tb_body_def *def, size_t *out
     const size_t i = scene->body_count;
     const tb_mass_properties *props = &def->mass;
     scene->mass_props[i] = *props;
+    if (def->name != NULL) {
+        snprintf(scene->names[i], TB_NAME_SIZE, "%s", def->name);
+    } else {
+        snprintf(scene->names[i], TB_NAME_SIZE, "body%zu", i);
+    }
     scene->bodies[i].mass = props->mass;
     scene->bodies[i].inv_mass = 1.0 / props->mass;
     for (int k = 0; k < 3; ++k) {
@@ -277,6 +310,25 @@ tb_status tb_scene_add_body(tb_scene *scene, const tb_body_def *def, size_t *out
 size_t tb_scene_body_count(const tb_scene *scene)
 {
     return scene == NULL ? 0 : scene->body_count;
+}
+
+const char *tb_scene_body_name(const tb_scene *scene, size_t id)
+{
+    return scene == NULL || id >= scene->body_count ? NULL : scene->names[id];
+}
+
+tb_status tb_scene_find_body(const tb_scene *scene, const char *name, size_t *out_id)
+{
+    if (scene == NULL || name == NULL || out_id == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    for (size_t i = 0; i < scene->body_count; ++i) {
+        if (strcmp(scene->names[i], name) == 0) {
+            *out_id = i;
+            return TB_STATUS_OK;
+        }
+    }
+    return TB_STATUS_OUT_OF_RANGE;
 }
 
 double *tb_scene_states(tb_scene *scene)

@@ -21,8 +21,21 @@ typedef int (*tb__effect_apply)(const tb__effect *effect, const tb_scene *scene,
                                 const double *y, double *dydt);
 
 /* One entry of the compiled effect list: the function and its parameters, nothing else. */
+/* What kind of effect an entry is, for read-outs that need to know (potential energy, what
+ * is conserved); the hot loop never looks at it. */
+typedef enum tb__effect_kind {
+    TB__GRAVITY,
+    TB__FORCE,
+    TB__TORQUE,
+    TB__DRAG,
+    TB__SPRING,
+    TB__GROUND,
+    TB__USER
+} tb__effect_kind;
+
 struct tb__effect {
     tb__effect_apply apply;
+    tb__effect_kind kind;
     size_t body;      /* the body acted on, or TB_ALL_BODIES */
     size_t other;     /* a spring's second body, or TB_WORLD */
     double vector[3]; /* force, torque, acceleration, plane normal */
@@ -52,6 +65,7 @@ struct tb_scene {
     size_t extra_count;
     tb__body *bodies;               /* body_capacity */
     tb_mass_properties *mass_props; /* body_capacity, as given */
+    char (*names)[TB_NAME_SIZE];    /* body_capacity */
     tb__effect *effects;
     size_t effect_count;
     size_t effect_capacity;

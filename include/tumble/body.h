@@ -29,7 +29,12 @@ typedef struct tb_body_state {
  * The body frame is the principal frame of mass; the pose below is the pose of the shape
  * frame (the frame mass.center and mass.rotation refer to), so a user never deals with the
  * principal frame unless they want to. */
+/* Longest body name, including the terminating NUL. */
+#define TB_NAME_SIZE 64
+
 typedef struct tb_body_def {
+    const char *name;           /* optional, unique in its scene, < TB_NAME_SIZE characters;
+                                   copied; NULL (default) names the body "body<id>" */
     tb_mass_properties mass;    /* required: the default has mass 0, which is rejected */
     double position[3];         /* world position of the centre of mass, m; default 0 */
     double orientation[4];      /* shape frame -> world unit quaternion (w,x,y,z); identity */

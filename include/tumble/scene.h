@@ -42,6 +42,12 @@ tb_status tb_scene_add_body(tb_scene *scene, const tb_body_def *def, size_t *out
 
 size_t tb_scene_body_count(const tb_scene *scene);
 
+/* Body id's name (owned by the scene), or NULL for an id out of range. */
+const char *tb_scene_body_name(const tb_scene *scene, size_t id);
+
+/* The id of the body called name; TB_STATUS_OUT_OF_RANGE if there is none. */
+tb_status tb_scene_find_body(const tb_scene *scene, const char *name, size_t *out_id);
+
 /* The flat state array: tb_scene_state_size() doubles; body i at [13 i, 13 i + 13), then
  * the states some effects own (ground friction: 2 per contact point). Owned by the scene;
  * valid until the next tb_scene_add_body, tb_scene_add_ground or
@@ -82,6 +88,22 @@ tb_status tb_scene_body_shape_pose(const tb_scene *scene, const double *y, size_
 
 /* Total kinetic energy, sum P^2 / 2M + omega . L / 2, J. */
 tb_status tb_scene_kinetic_energy(const tb_scene *scene, const double *y, double *out_energy);
+/* Potential energy of the scene's conservative effects, J: gravity (-M g . x per body) and
+ * springs (k (|d| - rest)^2 / 2). Other effects have none. */
+tb_status tb_scene_potential_energy(const tb_scene *scene, const double *y, double *out_energy);
+
+/* What the scene's effects conserve (non-zero = conserved): total energy (only gravity and
+ * undamped springs act), linear momentum (no force from outside the bodies: only springs
+ * between two bodies), angular momentum about any point (the same). User effects are assumed
+ * to conserve nothing. */
+typedef struct tb_conserved {
+    int energy;
+    int linear_momentum;
+    int angular_momentum;
+} tb_conserved;
+
+tb_status tb_scene_conserved(const tb_scene *scene, tb_conserved *out_conserved);
+
 /* Total linear momentum, world frame, kg m/s. */
 tb_status tb_scene_linear_momentum(const tb_scene *scene, const double *y, double out_P[3]);
 /* Total angular momentum about the world point `point` (m): sum (x_i - point) x P_i + L_i. */

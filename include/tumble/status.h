@@ -21,7 +21,11 @@ extern "C" {
     X(HOOK_FAILED, -9, "post-step hook reported an error")                                         \
     X(STATE_NOT_FINITE, -10, "integration produced a non-finite state")                            \
     X(SOLVER_FAILED, -11, "ODE solver failed")                                                     \
-    X(UNSUPPORTED, -12, "operation not supported by this integrator")
+    X(UNSUPPORTED, -12, "operation not supported by this integrator")                              \
+    X(CANCELLED, -13, "stopped by a callback")                                                     \
+    X(PARSE_ERROR, -14, "scene file is not valid JSON")                                            \
+    X(BAD_SCENE, -15, "scene file describes something invalid")                                    \
+    X(IO_ERROR, -16, "file could not be read")
 
 typedef enum tb_status {
 #define TB__STATUS_ENUM(name, value, message) TB_STATUS_##name = value,

@@ -9,5 +9,7 @@
 #include "tumble/body.h"
 #include "tumble/scene.h"
 #include "tumble/effects.h"
+#include "tumble/run.h"
+#include "tumble/scene_file.h"
 
 #endif

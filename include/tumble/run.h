@@ -1,0 +1,41 @@
+/* Runs: advancing a scene frame by frame and handing each frame to a callback (a sink: a CSV
+ * writer, a renderer, a binding that copies states into arrays). */
+#ifndef TUMBLE_RUN_H
+#define TUMBLE_RUN_H
+
+#include "tumble/ode.h"
+#include "tumble/scene.h"
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct tb_run_def {
+    tb_integrator_def integrator; /* how to integrate; default RK4 at 1/240 s */
+    double fps;                   /* frames per second, > 0; default 60 */
+    double duration;              /* s, >= 0; default 5 */
+    int internal_cookie;
+} tb_run_def;
+
+tb_run_def tb_run_def_default(void);
+
+/* Called at t = 0 and at every frame time k / fps up to the duration (frame k), with the scene
+ * holding the states at that time (quaternions normalised). Return 0 to go on, non-zero to
+ * stop the run (tb_scene_run then returns TB_STATUS_CANCELLED). */
+typedef int (*tb_frame_fn)(size_t frame, double t, const tb_scene *scene, void *ctx);
+
+/* Runs the scene from its current state at t = 0 for def->duration seconds. Adaptive methods
+ * take their steps as their error control decides and frames come from their interpolant,
+ * so the frame rate does not change the solution. out_stats (may be NULL) receives what the
+ * integrator did, also on failure. On failure the scene holds the last good state and
+ * out_error (may be NULL) says what happened and when. */
+tb_status tb_scene_run(tb_scene *scene, const tb_run_def *def, tb_frame_fn on_frame, void *ctx,
+                       tb_integrator_stats *out_stats, tb_error *out_error);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
