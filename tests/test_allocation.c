@@ -113,11 +113,72 @@ static void test_stepping_allocates_nothing(void **state)
     run_without_allocating(TB_METHOD_CVODE_BDF, 6);
 }
 
+/* Every kind of effect at once: drag, a spring between bodies, a ground plane with friction
+ * state, a user callback, on boxes resting on the ground. */
+static int user_push(double t, const tb_scene *scene, const double *y, double *dydt, void *ctx)
+{
+    (void)t, (void)ctx;
+    tb_effect_add_torque(scene, dydt, 0, (double[]){0, 0, 0.1});
+    (void)y;
+    return 0;
+}
+
+static void test_stepping_with_every_effect_allocates_nothing(void **state)
+{
+    (void)state;
+    for (int m = TB_METHOD_RK4; m < TB_METHOD_COUNT; ++m) {
+        tb_scene_def scene_def = tb_scene_def_default();
+        tb_scene *scene = NULL;
+        assert_int_equal(tb_scene_create(&scene_def, &scene, NULL), TB_STATUS_OK);
+        const double size[3] = {0.2, 0.3, 0.4};
+        tb_contact_point corners[8];
+        size_t count;
+        tb_contact_points_box(size, corners, 8, &count);
+        for (int k = 0; k < 2; ++k) {
+            tb_body_def def = tb_body_def_default();
+            tb_mass_from_box(TB_MASS_GIVEN, 1.0, size, &def.mass, NULL);
+            def.position[0] = k;
+            def.position[2] = 0.2;
+            def.velocity[0] = 1.0;
+            assert_int_equal(tb_scene_add_body(scene, &def, NULL), TB_STATUS_OK);
+            assert_int_equal(tb_scene_set_contact_points(scene, (size_t)k, corners, count, 4),
+                             TB_STATUS_OK);
+        }
+        tb_scene_add_gravity(scene, (double[]){0, 0, -9.81});
+        tb_drag_def drag = tb_drag_def_default();
+        drag.linear = 0.1;
+        drag.angular = 0.1;
+        tb_scene_add_drag(scene, &drag);
+        tb_spring_def spring = tb_spring_def_default();
+        spring.body_a = 1;
+        spring.body_b = 0;
+        spring.stiffness = 10.0;
+        spring.rest_length = 1.0;
+        tb_scene_add_spring(scene, &spring);
+        tb_ground_def ground = tb_ground_def_default();
+        assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+        tb_scene_add_user_effect(scene, user_push, NULL);
+        tb_integrator_def def = tb_integrator_def_default();
+        def.method = (tb_method)m;
+        tb_integrator *integrator = NULL;
+        assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator), TB_STATUS_OK);
+        assert_int_equal(tb_integrator_advance(integrator, 0.01), TB_STATUS_OK); /* warm-up */
+        const long before = allocations;
+        for (int frame = 1; frame <= 120; ++frame) {
+            assert_int_equal(tb_integrator_advance(integrator, frame / 60.0), TB_STATUS_OK);
+        }
+        assert_int_equal(allocations - before, 0);
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_the_counter_sees_allocations),
         cmocka_unit_test(test_stepping_allocates_nothing),
+        cmocka_unit_test(test_stepping_with_every_effect_allocates_nothing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
