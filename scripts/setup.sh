@@ -18,11 +18,11 @@ for package in "${packages[@]}"; do
 done
 [ ${#missing[@]} -eq 0 ] && exit 0
 
-command="apt-get update && apt-get install -y --no-install-recommends ${missing[*]}"
+command="apt-get update && apt-get install -y ${missing[*]}"
 if [ "$(id -u)" -eq 0 ]; then
     echo "setup: installing ${missing[*]}" >&2
     apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}" >/dev/null
 elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then
     echo "setup: installing ${missing[*]} with sudo" >&2
     sudo sh -c "DEBIAN_FRONTEND=noninteractive $command"
