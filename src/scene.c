@@ -521,6 +521,18 @@ tb_status tb_scene_integrator_create(tb_scene *scene, const tb_integrator_def *d
     if (scene_def.preconditioner_half_bandwidth < 0) {
         scene_def.preconditioner_half_bandwidth = TB__BODY_HALF_BANDWIDTH;
     }
+    if (!tb_method_is_adaptive(def->method) && !def->allow_unstable) {
+        double max_dt;
+        char which[TB_DETAIL_SIZE];
+        tb_scene_max_stable_step(scene, def->method, &max_dt, which);
+        if (def->dt > max_dt) {
+            free(atol);
+            return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                                  "def.dt: %g s is beyond %s's stability limit for %s: use dt "
+                                  "<= %.3g s, or cvode-bdf",
+                                  def->dt, tb_method_name(def->method), which, max_dt);
+        }
+    }
     tb_error error;
     status = tb_integrator_create(&system, &scene_def, t0, scene->states, out_integrator, &error);
     free(atol); /* the integrator copied it */

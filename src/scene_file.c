@@ -237,7 +237,7 @@ static tb_status load_linear_solver(tb__loader *ld, const json_t *object, tb_int
  * "cvode-bdf" is a mistake the user should hear about. */
 static tb_status check_settings_fit(tb__loader *ld, const json_t *object, tb_method method)
 {
-    static const char *const fixed_only[] = {"dt", NULL};
+    static const char *const fixed_only[] = {"dt", "allow_unstable", NULL};
     static const char *const adaptive_only[] = {"rtol",      "atol",          "max_steps",
                                                 "max_order", "linear_solver", NULL};
     const bool adaptive = tb_method_is_adaptive(method);
@@ -258,7 +258,8 @@ static tb_status check_settings_fit(tb__loader *ld, const json_t *object, tb_met
 static tb_status load_integrator(tb__loader *ld, const json_t *object)
 {
     static const char *const keys[] = {"method",    "dt",        "rtol",          "atol",
-                                       "max_steps", "max_order", "linear_solver", NULL};
+                                       "max_steps", "max_order", "linear_solver", "allow_unstable",
+                                       NULL};
     tb_status status = tb__json_object(ld, object, "integrator", keys);
     tb_integrator_def *def = &ld->run.integrator;
     const char *method = NULL;
@@ -310,6 +311,12 @@ static tb_status load_integrator(tb__loader *ld, const json_t *object)
                                tb_method_name(def->method), max_order);
     }
     def->max_order = (int)max_order;
+    const json_t *unstable = json_object_get(object, "allow_unstable");
+    if (status == TB_STATUS_OK && unstable != NULL && !json_is_boolean(unstable)) {
+        status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, "integrator.allow_unstable",
+                               "must be true or false, got %s", kind_of(unstable));
+    }
+    def->allow_unstable = unstable != NULL && json_is_true(unstable);
     return status == TB_STATUS_OK ? load_linear_solver(ld, object, def) : status;
 }
 

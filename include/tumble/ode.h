@@ -69,18 +69,21 @@ typedef struct tb_integrator_def {
 
     /* Adaptive methods: CVODE keeps each step's local error e_i below
      * rtol |y_i| + atol_i (weighted RMS norm). */
-    double rtol;                       /* relative tolerance, > 0; default 1e-6 */
-    double atol;                       /* absolute tolerance for every component, >= 0; default 0,
-                                          meaning automatic: scenes derive one per component from the
-                                          bodies' sizes and masses (tb_scene_absolute_tolerances),
-                                          other systems use rtol * 1e-3 */
-    const double *atol_vector;         /* n absolute tolerances, >= 0, overriding atol; copied at
-                                          creation; default NULL */
-    long max_steps;                    /* internal steps allowed in one advance; default 100000 */
-    double initial_step;               /* first step size; 0 (default) lets CVODE estimate it */
-    double max_step;                   /* largest step size; 0 (default) for no limit */
-    int max_order;                     /* 0 (default) for the method's largest (Adams 12, BDF 5) */
-    tb_linear_solver linear_solver;    /* BDF only; default TB_LINEAR_SOLVER_AUTO */
+    double rtol;                    /* relative tolerance, > 0; default 1e-6 */
+    double atol;                    /* absolute tolerance for every component, >= 0; default 0,
+                                       meaning automatic: scenes derive one per component from the
+                                       bodies' sizes and masses (tb_scene_absolute_tolerances),
+                                       other systems use rtol * 1e-3 */
+    const double *atol_vector;      /* n absolute tolerances, >= 0, overriding atol; copied at
+                                       creation; default NULL */
+    long max_steps;                 /* internal steps allowed in one advance; default 100000 */
+    double initial_step;            /* first step size; 0 (default) lets CVODE estimate it */
+    double max_step;                /* largest step size; 0 (default) for no limit */
+    int max_order;                  /* 0 (default) for the method's largest (Adams 12, BDF 5) */
+    tb_linear_solver linear_solver; /* BDF only; default TB_LINEAR_SOLVER_AUTO */
+    int allow_unstable; /* scenes, fixed-step methods: 0 (default) refuses a dt at which the
+                           scene's stiffest spring or contact would grow by more than 1% a step
+                           (see tb_scene_max_stable_step); 1 runs anyway */
     int preconditioner_half_bandwidth; /* Krylov only: half-bandwidth of the banded
                                           difference-quotient preconditioner; < 0 (default)
                                           automatic: 12 for scenes (one body's 13 x 13

@@ -166,7 +166,18 @@ int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx);
 /* Post-step hook: q <- q / |q| for every body. Returns 1 if some |q| is zero or not finite. */
 int tb_scene_normalize_quaternions(double t, double *y, void *ctx);
 
-/* Creates an integrator over the scene's own state array at time t0. For adaptive methods a
+/* The largest fixed step at which method keeps the scene's stiffest mode (springs, ground
+ * contact) from growing by more than 1% a step: h lambda below 2.78 for RK4, 0.53 for
+ * midpoint, 0.14 for Euler, where lambda estimates the mode's rate from its stiffness and
+ * damping and the inverse mass at its ends (rotation included, bounded by the smallest
+ * moment). INFINITY when nothing is stiff; out_which (may be NULL, TB_DETAIL_SIZE) names the
+ * effect. Adaptive methods: INFINITY. */
+tb_status tb_scene_max_stable_step(const tb_scene *scene, tb_method method, double *out_dt,
+                                   char *out_which);
+
+/* Creates an integrator over the scene's own state array at time t0. A fixed-step def whose dt
+ * exceeds tb_scene_max_stable_step is refused (TB_STATUS_INVALID_ARGUMENT, the detail naming
+ * the effect and the largest stable dt) unless def->allow_unstable is set. For adaptive methods a
  * def with atol = 0 and no atol_vector gets tb_scene_absolute_tolerances(scene, rtol), and a
  * negative preconditioner_half_bandwidth gets 12 (each body's 13 x 13 Jacobian block). */
 tb_status tb_scene_integrator_create(tb_scene *scene, const tb_integrator_def *def, double t0,
