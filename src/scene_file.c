@@ -4,6 +4,7 @@
 
 #include "detail.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -443,8 +444,22 @@ tb_status tb_scene_load_file(const char *path, tb_scene **out_scene, tb_run_def 
         directory[slash - path + 1] = '\0';
     }
     tb__loader ld = {.name = path, .directory = directory, .error = out_error};
+    /* Open and probe it here, so that a directory or unreadable file is reported as what it
+     * is rather than as JSON that ended early. */
+    FILE *file = fopen(path, "rb");
+    const int first = file != NULL ? fgetc(file) : EOF;
+    if (file == NULL || (first == EOF && ferror(file))) {
+        const int reason = errno;
+        if (file != NULL) {
+            fclose(file);
+        }
+        return tb__set_error(out_error, TB_STATUS_IO_ERROR, "%s: cannot read: %s", path,
+                             strerror(reason));
+    }
+    ungetc(first, file);
     json_error_t error;
-    json_t *root = json_load_file(path, JSON_REJECT_DUPLICATES, &error);
+    json_t *root = json_loadf(file, JSON_REJECT_DUPLICATES, &error);
+    fclose(file);
     if (root == NULL) {
         return syntax_error(&ld, &error);
     }

@@ -1,0 +1,281 @@
+/* Every public function that takes input, given wrong input: a status naming the problem,
+ * never a crash, and nothing changed (the scene's states and counts, the integrator's time,
+ * the output structs). One line per case: add one by adding a row to BAD_INPUTS. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "tumble/tumble.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct fixture {
+    tb_scene *scene, *other_scene;
+    tb_integrator *integrator, *other;
+    tb_ode_system system;
+    tb_integrator_def idef;
+    tb_body_def body, long_name, duplicate;
+    tb_body_state state, bad_state;
+    tb_mass_properties mass, bad_mass;
+    tb_mass_part part;
+    tb_drag_def drag;
+    tb_spring_def spring;
+    tb_ground_def ground;
+    tb_run_def run, zero_fps, infinite_run;
+    tb_contact_point points[8];
+    tb_method method;
+    tb_conserved conserved;
+    double y[2], v[3], matrix[9], value, positions[6], masses[2], nan_positions[6];
+    double vertices[12];
+    unsigned triangles[12];
+    size_t id, count;
+    char name[100];
+} fixture;
+
+static int harmonic(double t, const double *y, double *dydt, void *ctx)
+{
+    (void)t, (void)ctx;
+    dydt[0] = y[1];
+    dydt[1] = -y[0];
+    return 0;
+}
+
+static void set_up(fixture *f)
+{
+    memset(f, 0, sizeof *f);
+    tb_scene_def scene_def = tb_scene_def_default();
+    tb_scene_create(&scene_def, &f->scene, NULL);
+    f->body = tb_body_def_default();
+    f->body.name = "ball";
+    tb_mass_from_sphere(TB_MASS_GIVEN, 1.0, 0.1, &f->body.mass, NULL);
+    f->body.position[2] = 1.0;
+    tb_scene_add_body(f->scene, &f->body, NULL);
+    tb_scene_add_gravity(f->scene, (double[]){0, 0, -9.81});
+    f->idef = tb_integrator_def_default();
+    tb_scene_integrator_create(f->scene, &f->idef, 0.0, &f->integrator);
+    tb_integrator_advance(f->integrator, 0.1);
+    f->system = (tb_ode_system){2, harmonic, NULL, NULL};
+    f->y[0] = 1.0;
+    memset(f->name, 'n', sizeof f->name - 1);
+    f->long_name = f->body;
+    f->long_name.name = f->name;
+    f->duplicate = f->body;
+    tb_scene_get_state(f->scene, 0, &f->state);
+    f->bad_state = f->state;
+    f->bad_state.P[1] = INFINITY;
+    f->bad_mass = f->body.mass;
+    f->bad_mass.moments[1] = -1.0;
+    f->part.props = f->body.mass;
+    f->part.orientation[0] = 1.0;
+    f->drag = tb_drag_def_default();
+    f->drag.internal_cookie = 0;
+    f->spring = tb_spring_def_default();
+    f->spring.body_b = 9;
+    f->spring.stiffness = 1.0;
+    f->ground = tb_ground_def_default();
+    f->ground.offset = NAN;
+    f->run = tb_run_def_default();
+    f->zero_fps = f->run;
+    f->zero_fps.fps = 0.0;
+    f->infinite_run = f->run;
+    f->infinite_run.duration = INFINITY;
+    const double positions[6] = {0, 0, 0, 1, 0, 0};
+    memcpy(f->positions, positions, sizeof positions);
+    memcpy(f->nan_positions, positions, sizeof positions);
+    f->nan_positions[4] = NAN;
+    f->masses[0] = f->masses[1] = 1.0;
+    for (int k = 0; k < 12; ++k) {
+        f->triangles[k] = (unsigned)(k % 4);
+        f->vertices[k] = (double)(k % 3 == k / 3);
+    }
+    memset(&f->mass, 0x5a, sizeof f->mass);
+    memset(&f->method, 0x5a, sizeof f->method);
+}
+
+#define BAD_INPUTS(X)                                                                              \
+    X("method_from_name: NULL", NULL_POINTER, tb_method_from_name(NULL, &f->method))               \
+    X("method_from_name: unknown", INVALID_ARGUMENT, tb_method_from_name("rk5", &f->method))       \
+    X("integrator_create: NULL system", NULL_POINTER,                                              \
+      tb_integrator_create(NULL, &f->idef, 0, f->y, &f->other, NULL))                              \
+    X("integrator_create: NaN t0", NOT_FINITE,                                                     \
+      tb_integrator_create(&f->system, &f->idef, NAN, f->y, &f->other, NULL))                      \
+    X("integrator_create: NULL y", NULL_POINTER,                                                   \
+      tb_integrator_create(&f->system, &f->idef, 0, NULL, &f->other, NULL))                        \
+    X("advance: NULL", NULL_POINTER, tb_integrator_advance(NULL, 1))                               \
+    X("advance: NaN", INVALID_ARGUMENT, tb_integrator_advance(f->integrator, NAN))                 \
+    X("advance: infinity", INVALID_ARGUMENT, tb_integrator_advance(f->integrator, INFINITY))       \
+    X("advance: backwards", INVALID_ARGUMENT, tb_integrator_advance(f->integrator, -1))            \
+    X("step: NULL", NULL_POINTER, tb_integrator_step(NULL))                                        \
+    X("reset: NaN", NOT_FINITE, tb_integrator_reset(f->integrator, NAN))                           \
+    X("reset: NULL", NULL_POINTER, tb_integrator_reset(NULL, 0))                                   \
+    X("get_stats: NULL out", NULL_POINTER, tb_integrator_get_stats(f->integrator, NULL))           \
+    X("sphere: NaN radius", NOT_FINITE, tb_mass_from_sphere(TB_MASS_GIVEN, 1, NAN, &f->mass, 0))   \
+    X("sphere: unknown mode", INVALID_ARGUMENT,                                                    \
+      tb_mass_from_sphere((tb_mass_mode)7, 1, 1, &f->mass, NULL))                                  \
+    X("box: NULL size", NULL_POINTER, tb_mass_from_box(TB_MASS_GIVEN, 1, NULL, &f->mass, NULL))    \
+    X("box: huge density", INVALID_ARGUMENT,                                                       \
+      tb_mass_from_box(TB_MASS_DENSITY, 1e300, (double[]){1e100, 1e100, 1e100}, &f->mass, NULL))   \
+    X("box: huge size (inertia overflows)", NOT_FINITE,                                            \
+      tb_mass_from_box(TB_MASS_GIVEN, 1, (double[]){1e200, 1e200, 1}, &f->mass, NULL))             \
+    X("cylinder: zero length", INVALID_ARGUMENT,                                                   \
+      tb_mass_from_cylinder(TB_MASS_GIVEN, 1, 1, 0, &f->mass, NULL))                               \
+    X("capsule: infinite radius", NOT_FINITE,                                                      \
+      tb_mass_from_capsule(TB_MASS_GIVEN, 1, INFINITY, 1, &f->mass, NULL))                         \
+    X("ellipsoid: NULL", NULL_POINTER, tb_mass_from_ellipsoid(TB_MASS_GIVEN, 1, 0, &f->mass, 0))   \
+    X("points: NULL masses", NULL_POINTER,                                                         \
+      tb_mass_from_points(f->positions, NULL, 2, &f->mass, NULL))                                  \
+    X("points: NaN position", NOT_FINITE,                                                          \
+      tb_mass_from_points(f->nan_positions, f->masses, 2, &f->mass, NULL))                         \
+    X("points: two points (a line)", BAD_MASS_PROPERTIES,                                          \
+      tb_mass_from_points(f->positions, f->masses, 2, &f->mass, NULL))                             \
+    X("mesh: NULL vertices", NULL_POINTER,                                                         \
+      tb_mass_from_mesh(TB_MASS_GIVEN, 1, NULL, 4, f->triangles, 4, &f->mass, NULL))               \
+    X("mesh: three triangles", BAD_MESH,                                                           \
+      tb_mass_from_mesh(TB_MASS_GIVEN, 1, f->vertices, 4, f->triangles, 3, &f->mass, NULL))        \
+    X("tensor: zero", BAD_MASS_PROPERTIES,                                                         \
+      tb_mass_from_tensor(1, f->v, (double[9]){0}, &f->mass, NULL))                                \
+    X("tensor: NaN center", NOT_FINITE,                                                            \
+      tb_mass_from_tensor(1, (double[]){NAN, 0, 0}, (double[]){1, 0, 0, 0, 1, 0, 0, 0, 1},         \
+                          &f->mass, NULL))                                                         \
+    X("combine: no parts", INVALID_ARGUMENT, tb_mass_combine(&f->part, 0, &f->mass, NULL))         \
+    X("combine: NULL", NULL_POINTER, tb_mass_combine(NULL, 1, &f->mass, NULL))                     \
+    X("tensor_inverse: NULL", NULL_POINTER, tb_mass_tensor_inverse(NULL, f->matrix, NULL))         \
+    X("validate: negative moment", INVALID_ARGUMENT, tb_mass_validate(&f->bad_mass, NULL))         \
+    X("scene_create: NULL def", NULL_POINTER, tb_scene_create(NULL, &f->other_scene, NULL))        \
+    X("add_body: NULL def", NULL_POINTER, tb_scene_add_body(f->scene, NULL, NULL))                 \
+    X("add_body: NULL scene", NULL_POINTER, tb_scene_add_body(NULL, &f->body, NULL))               \
+    X("add_body: 99-character name", INVALID_ARGUMENT,                                             \
+      tb_scene_add_body(f->scene, &f->long_name, NULL))                                            \
+    X("add_body: duplicate name", INVALID_ARGUMENT,                                                \
+      tb_scene_add_body(f->scene, &f->duplicate, NULL))                                            \
+    X("get_state: id 9", OUT_OF_RANGE, tb_scene_get_state(f->scene, 9, &f->state))                 \
+    X("set_state: infinite P", NOT_FINITE, tb_scene_set_state(f->scene, 0, &f->bad_state))         \
+    X("set_state: NULL", NULL_POINTER, tb_scene_set_state(f->scene, 0, NULL))                      \
+    X("set_velocity: NULL", NULL_POINTER, tb_scene_set_velocity(f->scene, 0, NULL, f->v))          \
+    X("set_velocity: id 9", OUT_OF_RANGE, tb_scene_set_velocity(f->scene, 9, f->v, f->v))          \
+    X("get_mass: id 9", OUT_OF_RANGE, tb_scene_get_mass(f->scene, 9, &f->mass))                    \
+    X("body_rotation: NULL y", NULL_POINTER, tb_scene_body_rotation(f->scene, NULL, 0, f->matrix)) \
+    X("body_velocity: id 9", OUT_OF_RANGE,                                                         \
+      tb_scene_body_velocity(f->scene, tb_scene_states(f->scene), 9, f->v))                        \
+    X("angular_velocity: NULL out", NULL_POINTER,                                                  \
+      tb_scene_body_angular_velocity(f->scene, tb_scene_states(f->scene), 0, NULL))                \
+    X("shape_pose: NULL orientation", NULL_POINTER,                                                \
+      tb_scene_body_shape_pose(f->scene, tb_scene_states(f->scene), 0, f->v, NULL))                \
+    X("kinetic_energy: NULL scene", NULL_POINTER, tb_scene_kinetic_energy(NULL, f->y, &f->value))  \
+    X("potential_energy: NULL y", NULL_POINTER,                                                    \
+      tb_scene_potential_energy(f->scene, NULL, &f->value))                                        \
+    X("linear_momentum: NULL out", NULL_POINTER,                                                   \
+      tb_scene_linear_momentum(f->scene, tb_scene_states(f->scene), NULL))                         \
+    X("angular_momentum: NULL point", NULL_POINTER,                                                \
+      tb_scene_angular_momentum(f->scene, tb_scene_states(f->scene), NULL, f->v))                  \
+    X("conserved: NULL out", NULL_POINTER, tb_scene_conserved(f->scene, NULL))                     \
+    X("find_body: unknown", OUT_OF_RANGE, tb_scene_find_body(f->scene, "nobody", &f->id))          \
+    X("find_body: NULL name", NULL_POINTER, tb_scene_find_body(f->scene, NULL, &f->id))            \
+    X("ode_system: NULL out", NULL_POINTER, tb_scene_ode_system(f->scene, NULL))                   \
+    X("integrator_create on scene: NULL def", NULL_POINTER,                                        \
+      tb_scene_integrator_create(f->scene, NULL, 0, &f->other))                                    \
+    X("absolute_tolerances: zero scale", INVALID_ARGUMENT,                                         \
+      tb_scene_absolute_tolerances(f->scene, 0.0, f->matrix))                                      \
+    X("max_stable_step: NULL out", NULL_POINTER,                                                   \
+      tb_scene_max_stable_step(f->scene, TB_METHOD_RK4, NULL, NULL))                               \
+    X("add_gravity: infinite", NOT_FINITE,                                                         \
+      tb_scene_add_gravity(f->scene, (double[]){0, 0, -INFINITY}))                                 \
+    X("add_force: body 9", OUT_OF_RANGE,                                                           \
+      tb_scene_add_force(f->scene, 9, f->v, f->v, TB_FRAME_WORLD))                                 \
+    X("add_torque: NULL", NULL_POINTER, tb_scene_add_torque(f->scene, 0, NULL, TB_FRAME_BODY))     \
+    X("add_drag: def not from default", INVALID_ARGUMENT, tb_scene_add_drag(f->scene, &f->drag))   \
+    X("add_spring: body_b 9", OUT_OF_RANGE, tb_scene_add_spring(f->scene, &f->spring))             \
+    X("add_ground: NaN offset", INVALID_ARGUMENT, tb_scene_add_ground(f->scene, &f->ground))       \
+    X("set_contact_points: support 0", INVALID_ARGUMENT,                                           \
+      tb_scene_set_contact_points(f->scene, 0, f->points, 2, 0))                                   \
+    X("set_contact_points: NULL points", NULL_POINTER,                                             \
+      tb_scene_set_contact_points(f->scene, 0, NULL, 3, 1))                                        \
+    X("contact_points_box: no room", OUT_OF_RANGE,                                                 \
+      tb_contact_points_box(f->v, f->points, 2, &f->count))                                        \
+    X("add_user_effect: NULL fn", NULL_POINTER, tb_scene_add_user_effect(f->scene, NULL, NULL))    \
+    X("run: NULL def", NULL_POINTER, tb_scene_run(f->scene, NULL, NULL, NULL, NULL, NULL))         \
+    X("run: zero fps", INVALID_ARGUMENT,                                                           \
+      tb_scene_run(f->scene, &f->zero_fps, NULL, NULL, NULL, NULL))                                \
+    X("run: infinite duration", INVALID_ARGUMENT,                                                  \
+      tb_scene_run(f->scene, &f->infinite_run, NULL, NULL, NULL, NULL))                            \
+    X("load_file: NULL path", NULL_POINTER,                                                        \
+      tb_scene_load_file(NULL, &f->other_scene, &f->run, NULL))                                    \
+    X("load_file: a directory", IO_ERROR, tb_scene_load_file("/", &f->other_scene, &f->run, NULL)) \
+    X("load_string: NULL json", NULL_POINTER,                                                      \
+      tb_scene_load_string(NULL, "x", NULL, &f->other_scene, &f->run, NULL))                       \
+    X("load_string: empty", PARSE_ERROR,                                                           \
+      tb_scene_load_string("", "x", NULL, &f->other_scene, &f->run, NULL))
+
+static tb_status attempt(size_t index, fixture *f)
+{
+    size_t i = 0;
+#define AS_CALL(label, status, call)                                                               \
+    if (index == i++) {                                                                            \
+        return (call);                                                                             \
+    }
+    BAD_INPUTS(AS_CALL)
+#undef AS_CALL
+    return TB_STATUS_OK;
+}
+
+static const struct {
+    const char *label;
+    tb_status expected;
+} cases[] = {
+#define AS_ROW(label, status, call) {label, TB_STATUS_##status},
+    BAD_INPUTS(AS_ROW)
+#undef AS_ROW
+};
+
+typedef struct snapshot {
+    size_t bodies, effects, size;
+    double states[64];
+    double time;
+    tb_mass_properties mass;
+    tb_body_state state;
+} snapshot;
+
+static void take(const fixture *f, snapshot *s)
+{
+    memset(s, 0, sizeof *s);
+    s->bodies = tb_scene_body_count(f->scene);
+    s->effects = tb_scene_effect_count(f->scene);
+    s->size = tb_scene_state_size(f->scene);
+    memcpy(s->states, tb_scene_states_const(f->scene), s->size * sizeof(double));
+    s->time = tb_integrator_time(f->integrator);
+    s->mass = f->mass;
+    s->state = f->state;
+}
+
+static void test_every_public_function_refuses_bad_input_and_changes_nothing(void **state)
+{
+    (void)state;
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        fixture f;
+        set_up(&f);
+        snapshot before, after;
+        take(&f, &before);
+        const tb_status status = attempt(i, &f);
+        take(&f, &after);
+        print_message("%-40s -> %s\n", cases[i].label, tb_status_name(status));
+        assert_int_equal(status, cases[i].expected);
+        assert_memory_equal(&before, &after, sizeof before);
+        assert_null(f.other);
+        assert_null(f.other_scene);
+        tb_integrator_destroy(f.integrator);
+        tb_scene_destroy(f.scene);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_every_public_function_refuses_bad_input_and_changes_nothing),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
