@@ -25,4 +25,4 @@ mkdir -p build-fuzz/corpus build-fuzz/crashes
 cp examples/scenes/*.json tests/scenes/*.json build-fuzz/corpus/
 ASAN_OPTIONS=detect_leaks=1 build-fuzz/fuzz/fuzz_scene_loader build-fuzz/corpus \
     -max_total_time="$seconds" -max_len=16384 -timeout=10 -rss_limit_mb=2048 \
-    -artifact_prefix=build-fuzz/crashes/ -print_final_stats=1
+    -dict=fuzz/scene.dict -artifact_prefix=build-fuzz/crashes/ -print_final_stats=1

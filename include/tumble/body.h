@@ -2,6 +2,8 @@
 #ifndef TUMBLE_BODY_H
 #define TUMBLE_BODY_H
 
+#include "tumble/export.h"
+
 #include "tumble/mass.h"
 
 #ifdef __cplusplus
@@ -43,7 +45,7 @@ typedef struct tb_body_def {
     int internal_cookie;        /* set by tb_body_def_default */
 } tb_body_def;
 
-tb_body_def tb_body_def_default(void);
+TB_API tb_body_def tb_body_def_default(void);
 
 #ifdef __cplusplus
 }

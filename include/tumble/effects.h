@@ -6,6 +6,8 @@
 #ifndef TUMBLE_EFFECTS_H
 #define TUMBLE_EFFECTS_H
 
+#include "tumble/export.h"
+
 #include "tumble/scene.h"
 
 #include <stddef.h>
@@ -31,8 +33,8 @@ typedef struct tb_drag_def {
     int internal_cookie;
 } tb_drag_def;
 
-tb_drag_def tb_drag_def_default(void);
-tb_status tb_scene_add_drag(tb_scene *scene, const tb_drag_def *def);
+TB_API tb_drag_def tb_drag_def_default(void);
+TB_API tb_status tb_scene_add_drag(tb_scene *scene, const tb_drag_def *def);
 
 /* --- springs ------------------------------------------------------------------------------
  * A Hooke spring with damping between point_a fixed in body_a and point_b fixed in body_b
@@ -50,8 +52,8 @@ typedef struct tb_spring_def {
     int internal_cookie;
 } tb_spring_def;
 
-tb_spring_def tb_spring_def_default(void);
-tb_status tb_scene_add_spring(tb_scene *scene, const tb_spring_def *def);
+TB_API tb_spring_def tb_spring_def_default(void);
+TB_API tb_status tb_scene_add_spring(tb_scene *scene, const tb_spring_def *def);
 
 /* --- contact with a ground plane ------------------------------------------------------------
  * Bodies touch the plane through contact points: points fixed in the body (shape frame) with
@@ -88,8 +90,8 @@ typedef struct tb_ground_def {
     int internal_cookie;
 } tb_ground_def;
 
-tb_ground_def tb_ground_def_default(void);
-tb_status tb_scene_add_ground(tb_scene *scene, const tb_ground_def *def);
+TB_API tb_ground_def tb_ground_def_default(void);
+TB_API tb_status tb_scene_add_ground(tb_scene *scene, const tb_ground_def *def);
 
 typedef struct tb_contact_point {
     double position[3]; /* in the body's shape frame, m */
@@ -99,18 +101,19 @@ typedef struct tb_contact_point {
 /* Sets (replaces) body id's contact points; count 0 removes them. Copies the array. support
  * (1 .. count) is how many of them carry the body's weight when it rests: it sizes the
  * contact stiffness (4 for a box's corners, 1 for a sphere, 2 for a capsule lying down). */
-tb_status tb_scene_set_contact_points(tb_scene *scene, size_t id, const tb_contact_point *points,
-                                      size_t count, size_t support);
+TB_API tb_status tb_scene_set_contact_points(tb_scene *scene, size_t id,
+                                             const tb_contact_point *points, size_t count,
+                                             size_t support);
 
 /* Contact points for common shapes, in the shape frame. out has room for `capacity` points;
  * *out_count receives the number written (8 for a box, 1 for a sphere, 2 for a capsule);
  * their support is 4, 1 and 2. */
-tb_status tb_contact_points_box(const double size[3], tb_contact_point *out, size_t capacity,
-                                size_t *out_count);
-tb_status tb_contact_points_sphere(double radius, tb_contact_point *out, size_t capacity,
-                                   size_t *out_count);
-tb_status tb_contact_points_capsule(double radius, double length, tb_contact_point *out,
-                                    size_t capacity, size_t *out_count);
+TB_API tb_status tb_contact_points_box(const double size[3], tb_contact_point *out, size_t capacity,
+                                       size_t *out_count);
+TB_API tb_status tb_contact_points_sphere(double radius, tb_contact_point *out, size_t capacity,
+                                          size_t *out_count);
+TB_API tb_status tb_contact_points_capsule(double radius, double length, tb_contact_point *out,
+                                           size_t capacity, size_t *out_count);
 
 /* --- user effects -------------------------------------------------------------------------
  * A callback that adds forces and torques. It receives the time and the scene's state array y
@@ -121,15 +124,16 @@ tb_status tb_contact_points_capsule(double radius, double length, tb_contact_poi
 typedef int (*tb_user_effect_fn)(double t, const tb_scene *scene, const double *y, double *dydt,
                                  void *ctx);
 
-tb_status tb_scene_add_user_effect(tb_scene *scene, tb_user_effect_fn fn, void *ctx);
+TB_API tb_status tb_scene_add_user_effect(tb_scene *scene, tb_user_effect_fn fn, void *ctx);
 
 /* For user effects: adds force f (N, world) at world point p (m) to body id: F += f,
  * tau += (p - x) x f. */
-void tb_effect_add_force(const tb_scene *scene, const double *y, double *dydt, size_t id,
-                         const double force[3], const double point[3]);
+TB_API void tb_effect_add_force(const tb_scene *scene, const double *y, double *dydt, size_t id,
+                                const double force[3], const double point[3]);
 
 /* For user effects: adds torque (N m, world) to body id. */
-void tb_effect_add_torque(const tb_scene *scene, double *dydt, size_t id, const double torque[3]);
+TB_API void tb_effect_add_torque(const tb_scene *scene, double *dydt, size_t id,
+                                 const double torque[3]);
 
 #ifdef __cplusplus
 }

@@ -8,6 +8,8 @@
 #ifndef TUMBLE_MASS_H
 #define TUMBLE_MASS_H
 
+#include "tumble/export.h"
+
 #include "tumble/status.h"
 
 #include <stddef.h>
@@ -40,46 +42,48 @@ typedef enum tb_mass_mode {
  * mode says whether value is the mass (kg) or the density (kg/m^3). */
 
 /* Solid sphere of radius r (m): I = 2/5 m r^2. */
-tb_status tb_mass_from_sphere(tb_mass_mode mode, double value, double radius,
-                              tb_mass_properties *out_props, tb_error *out_error);
+TB_API tb_status tb_mass_from_sphere(tb_mass_mode mode, double value, double radius,
+                                     tb_mass_properties *out_props, tb_error *out_error);
 
 /* Solid box with full edge lengths size[3] (m): I_x = m (b^2 + c^2) / 12, ... */
-tb_status tb_mass_from_box(tb_mass_mode mode, double value, const double size[3],
-                           tb_mass_properties *out_props, tb_error *out_error);
+TB_API tb_status tb_mass_from_box(tb_mass_mode mode, double value, const double size[3],
+                                  tb_mass_properties *out_props, tb_error *out_error);
 
 /* Solid cylinder of radius r and length h along z: I_z = m r^2 / 2,
  * I_x = I_y = m (3 r^2 + h^2) / 12. */
-tb_status tb_mass_from_cylinder(tb_mass_mode mode, double value, double radius, double length,
-                                tb_mass_properties *out_props, tb_error *out_error);
+TB_API tb_status tb_mass_from_cylinder(tb_mass_mode mode, double value, double radius,
+                                       double length, tb_mass_properties *out_props,
+                                       tb_error *out_error);
 
 /* Solid capsule: a cylinder of radius r and length h along z capped by two hemispheres of
  * radius r (total length h + 2 r). */
-tb_status tb_mass_from_capsule(tb_mass_mode mode, double value, double radius, double length,
-                               tb_mass_properties *out_props, tb_error *out_error);
+TB_API tb_status tb_mass_from_capsule(tb_mass_mode mode, double value, double radius, double length,
+                                      tb_mass_properties *out_props, tb_error *out_error);
 
 /* Solid ellipsoid with semi-axes a, b, c along x, y, z: I_x = m (b^2 + c^2) / 5, ... */
-tb_status tb_mass_from_ellipsoid(tb_mass_mode mode, double value, const double semi_axes[3],
-                                 tb_mass_properties *out_props, tb_error *out_error);
+TB_API tb_status tb_mass_from_ellipsoid(tb_mass_mode mode, double value, const double semi_axes[3],
+                                        tb_mass_properties *out_props, tb_error *out_error);
 
 /* Point masses: positions[3 * count] (shape frame, m), masses[count] (kg, > 0).
  * I_xx = sum m (y^2 + z^2), I_xy = - sum m x y, ... about the centre of mass. Points that
  * all lie on one line give a singular tensor and are rejected. */
-tb_status tb_mass_from_points(const double *positions, const double *masses, size_t count,
-                              tb_mass_properties *out_props, tb_error *out_error);
+TB_API tb_status tb_mass_from_points(const double *positions, const double *masses, size_t count,
+                                     tb_mass_properties *out_props, tb_error *out_error);
 
 /* A closed, consistently oriented (outward normals by the right-hand rule), non-degenerate
  * triangle mesh of uniform density: vertices[3 * vertex_count] (m),
  * triangles[3 * triangle_count] (vertex indices). Volume integrals by signed tetrahedra. */
-tb_status tb_mass_from_mesh(tb_mass_mode mode, double value, const double *vertices,
-                            size_t vertex_count, const unsigned *triangles, size_t triangle_count,
-                            tb_mass_properties *out_props, tb_error *out_error);
+TB_API tb_status tb_mass_from_mesh(tb_mass_mode mode, double value, const double *vertices,
+                                   size_t vertex_count, const unsigned *triangles,
+                                   size_t triangle_count, tb_mass_properties *out_props,
+                                   tb_error *out_error);
 
 /* A full inertia tensor I[9] (row-major, kg m^2, about the centre of mass, shape frame),
  * the mass and the centre of mass: diagonalised into principal moments and a proper
  * rotation. Rejected unless symmetric (relative 1e-9), positive definite, and its principal
  * moments satisfy the triangle inequality I1 + I2 >= I3 (relative 1e-9). */
-tb_status tb_mass_from_tensor(double mass, const double center[3], const double inertia[9],
-                              tb_mass_properties *out_props, tb_error *out_error);
+TB_API tb_status tb_mass_from_tensor(double mass, const double center[3], const double inertia[9],
+                                     tb_mass_properties *out_props, tb_error *out_error);
 
 /* A part of a composite: its own mass properties, placed in the composite's shape frame by
  * the position of the part's shape origin and the rotation of the part's shape frame
@@ -91,20 +95,20 @@ typedef struct tb_mass_part {
 } tb_mass_part;
 
 /* Combines parts by the parallel-axis theorem into one rigid body. */
-tb_status tb_mass_combine(const tb_mass_part *parts, size_t count, tb_mass_properties *out_props,
-                          tb_error *out_error);
+TB_API tb_status tb_mass_combine(const tb_mass_part *parts, size_t count,
+                                 tb_mass_properties *out_props, tb_error *out_error);
 
 /* The inertia tensor of props about its centre of mass in the shape frame (row-major). */
-tb_status tb_mass_tensor(const tb_mass_properties *props, double out_inertia[9]);
+TB_API tb_status tb_mass_tensor(const tb_mass_properties *props, double out_inertia[9]);
 
 /* Inverse of an inertia tensor (row-major), validated as tb_mass_from_tensor does:
  * symmetric, positive definite, triangle inequality. */
-tb_status tb_mass_tensor_inverse(const double inertia[9], double out_inverse[9],
-                                 tb_error *out_error);
+TB_API tb_status tb_mass_tensor_inverse(const double inertia[9], double out_inverse[9],
+                                        tb_error *out_error);
 
 /* Checks props: finite, mass > 0, moments > 0 and ascending within round-off, triangle
  * inequality, rotation a unit quaternion. */
-tb_status tb_mass_validate(const tb_mass_properties *props, tb_error *out_error);
+TB_API tb_status tb_mass_validate(const tb_mass_properties *props, tb_error *out_error);
 
 #ifdef __cplusplus
 }

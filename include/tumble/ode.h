@@ -3,6 +3,8 @@
 #ifndef TUMBLE_ODE_H
 #define TUMBLE_ODE_H
 
+#include "tumble/export.h"
+
 #include "tumble/status.h"
 
 #include <stddef.h>
@@ -41,17 +43,17 @@ typedef enum tb_method {
 } tb_method;
 
 /* "euler", "midpoint", "rk4", "cvode-adams", "cvode-bdf"; NULL for an unknown method. */
-const char *tb_method_name(tb_method method);
+TB_API const char *tb_method_name(tb_method method);
 
 /* Parses a name given by tb_method_name; returns TB_STATUS_INVALID_ARGUMENT if unknown. */
-tb_status tb_method_from_name(const char *name, tb_method *out_method);
+TB_API tb_status tb_method_from_name(const char *name, tb_method *out_method);
 
 /* Classical order of a fixed-step method (1, 2, 4); the largest order of an adaptive one
  * (12 for Adams, 5 for BDF). 0 for an unknown method. */
-int tb_method_order(tb_method method);
+TB_API int tb_method_order(tb_method method);
 
 /* Non-zero for the error-controlled CVODE methods, which take rtol/atol instead of dt. */
-int tb_method_is_adaptive(tb_method method);
+TB_API int tb_method_is_adaptive(tb_method method);
 
 /* Linear solver for the Newton iteration of TB_METHOD_CVODE_BDF. */
 typedef enum tb_linear_solver {
@@ -92,7 +94,7 @@ typedef struct tb_integrator_def {
     int internal_cookie; /* set by tb_integrator_def_default; catches defs not made by it */
 } tb_integrator_def;
 
-tb_integrator_def tb_integrator_def_default(void);
+TB_API tb_integrator_def tb_integrator_def_default(void);
 
 /* What an integrator has done since it was created. */
 typedef struct tb_integrator_stats {
@@ -120,11 +122,12 @@ typedef struct tb_integrator tb_integrator;
  * by the caller and must outlive the integrator; y is not read until the first step.
  * All memory the integrator will ever use is allocated here. On failure *out_integrator is
  * NULL and out_error (may be NULL) names the wrong input. */
-tb_status tb_integrator_create(const tb_ode_system *system, const tb_integrator_def *def, double t0,
-                               double *y, tb_integrator **out_integrator, tb_error *out_error);
+TB_API tb_status tb_integrator_create(const tb_ode_system *system, const tb_integrator_def *def,
+                                      double t0, double *y, tb_integrator **out_integrator,
+                                      tb_error *out_error);
 
 /* Frees an integrator; accepts NULL. Does not touch y. */
-void tb_integrator_destroy(tb_integrator *integrator);
+TB_API void tb_integrator_destroy(tb_integrator *integrator);
 
 /* Advances y to t_target (>= current time).
  * Fixed-step: whole steps of dt, the last one shortened or slightly stretched (by at most
@@ -136,26 +139,27 @@ void tb_integrator_destroy(tb_integrator *integrator);
  * restarted from it.
  * On failure y holds the state at the last good step, the integrator's time is that step's
  * time, and the detail message names the failure (CVODE's flag name) and its time. */
-tb_status tb_integrator_advance(tb_integrator *integrator, double t_target);
+TB_API tb_status tb_integrator_advance(tb_integrator *integrator, double t_target);
 
 /* Takes exactly one step: of size dt (fixed-step), or one internal CVODE step. */
-tb_status tb_integrator_step(tb_integrator *integrator);
+TB_API tb_status tb_integrator_step(tb_integrator *integrator);
 
 /* Current time of y. */
-double tb_integrator_time(const tb_integrator *integrator);
+TB_API double tb_integrator_time(const tb_integrator *integrator);
 
 /* Tells the integrator that the caller changed y (or wants a new time): the next step starts
  * from y at time t (CVODE restarts at order 1). Statistics keep counting. */
-tb_status tb_integrator_reset(tb_integrator *integrator, double t);
+TB_API tb_status tb_integrator_reset(tb_integrator *integrator, double t);
 
 /* Copies the statistics into *out_stats. */
-tb_status tb_integrator_get_stats(const tb_integrator *integrator, tb_integrator_stats *out_stats);
+TB_API tb_status tb_integrator_get_stats(const tb_integrator *integrator,
+                                         tb_integrator_stats *out_stats);
 
 /* The method the integrator was created with (TB_METHOD_COUNT for NULL). */
-tb_method tb_integrator_method(const tb_integrator *integrator);
+TB_API tb_method tb_integrator_method(const tb_integrator *integrator);
 
 /* Detail of the last failure ("" if none); owned by the integrator. */
-const char *tb_integrator_detail(const tb_integrator *integrator);
+TB_API const char *tb_integrator_detail(const tb_integrator *integrator);
 
 #ifdef __cplusplus
 }

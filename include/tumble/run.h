@@ -3,6 +3,8 @@
 #ifndef TUMBLE_RUN_H
 #define TUMBLE_RUN_H
 
+#include "tumble/export.h"
+
 #include "tumble/ode.h"
 #include "tumble/scene.h"
 
@@ -19,7 +21,7 @@ typedef struct tb_run_def {
     int internal_cookie;
 } tb_run_def;
 
-tb_run_def tb_run_def_default(void);
+TB_API tb_run_def tb_run_def_default(void);
 
 /* Called at t = 0 and at every frame time k / fps up to the duration (frame k), with the scene
  * holding the states at that time (quaternions normalised). Return 0 to go on, non-zero to
@@ -31,8 +33,8 @@ typedef int (*tb_frame_fn)(size_t frame, double t, const tb_scene *scene, void *
  * so the frame rate does not change the solution. out_stats (may be NULL) receives what the
  * integrator did, also on failure. On failure the scene holds the last good state and
  * out_error (may be NULL) says what happened and when. */
-tb_status tb_scene_run(tb_scene *scene, const tb_run_def *def, tb_frame_fn on_frame, void *ctx,
-                       tb_integrator_stats *out_stats, tb_error *out_error);
+TB_API tb_status tb_scene_run(tb_scene *scene, const tb_run_def *def, tb_frame_fn on_frame,
+                              void *ctx, tb_integrator_stats *out_stats, tb_error *out_error);
 
 #ifdef __cplusplus
 }

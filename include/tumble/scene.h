@@ -3,6 +3,8 @@
 #ifndef TUMBLE_SCENE_H
 #define TUMBLE_SCENE_H
 
+#include "tumble/export.h"
+
 #include "tumble/body.h"
 #include "tumble/ode.h"
 #include "tumble/status.h"
@@ -23,74 +25,77 @@ typedef struct tb_scene_def {
     int internal_cookie;          /* set by tb_scene_def_default */
 } tb_scene_def;
 
-tb_scene_def tb_scene_def_default(void);
+TB_API tb_scene_def tb_scene_def_default(void);
 
 /* On failure *out_scene is NULL and out_error (may be NULL) says why. */
-tb_status tb_scene_create(const tb_scene_def *def, tb_scene **out_scene, tb_error *out_error);
+TB_API tb_status tb_scene_create(const tb_scene_def *def, tb_scene **out_scene,
+                                 tb_error *out_error);
 
 /* Frees the scene and everything it owns; accepts NULL. */
-void tb_scene_destroy(tb_scene *scene);
+TB_API void tb_scene_destroy(tb_scene *scene);
 
 /* Detail of the scene's last failure ("" if none); owned by the scene. */
-const char *tb_scene_detail(const tb_scene *scene);
+TB_API const char *tb_scene_detail(const tb_scene *scene);
 
 /* --- Bodies ------------------------------------------------------------------------------ */
 
 /* Adds a body; its id is the index 0, 1, ... in order of addition. May grow the state array,
  * which moves it: re-read tb_scene_states() and recreate integrators after adding bodies. */
-tb_status tb_scene_add_body(tb_scene *scene, const tb_body_def *def, size_t *out_id);
+TB_API tb_status tb_scene_add_body(tb_scene *scene, const tb_body_def *def, size_t *out_id);
 
-size_t tb_scene_body_count(const tb_scene *scene);
+TB_API size_t tb_scene_body_count(const tb_scene *scene);
 
 /* Body id's name (owned by the scene), or NULL for an id out of range. */
-const char *tb_scene_body_name(const tb_scene *scene, size_t id);
+TB_API const char *tb_scene_body_name(const tb_scene *scene, size_t id);
 
 /* The id of the body called name; TB_STATUS_OUT_OF_RANGE if there is none. */
-tb_status tb_scene_find_body(const tb_scene *scene, const char *name, size_t *out_id);
+TB_API tb_status tb_scene_find_body(const tb_scene *scene, const char *name, size_t *out_id);
 
 /* The flat state array: tb_scene_state_size() doubles; body i at [13 i, 13 i + 13), then
  * the states some effects own (ground friction: 2 per contact point). Owned by the scene;
  * valid until the next tb_scene_add_body, tb_scene_add_ground or
  * tb_scene_set_contact_points, which may move it and reset the effects' states. */
-double *tb_scene_states(tb_scene *scene);
-size_t tb_scene_state_size(const tb_scene *scene);
-const double *tb_scene_states_const(const tb_scene *scene);
+TB_API double *tb_scene_states(tb_scene *scene);
+TB_API size_t tb_scene_state_size(const tb_scene *scene);
+TB_API const double *tb_scene_states_const(const tb_scene *scene);
 
 /* Reads or writes one body's state. set validates it (finite, unit quaternion within 1e-4,
  * which is then normalised exactly) and changes nothing on failure. */
-tb_status tb_scene_get_state(const tb_scene *scene, size_t id, tb_body_state *out_state);
-tb_status tb_scene_set_state(tb_scene *scene, size_t id, const tb_body_state *state);
+TB_API tb_status tb_scene_get_state(const tb_scene *scene, size_t id, tb_body_state *out_state);
+TB_API tb_status tb_scene_set_state(tb_scene *scene, size_t id, const tb_body_state *state);
 
 /* Sets a body's centre-of-mass velocity (m/s) and angular velocity (rad/s), both world
  * frame, by converting them to P = M v and L = I(t) omega at its current orientation. */
-tb_status tb_scene_set_velocity(tb_scene *scene, size_t id, const double velocity[3],
-                                const double angular_velocity[3]);
+TB_API tb_status tb_scene_set_velocity(tb_scene *scene, size_t id, const double velocity[3],
+                                       const double angular_velocity[3]);
 
 /* A body's constant mass properties, as given when it was added. */
-tb_status tb_scene_get_mass(const tb_scene *scene, size_t id, tb_mass_properties *out_mass);
+TB_API tb_status tb_scene_get_mass(const tb_scene *scene, size_t id, tb_mass_properties *out_mass);
 
 /* --- Read-outs (from a state array y of the scene's size; pass tb_scene_states(scene) for
  * the current state). Quaternions are used normalised. ------------------------------------ */
 
 /* Body (principal) frame -> world rotation matrix, row-major. */
-tb_status tb_scene_body_rotation(const tb_scene *scene, const double *y, size_t id,
-                                 double out_R[9]);
+TB_API tb_status tb_scene_body_rotation(const tb_scene *scene, const double *y, size_t id,
+                                        double out_R[9]);
 /* Centre-of-mass velocity v = P / M, world frame, m/s. */
-tb_status tb_scene_body_velocity(const tb_scene *scene, const double *y, size_t id,
-                                 double out_v[3]);
+TB_API tb_status tb_scene_body_velocity(const tb_scene *scene, const double *y, size_t id,
+                                        double out_v[3]);
 /* Angular velocity omega = R I_body^-1 R^T L, world frame, rad/s. */
-tb_status tb_scene_body_angular_velocity(const tb_scene *scene, const double *y, size_t id,
-                                         double out_omega[3]);
+TB_API tb_status tb_scene_body_angular_velocity(const tb_scene *scene, const double *y, size_t id,
+                                                double out_omega[3]);
 /* Pose of the body's shape frame (the frame of tb_body_def.orientation): world position of
  * the shape origin (m) and shape -> world unit quaternion. */
-tb_status tb_scene_body_shape_pose(const tb_scene *scene, const double *y, size_t id,
-                                   double out_position[3], double out_orientation[4]);
+TB_API tb_status tb_scene_body_shape_pose(const tb_scene *scene, const double *y, size_t id,
+                                          double out_position[3], double out_orientation[4]);
 
 /* Total kinetic energy, sum P^2 / 2M + omega . L / 2, J. */
-tb_status tb_scene_kinetic_energy(const tb_scene *scene, const double *y, double *out_energy);
+TB_API tb_status tb_scene_kinetic_energy(const tb_scene *scene, const double *y,
+                                         double *out_energy);
 /* Potential energy of the scene's conservative effects, J: gravity (-M g . x per body) and
  * springs (k (|d| - rest)^2 / 2). Other effects have none. */
-tb_status tb_scene_potential_energy(const tb_scene *scene, const double *y, double *out_energy);
+TB_API tb_status tb_scene_potential_energy(const tb_scene *scene, const double *y,
+                                           double *out_energy);
 
 /* What the scene's effects conserve (non-zero = conserved): total energy (only gravity and
  * undamped springs act), linear momentum (no force from outside the bodies: only springs
@@ -102,18 +107,18 @@ typedef struct tb_conserved {
     int angular_momentum;
 } tb_conserved;
 
-tb_status tb_scene_conserved(const tb_scene *scene, tb_conserved *out_conserved);
+TB_API tb_status tb_scene_conserved(const tb_scene *scene, tb_conserved *out_conserved);
 
 /* Total linear momentum, world frame, kg m/s. */
-tb_status tb_scene_linear_momentum(const tb_scene *scene, const double *y, double out_P[3]);
+TB_API tb_status tb_scene_linear_momentum(const tb_scene *scene, const double *y, double out_P[3]);
 /* Total angular momentum about the world point `point` (m): sum (x_i - point) x P_i + L_i. */
-tb_status tb_scene_angular_momentum(const tb_scene *scene, const double *y, const double point[3],
-                                    double out_L[3]);
+TB_API tb_status tb_scene_angular_momentum(const tb_scene *scene, const double *y,
+                                           const double point[3], double out_L[3]);
 
 /* --- Effects (each adds to the forces F and torques tau of the bodies it names) ---------- */
 
 /* Uniform gravitational acceleration g (m/s^2, world frame) on every body: F += M g. */
-tb_status tb_scene_add_gravity(tb_scene *scene, const double g[3]);
+TB_API tb_status tb_scene_add_gravity(tb_scene *scene, const double g[3]);
 
 typedef enum tb_frame {
     TB_FRAME_WORLD = 0, /* the vector is fixed in the world */
@@ -123,29 +128,30 @@ typedef enum tb_frame {
 /* Constant force (N) on body id, applied at a point fixed in the body, given in the body's
  * shape frame (m, relative to the shape origin). frame says whether the force's direction is
  * fixed in the world or turns with the body. F += f, tau += (p - x) x f. */
-tb_status tb_scene_add_force(tb_scene *scene, size_t id, const double force[3],
-                             const double point[3], tb_frame frame);
+TB_API tb_status tb_scene_add_force(tb_scene *scene, size_t id, const double force[3],
+                                    const double point[3], tb_frame frame);
 
 /* Constant torque (N m) on body id, fixed in the world or turning with the body. */
-tb_status tb_scene_add_torque(tb_scene *scene, size_t id, const double torque[3], tb_frame frame);
+TB_API tb_status tb_scene_add_torque(tb_scene *scene, size_t id, const double torque[3],
+                                     tb_frame frame);
 
-size_t tb_scene_effect_count(const tb_scene *scene);
+TB_API size_t tb_scene_effect_count(const tb_scene *scene);
 
 /* --- Integration ------------------------------------------------------------------------- */
 
 /* The scene as an ODE system: n = tb_scene_state_size(), derivative tb_scene_derivative, post-step
  * hook tb_scene_normalize_quaternions when renormalisation is on. */
-tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system);
+TB_API tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system);
 
 /* Switches the quaternion-renormalisation hook (takes effect for systems made after). */
-void tb_scene_set_renormalize(tb_scene *scene, bool renormalize);
+TB_API void tb_scene_set_renormalize(tb_scene *scene, bool renormalize);
 
 /* Largest | |q| - 1 | the renormalisation hook has found (and removed) since the scene was
  * made or this was last reset: how far integration pushes quaternions off the unit sphere
  * between renormalisations. Under CVODE the hook runs on every output (and, for BDF, as the
  * projection after every step). */
-double tb_scene_quaternion_drift(const tb_scene *scene);
-void tb_scene_reset_quaternion_drift(tb_scene *scene);
+TB_API double tb_scene_quaternion_drift(const tb_scene *scene);
+TB_API void tb_scene_reset_quaternion_drift(tb_scene *scene);
 
 /* Absolute tolerances for adaptive integration, 13 per body, from each body's own scale:
  * with l = sqrt(I_max / M) (its radius of gyration about its largest axis, m),
@@ -157,14 +163,15 @@ void tb_scene_reset_quaternion_drift(tb_scene *scene);
  * and for effect-owned states scale times their natural size (ground friction: the presliding
  * deflection). tb_scene_integrator_create uses them with scale = rtol / 100 when the def
  * leaves atol at 0. out_atol holds tb_scene_state_size() doubles. */
-tb_status tb_scene_absolute_tolerances(const tb_scene *scene, double scale, double *out_atol);
+TB_API tb_status tb_scene_absolute_tolerances(const tb_scene *scene, double scale,
+                                              double *out_atol);
 
 /* The rigid-body derivative (ctx is the scene): dx = P/M, dq = 1/2 (0, omega) (x) q,
  * dP = F, dL = tau. Pure; allocates nothing. Returns -1 if ctx is NULL. */
-int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx);
+TB_API int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx);
 
 /* Post-step hook: q <- q / |q| for every body. Returns 1 if some |q| is zero or not finite. */
-int tb_scene_normalize_quaternions(double t, double *y, void *ctx);
+TB_API int tb_scene_normalize_quaternions(double t, double *y, void *ctx);
 
 /* The largest fixed step at which method keeps the scene's stiffest mode (springs, ground
  * contact) from growing by more than 1% a step: h lambda below 2.78 for RK4, 0.53 for
@@ -172,16 +179,16 @@ int tb_scene_normalize_quaternions(double t, double *y, void *ctx);
  * damping and the inverse mass at its ends (rotation included, bounded by the smallest
  * moment). INFINITY when nothing is stiff; out_which (may be NULL, TB_DETAIL_SIZE) names the
  * effect. Adaptive methods: INFINITY. */
-tb_status tb_scene_max_stable_step(const tb_scene *scene, tb_method method, double *out_dt,
-                                   char *out_which);
+TB_API tb_status tb_scene_max_stable_step(const tb_scene *scene, tb_method method, double *out_dt,
+                                          char *out_which);
 
 /* Creates an integrator over the scene's own state array at time t0. A fixed-step def whose dt
  * exceeds tb_scene_max_stable_step is refused (TB_STATUS_INVALID_ARGUMENT, the detail naming
  * the effect and the largest stable dt) unless def->allow_unstable is set. For adaptive methods a
  * def with atol = 0 and no atol_vector gets tb_scene_absolute_tolerances(scene, rtol), and a
  * negative preconditioner_half_bandwidth gets 12 (each body's 13 x 13 Jacobian block). */
-tb_status tb_scene_integrator_create(tb_scene *scene, const tb_integrator_def *def, double t0,
-                                     tb_integrator **out_integrator);
+TB_API tb_status tb_scene_integrator_create(tb_scene *scene, const tb_integrator_def *def,
+                                            double t0, tb_integrator **out_integrator);
 
 #ifdef __cplusplus
 }

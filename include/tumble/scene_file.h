@@ -3,6 +3,8 @@
 #ifndef TUMBLE_SCENE_FILE_H
 #define TUMBLE_SCENE_FILE_H
 
+#include "tumble/export.h"
+
 #include "tumble/run.h"
 #include "tumble/scene.h"
 
@@ -15,13 +17,14 @@ extern "C" {
  * out_error (may be NULL) names the place:
  *   "scene.json:12:7: end of file expected near ']'"             (JSON syntax, line:column)
  *   "scene.json: bodies[2].mass: must be > 0, got -1"            (meaning, JSON path) */
-tb_status tb_scene_load_file(const char *path, tb_scene **out_scene, tb_run_def *out_run,
-                             tb_error *out_error);
+TB_API tb_status tb_scene_load_file(const char *path, tb_scene **out_scene, tb_run_def *out_run,
+                                    tb_error *out_error);
 
 /* The same from a string. name stands for the file in messages; base_directory (may be NULL
  * for the current directory) is where mesh files are looked for. */
-tb_status tb_scene_load_string(const char *json, const char *name, const char *base_directory,
-                               tb_scene **out_scene, tb_run_def *out_run, tb_error *out_error);
+TB_API tb_status tb_scene_load_string(const char *json, const char *name,
+                                      const char *base_directory, tb_scene **out_scene,
+                                      tb_run_def *out_run, tb_error *out_error);
 
 #ifdef __cplusplus
 }

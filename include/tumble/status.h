@@ -2,6 +2,8 @@
 #ifndef TUMBLE_STATUS_H
 #define TUMBLE_STATUS_H
 
+#include "tumble/export.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -34,10 +36,10 @@ typedef enum tb_status {
 } tb_status;
 
 /* Human-readable message for a status; never NULL ("unknown status" for values not listed). */
-const char *tb_status_string(tb_status status);
+TB_API const char *tb_status_string(tb_status status);
 
 /* The status's name without prefix, e.g. "NOT_FINITE"; never NULL ("UNKNOWN" if not listed). */
-const char *tb_status_name(tb_status status);
+TB_API const char *tb_status_name(tb_status status);
 
 /* Size of every detail buffer, including the terminating NUL. */
 #define TB_DETAIL_SIZE 256

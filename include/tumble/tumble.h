@@ -2,6 +2,7 @@
 #ifndef TUMBLE_H
 #define TUMBLE_H
 
+#include "tumble/export.h"
 #include "tumble/version.h"
 #include "tumble/status.h"
 #include "tumble/ode.h"

@@ -1,0 +1,34 @@
+# cmake --install: headers, the library, the tumble command, a CMake package
+# (find_package(tumble CONFIG) -> tumble::tumble) and a pkg-config file (tumble.pc).
+include(CMakePackageConfigHelpers)
+
+install(TARGETS tumble tumble_cli
+  EXPORT tumbleTargets
+  ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+  LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+  RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(DIRECTORY include/tumble DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+  FILES_MATCHING PATTERN "*.h")
+install(FILES ${PROJECT_BINARY_DIR}/include/tumble/version.h
+  DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/tumble)
+
+set(TUMBLE_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/tumble)
+install(EXPORT tumbleTargets NAMESPACE tumble:: DESTINATION ${TUMBLE_CMAKE_DIR})
+if(BUILD_SHARED_LIBS)
+  set(TUMBLE_SHARED TRUE)
+else()
+  set(TUMBLE_SHARED FALSE)
+endif()
+configure_package_config_file(cmake/tumbleConfig.cmake.in
+  ${PROJECT_BINARY_DIR}/tumbleConfig.cmake INSTALL_DESTINATION ${TUMBLE_CMAKE_DIR})
+write_basic_package_version_file(${PROJECT_BINARY_DIR}/tumbleConfigVersion.cmake
+  COMPATIBILITY SameMajorVersion)
+install(FILES ${PROJECT_BINARY_DIR}/tumbleConfig.cmake
+  ${PROJECT_BINARY_DIR}/tumbleConfigVersion.cmake DESTINATION ${TUMBLE_CMAKE_DIR})
+
+# pkg-config: a static library needs its dependencies on the link line (pkg-config --static).
+set(TUMBLE_PC_PRIVATE_LIBS "-lsundials_cvode -lsundials_nvecserial")
+# Relocatable: the prefix is found from the .pc file's own place.
+file(RELATIVE_PATH TUMBLE_PC_TO_PREFIX /root/${CMAKE_INSTALL_LIBDIR}/pkgconfig /root)
+configure_file(cmake/tumble.pc.in ${PROJECT_BINARY_DIR}/tumble.pc @ONLY)
+install(FILES ${PROJECT_BINARY_DIR}/tumble.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)

@@ -1,0 +1,6 @@
+#include "falling_ball.h"
+
+int main(void)
+{
+    return falling_ball_checks_out();
+}
