@@ -3,7 +3,8 @@
 # As root it installs them (apt-get); anyone else is told the exact command to run.
 set -euo pipefail
 
-packages=(cmake ninja-build gcc g++ pkg-config libgsl-dev libsundials-dev libcmocka-dev libjansson-dev valgrind clang-format)
+packages=(cmake ninja-build gcc g++ pkg-config libgsl-dev libsundials-dev libcmocka-dev libjansson-dev valgrind clang-format
+          python3 python3-venv python3-pip)
 
 if ! command -v dpkg-query >/dev/null 2>&1; then
     echo "setup: not a Debian-like system; make sure these are installed: ${packages[*]}" >&2

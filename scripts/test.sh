@@ -5,6 +5,18 @@ cd "$(dirname "$0")/.."
 scripts/build.sh -DTUMBLE_WARNINGS_AS_ERRORS=ON
 ctest --test-dir build --output-on-failure -j "$(nproc)"
 
+# A shared libtumble: the install consumers against it, and the Python bindings' tests.
+cmake -S . -B build-shared -G Ninja -DTUMBLE_WARNINGS_AS_ERRORS=ON -DBUILD_SHARED_LIBS=ON \
+    >/dev/null
+cmake --build build-shared
+ctest --test-dir build-shared --output-on-failure -R "install_consumers|example_embed_loop"
+python3 -m venv build-shared/venv
+build-shared/venv/bin/pip install --quiet --upgrade pip
+build-shared/venv/bin/pip install --quiet numpy pytest ./bindings/python
+(cd build-shared && TUMBLE_LIBRARY="$PWD/libtumble.so" \
+    TUMBLE_LAYOUT_PROBE="$PWD/bindings/python/tumble_layout_probe" \
+    venv/bin/python -m pytest -q ../bindings/python/tests)
+
 # The whole suite again under AddressSanitizer and UndefinedBehaviorSanitizer.
 cmake -S . -B build-sanitize -G Ninja -DTUMBLE_WARNINGS_AS_ERRORS=ON -DTUMBLE_SANITIZE=ON \
     -DCMAKE_BUILD_TYPE=Debug >/dev/null

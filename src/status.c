@@ -1,9 +1,15 @@
 #include "tumble/status.h"
 
 #include "detail.h"
+#include "tumble/version.h"
 
 #include <stdarg.h>
 #include <stdio.h>
+
+const char *tb_version(void)
+{
+    return TB_VERSION_STRING;
+}
 
 const char *tb_status_string(tb_status status)
 {

@@ -35,6 +35,9 @@ typedef enum tb_status {
 #undef TB__STATUS_ENUM
 } tb_status;
 
+/* The library's version, "major.minor.patch" (TB_VERSION_STRING of the build). */
+TB_API const char *tb_version(void);
+
 /* Human-readable message for a status; never NULL ("unknown status" for values not listed). */
 TB_API const char *tb_status_string(tb_status status);
 

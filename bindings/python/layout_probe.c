@@ -1,0 +1,56 @@
+/* Prints, as JSON, the size and field offsets of the structs the Python bindings declare with
+ * ctypes, compiled against the real headers: tests/test_layout.py compares the two, so the
+ * bindings cannot drift from the C library silently. */
+#include "tumble/tumble.h"
+
+#include <stddef.h>
+#include <stdio.h>
+
+#define FIELD(type, field) printf("\"%s\": %zu, ", #field, offsetof(type, field))
+
+int main(void)
+{
+    printf("{\"tb_error\": {\"size\": %zu, ", sizeof(tb_error));
+    FIELD(tb_error, status);
+    FIELD(tb_error, message);
+    printf("\"_\": 0},\n");
+
+    printf("\"tb_integrator_def\": {\"size\": %zu, ", sizeof(tb_integrator_def));
+    FIELD(tb_integrator_def, method);
+    FIELD(tb_integrator_def, dt);
+    FIELD(tb_integrator_def, rtol);
+    FIELD(tb_integrator_def, atol);
+    FIELD(tb_integrator_def, atol_vector);
+    FIELD(tb_integrator_def, max_steps);
+    FIELD(tb_integrator_def, initial_step);
+    FIELD(tb_integrator_def, max_step);
+    FIELD(tb_integrator_def, max_order);
+    FIELD(tb_integrator_def, linear_solver);
+    FIELD(tb_integrator_def, allow_unstable);
+    FIELD(tb_integrator_def, preconditioner_half_bandwidth);
+    FIELD(tb_integrator_def, internal_cookie);
+    printf("\"_\": 0},\n");
+
+    printf("\"tb_run_def\": {\"size\": %zu, ", sizeof(tb_run_def));
+    FIELD(tb_run_def, integrator);
+    FIELD(tb_run_def, fps);
+    FIELD(tb_run_def, duration);
+    FIELD(tb_run_def, internal_cookie);
+    printf("\"_\": 0},\n");
+
+    printf("\"tb_integrator_stats\": {\"size\": %zu, ", sizeof(tb_integrator_stats));
+    FIELD(tb_integrator_stats, steps);
+    FIELD(tb_integrator_stats, derivative_evals);
+    FIELD(tb_integrator_stats, jacobian_derivative_evals);
+    FIELD(tb_integrator_stats, failed_steps);
+    FIELD(tb_integrator_stats, error_test_failures);
+    FIELD(tb_integrator_stats, nonlinear_failures);
+    FIELD(tb_integrator_stats, linear_iterations);
+    FIELD(tb_integrator_stats, last_step);
+    FIELD(tb_integrator_stats, current_step);
+    FIELD(tb_integrator_stats, last_order);
+    FIELD(tb_integrator_stats, current_order);
+    FIELD(tb_integrator_stats, reinitializations);
+    printf("\"_\": 0}}\n");
+    return 0;
+}
