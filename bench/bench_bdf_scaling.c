@@ -7,25 +7,13 @@
  *
  * usage: bench_bdf_scaling [--quick]   (--quick: small N, one repeat, for a smoke test) */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
+#include "bench_common.h"
 #include "tumble/tumble.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-static double cpu_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int compare(const void *a, const void *b)
-{
-    const double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
 
 static tb_scene *make_scene(int bodies)
 {
@@ -66,12 +54,12 @@ static double run(int bodies, tb_linear_solver solver, tb_integrator_stats *stat
         tb_scene_destroy(scene);
         return -1.0;
     }
-    const double start = cpu_seconds();
+    const double start = bench_cpu_seconds();
     tb_status status = TB_STATUS_OK;
     for (int frame = 1; frame <= 24 && status == TB_STATUS_OK; ++frame) {
         status = tb_integrator_advance(integrator, frame / 24.0);
     }
-    const double elapsed = cpu_seconds() - start;
+    const double elapsed = bench_cpu_seconds() - start;
     if (status != TB_STATUS_OK) {
         fprintf(stderr, "%d bodies: %s\n", bodies, tb_integrator_detail(integrator));
     }
@@ -104,8 +92,8 @@ int main(int argc, char **argv)
                     return 1;
                 }
             }
-            qsort(times, (size_t)repeats, sizeof times[0], compare);
-            const double per_step = 1e6 * times[repeats / 2] / (double)stats.steps;
+            const double per_step =
+                1e6 * bench_median(times, (size_t)repeats) / (double)stats.steps;
             printf("%s,%d,%ld,%.2f,%.2f,%.3f\n", solver == 0 ? "dense" : "krylov", bodies,
                    stats.steps, (double)stats.derivative_evals / (double)stats.steps, per_step,
                    per_step / bodies);

@@ -5,25 +5,13 @@
  *
  * usage: bench_effects [--quick] */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
+#include "bench_common.h"
 #include "tumble/tumble.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-static double cpu_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int compare(const void *a, const void *b)
-{
-    const double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
 
 enum { GRAVITY = 1, DRAG = 2, SPRINGS = 4, FORCES = 8, GROUND = 16, USER = 32, DRAG_ONE = 64 };
 
@@ -103,16 +91,15 @@ static double time_derivative(int bodies, int effects, int repeats, int evaluati
     double *dydt = malloc(n * sizeof(double));
     double times[15];
     for (int r = 0; r < repeats; ++r) {
-        const double start = cpu_seconds();
+        const double start = bench_cpu_seconds();
         for (int k = 0; k < evaluations; ++k) {
             tb_scene_derivative(0.0, tb_scene_states(scene), dydt, scene);
         }
-        times[r] = (cpu_seconds() - start) / evaluations / bodies * 1e9;
+        times[r] = (bench_cpu_seconds() - start) / evaluations / bodies * 1e9;
     }
-    qsort(times, (size_t)repeats, sizeof times[0], compare);
     free(dydt);
     tb_scene_destroy(scene);
-    return times[repeats / 2];
+    return bench_median(times, (size_t)repeats);
 }
 
 int main(int argc, char **argv)

@@ -7,6 +7,7 @@
  * usage: bench_torque_free_top [--quick] */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include "torque_free_top.h"
+#include "bench_common.h"
 #include "tumble/tumble.h"
 
 #include <math.h>
@@ -17,19 +18,6 @@
 
 static const double moments[3] = {1.0, 2.0, 3.0};
 static const double omega0[3] = {1.5, 0.0, 1.0};
-
-static double cpu_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int compare(const void *a, const void *b)
-{
-    const double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
 
 typedef struct result {
     double error, seconds;
@@ -67,9 +55,9 @@ static int run(const tb_integrator_def *def, const torque_free_top *exact, doubl
     double elapsed = 0.0, worst = 0.0;
     int ok = 1;
     for (int f = 1; f <= frames && ok; ++f) {
-        const double t = T * f / frames, start = cpu_seconds();
+        const double t = T * f / frames, start = bench_cpu_seconds();
         ok = tb_integrator_advance(integrator, t) == TB_STATUS_OK;
-        elapsed += cpu_seconds() - start;
+        elapsed += bench_cpu_seconds() - start;
         double w[3], w_exact[3];
         body_omega(scene, w);
         torque_free_top_omega(exact, t, w_exact);
@@ -133,9 +121,8 @@ int main(int argc, char **argv)
             }
             times[i] = r.seconds;
         }
-        qsort(times, (size_t)repeats, sizeof times[0], compare);
         printf("%s,%g,%.3e,%ld,%ld,%.1f\n", tb_method_name(def.method), runs[k].setting, r.error,
-               r.stats.steps, r.stats.derivative_evals, 1e6 * times[repeats / 2]);
+               r.stats.steps, r.stats.derivative_evals, 1e6 * bench_median(times, (size_t)repeats));
     }
     return 0;
 }
