@@ -115,8 +115,9 @@ int tb_scene_normalize_quaternions(double t, double *y, void *ctx)
             return 1;
         }
         drift = fmax(drift, fabs(norm - 1.0));
+        const double inverse = 1.0 / norm;
         for (int k = 0; k < 4; ++k) {
-            q[k] /= norm;
+            q[k] *= inverse;
         }
     }
     scene->quaternion_drift = drift;

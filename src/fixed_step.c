@@ -63,7 +63,7 @@ static int rk4_step(const tb_ode_system *system, double t, double h, const doubl
                     double *work, long *evals)
 {
     static const double stage_time[4] = {0.0, 0.5, 0.5, 1.0};             /* c_i */
-    static const double next_stage[3] = {0.5, 0.5, 1.0};                  /* a_{i+1,i} */
+    static const double next_stage[4] = {0.5, 0.5, 1.0, 0.0};             /* a_{i+1,i} */
     static const double weight[4] = {1.0 / 6, 1.0 / 3, 1.0 / 3, 1.0 / 6}; /* b_i */
     const size_t n = system->n;
     double *k = work, *y_stage = work + n;
@@ -75,13 +75,13 @@ static int rk4_step(const tb_ode_system *system, double t, double h, const doubl
         if (rc != 0) {
             return rc;
         }
+        const double b = weight[s] * h, a = next_stage[s] * h;
+        /* one pass: accumulate the stage and form the next stage's input */
         for (size_t i = 0; i < n; ++i) {
-            y_new[i] += weight[s] * h * k[i];
+            y_new[i] += b * k[i];
+            y_stage[i] = y[i] + a * k[i];
         }
-        if (s < 3) {
-            add_scaled(y_stage, y, next_stage[s] * h, k, n);
-            stage_input = y_stage;
-        }
+        stage_input = y_stage;
     }
     return 0;
 }
@@ -119,9 +119,18 @@ static void fixed_destroy(tb_integrator *integrator)
     free(integrator->y_new);
 }
 
-/* Index of the first non-finite component, or n if all are finite. */
+/* Index of the first non-finite component, or n if all are finite. The common case is one
+ * vectorisable pass: y * 0 is 0 for finite y and NaN for NaN or infinity, so the sum is NaN
+ * exactly when some component is not finite; only then is it located. */
 static size_t first_non_finite(const double *y, size_t n)
 {
+    double probe = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        probe += y[i] * 0.0;
+    }
+    if (probe == 0.0) {
+        return n;
+    }
     for (size_t i = 0; i < n; ++i) {
         if (!isfinite(y[i])) {
             return i;

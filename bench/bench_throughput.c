@@ -1,0 +1,107 @@
+/* Throughput: N free boxes under gravity, N from 1 to 100000, for every integrator.
+ * Prints CSV: method, bodies, nanoseconds per body per step, nanoseconds per body per
+ * derivative evaluation, bytes of memory per body (scene + integrator, measured with glibc's
+ * mallinfo2), steps per run. Median CPU time of repeated runs; each run integrates enough
+ * steps to take ~20 ms. Targets (docs/performance.md): RK4 <= 100 ns per body-step at
+ * N = 1000, flat within 30% from N = 100 to 100000, <= 2 KB per body for every integrator.
+ *
+ * usage: bench_throughput [--quick] */
+#define _GNU_SOURCE /* mallinfo2 */
+#include "bench_common.h"
+#include "tumble/tumble.h"
+
+#include <malloc.h>
+#include <stdio.h>
+#include <string.h>
+
+static tb_scene *make_scene(size_t bodies)
+{
+    tb_scene_def def = tb_scene_def_default();
+    def.body_capacity = bodies;
+    tb_scene *scene = NULL;
+    tb_scene_create(&def, &scene, NULL);
+    for (size_t i = 0; i < bodies; ++i) {
+        tb_body_def body = tb_body_def_default();
+        tb_mass_from_box(TB_MASS_DENSITY, 500.0, (double[]){0.1, 0.2, 0.3}, &body.mass, NULL);
+        body.position[0] = (double)i;
+        body.velocity[2] = 3.0;
+        body.angular_velocity[0] = 1.0;
+        body.angular_velocity[1] = 2.0;
+        tb_scene_add_body(scene, &body, NULL);
+    }
+    tb_scene_add_gravity(scene, (double[]){0, 0, -9.81});
+    return scene;
+}
+
+typedef struct measurement {
+    double ns_per_body_step, bytes_per_body;
+    long steps;
+} measurement;
+
+static measurement measure(tb_method method, size_t bodies, int repeats)
+{
+    measurement m = {0};
+    double times[15];
+    for (int r = 0; r < repeats; ++r) {
+        const size_t before = mallinfo2().uordblks;
+        tb_scene *scene = make_scene(bodies);
+        tb_integrator_def def = tb_integrator_def_default();
+        def.method = method;
+        def.rtol = 1e-6;
+        tb_integrator *integrator = NULL;
+        tb_scene_integrator_create(scene, &def, 0.0, &integrator);
+        tb_integrator_advance(integrator, 1e-3); /* CVODE finishes its set-up here */
+        m.bytes_per_body = (double)(mallinfo2().uordblks - before) / (double)bodies;
+        tb_integrator_stats start;
+        tb_integrator_get_stats(integrator, &start);
+        /* about 2e6 body-steps a run */
+        const long steps = (long)(2e6 / (double)bodies) + 10;
+        const double t0 = bench_cpu_seconds();
+        for (long k = 0; k < steps; ++k) {
+            tb_integrator_step(integrator);
+        }
+        times[r] = bench_cpu_seconds() - t0;
+        m.steps = steps;
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+    m.ns_per_body_step =
+        1e9 * bench_median(times, (size_t)repeats) / (double)m.steps / (double)bodies;
+    return m;
+}
+
+static double derivative_ns(size_t bodies, int repeats)
+{
+    tb_scene *scene = make_scene(bodies);
+    static double dydt_buffer[13 * 100000];
+    double times[15];
+    const long evaluations = (long)(4e6 / (double)bodies) + 10;
+    for (int r = 0; r < repeats; ++r) {
+        const double t0 = bench_cpu_seconds();
+        for (long k = 0; k < evaluations; ++k) {
+            tb_scene_derivative(0.0, tb_scene_states(scene), dydt_buffer, scene);
+        }
+        times[r] = bench_cpu_seconds() - t0;
+    }
+    tb_scene_destroy(scene);
+    return 1e9 * bench_median(times, (size_t)repeats) / (double)evaluations / (double)bodies;
+}
+
+int main(int argc, char **argv)
+{
+    const int quick = argc > 1 && strcmp(argv[1], "--quick") == 0;
+    const int repeats = quick ? 1 : 7;
+    static const size_t sizes[] = {1, 10, 100, 1000, 10000, 100000};
+    const size_t count = quick ? 2 : sizeof sizes / sizeof sizes[0];
+    printf("method,bodies,ns_per_body_step,derivative_ns_per_body,bytes_per_body,steps\n");
+    for (size_t s = 0; s < count; ++s) {
+        const double derivative = derivative_ns(sizes[s], repeats);
+        for (int method = 0; method < TB_METHOD_COUNT; ++method) {
+            const measurement m = measure((tb_method)method, sizes[s], repeats);
+            printf("%s,%zu,%.1f,%.1f,%.0f,%ld\n", tb_method_name((tb_method)method), sizes[s],
+                   m.ns_per_body_step, derivative, m.bytes_per_body, m.steps);
+            fflush(stdout);
+        }
+    }
+    return 0;
+}
