@@ -183,8 +183,10 @@ int main(int argc, char **argv)
     run(&problems[4], TB_METHOD_CVODE_ADAMS, 1e-13, 1, &unused, &stats);
     double reference_error;
     run(&problems[4], TB_METHOD_CVODE_ADAMS, 1e-12, 0, &reference_error, &stats);
-    fprintf(stderr, "chain reference (rtol 1e-12) differs from rtol 1e-13 by %.2e m\n",
-            reference_error);
+    if (!quick) { /* the smoke test checks the output is nothing but CSV */
+        fprintf(stderr, "chain reference (rtol 1e-12) differs from rtol 1e-13 by %.2e m\n",
+                reference_error);
+    }
     run(&problems[4], TB_METHOD_CVODE_ADAMS, 1e-12, 1, &unused, &stats);
 
     static const double fixed[3][5] = {
