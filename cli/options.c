@@ -29,8 +29,13 @@ typedef struct number_option {
     }
 
 static const number_option number_options[] = {
-    NUMBER("--dt", false, dt),   NUMBER("--rtol", false, rtol),        NUMBER("--atol", true, atol),
-    NUMBER("--fps", false, fps), NUMBER("--duration", true, duration),
+    NUMBER("--dt", false, dt),
+    NUMBER("--rtol", false, rtol),
+    NUMBER("--atol", true, atol),
+    NUMBER("--fps", false, fps),
+    NUMBER("--duration", true, duration),
+    {"--target-error", false, offsetof(cli_options, target_error),
+     offsetof(cli_options, has_target)},
 };
 
 static bool parse_option(const char *flag, const char *value, cli_options *out, char *message,
@@ -38,6 +43,10 @@ static bool parse_option(const char *flag, const char *value, cli_options *out, 
 {
     if (strcmp(flag, "--out") == 0) {
         out->out = value;
+        return true;
+    }
+    if (strcmp(flag, "--chart") == 0) {
+        out->chart = value;
         return true;
     }
     if (strcmp(flag, "--integrator") == 0) {
@@ -64,12 +73,14 @@ bool cli_parse(int argc, char **argv, cli_options *out, char *message, size_t si
 {
     memset(out, 0, sizeof *out);
     if (argc < 2) {
-        snprintf(message, size, "missing command: run or check (see tumble --help)");
+        snprintf(message, size, "missing command: run, check or accuracy (see tumble --help)");
         return false;
     }
     out->command = argv[1];
-    if (strcmp(out->command, "run") != 0 && strcmp(out->command, "check") != 0) {
-        snprintf(message, size, "unknown command \"%s\": run or check (see tumble --help)",
+    if (strcmp(out->command, "run") != 0 && strcmp(out->command, "check") != 0 &&
+        strcmp(out->command, "accuracy") != 0) {
+        snprintf(message, size,
+                 "unknown command \"%s\": run, check or accuracy (see tumble --help)",
                  out->command);
         return false;
     }

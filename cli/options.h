@@ -7,10 +7,13 @@
 #include <stdbool.h>
 
 typedef struct cli_options {
-    const char *command; /* "run" or "check" */
+    const char *command; /* "run", "check" or "accuracy" */
     const char *scene;
-    const char *out;    /* NULL: standard output */
-    const char *method; /* NULL: the scene's */
+    const char *out;     /* NULL: standard output */
+    const char *method;  /* NULL: the scene's */
+    const char *chart;   /* accuracy: an SVG chart to write, or NULL */
+    double target_error; /* accuracy: m */
+    bool has_target;
     double dt, rtol, atol, fps, duration;
     bool has_dt, has_rtol, has_atol, has_fps, has_duration;
 } cli_options;
