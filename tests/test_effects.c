@@ -165,29 +165,6 @@ static void test_drag_gives_the_exact_terminal_velocity_curves(void **state)
 
 /* --- ground contact ------------------------------------------------------------------------ */
 
-/* A flat box (0.4 x 0.4 x 0.1 m, 8 kg) with its 8 corners as contact points, on a ground plane
- * through the origin with the given normal, resting on it at the given orientation. */
-static tb_scene *box_on_ground(const double normal[3], const double q[4], tb_ground_def *ground)
-{
-    tb_scene *scene = empty_scene();
-    tb_body_def def = tb_body_def_default();
-    const double size[3] = {0.4, 0.4, 0.1};
-    assert_int_equal(tb_mass_from_box(TB_MASS_GIVEN, 8.0, size, &def.mass, NULL), TB_STATUS_OK);
-    memcpy(def.orientation, q, 4 * sizeof(double));
-    for (int i = 0; i < 3; ++i) {
-        def.position[i] = 0.05 * normal[i]; /* bottom face on the plane */
-    }
-    assert_int_equal(tb_scene_add_body(scene, &def, NULL), TB_STATUS_OK);
-    tb_contact_point corners[8];
-    size_t count;
-    assert_int_equal(tb_contact_points_box(size, corners, 8, &count), TB_STATUS_OK);
-    assert_int_equal(tb_scene_set_contact_points(scene, 0, corners, count, 4), TB_STATUS_OK);
-    assert_int_equal(tb_scene_add_gravity(scene, (double[]){0, 0, -9.81}), TB_STATUS_OK);
-    memcpy(ground->normal, normal, 3 * sizeof(double));
-    assert_int_equal(tb_scene_add_ground(scene, ground), TB_STATUS_OK);
-    return scene;
-}
-
 /* At rest on level ground the box sinks by the configured penetration (its weight shared by 4
  * corners, each with k = M g / (4 penetration)): centre at 0.05 - 0.001 m, to 1e-7 m after
  * the contact (critically damped, 99 rad/s) has settled. */
@@ -195,7 +172,7 @@ static void test_a_resting_box_sinks_by_the_configured_penetration(void **state)
 {
     (void)state;
     tb_ground_def ground = tb_ground_def_default();
-    tb_scene *scene = box_on_ground((double[]){0, 0, 1}, (double[]){1, 0, 0, 0}, &ground);
+    tb_scene *scene = test_box_on_slope(0.0, &ground);
     tb_integrator *integrator = rk4(scene, 1.0 / 240.0);
     assert_int_equal(tb_integrator_advance(integrator, 2.0), TB_STATUS_OK);
     const double *y = tb_scene_states(scene);
@@ -219,7 +196,7 @@ static void test_kinetic_friction_stops_a_slide_at_v2_over_2_mu_g(void **state)
     tb_ground_def ground = tb_ground_def_default();
     ground.static_friction = 0.6;
     ground.kinetic_friction = 0.5;
-    tb_scene *scene = box_on_ground((double[]){0, 0, 1}, (double[]){1, 0, 0, 0}, &ground);
+    tb_scene *scene = test_box_on_slope(0.0, &ground);
     /* start at the resting height so the slide begins in steady contact */
     tb_body_state s;
     tb_scene_get_state(scene, 0, &s);
@@ -242,38 +219,20 @@ static void test_kinetic_friction_stops_a_slide_at_v2_over_2_mu_g(void **state)
 /* On a 25 degree slope (tan 25 = 0.466 < mu_s = 0.6) the box holds: after settling, it moves
  * less than 1e-7 m between t = 2 s and t = 12 s (no creep). On a 35 degree slope (tan 35 =
  * 0.700 > 0.6) it slides with acceleration g (sin 35 - mu_k cos 35) = 1.608 m/s^2, to 1%. */
-static double slope_displacement(double degrees, double t0, double t1)
-{
-    const double a = degrees * PI / 180.0;
-    const double normal[3] = {-sin(a), 0.0, cos(a)};
-    const double q[4] = {cos(-a / 2), 0.0, sin(-a / 2), 0.0}; /* turns z onto the normal */
-    tb_ground_def ground = tb_ground_def_default();
-    tb_scene *scene = box_on_ground(normal, q, &ground);
-    tb_integrator *integrator = rk4(scene, 1.0 / 240.0);
-    assert_int_equal(tb_integrator_advance(integrator, t0), TB_STATUS_OK);
-    const double down[3] = {-cos(a), 0.0, -sin(a)};
-    const double *y = tb_scene_states(scene);
-    const double start = down[0] * y[0] + down[2] * y[2];
-    assert_int_equal(tb_integrator_advance(integrator, t1), TB_STATUS_OK);
-    const double end = down[0] * y[0] + down[2] * y[2];
-    tb_integrator_destroy(integrator);
-    tb_scene_destroy(scene);
-    return end - start;
-}
-
 static void test_static_friction_holds_a_box_on_a_slope_without_creep(void **state)
 {
     (void)state;
-    const double creep = slope_displacement(25.0, 2.0, 12.0);
+    const double creep = test_slope_displacement(25.0, 2.0, 12.0);
     print_message("25 degrees: moved %.3e m down the slope between 2 s and 12 s\n", creep);
     assert_true(fabs(creep) < 1e-7);
 
-    const double s1 = slope_displacement(35.0, 0.0, 1.0), s2 = slope_displacement(35.0, 0.0, 2.0);
+    const double s1 = test_slope_displacement(35.0, 0.0, 1.0),
+                 s2 = test_slope_displacement(35.0, 0.0, 2.0);
     const double angle = 35.0 * PI / 180.0;
     const double expected = 9.81 * (sin(angle) - 0.5 * cos(angle));
     /* s(t) = a t^2 / 2 + b t + c for a constant acceleration after a short start: the second
      * difference over t = 1, 2, 3 s gives a exactly. */
-    const double s3 = slope_displacement(35.0, 0.0, 3.0);
+    const double s3 = test_slope_displacement(35.0, 0.0, 3.0);
     const double measured = (s3 - 2.0 * s2 + s1) / 1.0;
     print_message("35 degrees: acceleration %.4f m/s^2 (g (sin - mu_k cos) = %.4f)\n", measured,
                   expected);

@@ -9,6 +9,7 @@
 #include "torque_free_top.h"
 
 #include <math.h>
+#include <string.h>
 
 tb_scene *test_scene_one_body(double mass, const double moments[3], const double q0[4],
                               const double omega_body[3])
@@ -80,4 +81,48 @@ double test_top_error(const tb_integrator_def *def, double T, int frames,
     tb_integrator_destroy(integrator);
     tb_scene_destroy(scene);
     return worst;
+}
+
+tb_scene *test_box_on_slope(double degrees, tb_ground_def *ground)
+{
+    const double a = degrees * 3.14159265358979323846 / 180.0;
+    const double normal[3] = {-sin(a), 0.0, cos(a)};
+    tb_scene_def scene_def = tb_scene_def_default();
+    tb_scene *scene = NULL;
+    assert_int_equal(tb_scene_create(&scene_def, &scene, NULL), TB_STATUS_OK);
+    tb_body_def def = tb_body_def_default();
+    const double size[3] = {0.4, 0.4, 0.1};
+    assert_int_equal(tb_mass_from_box(TB_MASS_GIVEN, 8.0, size, &def.mass, NULL), TB_STATUS_OK);
+    const double q[4] = {cos(-a / 2), 0.0, sin(-a / 2), 0.0}; /* turns z onto the normal */
+    memcpy(def.orientation, q, sizeof q);
+    for (int i = 0; i < 3; ++i) {
+        def.position[i] = 0.05 * normal[i]; /* bottom face on the plane */
+    }
+    assert_int_equal(tb_scene_add_body(scene, &def, NULL), TB_STATUS_OK);
+    tb_contact_point corners[8];
+    size_t count;
+    assert_int_equal(tb_contact_points_box(size, corners, 8, &count), TB_STATUS_OK);
+    assert_int_equal(tb_scene_set_contact_points(scene, 0, corners, count, 4), TB_STATUS_OK);
+    assert_int_equal(tb_scene_add_gravity(scene, (double[]){0, 0, -9.81}), TB_STATUS_OK);
+    memcpy(ground->normal, normal, sizeof normal);
+    assert_int_equal(tb_scene_add_ground(scene, ground), TB_STATUS_OK);
+    return scene;
+}
+
+double test_slope_displacement(double degrees, double t0, double t1)
+{
+    const double a = degrees * 3.14159265358979323846 / 180.0;
+    tb_ground_def ground = tb_ground_def_default();
+    tb_scene *scene = test_box_on_slope(degrees, &ground);
+    tb_integrator_def def = tb_integrator_def_default(); /* RK4 at 1/240 s */
+    tb_integrator *integrator = NULL;
+    assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator), TB_STATUS_OK);
+    assert_int_equal(tb_integrator_advance(integrator, t0), TB_STATUS_OK);
+    const double *y = tb_scene_states(scene);
+    const double start = -cos(a) * y[0] - sin(a) * y[2];
+    assert_int_equal(tb_integrator_advance(integrator, t1), TB_STATUS_OK);
+    const double end = -cos(a) * y[0] - sin(a) * y[2];
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+    return end - start;
 }

@@ -26,4 +26,13 @@ extern const double test_top_q0[4];
 double test_top_error(const tb_integrator_def *def, double T, int frames,
                       tb_integrator_stats *stats);
 
+/* A flat box (0.4 x 0.4 x 0.1 m, 8 kg, its 8 corners as contact points, 4 carrying it) resting
+ * on a ground plane through the origin tilted by `degrees` about y, under gravity -9.81 z.
+ * ground's normal is set to the plane's. */
+tb_scene *test_box_on_slope(double degrees, tb_ground_def *ground);
+
+/* That box released at rest with default friction: how far it moves down the slope, along it,
+ * between t0 and t1 (RK4 at the documented 240 steps per second). */
+double test_slope_displacement(double degrees, double t0, double t1);
+
 #endif
