@@ -49,18 +49,6 @@ void tb__shape_vector_to_principal(const tb_mass_properties *props, const double
     tb__q_rotate_inverse(out, props->rotation, v);
 }
 
-static tb_status check_effect_vector(tb_scene *scene, const double *v, const char *what)
-{
-    if (v == NULL) {
-        return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "%s is NULL", what);
-    }
-    if (!tb__all_finite(v, 3)) {
-        return tb__scene_fail(scene, TB_STATUS_NOT_FINITE,
-                              "%s: contains NaN or infinity (%g, %g, %g)", what, v[0], v[1], v[2]);
-    }
-    return TB_STATUS_OK;
-}
-
 /* --- gravity: F_i += M_i g for every body ------------------------------------------------ */
 
 static int apply_gravity(const tb__effect *effect, const tb_scene *scene, double t, const double *y,
@@ -80,7 +68,7 @@ tb_status tb_scene_add_gravity(tb_scene *scene, const double g[3])
         return TB_STATUS_NULL_POINTER;
     }
     scene->detail[0] = '\0';
-    tb_status status = check_effect_vector(scene, g, "g");
+    tb_status status = tb__check_vector(scene, g, "g");
     if (status != TB_STATUS_OK) {
         return status;
     }
@@ -157,10 +145,10 @@ tb_status tb_scene_add_force(tb_scene *scene, size_t id, const double force[3],
     scene->detail[0] = '\0';
     tb_status status = tb__scene_check_id(scene, id, "id");
     if (status == TB_STATUS_OK) {
-        status = check_effect_vector(scene, force, "force");
+        status = tb__check_vector(scene, force, "force");
     }
     if (status == TB_STATUS_OK) {
-        status = check_effect_vector(scene, point, "point");
+        status = tb__check_vector(scene, point, "point");
     }
     if (status == TB_STATUS_OK) {
         status = check_frame(scene, frame);
@@ -189,7 +177,7 @@ tb_status tb_scene_add_torque(tb_scene *scene, size_t id, const double torque[3]
     scene->detail[0] = '\0';
     tb_status status = tb__scene_check_id(scene, id, "id");
     if (status == TB_STATUS_OK) {
-        status = check_effect_vector(scene, torque, "torque");
+        status = tb__check_vector(scene, torque, "torque");
     }
     if (status == TB_STATUS_OK) {
         status = check_frame(scene, frame);

@@ -186,8 +186,11 @@ const char *tb_scene_detail(const tb_scene *scene)
     return scene == NULL ? "scene is NULL" : scene->detail;
 }
 
-static tb_status check_vector(tb_scene *scene, const double v[3], const char *what)
+tb_status tb__check_vector(tb_scene *scene, const double *v, const char *what)
 {
+    if (v == NULL) {
+        return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "%s is NULL", what);
+    }
     if (!tb__all_finite(v, 3)) {
         return tb__scene_fail(scene, TB_STATUS_NOT_FINITE,
                               "%s: contains NaN or infinity (%g, %g, %g)", what, v[0], v[1], v[2]);
@@ -232,12 +235,12 @@ static tb_status validate_body_def(tb_scene *scene, const tb_body_def *def)
     if (status != TB_STATUS_OK) {
         return tb__scene_fail(scene, status, "%s", error.message);
     }
-    status = check_vector(scene, def->position, "def.position");
+    status = tb__check_vector(scene, def->position, "def.position");
     if (status == TB_STATUS_OK) {
-        status = check_vector(scene, def->velocity, "def.velocity");
+        status = tb__check_vector(scene, def->velocity, "def.velocity");
     }
     if (status == TB_STATUS_OK) {
-        status = check_vector(scene, def->angular_velocity, "def.angular_velocity");
+        status = tb__check_vector(scene, def->angular_velocity, "def.angular_velocity");
     }
     return status;
 }
@@ -391,10 +394,10 @@ tb_status tb_scene_set_velocity(tb_scene *scene, size_t id, const double velocit
     scene->detail[0] = '\0';
     tb_status status = tb__scene_check_id(scene, id, "id");
     if (status == TB_STATUS_OK) {
-        status = check_vector(scene, velocity, "velocity");
+        status = tb__check_vector(scene, velocity, "velocity");
     }
     if (status == TB_STATUS_OK) {
-        status = check_vector(scene, angular_velocity, "angular_velocity");
+        status = tb__check_vector(scene, angular_velocity, "angular_velocity");
     }
     if (status == TB_STATUS_OK) {
         set_momenta(scene, id, velocity, angular_velocity);

@@ -84,6 +84,9 @@ tb_status tb__scene_fail(tb_scene *scene, tb_status status, const char *format, 
 #endif
     ;
 
+/* v non-NULL with three finite numbers, else a detail naming what. */
+tb_status tb__check_vector(tb_scene *scene, const double *v, const char *what);
+
 /* value finite and >= 0, else a detail naming what. */
 tb_status tb__check_coefficient(tb_scene *scene, double value, const char *what);
 
