@@ -38,6 +38,13 @@ int main(void)
     FIELD(tb_run_def, internal_cookie);
     printf("\"_\": 0},\n");
 
+    printf("\"tb_mass_properties\": {\"size\": %zu, ", sizeof(tb_mass_properties));
+    FIELD(tb_mass_properties, mass);
+    FIELD(tb_mass_properties, center);
+    FIELD(tb_mass_properties, moments);
+    FIELD(tb_mass_properties, rotation);
+    printf("\"_\": 0},\n");
+
     printf("\"tb_integrator_stats\": {\"size\": %zu, ", sizeof(tb_integrator_stats));
     FIELD(tb_integrator_stats, steps);
     FIELD(tb_integrator_stats, derivative_evals);

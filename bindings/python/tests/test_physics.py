@@ -64,3 +64,13 @@ def test_runs_are_repeatable():
                                     "effects": [{"type": "gravity"}]})
     a, b = scene.run(duration=1), scene.run(duration=1)
     assert np.array_equal(a.position, b.position) and np.array_equal(a.orientation, b.orientation)
+
+
+def test_accuracy_sweep_finds_a_setting_that_meets_the_budget(scenes):
+    # The recommended setting's error is within the budget, errors fall as the setting
+    # tightens for RK4 (order 4), and every method of the sweep appears.
+    rows, best = tumble.Scene.from_file(scenes / "tumbling_box.json").accuracy(target_error=1e-6)
+    assert best is not None and best["error"] <= 1e-6
+    rk4 = [r["error"] for r in rows if r["method"] == "rk4"]
+    assert rk4[0] > rk4[1] > 0
+    assert {r["method"] for r in rows} == set(tumble.METHODS)

@@ -13,6 +13,7 @@ from a SceneBuilder. Every error raises TumbleError with the library's message, 
 import copy
 import ctypes
 import json
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -20,7 +21,8 @@ import numpy as np
 from . import _native
 from ._native import lib
 
-__all__ = ["Scene", "SceneBuilder", "Frames", "TumbleError", "METHODS", "__version__"]
+__all__ = ["Scene", "SceneBuilder", "Frames", "TumbleError", "METHODS", "ACCURACY_SWEEP",
+           "__version__"]
 
 #: The package's version; tests/test_layout.py requires it to equal the C library's.
 __version__ = "0.1.0"
@@ -128,6 +130,11 @@ class Scene:
                              "dt": run.integrator.dt, "rtol": run.integrator.rtol,
                              "atol": run.integrator.atol, "fps": run.fps,
                              "duration": run.duration}
+        self.radius_of_gyration = []
+        for i in range(len(self.body_names)):
+            mass = _native.MassProperties()
+            lib.tb_scene_get_mass(handle, i, ctypes.byref(mass))
+            self.radius_of_gyration.append(float(np.sqrt(max(mass.moments) / mass.mass)))
         lib.tb_scene_destroy(handle)
 
     @classmethod
@@ -190,6 +197,54 @@ class Scene:
                       recorder.angular_velocity[:n], recorder.kinetic[:n],
                       recorder.potential[:n], recorder.P[:n], recorder.L[:n],
                       _stats_dict(stats))
+
+
+#: The sweep of Scene.accuracy and `tumble accuracy`: steps per second for the fixed-step
+#: methods, rtol for CVODE.
+ACCURACY_SWEEP = ([("euler", s) for s in (240, 1000, 4000)] +
+                  [("midpoint", s) for s in (60, 240, 1000)] +
+                  [("rk4", s) for s in (60, 240, 1000, 4000)] +
+                  [(m, r) for m in ("cvode-adams", "cvode-bdf") for r in (1e-3, 1e-5, 1e-7, 1e-9)])
+
+
+def _errors(frames, reference, lengths):
+    """Largest position error (m), angle error (rad) and displacement |dx| + l angle (m)."""
+    dx = np.linalg.norm(frames.position - reference.position, axis=2)
+    p, r = frames.orientation, reference.orientation
+    # the rotation r* p between them: its vector part has length sin(angle / 2); atan2 keeps
+    # full precision near zero, where arccos of the dot product would not
+    w = np.sum(r * p, axis=2)
+    v = r[..., :1] * p[..., 1:] - p[..., :1] * r[..., 1:] - np.cross(r[..., 1:], p[..., 1:])
+    angle = 2 * np.arctan2(np.linalg.norm(v, axis=2), np.abs(w))
+    return float(dx.max()), float(angle.max()), float((dx + np.asarray(lengths) * angle).max())
+
+
+def _accuracy(self, target_error=1e-3, sweep=ACCURACY_SWEEP):
+    """Runs the scene with each integrator setting of `sweep` against cvode-bdf at rtol 1e-10
+    (as `tumble accuracy` does) and returns (rows, best): each row a dict with method,
+    setting, error (the largest displacement |dx| + l angle of a body's points at its radius
+    of gyration l, m), position_error (m), angle_error (rad), cpu_ms, derivatives, and note
+    (None, or why the setting did not run); best is the cheapest row with error <= target."""
+    reference = self.run(method="cvode-bdf", rtol=1e-10, atol=0.0)
+    rows = []
+    for method, setting in sweep:
+        options = {"rtol": setting, "atol": 0.0} if method.startswith("cvode") else \
+            {"dt": 1.0 / setting}
+        start = time.process_time()
+        try:
+            frames = self.run(method=method, **options)
+        except TumbleError as failure:
+            rows.append(dict(method=method, setting=setting, note=failure.message))
+            continue
+        position, angle, error = _errors(frames, reference, self.radius_of_gyration)
+        rows.append(dict(method=method, setting=setting, error=error, position_error=position,
+                         angle_error=angle, cpu_ms=1e3 * (time.process_time() - start),
+                         derivatives=frames.stats["derivative_evals"], note=None))
+    ok = [r for r in rows if r["note"] is None and r["error"] <= target_error]
+    return rows, min(ok, key=lambda r: r["cpu_ms"]) if ok else None
+
+
+Scene.accuracy = _accuracy
 
 
 class SceneBuilder:

@@ -41,6 +41,15 @@ class RunDef(ctypes.Structure):
     ]
 
 
+class MassProperties(ctypes.Structure):
+    _fields_ = [
+        ("mass", ctypes.c_double),
+        ("center", ctypes.c_double * 3),
+        ("moments", ctypes.c_double * 3),
+        ("rotation", ctypes.c_double * 4),
+    ]
+
+
 class IntegratorStats(ctypes.Structure):
     _fields_ = [
         ("steps", ctypes.c_long),
@@ -62,6 +71,7 @@ STRUCTS = {
     "tb_error": Error,
     "tb_integrator_def": IntegratorDef,
     "tb_run_def": RunDef,
+    "tb_mass_properties": MassProperties,
     "tb_integrator_stats": IntegratorStats,
 }
 
@@ -103,6 +113,8 @@ def _declare(lib):
         "tb_scene_destroy": (None, [ctypes.c_void_p]),
         "tb_scene_detail": (ctypes.c_char_p, [ctypes.c_void_p]),
         "tb_scene_body_count": (ctypes.c_size_t, [ctypes.c_void_p]),
+        "tb_scene_get_mass": (ctypes.c_int, [ctypes.c_void_p, ctypes.c_size_t,
+                                             ctypes.POINTER(MassProperties)]),
         "tb_scene_body_name": (ctypes.c_char_p, [ctypes.c_void_p, ctypes.c_size_t]),
         "tb_scene_state_size": (ctypes.c_size_t, [ctypes.c_void_p]),
         "tb_scene_states_const": (c_double_p, [ctypes.c_void_p]),
