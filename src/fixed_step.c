@@ -68,7 +68,6 @@ static int rk4_step(const tb_ode_system *system, double t, double h, const doubl
     const size_t n = system->n;
     double *k = work, *y_stage = work + n;
     const double *stage_input = y;
-    memcpy(y_new, y, n * sizeof(double));
     for (int s = 0; s < 4; ++s) {
         ++*evals;
         int rc = system->derivative(t + stage_time[s] * h, stage_input, k, system->ctx);
@@ -76,9 +75,11 @@ static int rk4_step(const tb_ode_system *system, double t, double h, const doubl
             return rc;
         }
         const double b = weight[s] * h, a = next_stage[s] * h;
-        /* one pass: accumulate the stage and form the next stage's input */
+        /* one pass: accumulate the stage (the first one starts the sum from y) and form the
+         * next stage's input */
+        const double *sum = s == 0 ? y : y_new;
         for (size_t i = 0; i < n; ++i) {
-            y_new[i] += b * k[i];
+            y_new[i] = sum[i] + b * k[i];
             y_stage[i] = y[i] + a * k[i];
         }
         stage_input = y_stage;
