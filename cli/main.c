@@ -31,7 +31,7 @@ static const char usage[] =
     "  --out FILE.csv   where the frames go (default: standard output)\n"
     "\n"
     "accuracy runs the scene with each integrator over a sweep of its setting against a\n"
-    "tight reference (cvode-bdf, rtol 1e-10), prints position and orientation errors, CPU time\n"
+    "tight reference (cvode-bdf, rtol 1e-11), prints position and orientation errors, CPU time\n"
     "and derivative evaluations, and names the cheapest setting whose position error is at\n"
     "most E metres (default 1e-3). --fps and --duration apply to it too.\n"
     "\n"

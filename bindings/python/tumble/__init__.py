@@ -220,12 +220,12 @@ def _errors(frames, reference, lengths):
 
 
 def _accuracy(self, target_error=1e-3, sweep=ACCURACY_SWEEP):
-    """Runs the scene with each integrator setting of `sweep` against cvode-bdf at rtol 1e-10
+    """Runs the scene with each integrator setting of `sweep` against cvode-bdf at rtol 1e-11
     (as `tumble accuracy` does) and returns (rows, best): each row a dict with method,
     setting, error (the largest displacement |dx| + l angle of a body's points at its radius
     of gyration l, m), position_error (m), angle_error (rad), cpu_ms, derivatives, and note
     (None, or why the setting did not run); best is the cheapest row with error <= target."""
-    reference = self.run(method="cvode-bdf", rtol=1e-10, atol=0.0)
+    reference = self.run(method="cvode-bdf", rtol=1e-11, atol=0.0)
     rows = []
     for method, setting in sweep:
         options = {"rtol": setting, "atol": 0.0} if method.startswith("cvode") else \
