@@ -43,12 +43,18 @@ int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
         const double *s = y + TB_STATE_SIZE * i;
         double *d = dydt + TB_STATE_SIZE * i;
         const tb__body *body = &scene->bodies[i];
-        double q[4], omega[3];
-        /* The rotation uses q/|q| so a quaternion that drifted off the unit sphere still
-         * means a rotation; dq uses q itself, for which 1/2 (0, omega) (x) q is tangent to the
-         * sphere |q| = const. */
-        tb__unit_quaternion(y, i, q);
-        angular_velocity(body, q, s + 10, omega);
+        /* The rotation is that of q/|q|, so a quaternion that drifted off the unit sphere
+         * still means a rotation; dq uses q itself, for which 1/2 (0, omega) (x) q is tangent
+         * to the sphere |q| = const. omega = R I_body^-1 R^T L. */
+        double R[9], w_body[3], omega[3];
+        tb__q_to_matrix_any(R, s + 3);
+        const double *L = s + 10;
+        for (int k = 0; k < 3; ++k) {
+            w_body[k] = (R[k] * L[0] + R[3 + k] * L[1] + R[6 + k] * L[2]) * body->inv_moments[k];
+        }
+        for (int k = 0; k < 3; ++k) {
+            omega[k] = R[3 * k] * w_body[0] + R[3 * k + 1] * w_body[1] + R[3 * k + 2] * w_body[2];
+        }
         const double *qr = s + 3;
         for (int k = 0; k < 3; ++k) {
             d[k] = s[7 + k] * body->inv_mass;

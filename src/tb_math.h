@@ -88,19 +88,32 @@ static inline void tb__q_rotate_inverse(double out[3], const double q[4], const 
     tb__q_rotate(out, conjugate, v);
 }
 
+/* Row-major matrix I + (s/2) * 2 (w [u]x + [u]x^2) for q = (w, u): the rotation of q when
+ * s = 2 and |q| = 1, and the rotation of q/|q| for any nonzero q when s = 2/|q|^2. */
+static inline void tb__q_matrix_scaled(double R[9], const double q[4], double s)
+{
+    const double w = q[0], x = q[1], y = q[2], z = q[3];
+    R[0] = 1 - s * (y * y + z * z);
+    R[1] = s * (x * y - w * z);
+    R[2] = s * (x * z + w * y);
+    R[3] = s * (x * y + w * z);
+    R[4] = 1 - s * (x * x + z * z);
+    R[5] = s * (y * z - w * x);
+    R[6] = s * (x * z - w * y);
+    R[7] = s * (y * z + w * x);
+    R[8] = 1 - s * (x * x + y * y);
+}
+
 /* Row-major rotation matrix of the unit quaternion q (body -> world). */
 static inline void tb__q_to_matrix(double R[9], const double q[4])
 {
-    const double w = q[0], x = q[1], y = q[2], z = q[3];
-    R[0] = 1 - 2 * (y * y + z * z);
-    R[1] = 2 * (x * y - w * z);
-    R[2] = 2 * (x * z + w * y);
-    R[3] = 2 * (x * y + w * z);
-    R[4] = 1 - 2 * (x * x + z * z);
-    R[5] = 2 * (y * z - w * x);
-    R[6] = 2 * (x * z - w * y);
-    R[7] = 2 * (y * z + w * x);
-    R[8] = 1 - 2 * (x * x + y * y);
+    tb__q_matrix_scaled(R, q, 2.0);
+}
+
+/* Row-major rotation matrix of q/|q| for any nonzero q, without a square root. */
+static inline void tb__q_to_matrix_any(double R[9], const double q[4])
+{
+    tb__q_matrix_scaled(R, q, 2.0 / (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]));
 }
 
 /* Unit quaternion of a proper rotation matrix (row-major), by Shepperd's method: pick the
