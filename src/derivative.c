@@ -12,24 +12,25 @@ void tb__unit_quaternion(const double *y, size_t i, double q[4])
     }
 }
 
-/* omega = R I_body^-1 R^T L, by rotating L into the body frame and back rather than forming
- * the world inverse inertia. */
-static void angular_velocity(const tb__body *body, const double q[4], const double L[3],
-                             double omega[3])
+/* omega = R I_body^-1 R^T L for the body whose state starts at s, with R the rotation of q/|q|
+ * built without a square root, so a quaternion that drifted off the unit sphere still means a
+ * rotation. */
+static inline void angular_velocity(const tb__body *body, const double *s, double omega[3])
 {
-    double w_body[3];
-    tb__q_rotate_inverse(w_body, q, L);
+    double R[9], w_body[3];
+    tb__q_to_matrix_any(R, s + 3);
+    const double *L = s + 10;
     for (int k = 0; k < 3; ++k) {
-        w_body[k] *= body->inv_moments[k];
+        w_body[k] = (R[k] * L[0] + R[3 + k] * L[1] + R[6 + k] * L[2]) * body->inv_moments[k];
     }
-    tb__q_rotate(omega, q, w_body);
+    for (int k = 0; k < 3; ++k) {
+        omega[k] = R[3 * k] * w_body[0] + R[3 * k + 1] * w_body[1] + R[3 * k + 2] * w_body[2];
+    }
 }
 
 void tb__angular_velocity(const tb_scene *scene, const double *y, size_t i, double omega[3])
 {
-    double q[4];
-    tb__unit_quaternion(y, i, q);
-    angular_velocity(&scene->bodies[i], q, y + TB_STATE_SIZE * i + 10, omega);
+    angular_velocity(&scene->bodies[i], y + TB_STATE_SIZE * i, omega);
 }
 
 int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
@@ -43,18 +44,10 @@ int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
         const double *s = y + TB_STATE_SIZE * i;
         double *d = dydt + TB_STATE_SIZE * i;
         const tb__body *body = &scene->bodies[i];
-        /* The rotation is that of q/|q|, so a quaternion that drifted off the unit sphere
-         * still means a rotation; dq uses q itself, for which 1/2 (0, omega) (x) q is tangent
-         * to the sphere |q| = const. omega = R I_body^-1 R^T L. */
-        double R[9], w_body[3], omega[3];
-        tb__q_to_matrix_any(R, s + 3);
-        const double *L = s + 10;
-        for (int k = 0; k < 3; ++k) {
-            w_body[k] = (R[k] * L[0] + R[3 + k] * L[1] + R[6 + k] * L[2]) * body->inv_moments[k];
-        }
-        for (int k = 0; k < 3; ++k) {
-            omega[k] = R[3 * k] * w_body[0] + R[3 * k + 1] * w_body[1] + R[3 * k + 2] * w_body[2];
-        }
+        /* dq uses q itself, for which 1/2 (0, omega) (x) q is tangent to the sphere
+         * |q| = const. */
+        double omega[3];
+        angular_velocity(body, s, omega);
         const double *qr = s + 3;
         for (int k = 0; k < 3; ++k) {
             d[k] = s[7 + k] * body->inv_mass;
@@ -83,7 +76,7 @@ void tb__body_motion(const tb_scene *scene, const double *y, size_t i, tb__motio
     const tb__body *body = &scene->bodies[i];
     out->x = s;
     tb__unit_quaternion(y, i, out->q);
-    angular_velocity(body, out->q, s + 10, out->omega);
+    angular_velocity(body, s, out->omega);
     tb__v3_set(out->v, s[7] * body->inv_mass, s[8] * body->inv_mass, s[9] * body->inv_mass);
 }
 
