@@ -5,7 +5,11 @@
  * steps to take ~20 ms. Targets (docs/performance.md): RK4 <= 100 ns per body-step at
  * N = 1000, flat within 30% from N = 100 to 100000, <= 2 KB per body for every integrator.
  *
- * usage: bench_throughput [--quick] */
+ * Rows named rk4-whole-array and rk4-8-forces[-whole-array] compare, in the same run, RK4 a
+ * chunk of bodies at a time (the default for bodies that do not interact) with RK4 over the
+ * whole array, with gravity alone and with 8 single-body forces.
+ *
+ * usage: bench_throughput [--quick] [--method PREFIX] (PREFIX: rows whose name starts so) */
 #define _GNU_SOURCE /* mallinfo2 */
 #include "bench_common.h"
 #include "tumble/tumble.h"
@@ -14,7 +18,7 @@
 #include <stdio.h>
 #include <string.h>
 
-static tb_scene *make_scene(size_t bodies)
+static tb_scene *make_scene(size_t bodies, size_t forces)
 {
     tb_scene_def def = tb_scene_def_default();
     def.body_capacity = bodies;
@@ -30,30 +34,55 @@ static tb_scene *make_scene(size_t bodies)
         tb_scene_add_body(scene, &body, NULL);
     }
     tb_scene_add_gravity(scene, (double[]){0, 0, -9.81});
+    /* single-body effects, which every chunk of bodies looks at */
+    for (size_t k = 0; k < forces && k < bodies; ++k) {
+        tb_scene_add_force(scene, k, (double[]){1.0, 0, 0}, (double[]){0, 0, 0.05}, TB_FRAME_BODY);
+    }
     return scene;
 }
+
+/* What to measure: a method; for fixed-step methods, whether the integrator may step a chunk
+ * of bodies at a time (the default for scenes whose bodies do not interact) or must step the
+ * whole array, and how many single-body forces the scene holds besides gravity. */
+typedef struct variant {
+    const char *name;
+    tb_method method;
+    int whole_array;
+    size_t forces;
+} variant;
 
 typedef struct measurement {
     double ns_per_body_step, bytes_per_body;
     long steps;
 } measurement;
 
-static measurement measure(tb_method method, size_t bodies, int repeats)
+static tb_integrator *make_integrator(tb_scene *scene, const variant *v)
+{
+    tb_integrator_def def = tb_integrator_def_default();
+    def.method = v->method;
+    def.rtol = 1e-6;
+    tb_integrator *integrator = NULL;
+    if (!v->whole_array) {
+        tb_scene_integrator_create(scene, &def, 0.0, &integrator);
+        return integrator;
+    }
+    tb_ode_system system;
+    tb_scene_ode_system(scene, &system);
+    system.block_size = 0;
+    tb_integrator_create(&system, &def, 0.0, tb_scene_states(scene), &integrator, NULL);
+    return integrator;
+}
+
+static measurement measure(const variant *v, size_t bodies, int repeats)
 {
     measurement m = {0};
     double times[15];
     for (int r = 0; r < repeats; ++r) {
         const size_t before = mallinfo2().uordblks;
-        tb_scene *scene = make_scene(bodies);
-        tb_integrator_def def = tb_integrator_def_default();
-        def.method = method;
-        def.rtol = 1e-6;
-        tb_integrator *integrator = NULL;
-        tb_scene_integrator_create(scene, &def, 0.0, &integrator);
+        tb_scene *scene = make_scene(bodies, v->forces);
+        tb_integrator *integrator = make_integrator(scene, v);
         tb_integrator_advance(integrator, 1e-3); /* CVODE finishes its set-up here */
         m.bytes_per_body = (double)(mallinfo2().uordblks - before) / (double)bodies;
-        tb_integrator_stats start;
-        tb_integrator_get_stats(integrator, &start);
         /* about 2e6 body-steps a run */
         const long steps = (long)(2e6 / (double)bodies) + 10;
         const double t0 = bench_cpu_seconds();
@@ -72,7 +101,7 @@ static measurement measure(tb_method method, size_t bodies, int repeats)
 
 static double derivative_ns(size_t bodies, int repeats)
 {
-    tb_scene *scene = make_scene(bodies);
+    tb_scene *scene = make_scene(bodies, 0);
     static double dydt_buffer[13 * 100000];
     double times[15];
     const long evaluations = (long)(4e6 / (double)bodies) + 10;
@@ -89,17 +118,43 @@ static double derivative_ns(size_t bodies, int repeats)
 
 int main(int argc, char **argv)
 {
-    const int quick = argc > 1 && strcmp(argv[1], "--quick") == 0;
+    int quick = 0;
+    const char *only = NULL; /* one method, or all */
+    for (int a = 1; a < argc; ++a) {
+        if (strcmp(argv[a], "--quick") == 0) {
+            quick = 1;
+        } else if (strcmp(argv[a], "--method") == 0 && a + 1 < argc) {
+            only = argv[++a];
+        } else {
+            fprintf(stderr, "usage: bench_throughput [--quick] [--method PREFIX]\n");
+            return 2;
+        }
+    }
     const int repeats = quick ? 1 : 7;
     static const size_t sizes[] = {1, 10, 100, 1000, 10000, 100000};
     const size_t count = quick ? 2 : sizeof sizes / sizeof sizes[0];
+    variant variants[TB_METHOD_COUNT + 3];
+    size_t variant_count = 0;
+    for (int method = 0; method < TB_METHOD_COUNT; ++method) {
+        variants[variant_count++] =
+            (variant){tb_method_name((tb_method)method), (tb_method)method, 0, 0};
+    }
+    /* the price of chunking, measured in the same run: RK4 over the whole array, and both
+     * paths with 8 single-body forces */
+    variants[variant_count++] = (variant){"rk4-whole-array", TB_METHOD_RK4, 1, 0};
+    variants[variant_count++] = (variant){"rk4-8-forces", TB_METHOD_RK4, 0, 8};
+    variants[variant_count++] = (variant){"rk4-8-forces-whole-array", TB_METHOD_RK4, 1, 8};
     printf("method,bodies,ns_per_body_step,derivative_ns_per_body,bytes_per_body,steps\n");
     for (size_t s = 0; s < count; ++s) {
         const double derivative = derivative_ns(sizes[s], repeats);
-        for (int method = 0; method < TB_METHOD_COUNT; ++method) {
-            const measurement m = measure((tb_method)method, sizes[s], repeats);
-            printf("%s,%zu,%.1f,%.1f,%.0f,%ld\n", tb_method_name((tb_method)method), sizes[s],
-                   m.ns_per_body_step, derivative, m.bytes_per_body, m.steps);
+        for (size_t k = 0; k < variant_count; ++k) {
+            const variant *v = &variants[k];
+            if (only != NULL && strncmp(only, v->name, strlen(only)) != 0) {
+                continue;
+            }
+            const measurement m = measure(v, sizes[s], repeats);
+            printf("%s,%zu,%.1f,%.1f,%.0f,%ld\n", v->name, sizes[s], m.ns_per_body_step, derivative,
+                   m.bytes_per_body, m.steps);
             fflush(stdout);
         }
     }

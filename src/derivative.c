@@ -28,22 +28,19 @@ static inline void angular_velocity(const tb__body *body, const double *s, doubl
     }
 }
 
-void tb__angular_velocity(const tb_scene *scene, const double *y, size_t i, double omega[3])
+void tb__angular_velocity(const tb__body *body, const double *s, double omega[3])
 {
-    angular_velocity(&scene->bodies[i], y + TB_STATE_SIZE * i, omega);
+    angular_velocity(body, s, omega);
 }
 
-int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
+/* dx = P/M and dq = 1/2 (0, omega) (x) q for `count` bodies, with dP and dL zeroed for the
+ * effects to add into; y and dydt point at the first body's state, bodies at its data. */
+static void kinematics(const tb__body *bodies, const double *y, double *dydt, size_t count)
 {
-    const tb_scene *scene = ctx;
-    if (scene == NULL) {
-        return -1;
-    }
-    const size_t n = scene->body_count;
-    for (size_t i = 0; i < n; ++i) {
+    for (size_t i = 0; i < count; ++i) {
         const double *s = y + TB_STATE_SIZE * i;
         double *d = dydt + TB_STATE_SIZE * i;
-        const tb__body *body = &scene->bodies[i];
+        const tb__body *body = &bodies[i];
         /* dq uses q itself, for which 1/2 (0, omega) (x) q is tangent to the sphere
          * |q| = const. */
         double omega[3];
@@ -60,9 +57,22 @@ int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
             d[k] = 0.0;
         }
     }
+}
+
+int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
+{
+    const tb_scene *scene = ctx;
+    if (scene == NULL) {
+        return -1;
+    }
+    const size_t n = scene->body_count;
+    kinematics(scene->bodies, y, dydt, n);
     const tb__effect *effects = scene->effects;
     for (size_t e = 0; e < scene->effect_count; ++e) {
-        const int rc = effects[e].apply(&effects[e], scene, t, y, dydt);
+        const tb__effect *effect = &effects[e];
+        const int rc = effect->apply != NULL
+                           ? effect->apply(effect, scene, t, y, dydt)
+                           : effect->apply_bodies(effect, scene, t, y, dydt, 0, n);
         if (rc != 0) {
             return rc;
         }
@@ -70,12 +80,35 @@ int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
     return 0;
 }
 
-void tb__body_motion(const tb_scene *scene, const double *y, size_t i, tb__motion *out)
+bool tb__scene_separable(const tb_scene *scene)
 {
-    const double *s = y + TB_STATE_SIZE * i;
-    const tb__body *body = &scene->bodies[i];
+    return scene->coupled_effect_count == 0 && scene->extra_count == 0;
+}
+
+int tb__scene_block_derivative(double t, const double *y, double *dydt, size_t first, size_t count,
+                               void *ctx)
+{
+    const tb_scene *scene = ctx;
+    /* an effect coupling bodies added after the system was made: the blocks are no longer
+     * independent */
+    if (scene == NULL || !tb__scene_separable(scene)) {
+        return -1;
+    }
+    kinematics(scene->bodies + first, y, dydt, count);
+    const tb__effect *effects = scene->effects;
+    for (size_t e = 0; e < scene->effect_count; ++e) {
+        const int rc = effects[e].apply_bodies(&effects[e], scene, t, y, dydt, first, count);
+        if (rc != 0) {
+            return rc;
+        }
+    }
+    return 0;
+}
+
+void tb__body_motion(const tb__body *body, const double *s, tb__motion *out)
+{
     out->x = s;
-    tb__unit_quaternion(y, i, out->q);
+    tb__unit_quaternion(s, 0, out->q);
     angular_velocity(body, s, out->omega);
     tb__v3_set(out->v, s[7] * body->inv_mass, s[8] * body->inv_mass, s[9] * body->inv_mass);
 }
@@ -99,26 +132,35 @@ void tb__add_load(double *dydt, size_t i, const double arm[3], const double f[3]
     tb__v3_axpy(dydt + TB_STATE_SIZE * i + 10, 1.0, torque);
 }
 
-int tb_scene_normalize_quaternions(double t, double *y, void *ctx)
+/* q <- q / |q| for `count` bodies from y; the largest | |q| - 1 | found goes into *drift. */
+static int normalize(double *y, size_t count, double *drift)
 {
-    (void)t;
-    tb_scene *scene = ctx;
-    if (scene == NULL) {
-        return -1;
-    }
-    double drift = scene->quaternion_drift;
-    for (size_t i = 0; i < scene->body_count; ++i) {
+    for (size_t i = 0; i < count; ++i) {
         double *q = y + TB_STATE_SIZE * i + 3;
         const double norm = tb__q_norm(q);
         if (!(norm > 0) || !isfinite(norm)) {
             return 1;
         }
-        drift = fmax(drift, fabs(norm - 1.0));
+        *drift = fmax(*drift, fabs(norm - 1.0));
         const double inverse = 1.0 / norm;
         for (int k = 0; k < 4; ++k) {
             q[k] *= inverse;
         }
     }
-    scene->quaternion_drift = drift;
     return 0;
+}
+
+int tb_scene_normalize_quaternions(double t, double *y, void *ctx)
+{
+    (void)t;
+    tb_scene *scene = ctx;
+    return scene == NULL ? -1 : normalize(y, scene->body_count, &scene->quaternion_drift);
+}
+
+int tb__scene_block_normalize(double t, double *y, size_t first, size_t count, void *ctx)
+{
+    (void)t;
+    (void)first;
+    tb_scene *scene = ctx;
+    return scene == NULL ? -1 : normalize(y, count, &scene->quaternion_drift);
 }

@@ -8,32 +8,33 @@
 
 #define TB__DRAG_COOKIE 0xd7a6
 
-/* param[0..3]: linear, quadratic, angular, angular_quadratic */
-static void drag_body(const tb__effect *effect, const tb_scene *scene, const double *y,
-                      double *dydt, size_t i)
+/* param[0..3]: linear, quadratic, angular, angular_quadratic. s and d: the body's states and
+ * their derivatives. */
+static void drag_body(const tb__effect *effect, const tb__body *body, const double *s, double *d)
 {
-    const double *s = y + TB_STATE_SIZE * i;
-    double *d = dydt + TB_STATE_SIZE * i;
-    const double inv_mass = scene->bodies[i].inv_mass;
-    const double v[3] = {s[7] * inv_mass, s[8] * inv_mass, s[9] * inv_mass};
+    const double v[3] = {s[7] * body->inv_mass, s[8] * body->inv_mass, s[9] * body->inv_mass};
     tb__v3_axpy(d + 7, -(effect->param[0] + effect->param[1] * tb__v3_norm(v)), v);
     if (effect->param[2] != 0.0 || effect->param[3] != 0.0) {
         double omega[3];
-        tb__angular_velocity(scene, y, i, omega);
+        tb__angular_velocity(body, s, omega);
         tb__v3_axpy(d + 10, -(effect->param[2] + effect->param[3] * tb__v3_norm(omega)), omega);
     }
 }
 
 static int apply_drag(const tb__effect *effect, const tb_scene *scene, double t, const double *y,
-                      double *dydt)
+                      double *dydt, size_t first, size_t count)
 {
     (void)t;
+    const tb__body *bodies = scene->bodies + first;
+    size_t i;
     if (effect->body != TB_ALL_BODIES) {
-        drag_body(effect, scene, y, dydt, effect->body);
+        if (tb__local_body(effect->body, first, count, &i)) {
+            drag_body(effect, &bodies[i], y + TB_STATE_SIZE * i, dydt + TB_STATE_SIZE * i);
+        }
         return 0;
     }
-    for (size_t i = 0; i < scene->body_count; ++i) {
-        drag_body(effect, scene, y, dydt, i);
+    for (i = 0; i < count; ++i) {
+        drag_body(effect, &bodies[i], y + TB_STATE_SIZE * i, dydt + TB_STATE_SIZE * i);
     }
     return 0;
 }
@@ -77,7 +78,7 @@ tb_status tb_scene_add_drag(tb_scene *scene, const tb_drag_def *def)
     if (status != TB_STATUS_OK) {
         return status;
     }
-    tb__effect effect = {.apply = apply_drag, .kind = TB__DRAG, .body = def->body};
+    tb__effect effect = {.apply_bodies = apply_drag, .kind = TB__DRAG, .body = def->body};
     memcpy(effect.param, values, sizeof values);
     return tb__scene_push_effect(scene, &effect);
 }

@@ -115,7 +115,7 @@ static int apply_ground(const tb__effect *effect, const tb_scene *scene, double 
         const tb__contact *c = &scene->contacts[j];
         if (c->body != current) { /* a body's points are contiguous: read its motion once */
             current = c->body;
-            tb__body_motion(scene, y, current, &motion);
+            tb__body_motion(&scene->bodies[current], y + TB_STATE_SIZE * current, &motion);
         }
         const size_t k = effect->state_offset + 2 * j;
         contact(effect, scene, c, &motion, y + k, dydt + k, dydt);

@@ -8,44 +8,74 @@
 
 #define TB__SPRING_COOKIE 0x5921
 
-/* param[0..2]: stiffness, damping, rest length. point / other_point: principal-frame offsets
- * of the ends (other_point is the world anchor when other == TB_WORLD). */
+/* An end of a spring: the point's lever arm from the centre of mass, its position and its
+ * velocity (world). */
+typedef struct spring_end {
+    double arm[3], p[3], v[3];
+} spring_end;
+
+static void body_end(const tb__body *body, const double *s, const double r[3], spring_end *end)
+{
+    tb__motion motion;
+    tb__body_motion(body, s, &motion);
+    tb__point_arm(&motion, r, end->arm);
+    tb__point_velocity(&motion, end->arm, end->v);
+    for (int k = 0; k < 3; ++k) {
+        end->p[k] = motion.x[k] + end->arm[k];
+    }
+}
+
+/* param[0..2]: stiffness, damping, rest length. The force on end a, f = -(k (l - l0) + c
+ * (v_a - v_b) . u) u along u = (p_a - p_b) / l; false when the ends meet (no direction). */
+static bool spring_force(const tb__effect *effect, const spring_end *a, const spring_end *b,
+                         double f[3])
+{
+    const double d[3] = {a->p[0] - b->p[0], a->p[1] - b->p[1], a->p[2] - b->p[2]};
+    const double length = tb__v3_norm(d);
+    if (length == 0.0) {
+        return false;
+    }
+    const double u[3] = {d[0] / length, d[1] / length, d[2] / length};
+    const double relative[3] = {a->v[0] - b->v[0], a->v[1] - b->v[1], a->v[2] - b->v[2]};
+    const double magnitude = -effect->param[0] * (length - effect->param[2]) -
+                             effect->param[1] * tb__v3_dot(relative, u);
+    tb__v3_set(f, magnitude * u[0], magnitude * u[1], magnitude * u[2]);
+    return true;
+}
+
+/* A spring between a body point (point, principal frame) and a world anchor (other_point). */
+static int apply_anchored_spring(const tb__effect *effect, const tb_scene *scene, double t,
+                                 const double *y, double *dydt, size_t first, size_t count)
+{
+    (void)t;
+    size_t i;
+    if (!tb__local_body(effect->body, first, count, &i)) {
+        return 0;
+    }
+    spring_end a, anchor = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+    body_end(&scene->bodies[effect->body], y + TB_STATE_SIZE * i, effect->point, &a);
+    tb__v3_copy(anchor.p, effect->other_point);
+    double f[3];
+    if (spring_force(effect, &a, &anchor, f)) {
+        tb__add_load(dydt, i, a.arm, f);
+    }
+    return 0;
+}
+
+/* A spring between two body points (point on body, other_point on other). */
 static int apply_spring(const tb__effect *effect, const tb_scene *scene, double t, const double *y,
                         double *dydt)
 {
     (void)t;
-    tb__motion a, b;
-    double arm_a[3], arm_b[3] = {0, 0, 0}, p_a[3], p_b[3], v_a[3], v_b[3] = {0, 0, 0};
-    tb__body_motion(scene, y, effect->body, &a);
-    tb__point_arm(&a, effect->point, arm_a);
-    tb__point_velocity(&a, arm_a, v_a);
-    for (int k = 0; k < 3; ++k) {
-        p_a[k] = a.x[k] + arm_a[k];
-    }
-    if (effect->other == TB_WORLD) {
-        tb__v3_copy(p_b, effect->other_point);
-    } else {
-        tb__body_motion(scene, y, effect->other, &b);
-        tb__point_arm(&b, effect->other_point, arm_b);
-        tb__point_velocity(&b, arm_b, v_b);
-        for (int k = 0; k < 3; ++k) {
-            p_b[k] = b.x[k] + arm_b[k];
-        }
-    }
-    const double d[3] = {p_a[0] - p_b[0], p_a[1] - p_b[1], p_a[2] - p_b[2]};
-    const double length = tb__v3_norm(d);
-    if (length == 0.0) {
-        return 0; /* no direction: no force */
-    }
-    const double u[3] = {d[0] / length, d[1] / length, d[2] / length};
-    const double relative[3] = {v_a[0] - v_b[0], v_a[1] - v_b[1], v_a[2] - v_b[2]};
-    const double magnitude = -effect->param[0] * (length - effect->param[2]) -
-                             effect->param[1] * tb__v3_dot(relative, u);
-    double f[3] = {magnitude * u[0], magnitude * u[1], magnitude * u[2]};
-    tb__add_load(dydt, effect->body, arm_a, f);
-    if (effect->other != TB_WORLD) {
+    spring_end a, b;
+    body_end(&scene->bodies[effect->body], y + TB_STATE_SIZE * effect->body, effect->point, &a);
+    body_end(&scene->bodies[effect->other], y + TB_STATE_SIZE * effect->other, effect->other_point,
+             &b);
+    double f[3];
+    if (spring_force(effect, &a, &b, f)) {
+        tb__add_load(dydt, effect->body, a.arm, f);
         tb__v3_set(f, -f[0], -f[1], -f[2]);
-        tb__add_load(dydt, effect->other, arm_b, f);
+        tb__add_load(dydt, effect->other, b.arm, f);
     }
     return 0;
 }
@@ -110,8 +140,12 @@ tb_status tb_scene_add_spring(tb_scene *scene, const tb_spring_def *def)
     if (status != TB_STATUS_OK) {
         return status;
     }
-    tb__effect effect = {
-        .apply = apply_spring, .kind = TB__SPRING, .body = def->body_a, .other = def->body_b};
+    tb__effect effect = {.kind = TB__SPRING, .body = def->body_a, .other = def->body_b};
+    if (def->body_b == TB_WORLD) {
+        effect.apply_bodies = apply_anchored_spring;
+    } else {
+        effect.apply = apply_spring;
+    }
     tb__shape_point_to_principal(&scene->mass_props[def->body_a], def->point_a, effect.point);
     if (def->body_b == TB_WORLD) {
         tb__v3_copy(effect.other_point, def->point_b);

@@ -27,6 +27,9 @@ tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect)
             return status;
         }
     }
+    if (effect->apply != NULL) {
+        scene->coupled_effect_count++;
+    }
     return TB_STATUS_OK;
 }
 
@@ -52,12 +55,13 @@ void tb__shape_vector_to_principal(const tb_mass_properties *props, const double
 /* --- gravity: F_i += M_i g for every body ------------------------------------------------ */
 
 static int apply_gravity(const tb__effect *effect, const tb_scene *scene, double t, const double *y,
-                         double *dydt)
+                         double *dydt, size_t first, size_t count)
 {
     (void)t;
     (void)y;
-    for (size_t i = 0; i < scene->body_count; ++i) {
-        tb__v3_axpy(dydt + TB_STATE_SIZE * i + 7, scene->bodies[i].mass, effect->vector);
+    const tb__body *bodies = scene->bodies + first;
+    for (size_t i = 0; i < count; ++i) {
+        tb__v3_axpy(dydt + TB_STATE_SIZE * i + 7, bodies[i].mass, effect->vector);
     }
     return 0;
 }
@@ -72,7 +76,7 @@ tb_status tb_scene_add_gravity(tb_scene *scene, const double g[3])
     if (status != TB_STATUS_OK) {
         return status;
     }
-    tb__effect effect = {.apply = apply_gravity, .kind = TB__GRAVITY, .body = TB_ALL_BODIES};
+    tb__effect effect = {.apply_bodies = apply_gravity, .kind = TB__GRAVITY, .body = TB_ALL_BODIES};
     tb__v3_copy(effect.vector, g);
     return tb__scene_push_effect(scene, &effect);
 }
@@ -81,49 +85,61 @@ tb_status tb_scene_add_gravity(tb_scene *scene, const double g[3])
 
 /* F += f, tau += (p - x) x f with the lever arm p - x = R r (r in the principal frame). */
 static int apply_world_force(const tb__effect *effect, const tb_scene *scene, double t,
-                             const double *y, double *dydt)
+                             const double *y, double *dydt, size_t first, size_t count)
 {
     (void)scene;
     (void)t;
-    double q[4], arm[3];
-    tb__unit_quaternion(y, effect->body, q);
-    tb__q_rotate(arm, q, effect->point);
-    tb__add_load(dydt, effect->body, arm, effect->vector);
+    size_t i;
+    if (tb__local_body(effect->body, first, count, &i)) {
+        double q[4], arm[3];
+        tb__unit_quaternion(y, i, q);
+        tb__q_rotate(arm, q, effect->point);
+        tb__add_load(dydt, i, arm, effect->vector);
+    }
     return 0;
 }
 
 static int apply_body_force(const tb__effect *effect, const tb_scene *scene, double t,
-                            const double *y, double *dydt)
+                            const double *y, double *dydt, size_t first, size_t count)
 {
     (void)scene;
     (void)t;
-    double q[4], arm[3], force[3];
-    tb__unit_quaternion(y, effect->body, q);
-    tb__q_rotate(arm, q, effect->point);
-    tb__q_rotate(force, q, effect->vector);
-    tb__add_load(dydt, effect->body, arm, force);
+    size_t i;
+    if (tb__local_body(effect->body, first, count, &i)) {
+        double q[4], arm[3], force[3];
+        tb__unit_quaternion(y, i, q);
+        tb__q_rotate(arm, q, effect->point);
+        tb__q_rotate(force, q, effect->vector);
+        tb__add_load(dydt, i, arm, force);
+    }
     return 0;
 }
 
 static int apply_world_torque(const tb__effect *effect, const tb_scene *scene, double t,
-                              const double *y, double *dydt)
+                              const double *y, double *dydt, size_t first, size_t count)
 {
     (void)scene;
     (void)t;
     (void)y;
-    tb__v3_axpy(dydt + TB_STATE_SIZE * effect->body + 10, 1.0, effect->vector);
+    size_t i;
+    if (tb__local_body(effect->body, first, count, &i)) {
+        tb__v3_axpy(dydt + TB_STATE_SIZE * i + 10, 1.0, effect->vector);
+    }
     return 0;
 }
 
 static int apply_body_torque(const tb__effect *effect, const tb_scene *scene, double t,
-                             const double *y, double *dydt)
+                             const double *y, double *dydt, size_t first, size_t count)
 {
     (void)scene;
     (void)t;
-    double q[4], torque[3];
-    tb__unit_quaternion(y, effect->body, q);
-    tb__q_rotate(torque, q, effect->vector);
-    tb__v3_axpy(dydt + TB_STATE_SIZE * effect->body + 10, 1.0, torque);
+    size_t i;
+    if (tb__local_body(effect->body, first, count, &i)) {
+        double q[4], torque[3];
+        tb__unit_quaternion(y, i, q);
+        tb__q_rotate(torque, q, effect->vector);
+        tb__v3_axpy(dydt + TB_STATE_SIZE * i + 10, 1.0, torque);
+    }
     return 0;
 }
 
@@ -157,7 +173,8 @@ tb_status tb_scene_add_force(tb_scene *scene, size_t id, const double force[3],
         return status;
     }
     const tb_mass_properties *props = &scene->mass_props[id];
-    tb__effect effect = {.apply = frame == TB_FRAME_WORLD ? apply_world_force : apply_body_force,
+    tb__effect effect = {.apply_bodies =
+                             frame == TB_FRAME_WORLD ? apply_world_force : apply_body_force,
                          .kind = TB__FORCE,
                          .body = id};
     tb__shape_point_to_principal(props, point, effect.point);
@@ -185,7 +202,8 @@ tb_status tb_scene_add_torque(tb_scene *scene, size_t id, const double torque[3]
     if (status != TB_STATUS_OK) {
         return status;
     }
-    tb__effect effect = {.apply = frame == TB_FRAME_WORLD ? apply_world_torque : apply_body_torque,
+    tb__effect effect = {.apply_bodies =
+                             frame == TB_FRAME_WORLD ? apply_world_torque : apply_body_torque,
                          .kind = TB__TORQUE,
                          .body = id};
     if (frame == TB_FRAME_WORLD) {

@@ -95,6 +95,24 @@ const tb__method_entry tb__methods[TB_METHOD_COUNT] = {
     [TB_METHOD_CVODE_BDF] = {"cvode-bdf", 5, &tb__cvode_backend, NULL},
 };
 
+/* Chunked stepping (separable systems): components in one chunk (9 bodies). The chunk's four
+ * buffers (state, stage derivative, stage input, new state) stay in L1 whatever the chunk;
+ * smaller chunks left less of the next chunk's memory traffic unhidden. Measured with RK4 at
+ * 100000 bodies (bench_throughput): 95, 100, 107, 110 ns a body-step for 128, 256, 512, 1024
+ * doubles, against 81-84 ns at 1000 bodies for all four. */
+#define TB__CHUNK_DOUBLES 128
+
+/* Blocks per chunk for a system declared separable, 0 for one that is not. */
+static size_t chunk_blocks(const tb_ode_system *system)
+{
+    if (system->block_size == 0) {
+        return 0;
+    }
+    const size_t blocks = system->n / system->block_size;
+    const size_t per_chunk = TB__CHUNK_DOUBLES / system->block_size;
+    return per_chunk == 0 ? 1 : per_chunk < blocks ? per_chunk : blocks;
+}
+
 static tb_status fixed_create(tb_integrator *integrator, const tb_integrator_def *def,
                               tb_error *error)
 {
@@ -103,10 +121,15 @@ static tb_status fixed_create(tb_integrator *integrator, const tb_integrator_def
                              "def.dt: must be finite and > 0, got %g", def->dt);
     }
     const size_t n = integrator->system.n;
-    integrator->y_new = malloc(3 * n * sizeof(double));
+    /* whole-array path: the new state (n) and the stepper's scratch (2n); chunked path: the
+     * state before the step, to undo a failed one (n), and the new chunk and the stepper's
+     * scratch (3 chunks) */
+    const size_t chunk = chunk_blocks(&integrator->system) * integrator->system.block_size;
+    const size_t size = chunk > 0 ? n + 3 * chunk : 3 * n;
+    integrator->y_new = malloc(size * sizeof(double));
     if (integrator->y_new == NULL) {
         return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "integrator workspace of %zu doubles",
-                             3 * n);
+                             size);
     }
     integrator->work = integrator->y_new + n;
     integrator->dt = def->dt;
@@ -140,42 +163,141 @@ static size_t first_non_finite(const double *y, size_t n)
     return n;
 }
 
-/* One step of size h from the integrator's time; commits to y only if everything succeeded. */
-static tb_status take_step(tb_integrator *integrator, double h, double t_end)
+static tb_status derivative_failed(tb_integrator *integrator, int rc, double h)
+{
+    ++integrator->stats.failed_steps;
+    return tb__set_detail(integrator->detail, TB_STATUS_DERIVATIVE_FAILED,
+                          "derivative returned %d in the %s step from t = %.17g (h = %g)", rc,
+                          integrator->entry->name, integrator->t, h);
+}
+
+static tb_status hook_failed(tb_integrator *integrator, int rc, double t_end)
+{
+    ++integrator->stats.failed_steps;
+    return tb__set_detail(integrator->detail, TB_STATUS_HOOK_FAILED,
+                          "post-step hook returned %d at t = %.17g", rc, t_end);
+}
+
+static tb_status not_finite(tb_integrator *integrator, size_t index, double value, double h)
+{
+    ++integrator->stats.failed_steps;
+    return tb__set_detail(integrator->detail, TB_STATUS_STATE_NOT_FINITE,
+                          "y[%zu] became %g in the %s step from t = %.17g (h = %g); the step "
+                          "size is beyond the method's stability limit or the system blew up",
+                          index, value, integrator->entry->name, integrator->t, h);
+}
+
+static void commit(tb_integrator *integrator, double h, double t_end)
+{
+    integrator->t = t_end;
+    integrator->stats.steps++;
+    integrator->stats.last_step = h;
+}
+
+/* One step of size h over the whole array; commits to y only if everything succeeded. */
+static tb_status take_whole_step(tb_integrator *integrator, double h, double t_end)
 {
     const tb_ode_system *system = &integrator->system;
-    const char *name = integrator->entry->name;
-    const double t = integrator->t;
-    int rc = integrator->entry->step(system, t, h, integrator->y, integrator->y_new,
+    int rc = integrator->entry->step(system, integrator->t, h, integrator->y, integrator->y_new,
                                      integrator->work, &integrator->stats.derivative_evals);
     if (rc != 0) {
-        ++integrator->stats.failed_steps;
-        return tb__set_detail(integrator->detail, TB_STATUS_DERIVATIVE_FAILED,
-                              "derivative returned %d in the %s step from t = %.17g (h = %g)", rc,
-                              name, t, h);
+        return derivative_failed(integrator, rc, h);
     }
     if (system->post_step != NULL) {
         rc = system->post_step(t_end, integrator->y_new, system->ctx);
         if (rc != 0) {
-            ++integrator->stats.failed_steps;
-            return tb__set_detail(integrator->detail, TB_STATUS_HOOK_FAILED,
-                                  "post-step hook returned %d at t = %.17g", rc, t_end);
+            return hook_failed(integrator, rc, t_end);
         }
     }
     size_t bad = first_non_finite(integrator->y_new, system->n);
     if (bad < system->n) {
-        ++integrator->stats.failed_steps;
-        return tb__set_detail(integrator->detail, TB_STATUS_STATE_NOT_FINITE,
-                              "y[%zu] became %g in the %s step from t = %.17g (h = %g); the "
-                              "step size is beyond the method's stability limit or the "
-                              "system blew up",
-                              bad, integrator->y_new[bad], name, t, h);
+        return not_finite(integrator, bad, integrator->y_new[bad], h);
     }
     memcpy(integrator->y, integrator->y_new, system->n * sizeof(double));
-    integrator->t = t_end;
-    integrator->stats.steps++;
-    integrator->stats.last_step = h;
+    commit(integrator, h, t_end);
     return TB_STATUS_OK;
+}
+
+/* A chunk of a separable system seen as a system of its own, for the steppers. */
+typedef struct chunk {
+    const tb_ode_system *system;
+    size_t first_block, block_count;
+} chunk;
+
+static int chunk_derivative(double t, const double *y, double *dydt, void *ctx)
+{
+    const chunk *c = ctx;
+    return c->system->block_derivative(t, y, dydt, c->first_block, c->block_count, c->system->ctx);
+}
+
+/* Asks for y[from, to) ahead of use, one request per 64-byte line, so that the next chunk
+ * arrives from memory while this one is computed (measured: RK4 at 100000 bodies 136 -> 95 ns
+ * a body-step). */
+static void prefetch(const double *y, size_t from, size_t to)
+{
+#if defined(__GNUC__) || defined(__clang__)
+    for (size_t i = from; i < to; i += 8) {
+        __builtin_prefetch(y + i, 0, 3);
+    }
+#else
+    (void)y, (void)from, (void)to;
+#endif
+}
+
+/* One step of size h a chunk at a time: every stage, the hook and the finiteness check of a
+ * chunk while it is in cache, then the chunk goes into y, its old values into a copy from
+ * which a failure in a later chunk restores y. Same arithmetic as take_whole_step. */
+static tb_status take_chunked_step(tb_integrator *integrator, double h, double t_end)
+{
+    const tb_ode_system *system = &integrator->system;
+    const size_t size = system->block_size, blocks = system->n / size;
+    const size_t per_chunk = chunk_blocks(system);
+    double *y = integrator->y, *before = integrator->y_new, *fresh = integrator->work;
+    double *scratch = fresh + per_chunk * size;
+    long evals = 0;
+    tb_status status = TB_STATUS_OK;
+    size_t done = 0; /* components of y already replaced */
+    for (size_t first = 0; first < blocks; first += per_chunk) {
+        chunk c = {system, first, blocks - first < per_chunk ? blocks - first : per_chunk};
+        const size_t length = c.block_count * size;
+        const tb_ode_system part = {.n = length, .derivative = chunk_derivative, .ctx = &c};
+        evals = 0;
+        prefetch(y, done + length, done + 2 * length < system->n ? done + 2 * length : system->n);
+        int rc = integrator->entry->step(&part, integrator->t, h, y + done, fresh, scratch, &evals);
+        if (rc != 0) {
+            status = derivative_failed(integrator, rc, h);
+            break;
+        }
+        if (system->block_post_step != NULL) {
+            rc = system->block_post_step(t_end, fresh, c.first_block, c.block_count, system->ctx);
+            if (rc != 0) {
+                status = hook_failed(integrator, rc, t_end);
+                break;
+            }
+        }
+        const size_t bad = first_non_finite(fresh, length);
+        if (bad < length) {
+            status = not_finite(integrator, done + bad, fresh[bad], h);
+            break;
+        }
+        memcpy(before + done, y + done, length * sizeof(double));
+        memcpy(y + done, fresh, length * sizeof(double));
+        done += length;
+    }
+    integrator->stats.derivative_evals += evals; /* a step's stages, counted once */
+    if (status != TB_STATUS_OK) {
+        memcpy(y, before, done * sizeof(double));
+        return status;
+    }
+    commit(integrator, h, t_end);
+    return TB_STATUS_OK;
+}
+
+/* One step of size h from the integrator's time; commits to y only if everything succeeded. */
+static tb_status take_step(tb_integrator *integrator, double h, double t_end)
+{
+    return integrator->system.block_size > 0 ? take_chunked_step(integrator, h, t_end)
+                                             : take_whole_step(integrator, h, t_end);
 }
 
 static tb_status fixed_step(tb_integrator *integrator)

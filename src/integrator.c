@@ -83,6 +83,23 @@ static tb_status validate(const tb_ode_system *system, const tb_integrator_def *
     if (system->derivative == NULL) {
         return tb__set_error(error, TB_STATUS_NULL_POINTER, "system.derivative is NULL");
     }
+    if (system->block_size > 0) {
+        if (system->n % system->block_size != 0) {
+            return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                                 "system.block_size: %zu does not divide n = %zu",
+                                 system->block_size, system->n);
+        }
+        if (system->block_derivative == NULL) {
+            return tb__set_error(error, TB_STATUS_NULL_POINTER,
+                                 "system.block_derivative is NULL but block_size is %zu",
+                                 system->block_size);
+        }
+        if (system->post_step != NULL && system->block_post_step == NULL) {
+            return tb__set_error(error, TB_STATUS_NULL_POINTER,
+                                 "system.block_post_step is NULL but post_step and block_size "
+                                 "are set");
+        }
+    }
     if ((int)def->method < 0 || def->method >= TB_METHOD_COUNT) {
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT, "def.method: unknown method %d",
                              (int)def->method);

@@ -417,6 +417,10 @@ tb_status tb_scene_get_mass(const tb_scene *scene, size_t id, tb_mass_properties
     return status;
 }
 
+/* Most effects a separable scene may hold and still be stepped a chunk of bodies at a time:
+ * each chunk of ~40 bodies looks at every effect once a stage, ~0.1 ns a body-step each. */
+#define TB__CHUNK_EFFECT_LIMIT 16
+
 tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
 {
     if (scene == NULL || out_system == NULL) {
@@ -426,10 +430,19 @@ tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
         return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
                               "scene has no bodies: nothing to integrate");
     }
-    out_system->n = tb_scene_state_size(scene);
-    out_system->derivative = tb_scene_derivative;
-    out_system->post_step = scene->renormalize ? tb_scene_normalize_quaternions : NULL;
-    out_system->ctx = scene;
+    *out_system = (tb_ode_system){
+        .n = tb_scene_state_size(scene),
+        .derivative = tb_scene_derivative,
+        .post_step = scene->renormalize ? tb_scene_normalize_quaternions : NULL,
+        .ctx = scene,
+    };
+    /* Bodies that do not interact are the system's blocks. A chunk of bodies visits every
+     * effect once a stage, so scenes with many single-body effects step the whole array. */
+    if (tb__scene_separable(scene) && scene->effect_count <= TB__CHUNK_EFFECT_LIMIT) {
+        out_system->block_size = TB_STATE_SIZE;
+        out_system->block_derivative = tb__scene_block_derivative;
+        out_system->block_post_step = scene->renormalize ? tb__scene_block_normalize : NULL;
+    }
     return TB_STATUS_OK;
 }
 

@@ -20,6 +20,13 @@ typedef struct tb__effect tb__effect;
 typedef int (*tb__effect_apply)(const tb__effect *effect, const tb_scene *scene, double t,
                                 const double *y, double *dydt);
 
+/* The same for an effect that acts on each body alone (no coupling, no states of its own): adds
+ * into the bodies [first, first + count) only, y and dydt pointing at body first's state. The
+ * whole derivative calls it with first = 0 and count = body_count; the chunked steppers of a
+ * separable scene with ranges. */
+typedef int (*tb__effect_apply_bodies)(const tb__effect *effect, const tb_scene *scene, double t,
+                                       const double *y, double *dydt, size_t first, size_t count);
+
 /* One entry of the compiled effect list: the function and its parameters, nothing else. */
 /* What kind of effect an entry is, for read-outs that need to know (potential energy, what
  * is conserved); the hot loop never looks at it. */
@@ -34,7 +41,8 @@ typedef enum tb__effect_kind {
 } tb__effect_kind;
 
 struct tb__effect {
-    tb__effect_apply apply;
+    tb__effect_apply apply;               /* effects that couple bodies or own states */
+    tb__effect_apply_bodies apply_bodies; /* per-body effects: exactly one of the two is set */
     tb__effect_kind kind;
     size_t body;      /* the body acted on, or TB_ALL_BODIES */
     size_t other;     /* a spring's second body, or TB_WORLD */
@@ -68,6 +76,7 @@ struct tb_scene {
     char (*names)[TB_NAME_SIZE];    /* body_capacity */
     tb__effect *effects;
     size_t effect_count;
+    size_t coupled_effect_count; /* effects with apply (not apply_bodies) */
     size_t effect_capacity;
     tb__contact *contacts;
     size_t contact_count;
@@ -111,8 +120,24 @@ void tb__shape_vector_to_principal(const tb_mass_properties *props, const double
 /* Body i's quaternion in y, normalised, into q. */
 void tb__unit_quaternion(const double *y, size_t i, double q[4]);
 
-/* omega (world) of body i from y. */
-void tb__angular_velocity(const tb_scene *scene, const double *y, size_t i, double omega[3]);
+/* omega (world) of a body from its 13 states s. */
+void tb__angular_velocity(const tb__body *body, const double *s, double omega[3]);
+
+/* Body `body`'s index in a range of `count` bodies from `first`, or false if outside it. */
+static inline bool tb__local_body(size_t body, size_t first, size_t count, size_t *local)
+{
+    *local = body - first;
+    return body >= first && body - first < count;
+}
+
+/* True when every effect acts on each body alone: the derivative of a body's 13 states then
+ * depends on those states only, and the scene's ODE system is separable into bodies. */
+bool tb__scene_separable(const tb_scene *scene);
+
+/* The tb_ode_system block functions of a separable scene (ctx is the scene). */
+int tb__scene_block_derivative(double t, const double *y, double *dydt, size_t first, size_t count,
+                               void *ctx);
+int tb__scene_block_normalize(double t, double *y, size_t first, size_t count, void *ctx);
 
 /* How body i moves, read from y once for an effect that looks at several of its points. */
 typedef struct tb__motion {
@@ -122,7 +147,7 @@ typedef struct tb__motion {
     double omega[3]; /* angular velocity, world */
 } tb__motion;
 
-void tb__body_motion(const tb_scene *scene, const double *y, size_t i, tb__motion *out);
+void tb__body_motion(const tb__body *body, const double *s, tb__motion *out);
 
 /* A body point r (principal frame, from the centre of mass): its lever arm R r (world),
  * and the velocity v + omega x arm of the material point at arm. */

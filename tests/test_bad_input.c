@@ -59,7 +59,7 @@ static void set_up(fixture *f)
     f->idef = tb_integrator_def_default();
     tb_scene_integrator_create(f->scene, &f->idef, 0.0, &f->integrator);
     tb_integrator_advance(f->integrator, 0.1);
-    f->system = (tb_ode_system){2, harmonic, NULL, NULL};
+    f->system = (tb_ode_system){.n = 2, .derivative = harmonic};
     f->y[0] = 1.0;
     memset(f->name, 'n', sizeof f->name - 1);
     f->long_name = f->body;

@@ -160,7 +160,7 @@ static tb_status run_spring(const tb_integrator_def *def, double T, double out[4
     /* at rest along the spring at 0.5 rad: stretched by m g cos(0.5) / k */
     const double length = p.rest + p.g * cos(0.5) / p.k;
     double s[4] = {length * sin(0.5), -length * cos(0.5), 0.0, 0.0};
-    tb_ode_system system = {4, spring_pendulum, NULL, &p};
+    tb_ode_system system = {.n = 4, .derivative = spring_pendulum, .ctx = &p};
     tb_integrator *integrator = NULL;
     assert_int_equal(tb_integrator_create(&system, def, 0.0, s, &integrator, NULL), TB_STATUS_OK);
     const tb_status status = tb_integrator_advance(integrator, T);
@@ -336,7 +336,7 @@ static void expect_failure(tb_method method, failing how, long max_steps, tb_sta
                            const char *flag)
 {
     double y[2] = {1.0, 1.0};
-    tb_ode_system system = {2, decay_until, NULL, &how};
+    tb_ode_system system = {.n = 2, .derivative = decay_until, .ctx = &how};
     tb_integrator_def def = adaptive_def(method, 1e-8);
     def.max_steps = max_steps;
     tb_integrator *integrator = NULL;
@@ -387,7 +387,7 @@ static void test_invalid_adaptive_settings_are_rejected(void **state)
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         double y[2] = {1, 1}, atol[2] = {1e-8, NAN};
         failing how = {1e9, 0};
-        tb_ode_system system = {2, decay_until, NULL, &how};
+        tb_ode_system system = {.n = 2, .derivative = decay_until, .ctx = &how};
         tb_integrator_def def = adaptive_def(TB_METHOD_CVODE_BDF, 1e-6);
         switch (i) {
         case 0:

@@ -28,7 +28,7 @@ static int harmonic(double t, const double *y, double *dydt, void *ctx)
 static double harmonic_error(tb_method method, double dt, double T)
 {
     double y[2] = {1.0, 0.0};
-    tb_ode_system system = {2, harmonic, NULL, NULL};
+    tb_ode_system system = {.n = 2, .derivative = harmonic};
     tb_integrator_def def = tb_integrator_def_default();
     def.method = method;
     def.dt = dt;
@@ -73,7 +73,7 @@ static void test_advance_lands_exactly_on_the_target_without_a_sliver_step(void 
 {
     (void)state;
     double y[1] = {0.0};
-    tb_ode_system system = {1, unit_slope, NULL, NULL};
+    tb_ode_system system = {.n = 1, .derivative = unit_slope};
     tb_integrator_def def = tb_integrator_def_default();
     def.dt = 0.1; /* 0.1 is not a binary fraction: ten steps do not sum to 1.0 exactly */
     tb_integrator *integrator = NULL;
@@ -113,7 +113,7 @@ static void test_derivative_error_keeps_the_last_good_state(void **state)
     (void)state;
     for (int m = 0; m < FIXED_STEP_METHODS; ++m) {
         double y[1] = {0.0};
-        tb_ode_system system = {1, fails_after, NULL, NULL};
+        tb_ode_system system = {.n = 1, .derivative = fails_after};
         tb_integrator_def def = tb_integrator_def_default();
         def.method = (tb_method)m;
         def.dt = 0.1;
@@ -150,7 +150,8 @@ static void test_post_step_hook_runs_once_per_step_and_can_stop_the_run(void **s
     (void)state;
     hook_log log = {0, 0};
     double y[1] = {0.0};
-    tb_ode_system system = {1, unit_slope, counting_hook, &log};
+    tb_ode_system system = {
+        .n = 1, .derivative = unit_slope, .post_step = counting_hook, .ctx = &log};
     tb_integrator_def def = tb_integrator_def_default();
     def.dt = 0.25;
     tb_integrator *integrator = NULL;
@@ -178,7 +179,7 @@ static void test_a_state_that_overflows_is_reported_and_not_kept(void **state)
 {
     (void)state;
     double y[1] = {1e100};
-    tb_ode_system system = {1, quadratic, NULL, NULL};
+    tb_ode_system system = {.n = 1, .derivative = quadratic};
     tb_integrator_def def = tb_integrator_def_default();
     def.method = TB_METHOD_EULER;
     def.dt = 1.0;
@@ -223,6 +224,30 @@ static void no_cookie(tb_ode_system *s, tb_integrator_def *d)
     (void)s, d->internal_cookie = 0;
 }
 
+static int no_block_derivative(double t, const double *y, double *dydt, size_t first, size_t count,
+                               void *ctx)
+{
+    (void)t, (void)y, (void)dydt, (void)first, (void)count, (void)ctx;
+    return -1;
+}
+static int no_hook(double t, double *y, void *ctx)
+{
+    (void)t, (void)y, (void)ctx;
+    return -1;
+}
+static void block_size_not_dividing_n(tb_ode_system *s, tb_integrator_def *d)
+{
+    (void)d, s->block_size = 3, s->block_derivative = no_block_derivative;
+}
+static void blocks_without_block_derivative(tb_ode_system *s, tb_integrator_def *d)
+{
+    (void)d, s->block_size = 1;
+}
+static void hook_without_block_hook(tb_ode_system *s, tb_integrator_def *d)
+{
+    (void)d, s->block_size = 1, s->block_derivative = no_block_derivative, s->post_step = no_hook;
+}
+
 static void test_invalid_definitions_are_rejected_with_the_field_named(void **state)
 {
     (void)state;
@@ -233,10 +258,15 @@ static void test_invalid_definitions_are_rejected_with_the_field_named(void **st
         {"dt = NaN", nan_dt, TB_STATUS_INVALID_ARGUMENT, "def.dt"},
         {"method 99", bad_method, TB_STATUS_INVALID_ARGUMENT, "def.method"},
         {"no cookie", no_cookie, TB_STATUS_INVALID_ARGUMENT, "tb_integrator_def_default"},
+        {"block of 3", block_size_not_dividing_n, TB_STATUS_INVALID_ARGUMENT, "system.block_size"},
+        {"no block f", blocks_without_block_derivative, TB_STATUS_NULL_POINTER,
+         "system.block_derivative"},
+        {"no block hook", hook_without_block_hook, TB_STATUS_NULL_POINTER,
+         "system.block_post_step"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         double y[2] = {1, 0};
-        tb_ode_system system = {2, harmonic, NULL, NULL};
+        tb_ode_system system = {.n = 2, .derivative = harmonic};
         tb_integrator_def def = tb_integrator_def_default();
         cases[i].spoil(&system, &def);
         tb_integrator *integrator = (tb_integrator *)&y; /* must be overwritten with NULL */

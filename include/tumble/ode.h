@@ -22,12 +22,34 @@ typedef int (*tb_ode_derivative)(double t, const double *y, double *dydt, void *
  * renormalises quaternions here). Returns 0 on success, non-zero to stop the run. */
 typedef int (*tb_ode_hook)(double t, double *y, void *ctx);
 
+/* For a system made of independent blocks (bodies that do not interact): the derivative of the
+ * blocks [first_block, first_block + block_count), each block_size components. y and dydt point
+ * at the first of them (component first_block * block_size of the whole state) and hold
+ * block_count * block_size components. Must give exactly what the whole derivative gives for
+ * those components; same return convention. */
+typedef int (*tb_ode_block_derivative)(double t, const double *y, double *dydt, size_t first_block,
+                                       size_t block_count, void *ctx);
+
+/* The post-step hook for the blocks [first_block, first_block + block_count), y pointing at the
+ * first of them; must do to them what post_step does. */
+typedef int (*tb_ode_block_hook)(double t, double *y, size_t first_block, size_t block_count,
+                                 void *ctx);
+
 /* An ODE system. The integrator borrows it: ctx must outlive the integrator. */
 typedef struct tb_ode_system {
     size_t n;                     /* dimension, > 0 */
     tb_ode_derivative derivative; /* required */
     tb_ode_hook post_step;        /* optional, NULL for none */
-    void *ctx;                    /* passed to derivative and post_step */
+    void *ctx;                    /* passed to every callback */
+
+    /* Optional: block_size > 0 declares the system separable into n / block_size independent
+     * blocks (n must be a multiple), the derivative of each block depending on t and that
+     * block alone. Fixed-step methods then finish each step a cache-sized chunk of blocks at a
+     * time, so the state crosses memory once a step however large it is, with the same
+     * arithmetic as the whole-array path. 0 (default) for none; CVODE ignores it. */
+    size_t block_size;
+    tb_ode_block_derivative block_derivative; /* required with block_size */
+    tb_ode_block_hook block_post_step;        /* required with block_size if post_step is set */
 } tb_ode_system;
 
 /* How to integrate, chosen as data. */
