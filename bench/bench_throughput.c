@@ -7,7 +7,9 @@
  *
  * Rows named rk4-whole-array and rk4-8-forces[-whole-array] compare, in the same run, RK4 a
  * chunk of bodies at a time (the default for bodies that do not interact) with RK4 over the
- * whole array, with gravity alone and with 8 single-body forces.
+ * whole array, with gravity alone and with 8 single-body forces; cvode-adams-order-5 caps
+ * Adams' order (and history) at 5; cvode-bdf-band uses the banded preconditioner instead of the
+ * block-diagonal one.
  *
  * usage: bench_throughput [--quick] [--method PREFIX] (PREFIX: rows whose name starts so) */
 #define _GNU_SOURCE /* mallinfo2 */
@@ -41,14 +43,23 @@ static tb_scene *make_scene(size_t bodies, size_t forces)
     return scene;
 }
 
+/* Bytes in use from malloc: the heap's and those of blocks big enough for glibc to map them
+ * separately (uordblks alone misses the latter, most of a large scene's). */
+static size_t allocated_bytes(void)
+{
+    const struct mallinfo2 info = mallinfo2();
+    return info.uordblks + info.hblkhd;
+}
+
 /* What to measure: a method; for fixed-step methods, whether the integrator may step a chunk
  * of bodies at a time (the default for scenes whose bodies do not interact) or must step the
  * whole array, and how many single-body forces the scene holds besides gravity. */
 typedef struct variant {
     const char *name;
     tb_method method;
-    int whole_array;
+    int whole_array; /* BDF: the banded preconditioner instead of the block-diagonal one */
     size_t forces;
+    int max_order; /* 0: the method's own */
 } variant;
 
 typedef struct measurement {
@@ -61,6 +72,7 @@ static tb_integrator *make_integrator(tb_scene *scene, const variant *v)
     tb_integrator_def def = tb_integrator_def_default();
     def.method = v->method;
     def.rtol = 1e-6;
+    def.max_order = v->max_order;
     tb_integrator *integrator = NULL;
     if (!v->whole_array) {
         tb_scene_integrator_create(scene, &def, 0.0, &integrator);
@@ -78,11 +90,11 @@ static measurement measure(const variant *v, size_t bodies, int repeats)
     measurement m = {0};
     double times[15];
     for (int r = 0; r < repeats; ++r) {
-        const size_t before = mallinfo2().uordblks;
+        const size_t before = allocated_bytes();
         tb_scene *scene = make_scene(bodies, v->forces);
         tb_integrator *integrator = make_integrator(scene, v);
         tb_integrator_advance(integrator, 1e-3); /* CVODE finishes its set-up here */
-        m.bytes_per_body = (double)(mallinfo2().uordblks - before) / (double)bodies;
+        m.bytes_per_body = (double)(allocated_bytes() - before) / (double)bodies;
         /* about 2e6 body-steps a run */
         const long steps = (long)(2e6 / (double)bodies) + 10;
         const double t0 = bench_cpu_seconds();
@@ -133,17 +145,21 @@ int main(int argc, char **argv)
     const int repeats = quick ? 1 : 7;
     static const size_t sizes[] = {1, 10, 100, 1000, 10000, 100000};
     const size_t count = quick ? 2 : sizeof sizes / sizeof sizes[0];
-    variant variants[TB_METHOD_COUNT + 3];
+    variant variants[TB_METHOD_COUNT + 5];
     size_t variant_count = 0;
     for (int method = 0; method < TB_METHOD_COUNT; ++method) {
         variants[variant_count++] =
-            (variant){tb_method_name((tb_method)method), (tb_method)method, 0, 0};
+            (variant){tb_method_name((tb_method)method), (tb_method)method, 0, 0, 0};
     }
     /* the price of chunking, measured in the same run: RK4 over the whole array, and both
      * paths with 8 single-body forces */
-    variants[variant_count++] = (variant){"rk4-whole-array", TB_METHOD_RK4, 1, 0};
-    variants[variant_count++] = (variant){"rk4-8-forces", TB_METHOD_RK4, 0, 8};
-    variants[variant_count++] = (variant){"rk4-8-forces-whole-array", TB_METHOD_RK4, 1, 8};
+    variants[variant_count++] = (variant){"rk4-whole-array", TB_METHOD_RK4, 1, 0, 0};
+    variants[variant_count++] = (variant){"rk4-8-forces", TB_METHOD_RK4, 0, 8, 0};
+    variants[variant_count++] = (variant){"rk4-8-forces-whole-array", TB_METHOD_RK4, 1, 8, 0};
+    /* what CVODE's memory is made of: Adams' history of 13 vectors at order 12 against 6 at
+     * order 5; BDF's banded preconditioner against the block-diagonal one */
+    variants[variant_count++] = (variant){"cvode-adams-order-5", TB_METHOD_CVODE_ADAMS, 0, 0, 5};
+    variants[variant_count++] = (variant){"cvode-bdf-band", TB_METHOD_CVODE_BDF, 1, 0, 0};
     printf("method,bodies,ns_per_body_step,derivative_ns_per_body,bytes_per_body,steps\n");
     for (size_t s = 0; s < count; ++s) {
         const double derivative = derivative_ns(sizes[s], repeats);

@@ -1,7 +1,10 @@
 /* Adaptive, error-controlled integration with SUNDIALS CVODE (Adams and BDF) as a backend of
- * the generic ODE layer. The only file that includes SUNDIALS headers. SUNDIALS 6.x (what
- * Debian 12 ships) is the target; 7.x differences sit behind SUNDIALS_VERSION_MAJOR. */
+ * the generic ODE layer. With cvode_block_preconditioner.c, the only files that include
+ * SUNDIALS headers. SUNDIALS 6.x (what Debian 12 ships) is the target; 7.x differences sit
+ * behind SUNDIALS_VERSION_MAJOR. */
 #include "integrator.h"
+
+#include "cvode_block_preconditioner.h"
 
 #include "detail.h"
 
@@ -29,16 +32,16 @@ typedef struct tb__cvode {
     SUNContext context;
     void *mem;
     N_Vector y;       /* wraps the caller's array: no copy */
-    N_Vector atol;    /* per-component absolute tolerances, or NULL */
     N_Vector weights; /* error weights, for the dense Jacobian's increments */
     SUNMatrix matrix;
     SUNLinearSolver linear;
     SUNNonlinearSolver nonlinear;
     double *y_seen;           /* y as last handed out; a difference means the caller changed it */
     bool band_preconditioner; /* CVBandPrec attached (its counters exist) */
-    bool started;             /* the first step since creation or restart has been taken */
-    long jacobian_evals;      /* derivative calls made by our dense Jacobian */
-    int derivative_status;    /* last non-zero return of the derivative, and its time */
+    tb__block_preconditioner *block_preconditioner; /* for systems of independent blocks */
+    bool started;          /* the first step since creation or restart has been taken */
+    long jacobian_evals;   /* derivative calls made by our dense Jacobian */
+    int derivative_status; /* last non-zero return of the derivative, and its time */
     double derivative_time;
     tb_integrator_stats base;     /* counts from before the last CVodeReInit, which zeroes them */
     char message[TB_DETAIL_SIZE]; /* CVODE's last message, captured instead of printed */
@@ -46,9 +49,9 @@ typedef struct tb__cvode {
 
 /* --- callbacks ---------------------------------------------------------------------------- */
 
-static int derivative(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
+/* The system's derivative, keeping its failures: see derivative. */
+static int evaluate(tb_integrator *integrator, double t, const double *y, double *dydt)
 {
-    tb_integrator *integrator = user_data;
     tb__cvode *cvode = integrator->cvode;
     /* A fatal failure stays fatal for the rest of the run: SUNDIALS 6's fixed-point solver
      * (Adams) reports a failed system function as a recoverable convergence failure, and
@@ -57,13 +60,17 @@ static int derivative(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
         return cvode->derivative_status;
     }
     const tb_ode_system *system = &integrator->system;
-    const int rc =
-        system->derivative(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot), system->ctx);
+    const int rc = system->derivative(t, y, dydt, system->ctx);
     if (rc != 0) {
         cvode->derivative_status = rc;
         cvode->derivative_time = t;
     }
     return rc; /* CVODE's convention is the layer's: > 0 recoverable, < 0 fatal */
+}
+
+static int derivative(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
+{
+    return evaluate(user_data, t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
 }
 
 /* The post-step hook as a CVODE projection (BDF): corr = hook(ycur) - ycur. */
@@ -81,10 +88,21 @@ static int project(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype eps,
     return 0;
 }
 
-/* Dense Jacobian by forward differences, column by column, with the increments CVODE's
- * documentation gives for its own: sigma_j = max(sqrt(u) |y_j|, m / w_j) where u is the unit
- * round-off, w the error weights and m = 1000 |h| u n ||f||_w (1 if f = 0). CVODE's
- * built-in version allocates a vector wrapper on every call; this one allocates nothing. */
+/* Difference quotients use the increments CVODE's documentation gives for its own:
+ * sigma_j = max(sqrt(u) |y_j|, m / w_j) where u is the unit round-off, w the error weights and
+ * m = 1000 |h| u n ||f||_w (1 if f = 0). Fetches w into cvode->weights and returns m. */
+static double increment_floor(tb__cvode *cvode, N_Vector fy)
+{
+    sunrealtype h = 0.0;
+    CVodeGetCurrentStep(cvode->mem, &h);
+    CVodeGetErrWeights(cvode->mem, cvode->weights);
+    const double f_norm = N_VWrmsNorm(fy, cvode->weights);
+    return f_norm != 0.0 ? 1000.0 * fabs(h) * SUN_UNIT_ROUNDOFF * (double)N_VGetLength(fy) * f_norm
+                         : 1.0;
+}
+
+/* Dense Jacobian by forward differences, column by column. CVODE's built-in version allocates
+ * a vector wrapper on every call; this one allocates nothing. */
 static int dense_jacobian(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void *user_data,
                           N_Vector tmp1, N_Vector tmp2, N_Vector tmp3)
 {
@@ -92,13 +110,8 @@ static int dense_jacobian(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, v
     tb_integrator *integrator = user_data;
     tb__cvode *cvode = integrator->cvode;
     const sunindextype n = N_VGetLength(y);
-    sunrealtype h = 0.0;
-    CVodeGetCurrentStep(cvode->mem, &h);
-    CVodeGetErrWeights(cvode->mem, cvode->weights);
-    const double round_off = SUN_UNIT_ROUNDOFF, root = sqrt(round_off);
-    const double f_norm = N_VWrmsNorm(fy, cvode->weights);
-    const double min_increment =
-        f_norm != 0.0 ? 1000.0 * fabs(h) * round_off * (double)n * f_norm : 1.0;
+    const double min_increment = increment_floor(cvode, fy);
+    const double root = sqrt(SUN_UNIT_ROUNDOFF);
     double *y_data = N_VGetArrayPointer(y), *f_data = N_VGetArrayPointer(fy);
     double *f_shift = N_VGetArrayPointer(tmp1), *w = N_VGetArrayPointer(cvode->weights);
     for (sunindextype j = 0; j < n; ++j) {
@@ -116,6 +129,37 @@ static int dense_jacobian(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, v
             column[i] = (f_shift[i] - f_data[i]) / increment;
         }
     }
+    return 0;
+}
+
+static int block_rhs(double t, double *y, double *f_out, void *ctx)
+{
+    return evaluate(ctx, t, y, f_out);
+}
+
+/* The block-diagonal preconditioner (systems of independent blocks). J is not kept between
+ * setups, to save its memory, so every setup forms it anew (jok is ignored). */
+static int block_setup(sunrealtype t, N_Vector y, N_Vector fy, sunbooleantype jok,
+                       sunbooleantype *jcur, sunrealtype gamma, void *user_data)
+{
+    (void)jok;
+    tb_integrator *integrator = user_data;
+    tb__cvode *cvode = integrator->cvode;
+    *jcur = SUNTRUE;
+    const double min_increment = increment_floor(cvode, fy);
+    return tb__block_preconditioner_setup(cvode->block_preconditioner, t, N_VGetArrayPointer(y),
+                                          N_VGetArrayPointer(fy), gamma,
+                                          N_VGetArrayPointer(cvode->weights), min_increment,
+                                          block_rhs, integrator, &cvode->jacobian_evals);
+}
+
+static int block_solve(sunrealtype t, N_Vector y, N_Vector fy, N_Vector r, N_Vector z,
+                       sunrealtype gamma, sunrealtype delta, int lr, void *user_data)
+{
+    (void)t, (void)y, (void)fy, (void)gamma, (void)delta, (void)lr;
+    const tb_integrator *integrator = user_data;
+    tb__block_preconditioner_solve(integrator->cvode->block_preconditioner, N_VGetArrayPointer(r),
+                                   N_VGetArrayPointer(z));
     return 0;
 }
 
@@ -210,12 +254,13 @@ static tb_status set_tolerances(tb__cvode *cvode, const tb_integrator_def *def, 
 {
     int flag;
     if (def->atol_vector != NULL) {
-        cvode->atol = N_VNew_Serial((sunindextype)n, cvode->context);
-        if (cvode->atol == NULL) {
+        N_Vector atol = N_VNew_Serial((sunindextype)n, cvode->context);
+        if (atol == NULL) {
             return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "tolerance vector");
         }
-        memcpy(N_VGetArrayPointer(cvode->atol), def->atol_vector, n * sizeof(double));
-        flag = CVodeSVtolerances(cvode->mem, def->rtol, cvode->atol);
+        memcpy(N_VGetArrayPointer(atol), def->atol_vector, n * sizeof(double));
+        flag = CVodeSVtolerances(cvode->mem, def->rtol, atol);
+        N_VDestroy(atol); /* CVODE keeps a copy of its own */
     } else {
         const double atol = def->atol > 0 ? def->atol : 1e-3 * def->rtol;
         flag = CVodeSStolerances(cvode->mem, def->rtol, atol);
@@ -232,9 +277,6 @@ static tb_status set_options(tb__cvode *cvode, const tb_integrator_def *def, tb_
     }
     if (flag == CV_SUCCESS && def->max_step > 0) {
         flag = CVodeSetMaxStep(cvode->mem, def->max_step);
-    }
-    if (flag == CV_SUCCESS && def->max_order > 0) {
-        flag = CVodeSetMaxOrd(cvode->mem, def->max_order);
     }
     return flag == CV_SUCCESS ? TB_STATUS_OK : setup_failed(cvode, "CVodeSetOptions", flag, error);
 }
@@ -270,11 +312,19 @@ static tb_status set_solvers(tb_integrator *integrator, const tb_integrator_def 
         return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "linear solver for n = %zu", n);
     }
     int flag = CVodeSetLinearSolver(cvode->mem, cvode->linear, cvode->matrix);
-    if (flag == CV_SUCCESS && dense) {
+    const size_t block_size = integrator->system.block_size;
+    if (flag == CV_SUCCESS && (dense || block_size > 0)) {
         cvode->weights = N_VClone(cvode->y);
-        flag = cvode->weights == NULL ? CV_MEM_FAIL : CVodeSetJacFn(cvode->mem, dense_jacobian);
+        flag = cvode->weights == NULL ? CV_MEM_FAIL : CV_SUCCESS;
     }
-    if (flag == CV_SUCCESS && !dense) {
+    if (flag == CV_SUCCESS && dense) {
+        flag = CVodeSetJacFn(cvode->mem, dense_jacobian);
+    } else if (flag == CV_SUCCESS && block_size > 0) {
+        cvode->block_preconditioner = tb__block_preconditioner_create(n, block_size);
+        flag = cvode->block_preconditioner == NULL
+                   ? CV_MEM_FAIL
+                   : CVodeSetPreconditioner(cvode->mem, block_setup, block_solve);
+    } else if (flag == CV_SUCCESS) {
         flag = CVBandPrecInit(cvode->mem, (sunindextype)n, band, band);
         cvode->band_preconditioner = flag == CV_SUCCESS;
     }
@@ -292,12 +342,10 @@ static void cvode_destroy(tb_integrator *integrator)
     SUNNonlinSolFree(cvode->nonlinear);
     SUNLinSolFree(cvode->linear);
     SUNMatDestroy(cvode->matrix);
-    if (cvode->atol != NULL) {
-        N_VDestroy(cvode->atol);
-    }
     if (cvode->weights != NULL) {
         N_VDestroy(cvode->weights);
     }
+    tb__block_preconditioner_destroy(cvode->block_preconditioner);
     if (cvode->y != NULL) {
         N_VDestroy(cvode->y); /* made with N_VMake_Serial: the caller's data is not freed */
     }
@@ -309,7 +357,8 @@ static void cvode_destroy(tb_integrator *integrator)
     integrator->cvode = NULL;
 }
 
-static tb_status create_memory(tb_integrator *integrator, tb_error *error)
+static tb_status create_memory(tb_integrator *integrator, const tb_integrator_def *def,
+                               tb_error *error)
 {
     tb__cvode *cvode = integrator->cvode;
     const size_t n = integrator->system.n;
@@ -335,6 +384,11 @@ static tb_status create_memory(tb_integrator *integrator, tb_error *error)
 #if SUNDIALS_VERSION_MAJOR < 7
     CVodeSetErrHandlerFn(cvode->mem, capture_message, cvode);
 #endif
+    /* before CVodeInit, which allocates the history for the largest order */
+    flag = def->max_order > 0 ? CVodeSetMaxOrd(cvode->mem, def->max_order) : CV_SUCCESS;
+    if (flag != CV_SUCCESS) {
+        return setup_failed(cvode, "CVodeSetMaxOrd", flag, error);
+    }
     flag = CVodeInit(cvode->mem, derivative, integrator->t, cvode->y);
     if (flag == CV_SUCCESS) {
         flag = CVodeSetUserData(cvode->mem, integrator);
@@ -354,7 +408,7 @@ static tb_status cvode_create(tb_integrator *integrator, const tb_integrator_def
         return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "CVODE integrator");
     }
     tb__cvode *cvode = integrator->cvode;
-    status = create_memory(integrator, error);
+    status = create_memory(integrator, def, error);
     if (status == TB_STATUS_OK) {
         status = set_tolerances(cvode, def, integrator->system.n, error);
     }

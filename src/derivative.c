@@ -59,6 +59,41 @@ static void kinematics(const tb__body *bodies, const double *y, double *dydt, si
     }
 }
 
+/* The per-body effects on the bodies [first, first + count), y and dydt pointing at body
+ * first: those on every body, then those on one body of the range, found by bisection. */
+static int apply_per_body_effects(const tb_scene *scene, double t, const double *y, double *dydt,
+                                  size_t first, size_t count)
+{
+    const tb__effect *effects = scene->effects;
+    const size_t *order = scene->effect_order;
+    const size_t all = scene->all_body_effect_count;
+    const size_t end = all + scene->single_body_effect_count;
+    for (size_t k = 0; k < all; ++k) {
+        const tb__effect *effect = &effects[order[k]];
+        const int rc = effect->apply_bodies(effect, scene, t, y, dydt, first, count);
+        if (rc != 0) {
+            return rc;
+        }
+    }
+    size_t low = all, high = end;
+    while (low < high) {
+        const size_t middle = low + (high - low) / 2;
+        if (effects[order[middle]].body < first) {
+            low = middle + 1;
+        } else {
+            high = middle;
+        }
+    }
+    for (size_t k = low; k < end && effects[order[k]].body - first < count; ++k) {
+        const tb__effect *effect = &effects[order[k]];
+        const int rc = effect->apply_bodies(effect, scene, t, y, dydt, first, count);
+        if (rc != 0) {
+            return rc;
+        }
+    }
+    return 0;
+}
+
 int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
 {
     const tb_scene *scene = ctx;
@@ -67,17 +102,13 @@ int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
     }
     const size_t n = scene->body_count;
     kinematics(scene->bodies, y, dydt, n);
-    const tb__effect *effects = scene->effects;
-    for (size_t e = 0; e < scene->effect_count; ++e) {
-        const tb__effect *effect = &effects[e];
-        const int rc = effect->apply != NULL
-                           ? effect->apply(effect, scene, t, y, dydt)
-                           : effect->apply_bodies(effect, scene, t, y, dydt, 0, n);
-        if (rc != 0) {
-            return rc;
-        }
+    int rc = apply_per_body_effects(scene, t, y, dydt, 0, n);
+    const size_t coupled = scene->effect_count - scene->coupled_effect_count;
+    for (size_t k = coupled; k < scene->effect_count && rc == 0; ++k) {
+        const tb__effect *effect = &scene->effects[scene->effect_order[k]];
+        rc = effect->apply(effect, scene, t, y, dydt);
     }
-    return 0;
+    return rc;
 }
 
 bool tb__scene_separable(const tb_scene *scene)
@@ -95,14 +126,7 @@ int tb__scene_block_derivative(double t, const double *y, double *dydt, size_t f
         return -1;
     }
     kinematics(scene->bodies + first, y, dydt, count);
-    const tb__effect *effects = scene->effects;
-    for (size_t e = 0; e < scene->effect_count; ++e) {
-        const int rc = effects[e].apply_bodies(&effects[e], scene, t, y, dydt, first, count);
-        if (rc != 0) {
-            return rc;
-        }
-    }
-    return 0;
+    return apply_per_body_effects(scene, t, y, dydt, first, count);
 }
 
 void tb__body_motion(const tb__body *body, const double *s, tb__motion *out)

@@ -7,18 +7,51 @@
 #include "tb_math.h"
 
 #include <stdlib.h>
+#include <string.h>
+
+tb_status tb__scene_reserve_effects(tb_scene *scene, size_t capacity)
+{
+    tb__effect *effects = realloc(scene->effects, capacity * sizeof *effects);
+    if (effects == NULL) {
+        return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "room for %zu effects", capacity);
+    }
+    scene->effects = effects;
+    size_t *order = realloc(scene->effect_order, capacity * sizeof *order);
+    if (order == NULL) {
+        return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "room for %zu effects", capacity);
+    }
+    scene->effect_order = order;
+    scene->effect_capacity = capacity;
+    return TB_STATUS_OK;
+}
+
+/* Where in effect_order the new last effect goes (see tb_scene). */
+static size_t order_position(const tb_scene *scene, const tb__effect *effect)
+{
+    const size_t all = scene->all_body_effect_count, single = scene->single_body_effect_count;
+    if (effect->apply != NULL) {
+        return all + single + scene->coupled_effect_count;
+    }
+    if (effect->body == TB_ALL_BODIES) {
+        return all;
+    }
+    size_t k = all;
+    while (k < all + single && scene->effects[scene->effect_order[k]].body <= effect->body) {
+        ++k;
+    }
+    return k;
+}
 
 tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect)
 {
     if (scene->effect_count == scene->effect_capacity) {
         const size_t capacity = scene->effect_capacity > 0 ? 2 * scene->effect_capacity : 8;
-        tb__effect *grown = realloc(scene->effects, capacity * sizeof *grown);
-        if (grown == NULL) {
-            return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "room for %zu effects", capacity);
+        const tb_status status = tb__scene_reserve_effects(scene, capacity);
+        if (status != TB_STATUS_OK) {
+            return status;
         }
-        scene->effects = grown;
-        scene->effect_capacity = capacity;
     }
+    const size_t index = scene->effect_count;
     scene->effects[scene->effect_count++] = *effect;
     if (effect->states_per_contact > 0) {
         const tb_status status = tb__scene_layout_states(scene, scene->body_count);
@@ -27,8 +60,16 @@ tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect)
             return status;
         }
     }
+    const size_t position = order_position(scene, effect);
+    size_t *order = scene->effect_order;
+    memmove(order + position + 1, order + position, (index - position) * sizeof *order);
+    order[position] = index;
     if (effect->apply != NULL) {
         scene->coupled_effect_count++;
+    } else if (effect->body == TB_ALL_BODIES) {
+        scene->all_body_effect_count++;
+    } else {
+        scene->single_body_effect_count++;
     }
     return TB_STATUS_OK;
 }

@@ -155,9 +155,7 @@ tb_status tb_scene_create(const tb_scene_def *def, tb_scene **out_scene, tb_erro
         status = reserve_states(scene, TB_STATE_SIZE * capacity);
     }
     if (status == TB_STATUS_OK && def->effect_capacity > 0) {
-        scene->effects = malloc(def->effect_capacity * sizeof(tb__effect));
-        scene->effect_capacity = scene->effects != NULL ? def->effect_capacity : 0;
-        status = scene->effects != NULL ? TB_STATUS_OK : TB_STATUS_OUT_OF_MEMORY;
+        status = tb__scene_reserve_effects(scene, def->effect_capacity);
     }
     if (status != TB_STATUS_OK) {
         tb_scene_destroy(scene);
@@ -176,6 +174,7 @@ void tb_scene_destroy(tb_scene *scene)
         free(scene->mass_props);
         free(scene->names);
         free(scene->effects);
+        free(scene->effect_order);
         free(scene->contacts);
         free(scene);
     }
@@ -417,10 +416,6 @@ tb_status tb_scene_get_mass(const tb_scene *scene, size_t id, tb_mass_properties
     return status;
 }
 
-/* Most effects a separable scene may hold and still be stepped a chunk of bodies at a time:
- * each chunk of ~40 bodies looks at every effect once a stage, ~0.1 ns a body-step each. */
-#define TB__CHUNK_EFFECT_LIMIT 16
-
 tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
 {
     if (scene == NULL || out_system == NULL) {
@@ -436,9 +431,8 @@ tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
         .post_step = scene->renormalize ? tb_scene_normalize_quaternions : NULL,
         .ctx = scene,
     };
-    /* Bodies that do not interact are the system's blocks. A chunk of bodies visits every
-     * effect once a stage, so scenes with many single-body effects step the whole array. */
-    if (tb__scene_separable(scene) && scene->effect_count <= TB__CHUNK_EFFECT_LIMIT) {
+    /* Bodies that do not interact are the system's blocks. */
+    if (tb__scene_separable(scene)) {
         out_system->block_size = TB_STATE_SIZE;
         out_system->block_derivative = tb__scene_block_derivative;
         out_system->block_post_step = scene->renormalize ? tb__scene_block_normalize : NULL;

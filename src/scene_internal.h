@@ -76,8 +76,13 @@ struct tb_scene {
     char (*names)[TB_NAME_SIZE];    /* body_capacity */
     tb__effect *effects;
     size_t effect_count;
-    size_t coupled_effect_count; /* effects with apply (not apply_bodies) */
     size_t effect_capacity;
+    /* The order the derivative applies effects in, as indices into effects: per-body effects
+     * on every body (in the order added), then per-body effects on one body (by body, stably,
+     * so a chunk of bodies finds its own by bisection), then coupled effects (in the order
+     * added). effect_capacity entries. */
+    size_t *effect_order;
+    size_t all_body_effect_count, single_body_effect_count, coupled_effect_count;
     tb__contact *contacts;
     size_t contact_count;
     size_t contact_capacity;
@@ -101,6 +106,9 @@ tb_status tb__check_coefficient(tb_scene *scene, double value, const char *what)
 
 /* Checks id against the body count, writing the detail on failure. */
 tb_status tb__scene_check_id(const tb_scene *scene, size_t id, const char *what);
+
+/* Room for capacity effects (effects and effect_order); nothing changes on failure. */
+tb_status tb__scene_reserve_effects(tb_scene *scene, size_t capacity);
 
 /* Appends an effect, growing the list if needed; nothing changes on failure. */
 tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect);

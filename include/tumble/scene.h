@@ -141,10 +141,10 @@ TB_API size_t tb_scene_effect_count(const tb_scene *scene);
 
 /* The scene as an ODE system: n = tb_scene_state_size(), derivative tb_scene_derivative, post-step
  * hook tb_scene_normalize_quaternions when renormalisation is on. When no effect couples bodies
- * or owns states (springs between bodies, ground planes and user effects do) and the scene has
- * at most 16 effects, the bodies are the system's blocks (block_size 13), and fixed-step
- * integrators step them a chunk at a time (docs/performance.md). The system describes the
- * scene as it is: make integrators after adding bodies and effects. (An integrator stepping
+ * or owns states (springs between bodies, ground planes and user effects do), the bodies are
+ * the system's blocks (block_size 13): fixed-step integrators step them a chunk at a time and
+ * BDF's Krylov solver preconditions them body by body (docs/performance.md). The system describes
+ * the scene as it is: make integrators after adding bodies and effects. (An integrator stepping
  * independent bodies refuses to step, with TB_STATUS_DERIVATIVE_FAILED, once a coupling effect
  * has been added to its scene.) */
 TB_API tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system);
