@@ -82,7 +82,8 @@ typedef enum tb_linear_solver {
     TB_LINEAR_SOLVER_AUTO = 0, /* dense up to 64 unknowns (about 5 bodies), Krylov above */
     TB_LINEAR_SOLVER_DENSE,    /* dense difference-quotient Jacobian and LU: O(n^3) a setup */
     TB_LINEAR_SOLVER_KRYLOV    /* matrix-free GMRES with difference-quotient Jacobian-vector
-                                  products and a banded preconditioner: O(n) a setup */
+                                  products, preconditioned block by block for a system with
+                                  block_size (exact), banded otherwise: O(n) a setup */
 } tb_linear_solver;
 
 typedef struct tb_integrator_def {
@@ -103,15 +104,17 @@ typedef struct tb_integrator_def {
     long max_steps;                 /* internal steps allowed in one advance; default 100000 */
     double initial_step;            /* first step size; 0 (default) lets CVODE estimate it */
     double max_step;                /* largest step size; 0 (default) for no limit */
-    int max_order;                  /* 0 (default) for the method's largest (Adams 12, BDF 5) */
+    int max_order;                  /* 0 (default) for the method's largest (Adams 12, BDF 5);
+                                       CVODE keeps max_order + 1 history vectors, so Adams at 5
+                                       takes 7 state-sized vectors fewer (docs/performance.md) */
     tb_linear_solver linear_solver; /* BDF only; default TB_LINEAR_SOLVER_AUTO */
     int allow_unstable; /* scenes, fixed-step methods: 0 (default) refuses a dt at which the
                            scene's stiffest spring or contact would grow by more than 1% a step
                            (see tb_scene_max_stable_step); 1 runs anyway */
-    int preconditioner_half_bandwidth; /* Krylov only: half-bandwidth of the banded
-                                          difference-quotient preconditioner; < 0 (default)
-                                          automatic: 12 for scenes (one body's 13 x 13
-                                          block exactly), 0 (diagonal) otherwise */
+    int preconditioner_half_bandwidth; /* Krylov, systems without block_size: half-bandwidth
+                                          of the banded difference-quotient preconditioner;
+                                          < 0 (default) automatic: 12 for scenes (one body's
+                                          13 x 13 block exactly), 0 (diagonal) otherwise */
 
     int internal_cookie; /* set by tb_integrator_def_default; catches defs not made by it */
 } tb_integrator_def;
