@@ -1,9 +1,10 @@
 /* Throughput: N free boxes under gravity, N from 1 to 100000, for every integrator.
  * Prints CSV: method, bodies, nanoseconds per body per step, nanoseconds per body per
  * derivative evaluation, bytes of memory per body (scene + integrator, measured with glibc's
- * mallinfo2), steps per run. Median CPU time of repeated runs; each run integrates enough
- * steps to take ~20 ms. Targets (docs/performance.md): RK4 <= 100 ns per body-step at
- * N = 1000, flat within 30% from N = 100 to 100000, <= 2 KB per body for every integrator.
+ * mallinfo2), steps per run. Median CPU time of 7 runs of about 2e6 body-steps each (--quick:
+ * one run of 2e4, for a smoke test of the output). Targets (docs/performance.md): RK4 <= 100 ns per
+ * body-step at N = 1000, flat within 30% from N = 100 to 100000, <= 2 KB per body for every
+ * integrator.
  *
  * Rows named rk4-whole-array and rk4-8-forces[-whole-array] compare, in the same run, RK4 a
  * chunk of bodies at a time (the default for bodies that do not interact) with RK4 over the
@@ -86,7 +87,8 @@ static tb_integrator *make_integrator(tb_scene *scene, const variant *v)
     return integrator;
 }
 
-static measurement measure(const variant *v, size_t bodies, int repeats)
+/* body_steps: about how many body-steps a run takes (2e6; fewer for a smoke run) */
+static measurement measure(const variant *v, size_t bodies, int repeats, double body_steps)
 {
     measurement m = {0};
     double times[15];
@@ -96,8 +98,7 @@ static measurement measure(const variant *v, size_t bodies, int repeats)
         tb_integrator *integrator = make_integrator(scene, v);
         tb_integrator_advance(integrator, 1e-3); /* CVODE finishes its set-up here */
         m.bytes_per_body = (double)(allocated_bytes() - before) / (double)bodies;
-        /* about 2e6 body-steps a run */
-        const long steps = (long)(2e6 / (double)bodies) + 10;
+        const long steps = (long)(body_steps / (double)bodies) + 10;
         const double t0 = bench_cpu_seconds();
         for (long k = 0; k < steps; ++k) {
             tb_integrator_step(integrator);
@@ -112,12 +113,12 @@ static measurement measure(const variant *v, size_t bodies, int repeats)
     return m;
 }
 
-static double derivative_ns(size_t bodies, int repeats)
+static double derivative_ns(size_t bodies, int repeats, double body_steps)
 {
     tb_scene *scene = make_scene(bodies, 0);
     static double dydt_buffer[13 * 100000];
     double times[15];
-    const long evaluations = (long)(4e6 / (double)bodies) + 10;
+    const long evaluations = (long)(2 * body_steps / (double)bodies) + 10;
     for (int r = 0; r < repeats; ++r) {
         const double t0 = bench_cpu_seconds();
         for (long k = 0; k < evaluations; ++k) {
@@ -144,6 +145,7 @@ int main(int argc, char **argv)
         }
     }
     const int repeats = quick ? 1 : 7;
+    const double body_steps = quick ? 2e4 : 2e6;
     static const size_t sizes[] = {1, 10, 100, 1000, 10000, 100000};
     const size_t count = quick ? 2 : sizeof sizes / sizeof sizes[0];
     variant variants[TB_METHOD_COUNT + 5];
@@ -163,13 +165,13 @@ int main(int argc, char **argv)
     variants[variant_count++] = (variant){"cvode-bdf-band", TB_METHOD_CVODE_BDF, 1, 0, 0};
     printf("method,bodies,ns_per_body_step,derivative_ns_per_body,bytes_per_body,steps\n");
     for (size_t s = 0; s < count; ++s) {
-        const double derivative = derivative_ns(sizes[s], repeats);
+        const double derivative = derivative_ns(sizes[s], repeats, body_steps);
         for (size_t k = 0; k < variant_count; ++k) {
             const variant *v = &variants[k];
             if (only != NULL && strncmp(only, v->name, strlen(only)) != 0) {
                 continue;
             }
-            const measurement m = measure(v, sizes[s], repeats);
+            const measurement m = measure(v, sizes[s], repeats, body_steps);
             printf("%s,%zu,%.1f,%.1f,%.0f,%ld\n", v->name, sizes[s], m.ns_per_body_step, derivative,
                    m.bytes_per_body, m.steps);
             fflush(stdout);
