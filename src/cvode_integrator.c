@@ -1,10 +1,8 @@
 /* Adaptive, error-controlled integration with SUNDIALS CVODE (Adams and BDF) as a backend of
- * the generic ODE layer. With cvode_block_preconditioner.c, the only files that include
- * SUNDIALS headers. SUNDIALS 6.x (what Debian 12 ships) is the target; 7.x differences sit
- * behind SUNDIALS_VERSION_MAJOR. */
-#include "integrator.h"
-
-#include "cvode_block_preconditioner.h"
+ * the generic ODE layer: creation, stepping, statistics (callbacks in cvode_callbacks.c). The
+ * cvode_* files are the only ones that include SUNDIALS headers. SUNDIALS 6.x (what Debian 12
+ * ships) is the target; 7.x differences sit behind SUNDIALS_VERSION_MAJOR. */
+#include "cvode_internal.h"
 
 #include "detail.h"
 
@@ -28,140 +26,7 @@
 /* TB_LINEAR_SOLVER_AUTO picks the dense solver up to this many unknowns. */
 #define TB__DENSE_LIMIT 64
 
-typedef struct tb__cvode {
-    SUNContext context;
-    void *mem;
-    N_Vector y;       /* wraps the caller's array: no copy */
-    N_Vector weights; /* error weights, for the dense Jacobian's increments */
-    SUNMatrix matrix;
-    SUNLinearSolver linear;
-    SUNNonlinearSolver nonlinear;
-    double *y_seen;           /* y as last handed out; a difference means the caller changed it */
-    bool band_preconditioner; /* CVBandPrec attached (its counters exist) */
-    tb__block_preconditioner *block_preconditioner; /* for systems of independent blocks */
-    bool started;          /* the first step since creation or restart has been taken */
-    long jacobian_evals;   /* derivative calls made by our dense Jacobian */
-    int derivative_status; /* last non-zero return of the derivative, and its time */
-    double derivative_time;
-    tb_integrator_stats base;     /* counts from before the last CVodeReInit, which zeroes them */
-    char message[TB_DETAIL_SIZE]; /* CVODE's last message, captured instead of printed */
-} tb__cvode;
-
-/* --- callbacks ---------------------------------------------------------------------------- */
-
-/* The system's derivative, keeping its failures: see derivative. */
-static int evaluate(tb_integrator *integrator, double t, const double *y, double *dydt)
-{
-    tb__cvode *cvode = integrator->cvode;
-    /* A fatal failure stays fatal for the rest of the run: SUNDIALS 6's fixed-point solver
-     * (Adams) reports a failed system function as a recoverable convergence failure, and
-     * CVODE would otherwise keep shrinking the step towards the failing time. */
-    if (cvode->derivative_status < 0) {
-        return cvode->derivative_status;
-    }
-    const tb_ode_system *system = &integrator->system;
-    const int rc = system->derivative(t, y, dydt, system->ctx);
-    if (rc != 0) {
-        cvode->derivative_status = rc;
-        cvode->derivative_time = t;
-    }
-    return rc; /* CVODE's convention is the layer's: > 0 recoverable, < 0 fatal */
-}
-
-static int derivative(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
-{
-    return evaluate(user_data, t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
-}
-
-/* The post-step hook as a CVODE projection (BDF): corr = hook(ycur) - ycur. */
-static int project(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype eps, N_Vector err,
-                   void *user_data)
-{
-    (void)eps;
-    (void)err; /* the error estimate is left unprojected: a conservative estimate */
-    tb_integrator *integrator = user_data;
-    N_VScale(1.0, ycur, corr);
-    if (integrator->system.post_step(t, N_VGetArrayPointer(corr), integrator->system.ctx) != 0) {
-        return -1;
-    }
-    N_VLinearSum(1.0, corr, -1.0, ycur, corr);
-    return 0;
-}
-
-/* Difference quotients use the increments CVODE's documentation gives for its own:
- * sigma_j = max(sqrt(u) |y_j|, m / w_j) where u is the unit round-off, w the error weights and
- * m = 1000 |h| u n ||f||_w (1 if f = 0). Fetches w into cvode->weights and returns m. */
-static double increment_floor(tb__cvode *cvode, N_Vector fy)
-{
-    sunrealtype h = 0.0;
-    CVodeGetCurrentStep(cvode->mem, &h);
-    CVodeGetErrWeights(cvode->mem, cvode->weights);
-    const double f_norm = N_VWrmsNorm(fy, cvode->weights);
-    return f_norm != 0.0 ? 1000.0 * fabs(h) * SUN_UNIT_ROUNDOFF * (double)N_VGetLength(fy) * f_norm
-                         : 1.0;
-}
-
-/* Dense Jacobian by forward differences, column by column. CVODE's built-in version allocates
- * a vector wrapper on every call; this one allocates nothing. */
-static int dense_jacobian(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void *user_data,
-                          N_Vector tmp1, N_Vector tmp2, N_Vector tmp3)
-{
-    (void)tmp2, (void)tmp3;
-    tb_integrator *integrator = user_data;
-    tb__cvode *cvode = integrator->cvode;
-    const sunindextype n = N_VGetLength(y);
-    const double min_increment = increment_floor(cvode, fy);
-    const double root = sqrt(SUN_UNIT_ROUNDOFF);
-    double *y_data = N_VGetArrayPointer(y), *f_data = N_VGetArrayPointer(fy);
-    double *f_shift = N_VGetArrayPointer(tmp1), *w = N_VGetArrayPointer(cvode->weights);
-    for (sunindextype j = 0; j < n; ++j) {
-        const double saved = y_data[j];
-        const double increment = fmax(root * fabs(saved), min_increment / w[j]);
-        y_data[j] = saved + increment;
-        const int rc = derivative(t, y, tmp1, user_data);
-        cvode->jacobian_evals++;
-        y_data[j] = saved;
-        if (rc != 0) {
-            return rc;
-        }
-        double *column = SUNDenseMatrix_Column(J, j);
-        for (sunindextype i = 0; i < n; ++i) {
-            column[i] = (f_shift[i] - f_data[i]) / increment;
-        }
-    }
-    return 0;
-}
-
-static int block_rhs(double t, double *y, double *f_out, void *ctx)
-{
-    return evaluate(ctx, t, y, f_out);
-}
-
-/* The block-diagonal preconditioner (systems of independent blocks). J is not kept between
- * setups, to save its memory, so every setup forms it anew (jok is ignored). */
-static int block_setup(sunrealtype t, N_Vector y, N_Vector fy, sunbooleantype jok,
-                       sunbooleantype *jcur, sunrealtype gamma, void *user_data)
-{
-    (void)jok;
-    tb_integrator *integrator = user_data;
-    tb__cvode *cvode = integrator->cvode;
-    *jcur = SUNTRUE;
-    const double min_increment = increment_floor(cvode, fy);
-    return tb__block_preconditioner_setup(cvode->block_preconditioner, t, N_VGetArrayPointer(y),
-                                          N_VGetArrayPointer(fy), gamma,
-                                          N_VGetArrayPointer(cvode->weights), min_increment,
-                                          block_rhs, integrator, &cvode->jacobian_evals);
-}
-
-static int block_solve(sunrealtype t, N_Vector y, N_Vector fy, N_Vector r, N_Vector z,
-                       sunrealtype gamma, sunrealtype delta, int lr, void *user_data)
-{
-    (void)t, (void)y, (void)fy, (void)gamma, (void)delta, (void)lr;
-    const tb_integrator *integrator = user_data;
-    tb__block_preconditioner_solve(integrator->cvode->block_preconditioner, N_VGetArrayPointer(r),
-                                   N_VGetArrayPointer(z));
-    return 0;
-}
+/* --- messages ----------------------------------------------------------------------------- */
 
 #if SUNDIALS_VERSION_MAJOR >= 7
 static void capture_message(int line, const char *function, const char *file, const char *msg,
@@ -318,12 +183,13 @@ static tb_status set_solvers(tb_integrator *integrator, const tb_integrator_def 
         flag = cvode->weights == NULL ? CV_MEM_FAIL : CV_SUCCESS;
     }
     if (flag == CV_SUCCESS && dense) {
-        flag = CVodeSetJacFn(cvode->mem, dense_jacobian);
+        flag = CVodeSetJacFn(cvode->mem, tb__cvode_dense_jacobian);
     } else if (flag == CV_SUCCESS && block_size > 0) {
         cvode->block_preconditioner = tb__block_preconditioner_create(n, block_size);
-        flag = cvode->block_preconditioner == NULL
-                   ? CV_MEM_FAIL
-                   : CVodeSetPreconditioner(cvode->mem, block_setup, block_solve);
+        flag =
+            cvode->block_preconditioner == NULL
+                ? CV_MEM_FAIL
+                : CVodeSetPreconditioner(cvode->mem, tb__cvode_block_setup, tb__cvode_block_solve);
     } else if (flag == CV_SUCCESS) {
         flag = CVBandPrecInit(cvode->mem, (sunindextype)n, band, band);
         cvode->band_preconditioner = flag == CV_SUCCESS;
@@ -389,7 +255,7 @@ static tb_status create_memory(tb_integrator *integrator, const tb_integrator_de
     if (flag != CV_SUCCESS) {
         return setup_failed(cvode, "CVodeSetMaxOrd", flag, error);
     }
-    flag = CVodeInit(cvode->mem, derivative, integrator->t, cvode->y);
+    flag = CVodeInit(cvode->mem, tb__cvode_derivative, integrator->t, cvode->y);
     if (flag == CV_SUCCESS) {
         flag = CVodeSetUserData(cvode->mem, integrator);
     }
@@ -421,7 +287,7 @@ static tb_status cvode_create(tb_integrator *integrator, const tb_integrator_def
     if (status == TB_STATUS_OK && integrator->system.post_step != NULL &&
         integrator->method == TB_METHOD_CVODE_BDF) {
         /* SUNDIALS 6 projects only with BDF; Adams outputs are renormalised instead. */
-        int flag = CVodeSetProjFn(cvode->mem, project);
+        int flag = CVodeSetProjFn(cvode->mem, tb__cvode_project);
         if (flag == CV_SUCCESS) {
             flag = CVodeSetProjErrEst(cvode->mem, SUNFALSE);
         }

@@ -1,0 +1,123 @@
+/* What CVODE calls back: the right-hand side, the projection, the dense Jacobian and the
+ * block-diagonal preconditioner. user_data is always the tb_integrator. */
+#include "cvode_internal.h"
+
+#include <cvode/cvode.h>
+#include <cvode/cvode_ls.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include <math.h>
+
+/* The system's derivative, keeping its failures: see derivative. */
+static int evaluate(tb_integrator *integrator, double t, const double *y, double *dydt)
+{
+    tb__cvode *cvode = integrator->cvode;
+    /* A fatal failure stays fatal for the rest of the run: SUNDIALS 6's fixed-point solver
+     * (Adams) reports a failed system function as a recoverable convergence failure, and
+     * CVODE would otherwise keep shrinking the step towards the failing time. */
+    if (cvode->derivative_status < 0) {
+        return cvode->derivative_status;
+    }
+    const tb_ode_system *system = &integrator->system;
+    const int rc = system->derivative(t, y, dydt, system->ctx);
+    if (rc != 0) {
+        cvode->derivative_status = rc;
+        cvode->derivative_time = t;
+    }
+    return rc; /* CVODE's convention is the layer's: > 0 recoverable, < 0 fatal */
+}
+
+int tb__cvode_derivative(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
+{
+    return evaluate(user_data, t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
+}
+
+/* The post-step hook as a CVODE projection (BDF): corr = hook(ycur) - ycur. */
+int tb__cvode_project(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype eps, N_Vector err,
+                      void *user_data)
+{
+    (void)eps;
+    (void)err; /* the error estimate is left unprojected: a conservative estimate */
+    tb_integrator *integrator = user_data;
+    N_VScale(1.0, ycur, corr);
+    if (integrator->system.post_step(t, N_VGetArrayPointer(corr), integrator->system.ctx) != 0) {
+        return -1;
+    }
+    N_VLinearSum(1.0, corr, -1.0, ycur, corr);
+    return 0;
+}
+
+/* Difference quotients use the increments CVODE's documentation gives for its own:
+ * sigma_j = max(sqrt(u) |y_j|, m / w_j) where u is the unit round-off, w the error weights and
+ * m = 1000 |h| u n ||f||_w (1 if f = 0). Fetches w into cvode->weights and returns m. */
+static double increment_floor(tb__cvode *cvode, N_Vector fy)
+{
+    sunrealtype h = 0.0;
+    CVodeGetCurrentStep(cvode->mem, &h);
+    CVodeGetErrWeights(cvode->mem, cvode->weights);
+    const double f_norm = N_VWrmsNorm(fy, cvode->weights);
+    return f_norm != 0.0 ? 1000.0 * fabs(h) * SUN_UNIT_ROUNDOFF * (double)N_VGetLength(fy) * f_norm
+                         : 1.0;
+}
+
+/* Dense Jacobian by forward differences, column by column. CVODE's built-in version allocates
+ * a vector wrapper on every call; this one allocates nothing. */
+int tb__cvode_dense_jacobian(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void *user_data,
+                             N_Vector tmp1, N_Vector tmp2, N_Vector tmp3)
+{
+    (void)tmp2, (void)tmp3;
+    tb_integrator *integrator = user_data;
+    tb__cvode *cvode = integrator->cvode;
+    const sunindextype n = N_VGetLength(y);
+    const double min_increment = increment_floor(cvode, fy);
+    const double root = sqrt(SUN_UNIT_ROUNDOFF);
+    double *y_data = N_VGetArrayPointer(y), *f_data = N_VGetArrayPointer(fy);
+    double *f_shift = N_VGetArrayPointer(tmp1), *w = N_VGetArrayPointer(cvode->weights);
+    for (sunindextype j = 0; j < n; ++j) {
+        const double saved = y_data[j];
+        const double increment = fmax(root * fabs(saved), min_increment / w[j]);
+        y_data[j] = saved + increment;
+        const int rc = tb__cvode_derivative(t, y, tmp1, user_data);
+        cvode->jacobian_evals++;
+        y_data[j] = saved;
+        if (rc != 0) {
+            return rc;
+        }
+        double *column = SUNDenseMatrix_Column(J, j);
+        for (sunindextype i = 0; i < n; ++i) {
+            column[i] = (f_shift[i] - f_data[i]) / increment;
+        }
+    }
+    return 0;
+}
+
+static int block_rhs(double t, double *y, double *f_out, void *ctx)
+{
+    return evaluate(ctx, t, y, f_out);
+}
+
+/* The block-diagonal preconditioner (systems of independent blocks). J is not kept between
+ * setups, to save its memory, so every setup forms it anew (jok is ignored). */
+int tb__cvode_block_setup(sunrealtype t, N_Vector y, N_Vector fy, sunbooleantype jok,
+                          sunbooleantype *jcur, sunrealtype gamma, void *user_data)
+{
+    (void)jok;
+    tb_integrator *integrator = user_data;
+    tb__cvode *cvode = integrator->cvode;
+    *jcur = SUNTRUE;
+    const double min_increment = increment_floor(cvode, fy);
+    return tb__block_preconditioner_setup(cvode->block_preconditioner, t, N_VGetArrayPointer(y),
+                                          N_VGetArrayPointer(fy), gamma,
+                                          N_VGetArrayPointer(cvode->weights), min_increment,
+                                          block_rhs, integrator, &cvode->jacobian_evals);
+}
+
+int tb__cvode_block_solve(sunrealtype t, N_Vector y, N_Vector fy, N_Vector r, N_Vector z,
+                          sunrealtype gamma, sunrealtype delta, int lr, void *user_data)
+{
+    (void)t, (void)y, (void)fy, (void)gamma, (void)delta, (void)lr;
+    const tb_integrator *integrator = user_data;
+    tb__block_preconditioner_solve(integrator->cvode->block_preconditioner, N_VGetArrayPointer(r),
+                                   N_VGetArrayPointer(z));
+    return 0;
+}

@@ -1,0 +1,56 @@
+/* Private: the CVODE backend's state, shared by cvode_integrator.c (creation, stepping,
+ * statistics) and cvode_callbacks.c (what CVODE calls back). */
+#ifndef TUMBLE_CVODE_INTERNAL_H
+#define TUMBLE_CVODE_INTERNAL_H
+
+#include "cvode_block_preconditioner.h"
+#include "integrator.h"
+
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sundials/sundials_linearsolver.h>
+#include <sundials/sundials_matrix.h>
+#include <sundials/sundials_nonlinearsolver.h>
+
+#include <stdbool.h>
+
+typedef struct tb__cvode tb__cvode;
+
+struct tb__cvode {
+    SUNContext context;
+    void *mem;
+    N_Vector y;       /* wraps the caller's array: no copy */
+    N_Vector weights; /* error weights, for the dense Jacobian's increments */
+    SUNMatrix matrix;
+    SUNLinearSolver linear;
+    SUNNonlinearSolver nonlinear;
+    double *y_seen;           /* y as last handed out; a difference means the caller changed it */
+    bool band_preconditioner; /* CVBandPrec attached (its counters exist) */
+    tb__block_preconditioner *block_preconditioner; /* for systems of independent blocks */
+    bool started;          /* the first step since creation or restart has been taken */
+    long jacobian_evals;   /* derivative calls made by our dense Jacobian */
+    int derivative_status; /* last non-zero return of the derivative, and its time */
+    double derivative_time;
+    tb_integrator_stats base;     /* counts from before the last CVodeReInit, which zeroes them */
+    char message[TB_DETAIL_SIZE]; /* CVODE's last message, captured instead of printed */
+};
+
+/* CVODE's right-hand side (user_data is the tb_integrator): the system's derivative, keeping
+ * its failures in derivative_status. */
+int tb__cvode_derivative(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data);
+
+/* The post-step hook as a CVODE projection (BDF). */
+int tb__cvode_project(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype eps, N_Vector err,
+                      void *user_data);
+
+/* Dense difference-quotient Jacobian (BDF, dense linear solver). */
+int tb__cvode_dense_jacobian(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void *user_data,
+                             N_Vector tmp1, N_Vector tmp2, N_Vector tmp3);
+
+/* The block-diagonal preconditioner's setup and solve (BDF, Krylov, systems of blocks). */
+int tb__cvode_block_setup(sunrealtype t, N_Vector y, N_Vector fy, sunbooleantype jok,
+                          sunbooleantype *jcur, sunrealtype gamma, void *user_data);
+int tb__cvode_block_solve(sunrealtype t, N_Vector y, N_Vector fy, N_Vector r, N_Vector z,
+                          sunrealtype gamma, sunrealtype delta, int lr, void *user_data);
+
+#endif
