@@ -115,10 +115,10 @@ static tb_integrator *make(tb_method method, int chunked, blocks *setup, double 
 }
 
 /* Both paths do the same arithmetic on every component in the same order, so they agree to the
- * last bit; the tolerance of 2 ulps only allows a compiler to contract a * b + c into one
- * rounding in one loop and not the other. RK4 also meets the exact decay z = exp(-w t) to
- * 1e-8 (its error at w h <= 0.02 over 2 s is ~1e-10), which a block stepped with another
- * block's index would miss by up to 1e-1. */
+ * last bit; the tolerance (2 DBL_EPSILON, relative above 1) only allows a compiler to contract
+ * a * b + c into one rounding in one loop and not the other. RK4 also meets the exact decay z =
+ * exp(-w t) to 1e-8 (its error at w h <= 0.02 over 2 s is ~1e-10), which a block stepped with
+ * another block's index would miss by up to 1e-1. */
 static void test_chunked_steps_equal_whole_array_steps(void **state)
 {
     (void)state;

@@ -86,9 +86,10 @@ static size_t block_size(tb_scene *scene)
     return system.block_size;
 }
 
-/* Both paths do the same arithmetic on every state in the same order (the effects in the order
- * they were added, then the renormalisation), so they agree to the last bit; 2 ulps only allow
- * a compiler to contract a * b + c into one rounding in one loop and not in the other. */
+/* Both paths do the same arithmetic on every state in the same order (the same effects in the
+ * same order, then the renormalisation), so they agree to the last bit; the tolerance
+ * (2 DBL_EPSILON, relative above 1) only allows a compiler to contract a * b + c into one
+ * rounding in one loop and not in the other. */
 static void test_bodies_that_do_not_interact_step_chunkwise_as_the_whole_array(void **state)
 {
     (void)state;
