@@ -268,7 +268,7 @@ static tb_status take_chunked_step(tb_integrator *integrator, double h, double t
             status = derivative_failed(integrator, rc, h);
             break;
         }
-        if (system->block_post_step != NULL) {
+        if (system->post_step != NULL) { /* then block_post_step is set too */
             rc = system->block_post_step(t_end, fresh, c.first_block, c.block_count, system->ctx);
             if (rc != 0) {
                 status = hook_failed(integrator, rc, t_end);

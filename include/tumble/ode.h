@@ -49,7 +49,8 @@ typedef struct tb_ode_system {
      * arithmetic as the whole-array path. 0 (default) for none; CVODE ignores it. */
     size_t block_size;
     tb_ode_block_derivative block_derivative; /* required with block_size */
-    tb_ode_block_hook block_post_step;        /* required with block_size if post_step is set */
+    tb_ode_block_hook block_post_step;        /* required with block_size if post_step is set;
+                                                 unused without post_step */
 } tb_ode_system;
 
 /* How to integrate, chosen as data. */
