@@ -194,26 +194,40 @@ static void commit(tb_integrator *integrator, double h, double t_end)
     integrator->stats.last_step = h;
 }
 
-/* One step of size h over the whole array; commits to y only if everything succeeded. */
-static tb_status take_whole_step(tb_integrator *integrator, double h, double t_end)
+/* Steps `part` (the whole system, or a chunk of it seen as a system) from y into fresh, with
+ * 2 part->n doubles of scratch, applies its post-step hook and checks that every component is
+ * finite. offset: where the part starts in the whole state, for the detail. */
+static tb_status step_part(tb_integrator *integrator, const tb_ode_system *part, const double *y,
+                           double *fresh, double *scratch, double h, double t_end, size_t offset,
+                           long *evals)
 {
-    const tb_ode_system *system = &integrator->system;
-    int rc = integrator->entry->step(system, integrator->t, h, integrator->y, integrator->y_new,
-                                     integrator->work, &integrator->stats.derivative_evals);
+    int rc = integrator->entry->step(part, integrator->t, h, y, fresh, scratch, evals);
     if (rc != 0) {
         return derivative_failed(integrator, rc, h);
     }
-    if (system->post_step != NULL) {
-        rc = system->post_step(t_end, integrator->y_new, system->ctx);
+    if (part->post_step != NULL) {
+        rc = part->post_step(t_end, fresh, part->ctx);
         if (rc != 0) {
             return hook_failed(integrator, rc, t_end);
         }
     }
-    size_t bad = first_non_finite(integrator->y_new, system->n);
-    if (bad < system->n) {
-        return not_finite(integrator, bad, integrator->y_new[bad], h);
+    const size_t bad = first_non_finite(fresh, part->n);
+    if (bad < part->n) {
+        return not_finite(integrator, offset + bad, fresh[bad], h);
     }
-    memcpy(integrator->y, integrator->y_new, system->n * sizeof(double));
+    return TB_STATUS_OK;
+}
+
+/* One step of size h over the whole array; commits to y only if everything succeeded. */
+static tb_status take_whole_step(tb_integrator *integrator, double h, double t_end)
+{
+    const tb_status status =
+        step_part(integrator, &integrator->system, integrator->y, integrator->y_new,
+                  integrator->work, h, t_end, 0, &integrator->stats.derivative_evals);
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    memcpy(integrator->y, integrator->y_new, integrator->system.n * sizeof(double));
     commit(integrator, h, t_end);
     return TB_STATUS_OK;
 }
@@ -228,6 +242,12 @@ static int chunk_derivative(double t, const double *y, double *dydt, void *ctx)
 {
     const chunk *c = ctx;
     return c->system->block_derivative(t, y, dydt, c->first_block, c->block_count, c->system->ctx);
+}
+
+static int chunk_hook(double t, double *y, void *ctx)
+{
+    const chunk *c = ctx;
+    return c->system->block_post_step(t, y, c->first_block, c->block_count, c->system->ctx);
 }
 
 /* Asks for y[from, to) ahead of use, one request per 64-byte line, so that the next chunk
@@ -257,32 +277,22 @@ static tb_status take_chunked_step(tb_integrator *integrator, double h, double t
     long evals = 0;
     tb_status status = TB_STATUS_OK;
     size_t done = 0; /* components of y already replaced */
-    for (size_t first = 0; first < blocks; first += per_chunk) {
+    for (size_t first = 0; first < blocks && status == TB_STATUS_OK; first += per_chunk) {
         chunk c = {system, first, blocks - first < per_chunk ? blocks - first : per_chunk};
         const size_t length = c.block_count * size;
-        const tb_ode_system part = {.n = length, .derivative = chunk_derivative, .ctx = &c};
+        /* block_post_step is set whenever post_step is */
+        const tb_ode_system part = {.n = length,
+                                    .derivative = chunk_derivative,
+                                    .post_step = system->post_step != NULL ? chunk_hook : NULL,
+                                    .ctx = &c};
         evals = 0;
         prefetch(y, done + length, done + 2 * length < system->n ? done + 2 * length : system->n);
-        int rc = integrator->entry->step(&part, integrator->t, h, y + done, fresh, scratch, &evals);
-        if (rc != 0) {
-            status = derivative_failed(integrator, rc, h);
-            break;
+        status = step_part(integrator, &part, y + done, fresh, scratch, h, t_end, done, &evals);
+        if (status == TB_STATUS_OK) {
+            memcpy(before + done, y + done, length * sizeof(double));
+            memcpy(y + done, fresh, length * sizeof(double));
+            done += length;
         }
-        if (system->post_step != NULL) { /* then block_post_step is set too */
-            rc = system->block_post_step(t_end, fresh, c.first_block, c.block_count, system->ctx);
-            if (rc != 0) {
-                status = hook_failed(integrator, rc, t_end);
-                break;
-            }
-        }
-        const size_t bad = first_non_finite(fresh, length);
-        if (bad < length) {
-            status = not_finite(integrator, done + bad, fresh[bad], h);
-            break;
-        }
-        memcpy(before + done, y + done, length * sizeof(double));
-        memcpy(y + done, fresh, length * sizeof(double));
-        done += length;
     }
     integrator->stats.derivative_evals += evals; /* a step's stages, counted once */
     if (status != TB_STATUS_OK) {
