@@ -4,7 +4,6 @@
 
 #include <sundials/sundials_dense.h>
 
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -69,11 +68,10 @@ static int difference_column(tb__block_preconditioner *p, size_t k, double t, do
                              double min_increment, tb__block_rhs f, void *ctx)
 {
     const size_t size = p->size;
-    const double root = sqrt(SUN_UNIT_ROUNDOFF);
     for (size_t b = 0; b < p->blocks; ++b) {
         const size_t j = b * size + k;
         p->saved[b] = y[j];
-        p->increments[b] = fmax(root * fabs(y[j]), min_increment / weights[j]);
+        p->increments[b] = tb__difference_increment(y[j], min_increment, weights[j]);
         y[j] += p->increments[b];
     }
     const int rc = f(t, y, p->shifted, ctx);

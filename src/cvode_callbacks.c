@@ -47,9 +47,9 @@ int tb__cvode_project(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype e
     return 0;
 }
 
-/* Difference quotients use the increments CVODE's documentation gives for its own:
- * sigma_j = max(sqrt(u) |y_j|, m / w_j) where u is the unit round-off, w the error weights and
- * m = 1000 |h| u n ||f||_w (1 if f = 0). Fetches w into cvode->weights and returns m. */
+/* The smallest difference-quotient increment, min_increment of tb__difference_increment:
+ * fetches the error weights into cvode->weights and returns 1000 |h| u n ||f||_w (1 if
+ * f = 0). */
 static double increment_floor(tb__cvode *cvode, N_Vector fy)
 {
     sunrealtype h = 0.0;
@@ -70,12 +70,11 @@ int tb__cvode_dense_jacobian(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J
     tb__cvode *cvode = integrator->cvode;
     const sunindextype n = N_VGetLength(y);
     const double min_increment = increment_floor(cvode, fy);
-    const double root = sqrt(SUN_UNIT_ROUNDOFF);
     double *y_data = N_VGetArrayPointer(y), *f_data = N_VGetArrayPointer(fy);
     double *f_shift = N_VGetArrayPointer(tmp1), *w = N_VGetArrayPointer(cvode->weights);
     for (sunindextype j = 0; j < n; ++j) {
         const double saved = y_data[j];
-        const double increment = fmax(root * fabs(saved), min_increment / w[j]);
+        const double increment = tb__difference_increment(saved, min_increment, w[j]);
         y_data[j] = saved + increment;
         const int rc = tb__cvode_derivative(t, y, tmp1, user_data);
         cvode->jacobian_evals++;
