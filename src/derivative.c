@@ -103,8 +103,9 @@ int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
     const size_t n = scene->body_count;
     kinematics(scene->bodies, y, dydt, n);
     int rc = apply_per_body_effects(scene, t, y, dydt, 0, n);
-    const size_t coupled = scene->effect_count - scene->coupled_effect_count;
-    for (size_t k = coupled; k < scene->effect_count && rc == 0; ++k) {
+    /* then the coupled effects, last in effect_order */
+    const size_t first_coupled = scene->effect_count - scene->coupled_effect_count;
+    for (size_t k = first_coupled; k < scene->effect_count && rc == 0; ++k) {
         const tb__effect *effect = &scene->effects[scene->effect_order[k]];
         rc = effect->apply(effect, scene, t, y, dydt);
     }

@@ -78,7 +78,7 @@ tb_status tb_scene_kinetic_energy(const tb_scene *scene, const double *y, double
     for (size_t i = 0; i < scene->body_count; ++i) {
         const double *s = y + TB_STATE_SIZE * i;
         double omega[3];
-        tb__angular_velocity(&scene->bodies[i], y + TB_STATE_SIZE * i, omega);
+        tb__angular_velocity(&scene->bodies[i], s, omega);
         energy += 0.5 * tb__v3_dot(s + 7, s + 7) * scene->bodies[i].inv_mass +
                   0.5 * tb__v3_dot(omega, s + 10);
     }
