@@ -9,7 +9,7 @@
 
 #include "meshes.h"
 #include "near.h"
-#include "tb_math.h"
+#include "math/tb_math.h"
 #include "tumble/mass.h"
 
 #include <string.h>

@@ -9,7 +9,7 @@
 
 #include "bodies.h"
 #include "near.h"
-#include "tb_math.h"
+#include "math/tb_math.h"
 #include "tumble/tumble.h"
 
 #include <math.h>

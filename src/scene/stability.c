@@ -1,10 +1,10 @@
 /* How fast a scene's stiffest mode is, and so the largest stable fixed step. An estimate from
  * each effect's own stiffness: springs from k and c with the inverse mass at their ends,
  * ground contact from its documented sqrt(g / penetration) rocking and bristle modes. */
-#include "scene_internal.h"
+#include "scene/scene_internal.h"
 
-#include "detail.h"
-#include "tb_math.h"
+#include "core/detail.h"
+#include "math/tb_math.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -2,10 +2,10 @@
  * aborts, so every input is validated before GSL sees it: eigen-decomposition of a finite
  * symmetric 3x3 matrix cannot fail, and Cholesky only runs on a tensor shown positive
  * definite. */
-#include "principal_axes.h"
+#include "mass/principal_axes.h"
 
-#include "detail.h"
-#include "tb_math.h"
+#include "core/detail.h"
+#include "math/tb_math.h"
 #include "tumble/mass.h"
 
 #include <gsl/gsl_eigen.h>

@@ -1,8 +1,8 @@
 /* Scene files: mesh shapes, given inline ("vertices" and "triangles") or as a Wavefront OBJ
  * file ("file", relative to the scene file). */
-#include "scene_file_internal.h"
+#include "io/scene_file_internal.h"
 
-#include "detail.h"
+#include "core/detail.h"
 
 #include <errno.h>
 #include <limits.h>

@@ -1,10 +1,10 @@
 /* Scene files: the "bodies" section. Each body has a name, mass properties from a shape (with
  * mass or density) or given directly (mass and inertia), a pose, velocities, and contact
  * points for ground planes (a shape's natural ones unless told otherwise). */
-#include "scene_file_internal.h"
+#include "io/scene_file_internal.h"
 
-#include "detail.h"
-#include "tb_math.h"
+#include "core/detail.h"
+#include "math/tb_math.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -3,10 +3,10 @@
  * Automatic Control 40(3), 1995) gives each contact point a bristle deflection z, here two
  * components in the plane, with dz/dt = v_t - s0 |v_t| z / mu(|v_t|) and friction
  * F_t = -N (s0 z + s1 dz/dt), normalised by the normal force N. */
-#include "scene_internal.h"
+#include "scene/scene_internal.h"
 
-#include "detail.h"
-#include "tb_math.h"
+#include "core/detail.h"
+#include "math/tb_math.h"
 
 #include <stdlib.h>
 #include <string.h>

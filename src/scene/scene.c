@@ -1,9 +1,9 @@
 /* The scene object: creation, bodies, states. */
-#include "scene_internal.h"
+#include "scene/scene_internal.h"
 
-#include "detail.h"
-#include "mass_internal.h"
-#include "tb_math.h"
+#include "core/detail.h"
+#include "mass/mass_internal.h"
+#include "math/tb_math.h"
 
 #include <math.h>
 #include <stdarg.h>

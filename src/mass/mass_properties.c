@@ -2,10 +2,10 @@
  * in tb_mass_from_tensor, which finds the principal frame. */
 #include "tumble/mass.h"
 
-#include "detail.h"
-#include "mass_internal.h"
-#include "principal_axes.h"
-#include "tb_math.h"
+#include "core/detail.h"
+#include "mass/mass_internal.h"
+#include "mass/principal_axes.h"
+#include "math/tb_math.h"
 
 #include <math.h>
 #include <stddef.h>

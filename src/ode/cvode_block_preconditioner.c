@@ -1,6 +1,6 @@
 /* The block-diagonal preconditioner for CVODE's Krylov solver (see the header). LU with
  * partial pivoting by SUNDIALS' small dense routines. */
-#include "cvode_block_preconditioner.h"
+#include "ode/cvode_block_preconditioner.h"
 
 #include <sundials/sundials_dense.h>
 

@@ -3,8 +3,8 @@
 #ifndef TUMBLE_CVODE_INTERNAL_H
 #define TUMBLE_CVODE_INTERNAL_H
 
-#include "cvode_block_preconditioner.h"
-#include "integrator.h"
+#include "ode/cvode_block_preconditioner.h"
+#include "ode/integrator.h"
 
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>

@@ -1,6 +1,6 @@
 #include "tumble/status.h"
 
-#include "detail.h"
+#include "core/detail.h"
 #include "tumble/version.h"
 
 #include <stdarg.h>

@@ -7,8 +7,8 @@
  * closed surface they give the solid's integrals; I = tr(C) Id - C from the covariance C. */
 #include "tumble/mass.h"
 
-#include "detail.h"
-#include "tb_math.h"
+#include "core/detail.h"
+#include "math/tb_math.h"
 
 #include <math.h>
 #include <stdint.h>

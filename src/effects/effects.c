@@ -1,10 +1,10 @@
 /* Effects: each compiles to one entry of the scene's effect list, whose apply function adds
  * forces into dP/dt and torques into dL/dt. The derivative visits only the entries the scene
  * holds. This file: the list itself, gravity, constant forces and torques, user effects. */
-#include "scene_internal.h"
+#include "scene/scene_internal.h"
 
-#include "detail.h"
-#include "tb_math.h"
+#include "core/detail.h"
+#include "math/tb_math.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -1,9 +1,9 @@
 /* Scene files: the "effects" section, a list of {"type": ..., parameters} objects that name
  * bodies by their "name". */
-#include "scene_file_internal.h"
+#include "io/scene_file_internal.h"
 
-#include "detail.h"
-#include "tb_math.h"
+#include "core/detail.h"
+#include "math/tb_math.h"
 
 #include <stdio.h>
 #include <string.h>

@@ -1,9 +1,9 @@
 /* Fixed-step explicit Runge-Kutta methods: Euler, midpoint (RK2) and classical RK4, and the
  * backend that advances with them. Each stepper writes the new state into y_new and never
  * touches y, so a failed step loses nothing. */
-#include "integrator.h"
+#include "ode/integrator.h"
 
-#include "detail.h"
+#include "core/detail.h"
 
 #include <math.h>
 #include <stddef.h>

@@ -1,7 +1,7 @@
 /* Runs: frames at a fixed rate over a duration, each handed to a callback. */
 #include "tumble/run.h"
 
-#include "detail.h"
+#include "core/detail.h"
 
 #include <math.h>
 #include <string.h>

@@ -1,6 +1,6 @@
 /* What CVODE calls back: the right-hand side, the projection, the dense Jacobian and the
  * block-diagonal preconditioner. user_data is always the tb_integrator. */
-#include "cvode_internal.h"
+#include "ode/cvode_internal.h"
 
 #include <cvode/cvode.h>
 #include <cvode/cvode_ls.h>

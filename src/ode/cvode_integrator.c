@@ -2,9 +2,9 @@
  * the generic ODE layer: creation, stepping, statistics (callbacks in cvode_callbacks.c). The
  * cvode_* files are the only ones that include SUNDIALS headers. SUNDIALS 6.x (what Debian 12
  * ships) is the target; 7.x differences sit behind SUNDIALS_VERSION_MAJOR. */
-#include "cvode_internal.h"
+#include "ode/cvode_internal.h"
 
-#include "detail.h"
+#include "core/detail.h"
 
 #include <cvode/cvode.h>
 #include <cvode/cvode_bandpre.h>

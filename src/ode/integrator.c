@@ -1,8 +1,8 @@
 /* The integrator object: the method table, definitions, validation and dispatch to the
  * fixed-step or CVODE backend. */
-#include "integrator.h"
+#include "ode/integrator.h"
 
-#include "detail.h"
+#include "core/detail.h"
 
 #include <math.h>
 #include <stdint.h>

@@ -1,8 +1,8 @@
 /* Hooke springs with damping between two body points, or a body point and a world anchor. */
-#include "scene_internal.h"
+#include "scene/scene_internal.h"
 
-#include "detail.h"
-#include "tb_math.h"
+#include "core/detail.h"
+#include "math/tb_math.h"
 
 #include <string.h>
 

@@ -1,7 +1,7 @@
 /* Read-outs: quantities derived from a state array (rotation, velocities, energy, momenta). */
-#include "scene_internal.h"
+#include "scene/scene_internal.h"
 
-#include "tb_math.h"
+#include "math/tb_math.h"
 
 static tb_status check(const tb_scene *scene, const double *y, const void *out)
 {

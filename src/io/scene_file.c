@@ -1,8 +1,8 @@
 /* Scene files: parsing with jansson, JSON helpers that name the place of every error, and the
  * top level, integrator and output sections. Bodies and effects have files of their own. */
-#include "scene_file_internal.h"
+#include "io/scene_file_internal.h"
 
-#include "detail.h"
+#include "core/detail.h"
 
 #include <errno.h>
 #include <math.h>

@@ -1,8 +1,8 @@
 /* Drag: F = -(b + c |v|) v on the centre-of-mass velocity, tau = -(b_w + c_w |omega|) omega. */
-#include "scene_internal.h"
+#include "scene/scene_internal.h"
 
-#include "detail.h"
-#include "tb_math.h"
+#include "core/detail.h"
+#include "math/tb_math.h"
 
 #include <string.h>
 

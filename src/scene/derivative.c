@@ -1,7 +1,7 @@
 /* The rigid-body derivative and the quaternion-renormalisation hook: the hot loop. */
-#include "scene_internal.h"
+#include "scene/scene_internal.h"
 
-#include "tb_math.h"
+#include "math/tb_math.h"
 
 void tb__unit_quaternion(const double *y, size_t i, double q[4])
 {
