@@ -27,7 +27,11 @@ extern "C" {
     X(CANCELLED, -13, "stopped by a callback")                                                     \
     X(PARSE_ERROR, -14, "scene file is not valid JSON")                                            \
     X(BAD_SCENE, -15, "scene file describes something invalid")                                    \
-    X(IO_ERROR, -16, "file could not be read")
+    X(IO_ERROR, -16, "file could not be read or written")                                          \
+    X(UNSTABLE_STEP, -17, "fixed step is beyond the scene's stability limit")                      \
+    X(LAYOUT_CHANGED, -18, "the scene's layout changed after the integrator was made")             \
+    X(BUSY, -19, "object is in use by a call in progress (re-entrant call)")                       \
+    X(TOO_MANY_STEPS, -20, "step budget used up before the target time")
 
 typedef enum tb_status {
 #define TB__STATUS_ENUM(name, value, message) TB_STATUS_##name = value,
