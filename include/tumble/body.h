@@ -27,6 +27,13 @@ typedef struct tb_body_state {
 
 #define TB_STATE_SIZE 13 /* doubles per body */
 
+/* Where each part starts in a body's 13 doubles (offsetof the fields above), so code names
+ * the part instead of counting: s[TB_STATE_P + 2] is P_z. */
+#define TB_STATE_X 0  /* x[3], m */
+#define TB_STATE_Q 3  /* q[4], (w, x, y, z) */
+#define TB_STATE_P 7  /* P[3], kg m/s */
+#define TB_STATE_L 10 /* L[3], kg m^2/s */
+
 /* How a body is made. Fill with tb_body_def_default(), then set the fields.
  * The body frame is the principal frame of mass; the pose below is the pose of the shape
  * frame (the frame mass.center and mass.rotation refer to), so a user never deals with the

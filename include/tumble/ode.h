@@ -51,6 +51,19 @@ typedef struct tb_ode_system {
     tb_ode_block_derivative block_derivative; /* required with block_size */
     tb_ode_block_hook block_post_step;        /* required with block_size if post_step is set;
                                                  unused without post_step */
+
+    /* Optional, for a system that other code can change or step (a scene): the integrator
+     * calls acquire(ctx, generation) at the start of every advance, step and reset, and goes
+     * ahead only if it returns TB_STATUS_OK; release(ctx) when that call ends, whatever its
+     * outcome. generation is what layout_generation(ctx) returned when the integrator was
+     * made. acquire refuses with TB_STATUS_LAYOUT_CHANGED when the system's layout (its n, the
+     * meaning of its components) changed since then, and with TB_STATUS_BUSY while another
+     * call is stepping the system; it writes a message naming why into detail
+     * (TB_DETAIL_SIZE bytes). All three NULL (default) for a system nobody else touches;
+     * acquire and layout_generation are set together, release with them. */
+    unsigned long long (*layout_generation)(void *ctx);
+    tb_status (*acquire)(void *ctx, unsigned long long generation, char *detail);
+    void (*release)(void *ctx);
 } tb_ode_system;
 
 /* How to integrate, chosen as data. */
