@@ -1,6 +1,14 @@
 # cmake --install: headers, the library, the tumble command, a CMake package
-# (find_package(tumble CONFIG) -> tumble::tumble) and a pkg-config file (tumble.pc).
+# (find_package(tumble CONFIG) -> tumble::tumble), a pkg-config file (tumble.pc), the docs and
+# example scenes (share/tumble/) and the licence (share/doc/tumble/).
+# tumble is GPL-3.0-or-later (LICENSE): it links GSL, which is GPL-3.0-or-later.
 include(CMakePackageConfigHelpers)
+set(TUMBLE_LICENSE "GPL-3.0-or-later")
+
+# The installed command finds the installed shared libtumble wherever the prefix is moved:
+# its run path is relative to the executable ($ORIGIN/../lib), not the build tree.
+file(RELATIVE_PATH tumble_bin_to_lib /root/${CMAKE_INSTALL_BINDIR} /root/${CMAKE_INSTALL_LIBDIR})
+set_target_properties(tumble_cli PROPERTIES INSTALL_RPATH "$ORIGIN/${tumble_bin_to_lib}")
 
 install(TARGETS tumble tumble_cli
   EXPORT tumbleTargets
@@ -32,3 +40,7 @@ set(TUMBLE_PC_PRIVATE_LIBS "-lsundials_cvode -lsundials_nvecserial")
 file(RELATIVE_PATH TUMBLE_PC_TO_PREFIX /root/${CMAKE_INSTALL_LIBDIR}/pkgconfig /root)
 configure_file(cmake/tumble.pc.in ${PROJECT_BINARY_DIR}/tumble.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/tumble.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+
+install(DIRECTORY docs/ DESTINATION ${CMAKE_INSTALL_DATADIR}/tumble/docs)
+install(DIRECTORY examples/scenes/ DESTINATION ${CMAKE_INSTALL_DATADIR}/tumble/scenes)
+install(FILES LICENSE README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
