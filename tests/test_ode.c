@@ -280,17 +280,135 @@ static void test_invalid_definitions_are_rejected_with_the_field_named(void **st
     }
 }
 
-static void test_method_names_round_trip(void **state)
+static void test_method_names_round_trip_in_any_case(void **state)
 {
     (void)state;
-    for (int m = 0; m < FIXED_STEP_METHODS; ++m) {
-        tb_method parsed;
+    for (int m = 0; m < TB_METHOD_COUNT; ++m) {
+        tb_method parsed = TB_METHOD_COUNT;
         assert_int_equal(tb_method_from_name(tb_method_name((tb_method)m), &parsed), TB_STATUS_OK);
         assert_int_equal(parsed, m);
     }
-    tb_method parsed;
+    tb_method parsed = TB_METHOD_COUNT;
+    assert_int_equal(tb_method_from_name("RK4", &parsed), TB_STATUS_OK);
+    assert_int_equal(parsed, TB_METHOD_RK4);
+    assert_int_equal(tb_method_from_name("Cvode-BDF", &parsed), TB_STATUS_OK);
+    assert_int_equal(parsed, TB_METHOD_CVODE_BDF);
     assert_int_equal(tb_method_from_name("rk45", &parsed), TB_STATUS_INVALID_ARGUMENT);
+    assert_int_equal(tb_method_from_name("rk", &parsed), TB_STATUS_INVALID_ARGUMENT);
+    assert_int_equal(parsed, TB_METHOD_CVODE_BDF); /* untouched by the failures */
     assert_null(tb_method_name(TB_METHOD_COUNT));
+}
+
+static void test_an_unknown_method_name_is_named_with_the_list_of_methods(void **state)
+{
+    (void)state;
+    tb_method parsed = TB_METHOD_COUNT;
+    tb_error error;
+    assert_int_equal(tb_method_parse("rk5", &parsed, &error), TB_STATUS_INVALID_ARGUMENT);
+    assert_int_equal(error.status, TB_STATUS_INVALID_ARGUMENT);
+    assert_string_equal(error.message,
+                        "unknown method \"rk5\"; methods: euler, midpoint, rk4, cvode-adams, "
+                        "cvode-bdf");
+    assert_int_equal(parsed, TB_METHOD_COUNT);
+    /* a NULL argument after that failure leaves no stale message */
+    assert_int_equal(tb_method_parse(NULL, &parsed, &error), TB_STATUS_NULL_POINTER);
+    assert_non_null(strstr(error.message, "name is NULL"));
+    assert_int_equal(tb_method_parse("rk4", NULL, &error), TB_STATUS_NULL_POINTER);
+    assert_non_null(strstr(error.message, "out_method is NULL"));
+    assert_int_equal(tb_method_parse("euler", &parsed, &error), TB_STATUS_OK);
+    assert_string_equal(error.message, "");
+}
+
+/* The table's facts that are not stability limits, against the methods' definitions. */
+static void test_the_method_table_states_each_methods_kind_and_cost(void **state)
+{
+    (void)state;
+    static const struct {
+        int order, adaptive, multistep, evals;
+    } expected[TB_METHOD_COUNT] = {
+        [TB_METHOD_EULER] = {1, 0, 0, 1},     [TB_METHOD_MIDPOINT] = {2, 0, 0, 2},
+        [TB_METHOD_RK4] = {4, 0, 0, 4},       [TB_METHOD_CVODE_ADAMS] = {12, 1, 1, 0},
+        [TB_METHOD_CVODE_BDF] = {5, 1, 1, 0},
+    };
+    for (int m = 0; m < TB_METHOD_COUNT; ++m) {
+        tb_method_info info;
+        assert_int_equal(tb_method_get_info((tb_method)m, &info), TB_STATUS_OK);
+        assert_string_equal(info.name, tb_method_name((tb_method)m));
+        assert_int_equal(info.order, expected[m].order);
+        assert_int_equal(info.adaptive, expected[m].adaptive);
+        assert_int_equal(tb_method_is_adaptive((tb_method)m), expected[m].adaptive);
+        assert_int_equal(info.multistep, expected[m].multistep);
+        assert_int_equal(info.derivative_evals_per_step, expected[m].evals);
+        if (info.adaptive) {
+            assert_true(isinf(info.imaginary_limit) && isinf(info.real_limit));
+        }
+    }
+    tb_method_info info = {0};
+    assert_int_equal(tb_method_get_info(TB_METHOD_COUNT, &info), TB_STATUS_INVALID_ARGUMENT);
+    assert_null(info.name);
+    assert_int_equal(tb_method_get_info(TB_METHOD_RK4, NULL), TB_STATUS_NULL_POINTER);
+}
+
+/* x' = -w v, v' = w x: an undamped oscillation, the mode lambda = i w. */
+static int rotation(double t, const double *y, double *dydt, void *ctx)
+{
+    (void)t;
+    const double w = *(const double *)ctx;
+    dydt[0] = -w * y[1];
+    dydt[1] = w * y[0];
+    return 0;
+}
+
+/* x' = -k x: pure decay, the mode lambda = -k. */
+static int decay(double t, const double *y, double *dydt, void *ctx)
+{
+    (void)t;
+    dydt[0] = -*(const double *)ctx * y[0];
+    return 0;
+}
+
+/* |R(h lambda)| measured as one step of the real stepper with h = 1 on a unit state. */
+static double one_step_gain(tb_method method, tb_ode_derivative f, size_t n, double rate)
+{
+    double y[2] = {1.0, 0.0};
+    tb_ode_system system = {.n = n, .derivative = f, .ctx = &rate};
+    tb_integrator_def def = tb_integrator_def_default();
+    def.method = method;
+    def.dt = 1.0;
+    tb_integrator *integrator = NULL;
+    assert_int_equal(tb_integrator_create(&system, &def, 0.0, y, &integrator, NULL), TB_STATUS_OK);
+    assert_int_equal(tb_integrator_step(integrator), TB_STATUS_OK);
+    tb_integrator_destroy(integrator);
+    return hypot(y[0], n == 2 ? y[1] : 0.0);
+}
+
+/* Each stated limit is where the stepper's gain crosses the stated |R|: at the limit the gain
+ * equals it (to 1e-12: the limits are given to 16-17 digits, and a step is a handful of
+ * roundings), and 1% past it the gain exceeds it. */
+static void
+test_stability_limits_are_where_the_steppers_gain_crosses_the_stated_growth(void **state)
+{
+    (void)state;
+    for (int m = 0; m < FIXED_STEP_METHODS; ++m) {
+        tb_method_info info;
+        assert_int_equal(tb_method_get_info((tb_method)m, &info), TB_STATUS_OK);
+        const double on_imaginary = one_step_gain((tb_method)m, rotation, 2, info.imaginary_limit);
+        const double past_imaginary =
+            one_step_gain((tb_method)m, rotation, 2, 1.01 * info.imaginary_limit);
+        const double on_real = one_step_gain((tb_method)m, decay, 1, info.real_limit);
+        const double past_real = one_step_gain((tb_method)m, decay, 1, 1.01 * info.real_limit);
+        print_message("%-8s imaginary %.4f gain %.12f, real %.4f gain %.12f\n", info.name,
+                      info.imaginary_limit, on_imaginary, info.real_limit, on_real);
+        assert_near(on_imaginary, info.imaginary_growth, 1e-12);
+        assert_true(past_imaginary > info.imaginary_growth);
+        assert_near(on_real, 1.0, 1e-12);
+        assert_true(past_real > 1.0);
+    }
+    tb_method_info euler, rk4;
+    tb_method_get_info(TB_METHOD_EULER, &euler);
+    tb_method_get_info(TB_METHOD_RK4, &rk4);
+    assert_near(euler.imaginary_growth, 1.01, 0.0); /* unstable on the axis: 1% a step */
+    assert_near(rk4.imaginary_growth, 1.0, 0.0);    /* stable on a segment of it */
 }
 
 int main(void)
@@ -302,7 +420,11 @@ int main(void)
         cmocka_unit_test(test_post_step_hook_runs_once_per_step_and_can_stop_the_run),
         cmocka_unit_test(test_a_state_that_overflows_is_reported_and_not_kept),
         cmocka_unit_test(test_invalid_definitions_are_rejected_with_the_field_named),
-        cmocka_unit_test(test_method_names_round_trip),
+        cmocka_unit_test(test_method_names_round_trip_in_any_case),
+        cmocka_unit_test(test_an_unknown_method_name_is_named_with_the_list_of_methods),
+        cmocka_unit_test(test_the_method_table_states_each_methods_kind_and_cost),
+        cmocka_unit_test(
+            test_stability_limits_are_where_the_steppers_gain_crosses_the_stated_growth),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -78,17 +78,59 @@ typedef enum tb_method {
     TB_METHOD_COUNT
 } tb_method;
 
+/* Every fact about a method: one row of the library's method table (tb_method_get_info).
+ *
+ * Linear stability: on the test mode y' = lambda y one step multiplies y by R(h lambda). The
+ * limits are the largest |h lambda| at which a step does not amplify the mode by more than a
+ * stated factor, on the two axes a physical mode lies near: the imaginary axis (undamped
+ * oscillation, springs and spinning bodies) and the negative real axis (pure decay, drag and
+ * heavy damping). A caller with a mode of rate |lambda| keeps h <= limit / |lambda|. */
+typedef struct tb_method_info {
+    const char *name; /* "rk4": tb_method_name's spelling (tb_method_from_name takes any case) */
+    int order;        /* classical order of a fixed-step method (1, 2, 4); the largest order
+                         of an adaptive one (Adams 12, BDF 5) */
+    int adaptive;     /* 1: error-controlled steps; reads rtol, atol, atol_vector,
+                         initial_step, max_step, max_order, max_steps (BDF also linear_solver,
+                         preconditioner_half_bandwidth), never dt.
+                         0: fixed step; reads dt and max_steps only */
+    int multistep;    /* 1: the step uses past steps' history (Adams, BDF), so a state changed
+                         from outside costs a restart at order 1; 0: one-step method */
+    int derivative_evals_per_step; /* stages of a fixed-step method (1, 2, 4); 0 for an
+                                      adaptive one, where it varies (tb_integrator_stats) */
+    double imaginary_limit;        /* largest |h lambda| on the imaginary axis at which
+                                      |R| <= imaginary_growth; INFINITY for adaptive methods, whose
+                                      error control chooses a step that is stable */
+    double imaginary_growth;       /* the |R| imaginary_limit is measured at: 1 where the method is
+                                      stable on a segment of the axis (RK4: 2 sqrt 2 = 2.828); 1.01
+                                      for Euler (0.1418) and midpoint (0.5325), which amplify every
+                                      oscillation a little at any h > 0: the limit is where a step
+                                      grows it by 1% */
+    double real_limit;             /* largest |h lambda| on the negative real axis with |R| <= 1
+                                      (Euler and midpoint 2, RK4 2.785); INFINITY for adaptive */
+} tb_method_info;
+
+/* Fills *out_info with the method's row. TB_STATUS_NULL_POINTER if out_info is NULL,
+ * TB_STATUS_INVALID_ARGUMENT for a value that is not a tb_method (then *out_info is
+ * untouched). */
+TB_API tb_status tb_method_get_info(tb_method method, tb_method_info *out_info);
+
 /* "euler", "midpoint", "rk4", "cvode-adams", "cvode-bdf"; NULL for an unknown method. */
 TB_API const char *tb_method_name(tb_method method);
 
-/* Parses a name given by tb_method_name; returns TB_STATUS_INVALID_ARGUMENT if unknown. */
+/* Parses a method name, ignoring ASCII case ("RK4", "CVODE-BDF"). An unknown name gives
+ * TB_STATUS_INVALID_ARGUMENT and, in out_error (may be NULL), a message naming it and listing
+ * the methods: `unknown method "rk5"; methods: euler, midpoint, rk4, cvode-adams, cvode-bdf`.
+ * NULL name or out_method: TB_STATUS_NULL_POINTER. *out_method is written only on success. */
+TB_API tb_status tb_method_parse(const char *name, tb_method *out_method, tb_error *out_error);
+
+/* tb_method_parse without the message. */
 TB_API tb_status tb_method_from_name(const char *name, tb_method *out_method);
 
-/* Classical order of a fixed-step method (1, 2, 4); the largest order of an adaptive one
- * (12 for Adams, 5 for BDF). 0 for an unknown method. */
+/* tb_method_info.order; 0 for an unknown method. */
 TB_API int tb_method_order(tb_method method);
 
-/* Non-zero for the error-controlled CVODE methods, which take rtol/atol instead of dt. */
+/* tb_method_info.adaptive: non-zero for the error-controlled CVODE methods, which take
+ * rtol/atol instead of dt; 0 for an unknown method. */
 TB_API int tb_method_is_adaptive(tb_method method);
 
 /* Linear solver for the Newton iteration of TB_METHOD_CVODE_BDF. */

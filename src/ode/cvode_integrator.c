@@ -68,7 +68,7 @@ static tb_status validate(const tb_integrator *integrator, const tb_integrator_d
                           tb_error *error)
 {
     const size_t n = integrator->system.n;
-    const int max_order = integrator->entry->order;
+    const int max_order = integrator->entry->info.order;
     if (!(def->rtol >= 1e-15 && def->rtol < 1.0)) {
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
                              "def.rtol: must be in [1e-15, 1), got %g", def->rtol);
@@ -100,7 +100,7 @@ static tb_status validate(const tb_integrator *integrator, const tb_integrator_d
     if (def->max_order < 0 || def->max_order > max_order) {
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
                              "def.max_order: must be in [0, %d] for %s, got %d", max_order,
-                             integrator->entry->name, def->max_order);
+                             integrator->entry->info.name, def->max_order);
     }
     if ((int)def->linear_solver < 0 || def->linear_solver > TB_LINEAR_SOLVER_KRYLOV) {
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,

@@ -1,6 +1,6 @@
-/* Fixed-step explicit Runge-Kutta methods: Euler, midpoint (RK2) and classical RK4, and the
- * backend that advances with them. Each stepper writes the new state into y_new and never
- * touches y, so a failed step loses nothing. */
+/* Fixed-step explicit Runge-Kutta methods: Euler, midpoint (RK2) and classical RK4 (their rows
+ * are in methods.c), and the backend that advances with them. Each stepper writes the new state
+ * into y_new and never touches y, so a failed step loses nothing. */
 #include "ode/integrator.h"
 
 #include "core/detail.h"
@@ -23,8 +23,8 @@ static void add_scaled(double *out, const double *y, double s, const double *k, 
 }
 
 /* y_new = y + h f(t, y) */
-static int euler_step(const tb_ode_system *system, double t, double h, const double *y,
-                      double *y_new, double *work, long *evals)
+int tb__euler_step(const tb_ode_system *system, double t, double h, const double *y, double *y_new,
+                   double *work, long *evals)
 {
     double *k = work;
     ++*evals;
@@ -37,8 +37,8 @@ static int euler_step(const tb_ode_system *system, double t, double h, const dou
 }
 
 /* k1 = f(t, y); y_new = y + h f(t + h/2, y + h/2 k1) */
-static int midpoint_step(const tb_ode_system *system, double t, double h, const double *y,
-                         double *y_new, double *work, long *evals)
+int tb__midpoint_step(const tb_ode_system *system, double t, double h, const double *y,
+                      double *y_new, double *work, long *evals)
 {
     const size_t n = system->n;
     double *k = work, *y_mid = work + n;
@@ -59,8 +59,8 @@ static int midpoint_step(const tb_ode_system *system, double t, double h, const 
 
 /* Classical RK4, y_new = y + h/6 (k1 + 2 k2 + 2 k3 + k4), accumulated stage by stage so the
  * workspace is one stage vector and one stage state (2n) instead of four stages. */
-static int rk4_step(const tb_ode_system *system, double t, double h, const double *y, double *y_new,
-                    double *work, long *evals)
+int tb__rk4_step(const tb_ode_system *system, double t, double h, const double *y, double *y_new,
+                 double *work, long *evals)
 {
     static const double stage_time[4] = {0.0, 0.5, 0.5, 1.0};             /* c_i */
     static const double next_stage[4] = {0.5, 0.5, 1.0, 0.0};             /* a_{i+1,i} */
@@ -86,14 +86,6 @@ static int rk4_step(const tb_ode_system *system, double t, double h, const doubl
     }
     return 0;
 }
-
-const tb__method_entry tb__methods[TB_METHOD_COUNT] = {
-    [TB_METHOD_EULER] = {"euler", 1, &tb__fixed_step_backend, euler_step},
-    [TB_METHOD_MIDPOINT] = {"midpoint", 2, &tb__fixed_step_backend, midpoint_step},
-    [TB_METHOD_RK4] = {"rk4", 4, &tb__fixed_step_backend, rk4_step},
-    [TB_METHOD_CVODE_ADAMS] = {"cvode-adams", 12, &tb__cvode_backend, NULL},
-    [TB_METHOD_CVODE_BDF] = {"cvode-bdf", 5, &tb__cvode_backend, NULL},
-};
 
 /* Chunked stepping (separable systems): components in one chunk (9 bodies). The chunk's four
  * buffers (state, stage derivative, stage input, new state) stay in L1 whatever the chunk;
@@ -133,7 +125,7 @@ static tb_status fixed_create(tb_integrator *integrator, const tb_integrator_def
     }
     integrator->work = integrator->y_new + n;
     integrator->dt = def->dt;
-    integrator->stats.last_order = integrator->stats.current_order = integrator->entry->order;
+    integrator->stats.last_order = integrator->stats.current_order = integrator->entry->info.order;
     integrator->stats.current_step = def->dt;
     return TB_STATUS_OK;
 }
@@ -168,7 +160,7 @@ static tb_status derivative_failed(tb_integrator *integrator, int rc, double h)
     ++integrator->stats.failed_steps;
     return tb__set_detail(integrator->detail, TB_STATUS_DERIVATIVE_FAILED,
                           "derivative returned %d in the %s step from t = %.17g (h = %g)", rc,
-                          integrator->entry->name, integrator->t, h);
+                          integrator->entry->info.name, integrator->t, h);
 }
 
 static tb_status hook_failed(tb_integrator *integrator, int rc, double t_end)
@@ -184,7 +176,7 @@ static tb_status not_finite(tb_integrator *integrator, size_t index, double valu
     return tb__set_detail(integrator->detail, TB_STATUS_STATE_NOT_FINITE,
                           "y[%zu] became %g in the %s step from t = %.17g (h = %g); the step "
                           "size is beyond the method's stability limit or the system blew up",
-                          index, value, integrator->entry->name, integrator->t, h);
+                          index, value, integrator->entry->info.name, integrator->t, h);
 }
 
 static void commit(tb_integrator *integrator, double h, double t_end)

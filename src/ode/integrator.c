@@ -1,5 +1,5 @@
-/* The integrator object: the method table, definitions, validation and dispatch to the
- * fixed-step or CVODE backend. */
+/* The integrator object: definitions, validation and dispatch to the fixed-step or CVODE
+ * backend named by the method's row (methods.c). */
 #include "ode/integrator.h"
 
 #include "core/detail.h"
@@ -11,42 +11,6 @@
 
 /* Distinguishes defs made by tb_integrator_def_default from uninitialised memory. */
 #define TB__INTEGRATOR_COOKIE 0x7b1d0de
-
-const char *tb_method_name(tb_method method)
-{
-    if ((int)method < 0 || method >= TB_METHOD_COUNT) {
-        return NULL;
-    }
-    return tb__methods[method].name;
-}
-
-tb_status tb_method_from_name(const char *name, tb_method *out_method)
-{
-    if (name == NULL || out_method == NULL) {
-        return TB_STATUS_NULL_POINTER;
-    }
-    for (int m = 0; m < TB_METHOD_COUNT; ++m) {
-        if (strcmp(name, tb__methods[m].name) == 0) {
-            *out_method = (tb_method)m;
-            return TB_STATUS_OK;
-        }
-    }
-    return TB_STATUS_INVALID_ARGUMENT;
-}
-
-int tb_method_order(tb_method method)
-{
-    if ((int)method < 0 || method >= TB_METHOD_COUNT) {
-        return 0;
-    }
-    return tb__methods[method].order;
-}
-
-int tb_method_is_adaptive(tb_method method)
-{
-    return (int)method >= 0 && method < TB_METHOD_COUNT &&
-           tb__methods[method].backend == &tb__cvode_backend;
-}
 
 tb_integrator_def tb_integrator_def_default(void)
 {

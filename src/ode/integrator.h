@@ -23,10 +23,18 @@ typedef struct tb__backend {
 typedef int (*tb__step_fn)(const tb_ode_system *system, double t, double h, const double *y,
                            double *y_new, double *work, long *evals);
 
-/* A row of the method table, indexed by tb_method. */
+/* The fixed-step methods' steppers (fixed_step.c). */
+int tb__euler_step(const tb_ode_system *system, double t, double h, const double *y, double *y_new,
+                   double *work, long *evals);
+int tb__midpoint_step(const tb_ode_system *system, double t, double h, const double *y,
+                      double *y_new, double *work, long *evals);
+int tb__rk4_step(const tb_ode_system *system, double t, double h, const double *y, double *y_new,
+                 double *work, long *evals);
+
+/* A row of the method table (methods.c), indexed by tb_method: the public facts and how the
+ * integrator runs the method. */
 typedef struct tb__method_entry {
-    const char *name;
-    int order;
+    tb_method_info info;
     const tb__backend *backend;
     tb__step_fn step; /* fixed-step methods only */
 } tb__method_entry;
