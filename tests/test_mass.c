@@ -12,7 +12,9 @@
 #include "math/tb_math.h"
 #include "tumble/mass.h"
 
+#include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #define PI 3.14159265358979323846
 
@@ -273,6 +275,135 @@ static void test_tensor_inverse_is_the_inverse(void **state)
     }
 }
 
+/* --- extreme inputs: bounded time, unit rotations, the documented range ------------------- */
+
+/* GSL's symmetric eigen-solver never returned on tensors with subnormal entries. Each case
+ * must come back (the alarm kills a hung test after 10 s, far beyond the microseconds a 3x3
+ * decomposition takes) with the contract's answer: refused when a moment is below
+ * TB_MOMENT_MIN, decomposed when only negligible off-diagonal entries are subnormal. */
+static void test_subnormal_tensors_come_back_refused_or_decomposed(void **state)
+{
+    (void)state;
+    alarm(10);
+    tb_mass_properties out;
+    tb_error error;
+    /* Found hanging by a random search over subnormal and tiny entries. */
+    const double hung[9] = {1e-300, 0, 5e-324, 0, 1e-322, -1e-322, 5e-324, -1e-322, -1e-322};
+    assert_int_equal(tb_mass_from_tensor(1.0, (double[]){0, 0, 0}, hung, &out, &error),
+                     TB_STATUS_BAD_MASS_PROPERTIES);
+    assert_non_null(strstr(error.message, "TB_MOMENT_MIN"));
+    /* A scene file's "inertia" of 1e-322 entries. */
+    const double tiny[9] = {1e-322, 1e-322, 1e-322, 1e-322, 1e-322, 1e-322, 1e-322, 1e-322, 1e-322};
+    assert_int_equal(tb_mass_from_tensor(1.0, (double[]){0, 0, 0}, tiny, &out, &error),
+                     TB_STATUS_BAD_MASS_PROPERTIES);
+    /* A points shape with a 5e-324 kg point: the point's mass is named. */
+    const double positions[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0.3, 0.2, 0.9};
+    assert_int_equal(tb_mass_from_points(positions, (double[]){1, 1, 1, 5e-324}, 4, &out, &error),
+                     TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(strstr(error.message, "masses[3]"));
+    /* A physical tensor whose products of inertia are subnormal: they are 1e-323 of the
+     * moments, so the axes are the shape axes and the moments the diagonal, exactly. */
+    const double nearly_diagonal[9] = {1, 5e-324, -1e-320, 5e-324, 2, 3e-322, -1e-320, 3e-322, 2.5};
+    assert_int_equal(tb_mass_from_tensor(1.0, (double[]){0, 0, 0}, nearly_diagonal, &out, &error),
+                     TB_STATUS_OK);
+    assert_near(out.moments[0], 1.0, 0.0);
+    assert_near(out.moments[1], 2.0, 0.0);
+    assert_near(out.moments[2], 2.5, 0.0);
+    assert_near(out.rotation[0], 1.0, 0.0);
+    alarm(0);
+}
+
+/* Two equal boxes at subnormal or tiny offsets (found by a random search: they gave |q| off
+ * by 5e-6 and 3e-5, accepted). The composite is the same box of twice the mass, the offsets'
+ * parallel-axis terms being below 1e-300 kg m^2, so R(q) diag(moments) R(q)^T must equal
+ * diag(2 m (b^2 + c^2) / 12, ...) to round-off (1e-15 of the largest moment), and q must be
+ * unit to a few round-offs (4e-16), so that R(q) is a proper rotation. */
+static void test_composite_rotation_is_unit_and_proper_at_subnormal_offsets(void **state)
+{
+    (void)state;
+    static const double offsets[][6] = {
+        {1e-160, 1e-160, 5e-324, -5e-324, -5e-324, 1e-160},
+        {0, 1e-160, 0, 1e-160, -5e-324, 1e-160},
+        {9.99989e-321, -5e-324, 1e-160, 0, 0, 0},
+    };
+    for (size_t c = 0; c < sizeof offsets / sizeof offsets[0]; ++c) {
+        tb_mass_part parts[2];
+        memset(parts, 0, sizeof parts);
+        for (int k = 0; k < 2; ++k) {
+            assert_int_equal(
+                tb_mass_from_box(TB_MASS_GIVEN, 1.0, (double[]){1, 2, 3}, &parts[k].props, NULL),
+                TB_STATUS_OK);
+            parts[k].orientation[0] = 1.0;
+            tb__v3_copy(parts[k].position, offsets[c] + 3 * k);
+        }
+        tb_mass_properties combined;
+        assert_int_equal(tb_mass_combine(parts, 2, &combined, NULL), TB_STATUS_OK);
+        assert_near(tb__q_norm(combined.rotation), 1.0, 4e-16);
+        double R[9], I[9];
+        tb__q_to_matrix(R, combined.rotation);
+        double column_cross[3];
+        tb__v3_cross(column_cross, (double[]){R[0], R[3], R[6]}, (double[]){R[1], R[4], R[7]});
+        assert_near(tb__v3_dot(column_cross, (double[]){R[2], R[5], R[8]}), 1.0, 1e-15);
+        tb__m3_rotate_diagonal(I, R, combined.moments);
+        const double expected[9] = {2 * 13.0 / 12, 0, 0, 0, 2 * 10.0 / 12, 0, 0, 0, 2 * 5.0 / 12};
+        for (int i = 0; i < 9; ++i) {
+            assert_near(I[i], expected[i], 1e-15 * 26.0 / 12);
+        }
+    }
+}
+
+/* A vertex no triangle uses is not part of the solid: a box mesh with one extra vertex
+ * 1e5 m away has the box's mass properties (the integration origin used to be the centroid
+ * of all vertices, and this came out 230 times too large). Round-off only: 1e-12 relative. */
+static void test_unused_far_vertex_does_not_change_a_mesh(void **state)
+{
+    (void)state;
+    const double size[3] = {1, 2, 3};
+    test_mesh mesh = test_mesh_box(size);
+    tb_mass_properties without, with;
+    assert_int_equal(tb_mass_from_mesh(TB_MASS_DENSITY, 5.0, mesh.vertices, mesh.vertex_count,
+                                       mesh.triangles, mesh.triangle_count, &without, NULL),
+                     TB_STATUS_OK);
+    double *vertices = malloc(3 * (mesh.vertex_count + 1) * sizeof *vertices);
+    assert_non_null(vertices);
+    memcpy(vertices, mesh.vertices, 3 * mesh.vertex_count * sizeof *vertices);
+    tb__v3_set(vertices + 3 * mesh.vertex_count, 1e5, 0, 0);
+    assert_int_equal(tb_mass_from_mesh(TB_MASS_DENSITY, 5.0, vertices, mesh.vertex_count + 1,
+                                       mesh.triangles, mesh.triangle_count, &with, NULL),
+                     TB_STATUS_OK);
+    assert_near(with.mass, without.mass, 1e-12 * without.mass);
+    for (int i = 0; i < 3; ++i) {
+        assert_near(with.center[i], without.center[i], 1e-12);
+        assert_near(with.moments[i], without.moments[i], 1e-12 * without.moments[i]);
+    }
+    free(vertices);
+    test_mesh_free(&mesh);
+}
+
+/* tb_mass_validate and the constructors agree: a box keeps its shape axes, so its moments
+ * descend (13, 10, 5 for a 12 kg 1 x 2 x 3 box), and validation accepts that, as the header
+ * now says (it used to promise ascending moments that the code never required). */
+static void test_validate_accepts_what_the_constructors_return(void **state)
+{
+    (void)state;
+    tb_mass_properties box;
+    assert_int_equal(tb_mass_from_box(TB_MASS_GIVEN, 12.0, (double[]){1, 2, 3}, &box, NULL),
+                     TB_STATUS_OK);
+    assert_true(box.moments[0] > box.moments[1] && box.moments[1] > box.moments[2]);
+    assert_int_equal(tb_mass_validate(&box, NULL), TB_STATUS_OK);
+    tb_mass_properties ascending = box;
+    tb__v3_set(ascending.moments, 5, 10, 13);
+    assert_int_equal(tb_mass_validate(&ascending, NULL), TB_STATUS_OK);
+    /* ... and the range: the edges pass, just outside fails with the field named. */
+    tb_mass_properties edge = box;
+    edge.mass = TB_MASS_MIN;
+    assert_int_equal(tb_mass_validate(&edge, NULL), TB_STATUS_OK);
+    edge.mass = TB_MASS_MAX;
+    assert_int_equal(tb_mass_validate(&edge, NULL), TB_STATUS_OK);
+    tb__v3_set(edge.moments, TB_MOMENT_MIN, TB_MOMENT_MIN, TB_MOMENT_MIN);
+    assert_int_equal(tb_mass_validate(&edge, NULL), TB_STATUS_OK);
+}
+
 /* --- rejected inputs: one row per case ---------------------------------------------------- */
 
 typedef struct rejection {
@@ -383,6 +514,69 @@ static tb_status index_out_of_range(tb_mass_properties *o, tb_error *e)
     return from_box_mesh(bad_index, o, e);
 }
 
+static tb_status subnormal_mass(tb_mass_properties *o, tb_error *e)
+{
+    return tb_mass_from_sphere(TB_MASS_GIVEN, 5e-324, 1.0, o, e);
+}
+static tb_status tiny_density(tb_mass_properties *o, tb_error *e)
+{
+    return tb_mass_from_box(TB_MASS_DENSITY, 1e-200, (double[]){1, 1, 1}, o, e);
+}
+static tb_status huge_tensor_mass(tb_mass_properties *o, tb_error *e)
+{
+    return tb_mass_from_tensor(1e101, (double[]){0, 0, 0}, (double[]){1, 0, 0, 0, 1, 0, 0, 0, 1}, o,
+                               e);
+}
+static tb_status tiny_sphere_moments(tb_mass_properties *o, tb_error *e)
+{
+    return tb_mass_from_sphere(TB_MASS_GIVEN, 1.0, 1e-110, o, e); /* I = 4e-221 kg m^2 */
+}
+static tb_status mesh_tiny_mass(tb_mass_properties *o, tb_error *e)
+{
+    test_mesh mesh = test_mesh_box((double[]){1, 2, 3});
+    tb_status s = tb_mass_from_mesh(TB_MASS_GIVEN, 5e-324, mesh.vertices, mesh.vertex_count,
+                                    mesh.triangles, mesh.triangle_count, o, e);
+    test_mesh_free(&mesh);
+    return s;
+}
+static tb_status validate_into(tb_mass_properties props, tb_mass_properties *o, tb_error *e)
+{
+    tb_status s = tb_mass_validate(&props, e);
+    if (s == TB_STATUS_OK) {
+        *o = props;
+    }
+    return s;
+}
+static tb_mass_properties unit_sphere(void)
+{
+    tb_mass_properties p = {1.0, {0, 0, 0}, {0.4, 0.4, 0.4}, {1, 0, 0, 0}};
+    return p;
+}
+static tb_status validate_subnormal_mass(tb_mass_properties *o, tb_error *e)
+{
+    tb_mass_properties p = unit_sphere();
+    p.mass = 5e-324; /* 1/m = inf */
+    return validate_into(p, o, e);
+}
+static tb_status validate_huge_mass(tb_mass_properties *o, tb_error *e)
+{
+    tb_mass_properties p = unit_sphere();
+    p.mass = 1e308; /* P = m v overflows at 2 m/s */
+    return validate_into(p, o, e);
+}
+static tb_status validate_tiny_moment(tb_mass_properties *o, tb_error *e)
+{
+    tb_mass_properties p = unit_sphere();
+    p.moments[1] = 1e-300; /* I^-1 = 1e300 */
+    return validate_into(p, o, e);
+}
+static tb_status validate_triangle(tb_mass_properties *o, tb_error *e)
+{
+    tb_mass_properties p = unit_sphere();
+    tb__v3_set(p.moments, 3, 1, 1);
+    return validate_into(p, o, e);
+}
+
 static void test_unphysical_inputs_are_rejected_with_the_input_named(void **state)
 {
     (void)state;
@@ -405,6 +599,18 @@ static void test_unphysical_inputs_are_rejected_with_the_input_named(void **stat
         {"inconsistent winding", inconsistent_mesh, TB_STATUS_BAD_MESH, "consistently oriented"},
         {"degenerate triangle", degenerate_mesh, TB_STATUS_BAD_MESH, "degenerate"},
         {"index out of range", index_out_of_range, TB_STATUS_BAD_MESH, "out of range"},
+        {"subnormal mass", subnormal_mass, TB_STATUS_INVALID_ARGUMENT, "mass: must be from 1e-100"},
+        {"tiny density", tiny_density, TB_STATUS_INVALID_ARGUMENT, "density: 1e-200 kg/m^3"},
+        {"huge tensor mass", huge_tensor_mass, TB_STATUS_INVALID_ARGUMENT, "TB_MASS_MAX"},
+        {"tiny sphere moments", tiny_sphere_moments, TB_STATUS_BAD_MASS_PROPERTIES,
+         "TB_MOMENT_MIN"},
+        {"mesh subnormal mass", mesh_tiny_mass, TB_STATUS_INVALID_ARGUMENT, "mass: must be from"},
+        {"validate subnormal mass", validate_subnormal_mass, TB_STATUS_INVALID_ARGUMENT,
+         "mass: must be from"},
+        {"validate huge mass", validate_huge_mass, TB_STATUS_INVALID_ARGUMENT, "got 1e+308"},
+        {"validate tiny moment", validate_tiny_moment, TB_STATUS_INVALID_ARGUMENT,
+         "moments[1]: must be from"},
+        {"validate triangle", validate_triangle, TB_STATUS_BAD_MASS_PROPERTIES, "triangle"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         tb_mass_properties out;
@@ -430,6 +636,10 @@ int main(void)
         cmocka_unit_test(test_point_masses_follow_the_definition_of_the_tensor),
         cmocka_unit_test(test_composites_obey_the_parallel_axis_theorem),
         cmocka_unit_test(test_tensor_inverse_is_the_inverse),
+        cmocka_unit_test(test_subnormal_tensors_come_back_refused_or_decomposed),
+        cmocka_unit_test(test_composite_rotation_is_unit_and_proper_at_subnormal_offsets),
+        cmocka_unit_test(test_unused_far_vertex_does_not_change_a_mesh),
+        cmocka_unit_test(test_validate_accepts_what_the_constructors_return),
         cmocka_unit_test(test_unphysical_inputs_are_rejected_with_the_input_named),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -18,10 +18,25 @@
 extern "C" {
 #endif
 
+/* The range of mass properties tumble accepts. Every physical rigid body lies far inside it
+ * (an electron is 9.1e-31 kg, a hydrogen molecule's moment of inertia 4.6e-48 kg m^2, the
+ * Milky Way 3e42 kg). Outside it double precision stops carrying the physics: the derivative
+ * multiplies the momenta by 1/m and I^-1 every step, and those reciprocals, or v = P/m,
+ * omega = I^-1 L and the kinetic energy made from them, overflow to infinity or sink into
+ * subnormal numbers that have lost their digits (on which GSL's eigen-solver does not even
+ * terminate). A mass outside is refused with TB_STATUS_INVALID_ARGUMENT; moments outside,
+ * from any constructor, with TB_STATUS_BAD_MASS_PROPERTIES; tb_mass_validate refuses both. */
+#define TB_MASS_MIN 1e-100   /* kg */
+#define TB_MASS_MAX 1e100    /* kg */
+#define TB_MOMENT_MIN 1e-200 /* kg m^2: a TB_MASS_MIN body 1e-50 m across */
+#define TB_MOMENT_MAX 1e200  /* kg m^2: a TB_MASS_MAX body 1e50 m across */
+
 typedef struct tb_mass_properties {
-    double mass;        /* kg, > 0 */
+    double mass;        /* kg, in [TB_MASS_MIN, TB_MASS_MAX] */
     double center[3];   /* centre of mass in the shape frame, m */
-    double moments[3];  /* principal moments about the centre of mass, kg m^2 */
+    double moments[3];  /* principal moments about the centre of mass, kg m^2, each in
+                           [TB_MOMENT_MIN, TB_MOMENT_MAX]; in the order of the principal
+                           axes (see "Principal frame" below), not necessarily ascending */
     double rotation[4]; /* unit quaternion (w, x, y, z) taking principal-frame vectors to
                            shape-frame vectors; w >= 0 */
 } tb_mass_properties;
@@ -64,7 +79,8 @@ TB_API tb_status tb_mass_from_capsule(tb_mass_mode mode, double value, double ra
 TB_API tb_status tb_mass_from_ellipsoid(tb_mass_mode mode, double value, const double semi_axes[3],
                                         tb_mass_properties *out_props, tb_error *out_error);
 
-/* Point masses: positions[3 * count] (shape frame, m), masses[count] (kg, > 0).
+/* Point masses: positions[3 * count] (shape frame, m), masses[count] (kg, each in
+ * [TB_MASS_MIN, TB_MASS_MAX]).
  * I_xx = sum m (y^2 + z^2), I_xy = - sum m x y, ... about the centre of mass. Points that
  * all lie on one line give a singular tensor and are rejected. */
 TB_API tb_status tb_mass_from_points(const double *positions, const double *masses, size_t count,
@@ -72,7 +88,9 @@ TB_API tb_status tb_mass_from_points(const double *positions, const double *mass
 
 /* A closed, consistently oriented (outward normals by the right-hand rule), non-degenerate
  * triangle mesh of uniform density: vertices[3 * vertex_count] (m),
- * triangles[3 * triangle_count] (vertex indices). Volume integrals by signed tetrahedra. */
+ * triangles[3 * triangle_count] (vertex indices). Volume integrals by signed tetrahedra,
+ * about the centroid of the triangles' corners. Vertices no triangle uses are ignored (they
+ * must still be finite). */
 TB_API tb_status tb_mass_from_mesh(tb_mass_mode mode, double value, const double *vertices,
                                    size_t vertex_count, const unsigned *triangles,
                                    size_t triangle_count, tb_mass_properties *out_props,
@@ -106,8 +124,12 @@ TB_API tb_status tb_mass_tensor(const tb_mass_properties *props, double out_iner
 TB_API tb_status tb_mass_tensor_inverse(const double inertia[9], double out_inverse[9],
                                         tb_error *out_error);
 
-/* Checks props: finite, mass > 0, moments > 0 and ascending within round-off, triangle
- * inequality, rotation a unit quaternion. */
+/* Checks props: finite; mass in [TB_MASS_MIN, TB_MASS_MAX]; moments in
+ * [TB_MOMENT_MIN, TB_MOMENT_MAX] in any order (the constructors keep a primitive's shape axes,
+ * so a box's moments may descend), the smallest above 1e-12 of the largest, and the triangle
+ * inequality within 1e-9 relative; rotation a unit quaternion (|q| = 1 within 1e-4). A finite
+ * value out of its range is TB_STATUS_INVALID_ARGUMENT, a non-finite one
+ * TB_STATUS_NOT_FINITE, moments no body has TB_STATUS_BAD_MASS_PROPERTIES. */
 TB_API tb_status tb_mass_validate(const tb_mass_properties *props, tb_error *out_error);
 
 #ifdef __cplusplus

@@ -8,6 +8,7 @@
 #include "tumble/mass.h"
 
 #include "core/detail.h"
+#include "mass/mass_internal.h"
 #include "math/tb_math.h"
 
 #include <math.h>
@@ -31,13 +32,15 @@ static int compare_u64(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+/* Over the triangles' corners only: a vertex no triangle uses is not part of the solid. */
 static double bounding_diagonal_squared(const mesh_view *mesh)
 {
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (size_t v = 0; v < mesh->vertex_count; ++v) {
+    for (size_t corner = 0; corner < 3 * mesh->triangle_count; ++corner) {
+        const double *v = mesh->vertices + 3 * (size_t)mesh->triangles[corner];
         for (int i = 0; i < 3; ++i) {
-            lo[i] = fmin(lo[i], mesh->vertices[3 * v + i]);
-            hi[i] = fmax(hi[i], mesh->vertices[3 * v + i]);
+            lo[i] = fmin(lo[i], v[i]);
+            hi[i] = fmax(hi[i], v[i]);
         }
     }
     const double d[3] = {hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
@@ -52,17 +55,18 @@ static tb_status check_triangles(const mesh_view *mesh, tb_error *error)
                                  "vertices[%zu]: contains NaN or infinity", v);
         }
     }
+    for (size_t corner = 0; corner < 3 * mesh->triangle_count; ++corner) {
+        if (mesh->triangles[corner] >= mesh->vertex_count) {
+            return tb__set_error(error, TB_STATUS_BAD_MESH,
+                                 "triangles[%zu][%zu]: vertex index %u out of range (%zu "
+                                 "vertices)",
+                                 corner / 3, corner % 3, mesh->triangles[corner],
+                                 mesh->vertex_count);
+        }
+    }
     const double min_area = TB__DEGENERATE_AREA * bounding_diagonal_squared(mesh);
     for (size_t t = 0; t < mesh->triangle_count; ++t) {
         const unsigned *tri = mesh->triangles + 3 * t;
-        for (int k = 0; k < 3; ++k) {
-            if (tri[k] >= mesh->vertex_count) {
-                return tb__set_error(error, TB_STATUS_BAD_MESH,
-                                     "triangles[%zu][%d]: vertex index %u out of range (%zu "
-                                     "vertices)",
-                                     t, k, tri[k], mesh->vertex_count);
-            }
-        }
         const double *a = mesh->vertices + 3 * tri[0], *b = mesh->vertices + 3 * tri[1],
                      *c = mesh->vertices + 3 * tri[2];
         const double ab[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
@@ -169,6 +173,19 @@ static tb_status check_inputs(const mesh_view *mesh, const tb_mass_properties *o
     return status == TB_STATUS_OK ? check_closed(mesh, error) : status;
 }
 
+/* The integration origin: the centroid of the triangles' corners. Coordinates relative to it
+ * stay as small as the solid, so a mesh far from the origin does not lose digits to
+ * cancellation; a vertex no triangle uses does not move it (an unused vertex 1e5 m away moved
+ * the old all-vertex centroid so far that the moments came out 230 times too large). */
+static void corner_centroid(const mesh_view *mesh, double o[3])
+{
+    tb__v3_set(o, 0, 0, 0);
+    const size_t corners = 3 * mesh->triangle_count;
+    for (size_t corner = 0; corner < corners; ++corner) {
+        tb__v3_axpy(o, 1.0 / (double)corners, mesh->vertices + 3 * (size_t)mesh->triangles[corner]);
+    }
+}
+
 tb_status tb_mass_from_mesh(tb_mass_mode mode, double value, const double *vertices,
                             size_t vertex_count, const unsigned *triangles, size_t triangle_count,
                             tb_mass_properties *out_props, tb_error *out_error)
@@ -179,13 +196,8 @@ tb_status tb_mass_from_mesh(tb_mass_mode mode, double value, const double *verti
     if (status != TB_STATUS_OK) {
         return status;
     }
-    /* Integrate about the vertex centroid: coordinates stay small, so a mesh far from the
-     * origin does not lose digits to cancellation. */
-    double o[3] = {0, 0, 0};
-    for (size_t v = 0; v < vertex_count; ++v) {
-        tb__v3_axpy(o, 1.0 / (double)vertex_count, vertices + 3 * v);
-    }
-    double volume, first[3], C[9];
+    double o[3], volume, first[3], C[9];
+    corner_centroid(&mesh, o);
     integrate(&mesh, o, &volume, first, C);
     if (!(volume > 0)) {
         return tb__set_error(out_error, TB_STATUS_BAD_MESH,
@@ -193,18 +205,12 @@ tb_status tb_mass_from_mesh(tb_mass_mode mode, double value, const double *verti
                              "outside); reverse them",
                              volume);
     }
-    if (mode != TB_MASS_GIVEN && mode != TB_MASS_DENSITY) {
-        return tb__set_error(out_error, TB_STATUS_INVALID_ARGUMENT, "mode: unknown mass mode %d",
-                             (int)mode);
+    double mass;
+    status = tb__resolve_mass(mode, value, volume, &mass, out_error);
+    if (status != TB_STATUS_OK) {
+        return status;
     }
-    const double density = mode == TB_MASS_DENSITY ? value : value / volume;
-    if (!(density > 0) || !isfinite(density)) {
-        return tb__set_error(out_error,
-                             isfinite(value) ? TB_STATUS_INVALID_ARGUMENT : TB_STATUS_NOT_FINITE,
-                             "%s: must be finite and > 0, got %g",
-                             mode == TB_MASS_DENSITY ? "density" : "mass", value);
-    }
-    const double mass = density * volume;
+    const double density = mode == TB_MASS_DENSITY ? value : mass / volume;
     const double d[3] = {first[0] / volume, first[1] / volume, first[2] / volume};
     double I[9];
     const double trace = C[0] + C[4] + C[8];

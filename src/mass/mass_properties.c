@@ -27,6 +27,17 @@ tb_status tb__check_positive(double value, const char *what, tb_error *error)
     return TB_STATUS_OK;
 }
 
+tb_status tb__check_mass(double mass, const char *what, tb_error *error)
+{
+    tb_status status = tb__check_positive(mass, what, error);
+    if (status == TB_STATUS_OK && (mass < TB_MASS_MIN || mass > TB_MASS_MAX)) {
+        status = tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                               "%s: must be from %g to %g kg (TB_MASS_MIN, TB_MASS_MAX), got %g",
+                               what, TB_MASS_MIN, TB_MASS_MAX, mass);
+    }
+    return status;
+}
+
 tb_status tb__check_unit_quaternion(const double q[4], const char *what, tb_error *error)
 {
     if (!tb__all_finite(q, 4)) {
@@ -41,25 +52,32 @@ tb_status tb__check_unit_quaternion(const double q[4], const char *what, tb_erro
     return TB_STATUS_OK;
 }
 
-/* mass from mode/value and the shape's volume (m^3). */
-static tb_status resolve_mass(tb_mass_mode mode, double value, double volume, double *mass,
-                              tb_error *error)
+tb_status tb__resolve_mass(tb_mass_mode mode, double value, double volume, double *mass,
+                           tb_error *error)
 {
     if (mode != TB_MASS_GIVEN && mode != TB_MASS_DENSITY) {
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT, "mode: unknown mass mode %d",
                              (int)mode);
     }
-    tb_status status = tb__check_positive(value, mode == TB_MASS_GIVEN ? "mass" : "density", error);
+    if (mode == TB_MASS_GIVEN) {
+        tb_status status = tb__check_mass(value, "mass", error);
+        if (status == TB_STATUS_OK) {
+            *mass = value;
+        }
+        return status;
+    }
+    tb_status status = tb__check_positive(value, "density", error);
     if (status != TB_STATUS_OK) {
         return status;
     }
-    *mass = mode == TB_MASS_GIVEN ? value : value * volume;
-    if (!(*mass > 0) || !isfinite(*mass)) {
+    const double product = value * volume;
+    if (!(product >= TB_MASS_MIN && product <= TB_MASS_MAX)) {
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
-                             "density %g times volume %g gives mass %g, not a positive finite "
-                             "number",
-                             value, volume, *mass);
+                             "density: %g kg/m^3 times the volume %g m^3 gives a mass of %g kg, "
+                             "outside %g to %g kg (TB_MASS_MIN, TB_MASS_MAX)",
+                             value, volume, product, TB_MASS_MIN, TB_MASS_MAX);
     }
+    *mass = product;
     return TB_STATUS_OK;
 }
 
@@ -78,7 +96,8 @@ tb_status tb_mass_from_sphere(tb_mass_mode mode, double value, double radius,
     double mass;
     tb_status status = tb__check_positive(radius, "radius", out_error);
     if (status == TB_STATUS_OK) {
-        status = resolve_mass(mode, value, 4.0 / 3.0 * TB__PI * pow(radius, 3), &mass, out_error);
+        status =
+            tb__resolve_mass(mode, value, 4.0 / 3.0 * TB__PI * pow(radius, 3), &mass, out_error);
     }
     if (status != TB_STATUS_OK) {
         return status;
@@ -111,7 +130,7 @@ tb_status tb_mass_from_box(tb_mass_mode mode, double value, const double size[3]
     double mass;
     tb_status status = check_three_positive(size, "size", out_error);
     if (status == TB_STATUS_OK) {
-        status = resolve_mass(mode, value, size[0] * size[1] * size[2], &mass, out_error);
+        status = tb__resolve_mass(mode, value, size[0] * size[1] * size[2], &mass, out_error);
     }
     if (status != TB_STATUS_OK) {
         return status;
@@ -137,7 +156,7 @@ tb_status tb_mass_from_cylinder(tb_mass_mode mode, double value, double radius, 
     double mass;
     tb_status status = check_radius_length(radius, length, out_error);
     if (status == TB_STATUS_OK) {
-        status = resolve_mass(mode, value, TB__PI * radius * radius * length, &mass, out_error);
+        status = tb__resolve_mass(mode, value, TB__PI * radius * radius * length, &mass, out_error);
     }
     if (status != TB_STATUS_OK) {
         return status;
@@ -157,8 +176,8 @@ tb_status tb_mass_from_capsule(tb_mass_mode mode, double value, double radius, d
     double mass;
     tb_status status = check_radius_length(radius, length, out_error);
     if (status == TB_STATUS_OK) {
-        status =
-            resolve_mass(mode, value, cylinder_volume + 2 * hemisphere_volume, &mass, out_error);
+        status = tb__resolve_mass(mode, value, cylinder_volume + 2 * hemisphere_volume, &mass,
+                                  out_error);
     }
     if (status != TB_STATUS_OK) {
         return status;
@@ -187,8 +206,8 @@ tb_status tb_mass_from_ellipsoid(tb_mass_mode mode, double value, const double s
     double mass;
     tb_status status = check_three_positive(s, "semi_axes", out_error);
     if (status == TB_STATUS_OK) {
-        status =
-            resolve_mass(mode, value, 4.0 / 3.0 * TB__PI * s[0] * s[1] * s[2], &mass, out_error);
+        status = tb__resolve_mass(mode, value, 4.0 / 3.0 * TB__PI * s[0] * s[1] * s[2], &mass,
+                                  out_error);
     }
     if (status != TB_STATUS_OK) {
         return status;
@@ -226,7 +245,7 @@ tb_status tb_mass_from_points(const double *positions, const double *masses, siz
     for (size_t k = 0; k < count; ++k) {
         char label[48];
         snprintf(label, sizeof label, "masses[%zu]", k);
-        tb_status status = tb__check_positive(masses[k], label, out_error);
+        tb_status status = tb__check_mass(masses[k], label, out_error);
         if (status != TB_STATUS_OK) {
             return status;
         }
@@ -257,7 +276,7 @@ tb_status tb_mass_from_tensor(double mass, const double center[3], const double 
                              : inertia == NULL ? "inertia"
                                                : "out_props");
     }
-    tb_status status = tb__check_positive(mass, "mass", out_error);
+    tb_status status = tb__check_mass(mass, "mass", out_error);
     if (status != TB_STATUS_OK) {
         return status;
     }
@@ -286,20 +305,35 @@ tb_status tb_mass_tensor(const tb_mass_properties *props, double out_inertia[9])
     return TB_STATUS_OK;
 }
 
+/* Each moment positive and in [TB_MOMENT_MIN, TB_MOMENT_MAX], named by index. */
+static tb_status check_moment_range(const double moments[3], tb_error *error)
+{
+    tb_status status = check_three_positive(moments, "moments", error);
+    for (int i = 0; i < 3 && status == TB_STATUS_OK; ++i) {
+        if (moments[i] < TB_MOMENT_MIN || moments[i] > TB_MOMENT_MAX) {
+            status = tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                                   "moments[%d]: must be from %g to %g kg m^2 (TB_MOMENT_MIN, "
+                                   "TB_MOMENT_MAX), got %g",
+                                   i, TB_MOMENT_MIN, TB_MOMENT_MAX, moments[i]);
+        }
+    }
+    return status;
+}
+
 tb_status tb_mass_validate(const tb_mass_properties *props, tb_error *out_error)
 {
     tb__clear_error(out_error);
     if (props == NULL) {
         return tb__set_error(out_error, TB_STATUS_NULL_POINTER, "props is NULL");
     }
-    tb_status status = tb__check_positive(props->mass, "mass", out_error);
+    tb_status status = tb__check_mass(props->mass, "mass", out_error);
     if (status != TB_STATUS_OK) {
         return status;
     }
     if (!tb__all_finite(props->center, 3)) {
         return tb__set_error(out_error, TB_STATUS_NOT_FINITE, "center: contains NaN or infinity");
     }
-    status = check_three_positive(props->moments, "moments", out_error);
+    status = check_moment_range(props->moments, out_error);
     if (status != TB_STATUS_OK) {
         return status;
     }

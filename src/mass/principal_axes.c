@@ -1,7 +1,8 @@
 /* Principal axes and inverses of inertia tensors with GSL. GSL's default error handler
  * aborts, so every input is validated before GSL sees it: eigen-decomposition of a finite
  * symmetric 3x3 matrix cannot fail, and Cholesky only runs on a tensor shown positive
- * definite. */
+ * definite. GSL's symmetric eigen-solver does not terminate on subnormal entries, so it only
+ * sees the tensor scaled to a largest entry of 1 with negligible entries set to zero. */
 #include "mass/principal_axes.h"
 
 #include "core/detail.h"
@@ -13,6 +14,7 @@
 #include <gsl/gsl_matrix.h>
 #include <gsl/gsl_vector.h>
 
+#include <float.h>
 #include <math.h>
 
 /* Relative tolerance for symmetry and for the triangle inequality: inputs computed in double
@@ -21,6 +23,14 @@
 /* Smallest principal moment allowed, relative to the largest: below it the tensor is taken
  * as singular (collinear points, zero-thickness shapes). A needle of aspect 1:10^5 passes. */
 #define TB__SINGULAR_RATIO 1e-12
+/* Entries of the scaled tensor (largest entry 1) below this are set to zero before GSL sees
+ * them: a symmetric perturbation E moves each eigenvalue by at most |E| (Weyl), so this moves
+ * the moments by 3 DBL_EPSILON^2 of the largest, far below the solver's own DBL_EPSILON
+ * round-off; and every product the solver forms stays a normal number. */
+#define TB__NEGLIGIBLE_ENTRY (DBL_EPSILON * DBL_EPSILON)
+/* Columns of the eigenvector matrix must be orthonormal to this (a few hundred round-offs)
+ * before they are taken as a rotation. */
+#define TB__ORTHONORMAL_TOLERANCE 1e-12
 
 static double max_abs(const double *a, int n)
 {
@@ -52,14 +62,24 @@ static tb_status check_symmetric(const double I[9], const char *what, tb_error *
     return TB_STATUS_OK;
 }
 
-/* Eigen-decomposition of the symmetrised tensor; V's columns are the principal axes. */
-static void eigen_decompose(const double I[9], double moments[3], double V[9])
+/* The symmetrised tensor divided by scale, with negligible entries set to zero. */
+static void scaled_tensor(const double I[9], double scale, double a[9])
 {
-    double a[9], vectors[9], values[3];
     for (int i = 0; i < 3; ++i) {
         for (int j = 0; j < 3; ++j) {
-            a[3 * i + j] = 0.5 * (I[3 * i + j] + I[3 * j + i]);
+            const double entry = 0.5 * (I[3 * i + j] / scale + I[3 * j + i] / scale);
+            a[3 * i + j] = fabs(entry) < TB__NEGLIGIBLE_ENTRY ? 0.0 : entry;
         }
+    }
+}
+
+/* Eigen-decomposition of a scaled tensor a (entries at most 1 in magnitude, none subnormal);
+ * V's columns are the principal axes, made a proper rotation. */
+static void eigen_decompose(const double a_in[9], double moments[3], double V[9])
+{
+    double a[9], vectors[9], values[3];
+    for (int i = 0; i < 9; ++i) {
+        a[i] = a_in[i];
     }
     gsl_matrix_view A = gsl_matrix_view_array(a, 3, 3);
     gsl_matrix_view evec = gsl_matrix_view_array(vectors, 3, 3);
@@ -84,6 +104,34 @@ static void eigen_decompose(const double I[9], double moments[3], double V[9])
     }
 }
 
+/* V^T V = Id within TB__ORTHONORMAL_TOLERANCE: the axes form a rotation. */
+static bool orthonormal(const double V[9])
+{
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            const double dot = V[i] * V[j] + V[3 + i] * V[3 + j] + V[6 + i] * V[6 + j];
+            if (!(fabs(dot - (i == j ? 1.0 : 0.0)) <= TB__ORTHONORMAL_TOLERANCE)) {
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
+/* For a positive definite tensor the largest entry is its largest diagonal entry, which lies
+ * between the smallest and the largest moment: outside [TB_MOMENT_MIN, TB_MOMENT_MAX] one of
+ * the moments is too. Checked before the solver so it never sees subnormal numbers. */
+static tb_status check_scale(double scale, const char *what, tb_error *error)
+{
+    if (scale < TB_MOMENT_MIN || scale > TB_MOMENT_MAX) {
+        return tb__set_error(error, TB_STATUS_BAD_MASS_PROPERTIES,
+                             "%s: largest entry %g kg m^2 is outside the moments tumble accepts, "
+                             "from %g to %g kg m^2 (TB_MOMENT_MIN, TB_MOMENT_MAX)",
+                             what, scale, TB_MOMENT_MIN, TB_MOMENT_MAX);
+    }
+    return TB_STATUS_OK;
+}
+
 static tb_status check_moments(const double m[3], const char *what, tb_error *error)
 {
     const double largest = fmax(m[0], fmax(m[1], m[2]));
@@ -93,6 +141,12 @@ static tb_status check_moments(const double m[3], const char *what, tb_error *er
                              "%s: not positive definite, principal moments (%g, %g, %g); "
                              "collinear points or a shape with no thickness?",
                              what, m[0], m[1], m[2]);
+    }
+    if (smallest < TB_MOMENT_MIN || largest > TB_MOMENT_MAX) {
+        return tb__set_error(error, TB_STATUS_BAD_MASS_PROPERTIES,
+                             "%s: principal moments (%g, %g, %g) kg m^2 are outside the range "
+                             "tumble accepts, from %g to %g kg m^2 (TB_MOMENT_MIN, TB_MOMENT_MAX)",
+                             what, m[0], m[1], m[2], TB_MOMENT_MIN, TB_MOMENT_MAX);
     }
     for (int i = 0; i < 3; ++i) {
         const double others = m[(i + 1) % 3] + m[(i + 2) % 3];
@@ -106,31 +160,56 @@ static tb_status check_moments(const double m[3], const char *what, tb_error *er
     return TB_STATUS_OK;
 }
 
+/* The unit quaternion of the rotation V, normalised so that |q| = 1 to round-off whatever
+ * the solver's last digits. */
+static tb_status rotation_of(const double V[9], const char *what, double q[4], tb_error *error)
+{
+    if (!orthonormal(V)) {
+        return tb__set_error(error, TB_STATUS_BAD_MASS_PROPERTIES,
+                             "%s: the eigen-solver's principal axes are not orthonormal to %g",
+                             what, TB__ORTHONORMAL_TOLERANCE);
+    }
+    tb__matrix_to_q(q, V);
+    const double norm = tb__q_norm(q);
+    for (int i = 0; i < 4; ++i) {
+        q[i] /= norm;
+    }
+    return TB_STATUS_OK;
+}
+
 tb_status tb__principal_axes(const double I[9], const char *what, double out_moments[3],
                              double out_rotation[4], tb_error *error)
 {
     tb_status status = check_symmetric(I, what, error);
+    const double scale = max_abs(I, 9);
+    if (status == TB_STATUS_OK) {
+        status = check_scale(scale, what, error);
+    }
     if (status != TB_STATUS_OK) {
         return status;
     }
-    double moments[3], V[9];
-    const bool diagonal =
-        fabs(I[1]) + fabs(I[2]) + fabs(I[3]) + fabs(I[5]) + fabs(I[6]) + fabs(I[7]) == 0.0;
-    if (diagonal) {
+    double a[9], moments[3], V[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    scaled_tensor(I, scale, a);
+    const bool diagonal = a[1] == 0.0 && a[2] == 0.0 && a[5] == 0.0;
+    if (diagonal) { /* keep the shape axes, and the moments exactly as given */
         tb__v3_set(moments, I[0], I[4], I[8]);
     } else {
-        eigen_decompose(I, moments, V);
+        eigen_decompose(a, moments, V);
+        for (int i = 0; i < 3; ++i) {
+            moments[i] *= scale;
+        }
     }
+    double rotation[4];
     status = check_moments(moments, what, error);
+    if (status == TB_STATUS_OK) {
+        status = rotation_of(V, what, rotation, error);
+    }
     if (status != TB_STATUS_OK) {
         return status;
     }
     tb__v3_copy(out_moments, moments);
-    if (diagonal) {
-        out_rotation[0] = 1.0;
-        out_rotation[1] = out_rotation[2] = out_rotation[3] = 0.0;
-    } else {
-        tb__matrix_to_q(out_rotation, V);
+    for (int i = 0; i < 4; ++i) {
+        out_rotation[i] = rotation[i];
     }
     return TB_STATUS_OK;
 }
