@@ -116,7 +116,7 @@ static double run(const problem *p, tb_method method, double setting, int record
         def.integrator.rtol = setting;
     } else {
         def.integrator.dt = 1.0 / setting;
-        def.integrator.allow_unstable = 1; /* the sweep shows what an unstable step gives */
+        tb_scene_set_allow_unstable(scene, true); /* the sweep shows what an unstable step gives */
     }
     run_context c = {p, 0.0, record};
     const double start = bench_cpu_seconds();

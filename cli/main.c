@@ -183,7 +183,7 @@ static int load(const cli_options *o, tb_scene **scene, tb_run_def *run)
     double max_dt;
     char which[TB_DETAIL_SIZE];
     tb_scene_max_stable_step(*scene, run->integrator.method, &max_dt, which);
-    if (!run->integrator.allow_unstable && run->integrator.dt > max_dt) {
+    if (!tb_scene_allow_unstable(*scene) && run->integrator.dt > max_dt) {
         fprintf(stderr,
                 "tumble: %s: dt %g s is beyond %s's stability limit for %s: use --dt %.3g or "
                 "less, or --integrator cvode-bdf\n",

@@ -162,7 +162,7 @@ static void test_a_step_beyond_rk4s_limit_is_refused_and_bdf_takes_it(void **sta
     def.dt = dt;
     tb_integrator *integrator = NULL;
     assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator),
-                     TB_STATUS_INVALID_ARGUMENT);
+                     TB_STATUS_UNSTABLE_STEP);
     print_message("RK4 at k dt^2/m = 9: %s\n", tb_scene_detail(scene));
     assert_null(integrator);
     assert_non_null(strstr(tb_scene_detail(scene), "stability limit for effect 0 (a spring"));

@@ -144,9 +144,9 @@ TB_API size_t tb_scene_effect_count(const tb_scene *scene);
  * or owns states (springs between bodies, ground planes and user effects do), the bodies are
  * the system's blocks (block_size 13): fixed-step integrators step them a chunk at a time and
  * BDF's Krylov solver preconditions them body by body (docs/performance.md). The system describes
- * the scene as it is: make integrators after adding bodies and effects. (An integrator stepping
- * independent bodies refuses to step, with TB_STATUS_DERIVATIVE_FAILED, once a coupling effect
- * has been added to its scene.) */
+ * the scene as it is, and its layout_generation/acquire/release hooks keep it so: an integrator
+ * made from it claims the scene (older ones stop), and refuses to step once the layout changed
+ * (see tb_scene_integrator_create). */
 TB_API tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system);
 
 /* Switches the quaternion-renormalisation hook (takes effect for systems made after). */
@@ -173,26 +173,49 @@ TB_API tb_status tb_scene_absolute_tolerances(const tb_scene *scene, double scal
                                               double *out_atol);
 
 /* The rigid-body derivative (ctx is the scene): dx = P/M, dq = 1/2 (0, omega) (x) q,
- * dP = F, dL = tau. Pure; allocates nothing. Returns -1 if ctx is NULL. */
+ * dP = F, dL = tau. Pure; allocates nothing. Returns -1 (fatal) if ctx, y or dydt is NULL. */
 TB_API int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx);
 
-/* Post-step hook: q <- q / |q| for every body. Returns 1 if some |q| is zero or not finite. */
+/* Post-step hook: q <- q / |q| for every body. Returns 1 if some |q| is zero or not finite, -1
+ * if ctx or y is NULL. */
 TB_API int tb_scene_normalize_quaternions(double t, double *y, void *ctx);
 
-/* The largest fixed step at which method keeps the scene's stiffest mode (springs, ground
- * contact) from growing by more than 1% a step: h lambda below 2.78 for RK4, 0.53 for
- * midpoint, 0.14 for Euler, where lambda estimates the mode's rate from its stiffness and
- * damping and the inverse mass at its ends (rotation included, bounded by the smallest
- * moment). INFINITY when nothing is stiff; out_which (may be NULL, TB_DETAIL_SIZE) names the
- * effect. Adaptive methods: INFINITY. */
+/* The largest fixed step at which method keeps every mode of the scene, at its current state,
+ * from growing by more than 1% a step (oscillations: |h lambda| below 2.78 for RK4, 0.53 for
+ * midpoint, 0.14 for Euler) or at all (decay: 2.785 for RK4, 2 for midpoint and Euler). The
+ * rates lambda are bounded from what makes them (docs/physics.md, "Stability"): each body's
+ * spin |omega|; springs from k and c with the inverse mass at their ends (rotation included,
+ * bounded by the smallest moment); drag (b + 2 c |v|) / M and its angular twin over the
+ * smallest moment; ground contact's bounce, rocking on the body's contact arms and friction
+ * bristles. User effects are not estimated. INFINITY when nothing limits the step (and for
+ * adaptive methods); out_which (may be NULL, TB_DETAIL_SIZE bytes) names the body or effect and
+ * its rate. The one function front ends ask. */
 TB_API tb_status tb_scene_max_stable_step(const tb_scene *scene, tb_method method, double *out_dt,
                                           char *out_which);
 
-/* Creates an integrator over the scene's own state array at time t0. A fixed-step def whose dt
- * exceeds tb_scene_max_stable_step is refused (TB_STATUS_INVALID_ARGUMENT, the detail naming
- * the effect and the largest stable dt) unless def->allow_unstable is set. For adaptive methods a
- * def with atol = 0 and no atol_vector gets tb_scene_absolute_tolerances(scene, rtol), and a
- * negative preconditioner_half_bandwidth gets 12 (each body's 13 x 13 Jacobian block). */
+/* Lets fixed-step integrators made on the scene run at a step beyond tb_scene_max_stable_step
+ * (default false): for showing what an unstable step does. The scene file's
+ * integrator.allow_unstable sets it. */
+TB_API void tb_scene_set_allow_unstable(tb_scene *scene, bool allow);
+TB_API bool tb_scene_allow_unstable(const tb_scene *scene);
+
+/* Creates an integrator over the scene's own state array at time t0.
+ * A fixed-step def whose dt exceeds tb_scene_max_stable_step is refused with
+ * TB_STATUS_UNSTABLE_STEP, the detail naming the body or effect, its rate and the largest
+ * stable dt, unless the scene allows unstable steps; the same check runs at the start of every
+ * advance, step and reset, since spin and speed can grow (then the call returns
+ * TB_STATUS_UNSTABLE_STEP and the state stays where it was). A t0 so large that doubles near it
+ * are more than 1e-6 dt apart is refused (TB_STATUS_INVALID_ARGUMENT, naming t0).
+ * For adaptive methods a def with atol = 0 and no atol_vector gets
+ * tb_scene_absolute_tolerances(scene, rtol / 100), and a negative
+ * preconditioner_half_bandwidth gets 12 (each body's 13 x 13 Jacobian block).
+ * Lifetimes: the integrator steps the scene only while the scene's layout is the one it was
+ * made on. Adding a body, a ground plane, contact points, an effect that couples independent
+ * bodies, or making another integrator on the scene (tb_scene_integrator_create or
+ * tb_integrator_create on tb_scene_ode_system) makes it refuse with
+ * TB_STATUS_LAYOUT_CHANGED (its detail says what changed): it never steps a moved state array.
+ * While it steps, the scene is busy: another integrator's advance (from inside a callback)
+ * returns TB_STATUS_BUSY, and so do calls that would change the layout. */
 TB_API tb_status tb_scene_integrator_create(tb_scene *scene, const tb_integrator_def *def,
                                             double t0, tb_integrator **out_integrator);
 

@@ -317,7 +317,7 @@ static tb_status load_integrator(tb__loader *ld, const json_t *object)
         status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, "integrator.allow_unstable",
                                "must be true or false, got %s", kind_of(unstable));
     }
-    def->allow_unstable = unstable != NULL && json_is_true(unstable);
+    tb_scene_set_allow_unstable(ld->scene, unstable != NULL && json_is_true(unstable));
     return status == TB_STATUS_OK ? load_linear_solver(ld, object, def) : status;
 }
 

@@ -97,7 +97,7 @@ static int apply_per_body_effects(const tb_scene *scene, double t, const double 
 int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
 {
     const tb_scene *scene = ctx;
-    if (scene == NULL) {
+    if (scene == NULL || y == NULL || dydt == NULL) {
         return -1;
     }
     const size_t n = scene->body_count;
@@ -179,7 +179,8 @@ int tb_scene_normalize_quaternions(double t, double *y, void *ctx)
 {
     (void)t;
     tb_scene *scene = ctx;
-    return scene == NULL ? -1 : normalize(y, scene->body_count, &scene->quaternion_drift);
+    return scene == NULL || y == NULL ? -1
+                                      : normalize(y, scene->body_count, &scene->quaternion_drift);
 }
 
 int tb__scene_block_normalize(double t, double *y, size_t first, size_t count, void *ctx)

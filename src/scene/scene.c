@@ -109,11 +109,15 @@ static tb_status reserve_states(tb_scene *scene, size_t size)
 
 tb_status tb__scene_layout_states(tb_scene *scene, size_t body_count)
 {
+    tb_status status = tb__scene_check_idle(scene, "changing the scene's layout");
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
     size_t extra = 0;
     for (size_t e = 0; e < scene->effect_count; ++e) {
         extra += scene->effects[e].states_per_contact * scene->contact_count;
     }
-    tb_status status = reserve_states(scene, TB_STATE_SIZE * body_count + extra);
+    status = reserve_states(scene, TB_STATE_SIZE * body_count + extra);
     if (status != TB_STATUS_OK) {
         return status;
     }
@@ -124,6 +128,12 @@ tb_status tb__scene_layout_states(tb_scene *scene, size_t body_count)
     }
     memset(scene->states + TB_STATE_SIZE * body_count, 0, extra * sizeof(double));
     scene->extra_count = extra;
+    if (body_count > scene->body_count) {
+        tb__scene_layout_changed(scene, "body %zu added", scene->body_count);
+    } else {
+        tb__scene_layout_changed(scene, "effect-owned states laid out again (%zu contact points)",
+                                 scene->contact_count);
+    }
     return TB_STATUS_OK;
 }
 
@@ -176,6 +186,7 @@ void tb_scene_destroy(tb_scene *scene)
         free(scene->effects);
         free(scene->effect_order);
         free(scene->contacts);
+        free(scene->name_slots);
         free(scene);
     }
 }
@@ -197,6 +208,11 @@ tb_status tb__check_vector(tb_scene *scene, const double *v, const char *what)
     return TB_STATUS_OK;
 }
 
+void tb__scene_clear_detail(const tb_scene *scene)
+{
+    ((tb_scene *)scene)->detail[0] = '\0';
+}
+
 static tb_status validate_name(tb_scene *scene, const char *name)
 {
     if (name == NULL) {
@@ -209,7 +225,7 @@ static tb_status validate_name(tb_scene *scene, const char *name)
                               length);
     }
     size_t existing;
-    if (tb_scene_find_body(scene, name, &existing) == TB_STATUS_OK) {
+    if (tb__scene_lookup_name(scene, name, &existing)) {
         return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
                               "def.name: \"%s\" is already body %zu's name", name, existing);
     }
@@ -244,65 +260,131 @@ static tb_status validate_body_def(tb_scene *scene, const tb_body_def *def)
     return status;
 }
 
-/* P = M v and L = R diag(I) R^T omega for body i at its state's orientation. */
-static void set_momenta(tb_scene *scene, size_t i, const double v[3], const double omega[3])
+/* The constants the derivative divides by: a finite mass or moment whose inverse overflows
+ * (a subnormal mass) is refused here, naming the field, rather than turning every state into
+ * infinity at the first step. */
+static tb_status body_constants(tb_scene *scene, const tb_mass_properties *props, tb__body *out)
 {
-    double *s = scene->states + TB_STATE_SIZE * i;
-    const tb_mass_properties *props = &scene->mass_props[i];
-    double q[4], omega_body[3];
-    tb__unit_quaternion(scene->states, i, q);
-    tb__q_rotate_inverse(omega_body, q, omega);
-    for (int k = 0; k < 3; ++k) {
-        s[7 + k] = props->mass * v[k];
-        omega_body[k] *= props->moments[k];
+    out->mass = props->mass;
+    out->inv_mass = 1.0 / props->mass;
+    if (!isfinite(out->inv_mass)) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "def.mass.mass: %g kg is too small: 1/mass overflows", props->mass);
     }
-    tb__q_rotate(s + 10, q, omega_body);
+    for (int k = 0; k < 3; ++k) {
+        out->inv_moments[k] = 1.0 / props->moments[k];
+        if (!isfinite(out->inv_moments[k])) {
+            return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                                  "def.mass.moments[%d]: %g kg m^2 is too small: 1/moment "
+                                  "overflows",
+                                  k, props->moments[k]);
+        }
+    }
+    return TB_STATUS_OK;
 }
 
-tb_status tb_scene_add_body(tb_scene *scene, const tb_body_def *def, size_t *out_id)
+/* P = M v and L = R diag(I) R^T omega for a body of mass properties props at orientation q
+ * (principal -> world, unit). Refuses momenta that overflow (1e308 kg at 10 m/s), naming the
+ * argument (`velocity`, `angular_velocity`, with `prefix` before it). */
+static tb_status momenta(tb_scene *scene, const tb_mass_properties *props, const double q[4],
+                         const double v[3], const double omega[3], const char *prefix,
+                         double out_P[3], double out_L[3])
 {
-    if (scene == NULL || def == NULL) {
-        return TB_STATUS_NULL_POINTER;
-    }
-    scene->detail[0] = '\0';
-    tb_status status = validate_body_def(scene, def);
-    if (status == TB_STATUS_OK && scene->body_count == scene->body_capacity) {
-        status = reserve_bodies(scene, 2 * scene->body_capacity);
-    }
-    if (status == TB_STATUS_OK) {
-        /* Effect-owned states move up by one body and restart from zero. */
-        status = tb__scene_layout_states(scene, scene->body_count + 1);
-    }
-    if (status != TB_STATUS_OK) {
-        return status;
-    }
-    const size_t i = scene->body_count;
-    const tb_mass_properties *props = &def->mass;
-    scene->mass_props[i] = *props;
-    if (def->name != NULL) {
-        snprintf(scene->names[i], TB_NAME_SIZE, "%s", def->name);
-    } else {
-        snprintf(scene->names[i], TB_NAME_SIZE, "body%zu", i);
-    }
-    scene->bodies[i].mass = props->mass;
-    scene->bodies[i].inv_mass = 1.0 / props->mass;
+    double omega_body[3];
+    tb__q_rotate_inverse(omega_body, q, omega);
     for (int k = 0; k < 3; ++k) {
-        scene->bodies[i].inv_moments[k] = 1.0 / props->moments[k];
+        out_P[k] = props->mass * v[k];
+        omega_body[k] *= props->moments[k];
     }
-    double *s = scene->states + TB_STATE_SIZE * i;
+    tb__q_rotate(out_L, q, omega_body);
+    if (!tb__all_finite(out_P, 3)) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "%svelocity: momentum mass * velocity overflows (%g kg at |v| = "
+                              "%g m/s)",
+                              prefix, props->mass, tb__v3_norm(v));
+    }
+    if (!tb__all_finite(out_L, 3)) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "%sangular_velocity: angular momentum I omega overflows (|omega| = "
+                              "%g rad/s)",
+                              prefix, tb__v3_norm(omega));
+    }
+    return TB_STATUS_OK;
+}
+
+/* The new body's state from its def: x, q = orientation (x) principal rotation, P, L. */
+static tb_status initial_state(tb_scene *scene, const tb_body_def *def, double s[TB_STATE_SIZE])
+{
+    const tb_mass_properties *props = &def->mass;
     double orientation[4];
     const double norm = tb__q_norm(def->orientation);
     for (int k = 0; k < 4; ++k) {
         orientation[k] = def->orientation[k] / norm;
     }
-    tb__v3_copy(s, def->position);
-    tb__q_mul(s + 3, orientation, props->rotation); /* principal -> shape -> world */
-    const double qn = tb__q_norm(s + 3);
+    tb__v3_copy(s + TB_STATE_X, def->position);
+    double *q = s + TB_STATE_Q;
+    tb__q_mul(q, orientation, props->rotation); /* principal -> shape -> world */
+    const double qn = tb__q_norm(q);
     for (int k = 0; k < 4; ++k) {
-        s[3 + k] /= qn;
+        q[k] /= qn;
     }
-    set_momenta(scene, i, def->velocity, def->angular_velocity);
+    return momenta(scene, props, q, def->velocity, def->angular_velocity, "def.", s + TB_STATE_P,
+                   s + TB_STATE_L);
+}
+
+/* Room for one more body everywhere it is kept; nothing is lost on failure. */
+static tb_status make_room_for_body(tb_scene *scene)
+{
+    /* first: growing the arrays would move what a step in progress is reading */
+    tb_status status = tb__scene_check_idle(scene, "adding a body");
+    if (status == TB_STATUS_OK && scene->body_count == scene->body_capacity) {
+        status = reserve_bodies(scene, 2 * scene->body_capacity);
+    }
+    if (status == TB_STATUS_OK) {
+        status = tb__scene_reserve_names(scene, scene->body_count + 1);
+    }
+    if (status == TB_STATUS_OK) {
+        /* Effect-owned states move up by one body and restart from zero. */
+        status = tb__scene_layout_states(scene, scene->body_count + 1);
+    }
+    return status;
+}
+
+tb_status tb_scene_add_body(tb_scene *scene, const tb_body_def *def, size_t *out_id)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    if (def == NULL) {
+        return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "def is NULL");
+    }
+    tb__body constants;
+    double s[TB_STATE_SIZE];
+    tb_status status = validate_body_def(scene, def);
+    if (status == TB_STATUS_OK) {
+        status = body_constants(scene, &def->mass, &constants);
+    }
+    if (status == TB_STATUS_OK) {
+        status = initial_state(scene, def, s);
+    }
+    if (status == TB_STATUS_OK) {
+        status = make_room_for_body(scene);
+    }
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    const size_t i = scene->body_count;
+    scene->mass_props[i] = def->mass;
+    if (def->name != NULL) {
+        snprintf(scene->names[i], TB_NAME_SIZE, "%s", def->name);
+    } else {
+        snprintf(scene->names[i], TB_NAME_SIZE, "body%zu", i);
+    }
+    scene->bodies[i] = constants;
+    memcpy(scene->states + TB_STATE_SIZE * i, s, sizeof s);
     scene->body_count++;
+    tb__scene_insert_name(scene, i);
     if (out_id != NULL) {
         *out_id = i;
     }
@@ -321,16 +403,19 @@ const char *tb_scene_body_name(const tb_scene *scene, size_t id)
 
 tb_status tb_scene_find_body(const tb_scene *scene, const char *name, size_t *out_id)
 {
-    if (scene == NULL || name == NULL || out_id == NULL) {
+    if (scene == NULL) {
         return TB_STATUS_NULL_POINTER;
     }
-    for (size_t i = 0; i < scene->body_count; ++i) {
-        if (strcmp(scene->names[i], name) == 0) {
-            *out_id = i;
-            return TB_STATUS_OK;
-        }
+    tb__scene_clear_detail(scene);
+    if (name == NULL || out_id == NULL) {
+        return tb__scene_fail((tb_scene *)scene, TB_STATUS_NULL_POINTER, "%s is NULL",
+                              name == NULL ? "name" : "out_id");
     }
-    return TB_STATUS_OUT_OF_RANGE;
+    if (!tb__scene_lookup_name(scene, name, out_id)) {
+        return tb__scene_fail((tb_scene *)scene, TB_STATUS_OUT_OF_RANGE,
+                              "name: no body is called \"%.*s\"", TB_NAME_SIZE, name);
+    }
+    return TB_STATUS_OK;
 }
 
 double *tb_scene_states(tb_scene *scene)
@@ -343,12 +428,25 @@ const double *tb_scene_states_const(const tb_scene *scene)
     return scene == NULL ? NULL : scene->states;
 }
 
-tb_status tb_scene_get_state(const tb_scene *scene, size_t id, tb_body_state *out_state)
+/* The prologue of a function on body id with one required pointer: clears the detail, then
+ * refuses a NULL pointer (named) or an id out of range. */
+static tb_status begin_body_call(const tb_scene *scene, size_t id, const void *pointer,
+                                 const char *pointer_name)
 {
-    if (scene == NULL || out_state == NULL) {
+    if (scene == NULL) {
         return TB_STATUS_NULL_POINTER;
     }
-    tb_status status = tb__scene_check_id(scene, id, "id");
+    tb__scene_clear_detail(scene);
+    if (pointer == NULL) {
+        return tb__scene_fail((tb_scene *)scene, TB_STATUS_NULL_POINTER, "%s is NULL",
+                              pointer_name);
+    }
+    return tb__scene_check_id(scene, id, "id");
+}
+
+tb_status tb_scene_get_state(const tb_scene *scene, size_t id, tb_body_state *out_state)
+{
+    tb_status status = begin_body_call(scene, id, out_state, "out_state");
     if (status == TB_STATUS_OK) {
         memcpy(out_state, scene->states + TB_STATE_SIZE * id, sizeof *out_state);
     }
@@ -357,11 +455,7 @@ tb_status tb_scene_get_state(const tb_scene *scene, size_t id, tb_body_state *ou
 
 tb_status tb_scene_set_state(tb_scene *scene, size_t id, const tb_body_state *state)
 {
-    if (scene == NULL || state == NULL) {
-        return TB_STATUS_NULL_POINTER;
-    }
-    scene->detail[0] = '\0';
-    tb_status status = tb__scene_check_id(scene, id, "id");
+    tb_status status = begin_body_call(scene, id, state, "state");
     if (status != TB_STATUS_OK) {
         return status;
     }
@@ -379,7 +473,7 @@ tb_status tb_scene_set_state(tb_scene *scene, size_t id, const tb_body_state *st
     memcpy(s, values, TB_STATE_SIZE * sizeof(double));
     const double norm = tb__q_norm(state->q);
     for (int k = 0; k < 4; ++k) {
-        s[3 + k] = state->q[k] / norm;
+        s[TB_STATE_Q + k] = state->q[k] / norm;
     }
     return TB_STATUS_OK;
 }
@@ -387,57 +481,33 @@ tb_status tb_scene_set_state(tb_scene *scene, size_t id, const tb_body_state *st
 tb_status tb_scene_set_velocity(tb_scene *scene, size_t id, const double velocity[3],
                                 const double angular_velocity[3])
 {
-    if (scene == NULL || velocity == NULL || angular_velocity == NULL) {
-        return TB_STATUS_NULL_POINTER;
-    }
-    scene->detail[0] = '\0';
-    tb_status status = tb__scene_check_id(scene, id, "id");
+    tb_status status = begin_body_call(scene, id, velocity, "velocity");
     if (status == TB_STATUS_OK) {
         status = tb__check_vector(scene, velocity, "velocity");
     }
     if (status == TB_STATUS_OK) {
         status = tb__check_vector(scene, angular_velocity, "angular_velocity");
     }
+    double q[4], P[3], L[3];
     if (status == TB_STATUS_OK) {
-        set_momenta(scene, id, velocity, angular_velocity);
+        tb__unit_quaternion(scene->states, id, q);
+        status = momenta(scene, &scene->mass_props[id], q, velocity, angular_velocity, "", P, L);
+    }
+    if (status == TB_STATUS_OK) {
+        double *s = scene->states + TB_STATE_SIZE * id;
+        tb__v3_copy(s + TB_STATE_P, P);
+        tb__v3_copy(s + TB_STATE_L, L);
     }
     return status;
 }
 
 tb_status tb_scene_get_mass(const tb_scene *scene, size_t id, tb_mass_properties *out_mass)
 {
-    if (scene == NULL || out_mass == NULL) {
-        return TB_STATUS_NULL_POINTER;
-    }
-    tb_status status = tb__scene_check_id(scene, id, "id");
+    tb_status status = begin_body_call(scene, id, out_mass, "out_mass");
     if (status == TB_STATUS_OK) {
         *out_mass = scene->mass_props[id];
     }
     return status;
-}
-
-tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
-{
-    if (scene == NULL || out_system == NULL) {
-        return TB_STATUS_NULL_POINTER;
-    }
-    if (scene->body_count == 0) {
-        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
-                              "scene has no bodies: nothing to integrate");
-    }
-    *out_system = (tb_ode_system){
-        .n = tb_scene_state_size(scene),
-        .derivative = tb_scene_derivative,
-        .post_step = scene->renormalize ? tb_scene_normalize_quaternions : NULL,
-        .ctx = scene,
-    };
-    /* Bodies that do not interact are the system's blocks. */
-    if (tb__scene_separable(scene)) {
-        out_system->block_size = TB_STATE_SIZE;
-        out_system->block_derivative = tb__scene_block_derivative;
-        out_system->block_post_step = scene->renormalize ? tb__scene_block_normalize : NULL;
-    }
-    return TB_STATUS_OK;
 }
 
 void tb_scene_set_renormalize(tb_scene *scene, bool renormalize)
@@ -457,97 +527,4 @@ void tb_scene_reset_quaternion_drift(tb_scene *scene)
     if (scene != NULL) {
         scene->quaternion_drift = 0.0;
     }
-}
-
-tb_status tb_scene_absolute_tolerances(const tb_scene *scene, double scale, double *out_atol)
-{
-    if (scene == NULL || out_atol == NULL) {
-        return TB_STATUS_NULL_POINTER;
-    }
-    if (!(scale > 0) || !isfinite(scale)) {
-        return tb__scene_fail((tb_scene *)scene, TB_STATUS_INVALID_ARGUMENT,
-                              "scale: must be finite and > 0, got %g", scale);
-    }
-    for (size_t i = 0; i < scene->body_count; ++i) {
-        const tb_mass_properties *props = &scene->mass_props[i];
-        const double largest = fmax(props->moments[0], fmax(props->moments[1], props->moments[2]));
-        const double length = sqrt(largest / props->mass);
-        const double block[TB_STATE_SIZE] = {length,
-                                             length,
-                                             length,
-                                             1.0,
-                                             1.0,
-                                             1.0,
-                                             1.0,
-                                             props->mass * length,
-                                             props->mass * length,
-                                             props->mass * length,
-                                             largest,
-                                             largest,
-                                             largest};
-        for (int k = 0; k < TB_STATE_SIZE; ++k) {
-            out_atol[TB_STATE_SIZE * i + k] = scale * block[k];
-        }
-    }
-    for (size_t e = 0; e < scene->effect_count; ++e) {
-        const tb__effect *effect = &scene->effects[e];
-        const size_t count = effect->states_per_contact * scene->contact_count;
-        for (size_t k = 0; k < count; ++k) {
-            out_atol[effect->state_offset + k] = scale * effect->state_scale;
-        }
-    }
-    return TB_STATUS_OK;
-}
-
-/* The automatic absolute tolerance is this fraction of rtol times each component's natural
- * scale: it matters only for components smaller than 1% of their scale. */
-#define TB__ATOL_FRACTION 1e-2
-
-/* Half-bandwidth that covers one body's 13 x 13 Jacobian block. */
-#define TB__BODY_HALF_BANDWIDTH (TB_STATE_SIZE - 1)
-
-tb_status tb_scene_integrator_create(tb_scene *scene, const tb_integrator_def *def, double t0,
-                                     tb_integrator **out_integrator)
-{
-    tb_ode_system system;
-    tb_status status = tb_scene_ode_system(scene, &system);
-    if (status != TB_STATUS_OK) {
-        return status;
-    }
-    if (def == NULL) {
-        return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "def is NULL");
-    }
-    tb_integrator_def scene_def = *def;
-    double *atol = NULL;
-    if (tb_method_is_adaptive(def->method) && def->atol == 0.0 && def->atol_vector == NULL &&
-        def->rtol > 0 && isfinite(def->rtol)) {
-        atol = malloc(system.n * sizeof(double));
-        if (atol == NULL) {
-            return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "tolerance vector");
-        }
-        tb_scene_absolute_tolerances(scene, TB__ATOL_FRACTION * def->rtol, atol);
-        scene_def.atol_vector = atol;
-    }
-    if (scene_def.preconditioner_half_bandwidth < 0) {
-        scene_def.preconditioner_half_bandwidth = TB__BODY_HALF_BANDWIDTH;
-    }
-    if (!tb_method_is_adaptive(def->method) && !def->allow_unstable) {
-        double max_dt;
-        char which[TB_DETAIL_SIZE];
-        tb_scene_max_stable_step(scene, def->method, &max_dt, which);
-        if (def->dt > max_dt) {
-            free(atol);
-            return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
-                                  "def.dt: %g s is beyond %s's stability limit for %s: use dt "
-                                  "<= %.3g s, or cvode-bdf",
-                                  def->dt, tb_method_name(def->method), which, max_dt);
-        }
-    }
-    tb_error error;
-    status = tb_integrator_create(&system, &scene_def, t0, scene->states, out_integrator, &error);
-    free(atol); /* the integrator copied it */
-    if (status != TB_STATUS_OK) {
-        tb__scene_fail(scene, status, "integrator: %s", error.message);
-    }
-    return status;
 }

@@ -89,6 +89,24 @@ struct tb_scene {
     bool renormalize;
     double quaternion_drift; /* largest | |q| - 1 | seen by the renormalisation hook */
     char detail[TB_DETAIL_SIZE];
+
+    /* Names by hash: open addressing with linear probing, name_slot_count (a power of two, at
+     * least twice body_count) slots holding body id + 1, 0 for empty. */
+    size_t *name_slots;
+    size_t name_slot_count;
+
+    /* Lifetimes (scene_ode.c). The generation counts layout changes (bodies, effect-owned
+     * states, coupling) and integrators made on the scene; an integrator steps only while its
+     * generation is the scene's. */
+    unsigned long long layout_generation;
+    char layout_change[TB_DETAIL_SIZE / 2]; /* what bumped the generation last */
+    bool separable_at_claim; /* whether the newest integrator saw independent bodies */
+    bool busy;               /* an advance, step or reset is in progress */
+    bool allow_unstable;     /* tb_scene_set_allow_unstable */
+    /* The fixed step of the newest integrator made by tb_scene_integrator_create, checked
+     * against the scene's rates at every advance; guard_dt 0 for none. */
+    tb_method guard_method;
+    double guard_dt;
 };
 
 /* Writes scene->detail and returns status. */
@@ -104,6 +122,16 @@ tb_status tb__check_vector(tb_scene *scene, const double *v, const char *what);
 /* value finite and >= 0, else a detail naming what. */
 tb_status tb__check_coefficient(tb_scene *scene, double value, const char *what);
 
+/* Names by hash (body_names.c). reserve makes room for body_count names (nothing changes on
+ * failure); insert adds body id's name, which must be new; lookup finds a name. */
+tb_status tb__scene_reserve_names(tb_scene *scene, size_t body_count);
+void tb__scene_insert_name(tb_scene *scene, size_t id);
+bool tb__scene_lookup_name(const tb_scene *scene, const char *name, size_t *out_id);
+
+/* Clears the detail: the first thing every public scene function does once scene is known to
+ * be non-NULL (the detail is the one part of a scene a const function may write). */
+void tb__scene_clear_detail(const tb_scene *scene);
+
 /* Checks id against the body count, writing the detail on failure. */
 tb_status tb__scene_check_id(const tb_scene *scene, size_t id, const char *what);
 
@@ -113,8 +141,24 @@ tb_status tb__scene_reserve_effects(tb_scene *scene, size_t capacity);
 /* Appends an effect, growing the list if needed; nothing changes on failure. */
 tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect);
 
+/* TB_STATUS_BUSY (detail naming `what`) while an integrator is stepping the scene: a call from
+ * inside a derivative, hook or user effect must not change what the step is reading. */
+tb_status tb__scene_check_idle(tb_scene *scene, const char *what);
+
+/* Records a change of the scene's layout (what the state's components mean, how many there
+ * are, or whether bodies are independent): integrators made before refuse to step with
+ * TB_STATUS_LAYOUT_CHANGED, their detail quoting `what` ("body 3 added"). Effects that
+ * change the layout call it after the change succeeded. */
+void tb__scene_layout_changed(tb_scene *scene, const char *format, ...)
+#if defined(__GNUC__) || defined(__clang__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
 /* Recomputes where effect-owned states live (after the bodies' states), grows the state
- * array if needed and zeroes those states. On failure nothing changes. */
+ * array if needed and zeroes those states; records the layout change (body_count above the
+ * scene's: a body is being added). TB_STATUS_BUSY while the scene is being stepped. On
+ * failure nothing changes. */
 tb_status tb__scene_layout_states(tb_scene *scene, size_t body_count);
 
 /* A point fixed in a body's shape frame, as an offset from the centre of mass in the
@@ -146,6 +190,13 @@ bool tb__scene_separable(const tb_scene *scene);
 int tb__scene_block_derivative(double t, const double *y, double *dydt, size_t first, size_t count,
                                void *ctx);
 int tb__scene_block_normalize(double t, double *y, size_t first, size_t count, void *ctx);
+
+/* The run-time stability gate (stability.c): TB_STATUS_UNSTABLE_STEP, with a detail (of
+ * TB_DETAIL_SIZE bytes) naming the body or effect, its rate and the largest stable step, when a
+ * fixed step dt of method is beyond the scene's stability limit at state y, unless the scene
+ * allows unstable steps. */
+tb_status tb__scene_check_step(const tb_scene *scene, const double *y, tb_method method, double dt,
+                               char *detail);
 
 /* How body i moves, read from y once for an effect that looks at several of its points. */
 typedef struct tb__motion {

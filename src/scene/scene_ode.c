@@ -1,0 +1,267 @@
+/* The scene as an ODE system: its derivative and hooks for the generic integrators, the
+ * lifetimes that keep an integrator from stepping a scene whose layout changed under it (or
+ * that another call is stepping), tolerances, and integrator creation with the stability
+ * gate. */
+#include "scene/scene_internal.h"
+
+#include "core/detail.h"
+#include "math/tb_math.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+/* --- lifetimes --------------------------------------------------------------------------- */
+
+tb_status tb__scene_check_idle(tb_scene *scene, const char *what)
+{
+    if (!scene->busy) {
+        return TB_STATUS_OK;
+    }
+    return tb__scene_fail(scene, TB_STATUS_BUSY,
+                          "%s: the scene is being stepped (called from inside a derivative, "
+                          "hook or user effect)",
+                          what);
+}
+
+void tb__scene_layout_changed(tb_scene *scene, const char *format, ...)
+{
+    scene->layout_generation++;
+    va_list args;
+    va_start(args, format);
+    vsnprintf(scene->layout_change, sizeof scene->layout_change, format, args);
+    va_end(args);
+}
+
+/* tb_ode_system.layout_generation: an integrator is being made on the scene. It claims the
+ * scene: the generation moves on, so integrators made before refuse to step (two integrators
+ * stepping one scene would each take the other's steps as changes from outside). */
+static unsigned long long claim(void *ctx)
+{
+    tb_scene *scene = ctx;
+    tb__scene_layout_changed(scene, "a newer integrator was made on the scene");
+    scene->separable_at_claim = tb__scene_separable(scene);
+    scene->guard_dt = 0.0;
+    return scene->layout_generation;
+}
+
+static tb_status acquire(void *ctx, unsigned long long generation, char *detail)
+{
+    tb_scene *scene = ctx;
+    if (scene->busy) {
+        return tb__set_detail(detail, TB_STATUS_BUSY,
+                              "the scene is already being stepped by a call in progress (an "
+                              "integrator advanced from inside a callback of another)");
+    }
+    if (generation != scene->layout_generation) {
+        return tb__set_detail(detail, TB_STATUS_LAYOUT_CHANGED,
+                              "the scene changed after this integrator was made (last: %s): "
+                              "make a new integrator",
+                              scene->layout_change);
+    }
+    if (scene->separable_at_claim && !tb__scene_separable(scene)) {
+        return tb__set_detail(detail, TB_STATUS_LAYOUT_CHANGED,
+                              "an effect coupling bodies was added after this integrator was "
+                              "made for independent bodies: make a new integrator");
+    }
+    if (scene->guard_dt > 0.0) {
+        const tb_status status = tb__scene_check_step(scene, scene->states, scene->guard_method,
+                                                      scene->guard_dt, detail);
+        if (status != TB_STATUS_OK) {
+            return status;
+        }
+    }
+    scene->busy = true;
+    return TB_STATUS_OK;
+}
+
+static void release(void *ctx)
+{
+    tb_scene *scene = ctx;
+    scene->busy = false;
+}
+
+/* --- the ODE system ---------------------------------------------------------------------- */
+
+tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    if (out_system == NULL) {
+        return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "out_system is NULL");
+    }
+    if (scene->body_count == 0) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "scene has no bodies: nothing to integrate");
+    }
+    *out_system = (tb_ode_system){
+        .n = tb_scene_state_size(scene),
+        .derivative = tb_scene_derivative,
+        .post_step = scene->renormalize ? tb_scene_normalize_quaternions : NULL,
+        .ctx = scene,
+        .layout_generation = claim,
+        .acquire = acquire,
+        .release = release,
+    };
+    /* Bodies that do not interact are the system's blocks. */
+    if (tb__scene_separable(scene)) {
+        out_system->block_size = TB_STATE_SIZE;
+        out_system->block_derivative = tb__scene_block_derivative;
+        out_system->block_post_step = scene->renormalize ? tb__scene_block_normalize : NULL;
+    }
+    return TB_STATUS_OK;
+}
+
+void tb_scene_set_allow_unstable(tb_scene *scene, bool allow)
+{
+    if (scene != NULL) {
+        scene->allow_unstable = allow;
+    }
+}
+
+bool tb_scene_allow_unstable(const tb_scene *scene)
+{
+    return scene != NULL && scene->allow_unstable;
+}
+
+tb_status tb_scene_absolute_tolerances(const tb_scene *scene, double scale, double *out_atol)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    if (out_atol == NULL) {
+        return tb__scene_fail((tb_scene *)scene, TB_STATUS_NULL_POINTER, "out_atol is NULL");
+    }
+    if (!(scale > 0) || !isfinite(scale)) {
+        return tb__scene_fail((tb_scene *)scene, TB_STATUS_INVALID_ARGUMENT,
+                              "scale: must be finite and > 0, got %g", scale);
+    }
+    for (size_t i = 0; i < scene->body_count; ++i) {
+        const tb_mass_properties *props = &scene->mass_props[i];
+        const double largest = fmax(props->moments[0], fmax(props->moments[1], props->moments[2]));
+        const double length = sqrt(largest / props->mass);
+        const double block[TB_STATE_SIZE] = {length,
+                                             length,
+                                             length,
+                                             1.0,
+                                             1.0,
+                                             1.0,
+                                             1.0,
+                                             props->mass * length,
+                                             props->mass * length,
+                                             props->mass * length,
+                                             largest,
+                                             largest,
+                                             largest};
+        for (int k = 0; k < TB_STATE_SIZE; ++k) {
+            out_atol[TB_STATE_SIZE * i + k] = scale * block[k];
+        }
+    }
+    for (size_t e = 0; e < scene->effect_count; ++e) {
+        const tb__effect *effect = &scene->effects[e];
+        const size_t count = effect->states_per_contact * scene->contact_count;
+        for (size_t k = 0; k < count; ++k) {
+            out_atol[effect->state_offset + k] = scale * effect->state_scale;
+        }
+    }
+    return TB_STATUS_OK;
+}
+
+/* The automatic absolute tolerance is this fraction of rtol times each component's natural
+ * scale: it matters only for components smaller than 1% of their scale. */
+#define TB__ATOL_FRACTION 1e-2
+
+/* Half-bandwidth that covers one body's 13 x 13 Jacobian block. */
+#define TB__BODY_HALF_BANDWIDTH (TB_STATE_SIZE - 1)
+
+/* A fixed step must stay a step at t0: where doubles are spaced more than this fraction of dt
+ * apart, t0 + dt rounds to a step of another length (t0 = 1e15 s: spacing 0.125 s, so steps of
+ * 1/240 s would be 0 s). */
+#define TB__TIME_RESOLUTION 1e-6
+
+/* What tb_integrator_create does not know: the stability gate for the scene at its state, and
+ * the time resolution at t0. */
+static tb_status check_fixed_step(tb_scene *scene, const tb_integrator_def *def, double t0)
+{
+    if (tb_method_is_adaptive(def->method) || !(def->dt > 0) || !isfinite(def->dt) ||
+        !isfinite(t0)) {
+        return TB_STATUS_OK; /* tb_integrator_create names what is wrong */
+    }
+    const double spacing = nextafter(fabs(t0), INFINITY) - fabs(t0);
+    if (spacing > TB__TIME_RESOLUTION * def->dt) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "t0: %g s is too large for def.dt = %g s: doubles near t0 are %g s "
+                              "apart, so every step would be rounded by %.2g of itself (at most "
+                              "%g): start the time nearer 0",
+                              t0, def->dt, spacing, spacing / def->dt, TB__TIME_RESOLUTION);
+    }
+    char detail[TB_DETAIL_SIZE];
+    const tb_status status =
+        tb__scene_check_step(scene, scene->states, def->method, def->dt, detail);
+    return status == TB_STATUS_OK ? status : tb__scene_fail(scene, status, "def.%s", detail);
+}
+
+/* def with the scene's automatic tolerances (atol_vector, allocated into *out_atol) and
+ * preconditioner bandwidth filled in. */
+static tb_status scene_integrator_def(tb_scene *scene, const tb_integrator_def *def,
+                                      tb_integrator_def *out_def, double **out_atol)
+{
+    *out_def = *def;
+    *out_atol = NULL;
+    if (tb_method_is_adaptive(def->method) && def->atol == 0.0 && def->atol_vector == NULL &&
+        def->rtol > 0 && isfinite(def->rtol)) {
+        double *atol = malloc(tb_scene_state_size(scene) * sizeof(double));
+        if (atol == NULL) {
+            return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "tolerance vector");
+        }
+        tb_scene_absolute_tolerances(scene, TB__ATOL_FRACTION * def->rtol, atol);
+        out_def->atol_vector = atol;
+        *out_atol = atol;
+    }
+    if (out_def->preconditioner_half_bandwidth < 0) {
+        out_def->preconditioner_half_bandwidth = TB__BODY_HALF_BANDWIDTH;
+    }
+    return TB_STATUS_OK;
+}
+
+tb_status tb_scene_integrator_create(tb_scene *scene, const tb_integrator_def *def, double t0,
+                                     tb_integrator **out_integrator)
+{
+    tb_ode_system system;
+    tb_status status = tb_scene_ode_system(scene, &system);
+    if (status == TB_STATUS_OK && (def == NULL || out_integrator == NULL)) {
+        status = tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "%s is NULL",
+                                def == NULL ? "def" : "out_integrator");
+    }
+    if (status == TB_STATUS_OK) {
+        status = check_fixed_step(scene, def, t0);
+    }
+    tb_integrator_def scene_def;
+    double *atol = NULL;
+    if (status == TB_STATUS_OK) {
+        status = scene_integrator_def(scene, def, &scene_def, &atol);
+    }
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    /* A failed creation leaves older integrators as they were. */
+    const unsigned long long generation = scene->layout_generation;
+    const bool separable = scene->separable_at_claim;
+    const double guard_dt = scene->guard_dt;
+    tb_error error;
+    status = tb_integrator_create(&system, &scene_def, t0, scene->states, out_integrator, &error);
+    free(atol); /* the integrator copied it */
+    if (status != TB_STATUS_OK) {
+        scene->layout_generation = generation;
+        scene->separable_at_claim = separable;
+        scene->guard_dt = guard_dt;
+        return tb__scene_fail(scene, status, "integrator: %s", error.message);
+    }
+    scene->guard_method = def->method;
+    scene->guard_dt = tb_method_is_adaptive(def->method) ? 0.0 : def->dt;
+    return TB_STATUS_OK;
+}
