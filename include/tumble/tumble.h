@@ -12,5 +12,6 @@
 #include "tumble/effects.h"
 #include "tumble/run.h"
 #include "tumble/scene_file.h"
+#include "tumble/writer.h"
 
 #endif

@@ -1,0 +1,101 @@
+/* Writers: the frames of a run into a file, as CSV text, NumPy .npz arrays, or an animated
+ * glTF 2.0 scene (.glb binary or .gltf text) that Blender, three.js and other glTF viewers
+ * open. A writer is fed one frame at a time (tb_writer_on_frame is a tb_frame_fn for
+ * tb_scene_run) and finished by tb_writer_close. docs/export.md describes the formats.
+ *
+ * What a frame holds, per body, in tumble's world frame (z up) and SI units: the position of
+ * the origin of the body's shape frame (m), the shape -> world unit quaternion (w, x, y, z),
+ * the velocity of the shape origin (m/s) and the angular velocity (rad/s): the pose a model of
+ * the shape is placed with (tb_body_def.orientation's frame, not the principal frame).
+ *
+ * Files appear whole or not at all: a writer writes into "<path>.partial" and renames it to
+ * path when tb_writer_close succeeds; a failed or abandoned writer removes it and leaves an
+ * existing file at path as it was. (A path that names something other than a regular file,
+ * such as /dev/null, is written directly.) */
+#ifndef TUMBLE_WRITER_H
+#define TUMBLE_WRITER_H
+
+#include "tumble/export.h"
+
+#include "tumble/scene.h"
+#include "tumble/status.h"
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum tb_output_format {
+    TB_OUTPUT_CSV = 0, /* text, a row per body per frame, numbers that read back exactly */
+    TB_OUTPUT_NPZ,     /* NumPy .npz: t, position, orientation, velocity, angular_velocity */
+    TB_OUTPUT_GLB,     /* binary glTF 2.0, one file */
+    TB_OUTPUT_GLTF     /* text glTF 2.0, its buffer embedded as base64 */
+} tb_output_format;
+
+/* How glTF rotation keys are interpolated between frames. */
+typedef enum tb_rotation_keys {
+    /* Cubic Hermite spline whose tangents are the simulated dq/dt = 1/2 (0, omega) q: a fast
+     * spin stays on the simulated rotation between keys. Default. */
+    TB_ROTATION_CUBICSPLINE = 0,
+    TB_ROTATION_LINEAR /* spherical linear interpolation between the keys */
+} tb_rotation_keys;
+
+typedef struct tb_writer_def {
+    tb_output_format format;        /* default CSV */
+    tb_rotation_keys rotation_keys; /* glTF only; default TB_ROTATION_CUBICSPLINE */
+    /* glTF only, may be NULL (default): the scene file the scene was loaded from; its bodies'
+     * shapes and its ground planes are drawn. Without it (or for a body given by mass and
+     * inertia) a body is drawn as the solid ellipsoid with its mass and inertia. */
+    const char *scene_file;
+    int internal_cookie; /* set by tb_writer_def_default */
+} tb_writer_def;
+
+TB_API tb_writer_def tb_writer_def_default(void);
+
+/* The format a file name asks for by its extension (.csv, .npz, .glb, .gltf, any case);
+ * TB_STATUS_INVALID_ARGUMENT for another or no extension. */
+TB_API tb_status tb_output_format_from_path(const char *path, tb_output_format *out_format);
+
+/* The format called name ("csv", "npz", "glb", "gltf"); TB_STATUS_INVALID_ARGUMENT else. */
+TB_API tb_status tb_output_format_from_name(const char *name, tb_output_format *out_format);
+
+/* Lower-case name of a format ("csv", ...), or "unknown". */
+TB_API const char *tb_output_format_name(tb_output_format format);
+
+typedef struct tb_writer tb_writer;
+
+/* Opens a writer for the frames of scene (its bodies, names and, for glTF, shapes are taken
+ * now; the scene must keep its bodies while the writer is fed). On failure *out_writer is
+ * NULL, no file is left behind and out_error (may be NULL) names the input or the file. */
+TB_API tb_status tb_writer_open(const char *path, const tb_writer_def *def, const tb_scene *scene,
+                                tb_writer **out_writer, tb_error *out_error);
+
+/* Adds the scene's current states as the frame at time t (s). Frames come in increasing t,
+ * from a scene with the writer's body count (else TB_STATUS_INVALID_ARGUMENT, nothing
+ * added). A write that fails gives TB_STATUS_IO_ERROR, and every later call the same. */
+TB_API tb_status tb_writer_frame(tb_writer *writer, double t, const tb_scene *scene);
+
+/* tb_frame_fn for tb_scene_run with the writer as ctx: tb_writer_frame, and non-zero (which
+ * stops the run) when it fails; tb_writer_detail then says why. */
+TB_API int tb_writer_on_frame(size_t frame, double t, const tb_scene *scene, void *writer);
+
+/* Detail of the writer's last failure ("" if none); owned by the writer. */
+TB_API const char *tb_writer_detail(const tb_writer *writer);
+
+/* Number of frames added so far. */
+TB_API size_t tb_writer_frame_count(const tb_writer *writer);
+
+/* Finishes the file (npz and glTF are written now, from the frames kept in memory), puts it
+ * at its path and frees the writer, also on failure (then no file is left behind and
+ * out_error, may be NULL, says why). An earlier failed write makes close fail the same way. */
+TB_API tb_status tb_writer_close(tb_writer *writer, tb_error *out_error);
+
+/* Frees the writer without finishing its file (which is removed); accepts NULL. */
+TB_API void tb_writer_destroy(tb_writer *writer);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

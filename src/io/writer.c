@@ -1,0 +1,307 @@
+/* Writers: choosing a format, opening the file, taking frames, finishing the file whole. */
+#define _POSIX_C_SOURCE 200809L /* stat, strdup */
+#include "io/writer_internal.h"
+
+#include "core/detail.h"
+#include "math/tb_math.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#define TB__WRITER_COOKIE 0x77726974
+
+static const char *const format_names[] = {"csv", "npz", "glb", "gltf"};
+
+tb_writer_def tb_writer_def_default(void)
+{
+    tb_writer_def def;
+    memset(&def, 0, sizeof def);
+    def.format = TB_OUTPUT_CSV;
+    def.rotation_keys = TB_ROTATION_CUBICSPLINE;
+    def.internal_cookie = TB__WRITER_COOKIE;
+    return def;
+}
+
+const char *tb_output_format_name(tb_output_format format)
+{
+    return (unsigned)format < 4 ? format_names[format] : "unknown";
+}
+
+static bool same_name(const char *a, const char *b)
+{
+    for (; *a != '\0' && *b != '\0'; ++a, ++b) {
+        if (tolower((unsigned char)*a) != tolower((unsigned char)*b)) {
+            return false;
+        }
+    }
+    return *a == *b;
+}
+
+tb_status tb_output_format_from_name(const char *name, tb_output_format *out_format)
+{
+    if (name == NULL || out_format == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    for (unsigned k = 0; k < 4; ++k) {
+        if (same_name(name, format_names[k])) {
+            *out_format = (tb_output_format)k;
+            return TB_STATUS_OK;
+        }
+    }
+    return TB_STATUS_INVALID_ARGUMENT;
+}
+
+tb_status tb_output_format_from_path(const char *path, tb_output_format *out_format)
+{
+    if (path == NULL || out_format == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
+    if (dot == NULL || (slash != NULL && slash > dot)) {
+        return TB_STATUS_INVALID_ARGUMENT;
+    }
+    return tb_output_format_from_name(dot + 1, out_format);
+}
+
+tb_status tb__writer_io_failure(tb_writer *writer, const char *what)
+{
+    writer->failed = TB_STATUS_IO_ERROR;
+    return tb__set_detail(writer->detail, TB_STATUS_IO_ERROR, "%s: %s: %s", writer->path, what,
+                          strerror(errno != 0 ? errno : EIO));
+}
+
+static tb_status check_def(const tb_writer_def *def, tb_error *error)
+{
+    if (def->internal_cookie != TB__WRITER_COOKIE) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "def: not initialised with tb_writer_def_default");
+    }
+    if ((unsigned)def->format > TB_OUTPUT_GLTF) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "def.format: must be a tb_output_format, got %d", (int)def->format);
+    }
+    if ((unsigned)def->rotation_keys > TB_ROTATION_LINEAR) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "def.rotation_keys: must be a tb_rotation_keys, got %d",
+                             (int)def->rotation_keys);
+    }
+    return TB_STATUS_OK;
+}
+
+/* Regular files (and paths not there yet) are written beside and renamed at the end; a
+ * device or a pipe is written directly. */
+static tb_status choose_paths(tb_writer *w, const char *path)
+{
+    struct stat info;
+    const bool direct = stat(path, &info) == 0 && !S_ISREG(info.st_mode);
+    const size_t length = strlen(path);
+    w->path = malloc(length + 1);
+    w->written_path = malloc(length + sizeof ".partial");
+    if (w->path == NULL || w->written_path == NULL) {
+        return TB_STATUS_OUT_OF_MEMORY;
+    }
+    memcpy(w->path, path, length + 1);
+    memcpy(w->written_path, path, length + 1);
+    if (!direct) {
+        memcpy(w->written_path + length, ".partial", sizeof ".partial");
+    }
+    return TB_STATUS_OK;
+}
+
+static tb_status take_scene(tb_writer *w, const tb_writer_def *def, const tb_scene *scene,
+                            tb_error *error)
+{
+    w->body_count = tb_scene_body_count(scene);
+    w->names = calloc(w->body_count > 0 ? w->body_count : 1, sizeof *w->names);
+    if (w->names == NULL) {
+        return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "writer: %zu body names",
+                             w->body_count);
+    }
+    for (size_t id = 0; id < w->body_count; ++id) {
+        snprintf(w->names[id], TB_NAME_SIZE, "%s", tb_scene_body_name(scene, id));
+    }
+    tb__frames_init(&w->frames, w->body_count);
+    if (def->format == TB_OUTPUT_GLB || def->format == TB_OUTPUT_GLTF) {
+        w->looks.shapes = NULL;
+        return tb__looks_load(&w->looks, def->scene_file, scene, error);
+    }
+    return TB_STATUS_OK;
+}
+
+static tb_status open_file(tb_writer *w, const char *path, tb_error *error)
+{
+    tb_status status = choose_paths(w, path);
+    if (status != TB_STATUS_OK) {
+        return tb__set_error(error, status, "path: %zu characters", strlen(path));
+    }
+    errno = 0;
+    w->file = fopen(w->written_path, "wb");
+    if (w->file == NULL) {
+        return tb__set_error(error, TB_STATUS_IO_ERROR, "%s: cannot open for writing: %s", w->path,
+                             strerror(errno));
+    }
+    status = w->format == TB_OUTPUT_CSV ? tb__csv_header(w) : TB_STATUS_OK;
+    return status == TB_STATUS_OK ? status : tb__set_error(error, status, "%s", w->detail);
+}
+
+tb_status tb_writer_open(const char *path, const tb_writer_def *def, const tb_scene *scene,
+                         tb_writer **out_writer, tb_error *out_error)
+{
+    tb__clear_error(out_error);
+    if (out_writer == NULL || path == NULL || def == NULL || scene == NULL) {
+        if (out_writer != NULL) {
+            *out_writer = NULL;
+        }
+        return tb__set_error(out_error, TB_STATUS_NULL_POINTER, "%s: is NULL",
+                             out_writer == NULL ? "out_writer"
+                             : path == NULL     ? "path"
+                             : def == NULL      ? "def"
+                                                : "scene");
+    }
+    *out_writer = NULL;
+    tb_status status = check_def(def, out_error);
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    tb_writer *w = calloc(1, sizeof *w);
+    if (w == NULL) {
+        return tb__set_error(out_error, TB_STATUS_OUT_OF_MEMORY, "writer");
+    }
+    w->format = def->format;
+    w->rotation_keys = def->rotation_keys;
+    w->last_t = -INFINITY;
+    status = take_scene(w, def, scene, out_error);
+    if (status == TB_STATUS_OK) {
+        status = open_file(w, path, out_error);
+    }
+    if (status != TB_STATUS_OK) {
+        tb_writer_destroy(w);
+        return status;
+    }
+    *out_writer = w;
+    return TB_STATUS_OK;
+}
+
+static tb_status check_frame(tb_writer *w, double t, const tb_scene *scene)
+{
+    if (!isfinite(t)) {
+        return tb__set_detail(w->detail, TB_STATUS_NOT_FINITE, "t: must be finite, got %g", t);
+    }
+    if (!(t > w->last_t)) {
+        return tb__set_detail(w->detail, TB_STATUS_INVALID_ARGUMENT,
+                              "t: must be after the previous frame's %.17g s, got %.17g", w->last_t,
+                              t);
+    }
+    if (tb_scene_body_count(scene) != w->body_count) {
+        return tb__set_detail(w->detail, TB_STATUS_INVALID_ARGUMENT,
+                              "scene: has %zu bodies, the writer was opened for %zu",
+                              tb_scene_body_count(scene), w->body_count);
+    }
+    return TB_STATUS_OK;
+}
+
+tb_status tb_writer_frame(tb_writer *writer, double t, const tb_scene *scene)
+{
+    if (writer == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    if (writer->failed != TB_STATUS_OK) {
+        return writer->failed; /* the detail still says what failed */
+    }
+    writer->detail[0] = '\0';
+    if (scene == NULL) {
+        return tb__set_detail(writer->detail, TB_STATUS_NULL_POINTER, "scene: is NULL");
+    }
+    tb_status status = check_frame(writer, t, scene);
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    if (writer->format == TB_OUTPUT_CSV) {
+        status = tb__csv_frame(writer, t, scene);
+    } else {
+        status = tb__frames_append(&writer->frames, t, scene);
+        if (status != TB_STATUS_OK) {
+            tb__set_detail(writer->detail, status, "frame %zu: no memory for %zu bodies",
+                           writer->frame_count, writer->body_count);
+        }
+    }
+    if (status == TB_STATUS_OK) {
+        writer->last_t = t;
+        writer->frame_count++;
+    }
+    return status;
+}
+
+int tb_writer_on_frame(size_t frame, double t, const tb_scene *scene, void *writer)
+{
+    (void)frame;
+    return tb_writer_frame(writer, t, scene) == TB_STATUS_OK ? 0 : 1;
+}
+
+const char *tb_writer_detail(const tb_writer *writer)
+{
+    return writer != NULL ? writer->detail : "";
+}
+
+size_t tb_writer_frame_count(const tb_writer *writer)
+{
+    return writer != NULL ? writer->frame_count : 0;
+}
+
+static void release(tb_writer *w, bool remove_file)
+{
+    if (w->file != NULL) {
+        fclose(w->file);
+    }
+    if (remove_file && w->written_path != NULL && strcmp(w->written_path, w->path) != 0) {
+        remove(w->written_path);
+    }
+    tb__frames_free(&w->frames);
+    tb__looks_free(&w->looks, w->body_count);
+    free(w->names);
+    free(w->path);
+    free(w->written_path);
+    free(w);
+}
+
+tb_status tb_writer_close(tb_writer *writer, tb_error *out_error)
+{
+    tb__clear_error(out_error);
+    if (writer == NULL) {
+        return tb__set_error(out_error, TB_STATUS_NULL_POINTER, "writer: is NULL");
+    }
+    tb_status status = writer->failed;
+    if (status == TB_STATUS_OK && writer->format == TB_OUTPUT_NPZ) {
+        status = tb__npz_write(writer);
+    } else if (status == TB_STATUS_OK && writer->format != TB_OUTPUT_CSV) {
+        status = tb__gltf_write(writer);
+    }
+    if (status == TB_STATUS_OK && (fflush(writer->file) != 0 || ferror(writer->file))) {
+        status = tb__writer_io_failure(writer, "write failed");
+    }
+    FILE *file = writer->file;
+    writer->file = NULL;
+    if (fclose(file) != 0 && status == TB_STATUS_OK) {
+        status = tb__writer_io_failure(writer, "closing failed");
+    }
+    if (status == TB_STATUS_OK && strcmp(writer->written_path, writer->path) != 0 &&
+        rename(writer->written_path, writer->path) != 0) {
+        status = tb__writer_io_failure(writer, "renaming the finished file failed");
+    }
+    if (status != TB_STATUS_OK) {
+        tb__set_error(out_error, status, "%s", writer->detail);
+    }
+    release(writer, status != TB_STATUS_OK);
+    return status;
+}
+
+void tb_writer_destroy(tb_writer *writer)
+{
+    if (writer != NULL) {
+        release(writer, true);
+    }
+}

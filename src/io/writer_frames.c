@@ -1,0 +1,90 @@
+/* Writers: what a frame holds per body, and the frames kept for the formats written at close. */
+#include "io/writer_internal.h"
+
+#include "math/tb_math.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void tb__writer_readout(const tb_scene *scene, size_t id, double out[13])
+{
+    const double *y = tb_scene_states_const(scene);
+    double *origin = out, *q = out + 3, *v = out + 7, *omega = out + 10, arm[3], spin[3];
+    tb_scene_body_shape_pose(scene, y, id, origin, q);
+    tb_scene_body_velocity(scene, y, id, v);
+    tb_scene_body_angular_velocity(scene, y, id, omega);
+    /* the shape origin moves with v + omega x (origin - centre of mass) */
+    const double *x = y + TB_STATE_SIZE * id + TB_STATE_X;
+    tb__v3_set(arm, origin[0] - x[0], origin[1] - x[1], origin[2] - x[2]);
+    tb__v3_cross(spin, omega, arm);
+    tb__v3_axpy(v, 1.0, spin);
+}
+
+tb_status tb__frames_init(tb__frames *frames, size_t body_count)
+{
+    memset(frames, 0, sizeof *frames);
+    frames->body_count = body_count;
+    return TB_STATUS_OK;
+}
+
+static bool grow(double **array, size_t per_frame, size_t capacity)
+{
+    double *grown = realloc(*array, capacity * per_frame * sizeof(double));
+    if (grown != NULL) {
+        *array = grown;
+    }
+    return grown != NULL;
+}
+
+/* Room for one more frame; the arrays double, so appending costs O(1) amortised. */
+static tb_status reserve(tb__frames *f)
+{
+    if (f->count < f->capacity) {
+        return TB_STATUS_OK;
+    }
+    const size_t capacity = f->capacity < 16 ? 16 : 2 * f->capacity;
+    const size_t n = f->body_count;
+    if (capacity > SIZE_MAX / (4 * sizeof(double) * (n > 0 ? n : 1))) {
+        return TB_STATUS_OUT_OF_MEMORY;
+    }
+    /* each grow keeps the old array on failure, so a failed reserve loses nothing */
+    const bool grown = grow(&f->t, 1, capacity) && grow(&f->position, 3 * n, capacity) &&
+                       grow(&f->orientation, 4 * n, capacity) &&
+                       grow(&f->velocity, 3 * n, capacity) &&
+                       grow(&f->angular_velocity, 3 * n, capacity);
+    if (!grown) {
+        return TB_STATUS_OUT_OF_MEMORY;
+    }
+    f->capacity = capacity;
+    return TB_STATUS_OK;
+}
+
+tb_status tb__frames_append(tb__frames *f, double t, const tb_scene *scene)
+{
+    const tb_status status = reserve(f);
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    const size_t n = f->body_count, k = f->count;
+    f->t[k] = t;
+    for (size_t id = 0; id < n; ++id) {
+        double s[13];
+        tb__writer_readout(scene, id, s);
+        memcpy(f->position + 3 * (k * n + id), s, 3 * sizeof(double));
+        memcpy(f->orientation + 4 * (k * n + id), s + 3, 4 * sizeof(double));
+        memcpy(f->velocity + 3 * (k * n + id), s + 7, 3 * sizeof(double));
+        memcpy(f->angular_velocity + 3 * (k * n + id), s + 10, 3 * sizeof(double));
+    }
+    f->count = k + 1;
+    return TB_STATUS_OK;
+}
+
+void tb__frames_free(tb__frames *f)
+{
+    free(f->t);
+    free(f->position);
+    free(f->orientation);
+    free(f->velocity);
+    free(f->angular_velocity);
+    memset(f, 0, sizeof *f);
+}

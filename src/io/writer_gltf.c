@@ -1,0 +1,195 @@
+/* Writers: animated glTF 2.0 (.glb, or .gltf with the buffer embedded as base64). One node a
+ * body, named as in the scene, with its shape as a mesh in the shape frame, under one root
+ * node that turns tumble's z-up world into glTF's y-up one; ground planes as large squares.
+ * Per body a translation channel (LINEAR) and a rotation channel: CUBICSPLINE with tangents
+ * dq/dt = 1/2 (0, omega) q, or LINEAR. The glTF 2.0 specification, Appendix C, defines the
+ * spline: p(s) = (2s^3 - 3s^2 + 1) v_k + t_d (s^3 - 2s^2 + s) b_k + (-2s^3 + 3s^2) v_k+1
+ * + t_d (s^3 - s^2) a_k+1 with t_d the key interval, so the tangents a, b are stored per
+ * second: the derivative itself. */
+#include "io/writer_gltf_internal.h"
+
+#include "core/detail.h"
+#include "math/tb_math.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Colours that tell neighbouring bodies apart (linear RGB). */
+static const double palette[][3] = {{0.80, 0.22, 0.12}, {0.10, 0.38, 0.80}, {0.95, 0.65, 0.05},
+                                    {0.20, 0.62, 0.25}, {0.55, 0.25, 0.70}, {0.05, 0.65, 0.70},
+                                    {0.85, 0.40, 0.60}, {0.45, 0.45, 0.45}};
+#define TB__PALETTE (sizeof palette / sizeof palette[0])
+
+static json_t *vector_json(const double *v, size_t n)
+{
+    json_t *array = json_array();
+    for (size_t k = 0; k < n; ++k) {
+        json_array_append_new(array, json_real(v[k]));
+    }
+    return array;
+}
+
+/* One material per colour the bodies use, then the ground's (index body_materials(w)). */
+static size_t body_materials(const tb_writer *w)
+{
+    return w->body_count < TB__PALETTE ? w->body_count : TB__PALETTE;
+}
+
+static void add_materials(tb__gltf *g, const tb_writer *w)
+{
+    const size_t count = body_materials(w) + (w->looks.ground_count > 0);
+    for (size_t k = 0; k < count; ++k) {
+        const bool ground = k == body_materials(w);
+        const double grey[3] = {0.62, 0.62, 0.58};
+        const double *rgb = ground ? grey : palette[k];
+        const double color[4] = {rgb[0], rgb[1], rgb[2], 1.0};
+        char name[32];
+        snprintf(name, sizeof name, ground ? "ground" : "body colour %zu", k + 1);
+        json_array_append_new(g->materials, json_pack("{s:s, s:{s:o, s:f, s:f}, s:b}", "name", name,
+                                                      "pbrMetallicRoughness", "baseColorFactor",
+                                                      vector_json(color, 4), "metallicFactor", 0.0,
+                                                      "roughnessFactor", ground ? 0.9 : 0.5,
+                                                      "doubleSided", ground));
+    }
+}
+
+/* A mesh from the triangles; returns its index, or -1 when it has none. */
+static long add_mesh(tb__gltf *g, const tb__mesh *m, const char *name, size_t material)
+{
+    if (m->index_count == 0) {
+        return -1;
+    }
+    double low[3] = {INFINITY, INFINITY, INFINITY}, high[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (size_t k = 0; k < 3 * m->vertex_count; ++k) {
+        low[k % 3] = fmin(low[k % 3], m->positions[k]);
+        high[k % 3] = fmax(high[k % 3], m->positions[k]);
+    }
+    const size_t n = m->vertex_count;
+    const long position =
+        tb__gltf_accessor(g, m->positions, n, TB__GLTF_VEC3, TB__GLTF_VERTICES, low, high);
+    const long normal =
+        tb__gltf_accessor(g, m->normals, n, TB__GLTF_VEC3, TB__GLTF_VERTICES, NULL, NULL);
+    const long indices = tb__gltf_accessor(g, m->indices, m->index_count, TB__GLTF_INDEX,
+                                           TB__GLTF_INDICES, NULL, NULL);
+    json_t *primitive = json_pack("{s:{s:i, s:i}, s:i, s:i, s:i}", "attributes", "POSITION",
+                                  (json_int_t)position, "NORMAL", (json_int_t)normal, "indices",
+                                  (json_int_t)indices, "material", (json_int_t)material, "mode", 4);
+    json_array_append_new(g->meshes,
+                          json_pack("{s:s, s:[o]}", "name", name, "primitives", primitive));
+    return (long)json_array_size(g->meshes) - 1;
+}
+
+/* Where the ground squares go and how big: around the bodies' mean first position, at least
+ * 10 m across their spread in every direction. */
+static void ground_extent(const tb_writer *w, double center[3], double *half_size)
+{
+    const tb__frames *f = &w->frames;
+    tb__v3_set(center, 0, 0, 0);
+    const size_t n = f->count > 0 ? f->body_count : 0;
+    for (size_t id = 0; id < n; ++id) {
+        tb__v3_axpy(center, 1.0 / (double)n, f->position + 3 * id);
+    }
+    double spread = 0;
+    for (size_t k = 0; k < f->count * n; ++k) {
+        const double *p = f->position + 3 * k;
+        double d[3] = {p[0] - center[0], p[1] - center[1], p[2] - center[2]};
+        spread = fmax(spread, tb__v3_norm(d));
+    }
+    *half_size = fmax(10.0, 2.0 * spread);
+}
+
+static json_t *body_node(tb__gltf *g, const tb_writer *w, size_t id)
+{
+    tb__mesh mesh = {0};
+    tb__mesh_of_shape(&mesh, &w->looks.shapes[id]);
+    const long index = mesh.failed ? -1 : add_mesh(g, &mesh, w->names[id], id % TB__PALETTE);
+    g->failed |= mesh.failed;
+    tb__mesh_free(&mesh);
+    json_t *node = json_pack("{s:s}", "name", w->names[id]);
+    if (index >= 0) {
+        json_object_set_new(node, "mesh", json_integer(index));
+    }
+    if (w->frames.count > 0) {
+        const double *q = w->frames.orientation + 4 * id;
+        const double xyzw[4] = {q[1], q[2], q[3], q[0]};
+        json_object_set_new(node, "translation", vector_json(w->frames.position + 3 * id, 3));
+        json_object_set_new(node, "rotation", vector_json(xyzw, 4));
+    }
+    return node;
+}
+
+static json_t *ground_node(tb__gltf *g, const tb_writer *w, size_t k)
+{
+    double center[3], half_size;
+    ground_extent(w, center, &half_size);
+    tb__mesh mesh = {0};
+    tb__mesh_of_ground(&mesh, &w->looks.grounds[k], center, half_size);
+    char name[32];
+    snprintf(name, sizeof name, "ground %zu", k + 1);
+    const long index = mesh.failed ? -1 : add_mesh(g, &mesh, name, body_materials(w));
+    g->failed |= mesh.failed;
+    tb__mesh_free(&mesh);
+    return json_pack("{s:s, s:i}", "name", name, "mesh", (json_int_t)index);
+}
+
+/* The root: tumble's world is z up, glTF's y up. Turning -90 degrees about x takes z to y
+ * and y to -z: q = (x, y, z, w) = (-sin 45, 0, 0, cos 45). */
+static void add_nodes(tb__gltf *g, const tb_writer *w)
+{
+    json_t *children = json_array();
+    const double root_rotation[4] = {-sqrt(0.5), 0.0, 0.0, sqrt(0.5)};
+    json_array_append_new(g->nodes,
+                          json_pack("{s:s, s:o, s:o, s:{s:s, s:s}}", "name", "tumble world (z up)",
+                                    "rotation", vector_json(root_rotation, 4), "children", children,
+                                    "extras", "up_axis",
+                                    "tumble's world is z up; this node turns it to glTF's y up",
+                                    "units", "SI: m, s, rad"));
+    for (size_t id = 0; id < w->body_count; ++id) {
+        json_array_append_new(children, json_integer((json_int_t)json_array_size(g->nodes)));
+        json_array_append_new(g->nodes, body_node(g, w, id));
+    }
+    for (size_t k = 0; k < w->looks.ground_count; ++k) {
+        json_array_append_new(children, json_integer((json_int_t)json_array_size(g->nodes)));
+        json_array_append_new(g->nodes, ground_node(g, w, k));
+    }
+}
+
+static json_t *document(tb__gltf *g, const tb_writer *w)
+{
+    add_materials(g, w);
+    add_nodes(g, w);
+    tb__gltf_add_animation(g, w);
+    char generator[64];
+    snprintf(generator, sizeof generator, "tumble %s", tb_version());
+    json_t *root =
+        json_pack("{s:{s:s, s:s}, s:i, s:[{s:s, s:[i]}]}", "asset", "version", "2.0", "generator",
+                  generator, "scene", 0, "scenes", "name", "tumble run", "nodes", 0);
+    json_object_set(root, "nodes", g->nodes);
+    json_object_set(root, "meshes", g->meshes);
+    json_object_set(root, "materials", g->materials);
+    if (json_array_size(g->animations) > 0) {
+        json_object_set(root, "animations", g->animations);
+    }
+    json_object_set(root, "accessors", g->accessors);
+    json_object_set(root, "bufferViews", g->views);
+    return root;
+}
+
+tb_status tb__gltf_write(tb_writer *w)
+{
+    tb__gltf g;
+    tb__gltf_init(&g);
+    json_t *root = document(&g, w);
+    tb_status status = TB_STATUS_OK;
+    if (g.failed || root == NULL) {
+        status = tb__set_detail(w->detail, TB_STATUS_OUT_OF_MEMORY, "%s: glTF of %zu frames",
+                                w->path, w->frames.count);
+    } else {
+        status = w->format == TB_OUTPUT_GLB ? tb__gltf_write_glb(&g, root, w)
+                                            : tb__gltf_write_text(&g, root, w);
+    }
+    json_decref(root);
+    tb__gltf_free(&g);
+    return status;
+}

@@ -1,0 +1,109 @@
+/* Private: the writer object, the frames it keeps, and the format back ends. */
+#ifndef TUMBLE_WRITER_INTERNAL_H
+#define TUMBLE_WRITER_INTERNAL_H
+
+#include "tumble/writer.h"
+
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+
+/* Frames kept in memory for the formats written at close (npz, glTF), one array per quantity
+ * in the layout NumPy reads: frame-major, then body, then component. */
+typedef struct tb__frames {
+    size_t count, capacity, body_count;
+    double *t;                /* [count] s */
+    double *position;         /* [count][body_count][3] shape origin, world, m */
+    double *orientation;      /* [count][body_count][4] shape -> world (w, x, y, z) */
+    double *velocity;         /* [count][body_count][3] of the shape origin, world, m/s */
+    double *angular_velocity; /* [count][body_count][3] world, rad/s */
+} tb__frames;
+
+/* What each body looks like (glTF). Sizes in the shape frame, m. */
+typedef enum tb__shape_kind {
+    TB__SHAPE_INERTIA = 0, /* no shape given: the ellipsoid of equal mass and inertia */
+    TB__SHAPE_BOX,
+    TB__SHAPE_SPHERE,
+    TB__SHAPE_CYLINDER, /* axis along z */
+    TB__SHAPE_CAPSULE,  /* axis along z, length between the hemispheres' centres */
+    TB__SHAPE_ELLIPSOID,
+    TB__SHAPE_MESH,
+    TB__SHAPE_POINTS /* each point a small sphere */
+} tb__shape_kind;
+
+typedef struct tb__shape {
+    tb__shape_kind kind;
+    double size[3]; /* box edges, ellipsoid semi-axes, or (radius, length, 0) */
+    double *vertices;
+    size_t vertex_count;     /* mesh vertices or points, [3 * vertex_count] */
+    unsigned *triangles;     /* mesh only, [3 * triangle_count] */
+    size_t triangle_count;   /* */
+    tb_mass_properties mass; /* for TB__SHAPE_INERTIA */
+} tb__shape;
+
+typedef struct tb__ground {
+    double normal[3]; /* unit, out of the ground */
+    double offset;    /* plane normal . x = offset, m */
+} tb__ground;
+
+typedef struct tb__looks {
+    tb__shape *shapes; /* [body_count] */
+    tb__ground *grounds;
+    size_t ground_count;
+} tb__looks;
+
+struct tb_writer {
+    tb_output_format format;
+    tb_rotation_keys rotation_keys;
+    size_t body_count;
+    char (*names)[TB_NAME_SIZE];
+    char *path;         /* where the file ends up */
+    char *written_path; /* where it is written: "<path>.partial", or path itself */
+    FILE *file;
+    tb__frames frames; /* npz, glTF */
+    tb__looks looks;   /* glTF */
+    double last_t;
+    size_t frame_count;
+    tb_status failed; /* a write failed: every later call reports it */
+    char detail[TB_DETAIL_SIZE];
+};
+
+/* One body's frame quantities (13 doubles: position, orientation, velocity, omega). */
+void tb__writer_readout(const tb_scene *scene, size_t id, double out[13]);
+
+tb_status tb__frames_init(tb__frames *frames, size_t body_count);
+tb_status tb__frames_append(tb__frames *frames, double t, const tb_scene *scene);
+void tb__frames_free(tb__frames *frames);
+
+/* "path: what failed: strerror" into the writer's detail; returns TB_STATUS_IO_ERROR. */
+tb_status tb__writer_io_failure(tb_writer *writer, const char *what);
+
+/* Back ends. */
+tb_status tb__csv_header(tb_writer *writer);
+tb_status tb__csv_frame(tb_writer *writer, double t, const tb_scene *scene);
+tb_status tb__npz_write(tb_writer *writer);
+tb_status tb__gltf_write(tb_writer *writer);
+
+/* Shapes and ground planes for glTF, from the scene file (may be NULL) and the scene. */
+tb_status tb__looks_load(tb__looks *looks, const char *scene_file, const tb_scene *scene,
+                         tb_error *error);
+void tb__looks_free(tb__looks *looks, size_t body_count);
+
+/* A triangle mesh in the shape frame, as glTF stores it: float positions and unit normals,
+ * counter-clockwise (outward) triangles. */
+typedef struct tb__mesh {
+    float *positions; /* [3 * vertex_count] m */
+    float *normals;   /* [3 * vertex_count] */
+    size_t vertex_count, vertex_capacity;
+    uint32_t *indices; /* [index_count], 3 a triangle */
+    size_t index_count, index_capacity;
+    bool failed; /* out of memory on the way */
+} tb__mesh;
+
+/* Appends the shape's surface (ground: a square of half_size m around center, on the plane). */
+void tb__mesh_of_shape(tb__mesh *mesh, const tb__shape *shape);
+void tb__mesh_of_ground(tb__mesh *mesh, const tb__ground *ground, const double center[3],
+                        double half_size);
+void tb__mesh_free(tb__mesh *mesh);
+
+#endif

@@ -1,0 +1,232 @@
+/* Writers: what the bodies and grounds look like in glTF, read from the scene file the scene
+ * was loaded from (its "shape" of each body, matched by name, and its "ground" effects). The
+ * scene file was already validated by the loader; what is read here is checked again only as
+ * far as drawing needs. */
+#include "io/scene_file_internal.h"
+#include "io/writer_internal.h"
+
+#include "core/detail.h"
+#include "math/tb_math.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* Inline mesh: "vertices": [[x, y, z], ...], "triangles": [[i, j, k], ...]. */
+static tb_status inline_mesh(tb__loader *ld, const json_t *shape, const char *path, tb__shape *s)
+{
+    const json_t *vertices = json_object_get(shape, "vertices");
+    const json_t *triangles = json_object_get(shape, "triangles");
+    s->vertex_count = json_array_size(vertices);
+    s->triangle_count = json_array_size(triangles);
+    s->vertices = malloc((s->vertex_count + 1) * 3 * sizeof(double));
+    s->triangles = malloc((s->triangle_count + 1) * 3 * sizeof(unsigned));
+    if (s->vertices == NULL || s->triangles == NULL) {
+        return tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, path, "mesh of %zu vertices",
+                             s->vertex_count);
+    }
+    tb_status status = TB_STATUS_OK;
+    for (size_t k = 0; k < s->vertex_count && status == TB_STATUS_OK; ++k) {
+        status = tb__json_numbers(ld, json_array_get(vertices, k), path, 3, s->vertices + 3 * k);
+    }
+    for (size_t k = 0; k < s->triangle_count && status == TB_STATUS_OK; ++k) {
+        double t[3];
+        status = tb__json_numbers(ld, json_array_get(triangles, k), path, 3, t);
+        for (int i = 0; i < 3 && status == TB_STATUS_OK; ++i) {
+            if (!(t[i] >= 0 && t[i] < (double)s->vertex_count)) {
+                status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, path, "triangles: index %g", t[i]);
+            }
+            s->triangles[3 * k + i] = (unsigned)t[i];
+        }
+    }
+    return status;
+}
+
+static tb_status mesh_shape(tb__loader *ld, const json_t *shape, const char *path, tb__shape *s)
+{
+    s->kind = TB__SHAPE_MESH;
+    const char *file = NULL;
+    tb_status status = tb__json_string(ld, shape, path, "file", false, &file);
+    if (status != TB_STATUS_OK || file == NULL) {
+        return status == TB_STATUS_OK ? inline_mesh(ld, shape, path, s) : status;
+    }
+    char full[2048], detail[TB_DETAIL_SIZE];
+    snprintf(full, sizeof full, "%s%s", file[0] == '/' ? "" : ld->directory, file);
+    status = tb__read_obj(full, &s->vertices, &s->vertex_count, &s->triangles, &s->triangle_count,
+                          detail);
+    return status == TB_STATUS_OK ? status : tb__load_fail(ld, status, path, "file: %s", detail);
+}
+
+static tb_status points_shape(tb__loader *ld, const json_t *shape, const char *path, tb__shape *s)
+{
+    const json_t *points = json_object_get(shape, "points");
+    s->kind = TB__SHAPE_POINTS;
+    s->vertex_count = json_array_size(points);
+    s->vertices = malloc((s->vertex_count + 1) * 3 * sizeof(double));
+    if (s->vertices == NULL) {
+        return tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, path, "%zu points", s->vertex_count);
+    }
+    tb_status status = TB_STATUS_OK;
+    for (size_t k = 0; k < s->vertex_count && status == TB_STATUS_OK; ++k) {
+        status = tb__json_vector(ld, json_array_get(points, k), path, "position", 3, true,
+                                 s->vertices + 3 * k);
+    }
+    return status;
+}
+
+/* Primitive sizes: box edges, sphere radius, cylinder and capsule radius and length,
+ * ellipsoid semi-axes. */
+static tb_status primitive_shape(tb__loader *ld, const json_t *shape, const char *path,
+                                 const char *type, tb__shape *s)
+{
+    static const struct {
+        const char *type;
+        tb__shape_kind kind;
+    } kinds[] = {{"box", TB__SHAPE_BOX},
+                 {"sphere", TB__SHAPE_SPHERE},
+                 {"cylinder", TB__SHAPE_CYLINDER},
+                 {"capsule", TB__SHAPE_CAPSULE},
+                 {"ellipsoid", TB__SHAPE_ELLIPSOID}};
+    for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; ++k) {
+        if (strcmp(type, kinds[k].type) == 0) {
+            s->kind = kinds[k].kind;
+        }
+    }
+    switch (s->kind) {
+    case TB__SHAPE_BOX:
+        return tb__json_vector(ld, shape, path, "size", 3, true, s->size);
+    case TB__SHAPE_ELLIPSOID:
+        return tb__json_vector(ld, shape, path, "semi_axes", 3, true, s->size);
+    case TB__SHAPE_SPHERE:
+        return tb__json_number(ld, shape, path, "radius", true, &s->size[0]);
+    case TB__SHAPE_CYLINDER:
+    case TB__SHAPE_CAPSULE: {
+        tb_status status = tb__json_number(ld, shape, path, "radius", true, &s->size[0]);
+        return status == TB_STATUS_OK
+                   ? tb__json_number(ld, shape, path, "length", true, &s->size[1])
+                   : status;
+    }
+    default:
+        return tb__load_fail(ld, TB_STATUS_BAD_SCENE, path, "type: \"%s\" cannot be drawn", type);
+    }
+}
+
+static tb_status body_shape(tb__loader *ld, const json_t *body, const char *path, tb__shape *s)
+{
+    const json_t *shape = json_object_get(body, "shape");
+    if (shape == NULL) {
+        return TB_STATUS_OK; /* mass and inertia: drawn as the equivalent ellipsoid */
+    }
+    const char *type = NULL;
+    tb_status status = tb__json_string(ld, shape, path, "type", true, &type);
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    if (strcmp(type, "mesh") == 0) {
+        return mesh_shape(ld, shape, path, s);
+    }
+    return strcmp(type, "points") == 0 ? points_shape(ld, shape, path, s)
+                                       : primitive_shape(ld, shape, path, type, s);
+}
+
+static tb_status load_grounds(tb__loader *ld, const json_t *effects, tb__looks *looks)
+{
+    looks->grounds = malloc((json_array_size(effects) + 1) * sizeof *looks->grounds);
+    if (looks->grounds == NULL) {
+        return tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, "effects", "ground planes");
+    }
+    tb_status status = TB_STATUS_OK;
+    for (size_t k = 0; k < json_array_size(effects) && status == TB_STATUS_OK; ++k) {
+        const json_t *e = json_array_get(effects, k);
+        const char *type = json_string_value(json_object_get(e, "type"));
+        if (type == NULL || strcmp(type, "ground") != 0) {
+            continue;
+        }
+        char path[32];
+        tb__path_index(path, sizeof path, "", "effects", k);
+        tb__ground *g = &looks->grounds[looks->ground_count];
+        tb__v3_set(g->normal, 0, 0, 1);
+        g->offset = 0;
+        status = tb__json_vector(ld, e, path, "normal", 3, false, g->normal);
+        if (status == TB_STATUS_OK) {
+            status = tb__json_number(ld, e, path, "offset", false, &g->offset);
+        }
+        const double length = tb__v3_norm(g->normal);
+        if (status == TB_STATUS_OK && !(length > 0)) {
+            status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, path, "normal: must not be zero");
+        }
+        for (int i = 0; i < 3; ++i) {
+            g->normal[i] /= length;
+        }
+        looks->ground_count += status == TB_STATUS_OK;
+    }
+    return status;
+}
+
+/* Each body of the scene drawn as the scene file's body of the same name describes it. */
+static tb_status load_file(tb__loader *ld, const json_t *root, const tb_scene *scene,
+                           tb__looks *looks)
+{
+    const json_t *bodies = json_object_get(root, "bodies");
+    tb_status status = TB_STATUS_OK;
+    for (size_t k = 0; k < json_array_size(bodies) && status == TB_STATUS_OK; ++k) {
+        const json_t *body = json_array_get(bodies, k);
+        const char *name = json_string_value(json_object_get(body, "name"));
+        size_t id;
+        if (name == NULL || tb_scene_find_body(scene, name, &id) != TB_STATUS_OK) {
+            continue;
+        }
+        char path[32];
+        tb__path_index(path, sizeof path, "", "bodies", k);
+        status = body_shape(ld, body, path, &looks->shapes[id]);
+    }
+    return status == TB_STATUS_OK ? load_grounds(ld, json_object_get(root, "effects"), looks)
+                                  : status;
+}
+
+static tb_status read_scene_file(const char *scene_file, const tb_scene *scene, tb__looks *looks,
+                                 tb_error *error)
+{
+    json_error_t json_error;
+    json_t *root = json_load_file(scene_file, 0, &json_error);
+    if (root == NULL) {
+        return tb__set_error(error, TB_STATUS_IO_ERROR, "scene_file: %s: %s", scene_file,
+                             json_error.text);
+    }
+    char directory[1024] = "";
+    const char *slash = strrchr(scene_file, '/');
+    if (slash != NULL && (size_t)(slash - scene_file) < sizeof directory - 1) {
+        memcpy(directory, scene_file, (size_t)(slash - scene_file) + 1);
+        directory[slash - scene_file + 1] = '\0';
+    }
+    tb__loader ld = {.name = scene_file, .directory = directory, .error = error};
+    const tb_status status = load_file(&ld, root, scene, looks);
+    json_decref(root);
+    return status;
+}
+
+tb_status tb__looks_load(tb__looks *looks, const char *scene_file, const tb_scene *scene,
+                         tb_error *error)
+{
+    const size_t n = tb_scene_body_count(scene);
+    memset(looks, 0, sizeof *looks);
+    looks->shapes = calloc(n > 0 ? n : 1, sizeof *looks->shapes);
+    if (looks->shapes == NULL) {
+        return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "writer: shapes of %zu bodies", n);
+    }
+    for (size_t id = 0; id < n; ++id) {
+        looks->shapes[id].kind = TB__SHAPE_INERTIA;
+        tb_scene_get_mass(scene, id, &looks->shapes[id].mass);
+    }
+    return scene_file != NULL ? read_scene_file(scene_file, scene, looks, error) : TB_STATUS_OK;
+}
+
+void tb__looks_free(tb__looks *looks, size_t body_count)
+{
+    for (size_t id = 0; looks->shapes != NULL && id < body_count; ++id) {
+        free(looks->shapes[id].vertices);
+        free(looks->shapes[id].triangles);
+    }
+    free(looks->shapes);
+    free(looks->grounds);
+    memset(looks, 0, sizeof *looks);
+}

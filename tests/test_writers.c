@@ -1,0 +1,319 @@
+/* Writers: CSV numbers read back as exactly the doubles in memory; files appear whole or not
+ * at all; bad input is refused with the shared statuses and changes nothing; a failed write
+ * is an error. The independent readers (NumPy, pygltflib, the Khronos validator) check the
+ * .npz and glTF contents in tests/export. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "tumble/tumble.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define DIRECTORY TUMBLE_TEST_BUILD_DIR "/"
+
+/* A box thrown with a spin (its shape origin is its centre of mass, so the velocity written
+ * is P / M exactly) and a sphere, under gravity; awkward decimals so no number is short. */
+static const char scene_json[] =
+    "{\"bodies\": [{\"name\": \"box\", \"shape\": {\"type\": \"box\", \"size\": [0.1, 0.2, "
+    "0.3]}, \"density\": 700, \"position\": [0.1, 0.2, 1.3], \"velocity\": [0.7, 0.3, 6.1], "
+    "\"angular_velocity\": [0.3, 1.1, 7.7]}, {\"name\": \"ball\", \"shape\": {\"type\": "
+    "\"sphere\", \"radius\": 0.1}, \"mass\": 1.1, \"position\": [1, 0, 2]}],"
+    " \"effects\": [{\"type\": \"gravity\"}], \"output\": {\"fps\": 30, \"duration\": 0.5}}";
+
+static tb_scene *load(tb_run_def *run)
+{
+    tb_scene *scene = NULL;
+    tb_error error;
+    assert_int_equal(tb_scene_load_string(scene_json, "writers.json", NULL, &scene, run, &error),
+                     TB_STATUS_OK);
+    return scene;
+}
+
+static long file_size(const char *path)
+{
+    FILE *file = fopen(path, "rb");
+    if (file == NULL) {
+        return -1;
+    }
+    fseek(file, 0, SEEK_END);
+    const long size = ftell(file);
+    fclose(file);
+    return size;
+}
+
+/* Frames as the run saw them, for comparison with what the file says. */
+typedef struct recorder {
+    tb_writer *writer;
+    size_t count;
+    double rows[64][2][14]; /* t, position, q, v, omega */
+} recorder;
+
+static int record(size_t frame, double t, const tb_scene *scene, void *ctx)
+{
+    recorder *r = ctx;
+    const double *y = tb_scene_states_const(scene);
+    for (size_t id = 0; id < 2 && r->count < 64; ++id) {
+        double *row = r->rows[r->count][id];
+        row[0] = t;
+        tb_scene_body_shape_pose(scene, y, id, row + 1, row + 4);
+        tb_scene_body_velocity(scene, y, id, row + 8);
+        tb_scene_body_angular_velocity(scene, y, id, row + 11);
+    }
+    r->count++;
+    return tb_writer_on_frame(frame, t, scene, r->writer);
+}
+
+/* Printed with 17 significant digits, every double reads back (strtod) as itself. */
+static void test_csv_numbers_read_back_as_the_doubles_in_memory(void **state)
+{
+    (void)state;
+    tb_run_def run;
+    tb_scene *scene = load(&run);
+    const char *path = DIRECTORY "writers_exact.csv";
+    tb_writer_def def = tb_writer_def_default();
+    recorder *r = calloc(1, sizeof *r);
+    assert_int_equal(tb_writer_open(path, &def, scene, &r->writer, NULL), TB_STATUS_OK);
+    assert_int_equal(tb_scene_run(scene, &run, record, r, NULL, NULL), TB_STATUS_OK);
+    assert_int_equal(tb_writer_close(r->writer, NULL), TB_STATUS_OK);
+    FILE *file = fopen(path, "r");
+    char line[1024], name[64];
+    assert_non_null(fgets(line, sizeof line, file)); /* the header */
+    assert_string_equal(line, "t,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n");
+    size_t rows = 0;
+    for (; fgets(line, sizeof line, file) != NULL; ++rows) {
+        const double *expected = r->rows[rows / 2][rows % 2];
+        char *p = line;
+        for (int k = 0; k < 15; ++k) {
+            if (k == 1) {
+                const size_t length = strcspn(p, ",");
+                memcpy(name, p, length);
+                name[length] = '\0';
+                assert_string_equal(name, rows % 2 ? "ball" : "box");
+                p += length + 1;
+                continue;
+            }
+            char *end;
+            const double value = strtod(p, &end);
+            /* exact: the same bits, not merely close */
+            assert_memory_equal(&value, &expected[k == 0 ? 0 : k - 1], sizeof value);
+            p = end + 1;
+        }
+    }
+    fclose(file);
+    assert_int_equal(rows, 2 * r->count);
+    assert_true(r->count == 16); /* 0.5 s at 30 fps: frames 0 .. 15 */
+    free(r);
+    tb_scene_destroy(scene);
+}
+
+static void test_format_follows_the_extension_or_the_name(void **state)
+{
+    (void)state;
+    tb_output_format format = TB_OUTPUT_CSV;
+    assert_int_equal(tb_output_format_from_path("run/anim.GLB", &format), TB_STATUS_OK);
+    assert_int_equal(format, TB_OUTPUT_GLB);
+    assert_int_equal(tb_output_format_from_path("a.b/frames.npz", &format), TB_STATUS_OK);
+    assert_int_equal(format, TB_OUTPUT_NPZ);
+    assert_int_equal(tb_output_format_from_path("x.gltf", &format), TB_STATUS_OK);
+    assert_int_equal(format, TB_OUTPUT_GLTF);
+    assert_int_equal(tb_output_format_from_path("a.glb/frames", &format),
+                     TB_STATUS_INVALID_ARGUMENT);
+    assert_int_equal(tb_output_format_from_path("frames.txt", &format), TB_STATUS_INVALID_ARGUMENT);
+    assert_int_equal(format, TB_OUTPUT_GLTF); /* unchanged by the failures */
+    assert_int_equal(tb_output_format_from_name("Csv", &format), TB_STATUS_OK);
+    assert_int_equal(format, TB_OUTPUT_CSV);
+    assert_int_equal(tb_output_format_from_name(NULL, &format), TB_STATUS_NULL_POINTER);
+    assert_string_equal(tb_output_format_name(TB_OUTPUT_NPZ), "npz");
+}
+
+static void test_open_refuses_bad_input_and_leaves_no_file(void **state)
+{
+    (void)state;
+    tb_run_def run;
+    tb_scene *scene = load(&run);
+    const char *path = DIRECTORY "writers_refused.glb";
+    remove(path);
+    tb_writer_def def = tb_writer_def_default();
+    tb_writer *writer = (tb_writer *)&def; /* must come back NULL */
+    tb_error error;
+    assert_int_equal(tb_writer_open(NULL, &def, scene, &writer, &error), TB_STATUS_NULL_POINTER);
+    assert_null(writer);
+    assert_non_null(strstr(error.message, "path"));
+    tb_writer_def plain;
+    memset(&plain, 0, sizeof plain);
+    assert_int_equal(tb_writer_open(path, &plain, scene, &writer, &error),
+                     TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(strstr(error.message, "tb_writer_def_default"));
+    def.format = (tb_output_format)7;
+    assert_int_equal(tb_writer_open(path, &def, scene, &writer, &error),
+                     TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(strstr(error.message, "def.format"));
+    def.format = TB_OUTPUT_GLB;
+    def.scene_file = DIRECTORY "no_such_scene.json";
+    assert_int_equal(tb_writer_open(path, &def, scene, &writer, &error), TB_STATUS_IO_ERROR);
+    assert_non_null(strstr(error.message, "scene_file"));
+    def.scene_file = NULL;
+    assert_int_equal(
+        tb_writer_open(DIRECTORY "no_such_directory/a.glb", &def, scene, &writer, &error),
+        TB_STATUS_IO_ERROR);
+    assert_non_null(strstr(error.message, "no_such_directory/a.glb"));
+    assert_null(writer);
+    assert_int_equal(file_size(path), -1);
+    tb_scene_destroy(scene);
+}
+
+static void test_a_bad_frame_is_refused_and_changes_nothing(void **state)
+{
+    (void)state;
+    tb_run_def run;
+    tb_scene *scene = load(&run);
+    const char *path = DIRECTORY "writers_frames.npz";
+    tb_writer_def def = tb_writer_def_default();
+    def.format = TB_OUTPUT_NPZ;
+    tb_writer *writer = NULL;
+    assert_int_equal(tb_writer_open(path, &def, scene, &writer, NULL), TB_STATUS_OK);
+    assert_int_equal(tb_writer_frame(writer, 0.0, scene), TB_STATUS_OK);
+    assert_int_equal(tb_writer_frame(writer, NAN, scene), TB_STATUS_NOT_FINITE);
+    assert_non_null(strstr(tb_writer_detail(writer), "t: must be finite"));
+    assert_int_equal(tb_writer_frame(writer, 0.0, scene), TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(strstr(tb_writer_detail(writer), "t: must be after"));
+    assert_int_equal(tb_writer_frame(writer, 0.1, NULL), TB_STATUS_NULL_POINTER);
+    tb_scene_def scene_def = tb_scene_def_default();
+    tb_scene *empty = NULL;
+    tb_scene_create(&scene_def, &empty, NULL);
+    assert_int_equal(tb_writer_frame(writer, 0.1, empty), TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(strstr(tb_writer_detail(writer), "scene: has 0 bodies"));
+    assert_int_equal(tb_writer_frame_count(writer), 1);
+    assert_int_equal(tb_writer_frame(writer, 0.1, scene), TB_STATUS_OK);
+    assert_string_equal(tb_writer_detail(writer), "");
+    assert_int_equal(tb_writer_frame_count(writer), 2);
+    assert_int_equal(tb_writer_close(writer, NULL), TB_STATUS_OK);
+    /* a stored zip: a local header first, and the end record counts the 10 arrays */
+    FILE *file = fopen(path, "rb");
+    unsigned char head[4], end[22];
+    assert_int_equal(fread(head, 1, 4, file), 4);
+    assert_memory_equal(head, "PK\3\4", 4);
+    fseek(file, -22, SEEK_END);
+    assert_int_equal(fread(end, 1, 22, file), 22);
+    fclose(file);
+    assert_memory_equal(end, "PK\5\6", 4);
+    assert_int_equal(end[10], 10);
+    tb_scene_destroy(empty);
+    tb_scene_destroy(scene);
+}
+
+/* The disk is full: the failure comes back as IO_ERROR naming the file, at the latest from
+ * close (CSV rows are buffered), and never as success. */
+static void test_a_failed_write_is_an_error(void **state)
+{
+    (void)state;
+    if (file_size("/dev/full") < 0) {
+        skip();
+    }
+    tb_run_def run;
+    tb_scene *scene = load(&run);
+    for (int format = TB_OUTPUT_CSV; format <= TB_OUTPUT_GLTF; ++format) {
+        tb_writer_def def = tb_writer_def_default();
+        def.format = (tb_output_format)format;
+        tb_writer *writer = NULL;
+        tb_error error;
+        assert_int_equal(tb_writer_open("/dev/full", &def, scene, &writer, NULL), TB_STATUS_OK);
+        tb_status status = TB_STATUS_OK;
+        for (int k = 0; k < 2000 && status == TB_STATUS_OK; ++k) {
+            status = tb_writer_frame(writer, 0.01 * k, scene);
+        }
+        assert_true(status == TB_STATUS_OK || status == TB_STATUS_IO_ERROR);
+        assert_int_equal(tb_writer_close(writer, &error), TB_STATUS_IO_ERROR);
+        assert_non_null(strstr(error.message, "/dev/full"));
+    }
+    tb_scene_destroy(scene);
+}
+
+/* An abandoned or failed writer leaves the file that was there, and no partial file. */
+static void test_an_unfinished_file_never_replaces_the_old_one(void **state)
+{
+    (void)state;
+    tb_run_def run;
+    tb_scene *scene = load(&run);
+    const char *path = DIRECTORY "writers_kept.csv";
+    FILE *file = fopen(path, "w");
+    fputs("old\n", file);
+    fclose(file);
+    tb_writer_def def = tb_writer_def_default();
+    tb_writer *writer = NULL;
+    assert_int_equal(tb_writer_open(path, &def, scene, &writer, NULL), TB_STATUS_OK);
+    assert_int_equal(tb_writer_frame(writer, 0.0, scene), TB_STATUS_OK);
+    assert_true(file_size(DIRECTORY "writers_kept.csv.partial") >= 0);
+    tb_writer_destroy(writer);
+    assert_int_equal(file_size(path), 4);
+    assert_int_equal(file_size(DIRECTORY "writers_kept.csv.partial"), -1);
+    tb_writer_destroy(NULL);
+    assert_int_equal(tb_writer_close(NULL, NULL), TB_STATUS_NULL_POINTER);
+    tb_scene_destroy(scene);
+}
+
+static unsigned read32(const unsigned char *p)
+{
+    return p[0] | (unsigned)p[1] << 8 | (unsigned)p[2] << 16 | (unsigned)p[3] << 24;
+}
+
+/* GLB container (glTF 2.0 section 4.4): magic, version 2, the total length, a JSON chunk then
+ * a BIN chunk; LINEAR rotation keys when asked for. */
+static void test_glb_is_one_json_chunk_and_one_binary_chunk(void **state)
+{
+    (void)state;
+    for (int linear = 0; linear < 2; ++linear) {
+        tb_run_def run;
+        tb_scene *scene = load(&run);
+        const char *path = DIRECTORY "writers.glb";
+        tb_writer_def def = tb_writer_def_default();
+        def.format = TB_OUTPUT_GLB;
+        def.rotation_keys = linear ? TB_ROTATION_LINEAR : TB_ROTATION_CUBICSPLINE;
+        tb_writer *writer = NULL;
+        assert_int_equal(tb_writer_open(path, &def, scene, &writer, NULL), TB_STATUS_OK);
+        assert_int_equal(tb_scene_run(scene, &run, tb_writer_on_frame, writer, NULL, NULL),
+                         TB_STATUS_OK);
+        assert_int_equal(tb_writer_close(writer, NULL), TB_STATUS_OK);
+        const long size = file_size(path);
+        unsigned char *data = malloc((size_t)size + 1);
+        FILE *file = fopen(path, "rb");
+        assert_int_equal(fread(data, 1, (size_t)size, file), (size_t)size);
+        fclose(file);
+        assert_memory_equal(data, "glTF", 4);
+        assert_int_equal(read32(data + 4), 2);
+        assert_int_equal(read32(data + 8), (unsigned)size);
+        const unsigned json_length = read32(data + 12);
+        assert_memory_equal(data + 16, "JSON", 4);
+        assert_int_equal(json_length % 4, 0);
+        assert_memory_equal(data + 20 + json_length + 4, "BIN\0", 4);
+        assert_int_equal(20 + json_length + 8 + read32(data + 20 + json_length), size);
+        data[20 + json_length] = '\0';
+        const char *json = (const char *)data + 20;
+        assert_non_null(strstr(json, "\"name\":\"box\""));
+        assert_non_null(strstr(json, "\"name\":\"ball\""));
+        assert_true((strstr(json, "CUBICSPLINE") == NULL) == linear);
+        free(data);
+        tb_scene_destroy(scene);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_csv_numbers_read_back_as_the_doubles_in_memory),
+        cmocka_unit_test(test_format_follows_the_extension_or_the_name),
+        cmocka_unit_test(test_open_refuses_bad_input_and_leaves_no_file),
+        cmocka_unit_test(test_a_bad_frame_is_refused_and_changes_nothing),
+        cmocka_unit_test(test_a_failed_write_is_an_error),
+        cmocka_unit_test(test_an_unfinished_file_never_replaces_the_old_one),
+        cmocka_unit_test(test_glb_is_one_json_chunk_and_one_binary_chunk),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
