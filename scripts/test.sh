@@ -4,6 +4,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/build.sh -DTUMBLE_WARNINGS_AS_ERRORS=ON
 ctest --test-dir build --output-on-failure -j "$(nproc)"
+# The exports read back by NumPy, pygltflib and the Khronos glTF validator (installs them).
+scripts/test_export.sh build
 
 # A shared libtumble: the install consumers against it, and the Python bindings' tests.
 cmake -S . -B build-shared -G Ninja -DTUMBLE_WARNINGS_AS_ERRORS=ON -DBUILD_SHARED_LIBS=ON \
