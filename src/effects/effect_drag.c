@@ -2,22 +2,24 @@
 #include "scene/scene_internal.h"
 
 #include "core/detail.h"
+#include "core/validate.h"
 #include "math/tb_math.h"
 
 #include <string.h>
 
 #define TB__DRAG_COOKIE 0xd7a6
 
-/* param[0..3]: linear, quadratic, angular, angular_quadratic. s and d: the body's states and
- * their derivatives. */
-static void drag_body(const tb__effect *effect, const tb__body *body, const double *s, double *d)
+/* s and d: the body's states and their derivatives. */
+static void drag_body(const tb__drag_params *drag, const tb__body *body, const double *s, double *d)
 {
-    const double v[3] = {s[7] * body->inv_mass, s[8] * body->inv_mass, s[9] * body->inv_mass};
-    tb__v3_axpy(d + 7, -(effect->param[0] + effect->param[1] * tb__v3_norm(v)), v);
-    if (effect->param[2] != 0.0 || effect->param[3] != 0.0) {
+    const double *P = s + TB_STATE_P;
+    const double v[3] = {P[0] * body->inv_mass, P[1] * body->inv_mass, P[2] * body->inv_mass};
+    tb__v3_axpy(d + TB_STATE_P, -(drag->linear + drag->quadratic * tb__v3_norm(v)), v);
+    if (drag->angular != 0.0 || drag->angular_quadratic != 0.0) {
         double omega[3];
         tb__angular_velocity(body, s, omega);
-        tb__v3_axpy(d + 10, -(effect->param[2] + effect->param[3] * tb__v3_norm(omega)), omega);
+        tb__v3_axpy(d + TB_STATE_L, -(drag->angular + drag->angular_quadratic * tb__v3_norm(omega)),
+                    omega);
     }
 }
 
@@ -25,19 +27,60 @@ static int apply_drag(const tb__effect *effect, const tb_scene *scene, double t,
                       double *dydt, size_t first, size_t count)
 {
     (void)t;
+    const tb__drag_params *drag = &effect->params.drag;
     const tb__body *bodies = scene->bodies + first;
     size_t i;
     if (effect->body != TB_ALL_BODIES) {
         if (tb__local_body(effect->body, first, count, &i)) {
-            drag_body(effect, &bodies[i], y + TB_STATE_SIZE * i, dydt + TB_STATE_SIZE * i);
+            drag_body(drag, &bodies[i], y + TB_STATE_SIZE * i, dydt + TB_STATE_SIZE * i);
         }
         return 0;
     }
     for (i = 0; i < count; ++i) {
-        drag_body(effect, &bodies[i], y + TB_STATE_SIZE * i, dydt + TB_STATE_SIZE * i);
+        drag_body(drag, &bodies[i], y + TB_STATE_SIZE * i, dydt + TB_STATE_SIZE * i);
     }
     return 0;
 }
+
+/* Drag decays velocities: F = -(b + c |v|) v has the rate (b + 2 c |v|) / m along v (the
+ * derivative of the force's magnitude by the speed, over the mass), the torque's twin
+ * (b_w + 2 c_w |omega|) / I_min; the quadratic parts grow with the state. The larger of the
+ * two, for the body where it is largest. */
+static double drag_body_rate(const tb__drag_params *drag, const tb__body *body, const double *s)
+{
+    const double speed = tb__v3_norm(s + TB_STATE_P) * body->inv_mass;
+    double rate = (drag->linear + 2.0 * drag->quadratic * speed) * body->inv_mass;
+    if (drag->angular != 0.0 || drag->angular_quadratic != 0.0) {
+        double omega[3];
+        tb__angular_velocity(body, s, omega);
+        const double *inverse = body->inv_moments;
+        const double largest_inverse = fmax(inverse[0], fmax(inverse[1], inverse[2]));
+        rate = fmax(rate, (drag->angular + 2.0 * drag->angular_quadratic * tb__v3_norm(omega)) *
+                              largest_inverse);
+    }
+    return rate;
+}
+
+static void drag_rate(const tb__effect *effect, const tb_scene *scene, const double *y,
+                      tb__effect_rate *out)
+{
+    *out = (tb__effect_rate){0.0, TB_ALL_BODIES, 0.0, TB_ALL_BODIES};
+    const bool all = effect->body == TB_ALL_BODIES;
+    for (size_t i = all ? 0 : effect->body; i < (all ? scene->body_count : effect->body + 1); ++i) {
+        const double rate =
+            drag_body_rate(&effect->params.drag, &scene->bodies[i], y + TB_STATE_SIZE * i);
+        if (rate > out->decay) {
+            out->decay = rate;
+            out->decay_body = i;
+        }
+    }
+}
+
+static const tb__effect_ops drag_ops = {
+    .name = "drag",
+    .apply_bodies = apply_drag,
+    .rate = drag_rate,
+};
 
 tb_drag_def tb_drag_def_default(void)
 {
@@ -46,16 +89,6 @@ tb_drag_def tb_drag_def_default(void)
     def.body = TB_ALL_BODIES;
     def.internal_cookie = TB__DRAG_COOKIE;
     return def;
-}
-
-tb_status tb__check_coefficient(tb_scene *scene, double value, const char *what)
-{
-    if (!(value >= 0) || !isfinite(value)) {
-        return tb__scene_fail(scene,
-                              isfinite(value) ? TB_STATUS_INVALID_ARGUMENT : TB_STATUS_NOT_FINITE,
-                              "%s: must be finite and >= 0, got %g", what, value);
-    }
-    return TB_STATUS_OK;
 }
 
 tb_status tb_scene_add_drag(tb_scene *scene, const tb_drag_def *def)
@@ -73,12 +106,13 @@ tb_status tb_scene_add_drag(tb_scene *scene, const tb_drag_def *def)
     const double values[4] = {def->linear, def->quadratic, def->angular, def->angular_quadratic};
     static const char *const names[4] = {"linear", "quadratic", "angular", "angular_quadratic"};
     for (int k = 0; k < 4 && status == TB_STATUS_OK; ++k) {
-        status = tb__check_coefficient(scene, values[k], names[k]);
+        status = tb__validate_nonnegative(scene->detail, values[k], names[k]);
     }
     if (status != TB_STATUS_OK) {
         return status;
     }
-    tb__effect effect = {.apply_bodies = apply_drag, .kind = TB__DRAG, .body = def->body};
-    memcpy(effect.param, values, sizeof values);
+    tb__effect effect = {.ops = &drag_ops, .body = def->body};
+    effect.params.drag =
+        (tb__drag_params){def->linear, def->quadratic, def->angular, def->angular_quadratic};
     return tb__scene_push_effect(scene, &effect);
 }

@@ -6,9 +6,9 @@
 #include "scene/scene_internal.h"
 
 #include "core/detail.h"
+#include "core/validate.h"
 #include "math/tb_math.h"
 
-#include <stdlib.h>
 #include <string.h>
 
 #define TB__GROUND_COOKIE 0x960d
@@ -22,25 +22,12 @@
  * bristles reach their sliding deflection in a few milliseconds instead of microseconds. */
 #define TB__BRISTLE_MAX_RATE 400.0
 
-enum { /* param slots */
-       OFFSET,
-       GRAVITY,
-       PENETRATION,
-       DAMPING_RATIO,
-       MU_STATIC,
-       MU_KINETIC,
-       STRIBECK,
-       S0,
-       S1
-};
-
 /* Normal force magnitude for a point of a body of mass M carrying share of its weight. */
-static double normal_force(const tb__effect *effect, double mass, double share, double depth,
+static double normal_force(const tb__ground_params *ground, double mass, double share, double depth,
                            double normal_speed)
 {
-    const double *p = effect->param;
-    const double stiffness = mass * p[GRAVITY] * share / p[PENETRATION];
-    const double damping = 2.0 * p[DAMPING_RATIO] * sqrt(stiffness * mass * share);
+    const double stiffness = mass * ground->gravity * share / ground->penetration;
+    const double damping = 2.0 * ground->damping_ratio * sqrt(stiffness * mass * share);
     const double force = stiffness * depth - damping * normal_speed;
     return force > 0.0 ? force : 0.0;
 }
@@ -50,14 +37,14 @@ static double normal_force(const tb__effect *effect, double mass, double share, 
  * rate = s0 |v| / mu and z_sliding = mu v / (s0 |v|), so the rate can be capped. The bristle
  * damping fades with speed, s1 exp(-(v / v_s)^2), as Canudas de Wit et al. suggest, so that
  * it damps presliding and does not add to sliding friction. */
-static void bristles(const tb__effect *effect, const double v_t[2], const double z[2], double dz[2],
-                     double friction[2])
+static void bristles(const tb__ground_params *ground, const double v_t[2], const double z[2],
+                     double dz[2], double friction[2])
 {
-    const double *p = effect->param;
     const double speed = hypot(v_t[0], v_t[1]);
-    const double ratio = speed / p[STRIBECK];
+    const double ratio = speed / ground->stribeck_velocity;
     const double fade = exp(-ratio * ratio);
-    const double mu = p[MU_KINETIC] + (p[MU_STATIC] - p[MU_KINETIC]) * fade;
+    const double mu =
+        ground->kinetic_friction + (ground->static_friction - ground->kinetic_friction) * fade;
     if (!(mu > 0.0)) { /* frictionless */
         for (int k = 0; k < 2; ++k) {
             dz[k] = -TB__BRISTLE_RELEASE_RATE * z[k];
@@ -65,26 +52,36 @@ static void bristles(const tb__effect *effect, const double v_t[2], const double
         }
         return;
     }
-    const double rate = p[S0] * speed / mu;
+    const double s0 = ground->bristle_stiffness;
+    const double rate = s0 * speed / mu;
     for (int k = 0; k < 2; ++k) {
         if (rate <= TB__BRISTLE_MAX_RATE) {
             dz[k] = v_t[k] - rate * z[k];
         } else {
-            const double sliding = mu * v_t[k] / (p[S0] * speed);
+            const double sliding = mu * v_t[k] / (s0 * speed);
             dz[k] = TB__BRISTLE_MAX_RATE * (sliding - z[k]);
         }
-        friction[k] = -(p[S0] * z[k] + p[S1] * fade * dz[k]);
+        friction[k] = -(s0 * z[k] + ground->bristle_damping * fade * dz[k]);
     }
 }
 
-static void contact(const tb__effect *effect, const tb_scene *scene, const tb__contact *c,
+/* How far contact point c's sphere dips below the plane (m, negative above it); its lever
+ * arm from the centre of mass goes into arm. */
+static double point_depth(const tb__ground_params *ground, const tb__contact *c,
+                          const tb__motion *motion, double arm[3])
+{
+    tb__point_arm(motion, c->r, arm);
+    const double height =
+        tb__v3_dot(ground->normal, motion->x) + tb__v3_dot(ground->normal, arm) - ground->offset;
+    return c->radius - height;
+}
+
+static void contact(const tb__ground_params *ground, const tb_scene *scene, const tb__contact *c,
                     const tb__motion *motion, const double *z, double *dz, double *dydt)
 {
-    const double *n = effect->vector, *t1 = effect->point, *t2 = effect->other_point;
+    const double *n = ground->normal, *t1 = ground->tangent[0], *t2 = ground->tangent[1];
     double arm[3];
-    tb__point_arm(motion, c->r, arm);
-    const double height = tb__v3_dot(n, motion->x) + tb__v3_dot(n, arm) - effect->param[OFFSET];
-    const double depth = c->radius - height;
+    const double depth = point_depth(ground, c, motion, arm);
     if (depth <= 0.0) {
         dz[0] = -TB__BRISTLE_RELEASE_RATE * z[0];
         dz[1] = -TB__BRISTLE_RELEASE_RATE * z[1];
@@ -94,10 +91,10 @@ static void contact(const tb__effect *effect, const tb_scene *scene, const tb__c
     double velocity[3];
     tb__point_velocity(motion, arm, velocity);
     const double mass = scene->bodies[c->body].mass;
-    const double N = normal_force(effect, mass, c->share, depth, tb__v3_dot(n, velocity));
+    const double N = normal_force(ground, mass, c->share, depth, tb__v3_dot(n, velocity));
     const double v_t[2] = {tb__v3_dot(t1, velocity), tb__v3_dot(t2, velocity)};
     double friction[2];
-    bristles(effect, v_t, z, dz, friction);
+    bristles(ground, v_t, z, dz, friction);
     double f[3];
     for (int k = 0; k < 3; ++k) {
         f[k] = N * (n[k] + friction[0] * t1[k] + friction[1] * t2[k]);
@@ -117,11 +114,105 @@ static int apply_ground(const tb__effect *effect, const tb_scene *scene, double 
             current = c->body;
             tb__body_motion(&scene->bodies[current], y + TB_STATE_SIZE * current, &motion);
         }
-        const size_t k = effect->state_offset + 2 * j;
-        contact(effect, scene, c, &motion, y + k, dydt + k, dydt);
+        const size_t k = effect->state_offset + effect->states_per_contact * j;
+        contact(&effect->params.ground, scene, c, &motion, y + k, dydt + k, dydt);
     }
     return 0;
 }
+
+/* a^2: how much faster than bouncing the body rocks on its contact points. Rotating the body
+ * by theta moves point j by theta x r_j, so the rotational stiffness is at most
+ * sum k_j [r_j x]^T [r_j x] = sum k_j (|r_j|^2 1 - r_j r_j^T), the inertia tensor of point
+ * masses k_j at the arms; against I_body its largest generalised eigenvalue, bounded by the
+ * largest row sum of |I^-1/2 A I^-1/2| (Gershgorin), is a^2 omega0^2 with
+ * A = M sum share_j (|r_j|^2 1 - r_j r_j^T) / sum share_j (the points carrying the body share
+ * 1). Each arm reaches the point's sphere, |r_j| + radius. A box on its corners gives 3, a
+ * light body on wide points ~1e2; bouncing alone gives 1. The body's points are
+ * contacts[first, end). (Derived by the scene helper for the general guard, issue 11.) */
+static double rocking_factor(const tb_scene *scene, size_t first, size_t end)
+{
+    double A[3][3] = {{0}}, shares = 0.0;
+    for (size_t j = first; j < end; ++j) {
+        const tb__contact *c = &scene->contacts[j];
+        const double length = tb__v3_norm(c->r), reach = length + c->radius;
+        const double scale = length > 0.0 ? reach / length : 0.0;
+        const double r[3] = {c->r[0] * scale, c->r[1] * scale, c->r[2] * scale};
+        for (int k = 0; k < 3; ++k) {
+            for (int l = 0; l < 3; ++l) {
+                A[k][l] += c->share * ((k == l ? reach * reach : 0.0) - r[k] * r[l]);
+            }
+        }
+        shares += c->share;
+    }
+    const tb__body *b = &scene->bodies[scene->contacts[first].body];
+    double a2 = 1.0;
+    for (int k = 0; k < 3; ++k) {
+        double row = 0.0;
+        for (int l = 0; l < 3; ++l) {
+            row += fabs(A[k][l]) * sqrt(b->inv_moments[k] * b->inv_moments[l]);
+        }
+        a2 = fmax(a2, b->mass * row / shares);
+    }
+    return a2;
+}
+
+/* A damped mode of natural rate omega and damping ratio zeta goes into out: oscillating
+ * (|lambda| = omega) when underdamped, decaying at its fast root omega (zeta +
+ * sqrt(zeta^2 - 1)) when overdamped. */
+static void damped_mode(double omega, double zeta, size_t body, tb__effect_rate *out)
+{
+    if (zeta > 1.0) {
+        const double fast = omega * (zeta + sqrt(zeta * zeta - 1.0));
+        if (fast > out->decay) {
+            out->decay = fast;
+            out->decay_body = body;
+        }
+    } else if (omega > out->oscillation) {
+        out->oscillation = omega;
+        out->oscillation_body = body;
+    }
+}
+
+/* Every mode of the contact scales alike: a point's stiffness is its share of M g / penetration
+ * and its damping 2 zeta sqrt(k M share), so bouncing has omega0 = sqrt(g / penetration) and
+ * damping ratio zeta, rocking omega0 a and zeta a. The bristles of a point, stiffness N s0 and
+ * damping N s1 (ratio 1/2 per point), ring at sqrt(g s0) a with ratio a / 2. Their relaxation
+ * towards sliding (capped at TB__BRISTLE_MAX_RATE) and a lifted point's release are decaying
+ * modes of their own. */
+static void ground_rate(const tb__effect *effect, const tb_scene *scene, const double *y,
+                        tb__effect_rate *out)
+{
+    (void)y;
+    const tb__ground_params *ground = &effect->params.ground;
+    *out = (tb__effect_rate){0.0, TB_ALL_BODIES, 0.0, TB_ALL_BODIES};
+    const double omega0 = sqrt(ground->gravity / ground->penetration);
+    const double bristles = sqrt(ground->gravity * ground->bristle_stiffness);
+    size_t first = 0;
+    for (size_t j = 1; j <= scene->contact_count; ++j) {
+        if (j < scene->contact_count && scene->contacts[j].body == scene->contacts[first].body) {
+            continue;
+        }
+        const size_t body = scene->contacts[first].body;
+        const double a = sqrt(rocking_factor(scene, first, j));
+        damped_mode(omega0 * a, ground->damping_ratio * a, body, out);
+        damped_mode(bristles * a, 0.5 * a, body, out);
+        const double relaxation =
+            ground->static_friction > 0.0 ? TB__BRISTLE_MAX_RATE : TB__BRISTLE_RELEASE_RATE;
+        if (relaxation > out->decay) {
+            out->decay = relaxation;
+            out->decay_body = body;
+        }
+        first = j;
+    }
+}
+
+static const tb__effect_ops ground_ops = {
+    .name = "ground",
+    .apply = apply_ground,
+    .couples_bodies = false,
+    .owns_states = true,
+    .rate = ground_rate,
+};
 
 tb_ground_def tb_ground_def_default(void)
 {
@@ -172,10 +263,10 @@ static tb_status validate_ground(tb_scene *scene, const tb_ground_def *def)
         status = check_positive(scene, def->presliding, "presliding");
     }
     if (status == TB_STATUS_OK) {
-        status = tb__check_coefficient(scene, def->damping_ratio, "damping_ratio");
+        status = tb__validate_nonnegative(scene->detail, def->damping_ratio, "damping_ratio");
     }
     if (status == TB_STATUS_OK) {
-        status = tb__check_coefficient(scene, def->kinetic_friction, "kinetic_friction");
+        status = tb__validate_nonnegative(scene->detail, def->kinetic_friction, "kinetic_friction");
     }
     if (status == TB_STATUS_OK &&
         !(def->static_friction >= def->kinetic_friction && isfinite(def->static_friction))) {
@@ -197,6 +288,29 @@ static void tangent_basis(const double n[3], double t1[3], double t2[3])
     tb__v3_cross(t2, n, t1);
 }
 
+/* The typed parameters of a validated def. */
+static void ground_params(const tb_ground_def *def, tb__ground_params *ground)
+{
+    const double length = tb__v3_norm(def->normal);
+    tb__v3_set(ground->normal, def->normal[0] / length, def->normal[1] / length,
+               def->normal[2] / length);
+    tangent_basis(ground->normal, ground->tangent[0], ground->tangent[1]);
+    ground->offset = def->offset;
+    ground->gravity = def->gravity;
+    ground->penetration = def->penetration;
+    ground->damping_ratio = def->damping_ratio;
+    ground->static_friction = def->static_friction;
+    ground->kinetic_friction = def->kinetic_friction;
+    ground->stribeck_velocity = def->stribeck_velocity;
+    /* s0 sets the breakaway deflection. s1 gives the bristles of one point, loaded by the mass
+     * m = N / g it carries, a damping ratio of 1/2: sigma1 = 2 (1/2) sqrt(sigma0 m) with
+     * sigma = N s. Not 1: a flat body's yaw mode on its corners is sqrt(3) times stiffer and
+     * sqrt(3) times more damped than one point, and overdamped at 1.73 its fast eigenvalue
+     * (5.4 omega) would leave RK4's stability region at 240 steps per second. */
+    ground->bristle_stiffness = def->static_friction / def->presliding;
+    ground->bristle_damping = sqrt(ground->bristle_stiffness / def->gravity);
+}
+
 tb_status tb_scene_add_ground(tb_scene *scene, const tb_ground_def *def)
 {
     if (scene == NULL || def == NULL) {
@@ -207,154 +321,10 @@ tb_status tb_scene_add_ground(tb_scene *scene, const tb_ground_def *def)
     if (status != TB_STATUS_OK) {
         return status;
     }
-    tb__effect effect = {
-        .apply = apply_ground, .kind = TB__GROUND, .body = TB_ALL_BODIES, .states_per_contact = 2};
-    const double length = tb__v3_norm(def->normal);
-    tb__v3_set(effect.vector, def->normal[0] / length, def->normal[1] / length,
-               def->normal[2] / length);
-    tangent_basis(effect.vector, effect.point, effect.other_point);
-    double *p = effect.param;
-    p[OFFSET] = def->offset;
-    p[GRAVITY] = def->gravity;
-    p[PENETRATION] = def->penetration;
-    p[DAMPING_RATIO] = def->damping_ratio;
-    p[MU_STATIC] = def->static_friction;
-    p[MU_KINETIC] = def->kinetic_friction;
-    p[STRIBECK] = def->stribeck_velocity;
-    /* s0 sets the breakaway deflection. s1 gives the bristles of one point, loaded by the mass
-     * m = N / g it carries, a damping ratio of 1/2: sigma1 = 2 (1/2) sqrt(sigma0 m) with
-     * sigma = N s. Not 1: a flat body's yaw mode on its corners is sqrt(3) times stiffer and
-     * sqrt(3) times more damped than one point, and overdamped at 1.73 its fast eigenvalue
-     * (5.4 omega) would leave RK4's stability region at 240 steps per second. */
-    p[S0] = def->static_friction / def->presliding;
-    p[S1] = sqrt(p[S0] / def->gravity);
-    effect.state_scale = def->presliding;
+    tb__effect effect = {.ops = &ground_ops,
+                         .body = TB_ALL_BODIES,
+                         .states_per_contact = 2,
+                         .state_scale = def->presliding};
+    ground_params(def, &effect.params.ground);
     return tb__scene_push_effect(scene, &effect);
-}
-
-/* --- contact points ---------------------------------------------------------------------- */
-
-static tb_status check_points(tb_scene *scene, const tb_contact_point *points, size_t count)
-{
-    for (size_t k = 0; k < count; ++k) {
-        if (!tb__all_finite(points[k].position, 3) || !(points[k].radius >= 0) ||
-            !isfinite(points[k].radius)) {
-            return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
-                                  "points[%zu]: position must be finite and radius finite and "
-                                  ">= 0, got radius %g",
-                                  k, points[k].radius);
-        }
-    }
-    return TB_STATUS_OK;
-}
-
-/* Removes body id's points and appends the new ones at the end (keeps each body's points
- * contiguous). Works on a copy so that a failure changes nothing. */
-tb_status tb_scene_set_contact_points(tb_scene *scene, size_t id, const tb_contact_point *points,
-                                      size_t count, size_t support)
-{
-    if (scene == NULL || (points == NULL && count > 0)) {
-        return TB_STATUS_NULL_POINTER;
-    }
-    scene->detail[0] = '\0';
-    tb_status status = tb__scene_check_id(scene, id, "id");
-    if (status == TB_STATUS_OK) {
-        status = check_points(scene, points, count);
-    }
-    if (status == TB_STATUS_OK && count > 0 && (support == 0 || support > count)) {
-        status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
-                                "support: must be in [1, %zu] (the points that carry the body at "
-                                "rest), got %zu",
-                                count, support);
-    }
-    if (status != TB_STATUS_OK) {
-        return status;
-    }
-    size_t kept = 0;
-    for (size_t j = 0; j < scene->contact_count; ++j) {
-        kept += scene->contacts[j].body != id;
-    }
-    const size_t total = kept + count;
-    tb__contact *contacts = malloc((total > 0 ? total : 1) * sizeof *contacts);
-    if (contacts == NULL) {
-        return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "%zu contact points", total);
-    }
-    size_t w = 0;
-    for (size_t j = 0; j < scene->contact_count; ++j) {
-        if (scene->contacts[j].body != id) {
-            contacts[w++] = scene->contacts[j];
-        }
-    }
-    for (size_t k = 0; k < count; ++k, ++w) {
-        contacts[w].body = id;
-        tb__shape_point_to_principal(&scene->mass_props[id], points[k].position, contacts[w].r);
-        contacts[w].radius = points[k].radius;
-        contacts[w].share = 1.0 / (double)support;
-    }
-    tb__contact *old = scene->contacts;
-    const size_t old_count = scene->contact_count, old_capacity = scene->contact_capacity;
-    scene->contacts = contacts;
-    scene->contact_count = total;
-    scene->contact_capacity = total;
-    status = tb__scene_layout_states(scene, scene->body_count);
-    if (status != TB_STATUS_OK) {
-        scene->contacts = old;
-        scene->contact_count = old_count;
-        scene->contact_capacity = old_capacity;
-        free(contacts);
-        return status;
-    }
-    free(old);
-    return TB_STATUS_OK;
-}
-
-static tb_status room(size_t needed, size_t capacity, tb_contact_point *out, size_t *out_count)
-{
-    if (out == NULL || out_count == NULL) {
-        return TB_STATUS_NULL_POINTER;
-    }
-    return needed <= capacity ? TB_STATUS_OK : TB_STATUS_OUT_OF_RANGE;
-}
-
-tb_status tb_contact_points_box(const double size[3], tb_contact_point *out, size_t capacity,
-                                size_t *out_count)
-{
-    tb_status status = room(8, capacity, out, out_count);
-    if (status != TB_STATUS_OK || size == NULL) {
-        return status != TB_STATUS_OK ? status : TB_STATUS_NULL_POINTER;
-    }
-    for (unsigned c = 0; c < 8; ++c) {
-        for (int i = 0; i < 3; ++i) {
-            out[c].position[i] = ((c >> i) & 1 ? 0.5 : -0.5) * size[i];
-        }
-        out[c].radius = 0.0;
-    }
-    *out_count = 8;
-    return TB_STATUS_OK;
-}
-
-tb_status tb_contact_points_sphere(double radius, tb_contact_point *out, size_t capacity,
-                                   size_t *out_count)
-{
-    tb_status status = room(1, capacity, out, out_count);
-    if (status == TB_STATUS_OK) {
-        memset(out, 0, sizeof *out);
-        out[0].radius = radius;
-        *out_count = 1;
-    }
-    return status;
-}
-
-tb_status tb_contact_points_capsule(double radius, double length, tb_contact_point *out,
-                                    size_t capacity, size_t *out_count)
-{
-    tb_status status = room(2, capacity, out, out_count);
-    if (status == TB_STATUS_OK) {
-        memset(out, 0, 2 * sizeof *out);
-        out[0].position[2] = -0.5 * length;
-        out[1].position[2] = 0.5 * length;
-        out[0].radius = out[1].radius = radius;
-        *out_count = 2;
-    }
-    return status;
 }

@@ -2,6 +2,7 @@
 #include "scene/scene_internal.h"
 
 #include "core/detail.h"
+#include "core/validate.h"
 #include "math/tb_math.h"
 
 #include <string.h>
@@ -25,9 +26,9 @@ static void body_end(const tb__body *body, const double *s, const double r[3], s
     }
 }
 
-/* param[0..2]: stiffness, damping, rest length. The force on end a, f = -(k (l - l0) + c
- * (v_a - v_b) . u) u along u = (p_a - p_b) / l; false when the ends meet (no direction). */
-static bool spring_force(const tb__effect *effect, const spring_end *a, const spring_end *b,
+/* The force on end a, f = -(k (l - l0) + c (v_a - v_b) . u) u along u = (p_a - p_b) / l; false
+ * when the ends meet (no direction). */
+static bool spring_force(const tb__spring_params *spring, const spring_end *a, const spring_end *b,
                          double f[3])
 {
     const double d[3] = {a->p[0] - b->p[0], a->p[1] - b->p[1], a->p[2] - b->p[2]};
@@ -37,48 +38,118 @@ static bool spring_force(const tb__effect *effect, const spring_end *a, const sp
     }
     const double u[3] = {d[0] / length, d[1] / length, d[2] / length};
     const double relative[3] = {a->v[0] - b->v[0], a->v[1] - b->v[1], a->v[2] - b->v[2]};
-    const double magnitude = -effect->param[0] * (length - effect->param[2]) -
-                             effect->param[1] * tb__v3_dot(relative, u);
+    const double magnitude = -spring->stiffness * (length - spring->rest_length) -
+                             spring->damping * tb__v3_dot(relative, u);
     tb__v3_set(f, magnitude * u[0], magnitude * u[1], magnitude * u[2]);
     return true;
 }
 
-/* A spring between a body point (point, principal frame) and a world anchor (other_point). */
+/* A spring between a body point and a world anchor. */
 static int apply_anchored_spring(const tb__effect *effect, const tb_scene *scene, double t,
                                  const double *y, double *dydt, size_t first, size_t count)
 {
     (void)t;
+    const tb__spring_params *spring = &effect->params.spring;
     size_t i;
     if (!tb__local_body(effect->body, first, count, &i)) {
         return 0;
     }
     spring_end a, anchor = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
-    body_end(&scene->bodies[effect->body], y + TB_STATE_SIZE * i, effect->point, &a);
-    tb__v3_copy(anchor.p, effect->other_point);
+    body_end(&scene->bodies[effect->body], y + TB_STATE_SIZE * i, spring->point, &a);
+    tb__v3_copy(anchor.p, spring->anchor);
     double f[3];
-    if (spring_force(effect, &a, &anchor, f)) {
+    if (spring_force(spring, &a, &anchor, f)) {
         tb__add_load(dydt, i, a.arm, f);
     }
     return 0;
 }
 
-/* A spring between two body points (point on body, other_point on other). */
+/* A spring between two body points (point on body, anchor on other). */
 static int apply_spring(const tb__effect *effect, const tb_scene *scene, double t, const double *y,
                         double *dydt)
 {
     (void)t;
+    const tb__spring_params *spring = &effect->params.spring;
     spring_end a, b;
-    body_end(&scene->bodies[effect->body], y + TB_STATE_SIZE * effect->body, effect->point, &a);
-    body_end(&scene->bodies[effect->other], y + TB_STATE_SIZE * effect->other, effect->other_point,
-             &b);
+    body_end(&scene->bodies[effect->body], y + TB_STATE_SIZE * effect->body, spring->point, &a);
+    body_end(&scene->bodies[spring->other], y + TB_STATE_SIZE * spring->other, spring->anchor, &b);
     double f[3];
-    if (spring_force(effect, &a, &b, f)) {
+    if (spring_force(spring, &a, &b, f)) {
         tb__add_load(dydt, effect->body, a.arm, f);
         tb__v3_set(f, -f[0], -f[1], -f[2]);
-        tb__add_load(dydt, effect->other, b.arm, f);
+        tb__add_load(dydt, spring->other, b.arm, f);
     }
     return 0;
 }
+
+/* World position of a spring end: a body point (principal frame offset) or a world anchor. */
+static void end_position(const double *y, size_t body, const double r[3], double p[3])
+{
+    if (body == TB_WORLD) {
+        tb__v3_copy(p, r);
+        return;
+    }
+    double q[4], arm[3];
+    tb__unit_quaternion(y, body, q);
+    tb__q_rotate(arm, q, r);
+    const double *x = y + TB_STATE_SIZE * body + TB_STATE_X;
+    tb__v3_set(p, x[0] + arm[0], x[1] + arm[1], x[2] + arm[2]);
+}
+
+/* k (|d| - rest)^2 / 2 (J). */
+static double spring_potential_energy(const tb__effect *effect, const tb_scene *scene,
+                                      const double *y)
+{
+    (void)scene;
+    const tb__spring_params *spring = &effect->params.spring;
+    double a[3], b[3];
+    end_position(y, effect->body, spring->point, a);
+    end_position(y, spring->other, spring->anchor, b);
+    const double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+    const double stretch = tb__v3_norm(d) - spring->rest_length;
+    return 0.5 * spring->stiffness * stretch * stretch;
+}
+
+static bool spring_conserves_energy(const tb__effect *effect)
+{
+    return effect->params.spring.damping == 0.0;
+}
+
+/* Along the spring the ends move as one mass of inverse w (the sum of the inverse masses at the
+ * ends, rotation included): eigenvalues -c w / 2 +- sqrt((c w / 2)^2 - k w), so
+ * |Im lambda| <= sqrt(k w) and the overdamped fast root is at most c w. */
+static void spring_rate(const tb__effect *effect, const tb_scene *scene, const double *y,
+                        tb__effect_rate *out)
+{
+    (void)y;
+    const tb__spring_params *spring = &effect->params.spring;
+    double w = tb__inverse_mass_at(&scene->bodies[effect->body], spring->point);
+    if (spring->other != TB_WORLD) {
+        w += tb__inverse_mass_at(&scene->bodies[spring->other], spring->anchor);
+    }
+    *out = (tb__effect_rate){.oscillation = sqrt(spring->stiffness * w),
+                             .oscillation_body = effect->body,
+                             .decay = spring->damping * w,
+                             .decay_body = effect->body};
+}
+
+static const tb__effect_ops anchored_spring_ops = {
+    .name = "spring",
+    .apply_bodies = apply_anchored_spring,
+    .potential_energy = spring_potential_energy,
+    .conserves_energy = spring_conserves_energy,
+    .rate = spring_rate,
+};
+
+static const tb__effect_ops spring_ops = {
+    .name = "spring",
+    .apply = apply_spring,
+    .couples_bodies = true,
+    .conserves_momentum = true, /* equal and opposite forces along the line of their points */
+    .potential_energy = spring_potential_energy,
+    .conserves_energy = spring_conserves_energy,
+    .rate = spring_rate,
+};
 
 tb_spring_def tb_spring_def_default(void)
 {
@@ -119,13 +190,13 @@ static tb_status validate(tb_scene *scene, const tb_spring_def *def)
         status = check_point(scene, def->point_b, "point_b");
     }
     if (status == TB_STATUS_OK) {
-        status = tb__check_coefficient(scene, def->stiffness, "stiffness");
+        status = tb__validate_nonnegative(scene->detail, def->stiffness, "stiffness");
     }
     if (status == TB_STATUS_OK) {
-        status = tb__check_coefficient(scene, def->damping, "damping");
+        status = tb__validate_nonnegative(scene->detail, def->damping, "damping");
     }
     if (status == TB_STATUS_OK) {
-        status = tb__check_coefficient(scene, def->rest_length, "rest_length");
+        status = tb__validate_nonnegative(scene->detail, def->rest_length, "rest_length");
     }
     return status;
 }
@@ -140,21 +211,18 @@ tb_status tb_scene_add_spring(tb_scene *scene, const tb_spring_def *def)
     if (status != TB_STATUS_OK) {
         return status;
     }
-    tb__effect effect = {.kind = TB__SPRING, .body = def->body_a, .other = def->body_b};
-    if (def->body_b == TB_WORLD) {
-        effect.apply_bodies = apply_anchored_spring;
+    const bool anchored = def->body_b == TB_WORLD;
+    tb__effect effect = {.ops = anchored ? &anchored_spring_ops : &spring_ops, .body = def->body_a};
+    tb__spring_params *spring = &effect.params.spring;
+    spring->other = def->body_b;
+    tb__shape_point_to_principal(&scene->mass_props[def->body_a], def->point_a, spring->point);
+    if (anchored) {
+        tb__v3_copy(spring->anchor, def->point_b);
     } else {
-        effect.apply = apply_spring;
+        tb__shape_point_to_principal(&scene->mass_props[def->body_b], def->point_b, spring->anchor);
     }
-    tb__shape_point_to_principal(&scene->mass_props[def->body_a], def->point_a, effect.point);
-    if (def->body_b == TB_WORLD) {
-        tb__v3_copy(effect.other_point, def->point_b);
-    } else {
-        tb__shape_point_to_principal(&scene->mass_props[def->body_b], def->point_b,
-                                     effect.other_point);
-    }
-    effect.param[0] = def->stiffness;
-    effect.param[1] = def->damping;
-    effect.param[2] = def->rest_length;
+    spring->stiffness = def->stiffness;
+    spring->damping = def->damping;
+    spring->rest_length = def->rest_length;
     return tb__scene_push_effect(scene, &effect);
 }

@@ -70,7 +70,7 @@ static int apply_per_body_effects(const tb_scene *scene, double t, const double 
     const size_t end = all + scene->single_body_effect_count;
     for (size_t k = 0; k < all; ++k) {
         const tb__effect *effect = &effects[order[k]];
-        const int rc = effect->apply_bodies(effect, scene, t, y, dydt, first, count);
+        const int rc = effect->ops->apply_bodies(effect, scene, t, y, dydt, first, count);
         if (rc != 0) {
             return rc;
         }
@@ -86,7 +86,7 @@ static int apply_per_body_effects(const tb_scene *scene, double t, const double 
     }
     for (size_t k = low; k < end && effects[order[k]].body - first < count; ++k) {
         const tb__effect *effect = &effects[order[k]];
-        const int rc = effect->apply_bodies(effect, scene, t, y, dydt, first, count);
+        const int rc = effect->ops->apply_bodies(effect, scene, t, y, dydt, first, count);
         if (rc != 0) {
             return rc;
         }
@@ -107,7 +107,7 @@ int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
     const size_t first_coupled = scene->effect_count - scene->coupled_effect_count;
     for (size_t k = first_coupled; k < scene->effect_count && rc == 0; ++k) {
         const tb__effect *effect = &scene->effects[scene->effect_order[k]];
-        rc = effect->apply(effect, scene, t, y, dydt);
+        rc = effect->ops->apply(effect, scene, t, y, dydt);
     }
     return rc;
 }

@@ -123,20 +123,6 @@ tb_status tb_scene_angular_momentum(const tb_scene *scene, const double *y, cons
     return TB_STATUS_OK;
 }
 
-/* World position of a spring end: a body point (principal frame offset) or a world anchor. */
-static void spring_end(const double *y, size_t body, const double r[3], double p[3])
-{
-    if (body == TB_WORLD) {
-        tb__v3_copy(p, r);
-        return;
-    }
-    double q[4], arm[3];
-    tb__unit_quaternion(y, body, q);
-    tb__q_rotate(arm, q, r);
-    const double *x = y + TB_STATE_SIZE * body;
-    tb__v3_set(p, x[0] + arm[0], x[1] + arm[1], x[2] + arm[2]);
-}
-
 tb_status tb_scene_potential_energy(const tb_scene *scene, const double *y, double *out_energy)
 {
     tb_status status = check(scene, y, out_energy);
@@ -146,17 +132,8 @@ tb_status tb_scene_potential_energy(const tb_scene *scene, const double *y, doub
     double energy = 0.0;
     for (size_t e = 0; e < scene->effect_count; ++e) {
         const tb__effect *effect = &scene->effects[e];
-        if (effect->kind == TB__GRAVITY) {
-            for (size_t i = 0; i < scene->body_count; ++i) {
-                energy -= scene->bodies[i].mass * tb__v3_dot(effect->vector, y + TB_STATE_SIZE * i);
-            }
-        } else if (effect->kind == TB__SPRING) {
-            double a[3], b[3];
-            spring_end(y, effect->body, effect->point, a);
-            spring_end(y, effect->other, effect->other_point, b);
-            const double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
-            const double stretch = tb__v3_norm(d) - effect->param[2];
-            energy += 0.5 * effect->param[0] * stretch * stretch;
+        if (effect->ops->potential_energy != NULL) {
+            energy += effect->ops->potential_energy(effect, scene, y);
         }
     }
     *out_energy = energy;
@@ -171,12 +148,10 @@ tb_status tb_scene_conserved(const tb_scene *scene, tb_conserved *out_conserved)
     tb_conserved c = {1, 1, 1};
     for (size_t e = 0; e < scene->effect_count; ++e) {
         const tb__effect *effect = &scene->effects[e];
-        const int internal_spring = effect->kind == TB__SPRING && effect->other != TB_WORLD;
-        const int conservative =
-            effect->kind == TB__GRAVITY || (effect->kind == TB__SPRING && effect->param[1] == 0.0);
-        c.energy &= conservative;
-        c.linear_momentum &= internal_spring;
-        c.angular_momentum &= internal_spring;
+        const tb__effect_ops *ops = effect->ops;
+        c.energy &= ops->conserves_energy != NULL && ops->conserves_energy(effect);
+        c.linear_momentum &= ops->conserves_momentum;
+        c.angular_momentum &= ops->conserves_momentum;
     }
     *out_conserved = c;
     return TB_STATUS_OK;

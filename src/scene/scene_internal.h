@@ -14,9 +14,9 @@ typedef struct tb__body {
 
 typedef struct tb__effect tb__effect;
 
-/* Adds the effect's forces into dydt[13 i + 7 .. 9] and torques into dydt[13 i + 10 .. 12],
- * and writes the derivatives of the states it owns. Pure: reads y, writes only those slots.
- * Returns 0, or the failure of a user callback. */
+/* Adds the effect's forces into dydt[13 i + TB_STATE_P ..] and torques into
+ * dydt[13 i + TB_STATE_L ..], and writes the derivatives of the states it owns. Pure: reads y,
+ * writes only those slots. Returns 0, or the failure of a user callback. */
 typedef int (*tb__effect_apply)(const tb__effect *effect, const tb_scene *scene, double t,
                                 const double *y, double *dydt);
 
@@ -27,34 +27,95 @@ typedef int (*tb__effect_apply)(const tb__effect *effect, const tb_scene *scene,
 typedef int (*tb__effect_apply_bodies)(const tb__effect *effect, const tb_scene *scene, double t,
                                        const double *y, double *dydt, size_t first, size_t count);
 
-/* One entry of the compiled effect list: the function and its parameters, nothing else. */
-/* What kind of effect an entry is, for read-outs that need to know (potential energy, what
- * is conserved); the hot loop never looks at it. */
-typedef enum tb__effect_kind {
-    TB__GRAVITY,
-    TB__FORCE,
-    TB__TORQUE,
-    TB__DRAG,
-    TB__SPRING,
-    TB__GROUND,
-    TB__USER
-} tb__effect_kind;
+/* An effect's fastest modes at a state, for the stability guard, split by where their
+ * eigenvalues lambda of the linearised motion lie: oscillation bounds |lambda| of the modes near
+ * the imaginary axis, decay |lambda| of those on the negative real axis (1/s; 0: none), each
+ * body's inverse mass and inverse inertia at the effect's arms included. *_body is where each is
+ * fastest (TB_ALL_BODIES when none). */
+typedef struct tb__effect_rate {
+    double oscillation; /* 1/s, >= 0 */
+    size_t oscillation_body;
+    double decay; /* 1/s, >= 0 */
+    size_t decay_body;
+} tb__effect_rate;
 
-struct tb__effect {
+/* One constant row per effect kind: every fact about the kind, asked by the derivative, the
+ * read-outs and the stability guard; nothing outside the effect's own file reads its
+ * parameters. */
+typedef struct tb__effect_ops {
+    const char *name;                     /* "gravity", "drag", "spring", "ground", ... */
     tb__effect_apply apply;               /* effects that couple bodies or own states */
     tb__effect_apply_bodies apply_bodies; /* per-body effects: exactly one of the two is set */
-    tb__effect_kind kind;
-    size_t body;      /* the body acted on, or TB_ALL_BODIES */
-    size_t other;     /* a spring's second body, or TB_WORLD */
-    double vector[3]; /* force, torque, acceleration, plane normal */
-    double point[3];  /* application point (principal frame, from the centre of mass) */
-    double other_point[3];
-    double param[12];          /* per-kind parameters, named where they are used */
+    bool couples_bodies;                  /* its loads on one body depend on another's state */
+    bool owns_states;                     /* keeps states of its own after the bodies' */
+    bool conserves_momentum;              /* its loads sum to zero force and zero torque */
+    /* Its potential energy (J) at y; NULL when it has none (non-conservative loads). */
+    double (*potential_energy)(const tb__effect *effect, const tb_scene *scene, const double *y);
+    /* True when it does no work besides its potential's (springs without damping); NULL: no. */
+    bool (*conserves_energy)(const tb__effect *effect);
+    /* Its fastest mode at y (see tb__effect_rate); NULL when it adds none (constant loads) or
+     * cannot know (user callbacks). */
+    void (*rate)(const tb__effect *effect, const tb_scene *scene, const double *y,
+                 tb__effect_rate *out);
+    /* Refuses a state it cannot start from (a body deep inside a ground plane) with a detail
+     * naming the body, written into detail (TB_DETAIL_SIZE bytes); NULL: accepts every state. */
+    tb_status (*check_start)(const tb__effect *effect, const tb_scene *scene, const double *y,
+                             char *detail);
+} tb__effect_ops;
+
+/* Each kind's parameters, typed: the effect's own file reads them, nobody else. Points fixed in
+ * a body are offsets from its centre of mass in its principal frame (m). */
+typedef struct tb__gravity_params {
+    double g[3]; /* m/s^2, world */
+} tb__gravity_params;
+
+typedef struct tb__load_params {
+    double
+        vector[3];   /* force (N) or torque (N m): world, or principal frame for body-frame loads */
+    double point[3]; /* where a force acts, principal frame */
+} tb__load_params;
+
+typedef struct tb__drag_params {
+    double linear, quadratic, angular, angular_quadratic; /* see tb_drag_def */
+} tb__drag_params;
+
+typedef struct tb__spring_params {
+    size_t other;       /* the second body, or TB_WORLD */
+    double point[3];    /* on the first body, principal frame */
+    double anchor[3];   /* on the second body (principal frame) or in the world */
+    double stiffness;   /* N/m */
+    double damping;     /* N s/m */
+    double rest_length; /* m */
+} tb__spring_params;
+
+typedef struct tb__ground_params {
+    double normal[3], tangent[2][3]; /* orthonormal, right-handed, world */
+    double offset;                   /* the plane normal . x = offset, m */
+    double gravity, penetration, damping_ratio;
+    double static_friction, kinetic_friction, stribeck_velocity;
+    double bristle_stiffness, bristle_damping; /* LuGre's s0 (1/m) and s1 (s/m) */
+} tb__ground_params;
+
+typedef struct tb__user_params {
+    tb_user_effect_fn fn;
+    void *ctx;
+} tb__user_params;
+
+/* One entry of the compiled effect list: its row and its typed parameters. */
+struct tb__effect {
+    const tb__effect_ops *ops;
+    size_t body;               /* the body acted on, or TB_ALL_BODIES (the derivative's order) */
     size_t states_per_contact; /* states owned per contact point (ground planes: 2) */
     size_t state_offset;       /* where in y those states start */
     double state_scale;        /* natural size of those states, for absolute tolerances */
-    tb_user_effect_fn user;
-    void *user_ctx;
+    union {                    /* the member ops names */
+        tb__gravity_params gravity;
+        tb__load_params load;
+        tb__drag_params drag;
+        tb__spring_params spring;
+        tb__ground_params ground;
+        tb__user_params user;
+    } params;
 };
 
 /* A contact point of a body, for ground planes. Points of one body are contiguous. */
@@ -119,9 +180,6 @@ tb_status tb__scene_fail(tb_scene *scene, tb_status status, const char *format, 
 /* v non-NULL with three finite numbers, else a detail naming what. */
 tb_status tb__check_vector(tb_scene *scene, const double *v, const char *what);
 
-/* value finite and >= 0, else a detail naming what. */
-tb_status tb__check_coefficient(tb_scene *scene, double value, const char *what);
-
 /* Names by hash (body_names.c). reserve makes room for body_count names (nothing changes on
  * failure); insert adds body id's name, which must be new; lookup finds a name. */
 tb_status tb__scene_reserve_names(tb_scene *scene, size_t body_count);
@@ -180,6 +238,16 @@ static inline bool tb__local_body(size_t body, size_t first, size_t count, size_
 {
     *local = body - first;
     return body >= first && body - first < count;
+}
+
+/* 1/m + |r|^2 / I_min (1/kg): the largest inverse mass a force at offset r (m, from the centre
+ * of mass) can meet, through the body's translation and its rotation about its softest axis. */
+static inline double tb__inverse_mass_at(const tb__body *body, const double r[3])
+{
+    const double *inverse = body->inv_moments;
+    const double largest = inverse[0] > inverse[1] ? inverse[0] : inverse[1];
+    const double r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+    return body->inv_mass + r2 * (largest > inverse[2] ? largest : inverse[2]);
 }
 
 /* True when every effect acts on each body alone: the derivative of a body's 13 states then

@@ -6,6 +6,7 @@
  *     |I_i - I_j| <= I_k), springs (sqrt(k w)), ground contact's bounce, rocking and bristles;
  *   decaying (on the negative real axis): drag (b / m, 2 c |v| / m and the angular twins
  *     over I_min), overdamped springs (c w), overdamped contact.
+ * The effects' modes are their rows' estimates (tb__effect_ops.rate, in src/effects/).
  * Rotation and quadratic drag grow with the state, so the guard runs on a state: at creation
  * and again at every advance (tb__scene_check_step). */
 #include "scene/scene_internal.h"
@@ -67,21 +68,6 @@ consider(guard *g, double rate, bool oscillatory, const char *format, ...)
     }
 }
 
-static double smallest_moment_inverse(const tb__body *b)
-{
-    return fmax(b->inv_moments[0], fmax(b->inv_moments[1], b->inv_moments[2]));
-}
-
-/* 1/m + |r|^2 / I_min: the largest inverse mass a force at offset r can meet. */
-static double inverse_mass_at(const tb_scene *scene, size_t body, const double r[3])
-{
-    if (body == TB_WORLD) {
-        return 0.0;
-    }
-    const tb__body *b = &scene->bodies[body];
-    return b->inv_mass + tb__v3_dot(r, r) * smallest_moment_inverse(b);
-}
-
 static void rotation_modes(guard *g, const tb_scene *scene, const double *y)
 {
     for (size_t i = 0; i < scene->body_count; ++i) {
@@ -95,120 +81,22 @@ static void rotation_modes(guard *g, const tb_scene *scene, const double *y)
     }
 }
 
-static void spring_modes(guard *g, const tb_scene *scene, size_t index)
+/* Effect k's modes, as its row estimates them (tb__effect_ops.rate). */
+static void effect_modes(guard *g, const tb_scene *scene, size_t k, const double *y)
 {
-    const tb__effect *e = &scene->effects[index];
-    const double w = inverse_mass_at(scene, e->body, e->point) +
-                     inverse_mass_at(scene, e->other, e->other_point);
-    consider(g, sqrt(e->param[0] * w), true, "effect %zu (a spring of stiffness %g N/m)", index,
-             e->param[0]);
-    consider(g, e->param[1] * w, false, "effect %zu (a spring of damping %g N s/m)", index,
-             e->param[1]);
-}
-
-/* Drag on one body: F = -(b + c |v|) v has rate (b + 2 c |v|) / m along v; the torque's twin
- * (b_w + 2 c_w |omega|) / I_min. */
-static void drag_body_modes(guard *g, const tb_scene *scene, size_t index, size_t i,
-                            const double *y)
-{
-    const tb__effect *e = &scene->effects[index];
-    const tb__body *b = &scene->bodies[i];
-    const double *s = y + TB_STATE_SIZE * i;
-    const double speed = tb__v3_norm(s + TB_STATE_P) * b->inv_mass;
-    consider(g, (e->param[0] + 2.0 * e->param[1] * speed) * b->inv_mass, false,
-             "effect %zu (drag) on body %zu (\"%s\") at %.3g m/s", index, i, scene->names[i],
-             speed);
-    if (e->param[2] != 0.0 || e->param[3] != 0.0) {
-        double omega[3];
-        tb__angular_velocity(b, s, omega);
-        const double spin = tb__v3_norm(omega);
-        consider(g, (e->param[2] + 2.0 * e->param[3] * spin) * smallest_moment_inverse(b), false,
-                 "effect %zu (angular drag) on body %zu (\"%s\") at %.3g rad/s", index, i,
-                 scene->names[i], spin);
+    const tb__effect *e = &scene->effects[k];
+    if (e->ops->rate == NULL) {
+        return; /* constant loads add no rate; user effects are not known */
     }
-}
-
-static void drag_modes(guard *g, const tb_scene *scene, size_t index, const double *y)
-{
-    const size_t body = scene->effects[index].body;
-    if (body != TB_ALL_BODIES) {
-        drag_body_modes(g, scene, index, body, y);
-        return;
-    }
-    for (size_t i = 0; i < scene->body_count; ++i) {
-        drag_body_modes(g, scene, index, i, y);
-    }
-}
-
-/* a^2: how much faster than bouncing the body rocks on its contact points. Rotating the body
- * by theta moves point j by theta x r_j, so the rotational stiffness is at most
- * sum k_j [r_j x]^T [r_j x] = sum k_j (|r_j|^2 1 - r_j r_j^T), the inertia tensor of point
- * masses k_j at the arms; against I_body its largest generalised eigenvalue, bounded by the
- * largest row sum of |I^-1/2 A I^-1/2| (Gershgorin), is a^2 omega0^2 with
- * A = M sum share_j (|r_j|^2 1 - r_j r_j^T) / sum share_j (the points carrying the body share
- * 1). Each arm reaches the point's sphere, |r_j| + radius. A box on its corners gives 3, a
- * light body on wide points ~1e2; bouncing alone gives 1. */
-static double rocking_factor(const tb_scene *scene, size_t first, size_t end)
-{
-    double A[3][3] = {{0}}, shares = 0.0;
-    for (size_t j = first; j < end; ++j) {
-        const tb__contact *c = &scene->contacts[j];
-        const double length = tb__v3_norm(c->r), reach = length + c->radius;
-        const double scale = length > 0.0 ? reach / length : 0.0;
-        const double r[3] = {c->r[0] * scale, c->r[1] * scale, c->r[2] * scale};
-        for (int k = 0; k < 3; ++k) {
-            for (int l = 0; l < 3; ++l) {
-                A[k][l] += c->share * ((k == l ? reach * reach : 0.0) - r[k] * r[l]);
-            }
-        }
-        shares += c->share;
-    }
-    const tb__body *b = &scene->bodies[scene->contacts[first].body];
-    double a2 = 1.0;
-    for (int k = 0; k < 3; ++k) {
-        double row = 0.0;
-        for (int l = 0; l < 3; ++l) {
-            row += fabs(A[k][l]) * sqrt(b->inv_moments[k] * b->inv_moments[l]);
-        }
-        a2 = fmax(a2, b->mass * row / shares);
-    }
-    return a2;
-}
-
-/* Ground contact of one body whose points are contacts[first, end). Each point's stiffness is
- * its share of M g / penetration and its damping 2 zeta sqrt(k m share), so every mode has the
- * same ratio of damping to stiffness: bouncing has omega0 = sqrt(g / penetration) and damping
- * ratio zeta, rocking omega0 a and zeta a; overdamped, the fast root is
- * omega0 a (zeta a + sqrt((zeta a)^2 - 1)). The bristles' tangential modes are sqrt(a^2 g s0). */
-static void ground_body_modes(guard *g, const tb_scene *scene, size_t index, size_t first,
-                              size_t end)
-{
-    const tb__effect *e = &scene->effects[index];
-    const size_t i = scene->contacts[first].body;
-    const double a = sqrt(rocking_factor(scene, first, end));
-    const double omega0 = sqrt(e->param[1] / e->param[2]), zeta = a * e->param[3];
-    if (zeta > 1.0) {
-        consider(g, omega0 * a * (zeta + sqrt(zeta * zeta - 1.0)), false,
-                 "effect %zu (ground contact) on body %zu (\"%s\"), rocking %.3g times faster "
-                 "than it bounces",
-                 index, i, scene->names[i], a);
-    } else {
-        consider(g, omega0 * a, true, "effect %zu (ground contact) on body %zu (\"%s\")", index, i,
-                 scene->names[i]);
-    }
-    consider(g, sqrt(a * a * e->param[1] * e->param[7]), true,
-             "effect %zu (ground friction bristles) on body %zu (\"%s\")", index, i,
-             scene->names[i]);
-}
-
-static void ground_modes(guard *g, const tb_scene *scene, size_t index)
-{
-    size_t first = 0;
-    for (size_t j = 1; j <= scene->contact_count; ++j) {
-        if (j == scene->contact_count || scene->contacts[j].body != scene->contacts[first].body) {
-            ground_body_modes(g, scene, index, first, j);
-            first = j;
-        }
+    tb__effect_rate rate;
+    e->ops->rate(e, scene, y, &rate);
+    const size_t bodies[2] = {rate.oscillation_body, rate.decay_body};
+    const double rates[2] = {rate.oscillation, rate.decay};
+    for (int axis = 0; axis < 2; ++axis) {
+        const size_t i = bodies[axis];
+        consider(g, rates[axis], axis == 0, "effect %zu (a %s) on body %zu (\"%s\"), %s", k,
+                 e->ops->name, i, i < scene->body_count ? scene->names[i] : "",
+                 axis == 0 ? "oscillating" : "decaying");
     }
 }
 
@@ -223,19 +111,7 @@ static void stable_step(const tb_scene *scene, const double *y, tb_method method
     }
     rotation_modes(g, scene, y);
     for (size_t k = 0; k < scene->effect_count; ++k) {
-        switch (scene->effects[k].kind) {
-        case TB__SPRING:
-            spring_modes(g, scene, k);
-            break;
-        case TB__DRAG:
-            drag_modes(g, scene, k, y);
-            break;
-        case TB__GROUND:
-            ground_modes(g, scene, k);
-            break;
-        default: /* constant forces and torques add no rate; user effects are not known */
-            break;
-        }
+        effect_modes(g, scene, k, y);
     }
 }
 

@@ -1,0 +1,135 @@
+/* Contact points: where bodies touch ground planes. A body's points are stored contiguously
+ * (the ground law reads each body's motion once), in the principal frame, with the share of the
+ * body's weight each carries at rest. Also generators of points for common shapes. */
+#include "scene/scene_internal.h"
+
+#include "core/detail.h"
+#include "math/tb_math.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static tb_status check_points(tb_scene *scene, const tb_contact_point *points, size_t count)
+{
+    for (size_t k = 0; k < count; ++k) {
+        if (!tb__all_finite(points[k].position, 3) || !(points[k].radius >= 0) ||
+            !isfinite(points[k].radius)) {
+            return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                                  "points[%zu]: position must be finite and radius finite and "
+                                  ">= 0, got radius %g",
+                                  k, points[k].radius);
+        }
+    }
+    return TB_STATUS_OK;
+}
+
+/* Removes body id's points and appends the new ones at the end (keeps each body's points
+ * contiguous). Works on a copy so that a failure changes nothing. */
+tb_status tb_scene_set_contact_points(tb_scene *scene, size_t id, const tb_contact_point *points,
+                                      size_t count, size_t support)
+{
+    if (scene == NULL || (points == NULL && count > 0)) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    scene->detail[0] = '\0';
+    tb_status status = tb__scene_check_id(scene, id, "id");
+    if (status == TB_STATUS_OK) {
+        status = check_points(scene, points, count);
+    }
+    if (status == TB_STATUS_OK && count > 0 && (support == 0 || support > count)) {
+        status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                                "support: must be in [1, %zu] (the points that carry the body at "
+                                "rest), got %zu",
+                                count, support);
+    }
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    size_t kept = 0;
+    for (size_t j = 0; j < scene->contact_count; ++j) {
+        kept += scene->contacts[j].body != id;
+    }
+    const size_t total = kept + count;
+    tb__contact *contacts = malloc((total > 0 ? total : 1) * sizeof *contacts);
+    if (contacts == NULL) {
+        return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "%zu contact points", total);
+    }
+    size_t w = 0;
+    for (size_t j = 0; j < scene->contact_count; ++j) {
+        if (scene->contacts[j].body != id) {
+            contacts[w++] = scene->contacts[j];
+        }
+    }
+    for (size_t k = 0; k < count; ++k, ++w) {
+        contacts[w].body = id;
+        tb__shape_point_to_principal(&scene->mass_props[id], points[k].position, contacts[w].r);
+        contacts[w].radius = points[k].radius;
+        contacts[w].share = 1.0 / (double)support;
+    }
+    tb__contact *old = scene->contacts;
+    const size_t old_count = scene->contact_count, old_capacity = scene->contact_capacity;
+    scene->contacts = contacts;
+    scene->contact_count = total;
+    scene->contact_capacity = total;
+    status = tb__scene_layout_states(scene, scene->body_count);
+    if (status != TB_STATUS_OK) {
+        scene->contacts = old;
+        scene->contact_count = old_count;
+        scene->contact_capacity = old_capacity;
+        free(contacts);
+        return status;
+    }
+    free(old);
+    return TB_STATUS_OK;
+}
+
+static tb_status room(size_t needed, size_t capacity, tb_contact_point *out, size_t *out_count)
+{
+    if (out == NULL || out_count == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    return needed <= capacity ? TB_STATUS_OK : TB_STATUS_OUT_OF_RANGE;
+}
+
+tb_status tb_contact_points_box(const double size[3], tb_contact_point *out, size_t capacity,
+                                size_t *out_count)
+{
+    tb_status status = room(8, capacity, out, out_count);
+    if (status != TB_STATUS_OK || size == NULL) {
+        return status != TB_STATUS_OK ? status : TB_STATUS_NULL_POINTER;
+    }
+    for (unsigned c = 0; c < 8; ++c) {
+        for (int i = 0; i < 3; ++i) {
+            out[c].position[i] = ((c >> i) & 1 ? 0.5 : -0.5) * size[i];
+        }
+        out[c].radius = 0.0;
+    }
+    *out_count = 8;
+    return TB_STATUS_OK;
+}
+
+tb_status tb_contact_points_sphere(double radius, tb_contact_point *out, size_t capacity,
+                                   size_t *out_count)
+{
+    tb_status status = room(1, capacity, out, out_count);
+    if (status == TB_STATUS_OK) {
+        memset(out, 0, sizeof *out);
+        out[0].radius = radius;
+        *out_count = 1;
+    }
+    return status;
+}
+
+tb_status tb_contact_points_capsule(double radius, double length, tb_contact_point *out,
+                                    size_t capacity, size_t *out_count)
+{
+    tb_status status = room(2, capacity, out, out_count);
+    if (status == TB_STATUS_OK) {
+        memset(out, 0, 2 * sizeof *out);
+        out[0].position[2] = -0.5 * length;
+        out[1].position[2] = 0.5 * length;
+        out[0].radius = out[1].radius = radius;
+        *out_count = 2;
+    }
+    return status;
+}

@@ -1,0 +1,122 @@
+/* The scene's effect list: each effect added compiles to one entry (its row of operations and
+ * its typed parameters), kept in the order the derivative applies them. Also the conversions
+ * every effect uses to store a body point or direction in the body's principal frame. */
+#include "scene/scene_internal.h"
+
+#include "core/detail.h"
+#include "core/validate.h"
+#include "math/tb_math.h"
+
+#include <assert.h>
+#include <stdlib.h>
+#include <string.h>
+
+tb_status tb__scene_reserve_effects(tb_scene *scene, size_t capacity)
+{
+    size_t effect_bytes, order_bytes;
+    tb_status status = tb__validate_size_product(scene->detail, capacity, sizeof(tb__effect),
+                                                 "effect_capacity", &effect_bytes);
+    if (status == TB_STATUS_OK) {
+        status = tb__validate_size_product(scene->detail, capacity, sizeof(size_t),
+                                           "effect_capacity", &order_bytes);
+    }
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    tb__effect *effects = realloc(scene->effects, effect_bytes);
+    if (effects == NULL) {
+        return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "room for %zu effects", capacity);
+    }
+    scene->effects = effects;
+    size_t *order = realloc(scene->effect_order, order_bytes);
+    if (order == NULL) {
+        return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "room for %zu effects", capacity);
+    }
+    scene->effect_order = order;
+    scene->effect_capacity = capacity;
+    return TB_STATUS_OK;
+}
+
+/* Where in effect_order the new last effect goes (see tb_scene). */
+static size_t order_position(const tb_scene *scene, const tb__effect *effect)
+{
+    const size_t all = scene->all_body_effect_count, single = scene->single_body_effect_count;
+    if (effect->ops->apply != NULL) {
+        return all + single + scene->coupled_effect_count;
+    }
+    if (effect->body == TB_ALL_BODIES) {
+        return all;
+    }
+    size_t k = all;
+    while (k < all + single && scene->effects[scene->effect_order[k]].body <= effect->body) {
+        ++k;
+    }
+    return k;
+}
+
+/* Room for one more effect: doubles the list, refusing a size that would overflow. */
+static tb_status grow(tb_scene *scene)
+{
+    if (scene->effect_count < scene->effect_capacity) {
+        return TB_STATUS_OK;
+    }
+    size_t capacity = 8;
+    if (scene->effect_capacity > 0 &&
+        tb__validate_size_product(scene->detail, scene->effect_capacity, 2, "effect list",
+                                  &capacity) != TB_STATUS_OK) {
+        return TB_STATUS_OUT_OF_MEMORY;
+    }
+    return tb__scene_reserve_effects(scene, capacity);
+}
+
+tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect)
+{
+    /* a per-body row applies to ranges of bodies; every other row to the whole state */
+    assert((effect->ops->apply == NULL) ==
+           !(effect->ops->couples_bodies || effect->ops->owns_states));
+    assert((effect->ops->apply == NULL) != (effect->ops->apply_bodies == NULL));
+    tb_status status = grow(scene);
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    const size_t index = scene->effect_count;
+    scene->effects[scene->effect_count++] = *effect;
+    if (effect->states_per_contact > 0) {
+        status = tb__scene_layout_states(scene, scene->body_count);
+        if (status != TB_STATUS_OK) {
+            scene->effect_count--;
+            return status;
+        }
+    }
+    const size_t position = order_position(scene, effect);
+    size_t *order = scene->effect_order;
+    memmove(order + position + 1, order + position, (index - position) * sizeof *order);
+    order[position] = index;
+    if (effect->ops->apply != NULL) {
+        scene->coupled_effect_count++;
+    } else if (effect->body == TB_ALL_BODIES) {
+        scene->all_body_effect_count++;
+    } else {
+        scene->single_body_effect_count++;
+    }
+    return TB_STATUS_OK;
+}
+
+size_t tb_scene_effect_count(const tb_scene *scene)
+{
+    return scene == NULL ? 0 : scene->effect_count;
+}
+
+void tb__shape_point_to_principal(const tb_mass_properties *props, const double point[3],
+                                  double out[3])
+{
+    const double from_center[3] = {point[0] - props->center[0], point[1] - props->center[1],
+                                   point[2] - props->center[2]};
+    tb__q_rotate_inverse(out, props->rotation, from_center);
+}
+
+void tb__shape_vector_to_principal(const tb_mass_properties *props, const double v[3],
+                                   double out[3])
+{
+    tb__q_rotate_inverse(out, props->rotation, v);
+}
