@@ -1,9 +1,106 @@
+/* Command-line parsing: one table of options, each naming the commands it applies to, turned
+ * into getopt_long's table; an option given to a command it does not apply to is refused. */
+#define _POSIX_C_SOURCE 200809L
 #include "options.h"
 
+#include <getopt.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+enum { ALL_COMMANDS = CLI_RUN | CLI_CHECK | CLI_ACCURACY, RUN_OR_CHECK = CLI_RUN | CLI_CHECK };
+
+typedef enum option_kind { OPTION_FLAG, OPTION_TEXT, OPTION_NUMBER } option_kind;
+
+typedef struct option_info {
+    const char *name;
+    int short_name; /* 0: long only */
+    unsigned commands;
+    option_kind kind;
+    size_t value_offset; /* bool (flag), const char * (text) or double (number) */
+    size_t seen_offset;  /* numbers: the bool saying the option was given */
+    bool zero_ok;        /* numbers: 0 is allowed (otherwise > 0) */
+} option_info;
+
+#define FLAG(name, short_name, commands, field)                                                    \
+    {                                                                                              \
+        name, short_name, commands, OPTION_FLAG, offsetof(cli_options, field), 0, false            \
+    }
+#define TEXT(name, short_name, commands, field)                                                    \
+    {                                                                                              \
+        name, short_name, commands, OPTION_TEXT, offsetof(cli_options, field), 0, false            \
+    }
+#define NUMBER(name, commands, field, seen, zero_ok)                                               \
+    {                                                                                              \
+        name, 0, commands, OPTION_NUMBER, offsetof(cli_options, field),                            \
+            offsetof(cli_options, seen), zero_ok                                                   \
+    }
+
+static const option_info option_table[] = {
+    FLAG("help", 'h', ALL_COMMANDS, help),
+    TEXT("out", 'o', CLI_RUN, out),
+    TEXT("integrator", 0, RUN_OR_CHECK, method),
+    TEXT("chart", 0, CLI_ACCURACY, chart),
+    NUMBER("dt", RUN_OR_CHECK, dt, has_dt, false),
+    NUMBER("rtol", RUN_OR_CHECK, rtol, has_rtol, false),
+    NUMBER("atol", RUN_OR_CHECK, atol, has_atol, true),
+    NUMBER("fps", ALL_COMMANDS, fps, has_fps, false),
+    NUMBER("duration", ALL_COMMANDS, duration, has_duration, true),
+    NUMBER("target-error", CLI_ACCURACY, target_error, has_target, false),
+};
+#define OPTION_COUNT (sizeof option_table / sizeof option_table[0])
+
+static const struct {
+    const char *name;
+    cli_command command;
+} commands[] = {{"run", CLI_RUN}, {"check", CLI_CHECK}, {"accuracy", CLI_ACCURACY}};
+
+/* getopt_long's value for option k: its short letter, or 256 + k for long-only options. */
+static int option_value(size_t k)
+{
+    return option_table[k].short_name != 0 ? option_table[k].short_name : 256 + (int)k;
+}
+
+static void build_getopt_table(struct option *out, char *short_options)
+{
+    char *s = short_options;
+    *s++ = ':'; /* a missing value returns ':' instead of printing */
+    for (size_t k = 0; k < OPTION_COUNT; ++k) {
+        const option_info *o = &option_table[k];
+        out[k] = (struct option){o->name, o->kind == OPTION_FLAG ? no_argument : required_argument,
+                                 NULL, option_value(k)};
+        if (o->short_name != 0) {
+            *s++ = (char)o->short_name;
+            if (o->kind != OPTION_FLAG) {
+                *s++ = ':';
+            }
+        }
+    }
+    *s = '\0';
+    out[OPTION_COUNT] = (struct option){NULL, 0, NULL, 0};
+}
+
+/* The names of the commands in mask, e.g. "run and check". */
+static void command_names(unsigned mask, char *out, size_t size)
+{
+    out[0] = '\0';
+    size_t found = 0, total = 0;
+    for (size_t c = 0; c < 3; ++c) {
+        total += (mask & commands[c].command) != 0;
+    }
+    for (size_t c = 0; c < 3; ++c) {
+        if (mask & commands[c].command) {
+            const size_t used = strlen(out);
+            snprintf(out + used, size - used, "%s%s",
+                     found == 0           ? ""
+                     : found + 1 == total ? " and "
+                                          : ", ",
+                     commands[c].name);
+            ++found;
+        }
+    }
+}
 
 /* A finite number > 0 (>= 0 when zero_ok), all of the text. */
 static bool parse_number(const char *text, bool zero_ok, double *out)
@@ -17,56 +114,71 @@ static bool parse_number(const char *text, bool zero_ok, double *out)
     return true;
 }
 
-typedef struct number_option {
-    const char *flag;
-    bool zero_ok;
-    size_t value_offset, seen_offset;
-} number_option;
-
-#define NUMBER(flag, zero_ok, field)                                                               \
-    {                                                                                              \
-        flag, zero_ok, offsetof(cli_options, field), offsetof(cli_options, has_##field)            \
-    }
-
-static const number_option number_options[] = {
-    NUMBER("--dt", false, dt),
-    NUMBER("--rtol", false, rtol),
-    NUMBER("--atol", true, atol),
-    NUMBER("--fps", false, fps),
-    NUMBER("--duration", true, duration),
-    {"--target-error", false, offsetof(cli_options, target_error),
-     offsetof(cli_options, has_target)},
-};
-
-static bool parse_option(const char *flag, const char *value, cli_options *out, char *message,
-                         size_t size)
+static bool store_option(const option_info *o, const char *value, const cli_options *options,
+                         char *message, size_t size)
 {
-    if (strcmp(flag, "--out") == 0) {
-        out->out = value;
-        return true;
+    char *field = (char *)options + o->value_offset;
+    if (!(o->commands & options->command)) {
+        char names[64];
+        command_names(o->commands, names, sizeof names);
+        snprintf(message, size, "--%s does not apply to %s (it is an option of %s)", o->name,
+                 options->command_name, names);
+        return false;
     }
-    if (strcmp(flag, "--chart") == 0) {
-        out->chart = value;
-        return true;
+    if (o->kind == OPTION_FLAG) {
+        *(bool *)field = true;
+    } else if (o->kind == OPTION_TEXT) {
+        *(const char **)field = value;
+    } else if (parse_number(value, o->zero_ok, (double *)field)) {
+        *(bool *)((char *)options + o->seen_offset) = true;
+    } else {
+        snprintf(message, size, "--%s: expected a number %s, got \"%s\"", o->name,
+                 o->zero_ok ? ">= 0" : "> 0", value);
+        return false;
     }
-    if (strcmp(flag, "--integrator") == 0) {
-        out->method = value;
-        return true;
-    }
-    for (size_t k = 0; k < sizeof number_options / sizeof number_options[0]; ++k) {
-        const number_option *o = &number_options[k];
-        if (strcmp(flag, o->flag) == 0) {
-            if (!parse_number(value, o->zero_ok, (double *)((char *)out + o->value_offset))) {
-                snprintf(message, size, "%s: expected a number %s, got \"%s\"", flag,
-                         o->zero_ok ? ">= 0" : "> 0", value);
-                return false;
-            }
-            *(bool *)((char *)out + o->seen_offset) = true;
+    return true;
+}
+
+static bool find_command(const char *name, cli_options *out)
+{
+    for (size_t c = 0; c < 3; ++c) {
+        if (strcmp(name, commands[c].name) == 0) {
+            out->command = commands[c].command;
+            out->command_name = commands[c].name;
             return true;
         }
     }
-    snprintf(message, size, "unknown option \"%s\" (see tumble --help)", flag);
     return false;
+}
+
+/* Options of argv[1..] (argv[0] is the command); the scene is left in argv[optind..]. */
+static bool parse_options(int argc, char **argv, cli_options *out, char *message, size_t size)
+{
+    struct option long_options[OPTION_COUNT + 1];
+    char short_options[2 * OPTION_COUNT + 2];
+    build_getopt_table(long_options, short_options);
+    optind = 1;
+    opterr = 0;
+    int c;
+    while ((c = getopt_long(argc, argv, short_options, long_options, NULL)) != -1) {
+        if (c == '?' || c == ':') {
+            const char *given = argv[optind - 1];
+            snprintf(message, size,
+                     c == ':' ? "%s: needs a value"
+                              : "unknown option \"%s\" (see tumble %s --help)",
+                     given, out->command_name);
+            return false;
+        }
+        const size_t k = c >= 256 ? (size_t)(c - 256) : 0;
+        const option_info *o = &option_table[k];
+        for (size_t s = 0; c < 256 && s < OPTION_COUNT; ++s) {
+            o = option_table[s].short_name == c ? &option_table[s] : o;
+        }
+        if (!store_option(o, optarg, out, message, size)) {
+            return false;
+        }
+    }
+    return true;
 }
 
 bool cli_parse(int argc, char **argv, cli_options *out, char *message, size_t size)
@@ -76,33 +188,23 @@ bool cli_parse(int argc, char **argv, cli_options *out, char *message, size_t si
         snprintf(message, size, "missing command: run, check or accuracy (see tumble --help)");
         return false;
     }
-    out->command = argv[1];
-    if (strcmp(out->command, "run") != 0 && strcmp(out->command, "check") != 0 &&
-        strcmp(out->command, "accuracy") != 0) {
+    if (!find_command(argv[1], out)) {
         snprintf(message, size,
-                 "unknown command \"%s\": run, check or accuracy (see tumble --help)",
-                 out->command);
+                 "unknown command \"%s\": run, check or accuracy (see tumble --help)", argv[1]);
         return false;
     }
-    for (int i = 2; i < argc; ++i) {
-        if (strncmp(argv[i], "--", 2) != 0) {
-            if (out->scene != NULL) {
-                snprintf(message, size, "one scene at a time: got \"%s\" and \"%s\"", out->scene,
-                         argv[i]);
-                return false;
-            }
-            out->scene = argv[i];
-        } else if (i + 1 >= argc) {
-            snprintf(message, size, "%s: needs a value", argv[i]);
-            return false;
-        } else if (!parse_option(argv[i], argv[i + 1], out, message, size)) {
-            return false;
-        } else {
-            ++i;
-        }
+    if (!parse_options(argc - 1, argv + 1, out, message, size)) {
+        return false;
     }
-    if (out->scene == NULL) {
-        snprintf(message, size, "%s: missing the scene file", out->command);
+    char **rest = argv + 1 + optind;
+    const int remaining = argc - 1 - optind;
+    if (remaining > 1) {
+        snprintf(message, size, "one scene at a time: got \"%s\" and \"%s\"", rest[0], rest[1]);
+        return false;
+    }
+    out->scene = remaining == 1 ? rest[0] : NULL;
+    if (out->scene == NULL && !out->help) {
+        snprintf(message, size, "%s: missing the scene file", out->command_name);
         return false;
     }
     return true;

@@ -1,13 +1,24 @@
-/* The tumble command's options. */
+/* The tumble command's options: parsed with getopt_long, each option allowed only for the
+ * commands it applies to. */
 #ifndef TUMBLE_CLI_OPTIONS_H
 #define TUMBLE_CLI_OPTIONS_H
 
 #include "tumble/tumble.h"
 
 #include <stdbool.h>
+#include <stddef.h>
+
+/* Commands, as bits so that an option can name the commands it applies to. */
+typedef enum cli_command {
+    CLI_RUN = 1,
+    CLI_CHECK = 2,
+    CLI_ACCURACY = 4,
+} cli_command;
 
 typedef struct cli_options {
-    const char *command; /* "run", "check" or "accuracy" */
+    cli_command command;
+    const char *command_name; /* "run", "check" or "accuracy" */
+    bool help;                /* --help after the command: print that command's help */
     const char *scene;
     const char *out;     /* NULL: standard output */
     const char *method;  /* NULL: the scene's */
@@ -18,11 +29,15 @@ typedef struct cli_options {
     bool has_dt, has_rtol, has_atol, has_fps, has_duration;
 } cli_options;
 
-/* Parses argv; on a mistake writes a message naming it into message and returns false. */
+/* Parses argv (argv[1] is the command); on a mistake writes a message naming it into message
+ * and returns false. */
 bool cli_parse(int argc, char **argv, cli_options *out, char *message, size_t size);
 
 /* Applies the command-line overrides to the scene's run; false with a message if they do not
  * fit (a --dt for an adaptive method, ...). */
 bool cli_apply(const cli_options *options, tb_run_def *run, char *message, size_t size);
+
+/* The help text of one command (or of the whole program for 0). */
+const char *cli_help(cli_command command);
 
 #endif

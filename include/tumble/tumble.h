@@ -13,5 +13,6 @@
 #include "tumble/run.h"
 #include "tumble/scene_file.h"
 #include "tumble/writer.h"
+#include "tumble/accuracy.h"
 
 #endif

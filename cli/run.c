@@ -1,0 +1,187 @@
+/* tumble run and tumble check. Both load the scene and make a dry run (tb_scene_run stopped
+ * at its first frame), so check refuses exactly what run would refuse: the library applies
+ * its own rules (frame limit, stability limit, settings that do not fit the method) and the
+ * command repeats none of them. */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime, isatty, fileno */
+#include "commands.h"
+#include "output.h"
+#include "summary.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int stop_at_first_frame(size_t frame, double t, const tb_scene *scene, void *ctx)
+{
+    (void)frame, (void)t, (void)scene, (void)ctx;
+    return 1;
+}
+
+int cli_load(const cli_options *o, tb_scene **scene, tb_run_def *run)
+{
+    tb_error error;
+    if (tb_scene_load_file(o->scene, scene, run, &error) != TB_STATUS_OK) {
+        fprintf(stderr, "tumble: %s\n", error.message);
+        return CLI_EXIT_INPUT;
+    }
+    char message[256];
+    if (!cli_apply(o, run, message, sizeof message)) {
+        fprintf(stderr, "tumble: %s\n", message);
+        tb_scene_destroy(*scene);
+        *scene = NULL;
+        return CLI_EXIT_INPUT;
+    }
+    return CLI_EXIT_OK;
+}
+
+/* The states are put back as they were, to the bit (the first frame may renormalise
+ * quaternions). */
+int cli_dry_run(const cli_options *o, tb_scene *scene, const tb_run_def *run)
+{
+    const size_t size = tb_scene_state_size(scene);
+    double *saved = malloc(size * sizeof(double) + 1);
+    if (saved == NULL) {
+        fprintf(stderr, "tumble: %s: out of memory\n", o->scene);
+        return CLI_EXIT_SIMULATION;
+    }
+    memcpy(saved, tb_scene_states(scene), size * sizeof(double));
+    tb_error error;
+    const tb_status status = tb_scene_run(scene, run, stop_at_first_frame, NULL, NULL, &error);
+    memcpy(tb_scene_states(scene), saved, size * sizeof(double));
+    free(saved);
+    if (status != TB_STATUS_CANCELLED) {
+        fprintf(stderr, "tumble: %s: %s\n", o->scene, error.message);
+        return CLI_EXIT_INPUT;
+    }
+    return CLI_EXIT_OK;
+}
+
+typedef struct writer {
+    cli_output output;
+    double duration;
+    double started, last_progress;
+    int progress; /* stderr is a terminal */
+    invariants first;
+} writer;
+
+static void write_body(cli_output *out, double t, const tb_scene *scene, size_t id)
+{
+    const double *y = tb_scene_states_const(scene);
+    double origin[3], q[4], v[3], w[3], arm[3];
+    tb_scene_body_shape_pose(scene, y, id, origin, q);
+    tb_scene_body_velocity(scene, y, id, v);
+    tb_scene_body_angular_velocity(scene, y, id, w);
+    /* velocity of the shape origin: v + omega x (origin - centre of mass) */
+    const double *x = y + TB_STATE_SIZE * id + TB_STATE_X;
+    for (int k = 0; k < 3; ++k) {
+        arm[k] = origin[k] - x[k];
+    }
+    v[0] += w[1] * arm[2] - w[2] * arm[1];
+    v[1] += w[2] * arm[0] - w[0] * arm[2];
+    v[2] += w[0] * arm[1] - w[1] * arm[0];
+    cli_output_printf(out, "%.9g,", t);
+    cli_output_csv_field(out, tb_scene_body_name(scene, id));
+    cli_output_printf(out, ",%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n",
+                      origin[0], origin[1], origin[2], q[0], q[1], q[2], q[3], v[0], v[1], v[2],
+                      w[0], w[1], w[2]);
+}
+
+static int on_frame(size_t frame, double t, const tb_scene *scene, void *ctx)
+{
+    writer *w = ctx;
+    for (size_t id = 0; id < tb_scene_body_count(scene); ++id) {
+        write_body(&w->output, t, scene, id);
+    }
+    if (w->output.error != 0) {
+        return 1; /* stop: the frames are being lost */
+    }
+    if (frame == 0) {
+        summary_measure(scene, &w->first);
+    }
+    const double clock = now();
+    if (w->progress && clock - w->started > 1.0 && clock - w->last_progress > 0.1) {
+        fprintf(stderr, "\r  t = %.2f / %.2f s (%.0f%%)", t, w->duration,
+                w->duration > 0 ? 100.0 * t / w->duration : 100.0);
+        w->last_progress = clock;
+    }
+    return 0;
+}
+
+/* Runs into the opened output; the exit code. */
+static int simulate(const cli_options *o, tb_scene *scene, const tb_run_def *run, writer *w)
+{
+    w->progress = isatty(fileno(stderr));
+    cli_output_printf(&w->output, "t,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n");
+    tb_integrator_stats stats;
+    tb_error error;
+    w->started = now();
+    const tb_status status = tb_scene_run(scene, run, on_frame, w, &stats, &error);
+    const double seconds = now() - w->started;
+    if (w->progress && seconds > 1.0) {
+        fprintf(stderr, "\r\033[K");
+    }
+    char message[512];
+    if (!cli_output_close(&w->output, message, sizeof message)) {
+        fprintf(stderr, "tumble: %s: %s\n", o->scene, message);
+        return CLI_EXIT_SIMULATION;
+    }
+    if (status != TB_STATUS_OK) {
+        fprintf(stderr, "tumble: %s: simulation failed: %s\n", o->scene, error.message);
+        return CLI_EXIT_SIMULATION;
+    }
+    invariants last;
+    summary_measure(scene, &last);
+    summary_print(o->scene, scene, run, &stats, seconds, &w->first, &last);
+    return CLI_EXIT_OK;
+}
+
+int cli_run_command(const cli_options *o)
+{
+    tb_scene *scene = NULL;
+    tb_run_def run;
+    int code = cli_load(o, &scene, &run);
+    if (code != CLI_EXIT_OK) {
+        return code;
+    }
+    code = cli_dry_run(o, scene, &run);
+    writer w = {.duration = run.duration};
+    char message[512];
+    if (code == CLI_EXIT_OK &&
+        !cli_output_open(&w.output, o->out, o->scene, message, sizeof message)) {
+        fprintf(stderr, "tumble: --out %s\n", message);
+        code = CLI_EXIT_INPUT;
+    }
+    if (code == CLI_EXIT_OK) {
+        code = simulate(o, scene, &run, &w);
+    }
+    tb_scene_destroy(scene);
+    return code;
+}
+
+int cli_check_command(const cli_options *o)
+{
+    tb_scene *scene = NULL;
+    tb_run_def run;
+    int code = cli_load(o, &scene, &run);
+    if (code == CLI_EXIT_OK) {
+        code = cli_dry_run(o, scene, &run);
+    }
+    if (code == CLI_EXIT_OK) {
+        const size_t bodies = tb_scene_body_count(scene), effects = tb_scene_effect_count(scene);
+        fprintf(stderr, "tumble: %s: ok: %zu %s, %zu %s, %s, %.6g s at %.6g fps\n", o->scene,
+                bodies, summary_plural(bodies, "body", "bodies"), effects,
+                summary_plural(effects, "effect", "effects"), tb_method_name(run.integrator.method),
+                run.duration, run.fps);
+    }
+    tb_scene_destroy(scene);
+    return code;
+}

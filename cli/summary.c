@@ -1,0 +1,109 @@
+/* The run's summary. Angular momentum is taken about the centre of mass, where uniform
+ * gravity exerts no torque: a box thrown under gravity keeps it, so its drift measures the
+ * integrator, not the physics. */
+#include "summary.h"
+
+#include <math.h>
+#include <stdio.h>
+
+static void center_of_mass(const tb_scene *scene, const double *y, double out[3])
+{
+    const size_t count = tb_scene_body_count(scene);
+    if (count == 1) { /* exactly x, not M x / M rounded */
+        for (int k = 0; k < 3; ++k) {
+            out[k] = y[TB_STATE_X + k];
+        }
+        return;
+    }
+    double total = 0.0, sum[3] = {0, 0, 0};
+    for (size_t i = 0; i < count; ++i) {
+        tb_mass_properties mass;
+        tb_scene_get_mass(scene, i, &mass);
+        total += mass.mass;
+        for (int k = 0; k < 3; ++k) {
+            sum[k] += mass.mass * y[TB_STATE_SIZE * i + TB_STATE_X + k];
+        }
+    }
+    for (int k = 0; k < 3; ++k) {
+        out[k] = total > 0 ? sum[k] / total : 0.0;
+    }
+}
+
+void summary_measure(const tb_scene *scene, invariants *out)
+{
+    const double *y = tb_scene_states_const(scene);
+    double kinetic = 0.0, potential = 0.0, center[3] = {0, 0, 0};
+    tb_scene_kinetic_energy(scene, y, &kinetic);
+    tb_scene_potential_energy(scene, y, &potential);
+    out->energy = kinetic + potential;
+    tb_scene_linear_momentum(scene, y, out->P);
+    if (tb_scene_body_count(scene) > 0) {
+        center_of_mass(scene, y, center);
+    }
+    tb_scene_angular_momentum(scene, y, center, out->L);
+}
+
+const char *summary_plural(size_t count, const char *one, const char *many)
+{
+    return count == 1 ? one : many;
+}
+
+static double distance(const double a[3], const double b[3])
+{
+    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+static double length(const double a[3])
+{
+    return sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+}
+
+/* about: where a moment is taken, "" for none */
+static void report_drift(const char *what, int conserved, double change, double scale,
+                         const char *unit, const char *about)
+{
+    if (!conserved) {
+        fprintf(stderr, "  %-24s not conserved by this scene's effects%s\n", what, about);
+    } else if (scale > 0) {
+        fprintf(stderr, "  %-24s drift %.3g %s (%.3g relative)%s\n", what, change, unit,
+                change / scale, about);
+    } else {
+        fprintf(stderr, "  %-24s drift %.3g %s%s\n", what, change, unit, about);
+    }
+}
+
+static void print_work(const tb_run_def *run, const tb_integrator_stats *stats, double seconds)
+{
+    const tb_integrator_def *i = &run->integrator;
+    if (tb_method_is_adaptive(i->method)) {
+        fprintf(stderr, "  %-24s %s, rtol %g, atol %s\n", "integrator", tb_method_name(i->method),
+                i->rtol, i->atol > 0 ? "given" : "per body");
+    } else {
+        fprintf(stderr, "  %-24s %s, dt %g s\n", "integrator", tb_method_name(i->method), i->dt);
+    }
+    fprintf(stderr, "  %-24s %ld (%ld failed attempts)\n", "steps", stats->steps,
+            stats->failed_steps);
+    fprintf(stderr, "  %-24s %ld\n", "derivative evaluations", stats->derivative_evals);
+    fprintf(stderr, "  %-24s %.3f s\n", "wall time", seconds);
+}
+
+void summary_print(const char *path, const tb_scene *scene, const tb_run_def *run,
+                   const tb_integrator_stats *stats, double seconds, const invariants *first,
+                   const invariants *last)
+{
+    const size_t bodies = tb_scene_body_count(scene), effects = tb_scene_effect_count(scene);
+    fprintf(stderr, "tumble: %s: %zu %s, %zu %s, %.6g s at %.6g fps\n", path, bodies,
+            summary_plural(bodies, "body", "bodies"), effects,
+            summary_plural(effects, "effect", "effects"), run->duration, run->fps);
+    print_work(run, stats, seconds);
+    tb_conserved c;
+    tb_scene_conserved(scene, &c);
+    report_drift("energy", c.energy, fabs(last->energy - first->energy), fabs(first->energy), "J",
+                 "");
+    report_drift("linear momentum", c.linear_momentum, distance(last->P, first->P),
+                 length(first->P), "kg m/s", "");
+    report_drift("angular momentum", c.angular_momentum_about_center_of_mass,
+                 distance(last->L, first->L), length(first->L), "kg m^2/s",
+                 bodies == 1 ? ", about the centre of mass" : ", about the bodies' centre of mass");
+}

@@ -1,0 +1,23 @@
+/* The run's summary on standard error: the integrator's work and the drift of what the
+ * scene's effects conserve. */
+#ifndef TUMBLE_CLI_SUMMARY_H
+#define TUMBLE_CLI_SUMMARY_H
+
+#include "tumble/tumble.h"
+
+/* What is conserved, measured at one time. L is about the centre of mass: the body's own for
+ * a single body, the system's (sum M_i x_i / sum M_i) for several. */
+typedef struct invariants {
+    double energy, P[3], L[3];
+} invariants;
+
+void summary_measure(const tb_scene *scene, invariants *out);
+
+/* "1 body", "2 bodies": count and the noun in the right number. */
+const char *summary_plural(size_t count, const char *one, const char *many);
+
+void summary_print(const char *path, const tb_scene *scene, const tb_run_def *run,
+                   const tb_integrator_stats *stats, double seconds, const invariants *first,
+                   const invariants *last);
+
+#endif

@@ -1,0 +1,94 @@
+/* The accuracy sweep: a scene run with each integrator across a sweep of its setting, every
+ * run compared with a tight reference run of the same scene. What `tumble accuracy` prints
+ * and Python's Scene.accuracy returns, computed once, here. */
+#ifndef TUMBLE_ACCURACY_H
+#define TUMBLE_ACCURACY_H
+
+#include "tumble/export.h"
+
+#include "tumble/ode.h"
+#include "tumble/run.h"
+#include "tumble/scene.h"
+#include "tumble/status.h"
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct tb_accuracy_setting {
+    tb_method method;
+    double setting; /* fixed-step methods: steps per second (dt = 1 / setting); CVODE: rtol */
+} tb_accuracy_setting;
+
+/* The default sweep: Euler at 240, 1000, 4000 steps/s; midpoint at 60, 240, 1000; RK4 at 60,
+ * 240, 1000, 4000; CVODE Adams and BDF at rtol 1e-3, 1e-5, 1e-7, 1e-9. A constant array of
+ * *out_count settings. */
+TB_API const tb_accuracy_setting *tb_accuracy_default_sweep(size_t *out_count);
+
+typedef struct tb_accuracy_def {
+    const tb_accuracy_setting *settings; /* NULL: the default sweep */
+    size_t setting_count;                /* settings' length (ignored for the default) */
+    /* The reference is CVODE BDF (it copes with stiff contact and springs) at reference_rtol;
+     * a second run at check_rtol bounds the reference's own error (about a tenth of the
+     * difference where the runs converge). Defaults 1e-11 and 1e-10. */
+    double reference_rtol;
+    double check_rtol;
+    long max_steps; /* each run's step budget; default 1000000 */
+    int internal_cookie;
+} tb_accuracy_def;
+
+TB_API tb_accuracy_def tb_accuracy_def_default(void);
+
+/* One setting's outcome. Errors are the largest over all frames and bodies: the position of
+ * each body's centre of mass (m), the angle between orientations (rad), and what an animator
+ * sees, the displacement |dx| + l * angle of the body's points at its radius of gyration l
+ * about its largest principal axis (m). */
+typedef struct tb_accuracy_result {
+    tb_method method;
+    double setting;
+    tb_status status;            /* OK, or why this setting gave no result (the run's status:
+                                    TB_STATUS_UNSTABLE_STEP when the step is refused as
+                                    unstable, TB_STATUS_TOO_MANY_STEPS, ...) */
+    char detail[TB_DETAIL_SIZE]; /* the run's detail when status is not OK, else "" */
+    double error;                /* m */
+    double position_error;       /* m */
+    double angle_error;          /* rad */
+    double cpu_seconds;          /* processor time of the run */
+    long steps;
+    long derivative_evals;
+} tb_accuracy_result;
+
+/* The reference's own uncertainty: the errors of the check run against it. Errors below these
+ * are not resolved. */
+typedef struct tb_accuracy_reference {
+    double error, position_error, angle_error; /* m, m, rad */
+} tb_accuracy_reference;
+
+/* Called after each setting has run (index into the sweep); non-zero stops the sweep
+ * (TB_STATUS_CANCELLED). */
+typedef int (*tb_accuracy_fn)(size_t index, const tb_accuracy_result *result, void *ctx);
+
+/* Runs the sweep on scene from its current state with run's frames (fps, duration; the
+ * integrator part is the base each setting changes: method, dt or rtol, atol 0 (per body),
+ * max_steps). def may be NULL for tb_accuracy_def_default(). out_results holds one result per
+ * setting. The scene's states are as they were on return, success or not. Fails (with
+ * out_error naming the cause) on bad arguments, or when the reference or check run fails:
+ * then the status and detail are the run's, prefixed with which run it was. A setting whose
+ * run fails is not a failure of the sweep: its result says why. No printing. */
+TB_API tb_status tb_scene_accuracy_sweep(tb_scene *scene, const tb_run_def *run,
+                                         const tb_accuracy_def *def, tb_accuracy_fn on_result,
+                                         void *ctx, tb_accuracy_result *out_results,
+                                         tb_accuracy_reference *out_reference, tb_error *out_error);
+
+/* The index of the cheapest result (least CPU time) that ran and has error <= target_error
+ * (m); count when none has. */
+TB_API size_t tb_accuracy_cheapest(const tb_accuracy_result *results, size_t count,
+                                   double target_error);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
