@@ -99,12 +99,15 @@ TB_API tb_status tb_scene_potential_energy(const tb_scene *scene, const double *
 
 /* What the scene's effects conserve (non-zero = conserved): total energy (only gravity and
  * undamped springs act), linear momentum (no force from outside the bodies: only springs
- * between two bodies), angular momentum about any point (the same). User effects are assumed
- * to conserve nothing. */
+ * between two bodies), angular momentum about any point (the same), and angular momentum
+ * about the centre of mass of all bodies (no torque about it from outside: springs between
+ * two bodies and uniform gravity, whose torque sum (x_i - c) x M_i g is zero about the centre
+ * of mass c). User effects are assumed to conserve nothing. */
 typedef struct tb_conserved {
     int energy;
     int linear_momentum;
     int angular_momentum;
+    int angular_momentum_about_center_of_mass;
 } tb_conserved;
 
 TB_API tb_status tb_scene_conserved(const tb_scene *scene, tb_conserved *out_conserved);

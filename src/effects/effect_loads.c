@@ -43,6 +43,7 @@ static const tb__effect_ops gravity_ops = {
     .apply_bodies = apply_gravity,
     .potential_energy = gravity_potential_energy,
     .conserves_energy = always,
+    .no_torque_about_center_of_mass = true,
 };
 
 tb_status tb_scene_add_gravity(tb_scene *scene, const double g[3])

@@ -145,13 +145,15 @@ tb_status tb_scene_conserved(const tb_scene *scene, tb_conserved *out_conserved)
     if (scene == NULL || out_conserved == NULL) {
         return TB_STATUS_NULL_POINTER;
     }
-    tb_conserved c = {1, 1, 1};
+    tb_conserved c = {1, 1, 1, 1};
     for (size_t e = 0; e < scene->effect_count; ++e) {
         const tb__effect *effect = &scene->effects[e];
         const tb__effect_ops *ops = effect->ops;
         c.energy &= ops->conserves_energy != NULL && ops->conserves_energy(effect);
         c.linear_momentum &= ops->conserves_momentum;
         c.angular_momentum &= ops->conserves_momentum;
+        c.angular_momentum_about_center_of_mass &=
+            ops->conserves_momentum || ops->no_torque_about_center_of_mass;
     }
     *out_conserved = c;
     return TB_STATUS_OK;

@@ -49,6 +49,9 @@ typedef struct tb__effect_ops {
     bool couples_bodies;                  /* its loads on one body depend on another's state */
     bool owns_states;                     /* keeps states of its own after the bodies' */
     bool conserves_momentum;              /* its loads sum to zero force and zero torque */
+    /* Its loads sum to zero torque about the centre of mass of all bodies, though not to zero
+     * force (uniform gravity: sum (x_i - c) x M_i g = 0 about c = sum M_i x_i / sum M_i). */
+    bool no_torque_about_center_of_mass;
     /* Its potential energy (J) at y; NULL when it has none (non-conservative loads). */
     double (*potential_energy)(const tb__effect *effect, const tb_scene *scene, const double *y);
     /* True when it does no work besides its potential's (springs without damping); NULL: no. */
