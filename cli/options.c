@@ -212,11 +212,9 @@ bool cli_parse(int argc, char **argv, cli_options *out, char *message, size_t si
 
 bool cli_apply(const cli_options *o, tb_run_def *run, char *message, size_t size)
 {
-    if (o->method != NULL && tb_method_from_name(o->method, &run->integrator.method) != 0) {
-        snprintf(message, size,
-                 "--integrator: expected euler, midpoint, rk4, cvode-adams or cvode-bdf, got "
-                 "\"%s\"",
-                 o->method);
+    tb_error error;
+    if (o->method != NULL && tb_method_parse(o->method, &run->integrator.method, &error) != 0) {
+        snprintf(message, size, "--integrator: %s", error.message);
         return false;
     }
     const bool adaptive = tb_method_is_adaptive(run->integrator.method);

@@ -70,13 +70,14 @@ typedef struct tb_accuracy_reference {
  * (TB_STATUS_CANCELLED). */
 typedef int (*tb_accuracy_fn)(size_t index, const tb_accuracy_result *result, void *ctx);
 
-/* Runs the sweep on scene from its current state with run's frames (fps, duration; the
- * integrator part is the base each setting changes: method, dt or rtol, atol 0 (per body),
- * max_steps). def may be NULL for tb_accuracy_def_default(). out_results holds one result per
- * setting. The scene's states are as they were on return, success or not. Fails (with
- * out_error naming the cause) on bad arguments, or when the reference or check run fails:
- * then the status and detail are the run's, prefixed with which run it was. A setting whose
- * run fails is not a failure of the sweep: its result says why. No printing. */
+/* Runs the sweep on scene from its current state with run's frames (fps, duration; run's
+ * integrator is not used: each setting runs with tb_integrator_def_default() changed to its
+ * method, its dt or rtol (atol 0: per body), and def's max_steps). def may be NULL for
+ * tb_accuracy_def_default(). out_results holds one result per setting. The scene's states are as
+ * they were on return, success or not. Fails (with out_error naming the cause) on bad arguments, or
+ * when the reference or check run fails: then the status and detail are the run's, prefixed with
+ * which run it was. A setting whose run fails is not a failure of the sweep: its result says why.
+ * No printing. */
 TB_API tb_status tb_scene_accuracy_sweep(tb_scene *scene, const tb_run_def *run,
                                          const tb_accuracy_def *def, tb_accuracy_fn on_result,
                                          void *ctx, tb_accuracy_result *out_results,

@@ -120,13 +120,14 @@ static tb_status run_one(tb_scene *scene, const tb_run_def *base, const double *
                          const tb_accuracy_def *def, const tb_accuracy_setting *setting,
                          comparison *c, tb_accuracy_result *out)
 {
+    /* The method's defaults, not the scene's integrator: a field one method reads means
+     * nothing to another. atol 0: per body, from its own size (tb_scene_absolute_tolerances). */
     tb_run_def run = *base;
+    run.integrator = tb_integrator_def_default();
     run.integrator.method = setting->method;
     run.integrator.max_steps = def->max_steps;
     if (tb_method_is_adaptive(setting->method)) {
         run.integrator.rtol = setting->setting;
-        run.integrator.atol = 0.0; /* per body, from its own size (tb_scene_absolute_tolerances) */
-        run.integrator.atol_vector = NULL;
     } else {
         run.integrator.dt = 1.0 / setting->setting;
     }
