@@ -190,7 +190,7 @@ static void set_up(fixture *f)
     X("add_torque: NULL", NULL_POINTER, tb_scene_add_torque(f->scene, 0, NULL, TB_FRAME_BODY))     \
     X("add_drag: def not from default", INVALID_ARGUMENT, tb_scene_add_drag(f->scene, &f->drag))   \
     X("add_spring: body_b 9", OUT_OF_RANGE, tb_scene_add_spring(f->scene, &f->spring))             \
-    X("add_ground: NaN offset", INVALID_ARGUMENT, tb_scene_add_ground(f->scene, &f->ground))       \
+    X("add_ground: NaN offset", NOT_FINITE, tb_scene_add_ground(f->scene, &f->ground))             \
     X("set_contact_points: support 0", INVALID_ARGUMENT,                                           \
       tb_scene_set_contact_points(f->scene, 0, f->points, 2, 0))                                   \
     X("set_contact_points: NULL points", NULL_POINTER,                                             \

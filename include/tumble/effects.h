@@ -119,21 +119,26 @@ TB_API tb_status tb_contact_points_capsule(double radius, double length, tb_cont
  * A callback that adds forces and torques. It receives the time and the scene's state array y
  * as the derivative sees it (read it with the tb_scene_body_* read-outs, passing y), and adds
  * its loads into dydt with tb_effect_add_force / tb_effect_add_torque only. Return 0, or
- * non-zero to fail the derivative (> 0 recoverable, < 0 fatal). It must not change the scene,
- * and must not allocate if the no-allocation guarantee is to hold. */
+ * non-zero to fail the derivative (> 0 recoverable, < 0 fatal). It must not change the scene
+ * (changing calls refuse with TB_STATUS_BUSY while the scene is being stepped), and must not
+ * allocate if the no-allocation guarantee is to hold. */
 typedef int (*tb_user_effect_fn)(double t, const tb_scene *scene, const double *y, double *dydt,
                                  void *ctx);
 
 TB_API tb_status tb_scene_add_user_effect(tb_scene *scene, tb_user_effect_fn fn, void *ctx);
 
 /* For user effects: adds force f (N, world) at world point p (m) to body id: F += f,
- * tau += (p - x) x f. */
-TB_API void tb_effect_add_force(const tb_scene *scene, const double *y, double *dydt, size_t id,
-                                const double force[3], const double point[3]);
+ * tau += (p - x) x f. Refuses, adding nothing and naming the argument in the scene's detail:
+ * a NULL y, dydt, force or point (TB_STATUS_NULL_POINTER), id past the body count
+ * (TB_STATUS_OUT_OF_RANGE), NaN or infinity in force or point (TB_STATUS_NOT_FINITE). A
+ * refused load fails the derivative (as if the callback returned -1) unless the callback itself
+ * returns non-zero, so that a missing force never passes silently. */
+TB_API tb_status tb_effect_add_force(const tb_scene *scene, const double *y, double *dydt,
+                                     size_t id, const double force[3], const double point[3]);
 
-/* For user effects: adds torque (N m, world) to body id. */
-TB_API void tb_effect_add_torque(const tb_scene *scene, double *dydt, size_t id,
-                                 const double torque[3]);
+/* For user effects: adds torque (N m, world) to body id; refuses as tb_effect_add_force. */
+TB_API tb_status tb_effect_add_torque(const tb_scene *scene, double *dydt, size_t id,
+                                      const double torque[3]);
 
 #ifdef __cplusplus
 }

@@ -4,34 +4,36 @@
 #include "scene/scene_internal.h"
 
 #include "core/detail.h"
+#include "core/validate.h"
 #include "math/tb_math.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 static tb_status check_points(tb_scene *scene, const tb_contact_point *points, size_t count)
 {
     for (size_t k = 0; k < count; ++k) {
-        if (!tb__all_finite(points[k].position, 3) || !(points[k].radius >= 0) ||
-            !isfinite(points[k].radius)) {
-            return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
-                                  "points[%zu]: position must be finite and radius finite and "
-                                  ">= 0, got radius %g",
-                                  k, points[k].radius);
+        char what[48];
+        snprintf(what, sizeof what, "points[%zu].position", k);
+        tb_status status = tb__validate_vector(scene->detail, points[k].position, what);
+        if (status == TB_STATUS_OK) {
+            snprintf(what, sizeof what, "points[%zu].radius", k);
+            status = tb__validate_nonnegative(scene->detail, points[k].radius, what);
+        }
+        if (status != TB_STATUS_OK) {
+            return status;
         }
     }
     return TB_STATUS_OK;
 }
 
-/* Removes body id's points and appends the new ones at the end (keeps each body's points
- * contiguous). Works on a copy so that a failure changes nothing. */
-tb_status tb_scene_set_contact_points(tb_scene *scene, size_t id, const tb_contact_point *points,
-                                      size_t count, size_t support)
+static tb_status validate(tb_scene *scene, size_t id, const tb_contact_point *points, size_t count,
+                          size_t support)
 {
-    if (scene == NULL || (points == NULL && count > 0)) {
-        return TB_STATUS_NULL_POINTER;
+    if (points == NULL && count > 0) {
+        return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "points is NULL (count %zu)", count);
     }
-    scene->detail[0] = '\0';
     tb_status status = tb__scene_check_id(scene, id, "id");
     if (status == TB_STATUS_OK) {
         status = check_points(scene, points, count);
@@ -42,6 +44,19 @@ tb_status tb_scene_set_contact_points(tb_scene *scene, size_t id, const tb_conta
                                 "rest), got %zu",
                                 count, support);
     }
+    return status;
+}
+
+/* Removes body id's points and appends the new ones at the end (keeps each body's points
+ * contiguous). Works on a copy so that a failure changes nothing. */
+tb_status tb_scene_set_contact_points(tb_scene *scene, size_t id, const tb_contact_point *points,
+                                      size_t count, size_t support)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    tb_status status = validate(scene, id, points, count, support);
     if (status != TB_STATUS_OK) {
         return status;
     }
@@ -50,7 +65,13 @@ tb_status tb_scene_set_contact_points(tb_scene *scene, size_t id, const tb_conta
         kept += scene->contacts[j].body != id;
     }
     const size_t total = kept + count;
-    tb__contact *contacts = malloc((total > 0 ? total : 1) * sizeof *contacts);
+    size_t bytes;
+    status = tb__validate_size_product(scene->detail, total > 0 ? total : 1, sizeof(tb__contact),
+                                       "count", &bytes);
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    tb__contact *contacts = malloc(bytes);
     if (contacts == NULL) {
         return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "%zu contact points", total);
     }
@@ -83,6 +104,8 @@ tb_status tb_scene_set_contact_points(tb_scene *scene, size_t id, const tb_conta
     return TB_STATUS_OK;
 }
 
+/* The generators' checks: room for `needed` points, and each dimension finite and >= 0 (they
+ * have no detail: the status says which kind of input was bad). */
 static tb_status room(size_t needed, size_t capacity, tb_contact_point *out, size_t *out_count)
 {
     if (out == NULL || out_count == NULL) {
@@ -91,12 +114,24 @@ static tb_status room(size_t needed, size_t capacity, tb_contact_point *out, siz
     return needed <= capacity ? TB_STATUS_OK : TB_STATUS_OUT_OF_RANGE;
 }
 
+static tb_status check_dimensions(const double *values, int count)
+{
+    tb_status status = TB_STATUS_OK;
+    for (int k = 0; k < count && status == TB_STATUS_OK; ++k) {
+        status = tb__validate_nonnegative(NULL, values[k], "dimension");
+    }
+    return status;
+}
+
 tb_status tb_contact_points_box(const double size[3], tb_contact_point *out, size_t capacity,
                                 size_t *out_count)
 {
-    tb_status status = room(8, capacity, out, out_count);
-    if (status != TB_STATUS_OK || size == NULL) {
-        return status != TB_STATUS_OK ? status : TB_STATUS_NULL_POINTER;
+    tb_status status = size == NULL ? TB_STATUS_NULL_POINTER : room(8, capacity, out, out_count);
+    if (status == TB_STATUS_OK) {
+        status = check_dimensions(size, 3);
+    }
+    if (status != TB_STATUS_OK) {
+        return status;
     }
     for (unsigned c = 0; c < 8; ++c) {
         for (int i = 0; i < 3; ++i) {
@@ -113,6 +148,9 @@ tb_status tb_contact_points_sphere(double radius, tb_contact_point *out, size_t 
 {
     tb_status status = room(1, capacity, out, out_count);
     if (status == TB_STATUS_OK) {
+        status = check_dimensions(&radius, 1);
+    }
+    if (status == TB_STATUS_OK) {
         memset(out, 0, sizeof *out);
         out[0].radius = radius;
         *out_count = 1;
@@ -124,6 +162,9 @@ tb_status tb_contact_points_capsule(double radius, double length, tb_contact_poi
                                     size_t capacity, size_t *out_count)
 {
     tb_status status = room(2, capacity, out, out_count);
+    if (status == TB_STATUS_OK) {
+        status = check_dimensions((const double[]){radius, length}, 2);
+    }
     if (status == TB_STATUS_OK) {
         memset(out, 0, 2 * sizeof *out);
         out[0].position[2] = -0.5 * length;

@@ -93,10 +93,13 @@ tb_drag_def tb_drag_def_default(void)
 
 tb_status tb_scene_add_drag(tb_scene *scene, const tb_drag_def *def)
 {
-    if (scene == NULL || def == NULL) {
+    if (scene == NULL) {
         return TB_STATUS_NULL_POINTER;
     }
-    scene->detail[0] = '\0';
+    tb__scene_clear_detail(scene);
+    if (def == NULL) {
+        return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "def is NULL");
+    }
     if (def->internal_cookie != TB__DRAG_COOKIE) {
         return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
                               "def: not initialised by tb_drag_def_default()");

@@ -230,46 +230,41 @@ tb_ground_def tb_ground_def_default(void)
     return def;
 }
 
-static tb_status check_positive(tb_scene *scene, double value, const char *what)
-{
-    if (!(value > 0) || !isfinite(value)) {
-        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
-                              "%s: must be finite and > 0, got %g", what, value);
-    }
-    return TB_STATUS_OK;
-}
-
 static tb_status validate_ground(tb_scene *scene, const tb_ground_def *def)
 {
     if (def->internal_cookie != TB__GROUND_COOKIE) {
         return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
                               "def: not initialised by tb_ground_def_default()");
     }
+    char *detail = scene->detail;
+    tb_status status = tb__validate_vector(detail, def->normal, "normal");
     const double length = tb__v3_norm(def->normal);
-    if (!isfinite(length) || fabs(length - 1.0) > 1e-6 || !isfinite(def->offset)) {
-        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
-                              "%s: must be a finite unit vector and number, got |normal| = %g, "
-                              "offset = %g",
-                              isfinite(def->offset) ? "normal" : "offset", length, def->offset);
-    }
-    tb_status status = check_positive(scene, def->gravity, "gravity");
-    if (status == TB_STATUS_OK) {
-        status = check_positive(scene, def->penetration, "penetration");
+    if (status == TB_STATUS_OK && !(fabs(length - 1.0) <= 1e-6)) {
+        status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                                "normal: must be a unit vector, got |normal| = %.17g", length);
     }
     if (status == TB_STATUS_OK) {
-        status = check_positive(scene, def->stribeck_velocity, "stribeck_velocity");
+        status = tb__validate_finite(detail, def->offset, "offset");
+    }
+    const struct {
+        double value;
+        const char *name;
+    } positive[] = {{def->gravity, "gravity"},
+                    {def->penetration, "penetration"},
+                    {def->stribeck_velocity, "stribeck_velocity"},
+                    {def->presliding, "presliding"}},
+      nonnegative[] = {{def->damping_ratio, "damping_ratio"},
+                       {def->kinetic_friction, "kinetic_friction"}};
+    for (size_t k = 0; k < 4 && status == TB_STATUS_OK; ++k) {
+        status = tb__validate_positive(detail, positive[k].value, positive[k].name);
+    }
+    for (size_t k = 0; k < 2 && status == TB_STATUS_OK; ++k) {
+        status = tb__validate_nonnegative(detail, nonnegative[k].value, nonnegative[k].name);
     }
     if (status == TB_STATUS_OK) {
-        status = check_positive(scene, def->presliding, "presliding");
+        status = tb__validate_finite(detail, def->static_friction, "static_friction");
     }
-    if (status == TB_STATUS_OK) {
-        status = tb__validate_nonnegative(scene->detail, def->damping_ratio, "damping_ratio");
-    }
-    if (status == TB_STATUS_OK) {
-        status = tb__validate_nonnegative(scene->detail, def->kinetic_friction, "kinetic_friction");
-    }
-    if (status == TB_STATUS_OK &&
-        !(def->static_friction >= def->kinetic_friction && isfinite(def->static_friction))) {
+    if (status == TB_STATUS_OK && !(def->static_friction >= def->kinetic_friction)) {
         status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
                                 "static_friction: must be finite and >= kinetic_friction (%g), "
                                 "got %g",
@@ -313,10 +308,13 @@ static void ground_params(const tb_ground_def *def, tb__ground_params *ground)
 
 tb_status tb_scene_add_ground(tb_scene *scene, const tb_ground_def *def)
 {
-    if (scene == NULL || def == NULL) {
+    if (scene == NULL) {
         return TB_STATUS_NULL_POINTER;
     }
-    scene->detail[0] = '\0';
+    tb__scene_clear_detail(scene);
+    if (def == NULL) {
+        return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "def is NULL");
+    }
     tb_status status = validate_ground(scene, def);
     if (status != TB_STATUS_OK) {
         return status;

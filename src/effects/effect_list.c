@@ -75,7 +75,10 @@ tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect)
     assert((effect->ops->apply == NULL) ==
            !(effect->ops->couples_bodies || effect->ops->owns_states));
     assert((effect->ops->apply == NULL) != (effect->ops->apply_bodies == NULL));
-    tb_status status = grow(scene);
+    tb_status status = tb__scene_check_idle(scene, "adding an effect");
+    if (status == TB_STATUS_OK) {
+        status = grow(scene);
+    }
     if (status != TB_STATUS_OK) {
         return status;
     }
@@ -99,6 +102,7 @@ tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect)
     } else {
         scene->single_body_effect_count++;
     }
+    scene->effects_generation++;
     return TB_STATUS_OK;
 }
 

@@ -51,7 +51,7 @@ tb_status tb_scene_add_gravity(tb_scene *scene, const double g[3])
     if (scene == NULL) {
         return TB_STATUS_NULL_POINTER;
     }
-    scene->detail[0] = '\0';
+    tb__scene_clear_detail(scene);
     tb_status status = tb__check_vector(scene, g, "g");
     if (status != TB_STATUS_OK) {
         return status;
@@ -145,7 +145,7 @@ tb_status tb_scene_add_force(tb_scene *scene, size_t id, const double force[3],
     if (scene == NULL) {
         return TB_STATUS_NULL_POINTER;
     }
-    scene->detail[0] = '\0';
+    tb__scene_clear_detail(scene);
     tb_status status = tb__scene_check_id(scene, id, "id");
     if (status == TB_STATUS_OK) {
         status = tb__check_vector(scene, force, "force");
@@ -176,7 +176,7 @@ tb_status tb_scene_add_torque(tb_scene *scene, size_t id, const double torque[3]
     if (scene == NULL) {
         return TB_STATUS_NULL_POINTER;
     }
-    scene->detail[0] = '\0';
+    tb__scene_clear_detail(scene);
     tb_status status = tb__scene_check_id(scene, id, "id");
     if (status == TB_STATUS_OK) {
         status = tb__check_vector(scene, torque, "torque");

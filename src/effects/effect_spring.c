@@ -160,14 +160,6 @@ tb_spring_def tb_spring_def_default(void)
     return def;
 }
 
-static tb_status check_point(tb_scene *scene, const double p[3], const char *what)
-{
-    if (!tb__all_finite(p, 3)) {
-        return tb__scene_fail(scene, TB_STATUS_NOT_FINITE, "%s: contains NaN or infinity", what);
-    }
-    return TB_STATUS_OK;
-}
-
 static tb_status validate(tb_scene *scene, const tb_spring_def *def)
 {
     if (def->internal_cookie != TB__SPRING_COOKIE) {
@@ -184,10 +176,10 @@ static tb_status validate(tb_scene *scene, const tb_spring_def *def)
                                 def->body_a);
     }
     if (status == TB_STATUS_OK) {
-        status = check_point(scene, def->point_a, "point_a");
+        status = tb__validate_vector(scene->detail, def->point_a, "point_a");
     }
     if (status == TB_STATUS_OK) {
-        status = check_point(scene, def->point_b, "point_b");
+        status = tb__validate_vector(scene->detail, def->point_b, "point_b");
     }
     if (status == TB_STATUS_OK) {
         status = tb__validate_nonnegative(scene->detail, def->stiffness, "stiffness");
@@ -203,10 +195,13 @@ static tb_status validate(tb_scene *scene, const tb_spring_def *def)
 
 tb_status tb_scene_add_spring(tb_scene *scene, const tb_spring_def *def)
 {
-    if (scene == NULL || def == NULL) {
+    if (scene == NULL) {
         return TB_STATUS_NULL_POINTER;
     }
-    scene->detail[0] = '\0';
+    tb__scene_clear_detail(scene);
+    if (def == NULL) {
+        return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "def is NULL");
+    }
     tb_status status = validate(scene, def);
     if (status != TB_STATUS_OK) {
         return status;

@@ -2,12 +2,17 @@
 #include "scene/scene_internal.h"
 
 #include "core/detail.h"
+#include "core/validate.h"
 #include "math/tb_math.h"
 
 static int apply_user(const tb__effect *effect, const tb_scene *scene, double t, const double *y,
                       double *dydt)
 {
-    return effect->params.user.fn(t, scene, y, dydt, effect->params.user.ctx);
+    tb_scene *writable = (tb_scene *)scene; /* the load status, like the detail, is writable */
+    writable->user_load_status = TB_STATUS_OK;
+    const int rc = effect->params.user.fn(t, scene, y, dydt, effect->params.user.ctx);
+    /* A refused load the callback did not act on would be a silently missing force: fail. */
+    return rc == 0 && scene->user_load_status != TB_STATUS_OK ? -1 : rc;
 }
 
 /* A callback may couple bodies, and its modes and energy are its own: the guard and the
@@ -23,7 +28,7 @@ tb_status tb_scene_add_user_effect(tb_scene *scene, tb_user_effect_fn fn, void *
     if (scene == NULL) {
         return TB_STATUS_NULL_POINTER;
     }
-    scene->detail[0] = '\0';
+    tb__scene_clear_detail(scene);
     if (fn == NULL) {
         return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "fn is NULL");
     }
@@ -33,17 +38,64 @@ tb_status tb_scene_add_user_effect(tb_scene *scene, tb_user_effect_fn fn, void *
     return tb__scene_push_effect(scene, &effect);
 }
 
-void tb_effect_add_force(const tb_scene *scene, const double *y, double *dydt, size_t id,
-                         const double force[3], const double point[3])
+/* The checks of both load functions; the failure is kept for apply_user. */
+static tb_status check_load(const tb_scene *scene, const double *dydt, size_t id,
+                            const double *load, const char *load_name)
 {
-    (void)scene;
+    char *detail = ((tb_scene *)scene)->detail;
+    tb_status status = tb__validate_pointer(detail, dydt, "dydt");
+    if (status == TB_STATUS_OK) {
+        status = tb__validate_index(detail, id, scene->body_count, "id", "bodies");
+    }
+    if (status == TB_STATUS_OK) {
+        status = tb__validate_vector(detail, load, load_name);
+    }
+    return status;
+}
+
+static tb_status refuse(const tb_scene *scene, tb_status status)
+{
+    if (scene->user_load_status == TB_STATUS_OK) {
+        ((tb_scene *)scene)->user_load_status = status;
+    }
+    return status;
+}
+
+tb_status tb_effect_add_force(const tb_scene *scene, const double *y, double *dydt, size_t id,
+                              const double force[3], const double point[3])
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    char *detail = ((tb_scene *)scene)->detail;
+    tb_status status = tb__validate_pointer(detail, y, "y");
+    if (status == TB_STATUS_OK) {
+        status = check_load(scene, dydt, id, force, "force");
+    }
+    if (status == TB_STATUS_OK) {
+        status = tb__validate_vector(detail, point, "point");
+    }
+    if (status != TB_STATUS_OK) {
+        return refuse(scene, status);
+    }
     const double *x = y + TB_STATE_SIZE * id + TB_STATE_X;
     const double arm[3] = {point[0] - x[0], point[1] - x[1], point[2] - x[2]};
     tb__add_load(dydt, id, arm, force);
+    return TB_STATUS_OK;
 }
 
-void tb_effect_add_torque(const tb_scene *scene, double *dydt, size_t id, const double torque[3])
+tb_status tb_effect_add_torque(const tb_scene *scene, double *dydt, size_t id,
+                               const double torque[3])
 {
-    (void)scene;
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    const tb_status status = check_load(scene, dydt, id, torque, "torque");
+    if (status != TB_STATUS_OK) {
+        return refuse(scene, status);
+    }
     tb__v3_axpy(dydt + TB_STATE_SIZE * id + TB_STATE_L, 1.0, torque);
+    return TB_STATUS_OK;
 }

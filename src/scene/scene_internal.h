@@ -150,6 +150,12 @@ struct tb_scene {
     tb__contact *contacts;
     size_t contact_count;
     size_t contact_capacity;
+    /* Counts changes of the effects that leave the layout alone (an effect added): the
+     * right-hand side changed, so an integrator with a history of it (CVODE) restarts. */
+    unsigned long long effects_generation;
+    /* The first refused tb_effect_add_force/_torque of the user effect being applied, which
+     * then fails the derivative (written through the const scene, like the detail). */
+    tb_status user_load_status;
     bool renormalize;
     double quaternion_drift; /* largest | |q| - 1 | seen by the renormalisation hook */
     char detail[TB_DETAIL_SIZE];
@@ -199,7 +205,9 @@ tb_status tb__scene_check_id(const tb_scene *scene, size_t id, const char *what)
 /* Room for capacity effects (effects and effect_order); nothing changes on failure. */
 tb_status tb__scene_reserve_effects(tb_scene *scene, size_t capacity);
 
-/* Appends an effect, growing the list if needed; nothing changes on failure. */
+/* Appends an effect, growing the list if needed, and records the change (effects_generation,
+ * and the layout's when the effect owns states); nothing changes on failure. TB_STATUS_BUSY
+ * while the scene is being stepped. */
 tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect);
 
 /* TB_STATUS_BUSY (detail naming `what`) while an integrator is stepping the scene: a call from
