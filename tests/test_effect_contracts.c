@@ -346,6 +346,45 @@ static void test_a_light_body_on_wide_contact_points_sets_a_short_step(void **st
     tb_scene_destroy(scene);
 }
 
+/* --- a body starting inside the ground ----------------------------------------------------- */
+
+/* A ball (radius 0.1 m) whose centre is 10 m under the plane z = 0 is 10.1 m deep: the contact
+ * would push it with 10^4 times its weight and launch it (366 m/s before this was refused).
+ * Refused whichever comes last, the plane or the contact points, naming the body and depth;
+ * nothing changes. 5 mm deep (5 penetrations, a placement off by a little) is accepted. */
+static void test_a_body_starting_deep_in_the_ground_is_refused(void **state)
+{
+    (void)state;
+    const tb_contact_point point = {{0, 0, 0}, 0.1};
+    tb_ground_def ground = tb_ground_def_default();
+    tb_scene *scene = empty_scene();
+    const size_t ball = add_sphere(scene, 1.0, 0.1, (double[]){0, 0, -10.0});
+    assert_int_equal(tb_scene_set_contact_points(scene, ball, &point, 1, 1), TB_STATUS_OK);
+    size_t size = tb_scene_state_size(scene);
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_INVALID_ARGUMENT);
+    print_message("%s\n", tb_scene_detail(scene));
+    assert_non_null(strstr(tb_scene_detail(scene), "body 0 (\"body0\"): starts 10.1 m inside"));
+    assert_int_equal(tb_scene_effect_count(scene), 0);
+    assert_int_equal(tb_scene_state_size(scene), size);
+    tb_scene_destroy(scene);
+
+    scene = empty_scene();
+    add_sphere(scene, 1.0, 0.1, (double[]){0, 0, -10.0});
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+    size = tb_scene_state_size(scene);
+    assert_int_equal(tb_scene_set_contact_points(scene, ball, &point, 1, 1),
+                     TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(strstr(tb_scene_detail(scene), "starts 10.1 m inside"));
+    assert_int_equal(tb_scene_state_size(scene), size); /* no bristle states were added */
+    tb_scene_destroy(scene);
+
+    scene = empty_scene();
+    add_sphere(scene, 1.0, 0.1, (double[]){0, 0, 0.095});
+    assert_int_equal(tb_scene_set_contact_points(scene, ball, &point, 1, 1), TB_STATUS_OK);
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+    tb_scene_destroy(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -356,6 +395,7 @@ int main(void)
         cmocka_unit_test(test_the_guard_holds_linear_drag_at_rk4s_real_limit),
         cmocka_unit_test(test_the_guard_reads_quadratic_and_angular_drag_at_the_state),
         cmocka_unit_test(test_a_light_body_on_wide_contact_points_sets_a_short_step),
+        cmocka_unit_test(test_a_body_starting_deep_in_the_ground_is_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -75,7 +75,10 @@ TB_API tb_status tb_scene_add_spring(tb_scene *scene, const tb_spring_def *def);
  * capped at 400 per second so that RK4 at 240 steps per second stays stable; below
  * |v| = 400 mu / s0 (3 cm/s by default) the model is LuGre's exactly. The deflections are extra
  * state (2 doubles per contact point and plane) kept after the bodies' states; they relax to
- * zero when a point leaves the plane. */
+ * zero when a point leaves the plane. A body whose contact point starts deeper than 10
+ * penetrations inside the plane is refused (TB_STATUS_INVALID_ARGUMENT, naming it and its depth)
+ * by tb_scene_add_ground or tb_scene_set_contact_points, whichever comes last: the contact would
+ * launch it. */
 typedef struct tb_ground_def {
     double normal[3];         /* unit normal, pointing out of the ground; default (0,0,1) */
     double offset;            /* the plane is normal . x = offset, m; default 0 */
