@@ -185,6 +185,7 @@ static void test_bdf_integrates_a_stiff_spring_that_rk4_at_equal_cost_cannot(voi
     tb_integrator_stats stats;
     tb_integrator_def def = tb_integrator_def_default();
     def.dt = 1e-5;
+    def.max_steps = 300000; /* 200000 steps in one advance: past the default budget */
     assert_int_equal(run_spring(&def, T, reference, &stats), TB_STATUS_OK);
 
     def = adaptive_def(TB_METHOD_CVODE_BDF, 1e-4);
@@ -358,7 +359,7 @@ static void test_failures_name_the_cvode_flag_and_keep_the_last_good_state(void 
 {
     (void)state;
     for (int m = 0; m < 2; ++m) {
-        expect_failure(adaptive[m], (failing){1e9, 0}, 5, TB_STATUS_SOLVER_FAILED,
+        expect_failure(adaptive[m], (failing){1e9, 0}, 5, TB_STATUS_TOO_MANY_STEPS,
                        "CV_TOO_MUCH_WORK");
         expect_failure(adaptive[m], (failing){0.5, 0}, 100000, TB_STATUS_DERIVATIVE_FAILED,
                        "derivative returned -1");
@@ -366,7 +367,9 @@ static void test_failures_name_the_cvode_flag_and_keep_the_last_good_state(void 
          * time makes it crawl towards that time until max_steps. */
         expect_failure(adaptive[m], (failing){0.5, 1}, 5000, TB_STATUS_DERIVATIVE_FAILED,
                        "derivative returned 1");
-        expect_failure(adaptive[m], (failing){0.5, 2}, 5000, TB_STATUS_SOLVER_FAILED, "CV_");
+        /* NaN derivatives fail every error test: CVODE shrinks the step until its budget */
+        expect_failure(adaptive[m], (failing){0.5, 2}, 5000, TB_STATUS_TOO_MANY_STEPS,
+                       "CV_TOO_MUCH_WORK");
     }
 }
 
@@ -376,14 +379,18 @@ static void test_invalid_adaptive_settings_are_rejected(void **state)
     static const struct {
         const char *label;
         const char *field;
-    } cases[] = {{"rtol 0", "def.rtol"},
-                 {"atol -1", "def.atol"},
-                 {"atol_vector NaN", "def.atol_vector[1]"},
-                 {"max_order 6", "def.max_order"},
-                 {"max_steps 0", "def.max_steps"},
-                 {"solver 7", "def.linear_solver"},
-                 {"bandwidth 2", "def.preconditioner_half_bandwidth"},
-                 {"max_step -1", "def.max_step"}};
+        tb_status expected; /* NaN and infinity: NOT_FINITE; finite out of domain: INVALID */
+    } cases[] = {{"rtol 0", "def.rtol", TB_STATUS_INVALID_ARGUMENT},
+                 {"atol -1", "def.atol", TB_STATUS_INVALID_ARGUMENT},
+                 {"atol_vector NaN", "def.atol_vector[1]", TB_STATUS_NOT_FINITE},
+                 {"max_order 6", "def.max_order", TB_STATUS_INVALID_ARGUMENT},
+                 {"max_steps 0", "def.max_steps", TB_STATUS_INVALID_ARGUMENT},
+                 {"solver 7", "def.linear_solver", TB_STATUS_INVALID_ARGUMENT},
+                 {"bandwidth 2", "def.preconditioner_half_bandwidth", TB_STATUS_INVALID_ARGUMENT},
+                 {"max_step -1", "def.max_step", TB_STATUS_INVALID_ARGUMENT},
+                 {"rtol NaN", "def.rtol", TB_STATUS_NOT_FINITE},
+                 {"atol inf", "def.atol", TB_STATUS_NOT_FINITE},
+                 {"initial_step NaN", "def.initial_step", TB_STATUS_NOT_FINITE}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         double y[2] = {1, 1}, atol[2] = {1e-8, NAN};
         failing how = {1e9, 0};
@@ -411,15 +418,24 @@ static void test_invalid_adaptive_settings_are_rejected(void **state)
         case 6:
             def.preconditioner_half_bandwidth = 2;
             break;
-        default:
+        case 7:
             def.max_step = -1.0;
+            break;
+        case 8:
+            def.rtol = NAN;
+            break;
+        case 9:
+            def.atol = INFINITY;
+            break;
+        default:
+            def.initial_step = NAN;
             break;
         }
         tb_integrator *integrator = NULL;
         tb_error error;
         const tb_status status = tb_integrator_create(&system, &def, 0.0, y, &integrator, &error);
         print_message("%-16s -> %s: %s\n", cases[i].label, tb_status_name(status), error.message);
-        assert_int_equal(status, TB_STATUS_INVALID_ARGUMENT);
+        assert_int_equal(status, cases[i].expected);
         assert_null(integrator);
         assert_non_null(strstr(error.message, cases[i].field));
     }
@@ -484,6 +500,100 @@ static void test_krylov_and_dense_bdf_follow_twenty_jacobi_tops(void **state)
     }
 }
 
+/* x' = v, v' = -x, recording the range of times the derivative is called at. */
+typedef struct clock_range {
+    double first, last;
+} clock_range;
+
+static int harmonic_clocked(double t, const double *y, double *dydt, void *ctx)
+{
+    clock_range *range = ctx;
+    range->first = fmin(range->first, t);
+    range->last = fmax(range->last, t);
+    dydt[0] = y[1];
+    dydt[1] = -y[0];
+    return 0;
+}
+
+/* Near t = 1e17 doubles are 16 apart, and CVODE's first step from there did not move t
+ * (SOLVER_FAILED "tout too close to t0"). CVODE now counts time from the start; the solution
+ * is cos and -sin of the elapsed time (64 s: 1e-5 is 10x the N rtol bound at rtol 1e-9), and
+ * the derivative still sees the system's own times. */
+static void test_cvode_starts_at_any_finite_time(void **state)
+{
+    (void)state;
+    const double t0 = 1e17;
+    for (int m = 0; m < 2; ++m) {
+        double y[2] = {1.0, 0.0};
+        clock_range range = {INFINITY, -INFINITY};
+        tb_ode_system system = {.n = 2, .derivative = harmonic_clocked, .ctx = &range};
+        tb_integrator_def def = adaptive_def(adaptive[m], 1e-9);
+        tb_integrator *integrator = NULL;
+        assert_int_equal(tb_integrator_create(&system, &def, t0, y, &integrator, NULL),
+                         TB_STATUS_OK);
+        for (int k = 1; k <= 4; ++k) { /* t0 + 16 k is exact */
+            const tb_status status = tb_integrator_advance(integrator, t0 + 16.0 * k);
+            assert_int_equal(status, TB_STATUS_OK);
+            assert_true(tb_integrator_time(integrator) == t0 + 16.0 * k);
+        }
+        print_message("%s from t0 = 1e17: x %.9f (cos 64 = %.9f)\n", tb_method_name(adaptive[m]),
+                      y[0], cos(64.0));
+        assert_near(y[0], cos(64.0), 1e-5);
+        assert_near(y[1], -sin(64.0), 1e-5);
+        assert_true(range.first >= t0 && range.last <= t0 + 16.0 * 5);
+        tb_integrator_destroy(integrator);
+    }
+}
+
+/* A hook that spoils the output (NaN) on a chosen call, like a renormalisation of a zero
+ * quaternion. */
+static int spoiling_hook(double t, double *y, void *ctx)
+{
+    (void)t;
+    int *calls_left = ctx;
+    if (--*calls_left == 0) {
+        y[1] = NAN;
+    }
+    return 0;
+}
+
+static int harmonic_plain(double t, const double *y, double *dydt, void *ctx)
+{
+    (void)t, (void)ctx;
+    dydt[0] = y[1];
+    dydt[1] = -y[0];
+    return 0;
+}
+
+/* Before: OK with y[1] = NaN. Now STATE_NOT_FINITE, y and time at the last good output, and
+ * the next advance restarts from there to the right answer (tolerance as above). */
+static void test_a_non_finite_output_is_refused_and_the_last_good_one_kept(void **state)
+{
+    (void)state;
+    int calls_left = 3;
+    double y[2] = {1.0, 0.0};
+    tb_ode_system system = {
+        .n = 2, .derivative = harmonic_plain, .post_step = spoiling_hook, .ctx = &calls_left};
+    tb_integrator_def def = adaptive_def(TB_METHOD_CVODE_ADAMS, 1e-9);
+    tb_integrator *integrator = NULL;
+    assert_int_equal(tb_integrator_create(&system, &def, 0.0, y, &integrator, NULL), TB_STATUS_OK);
+    assert_int_equal(tb_integrator_advance(integrator, 0.5), TB_STATUS_OK);
+    assert_int_equal(tb_integrator_advance(integrator, 1.0), TB_STATUS_OK);
+    const double kept[2] = {y[0], y[1]};
+    assert_int_equal(tb_integrator_advance(integrator, 1.5), TB_STATUS_STATE_NOT_FINITE);
+    print_message("%s\n", tb_integrator_detail(integrator));
+    assert_non_null(strstr(tb_integrator_detail(integrator), "y[1] became nan"));
+    assert_true(tb_integrator_time(integrator) == 1.0);
+    assert_memory_equal(y, kept, sizeof kept);
+    assert_int_equal(tb_integrator_advance(integrator, 2.0), TB_STATUS_OK);
+    assert_near(y[0], cos(2.0), 1e-6);
+    assert_near(y[1], -sin(2.0), 1e-6);
+    tb_integrator_stats stats;
+    tb_integrator_get_stats(integrator, &stats);
+    assert_int_equal(stats.reinitializations, 1);
+    tb_integrator_destroy(integrator);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -497,6 +607,8 @@ int main(void)
         cmocka_unit_test(test_failures_name_the_cvode_flag_and_keep_the_last_good_state),
         cmocka_unit_test(test_invalid_adaptive_settings_are_rejected),
         cmocka_unit_test(test_krylov_and_dense_bdf_follow_twenty_jacobi_tops),
+        cmocka_unit_test(test_cvode_starts_at_any_finite_time),
+        cmocka_unit_test(test_a_non_finite_output_is_refused_and_the_last_good_one_kept),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -12,6 +12,7 @@
 /* Euler, midpoint and RK4: the fixed-step methods come first in tb_method. */
 #define FIXED_STEP_METHODS (TB_METHOD_RK4 + 1)
 
+#include <limits.h>
 #include <math.h>
 #include <string.h>
 
@@ -255,7 +256,7 @@ static void test_invalid_definitions_are_rejected_with_the_field_named(void **st
         {"n = 0", zero_n, TB_STATUS_INVALID_ARGUMENT, "system.n"},
         {"no derivative", no_derivative, TB_STATUS_NULL_POINTER, "system.derivative"},
         {"dt = 0", zero_dt, TB_STATUS_INVALID_ARGUMENT, "def.dt"},
-        {"dt = NaN", nan_dt, TB_STATUS_INVALID_ARGUMENT, "def.dt"},
+        {"dt = NaN", nan_dt, TB_STATUS_NOT_FINITE, "def.dt"},
         {"method 99", bad_method, TB_STATUS_INVALID_ARGUMENT, "def.method"},
         {"no cookie", no_cookie, TB_STATUS_INVALID_ARGUMENT, "tb_integrator_def_default"},
         {"block of 3", block_size_not_dividing_n, TB_STATUS_INVALID_ARGUMENT, "system.block_size"},
@@ -411,6 +412,179 @@ test_stability_limits_are_where_the_steppers_gain_crosses_the_stated_growth(void
     assert_near(rk4.imaginary_growth, 1.0, 0.0);    /* stable on a segment of it */
 }
 
+/* y' = 1, counting derivative calls: to show a refused advance computed nothing. */
+static int counted_slope(double t, const double *y, double *dydt, void *ctx)
+{
+    (void)t, (void)y;
+    ++*(long *)ctx;
+    dydt[0] = 1.0;
+    return 0;
+}
+
+typedef struct slope_run {
+    double y[1];
+    long calls;
+    tb_ode_system system;
+    tb_integrator *integrator;
+} slope_run;
+
+static void start_slope(slope_run *run, double dt, long max_steps, double t0)
+{
+    run->y[0] = 0.0;
+    run->calls = 0;
+    run->system = (tb_ode_system){.n = 1, .derivative = counted_slope, .ctx = &run->calls};
+    tb_integrator_def def = tb_integrator_def_default();
+    def.dt = dt;
+    def.max_steps = max_steps;
+    run->integrator = NULL;
+    assert_int_equal(tb_integrator_create(&run->system, &def, t0, run->y, &run->integrator, NULL),
+                     TB_STATUS_OK);
+}
+
+/* Before the budget, dt = 1e-300 to the first frame and one frame 1e9 s away ran for ever. */
+static void
+test_a_fixed_step_advance_needing_more_than_max_steps_is_refused_before_stepping(void **state)
+{
+    (void)state;
+    slope_run run;
+    start_slope(&run, 1e-300, 100000, 0.0);
+    assert_int_equal(tb_integrator_advance(run.integrator, 1.0 / 60.0), TB_STATUS_TOO_MANY_STEPS);
+    print_message("%s\n", tb_integrator_detail(run.integrator));
+    assert_non_null(strstr(tb_integrator_detail(run.integrator), "max_steps = 100000"));
+    assert_int_equal(run.calls, 0);
+    assert_near(run.y[0], 0.0, 0.0);
+    assert_near(tb_integrator_time(run.integrator), 0.0, 0.0);
+    tb_integrator_destroy(run.integrator);
+
+    start_slope(&run, 1.0 / 240.0, 100000, 0.0);
+    assert_int_equal(tb_integrator_advance(run.integrator, 1e9), TB_STATUS_TOO_MANY_STEPS);
+    assert_int_equal(run.calls, 0);
+    assert_near(tb_integrator_time(run.integrator), 0.0, 0.0);
+    tb_integrator_destroy(run.integrator);
+
+    /* the budget counts steps per call: 10 steps of 0.1 to 1.0 fit in 10, 11 to 2.05 do not */
+    start_slope(&run, 0.1, 10, 0.0);
+    assert_int_equal(tb_integrator_advance(run.integrator, 1.0), TB_STATUS_OK);
+    assert_int_equal(tb_integrator_advance(run.integrator, 2.0), TB_STATUS_OK);
+    assert_int_equal(tb_integrator_advance(run.integrator, 3.05), TB_STATUS_TOO_MANY_STEPS);
+    assert_non_null(strstr(tb_integrator_detail(run.integrator), "max_steps = 10"));
+    assert_near(tb_integrator_time(run.integrator), 2.0, 0.0);
+    assert_near(run.y[0], 2.0, 1e-14);
+    tb_integrator_destroy(run.integrator);
+}
+
+/* Near t = 1e15 doubles are 0.125 apart: steps of 1/240 s would not move time. Refused at
+ * creation, reset and advance, naming dt and the time; at 1e9 (spacing 1.2e-7) steps work. */
+static void test_a_step_that_times_near_t_cannot_resolve_is_refused(void **state)
+{
+    (void)state;
+    double y[1] = {0.0};
+    long calls = 0;
+    tb_ode_system system = {.n = 1, .derivative = counted_slope, .ctx = &calls};
+    tb_integrator_def def = tb_integrator_def_default();
+    tb_integrator *integrator = NULL;
+    tb_error error;
+    assert_int_equal(tb_integrator_create(&system, &def, 1e15, y, &integrator, &error),
+                     TB_STATUS_INVALID_ARGUMENT);
+    print_message("%s\n", error.message);
+    assert_non_null(strstr(error.message, "def.dt: 0.00416667"));
+    assert_non_null(strstr(error.message, "t0 = 1000000000000000"));
+    assert_null(integrator);
+
+    slope_run run;
+    start_slope(&run, 1.0 / 240.0, 100000, 1e9);
+    assert_int_equal(tb_integrator_advance(run.integrator, 1e9 + 1.0), TB_STATUS_OK);
+    assert_near(run.y[0], 1.0, 1e-6); /* 240 steps; each h is exact to 1.2e-7 s, and so y */
+    assert_int_equal(tb_integrator_reset(run.integrator, 1e15), TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(strstr(tb_integrator_detail(run.integrator), "t = 1000000000000000"));
+    assert_near(tb_integrator_time(run.integrator), 1e9 + 1.0, 0.0);
+    tb_integrator_destroy(run.integrator);
+
+    start_slope(&run, 1.0 / 240.0, LONG_MAX, 0.0);
+    assert_int_equal(tb_integrator_advance(run.integrator, 1e15), TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(strstr(tb_integrator_detail(run.integrator), "t_target = 1000000000000000"));
+    assert_int_equal(run.calls, 0);
+    tb_integrator_destroy(run.integrator);
+}
+
+/* x' = 1, q' = 1e308 q: from q = 1, Euler at h = 0.5 gives 5e307, then infinity. */
+static int overflowing(double t, const double *y, double *dydt, void *ctx)
+{
+    (void)t, (void)ctx;
+    dydt[0] = 1.0;
+    dydt[1] = 1e308 * y[1];
+    return 0;
+}
+
+/* Like a scene's renormalisation: fails (1) on a component it cannot normalise. */
+static int normalising_hook(double t, double *y, void *ctx)
+{
+    (void)t, (void)ctx;
+    return isfinite(y[1]) ? 0 : 1;
+}
+
+/* The step made the state non-finite, and the hook failed on it: the cause is the state
+ * (before: HOOK_FAILED, "post-step hook returned 1"). */
+static void test_a_hook_failing_on_a_non_finite_state_reports_the_state(void **state)
+{
+    (void)state;
+    double y[2] = {0.0, 1.0};
+    tb_ode_system system = {.n = 2, .derivative = overflowing, .post_step = normalising_hook};
+    tb_integrator_def def = tb_integrator_def_default();
+    def.method = TB_METHOD_EULER;
+    def.dt = 0.5;
+    tb_integrator *integrator = NULL;
+    assert_int_equal(tb_integrator_create(&system, &def, 0.0, y, &integrator, NULL), TB_STATUS_OK);
+    assert_int_equal(tb_integrator_advance(integrator, 1.0), TB_STATUS_STATE_NOT_FINITE);
+    const char *detail = tb_integrator_detail(integrator);
+    print_message("%s\n", detail);
+    assert_non_null(strstr(detail, "y[1] became inf in the euler step from t = 0.5"));
+    assert_non_null(strstr(detail, "hook returned 1"));
+    assert_near(y[1], 1.0 + 0.5e308, 0.0); /* the last good step's */
+    assert_near(tb_integrator_time(integrator), 0.5, 0.0);
+    tb_integrator_destroy(integrator);
+}
+
+/* A NULL argument after a failure: the message is about the NULL, not the earlier failure. */
+static void test_a_null_argument_after_a_failure_leaves_no_stale_detail(void **state)
+{
+    (void)state;
+    slope_run run;
+    start_slope(&run, 0.1, 100000, 0.0);
+    assert_int_equal(tb_integrator_advance(run.integrator, -1.0), TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(strstr(tb_integrator_detail(run.integrator), "t_target"));
+    assert_int_equal(tb_integrator_get_stats(run.integrator, NULL), TB_STATUS_NULL_POINTER);
+    assert_string_equal(tb_integrator_detail(run.integrator), "out_stats is NULL");
+    tb_integrator_stats stats;
+    assert_int_equal(tb_integrator_get_stats(run.integrator, &stats), TB_STATUS_OK);
+    assert_string_equal(tb_integrator_detail(run.integrator), "");
+
+    assert_int_equal(tb_integrator_advance(run.integrator, NAN), TB_STATUS_NOT_FINITE);
+    assert_int_equal(tb_integrator_step(run.integrator), TB_STATUS_OK);
+    assert_string_equal(tb_integrator_detail(run.integrator), "");
+    assert_int_equal(tb_integrator_reset(run.integrator, INFINITY), TB_STATUS_NOT_FINITE);
+    assert_non_null(strstr(tb_integrator_detail(run.integrator), "t: must be finite"));
+    assert_int_equal(tb_integrator_reset(run.integrator, 0.0), TB_STATUS_OK);
+    assert_string_equal(tb_integrator_detail(run.integrator), "");
+
+    tb_error error;
+    tb_integrator *other = NULL;
+    assert_int_equal(tb_integrator_create(NULL, NULL, 0.0, run.y, &other, &error),
+                     TB_STATUS_NULL_POINTER);
+    assert_int_equal(tb_integrator_create(&run.system, NULL, 0.0, run.y, NULL, &error),
+                     TB_STATUS_NULL_POINTER);
+    assert_string_equal(error.message, "out_integrator is NULL");
+    tb_integrator_destroy(run.integrator);
+
+    assert_int_equal(tb_integrator_advance(NULL, 1.0), TB_STATUS_NULL_POINTER);
+    assert_int_equal(tb_integrator_step(NULL), TB_STATUS_NULL_POINTER);
+    assert_int_equal(tb_integrator_reset(NULL, 1.0), TB_STATUS_NULL_POINTER);
+    assert_int_equal(tb_integrator_get_stats(NULL, &stats), TB_STATUS_NULL_POINTER);
+    assert_int_equal(tb_integrator_method(NULL), TB_METHOD_COUNT);
+    assert_true(isnan(tb_integrator_time(NULL)));
+    assert_string_equal(tb_integrator_detail(NULL), "integrator is NULL");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -425,6 +599,11 @@ int main(void)
         cmocka_unit_test(test_the_method_table_states_each_methods_kind_and_cost),
         cmocka_unit_test(
             test_stability_limits_are_where_the_steppers_gain_crosses_the_stated_growth),
+        cmocka_unit_test(
+            test_a_fixed_step_advance_needing_more_than_max_steps_is_refused_before_stepping),
+        cmocka_unit_test(test_a_step_that_times_near_t_cannot_resolve_is_refused),
+        cmocka_unit_test(test_a_hook_failing_on_a_non_finite_state_reports_the_state),
+        cmocka_unit_test(test_a_null_argument_after_a_failure_leaves_no_stale_detail),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -59,8 +59,11 @@ typedef struct tb_ode_system {
      * made. acquire refuses with TB_STATUS_LAYOUT_CHANGED when the system's layout (its n, the
      * meaning of its components) changed since then, and with TB_STATUS_BUSY while another
      * call is stepping the system; it writes a message naming why into detail
-     * (TB_DETAIL_SIZE bytes). All three NULL (default) for a system nobody else touches;
-     * acquire and layout_generation are set together, release with them. */
+     * (TB_DETAIL_SIZE bytes). A refused call returns acquire's status and detail and changes
+     * nothing. release is called exactly once for every acquire that returned TB_STATUS_OK
+     * (also when the call then fails), never after a refusal. layout_generation is called
+     * once, at creation. All three NULL (default) for a system nobody else touches, or all
+     * three set (TB_STATUS_NULL_POINTER naming the missing one otherwise). */
     unsigned long long (*layout_generation)(void *ctx);
     tb_status (*acquire)(void *ctx, unsigned long long generation, char *detail);
     void (*release)(void *ctx);
@@ -146,23 +149,29 @@ typedef struct tb_integrator_def {
     tb_method method; /* default TB_METHOD_RK4 */
 
     /* Fixed-step methods. */
-    double dt; /* step size in the system's time unit (s for scenes), > 0; default 1/240 */
+    double dt; /* step size in the system's time unit (s for scenes), > 0; default 1/240.
+                  The times a run reaches must resolve it: doubles near t must be at most
+                  dt / 1024 apart (near t = 1e15 they are 0.125 apart), else creation, reset
+                  or advance is refused (TB_STATUS_INVALID_ARGUMENT naming dt and the time) */
 
     /* Adaptive methods: CVODE keeps each step's local error e_i below
      * rtol |y_i| + atol_i (weighted RMS norm). */
-    double rtol;                    /* relative tolerance, > 0; default 1e-6 */
-    double atol;                    /* absolute tolerance for every component, >= 0; default 0,
-                                       meaning automatic: scenes derive one per component from the
-                                       bodies' sizes and masses (tb_scene_absolute_tolerances),
-                                       other systems use rtol * 1e-3 */
-    const double *atol_vector;      /* n absolute tolerances, >= 0, overriding atol; copied at
-                                       creation; default NULL */
-    long max_steps;                 /* internal steps allowed in one advance; default 100000 */
-    double initial_step;            /* first step size; 0 (default) lets CVODE estimate it */
-    double max_step;                /* largest step size; 0 (default) for no limit */
-    int max_order;                  /* 0 (default) for the method's largest (Adams 12, BDF 5);
-                                       CVODE keeps max_order + 1 history vectors, so Adams at 5
-                                       takes 7 state-sized vectors fewer (docs/performance.md) */
+    double rtol;               /* relative tolerance, > 0; default 1e-6 */
+    double atol;               /* absolute tolerance for every component, >= 0; default 0,
+                                  meaning automatic: scenes derive one per component from the
+                                  bodies' sizes and masses (tb_scene_absolute_tolerances),
+                                  other systems use rtol * 1e-3 */
+    const double *atol_vector; /* n absolute tolerances, >= 0, overriding atol; copied at
+                                  creation; default NULL */
+    long max_steps;      /* every method: steps allowed in one advance or step call, > 0; default
+                            100000. Used up: TB_STATUS_TOO_MANY_STEPS naming it and the time
+                            reached, y at the last good step. A fixed-step advance whose target is
+                            more than max_steps steps of dt away is refused before any step */
+    double initial_step; /* first step size; 0 (default) lets CVODE estimate it */
+    double max_step;     /* largest step size; 0 (default) for no limit */
+    int max_order;       /* 0 (default) for the method's largest (Adams 12, BDF 5);
+                            CVODE keeps max_order + 1 history vectors, so Adams at 5
+                            takes 7 state-sized vectors fewer (docs/performance.md) */
     tb_linear_solver linear_solver; /* BDF only; default TB_LINEAR_SOLVER_AUTO */
     int allow_unstable; /* scenes, fixed-step methods: 0 (default) refuses a dt at which the
                            scene's stiffest spring or contact would grow by more than 1% a step
@@ -199,6 +208,22 @@ typedef struct tb_integrator_stats {
 
 typedef struct tb_integrator tb_integrator;
 
+/* Which fields a method reads (tb_method_info.adaptive): fixed-step methods read dt and
+ * max_steps; adaptive ones read rtol, atol, atol_vector, initial_step, max_step, max_order and
+ * max_steps, BDF also linear_solver and preconditioner_half_bandwidth. Nothing reads dt for an
+ * adaptive method or rtol for a fixed-step one.
+ *
+ * Re-entrancy: an integrator's advance, step or reset called from inside its own derivative,
+ * hook or acquire returns TB_STATUS_BUSY and changes nothing (its detail says why until the
+ * call in progress ends; if that call succeeds, the detail is empty again). Reading calls
+ * (time, stats, method, detail) work from inside. Destroying an integrator from inside its
+ * own callbacks is not allowed.
+ *
+ * Every call that can fail clears the integrator's detail first (except a refused re-entrant
+ * call, whose detail belongs to the call in progress). NaN or infinity in a time or a def
+ * field gives TB_STATUS_NOT_FINITE; a finite value out of its domain
+ * TB_STATUS_INVALID_ARGUMENT. */
+
 /* Creates an integrator that advances y[0..system->n) from time t0, in place. y stays owned
  * by the caller and must outlive the integrator; y is not read until the first step.
  * All memory the integrator will ever use is allocated here. On failure *out_integrator is
@@ -217,9 +242,14 @@ TB_API void tb_integrator_destroy(tb_integrator *integrator);
  * interpolated solution at t_target; so the times asked for (the frame rate) do not change
  * the steps taken. The post-step hook is applied to that output (for BDF it also runs inside
  * CVODE as a projection). If y was changed from outside since the last call, CVODE is
- * restarted from it.
+ * restarted from it. CVODE counts time from the start (or the last restart), so any finite t0
+ * works; the derivative sees the system's own times.
+ * Every state handed out is checked: a non-finite component (from a step, CVODE's output or
+ * interpolant, or the post-step hook) gives TB_STATUS_STATE_NOT_FINITE naming it, even when
+ * the hook also failed on it.
  * On failure y holds the state at the last good step, the integrator's time is that step's
- * time, and the detail message names the failure (CVODE's flag name) and its time. */
+ * time, and the detail message names the failure (CVODE's flag name) and its time. CVODE's
+ * CV_TOO_MUCH_WORK is TB_STATUS_TOO_MANY_STEPS. */
 TB_API tb_status tb_integrator_advance(tb_integrator *integrator, double t_target);
 
 /* Takes exactly one step: of size dt (fixed-step), or one internal CVODE step. */

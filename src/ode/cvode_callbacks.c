@@ -8,10 +8,11 @@
 
 #include <math.h>
 
-/* The system's derivative, keeping its failures: see derivative. */
-static int evaluate(tb_integrator *integrator, double t, const double *y, double *dydt)
+/* The system's derivative at CVODE's time tau (t = t_origin + tau), keeping its failures. */
+static int evaluate(tb_integrator *integrator, double tau, const double *y, double *dydt)
 {
     tb__cvode *cvode = integrator->cvode;
+    const double t = cvode->t_origin + tau;
     /* A fatal failure stays fatal for the rest of the run: SUNDIALS 6's fixed-point solver
      * (Adams) reports a failed system function as a recoverable convergence failure, and
      * CVODE would otherwise keep shrinking the step towards the failing time. */
@@ -40,7 +41,9 @@ int tb__cvode_project(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype e
     (void)err; /* the error estimate is left unprojected: a conservative estimate */
     tb_integrator *integrator = user_data;
     N_VScale(1.0, ycur, corr);
-    if (integrator->system.post_step(t, N_VGetArrayPointer(corr), integrator->system.ctx) != 0) {
+    const double t_system = integrator->cvode->t_origin + t;
+    if (integrator->system.post_step(t_system, N_VGetArrayPointer(corr), integrator->system.ctx) !=
+        0) {
         return -1;
     }
     N_VLinearSum(1.0, corr, -1.0, ycur, corr);

@@ -64,38 +64,56 @@ static tb_status setup_failed(tb__cvode *cvode, const char *call, int flag, tb_e
                          name, cvode->message[0] ? ": " : "", cvode->message);
 }
 
+/* A finite value >= minimum (> minimum when strict); names the field. */
+static tb_status check_bound(double value, double minimum, bool strict, const char *field,
+                             tb_error *error)
+{
+    if (!isfinite(value)) {
+        return tb__set_error(error, TB_STATUS_NOT_FINITE, "def.%s: must be finite, got %g", field,
+                             value);
+    }
+    if (strict ? !(value > minimum) : !(value >= minimum)) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT, "def.%s: must be %s %g, got %g",
+                             field, strict ? ">" : ">=", minimum, value);
+    }
+    return TB_STATUS_OK;
+}
+
+static tb_status validate_tolerances(const tb_integrator *integrator, const tb_integrator_def *def,
+                                     tb_error *error)
+{
+    if (!isfinite(def->rtol)) {
+        return tb__set_error(error, TB_STATUS_NOT_FINITE, "def.rtol: must be finite, got %g",
+                             def->rtol);
+    }
+    if (!(def->rtol >= 1e-15 && def->rtol < 1.0)) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "def.rtol: must be in [1e-15, 1), got %g", def->rtol);
+    }
+    tb_status status = check_bound(def->atol, 0.0, false, "atol", error);
+    for (size_t i = 0;
+         status == TB_STATUS_OK && def->atol_vector != NULL && i < integrator->system.n; ++i) {
+        char field[48];
+        snprintf(field, sizeof field, "atol_vector[%zu]", i);
+        status = check_bound(def->atol_vector[i], 0.0, false, field, error);
+    }
+    return status;
+}
+
 static tb_status validate(const tb_integrator *integrator, const tb_integrator_def *def,
                           tb_error *error)
 {
     const size_t n = integrator->system.n;
     const int max_order = integrator->entry->info.order;
-    if (!(def->rtol >= 1e-15 && def->rtol < 1.0)) {
-        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
-                             "def.rtol: must be in [1e-15, 1), got %g", def->rtol);
+    tb_status status = validate_tolerances(integrator, def, error);
+    if (status == TB_STATUS_OK) {
+        status = check_bound(def->initial_step, 0.0, false, "initial_step", error);
     }
-    if (!(def->atol >= 0) || !isfinite(def->atol)) {
-        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
-                             "def.atol: must be finite and >= 0, got %g", def->atol);
+    if (status == TB_STATUS_OK) {
+        status = check_bound(def->max_step, 0.0, false, "max_step", error);
     }
-    for (size_t i = 0; def->atol_vector != NULL && i < n; ++i) {
-        if (!(def->atol_vector[i] >= 0) || !isfinite(def->atol_vector[i])) {
-            return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
-                                 "def.atol_vector[%zu]: must be finite and >= 0, got %g", i,
-                                 def->atol_vector[i]);
-        }
-    }
-    if (def->max_steps <= 0) {
-        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
-                             "def.max_steps: must be > 0, got %ld", def->max_steps);
-    }
-    if (!(def->initial_step >= 0) || !isfinite(def->initial_step) || !(def->max_step >= 0) ||
-        !isfinite(def->max_step)) {
-        return tb__set_error(
-            error, TB_STATUS_INVALID_ARGUMENT,
-            "def.%s: must be finite and >= 0 (0 for automatic), got %g",
-            !(def->initial_step >= 0) || !isfinite(def->initial_step) ? "initial_step" : "max_step",
-            !(def->initial_step >= 0) || !isfinite(def->initial_step) ? def->initial_step
-                                                                      : def->max_step);
+    if (status != TB_STATUS_OK) {
+        return status;
     }
     if (def->max_order < 0 || def->max_order > max_order) {
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
@@ -255,7 +273,8 @@ static tb_status create_memory(tb_integrator *integrator, const tb_integrator_de
     if (flag != CV_SUCCESS) {
         return setup_failed(cvode, "CVodeSetMaxOrd", flag, error);
     }
-    flag = CVodeInit(cvode->mem, tb__cvode_derivative, integrator->t, cvode->y);
+    cvode->t_origin = integrator->t;
+    flag = CVodeInit(cvode->mem, tb__cvode_derivative, 0.0, cvode->y);
     if (flag == CV_SUCCESS) {
         flag = CVodeSetUserData(cvode->mem, integrator);
     }
@@ -354,7 +373,7 @@ static tb_status restart(tb_integrator *integrator, double t)
     read_counters(integrator, &cvode->base); /* CVodeReInit zeroes CVODE's counters */
     cvode->jacobian_evals = 0;               /* now part of base */
     cvode->base.reinitializations++;
-    const int flag = CVodeReInit(cvode->mem, t, cvode->y);
+    const int flag = CVodeReInit(cvode->mem, 0.0, cvode->y);
     if (flag != CV_SUCCESS) {
         char name[64];
         flag_name(flag, name, sizeof name);
@@ -363,32 +382,70 @@ static tb_status restart(tb_integrator *integrator, double t)
                               cvode->message);
     }
     integrator->t = t;
+    cvode->t_origin = t;
     cvode->started = false;
+    cvode->stale = false;
     memcpy(cvode->y_seen, integrator->y, integrator->system.n * sizeof(double));
     return TB_STATUS_OK;
 }
 
-/* A state the caller changed since the last output means CVODE's history is stale. */
+/* A state the caller changed since the last output means CVODE's history is stale; so does
+ * a refused output. */
 static tb_status restart_if_changed(tb_integrator *integrator)
 {
     tb__cvode *cvode = integrator->cvode;
-    if (memcmp(cvode->y_seen, integrator->y, integrator->system.n * sizeof(double)) != 0) {
+    if (cvode->stale ||
+        memcmp(cvode->y_seen, integrator->y, integrator->system.n * sizeof(double)) != 0) {
         return restart(integrator, integrator->t);
     }
     return TB_STATUS_OK;
 }
 
-/* Hands out y: applies the hook to the output (CVODE's history is untouched by this), and
- * remembers it so a change from outside can be detected. */
-static tb_status hand_out(tb_integrator *integrator)
+/* Refuses an output with a non-finite component (CVODE can return success with one, and
+ * interpolation can overflow): y goes back to the last output, and CVODE restarts from it
+ * before the next step. stage says which output. */
+static tb_status check_output(tb_integrator *integrator, double t, const char *stage)
+{
+    const size_t n = integrator->system.n;
+    const size_t bad = tb__first_non_finite(integrator->y, n);
+    if (bad == n) {
+        return TB_STATUS_OK;
+    }
+    tb__cvode *cvode = integrator->cvode;
+    const double value = integrator->y[bad];
+    memcpy(integrator->y, cvode->y_seen, n * sizeof(double));
+    cvode->stale = true;
+    return tb__set_detail(integrator->detail, TB_STATUS_STATE_NOT_FINITE,
+                          "y[%zu] became %g in %s's output at t = %.17g%s; kept the state at t = "
+                          "%.17g",
+                          bad, value, integrator->entry->info.name, t, stage, integrator->t);
+}
+
+/* Hands out y at time t: checks it, applies the hook to it (CVODE's history is untouched by
+ * this), checks it again and remembers it so a change from outside can be detected. On
+ * failure y and the time stay at the last output. */
+static tb_status hand_out(tb_integrator *integrator, double t)
 {
     const tb_ode_system *system = &integrator->system;
     tb__cvode *cvode = integrator->cvode;
-    if (system->post_step != NULL && system->post_step(integrator->t, integrator->y, system->ctx)) {
-        memcpy(integrator->y, cvode->y_seen, system->n * sizeof(double));
-        return tb__set_detail(integrator->detail, TB_STATUS_HOOK_FAILED,
-                              "post-step hook failed on the output at t = %.17g", integrator->t);
+    tb_status status = check_output(integrator, t, "");
+    if (status != TB_STATUS_OK) {
+        return status;
     }
+    const int rc = system->post_step != NULL ? system->post_step(t, integrator->y, system->ctx) : 0;
+    status = check_output(integrator, t,
+                          rc != 0 ? " (from the post-step hook, which failed)"
+                                  : " (from the post-step hook)");
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    if (rc != 0) {
+        memcpy(integrator->y, cvode->y_seen, system->n * sizeof(double));
+        cvode->stale = true;
+        return tb__set_detail(integrator->detail, TB_STATUS_HOOK_FAILED,
+                              "post-step hook returned %d on the output at t = %.17g", rc, t);
+    }
+    integrator->t = t;
     memcpy(cvode->y_seen, integrator->y, system->n * sizeof(double));
     return TB_STATUS_OK;
 }
@@ -399,6 +456,8 @@ static tb_status failure_status(int flag, int derivative_status)
         return TB_STATUS_DERIVATIVE_FAILED;
     }
     switch (flag) {
+    case CV_TOO_MUCH_WORK:
+        return TB_STATUS_TOO_MANY_STEPS;
     case CV_RHSFUNC_FAIL:
     case CV_FIRST_RHSFUNC_ERR:
     case CV_REPTD_RHSFUNC_ERR:
@@ -412,23 +471,15 @@ static tb_status failure_status(int flag, int derivative_status)
     }
 }
 
-/* CVODE failed: it left y at its last successful step (time t_reached). Keep that state if it
- * is finite, else the last output; say what happened. */
-static tb_status fail(tb_integrator *integrator, int flag, double t_reached, double t_target)
+/* CVODE failed: it left y at its last successful step (tau_reached). Keep that state if it is
+ * a good output, else the last output; say what happened. */
+static tb_status fail(tb_integrator *integrator, int flag, double tau_reached, double t_target)
 {
     tb__cvode *cvode = integrator->cvode;
-    const size_t n = integrator->system.n;
-    bool finite = isfinite(t_reached);
-    for (size_t i = 0; i < n && finite; ++i) {
-        finite = isfinite(integrator->y[i]);
-    }
-    if (finite && t_reached >= integrator->t) {
-        integrator->t = t_reached;
-        if (hand_out(integrator) != TB_STATUS_OK) {
-            memcpy(integrator->y, cvode->y_seen, n * sizeof(double));
-        }
-    } else {
-        memcpy(integrator->y, cvode->y_seen, n * sizeof(double));
+    const double t_reached = cvode->t_origin + tau_reached;
+    if (!(isfinite(t_reached) && t_reached >= integrator->t &&
+          hand_out(integrator, t_reached) == TB_STATUS_OK)) {
+        memcpy(integrator->y, cvode->y_seen, integrator->system.n * sizeof(double));
     }
     char name[64], derivative_note[96] = "";
     flag_name(flag, name, sizeof name);
@@ -456,26 +507,28 @@ static tb_status run(tb_integrator *integrator, double t_out, int mode)
     }
     cvode->derivative_status = 0;
     cvode->message[0] = '\0';
-    const double horizon = integrator->t + TB__FIRST_STEP_HORIZON;
-    sunrealtype t_reached = integrator->t;
+    /* CVODE's times are tau = t - t_origin */
+    const double tau_now = integrator->t - cvode->t_origin, tau_out = t_out - cvode->t_origin;
+    const double horizon = tau_now + TB__FIRST_STEP_HORIZON;
+    sunrealtype tau_reached = tau_now;
     int flag = CV_SUCCESS;
     bool stepped = false;
     if (!cvode->started) {
         cvode->started = true;
         stepped = true;
-        flag = CVode(cvode->mem, horizon, cvode->y, &t_reached, CV_ONE_STEP);
+        flag = CVode(cvode->mem, horizon, cvode->y, &tau_reached, CV_ONE_STEP);
     }
     if (flag >= 0 && mode == CV_NORMAL) {
-        flag = t_reached >= t_out ? CVodeGetDky(cvode->mem, t_out, 0, cvode->y)
-                                  : CVode(cvode->mem, t_out, cvode->y, &t_reached, CV_NORMAL);
+        flag = tau_reached >= tau_out
+                   ? CVodeGetDky(cvode->mem, tau_out, 0, cvode->y)
+                   : CVode(cvode->mem, tau_out, cvode->y, &tau_reached, CV_NORMAL);
     } else if (flag >= 0 && !stepped) {
-        flag = CVode(cvode->mem, horizon, cvode->y, &t_reached, CV_ONE_STEP);
+        flag = CVode(cvode->mem, horizon, cvode->y, &tau_reached, CV_ONE_STEP);
     }
     if (flag < 0) {
-        return fail(integrator, flag, t_reached, t_out);
+        return fail(integrator, flag, tau_reached, t_out);
     }
-    integrator->t = mode == CV_NORMAL ? t_out : t_reached;
-    return hand_out(integrator);
+    return hand_out(integrator, mode == CV_NORMAL ? t_out : cvode->t_origin + tau_reached);
 }
 
 static tb_status cvode_advance(tb_integrator *integrator, double t_target)

@@ -28,8 +28,13 @@ struct tb__cvode {
     bool band_preconditioner; /* CVBandPrec attached (its counters exist) */
     tb__block_preconditioner *block_preconditioner; /* for systems of independent blocks */
     bool started;          /* the first step since creation or restart has been taken */
+    bool stale;            /* CVODE's history went past the last good output (a non-finite
+                              output was refused): restart from y before the next step */
+    double t_origin;       /* CVODE integrates in tau = t - t_origin, from tau = 0 at creation
+                              and every restart, so a start at t = 1e16 (where CVODE's first
+                              step would not move t) works like one at 0 */
     long jacobian_evals;   /* derivative calls made by our dense Jacobian */
-    int derivative_status; /* last non-zero return of the derivative, and its time */
+    int derivative_status; /* last non-zero return of the derivative, and its time (t) */
     double derivative_time;
     tb_integrator_stats base;     /* counts from before the last CVodeReInit, which zeroes them */
     char message[TB_DETAIL_SIZE]; /* CVODE's last message, captured instead of printed */

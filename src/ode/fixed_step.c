@@ -7,6 +7,7 @@
 
 #include <math.h>
 #include <stddef.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -105,12 +106,45 @@ static size_t chunk_blocks(const tb_ode_system *system)
     return per_chunk == 0 ? 1 : per_chunk < blocks ? per_chunk : blocks;
 }
 
+/* Times must resolve a step to this fraction of dt: near t = 1e15 doubles are 0.125 apart, and
+ * t + dt would not move (or would move in steps of the spacing, not of dt). */
+#define TB__TIME_RESOLUTION (1.0 / 1024.0)
+
+/* Distance from |t| to the next larger double. */
+static double time_spacing(double t)
+{
+    return nextafter(fabs(t), INFINITY) - fabs(t);
+}
+
+/* Refuses a dt that the times near t cannot resolve (see TB__TIME_RESOLUTION); what names t in
+ * the message ("t0", "t_target", ...). */
+static tb_status check_time_resolution(char *detail, double dt, double t, const char *what)
+{
+    const double spacing = time_spacing(t);
+    if (spacing > TB__TIME_RESOLUTION * dt) {
+        return tb__set_detail(detail, TB_STATUS_INVALID_ARGUMENT,
+                              "dt: %g is too small for times near %s = %.17g, where doubles are "
+                              "%g apart (a step must span at least %g of them); count time from "
+                              "a nearer origin or use a larger dt",
+                              dt, what, t, spacing, 1.0 / TB__TIME_RESOLUTION);
+    }
+    return TB_STATUS_OK;
+}
+
 static tb_status fixed_create(tb_integrator *integrator, const tb_integrator_def *def,
                               tb_error *error)
 {
-    if (!(def->dt > 0) || !isfinite(def->dt)) {
-        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
-                             "def.dt: must be finite and > 0, got %g", def->dt);
+    if (!isfinite(def->dt)) {
+        return tb__set_error(error, TB_STATUS_NOT_FINITE, "def.dt: must be finite, got %g",
+                             def->dt);
+    }
+    if (!(def->dt > 0)) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT, "def.dt: must be > 0, got %g",
+                             def->dt);
+    }
+    char detail[TB_DETAIL_SIZE];
+    if (check_time_resolution(detail, def->dt, integrator->t, "t0") != TB_STATUS_OK) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT, "def.%s", detail);
     }
     const size_t n = integrator->system.n;
     /* whole-array path: the new state (n) and the stepper's scratch (2n); chunked path: the
@@ -135,10 +169,10 @@ static void fixed_destroy(tb_integrator *integrator)
     free(integrator->y_new);
 }
 
-/* Index of the first non-finite component, or n if all are finite. The common case is one
- * vectorisable pass: y * 0 is 0 for finite y and NaN for NaN or infinity, so the sum is NaN
- * exactly when some component is not finite; only then is it located. */
-static size_t first_non_finite(const double *y, size_t n)
+/* The common case is one vectorisable pass: y * 0 is 0 for finite y and NaN for NaN or
+ * infinity, so the sum is NaN exactly when some component is not finite; only then is it
+ * located. */
+size_t tb__first_non_finite(const double *y, size_t n)
 {
     double probe = 0.0;
     for (size_t i = 0; i < n; ++i) {
@@ -170,13 +204,19 @@ static tb_status hook_failed(tb_integrator *integrator, int rc, double t_end)
                           "post-step hook returned %d at t = %.17g", rc, t_end);
 }
 
-static tb_status not_finite(tb_integrator *integrator, size_t index, double value, double h)
+/* hook_rc: what the post-step hook returned on the non-finite state (0 if it was not run). */
+static tb_status not_finite(tb_integrator *integrator, size_t index, double value, double h,
+                            int hook_rc)
 {
     ++integrator->stats.failed_steps;
+    char hook_note[64] = "";
+    if (hook_rc != 0) {
+        snprintf(hook_note, sizeof hook_note, " (the post-step hook returned %d on it)", hook_rc);
+    }
     return tb__set_detail(integrator->detail, TB_STATUS_STATE_NOT_FINITE,
-                          "y[%zu] became %g in the %s step from t = %.17g (h = %g); the step "
+                          "y[%zu] became %g in the %s step from t = %.17g (h = %g)%s; the step "
                           "size is beyond the method's stability limit or the system blew up",
-                          index, value, integrator->entry->info.name, integrator->t, h);
+                          index, value, integrator->entry->info.name, integrator->t, h, hook_note);
 }
 
 static void commit(tb_integrator *integrator, double h, double t_end)
@@ -200,12 +240,16 @@ static tb_status step_part(tb_integrator *integrator, const tb_ode_system *part,
     if (part->post_step != NULL) {
         rc = part->post_step(t_end, fresh, part->ctx);
         if (rc != 0) {
-            return hook_failed(integrator, rc, t_end);
+            /* a hook that fails on a state that is no longer finite (a scene cannot
+             * normalise a NaN quaternion) reports the real cause */
+            const size_t bad = tb__first_non_finite(fresh, part->n);
+            return bad < part->n ? not_finite(integrator, offset + bad, fresh[bad], h, rc)
+                                 : hook_failed(integrator, rc, t_end);
         }
     }
-    const size_t bad = first_non_finite(fresh, part->n);
+    const size_t bad = tb__first_non_finite(fresh, part->n);
     if (bad < part->n) {
-        return not_finite(integrator, offset + bad, fresh[bad], h);
+        return not_finite(integrator, offset + bad, fresh[bad], h, 0);
     }
     return TB_STATUS_OK;
 }
@@ -304,11 +348,43 @@ static tb_status take_step(tb_integrator *integrator, double h, double t_end)
 
 static tb_status fixed_step(tb_integrator *integrator)
 {
-    return take_step(integrator, integrator->dt, integrator->t + integrator->dt);
+    const double t_end = integrator->t + integrator->dt;
+    const tb_status status =
+        check_time_resolution(integrator->detail, integrator->dt, t_end, "t + dt");
+    return status != TB_STATUS_OK ? status : take_step(integrator, integrator->dt, t_end);
+}
+
+/* Steps to t_target are counted as advance lands them (see fixed_advance); more than
+ * max_steps is refused before the first step, so nothing changes. */
+static tb_status check_budget(tb_integrator *integrator, double t_target)
+{
+    const double steps = (t_target - integrator->t) / integrator->dt - TB__LANDING_SLACK;
+    if (steps > (double)integrator->max_steps) {
+        return tb__set_detail(integrator->detail, TB_STATUS_TOO_MANY_STEPS,
+                              "t_target: %.17g is %.3g steps of dt = %g from t = %.17g, more "
+                              "than max_steps = %ld; nothing was stepped",
+                              t_target, ceil(steps), integrator->dt, integrator->t,
+                              integrator->max_steps);
+    }
+    return check_time_resolution(integrator->detail, integrator->dt, t_target, "t_target");
+}
+
+/* The budget ran out (or a step stopped moving time) before t_target: y is the last good
+ * step's state. */
+static tb_status budget_used(tb_integrator *integrator, double t_target, long steps)
+{
+    return tb__set_detail(integrator->detail, TB_STATUS_TOO_MANY_STEPS,
+                          "max_steps = %ld used up (%ld steps) on the way to t = %.17g: stopped "
+                          "at t = %.17g",
+                          integrator->max_steps, steps, t_target, integrator->t);
 }
 
 static tb_status fixed_advance(tb_integrator *integrator, double t_target)
 {
+    tb_status status = check_budget(integrator, t_target);
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
     const double t_start = integrator->t, dt = integrator->dt;
     /* Step times are t_start + i dt rather than a running sum, so round-off does not
      * accumulate over long runs. */
@@ -317,7 +393,10 @@ static tb_status fixed_advance(tb_integrator *integrator, double t_target)
         if (t_end >= t_target - TB__LANDING_SLACK * dt) {
             t_end = t_target;
         }
-        tb_status status = take_step(integrator, t_end - integrator->t, t_end);
+        if (i > integrator->max_steps || !(t_end > integrator->t)) {
+            return budget_used(integrator, t_target, i - 1);
+        }
+        status = take_step(integrator, t_end - integrator->t, t_end);
         if (status != TB_STATUS_OK) {
             return status;
         }
@@ -327,8 +406,11 @@ static tb_status fixed_advance(tb_integrator *integrator, double t_target)
 
 static tb_status fixed_reset(tb_integrator *integrator, double t)
 {
-    integrator->t = t;
-    return TB_STATUS_OK;
+    const tb_status status = check_time_resolution(integrator->detail, integrator->dt, t, "t");
+    if (status == TB_STATUS_OK) {
+        integrator->t = t;
+    }
+    return status;
 }
 
 static void fixed_get_stats(const tb_integrator *integrator, tb_integrator_stats *stats)

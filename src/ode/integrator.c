@@ -5,6 +5,7 @@
 #include "core/detail.h"
 
 #include <math.h>
+#include <stdbool.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -27,6 +28,60 @@ tb_integrator_def tb_integrator_def_default(void)
     return def;
 }
 
+static tb_status validate_blocks(const tb_ode_system *system, tb_error *error)
+{
+    if (system->n % system->block_size != 0) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "system.block_size: %zu does not divide n = %zu", system->block_size,
+                             system->n);
+    }
+    if (system->block_derivative == NULL) {
+        return tb__set_error(error, TB_STATUS_NULL_POINTER,
+                             "system.block_derivative is NULL but block_size is %zu",
+                             system->block_size);
+    }
+    if (system->post_step != NULL && system->block_post_step == NULL) {
+        return tb__set_error(error, TB_STATUS_NULL_POINTER,
+                             "system.block_post_step is NULL but post_step and block_size are set");
+    }
+    return TB_STATUS_OK;
+}
+
+/* layout_generation, acquire and release come as a set: an integrator that could not release
+ * what it acquired would leave the system busy for ever. */
+static tb_status validate_lifetime_hooks(const tb_ode_system *system, tb_error *error)
+{
+    const int set =
+        (system->layout_generation != NULL) + (system->acquire != NULL) + (system->release != NULL);
+    if (set != 0 && set != 3) {
+        return tb__set_error(error, TB_STATUS_NULL_POINTER,
+                             "system.%s is NULL: layout_generation, acquire and release are set "
+                             "together or not at all",
+                             system->layout_generation == NULL ? "layout_generation"
+                             : system->acquire == NULL         ? "acquire"
+                                                               : "release");
+    }
+    return TB_STATUS_OK;
+}
+
+static tb_status validate_system(const tb_ode_system *system, tb_error *error)
+{
+    if (system->n == 0 || system->n > SIZE_MAX / (4 * sizeof(double))) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "system.n: must be > 0 and fit in memory, got %zu", system->n);
+    }
+    if (system->derivative == NULL) {
+        return tb__set_error(error, TB_STATUS_NULL_POINTER, "system.derivative is NULL");
+    }
+    if (system->block_size > 0) {
+        const tb_status status = validate_blocks(system, error);
+        if (status != TB_STATUS_OK) {
+            return status;
+        }
+    }
+    return validate_lifetime_hooks(system, error);
+}
+
 static tb_status validate(const tb_ode_system *system, const tb_integrator_def *def, double t0,
                           const double *y, tb_error *error)
 {
@@ -40,33 +95,17 @@ static tb_status validate(const tb_ode_system *system, const tb_integrator_def *
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
                              "def: not initialised by tb_integrator_def_default()");
     }
-    if (system->n == 0 || system->n > SIZE_MAX / (4 * sizeof(double))) {
-        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
-                             "system.n: must be > 0 and fit in memory, got %zu", system->n);
-    }
-    if (system->derivative == NULL) {
-        return tb__set_error(error, TB_STATUS_NULL_POINTER, "system.derivative is NULL");
-    }
-    if (system->block_size > 0) {
-        if (system->n % system->block_size != 0) {
-            return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
-                                 "system.block_size: %zu does not divide n = %zu",
-                                 system->block_size, system->n);
-        }
-        if (system->block_derivative == NULL) {
-            return tb__set_error(error, TB_STATUS_NULL_POINTER,
-                                 "system.block_derivative is NULL but block_size is %zu",
-                                 system->block_size);
-        }
-        if (system->post_step != NULL && system->block_post_step == NULL) {
-            return tb__set_error(error, TB_STATUS_NULL_POINTER,
-                                 "system.block_post_step is NULL but post_step and block_size "
-                                 "are set");
-        }
+    const tb_status status = validate_system(system, error);
+    if (status != TB_STATUS_OK) {
+        return status;
     }
     if ((int)def->method < 0 || def->method >= TB_METHOD_COUNT) {
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT, "def.method: unknown method %d",
                              (int)def->method);
+    }
+    if (def->max_steps <= 0) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "def.max_steps: must be > 0, got %ld", def->max_steps);
     }
     if (!isfinite(t0)) {
         return tb__set_error(error, TB_STATUS_NOT_FINITE, "t0: must be finite, got %g", t0);
@@ -95,6 +134,10 @@ tb_status tb_integrator_create(const tb_ode_system *system, const tb_integrator_
     integrator->entry = &tb__methods[def->method];
     integrator->t = t0;
     integrator->y = y;
+    integrator->max_steps = def->max_steps;
+    if (system->layout_generation != NULL) {
+        integrator->generation = system->layout_generation(system->ctx);
+    }
     status = integrator->entry->backend->create(integrator, def, out_error);
     if (status != TB_STATUS_OK) {
         free(integrator);
@@ -112,21 +155,70 @@ void tb_integrator_destroy(tb_integrator *integrator)
     }
 }
 
+/* Starts a call that steps or resets: refuses a re-entrant call (from the integrator's own
+ * derivative, hook or acquire) and a system whose acquire refuses, changing nothing. The
+ * detail of a re-entrant call is written for its caller; the call in progress clears it again
+ * if it succeeds. */
+static tb_status enter(tb_integrator *integrator, const char *call)
+{
+    if (integrator->busy) {
+        return tb__set_detail(integrator->detail, TB_STATUS_BUSY,
+                              "%s: the integrator is already in an advance, step or reset (called "
+                              "from its own derivative, hook or acquire)",
+                              call);
+    }
+    integrator->detail[0] = '\0';
+    integrator->busy = true;
+    const tb_ode_system *system = &integrator->system;
+    if (system->acquire != NULL) {
+        const tb_status status =
+            system->acquire(system->ctx, integrator->generation, integrator->detail);
+        if (status != TB_STATUS_OK) {
+            integrator->busy = false;
+            if (integrator->detail[0] == '\0') {
+                tb__set_detail(integrator->detail, status, "%s: the system refused (acquire)",
+                               call);
+            }
+            return status;
+        }
+    }
+    return TB_STATUS_OK;
+}
+
+/* Ends a call that enter let through; passes its status on. */
+static tb_status leave(tb_integrator *integrator, tb_status status)
+{
+    const tb_ode_system *system = &integrator->system;
+    if (system->release != NULL) {
+        system->release(system->ctx);
+    }
+    integrator->busy = false;
+    if (status == TB_STATUS_OK) {
+        integrator->detail[0] = '\0'; /* a refused re-entrant call's message is not ours */
+    }
+    return status;
+}
+
 tb_status tb_integrator_advance(tb_integrator *integrator, double t_target)
 {
     if (integrator == NULL) {
         return TB_STATUS_NULL_POINTER;
     }
-    integrator->detail[0] = '\0';
-    if (!isfinite(t_target) || t_target < integrator->t) {
-        return tb__set_detail(integrator->detail, TB_STATUS_INVALID_ARGUMENT,
-                              "t_target: must be finite and >= current time %.17g, got %.17g",
-                              integrator->t, t_target);
+    tb_status status = enter(integrator, "advance");
+    if (status != TB_STATUS_OK) {
+        return status;
     }
-    if (t_target == integrator->t) {
-        return TB_STATUS_OK;
+    if (!isfinite(t_target)) {
+        status = tb__set_detail(integrator->detail, TB_STATUS_NOT_FINITE,
+                                "t_target: must be finite, got %g", t_target);
+    } else if (t_target < integrator->t) {
+        status = tb__set_detail(integrator->detail, TB_STATUS_INVALID_ARGUMENT,
+                                "t_target: must be >= current time %.17g, got %.17g", integrator->t,
+                                t_target);
+    } else if (t_target > integrator->t) {
+        status = integrator->entry->backend->advance(integrator, t_target);
     }
-    return integrator->entry->backend->advance(integrator, t_target);
+    return leave(integrator, status);
 }
 
 tb_status tb_integrator_step(tb_integrator *integrator)
@@ -134,8 +226,11 @@ tb_status tb_integrator_step(tb_integrator *integrator)
     if (integrator == NULL) {
         return TB_STATUS_NULL_POINTER;
     }
-    integrator->detail[0] = '\0';
-    return integrator->entry->backend->step(integrator);
+    const tb_status status = enter(integrator, "step");
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    return leave(integrator, integrator->entry->backend->step(integrator));
 }
 
 double tb_integrator_time(const tb_integrator *integrator)
@@ -148,18 +243,33 @@ tb_status tb_integrator_reset(tb_integrator *integrator, double t)
     if (integrator == NULL) {
         return TB_STATUS_NULL_POINTER;
     }
-    integrator->detail[0] = '\0';
-    if (!isfinite(t)) {
-        return tb__set_detail(integrator->detail, TB_STATUS_NOT_FINITE, "t: must be finite, got %g",
-                              t);
+    tb_status status = enter(integrator, "reset");
+    if (status != TB_STATUS_OK) {
+        return status;
     }
-    return integrator->entry->backend->reset(integrator, t);
+    if (!isfinite(t)) {
+        status = tb__set_detail(integrator->detail, TB_STATUS_NOT_FINITE,
+                                "t: must be finite, got %g", t);
+    } else {
+        status = integrator->entry->backend->reset(integrator, t);
+    }
+    return leave(integrator, status);
 }
 
 tb_status tb_integrator_get_stats(const tb_integrator *integrator, tb_integrator_stats *out_stats)
 {
-    if (integrator == NULL || out_stats == NULL) {
+    if (integrator == NULL) {
         return TB_STATUS_NULL_POINTER;
+    }
+    /* The detail is the one thing a reading call writes: a message about the last call (the
+     * integrator, made by calloc, is not const underneath). Inside a call in progress (from a
+     * callback) the detail is that call's and stays. */
+    char *detail = integrator->busy ? NULL : ((tb_integrator *)integrator)->detail;
+    if (detail != NULL) {
+        detail[0] = '\0';
+    }
+    if (out_stats == NULL) {
+        return tb__set_detail(detail, TB_STATUS_NULL_POINTER, "out_stats is NULL");
     }
     integrator->entry->backend->get_stats(integrator, out_stats);
     return TB_STATUS_OK;

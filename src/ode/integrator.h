@@ -4,6 +4,9 @@
 
 #include "tumble/ode.h"
 
+#include <stdbool.h>
+#include <stddef.h>
+
 typedef struct tb_integrator tb_integrator;
 
 /* What a backend does; the public functions in integrator.c validate and dispatch. */
@@ -48,7 +51,10 @@ struct tb_integrator {
     tb_method method;
     const tb__method_entry *entry;
     double t;
-    double *y; /* caller's state, n doubles */
+    double *y;                     /* caller's state, n doubles */
+    long max_steps;                /* steps allowed in one advance or step call */
+    unsigned long long generation; /* the system's layout generation at creation */
+    bool busy;                     /* an advance, step or reset is in progress */
     tb_integrator_stats stats;
     char detail[TB_DETAIL_SIZE];
     /* fixed-step */
@@ -58,5 +64,8 @@ struct tb_integrator {
     /* CVODE */
     struct tb__cvode *cvode;
 };
+
+/* Index of the first non-finite component of y[0..n), or n if all are finite. */
+size_t tb__first_non_finite(const double *y, size_t n);
 
 #endif
