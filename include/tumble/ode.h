@@ -172,10 +172,7 @@ typedef struct tb_integrator_def {
     int max_order;       /* 0 (default) for the method's largest (Adams 12, BDF 5);
                             CVODE keeps max_order + 1 history vectors, so Adams at 5
                             takes 7 state-sized vectors fewer (docs/performance.md) */
-    tb_linear_solver linear_solver; /* BDF only; default TB_LINEAR_SOLVER_AUTO */
-    int allow_unstable; /* scenes, fixed-step methods: 0 (default) refuses a dt at which the
-                           scene's stiffest spring or contact would grow by more than 1% a step
-                           (see tb_scene_max_stable_step); 1 runs anyway */
+    tb_linear_solver linear_solver;    /* BDF only; default TB_LINEAR_SOLVER_AUTO */
     int preconditioner_half_bandwidth; /* Krylov, systems without block_size: half-bandwidth
                                           of the banded difference-quotient preconditioner;
                                           < 0 (default) automatic: 12 for scenes (one body's

@@ -26,7 +26,6 @@ class IntegratorDef(ctypes.Structure):
         ("max_step", ctypes.c_double),
         ("max_order", ctypes.c_int),
         ("linear_solver", ctypes.c_int),
-        ("allow_unstable", ctypes.c_int),
         ("preconditioner_half_bandwidth", ctypes.c_int),
         ("internal_cookie", ctypes.c_int),
     ]
