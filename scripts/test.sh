@@ -6,6 +6,12 @@ scripts/build.sh -DTUMBLE_WARNINGS_AS_ERRORS=ON
 ctest --test-dir build --output-on-failure -j "$(nproc)"
 # The exports read back by NumPy, pygltflib and the Khronos glTF validator (installs them).
 scripts/test_export.sh build
+# Blender imports every example's .glb (its own script: Blender is big; run when installed).
+if command -v blender >/dev/null 2>&1; then
+    scripts/test_blender.sh build
+else
+    echo "test: blender not installed, skipping scripts/test_blender.sh" >&2
+fi
 
 # A shared libtumble: the install consumers against it, and the Python bindings' tests.
 cmake -S . -B build-shared -G Ninja -DTUMBLE_WARNINGS_AS_ERRORS=ON -DBUILD_SHARED_LIBS=ON \
