@@ -259,6 +259,32 @@ static void test_an_unfinished_file_never_replaces_the_old_one(void **state)
     tb_scene_destroy(scene);
 }
 
+/* A name with a comma and a quote stays one field (RFC 4180: quoted, the quote doubled). */
+static void test_csv_quotes_a_name_that_holds_a_comma(void **state)
+{
+    (void)state;
+    tb_scene_def scene_def = tb_scene_def_default();
+    tb_scene *scene = NULL;
+    tb_scene_create(&scene_def, &scene, NULL);
+    tb_body_def body = tb_body_def_default();
+    body.name = "die 1, \"red\"";
+    tb_mass_from_sphere(TB_MASS_GIVEN, 1.0, 0.1, &body.mass, NULL);
+    assert_int_equal(tb_scene_add_body(scene, &body, NULL), TB_STATUS_OK);
+    const char *path = DIRECTORY "writers_quoted.csv";
+    tb_writer_def def = tb_writer_def_default();
+    tb_writer *writer = NULL;
+    assert_int_equal(tb_writer_open(path, &def, scene, &writer, NULL), TB_STATUS_OK);
+    assert_int_equal(tb_writer_frame(writer, 0.0, scene), TB_STATUS_OK);
+    assert_int_equal(tb_writer_close(writer, NULL), TB_STATUS_OK);
+    FILE *file = fopen(path, "r");
+    char line[512];
+    assert_non_null(fgets(line, sizeof line, file));
+    assert_non_null(fgets(line, sizeof line, file));
+    fclose(file);
+    assert_string_equal(line, "0,\"die 1, \"\"red\"\"\",0,0,0,1,0,0,0,0,0,0,0,0,0\n");
+    tb_scene_destroy(scene);
+}
+
 static unsigned read32(const unsigned char *p)
 {
     return p[0] | (unsigned)p[1] << 8 | (unsigned)p[2] << 16 | (unsigned)p[3] << 24;
@@ -308,6 +334,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_csv_numbers_read_back_as_the_doubles_in_memory),
+        cmocka_unit_test(test_csv_quotes_a_name_that_holds_a_comma),
         cmocka_unit_test(test_format_follows_the_extension_or_the_name),
         cmocka_unit_test(test_open_refuses_bad_input_and_leaves_no_file),
         cmocka_unit_test(test_a_bad_frame_is_refused_and_changes_nothing),
