@@ -15,7 +15,7 @@ static const char program_help[] =
 
 static const char run_help[] =
     "usage: tumble run SCENE.json [options]\n"
-    "Simulates the scene and writes its frames as CSV (each option overrides the scene file):\n"
+    "Simulates the scene and writes its frames (each option overrides the scene file):\n"
     "  --integrator M    euler, midpoint, rk4 (fixed step) or cvode-adams, cvode-bdf (adaptive)\n"
     "  --dt H            step size in seconds, for fixed-step methods\n"
     "  --rtol R          relative tolerance, for adaptive methods (e.g. 1e-6)\n"
@@ -23,6 +23,10 @@ static const char run_help[] =
     "  --fps F           frames per second written\n"
     "  --duration T      seconds simulated\n"
     "  -o, --out FILE    where the frames go (default: standard output; never the scene file)\n"
+    "  --format F        csv, npz (NumPy arrays), glb or gltf (animated glTF 2.0 with the\n"
+    "                    shapes, for Blender and browsers); default: --out's extension, else csv\n"
+    "  --rotation K      glTF rotation keys: cubic (default: a spline following the spin) or\n"
+    "                    linear\n"
     "  -h, --help        this help\n"
     "\n"
     "The CSV (RFC 4180: a body name with a comma, quote or line break is quoted) has one row\n"
@@ -30,7 +34,10 @@ static const char run_help[] =
     "  t,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n"
     "all in the world frame and SI units: the position and unit quaternion of the body's\n"
     "shape frame (the frame its shape is described in, so a model can be placed with them),\n"
-    "that frame origin's velocity, and the angular velocity. A summary goes to standard error:\n"
+    "that frame origin's velocity, and the angular velocity, with 17 significant digits (they\n"
+    "read back exactly); npz holds the same as arrays. docs/export.md describes every format\n"
+    "(tumble's world is z up; glTF files turn it to glTF's y up). A summary goes to standard "
+    "error:\n"
     "the integrator's work and the drift of what the scene's effects conserve (energy, linear\n"
     "momentum, angular momentum about the centre of mass of all bodies).\n"
     "Exit codes: 0 success, 1 the simulation or a write failed, 2 bad input.\n";

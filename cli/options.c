@@ -40,6 +40,8 @@ typedef struct option_info {
 static const option_info option_table[] = {
     FLAG("help", 'h', ALL_COMMANDS, help),
     TEXT("out", 'o', CLI_RUN, out),
+    TEXT("format", 0, CLI_RUN, format),
+    TEXT("rotation", 0, CLI_RUN, rotation),
     TEXT("integrator", 0, RUN_OR_CHECK, method),
     TEXT("chart", 0, CLI_ACCURACY, chart),
     NUMBER("dt", RUN_OR_CHECK, dt, has_dt, false),

@@ -20,10 +20,12 @@ typedef struct cli_options {
     const char *command_name; /* "run", "check" or "accuracy" */
     bool help;                /* --help after the command: print that command's help */
     const char *scene;
-    const char *out;     /* NULL: standard output */
-    const char *method;  /* NULL: the scene's */
-    const char *chart;   /* accuracy: an SVG chart to write, or NULL */
-    double target_error; /* accuracy: m */
+    const char *out;      /* NULL: standard output */
+    const char *format;   /* run: csv, npz, glb or gltf; NULL: from --out's extension */
+    const char *rotation; /* run, glTF: "cubic" (NULL) or "linear" rotation keys */
+    const char *method;   /* NULL: the scene's */
+    const char *chart;    /* accuracy: an SVG chart to write, or NULL */
+    double target_error;  /* accuracy: m */
     bool has_target;
     double dt, rtol, atol, fps, duration;
     bool has_dt, has_rtol, has_atol, has_fps, has_duration;

@@ -18,7 +18,7 @@ void cli_output_guard_stdout(void)
     }
 }
 
-static bool same_file(const char *a, const char *b)
+bool cli_output_same_file(const char *a, const char *b)
 {
     struct stat sa, sb;
     return a != NULL && b != NULL && stat(a, &sa) == 0 && stat(b, &sb) == 0 &&
@@ -32,7 +32,7 @@ bool cli_output_open(cli_output *out, const char *path, const char *keep, char *
     if (path == NULL) {
         return true;
     }
-    if (same_file(path, keep)) {
+    if (cli_output_same_file(path, keep)) {
         snprintf(message, size, "%s is the scene file %s: refusing to overwrite it", path, keep);
         return false;
     }

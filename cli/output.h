@@ -16,6 +16,9 @@ typedef struct cli_output {
  * opened read-only, so that no file opened later lands there and writes still fail. */
 void cli_output_guard_stdout(void);
 
+/* True if a and b name the same existing file (same device and inode). */
+bool cli_output_same_file(const char *a, const char *b);
+
 /* Opens path for writing (NULL: standard output). Refuses (false, message) a path that is
  * the file `keep` (the scene: same device and inode, whatever the spelling) and a path that
  * cannot be opened. */

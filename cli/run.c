@@ -66,7 +66,9 @@ int cli_dry_run(const cli_options *o, tb_scene *scene, const tb_run_def *run)
 }
 
 typedef struct writer {
-    cli_output output;
+    cli_output output;  /* CSV */
+    tb_writer *frames;  /* npz, glb, gltf: the library's writer, else NULL */
+    bool frames_failed; /* a write of the library's writer failed */
     double duration;
     double started, last_progress;
     int progress; /* stderr is a terminal */
@@ -88,9 +90,12 @@ static void write_body(cli_output *out, double t, const tb_scene *scene, size_t 
     v[0] += w[1] * arm[2] - w[2] * arm[1];
     v[1] += w[2] * arm[0] - w[0] * arm[2];
     v[2] += w[0] * arm[1] - w[1] * arm[0];
-    cli_output_printf(out, "%.9g,", t);
+    /* 17 significant digits: every double reads back as itself */
+    cli_output_printf(out, "%.17g,", t);
     cli_output_csv_field(out, tb_scene_body_name(scene, id));
-    cli_output_printf(out, ",%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n",
+    cli_output_printf(out,
+                      ",%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,"
+                      "%.17g\n",
                       origin[0], origin[1], origin[2], q[0], q[1], q[2], q[3], v[0], v[1], v[2],
                       w[0], w[1], w[2]);
 }
@@ -98,7 +103,11 @@ static void write_body(cli_output *out, double t, const tb_scene *scene, size_t 
 static int on_frame(size_t frame, double t, const tb_scene *scene, void *ctx)
 {
     writer *w = ctx;
-    for (size_t id = 0; id < tb_scene_body_count(scene); ++id) {
+    if (w->frames != NULL && tb_writer_frame(w->frames, t, scene) != TB_STATUS_OK) {
+        w->frames_failed = true;
+        return 1; /* stop: the frames are being lost */
+    }
+    for (size_t id = 0; w->frames == NULL && id < tb_scene_body_count(scene); ++id) {
         write_body(&w->output, t, scene, id);
     }
     if (w->output.error != 0) {
@@ -116,11 +125,37 @@ static int on_frame(size_t frame, double t, const tb_scene *scene, void *ctx)
     return 0;
 }
 
+/* Finishes the output: the CSV stream, or the library's writer (which writes npz and glTF
+ * now, or, after a failed run, removes its unfinished file). */
+static bool close_output(writer *w, tb_status status, char *message, size_t size)
+{
+    if (w->frames == NULL) {
+        return cli_output_close(&w->output, message, size);
+    }
+    tb_error error;
+    if (w->frames_failed) {
+        snprintf(message, size, "%s", tb_writer_detail(w->frames)); /* names the file */
+        tb_writer_destroy(w->frames);
+        return false;
+    }
+    if (status != TB_STATUS_OK) {
+        tb_writer_destroy(w->frames);
+        return true; /* the simulation's failure is reported */
+    }
+    if (tb_writer_close(w->frames, &error) != TB_STATUS_OK) {
+        snprintf(message, size, "%s", error.message);
+        return false;
+    }
+    return true;
+}
+
 /* Runs into the opened output; the exit code. */
 static int simulate(const cli_options *o, tb_scene *scene, const tb_run_def *run, writer *w)
 {
     w->progress = isatty(fileno(stderr));
-    cli_output_printf(&w->output, "t,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n");
+    if (w->frames == NULL) {
+        cli_output_printf(&w->output, "t,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n");
+    }
     tb_integrator_stats stats;
     tb_error error;
     w->started = now();
@@ -130,7 +165,7 @@ static int simulate(const cli_options *o, tb_scene *scene, const tb_run_def *run
         fprintf(stderr, "\r\033[K");
     }
     char message[512];
-    if (!cli_output_close(&w->output, message, sizeof message)) {
+    if (!close_output(w, status, message, sizeof message)) {
         fprintf(stderr, "tumble: %s: %s\n", o->scene, message);
         return CLI_EXIT_SIMULATION;
     }
@@ -141,6 +176,56 @@ static int simulate(const cli_options *o, tb_scene *scene, const tb_run_def *run
     invariants last;
     summary_measure(scene, &last);
     summary_print(o->scene, scene, run, &stats, seconds, &w->first, &last);
+    return CLI_EXIT_OK;
+}
+
+/* The output format: --format, else --out's extension (.csv, .npz, .glb, .gltf), else CSV;
+ * binary formats need --out; --rotation applies to glTF. */
+static bool choose_format(const cli_options *o, tb_writer_def *def, char *message, size_t size)
+{
+    if (o->format != NULL && tb_output_format_from_name(o->format, &def->format) != 0) {
+        snprintf(message, size, "--format: must be csv, npz, glb or gltf, got \"%s\"", o->format);
+        return false;
+    }
+    if (o->format == NULL && o->out != NULL) {
+        tb_output_format_from_path(o->out, &def->format); /* another extension: CSV */
+    }
+    const bool gltf = def->format == TB_OUTPUT_GLB || def->format == TB_OUTPUT_GLTF;
+    if (o->rotation != NULL &&
+        (!gltf || (strcmp(o->rotation, "cubic") != 0 && strcmp(o->rotation, "linear") != 0))) {
+        snprintf(message, size,
+                 gltf ? "--rotation: must be cubic or linear, got \"%s\""
+                      : "--rotation applies to glb and gltf output, not %s",
+                 gltf ? o->rotation : tb_output_format_name(def->format));
+        return false;
+    }
+    def->rotation_keys = o->rotation != NULL && strcmp(o->rotation, "linear") == 0
+                             ? TB_ROTATION_LINEAR
+                             : TB_ROTATION_CUBICSPLINE;
+    if (def->format != TB_OUTPUT_CSV && o->out == NULL) {
+        snprintf(message, size, "--format %s: needs --out FILE (not standard output)",
+                 tb_output_format_name(def->format));
+        return false;
+    }
+    return true;
+}
+
+/* npz and glTF go through the library's writer, which draws the scene file's shapes. */
+static int open_frames_writer(const cli_options *o, tb_writer_def *def, const tb_scene *scene,
+                              writer *w)
+{
+    if (cli_output_same_file(o->out, o->scene)) {
+        fprintf(stderr, "tumble: --out %s is the scene file %s: refusing to overwrite it\n", o->out,
+                o->scene);
+        return CLI_EXIT_INPUT;
+    }
+    def->scene_file = o->scene;
+    tb_error error;
+    if (tb_writer_open(o->out, def, scene, &w->frames, &error) != TB_STATUS_OK) {
+        fprintf(stderr, "tumble: --out %s\n", error.message);
+        return CLI_EXIT_INPUT;
+    }
+    w->output.name = o->out;
     return CLI_EXIT_OK;
 }
 
@@ -155,8 +240,15 @@ int cli_run_command(const cli_options *o)
     code = cli_dry_run(o, scene, &run);
     writer w = {.duration = run.duration};
     char message[512];
-    if (code == CLI_EXIT_OK &&
-        !cli_output_open(&w.output, o->out, o->scene, message, sizeof message)) {
+    tb_writer_def def = tb_writer_def_default();
+    if (code == CLI_EXIT_OK && !choose_format(o, &def, message, sizeof message)) {
+        fprintf(stderr, "tumble: %s\n", message);
+        code = CLI_EXIT_INPUT;
+    }
+    if (code == CLI_EXIT_OK && def.format != TB_OUTPUT_CSV) {
+        code = open_frames_writer(o, &def, scene, &w);
+    } else if (code == CLI_EXIT_OK &&
+               !cli_output_open(&w.output, o->out, o->scene, message, sizeof message)) {
         fprintf(stderr, "tumble: --out %s\n", message);
         code = CLI_EXIT_INPUT;
     }
