@@ -285,6 +285,44 @@ static void test_csv_quotes_a_name_that_holds_a_comma(void **state)
     tb_scene_destroy(scene);
 }
 
+/* Frames from the caller's own values: written as given, and checked like any input. */
+static void test_frames_from_values_are_written_as_given(void **state)
+{
+    (void)state;
+    tb_run_def run;
+    tb_scene *scene = load(&run);
+    const char *path = DIRECTORY "writers_values.csv";
+    tb_writer_def def = tb_writer_def_default();
+    tb_writer *writer = NULL;
+    assert_int_equal(tb_writer_open(path, &def, scene, &writer, NULL), TB_STATUS_OK);
+    double values[26] = {0.1, 0.2, 0.3, 0.6, 0.8, 0, 0, 1, 2, 3, 4, 5, 6,
+                         1,   2,   3,   0,   0,   1, 0, 0, 0, 0, 0, 0, 7};
+    assert_int_equal(tb_writer_frame_values(writer, 0.25, NULL), TB_STATUS_NULL_POINTER);
+    values[17] = NAN;
+    assert_int_equal(tb_writer_frame_values(writer, 0.25, values), TB_STATUS_NOT_FINITE);
+    assert_non_null(strstr(tb_writer_detail(writer), "values[17] (body 1)"));
+    values[17] = 0.5; /* |q| = sqrt(1.25) */
+    assert_int_equal(tb_writer_frame_values(writer, 0.25, values), TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(strstr(tb_writer_detail(writer), "body 1's orientation"));
+    assert_int_equal(tb_writer_frame_count(writer), 0);
+    values[17] = 0.0;
+    assert_int_equal(tb_writer_frame_values(writer, 0.25, values), TB_STATUS_OK);
+    assert_int_equal(tb_writer_frame_values(writer, 0.25, values), TB_STATUS_INVALID_ARGUMENT);
+    assert_int_equal(tb_writer_close(writer, NULL), TB_STATUS_OK);
+    FILE *file = fopen(path, "r");
+    char header[128], box[256], ball[256];
+    assert_non_null(fgets(header, sizeof header, file));
+    assert_non_null(fgets(box, sizeof box, file));
+    assert_non_null(fgets(ball, sizeof ball, file));
+    fclose(file);
+    /* 0.1 and 0.2 print as their 17-digit expansions, which read back as themselves */
+    assert_string_equal(box, "0.25,box,0.10000000000000001,0.20000000000000001,"
+                             "0.29999999999999999,0.59999999999999998,0.80000000000000004,0,0,1,"
+                             "2,3,4,5,6\n");
+    assert_string_equal(ball, "0.25,ball,1,2,3,0,0,1,0,0,0,0,0,0,7\n");
+    tb_scene_destroy(scene);
+}
+
 static unsigned read32(const unsigned char *p)
 {
     return p[0] | (unsigned)p[1] << 8 | (unsigned)p[2] << 16 | (unsigned)p[3] << 24;
@@ -335,6 +373,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_csv_numbers_read_back_as_the_doubles_in_memory),
         cmocka_unit_test(test_csv_quotes_a_name_that_holds_a_comma),
+        cmocka_unit_test(test_frames_from_values_are_written_as_given),
         cmocka_unit_test(test_format_follows_the_extension_or_the_name),
         cmocka_unit_test(test_open_refuses_bad_input_and_leaves_no_file),
         cmocka_unit_test(test_a_bad_frame_is_refused_and_changes_nothing),

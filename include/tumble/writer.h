@@ -76,6 +76,15 @@ TB_API tb_status tb_writer_open(const char *path, const tb_writer_def *def, cons
  * added). A write that fails gives TB_STATUS_IO_ERROR, and every later call the same. */
 TB_API tb_status tb_writer_frame(tb_writer *writer, double t, const tb_scene *scene);
 
+/* Adds a frame from values the caller holds (a run recorded in memory, another simulator):
+ * 13 doubles per body in the writer's body order, each the position (m), the shape -> world
+ * unit quaternion (w, x, y, z), the velocity (m/s) and the angular velocity (rad/s), world
+ * frame, as a frame above holds them. Refused, with nothing added: NULL values
+ * (TB_STATUS_NULL_POINTER), a NaN or infinite value or t (TB_STATUS_NOT_FINITE, the detail
+ * naming its index), t not after the previous frame's or a quaternion whose norm is off 1 by
+ * more than 1e-6 (TB_STATUS_INVALID_ARGUMENT). */
+TB_API tb_status tb_writer_frame_values(tb_writer *writer, double t, const double *values);
+
 /* tb_frame_fn for tb_scene_run with the writer as ctx: tb_writer_frame, and non-zero (which
  * stops the run) when it fails; tb_writer_detail then says why. */
 TB_API int tb_writer_on_frame(size_t frame, double t, const tb_scene *scene, void *writer);

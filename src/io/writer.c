@@ -117,7 +117,8 @@ static tb_status take_scene(tb_writer *w, const tb_writer_def *def, const tb_sce
 {
     w->body_count = tb_scene_body_count(scene);
     w->names = calloc(w->body_count > 0 ? w->body_count : 1, sizeof *w->names);
-    if (w->names == NULL) {
+    w->values = malloc((w->body_count > 0 ? w->body_count : 1) * 13 * sizeof(double));
+    if (w->names == NULL || w->values == NULL) {
         return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "writer: %zu body names",
                              w->body_count);
     }
@@ -204,6 +205,26 @@ static tb_status check_frame(tb_writer *w, double t, const tb_scene *scene)
     return TB_STATUS_OK;
 }
 
+/* The checked frame into the file (CSV) or the kept frames (npz, glTF). */
+static tb_status add_frame(tb_writer *writer, double t, const double *values)
+{
+    tb_status status;
+    if (writer->format == TB_OUTPUT_CSV) {
+        status = tb__csv_frame(writer, t, values);
+    } else {
+        status = tb__frames_append(&writer->frames, t, values);
+        if (status != TB_STATUS_OK) {
+            tb__set_detail(writer->detail, status, "frame %zu: no memory for %zu bodies",
+                           writer->frame_count, writer->body_count);
+        }
+    }
+    if (status == TB_STATUS_OK) {
+        writer->last_t = t;
+        writer->frame_count++;
+    }
+    return status;
+}
+
 tb_status tb_writer_frame(tb_writer *writer, double t, const tb_scene *scene)
 {
     if (writer == NULL) {
@@ -220,20 +241,56 @@ tb_status tb_writer_frame(tb_writer *writer, double t, const tb_scene *scene)
     if (status != TB_STATUS_OK) {
         return status;
     }
-    if (writer->format == TB_OUTPUT_CSV) {
-        status = tb__csv_frame(writer, t, scene);
-    } else {
-        status = tb__frames_append(&writer->frames, t, scene);
-        if (status != TB_STATUS_OK) {
-            tb__set_detail(writer->detail, status, "frame %zu: no memory for %zu bodies",
-                           writer->frame_count, writer->body_count);
+    for (size_t id = 0; id < writer->body_count; ++id) {
+        tb__writer_readout(scene, id, writer->values + 13 * id);
+    }
+    return add_frame(writer, t, writer->values);
+}
+
+/* Finite values, and unit quaternions (to 1e-6: what a double-precision run keeps). */
+static tb_status check_values(tb_writer *w, const double *values)
+{
+    for (size_t k = 0; k < 13 * w->body_count; ++k) {
+        if (!isfinite(values[k])) {
+            return tb__set_detail(w->detail, TB_STATUS_NOT_FINITE,
+                                  "values[%zu] (body %zu): must be finite, got %g", k, k / 13,
+                                  values[k]);
         }
     }
-    if (status == TB_STATUS_OK) {
-        writer->last_t = t;
-        writer->frame_count++;
+    for (size_t id = 0; id < w->body_count; ++id) {
+        const double norm = tb__q_norm(values + 13 * id + 3);
+        if (fabs(norm - 1.0) > 1e-6) {
+            return tb__set_detail(w->detail, TB_STATUS_INVALID_ARGUMENT,
+                                  "values[%zu..%zu] (body %zu's orientation): must be a unit "
+                                  "quaternion to 1e-6, got |q| = %.9g",
+                                  13 * id + 3, 13 * id + 6, id, norm);
+        }
     }
-    return status;
+    return TB_STATUS_OK;
+}
+
+tb_status tb_writer_frame_values(tb_writer *writer, double t, const double *values)
+{
+    if (writer == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    if (writer->failed != TB_STATUS_OK) {
+        return writer->failed;
+    }
+    writer->detail[0] = '\0';
+    if (values == NULL) {
+        return tb__set_detail(writer->detail, TB_STATUS_NULL_POINTER, "values: is NULL");
+    }
+    if (!isfinite(t)) {
+        return tb__set_detail(writer->detail, TB_STATUS_NOT_FINITE, "t: must be finite, got %g", t);
+    }
+    if (!(t > writer->last_t)) {
+        return tb__set_detail(writer->detail, TB_STATUS_INVALID_ARGUMENT,
+                              "t: must be after the previous frame's %.17g s, got %.17g",
+                              writer->last_t, t);
+    }
+    const tb_status status = check_values(writer, values);
+    return status == TB_STATUS_OK ? add_frame(writer, t, values) : status;
 }
 
 int tb_writer_on_frame(size_t frame, double t, const tb_scene *scene, void *writer)
@@ -263,6 +320,7 @@ static void release(tb_writer *w, bool remove_file)
     tb__frames_free(&w->frames);
     tb__looks_free(&w->looks, w->body_count);
     free(w->names);
+    free(w->values);
     free(w->path);
     free(w->written_path);
     free(w);

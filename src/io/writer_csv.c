@@ -32,12 +32,11 @@ static void name_field(FILE *file, const char *name)
     fputc('"', file);
 }
 
-tb_status tb__csv_frame(tb_writer *writer, double t, const tb_scene *scene)
+tb_status tb__csv_frame(tb_writer *writer, double t, const double *values)
 {
     errno = 0;
     for (size_t id = 0; id < writer->body_count; ++id) {
-        double s[13];
-        tb__writer_readout(scene, id, s);
+        const double *s = values + 13 * id;
         fprintf(writer->file, "%.17g,", t);
         name_field(writer->file, writer->names[id]);
         fprintf(writer->file,

@@ -59,7 +59,7 @@ static tb_status reserve(tb__frames *f)
     return TB_STATUS_OK;
 }
 
-tb_status tb__frames_append(tb__frames *f, double t, const tb_scene *scene)
+tb_status tb__frames_append(tb__frames *f, double t, const double *values)
 {
     const tb_status status = reserve(f);
     if (status != TB_STATUS_OK) {
@@ -68,8 +68,7 @@ tb_status tb__frames_append(tb__frames *f, double t, const tb_scene *scene)
     const size_t n = f->body_count, k = f->count;
     f->t[k] = t;
     for (size_t id = 0; id < n; ++id) {
-        double s[13];
-        tb__writer_readout(scene, id, s);
+        const double *s = values + 13 * id;
         memcpy(f->position + 3 * (k * n + id), s, 3 * sizeof(double));
         memcpy(f->orientation + 4 * (k * n + id), s + 3, 4 * sizeof(double));
         memcpy(f->velocity + 3 * (k * n + id), s + 7, 3 * sizeof(double));

@@ -61,6 +61,7 @@ struct tb_writer {
     char *written_path; /* where it is written: "<path>.partial", or path itself */
     FILE *file;
     tb__frames frames; /* npz, glTF */
+    double *values;    /* [13 * body_count]: one frame's read-outs from the scene */
     tb__looks looks;   /* glTF */
     double last_t;
     size_t frame_count;
@@ -72,7 +73,8 @@ struct tb_writer {
 void tb__writer_readout(const tb_scene *scene, size_t id, double out[13]);
 
 tb_status tb__frames_init(tb__frames *frames, size_t body_count);
-tb_status tb__frames_append(tb__frames *frames, double t, const tb_scene *scene);
+/* Appends a frame of body_count x 13 values (position, orientation, velocity, omega). */
+tb_status tb__frames_append(tb__frames *frames, double t, const double *values);
 void tb__frames_free(tb__frames *frames);
 
 /* "path: what failed: strerror" into the writer's detail; returns TB_STATUS_IO_ERROR. */
@@ -80,7 +82,7 @@ tb_status tb__writer_io_failure(tb_writer *writer, const char *what);
 
 /* Back ends. */
 tb_status tb__csv_header(tb_writer *writer);
-tb_status tb__csv_frame(tb_writer *writer, double t, const tb_scene *scene);
+tb_status tb__csv_frame(tb_writer *writer, double t, const double *values);
 tb_status tb__npz_write(tb_writer *writer);
 tb_status tb__gltf_write(tb_writer *writer);
 
