@@ -32,5 +32,17 @@ cmake --build build-sanitize
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
     ctest --test-dir build-sanitize --output-on-failure -j "$(nproc)"
 
+# The whole suite again built by clang, whose UndefinedBehaviorSanitizer also checks
+# float-to-integer conversions that overflow (float-cast-overflow; gcc's does not), with the
+# fuzz targets as libFuzzer programs: ctest replays their seed corpora and regression inputs,
+# then a short reproducible run of each (fixed seed, a fixed number of inputs) looks further.
+CC=clang CXX=clang++ cmake -S . -B build-clang -G Ninja -DTUMBLE_WARNINGS_AS_ERRORS=ON -DTUMBLE_SANITIZE=ON \
+    -DTUMBLE_FUZZ=ON >/dev/null
+cmake --build build-clang
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+    ctest --test-dir build-clang --output-on-failure -j "$(nproc)"
+scripts/fuzz.sh --build build-clang --seed 1 --runs 30000 scene_loader api # ~10 s each
+scripts/fuzz.sh --build build-clang --seed 1 --runs 4000 obj # a file write an input: ~15 s
+
 # The one benchmark command, in its smoke-test form (every benchmark, the chart).
 scripts/bench.sh --quick
