@@ -162,6 +162,7 @@ static int is_refusal(tb_status status)
     case TB_STATUS_OUT_OF_RANGE:
     case TB_STATUS_NOT_FINITE:
     case TB_STATUS_UNSUPPORTED:
+    case TB_STATUS_UNSTABLE_STEP: /* checked before any step, also at run time */
     case TB_STATUS_LAYOUT_CHANGED:
     case TB_STATUS_BUSY:
         return 1;

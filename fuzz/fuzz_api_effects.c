@@ -24,6 +24,18 @@ static tb_frame frame_of(fuzz_harness *h)
     return selector == 255 ? (tb_frame)9 : (tb_frame)(selector & 1);
 }
 
+/* A load refused only for what its header names: an id past the count, NaN or infinity. */
+static void check_load(tb_status status, const tb_scene *scene, const char *call)
+{
+    if (status != TB_STATUS_OK && status != TB_STATUS_OUT_OF_RANGE &&
+        status != TB_STATUS_NOT_FINITE) {
+        fuzz_fail(call, "refused with %s", tb_status_name(status));
+    }
+    if (status != TB_STATUS_OK && tb_scene_detail(scene)[0] == '\0') {
+        fuzz_fail(call, "refused with %s and an empty detail", tb_status_name(status));
+    }
+}
+
 /* Called by the derivative. Only the loads and the re-entrant call are the fuzzer's choice; the
  * input is not read here (it is read in program order only). */
 static int user_effect(double t, const tb_scene *scene, const double *y, double *dydt, void *ctx)
@@ -36,10 +48,12 @@ static int user_effect(double t, const tb_scene *scene, const double *y, double 
     }
     switch (user->kind) {
     case FUZZ_USER_FORCE:
-        tb_effect_add_force(scene, y, dydt, user->id, user->vector, user->point);
+        check_load(tb_effect_add_force(scene, y, dydt, user->id, user->vector, user->point), scene,
+                   "tb_effect_add_force");
         return 0;
     case FUZZ_USER_TORQUE:
-        tb_effect_add_torque(scene, dydt, user->id, user->vector);
+        check_load(tb_effect_add_torque(scene, dydt, user->id, user->vector), scene,
+                   "tb_effect_add_torque");
         return 0;
     case FUZZ_USER_FAIL:
         return user->result;

@@ -29,7 +29,9 @@ static void integrator_settings(fuzz_harness *h, tb_integrator_def *def)
     const uint8_t options = fuzz_byte(h->in);
     def->max_order = options & 1 ? (int)fuzz_choice(h->in, 15) - 1 : 0;
     def->linear_solver = (tb_linear_solver)(options >> 1 & 3);
-    def->allow_unstable = options >> 3 & 1;
+    const bool allow_unstable = options >> 3 & 1;
+    fuzz_trace(h, "tb_scene_set_allow_unstable(scene, %d);", allow_unstable);
+    tb_scene_set_allow_unstable(h->scene, allow_unstable);
     def->preconditioner_half_bandwidth = options & 16 ? (int)fuzz_choice(h->in, 30) - 2 : -1;
 }
 
@@ -39,11 +41,11 @@ static void trace_settings(const fuzz_harness *h, const tb_integrator_def *def)
                "idef = tb_integrator_def_default(); idef.method = %d; idef.dt = %s;\n"
                "idef.rtol = %s; idef.atol = %s; idef.initial_step = %s; idef.max_step = %s;\n"
                "idef.max_steps = %ld; idef.max_order = %d; idef.linear_solver = %d;\n"
-               "idef.allow_unstable = %d; idef.preconditioner_half_bandwidth = %d;",
+               "idef.preconditioner_half_bandwidth = %d;",
                (int)def->method, fuzz_c_double(def->dt), fuzz_c_double(def->rtol),
                fuzz_c_double(def->atol), fuzz_c_double(def->initial_step),
                fuzz_c_double(def->max_step), def->max_steps, def->max_order,
-               (int)def->linear_solver, def->allow_unstable, def->preconditioner_half_bandwidth);
+               (int)def->linear_solver, def->preconditioner_half_bandwidth);
 }
 
 /* A creation that only probes validation (max_steps of any value): destroyed at once. */
