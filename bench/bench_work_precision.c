@@ -110,7 +110,7 @@ static double run(const problem *p, tb_method method, double setting, int record
         fprintf(stderr, "%s\n", failure.message);
         return -1;
     }
-    def.integrator.method = method;
+    tb_integrator_def_set_method(&def.integrator, method);
     def.integrator.max_steps = 1000000;
     if (tb_method_is_adaptive(method)) {
         def.integrator.rtol = setting;

@@ -121,7 +121,7 @@ int cli_accuracy_command(const cli_options *o)
     }
     /* What the reference run will be asked to do, checked before minutes of work. */
     tb_run_def reference = run;
-    reference.integrator.method = TB_METHOD_CVODE_BDF;
+    tb_integrator_def_set_method(&reference.integrator, TB_METHOD_CVODE_BDF);
     reference.integrator.atol = 0.0;
     code = cli_dry_run(o, scene, &reference);
     cli_output out = {0}, chart = {0};

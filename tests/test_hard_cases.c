@@ -20,8 +20,11 @@ static tb_integrator *integrator_for(tb_scene *scene, tb_method method, double d
 {
     tb_integrator_def def = tb_integrator_def_default();
     def.method = method;
-    def.dt = dt;
-    def.rtol = rtol;
+    if (tb_method_is_adaptive(method)) {
+        def.rtol = rtol;
+    } else {
+        def.dt = dt;
+    }
     tb_integrator *integrator = NULL;
     assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator), TB_STATUS_OK);
     return integrator;

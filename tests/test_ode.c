@@ -585,6 +585,66 @@ static void test_a_null_argument_after_a_failure_leaves_no_stale_detail(void **s
     assert_string_equal(tb_integrator_detail(NULL), "integrator is NULL");
 }
 
+/* Before: rtol given to rk4 or dt to cvode-bdf was silently ignored. */
+static void test_a_field_the_method_does_not_read_is_refused_by_name(void **state)
+{
+    (void)state;
+    static const struct {
+        tb_method method;
+        const char *field;
+    } cases[] = {{TB_METHOD_RK4, "def.rtol: rk4 does not read it"},
+                 {TB_METHOD_EULER, "def.max_order: euler"},
+                 {TB_METHOD_CVODE_BDF, "def.dt: cvode-bdf does not read it"},
+                 {TB_METHOD_CVODE_ADAMS, "def.linear_solver: cvode-adams"}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        double y[2] = {1.0, 0.0};
+        tb_ode_system system = {.n = 2, .derivative = harmonic};
+        tb_integrator_def def = tb_integrator_def_default();
+        def.method = cases[i].method;
+        switch (i) {
+        case 0:
+            def.rtol = 1e-8;
+            break;
+        case 1:
+            def.max_order = 2;
+            break;
+        case 2:
+            def.dt = 0.01;
+            break;
+        default:
+            def.linear_solver = TB_LINEAR_SOLVER_KRYLOV;
+        }
+        tb_integrator *integrator = NULL;
+        tb_error error;
+        assert_int_equal(tb_integrator_create(&system, &def, 0.0, y, &integrator, &error),
+                         TB_STATUS_INVALID_ARGUMENT);
+        print_message("%s\n", error.message);
+        assert_non_null(strstr(error.message, cases[i].field));
+        assert_null(integrator);
+        /* switching with tb_integrator_def_set_method puts the unread field back */
+        const tb_method wanted = cases[i].method;
+        def.method = TB_METHOD_RK4;
+        assert_int_equal(tb_integrator_def_set_method(&def, wanted), TB_STATUS_OK);
+        assert_int_equal(def.method, wanted);
+        assert_int_equal(tb_integrator_create(&system, &def, 0.0, y, &integrator, &error),
+                         TB_STATUS_OK);
+        tb_integrator_destroy(integrator);
+    }
+    /* what the new method reads is kept */
+    tb_integrator_def def = tb_integrator_def_default();
+    def.dt = 0.01;
+    def.rtol = 1e-9;
+    def.linear_solver = TB_LINEAR_SOLVER_DENSE;
+    assert_int_equal(tb_integrator_def_set_method(&def, TB_METHOD_CVODE_BDF), TB_STATUS_OK);
+    assert_near(def.rtol, 1e-9, 0.0);
+    assert_int_equal(def.linear_solver, TB_LINEAR_SOLVER_DENSE);
+    assert_near(def.dt, tb_integrator_def_default().dt, 0.0);
+    assert_int_equal(tb_integrator_def_set_method(&def, TB_METHOD_COUNT),
+                     TB_STATUS_INVALID_ARGUMENT);
+    assert_int_equal(def.method, TB_METHOD_CVODE_BDF);
+    assert_int_equal(tb_integrator_def_set_method(NULL, TB_METHOD_RK4), TB_STATUS_NULL_POINTER);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -604,6 +664,7 @@ int main(void)
         cmocka_unit_test(test_a_step_that_times_near_t_cannot_resolve_is_refused),
         cmocka_unit_test(test_a_hook_failing_on_a_non_finite_state_reports_the_state),
         cmocka_unit_test(test_a_null_argument_after_a_failure_leaves_no_stale_detail),
+        cmocka_unit_test(test_a_field_the_method_does_not_read_is_refused_by_name),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -260,7 +260,7 @@ static void test_bdf_preconditions_independent_bodies_block_by_block(void **stat
     tb_integrator_def def = tb_integrator_def_default();
     def.dt = 1e-5;
     run(reference, &def, 0, T, NULL);
-    def.method = TB_METHOD_CVODE_BDF;
+    tb_integrator_def_set_method(&def, TB_METHOD_CVODE_BDF); /* dt back to its default */
     def.rtol = 1e-9;
     def.linear_solver = TB_LINEAR_SOLVER_KRYLOV;
     def.preconditioner_half_bandwidth = TB_STATE_SIZE - 1;

@@ -183,6 +183,13 @@ typedef struct tb_integrator_def {
 
 TB_API tb_integrator_def tb_integrator_def_default(void);
 
+/* Switches def to another method and puts back to their defaults the fields the new method
+ * does not read (dt for an adaptive method; rtol, atol, atol_vector, initial_step, max_step,
+ * max_order for a fixed-step one; linear_solver for all but BDF), keeping the others: for a
+ * front end overriding the method of a definition read from a scene file.
+ * TB_STATUS_NULL_POINTER, or TB_STATUS_INVALID_ARGUMENT for an unknown method (def unchanged). */
+TB_API tb_status tb_integrator_def_set_method(tb_integrator_def *def, tb_method method);
+
 /* What an integrator has done since it was created. */
 typedef struct tb_integrator_stats {
     long steps;                     /* accepted steps */
@@ -207,8 +214,10 @@ typedef struct tb_integrator tb_integrator;
 
 /* Which fields a method reads (tb_method_info.adaptive): fixed-step methods read dt and
  * max_steps; adaptive ones read rtol, atol, atol_vector, initial_step, max_step, max_order and
- * max_steps, BDF also linear_solver and preconditioner_half_bandwidth. Nothing reads dt for an
- * adaptive method or rtol for a fixed-step one.
+ * max_steps, BDF also linear_solver and preconditioner_half_bandwidth. A field the method does
+ * not read that differs from tb_integrator_def_default()'s value was meant for another method:
+ * creation refuses it (TB_STATUS_INVALID_ARGUMENT naming the field; rtol given to rk4, dt to
+ * cvode-bdf). preconditioner_half_bandwidth is exempt (scenes fill it in for every method).
  *
  * Re-entrancy: an integrator's advance, step or reset called from inside its own derivative,
  * hook or acquire returns TB_STATUS_BUSY and changes nothing (its detail says why until the

@@ -28,6 +28,71 @@ tb_integrator_def tb_integrator_def_default(void)
     return def;
 }
 
+/* A field a method does not read, set away from its default, was meant for another method
+ * (rtol given to rk4, dt to cvode-bdf): refused rather than ignored. */
+static tb_status validate_unread_fields(const tb_integrator_def *def, tb_error *error)
+{
+    const tb_integrator_def d = tb_integrator_def_default();
+    const struct {
+        const char *field;
+        bool set;
+        unsigned group;
+    } fields[] = {
+        {"dt", !(def->dt == d.dt), TB__READS_DT},
+        {"rtol", !(def->rtol == d.rtol), TB__READS_TOLERANCES},
+        {"atol", !(def->atol == d.atol), TB__READS_TOLERANCES},
+        {"atol_vector", def->atol_vector != NULL, TB__READS_TOLERANCES},
+        {"initial_step", !(def->initial_step == d.initial_step), TB__READS_TOLERANCES},
+        {"max_step", !(def->max_step == d.max_step), TB__READS_TOLERANCES},
+        {"max_order", def->max_order != d.max_order, TB__READS_TOLERANCES},
+        {"linear_solver", def->linear_solver != d.linear_solver, TB__READS_LINEAR_SOLVER},
+    };
+    const tb__method_entry *entry = &tb__methods[def->method];
+    for (size_t i = 0; i < sizeof fields / sizeof fields[0]; ++i) {
+        if (fields[i].set && !(entry->reads & fields[i].group)) {
+            return tb__set_error(
+                error, TB_STATUS_INVALID_ARGUMENT,
+                "def.%s: %s does not read it (it reads %s%s); leave it at its default, or "
+                "switch methods with tb_integrator_def_set_method",
+                fields[i].field, entry->info.name,
+                entry->reads & TB__READS_DT ? "dt"
+                                            : "rtol, atol, atol_vector, initial_step, max_step, "
+                                              "max_order",
+                entry->reads & TB__READS_LINEAR_SOLVER ? ", linear_solver and max_steps"
+                                                       : " and max_steps");
+        }
+    }
+    return TB_STATUS_OK;
+}
+
+tb_status tb_integrator_def_set_method(tb_integrator_def *def, tb_method method)
+{
+    if (def == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    if ((int)method < 0 || method >= TB_METHOD_COUNT) {
+        return TB_STATUS_INVALID_ARGUMENT;
+    }
+    const tb_integrator_def d = tb_integrator_def_default();
+    const unsigned reads = tb__methods[method].reads;
+    def->method = method;
+    if (!(reads & TB__READS_DT)) {
+        def->dt = d.dt;
+    }
+    if (!(reads & TB__READS_TOLERANCES)) {
+        def->rtol = d.rtol;
+        def->atol = d.atol;
+        def->atol_vector = d.atol_vector;
+        def->initial_step = d.initial_step;
+        def->max_step = d.max_step;
+        def->max_order = d.max_order;
+    }
+    if (!(reads & TB__READS_LINEAR_SOLVER)) {
+        def->linear_solver = d.linear_solver;
+    }
+    return TB_STATUS_OK;
+}
+
 static tb_status validate_blocks(const tb_ode_system *system, tb_error *error)
 {
     if (system->n % system->block_size != 0) {
@@ -102,6 +167,10 @@ static tb_status validate(const tb_ode_system *system, const tb_integrator_def *
     if ((int)def->method < 0 || def->method >= TB_METHOD_COUNT) {
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT, "def.method: unknown method %d",
                              (int)def->method);
+    }
+    const tb_status unread = validate_unread_fields(def, error);
+    if (unread != TB_STATUS_OK) {
+        return unread;
     }
     if (def->max_steps <= 0) {
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,

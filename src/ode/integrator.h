@@ -36,8 +36,16 @@ int tb__rk4_step(const tb_ode_system *system, double t, double h, const double *
 
 /* A row of the method table (methods.c), indexed by tb_method: the public facts and how the
  * integrator runs the method. */
+/* Groups of tb_integrator_def fields a method reads, besides method and max_steps. */
+enum {
+    TB__READS_DT = 1,            /* dt */
+    TB__READS_TOLERANCES = 2,    /* rtol, atol, atol_vector, initial_step, max_step, max_order */
+    TB__READS_LINEAR_SOLVER = 4, /* linear_solver */
+};
+
 typedef struct tb__method_entry {
     tb_method_info info;
+    unsigned reads; /* TB__READS_* */
     const tb__backend *backend;
     tb__step_fn step; /* fixed-step methods only */
 } tb__method_entry;

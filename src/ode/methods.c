@@ -27,18 +27,23 @@
 
 const tb__method_entry tb__methods[TB_METHOD_COUNT] = {
     [TB_METHOD_EULER] = {{"euler", 1, 0, 0, 1, TB__EULER_IMAGINARY, TB__SLOW_GROWTH, 2.0},
+                         TB__READS_DT,
                          &tb__fixed_step_backend,
                          tb__euler_step},
     [TB_METHOD_MIDPOINT] = {{"midpoint", 2, 0, 0, 2, TB__MIDPOINT_IMAGINARY, TB__SLOW_GROWTH, 2.0},
+                            TB__READS_DT,
                             &tb__fixed_step_backend,
                             tb__midpoint_step},
     [TB_METHOD_RK4] = {{"rk4", 4, 0, 0, 4, TB__RK4_IMAGINARY, 1.0, TB__RK4_REAL},
+                       TB__READS_DT,
                        &tb__fixed_step_backend,
                        tb__rk4_step},
     [TB_METHOD_CVODE_ADAMS] = {{"cvode-adams", 12, 1, 1, 0, INFINITY, 1.0, INFINITY},
+                               TB__READS_TOLERANCES,
                                &tb__cvode_backend,
                                NULL},
     [TB_METHOD_CVODE_BDF] = {{"cvode-bdf", 5, 1, 1, 0, INFINITY, 1.0, INFINITY},
+                             TB__READS_TOLERANCES | TB__READS_LINEAR_SOLVER,
                              &tb__cvode_backend,
                              NULL},
 };

@@ -166,7 +166,8 @@ class Scene:
             code = ctypes.c_int()
             if lib.tb_method_from_name(method.encode(), ctypes.byref(code)) != 0:
                 raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
-            run.integrator.method = code.value
+            # the fields the new method does not read go back to their defaults
+            lib.tb_integrator_def_set_method(ctypes.byref(run.integrator), code.value)
         for name, value in (("dt", dt), ("rtol", rtol), ("atol", atol)):
             if value is not None:
                 setattr(run.integrator, name, float(value))

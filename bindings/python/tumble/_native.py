@@ -103,6 +103,7 @@ def _declare(lib):
         "tb_status_string": (ctypes.c_char_p, [ctypes.c_int]),
         "tb_method_name": (ctypes.c_char_p, [ctypes.c_int]),
         "tb_method_from_name": (ctypes.c_int, [ctypes.c_char_p, ctypes.POINTER(ctypes.c_int)]),
+        "tb_integrator_def_set_method": (ctypes.c_int, [ctypes.POINTER(IntegratorDef), ctypes.c_int]),
         "tb_run_def_default": (RunDef, []),
         "tb_scene_load_string": (ctypes.c_int, [ctypes.c_char_p, ctypes.c_char_p, ctypes.c_char_p,
                                                 ctypes.POINTER(ctypes.c_void_p),
