@@ -27,7 +27,7 @@ export_and_check() { # scene, fps (0: the scene's), [extra export arguments]
     "$build/examples/export_scene" "$scene" "$out/$name.glb" "$fps" "$@" >/dev/null
     check "$out/$name.glb" "$out/$name.csv" "$(echo "$line" | sed 's/.* at \([0-9.]*\) fps/\1/')"
 }
-for scene in examples/scenes/*.json; do
+for scene in examples/scenes/*.json tests/scenes/shapes/every_shape.json; do
     export_and_check "$scene" 0
 done
 # Between keys: keys at 24 fps, the reference at 16 x 24 fps.

@@ -111,8 +111,13 @@ static json_t *body_node(tb__gltf *g, const tb_writer *w, size_t id)
         json_object_set_new(node, "mesh", json_integer(index));
     }
     if (w->frames.count > 0) {
+        /* the first key's pose, as the float the animation holds; glTF wants each component
+         * in [-1, 1], which a unit quaternion's rounding can pass by an ulp */
         const double *q = w->frames.orientation + 4 * id;
-        const double xyzw[4] = {q[1], q[2], q[3], q[0]};
+        double xyzw[4] = {q[1], q[2], q[3], q[0]};
+        for (int i = 0; i < 4; ++i) {
+            xyzw[i] = fmax(-1.0, fmin(1.0, (double)(float)xyzw[i]));
+        }
         json_object_set_new(node, "translation", vector_json(w->frames.position + 3 * id, 3));
         json_object_set_new(node, "rotation", vector_json(xyzw, 4));
     }
