@@ -159,7 +159,14 @@ static void test_open_refuses_bad_input_and_leaves_no_file(void **state)
     def.scene_file = DIRECTORY "no_such_scene.json";
     assert_int_equal(tb_writer_open(path, &def, scene, &writer, &error), TB_STATUS_IO_ERROR);
     assert_non_null(strstr(error.message, "scene_file"));
+    def.scene_text = "{\"bodies\": [";
+    assert_int_equal(tb_writer_open(path, &def, scene, &writer, &error),
+                     TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(strstr(error.message, "give one or neither"));
     def.scene_file = NULL;
+    assert_int_equal(tb_writer_open(path, &def, scene, &writer, &error), TB_STATUS_PARSE_ERROR);
+    assert_non_null(strstr(error.message, "scene_text"));
+    def.scene_text = NULL;
     assert_int_equal(
         tb_writer_open(DIRECTORY "no_such_directory/a.glb", &def, scene, &writer, &error),
         TB_STATUS_IO_ERROR);
@@ -340,6 +347,11 @@ static void test_glb_is_one_json_chunk_and_one_binary_chunk(void **state)
         tb_writer_def def = tb_writer_def_default();
         def.format = TB_OUTPUT_GLB;
         def.rotation_keys = linear ? TB_ROTATION_LINEAR : TB_ROTATION_CUBICSPLINE;
+        /* shapes and a ground from a description's text, or none (inertia ellipsoids) */
+        def.scene_text = linear ? "{\"bodies\": [{\"name\": \"box\", \"shape\": {\"type\": "
+                                  "\"box\", \"size\": [0.1, 0.2, 0.3]}}], \"effects\": "
+                                  "[{\"type\": \"ground\"}]}"
+                                : NULL;
         tb_writer *writer = NULL;
         assert_int_equal(tb_writer_open(path, &def, scene, &writer, NULL), TB_STATUS_OK);
         assert_int_equal(tb_scene_run(scene, &run, tb_writer_on_frame, writer, NULL, NULL),
@@ -363,6 +375,8 @@ static void test_glb_is_one_json_chunk_and_one_binary_chunk(void **state)
         assert_non_null(strstr(json, "\"name\":\"box\""));
         assert_non_null(strstr(json, "\"name\":\"ball\""));
         assert_true((strstr(json, "CUBICSPLINE") == NULL) == linear);
+        assert_non_null(strstr(json, "\"meshes\""));
+        assert_true((strstr(json, "\"ground 1\"") != NULL) == linear);
         free(data);
         tb_scene_destroy(scene);
     }

@@ -48,6 +48,11 @@ typedef struct tb_writer_def {
      * shapes and its ground planes are drawn. Without it (or for a body given by mass and
      * inertia) a body is drawn as the solid ellipsoid with its mass and inertia. */
     const char *scene_file;
+    /* glTF only, instead of scene_file (may be NULL, the default): the scene description as
+     * JSON text (what tb_scene_load_string read), and where its mesh files are (NULL: the
+     * current directory). */
+    const char *scene_text;
+    const char *base_directory;
     int internal_cookie; /* set by tb_writer_def_default */
 } tb_writer_def;
 

@@ -89,6 +89,10 @@ static tb_status check_def(const tb_writer_def *def, tb_error *error)
                              "def.rotation_keys: must be a tb_rotation_keys, got %d",
                              (int)def->rotation_keys);
     }
+    if (def->scene_file != NULL && def->scene_text != NULL) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "def.scene_file and def.scene_text: give one or neither");
+    }
     return TB_STATUS_OK;
 }
 
@@ -128,7 +132,7 @@ static tb_status take_scene(tb_writer *w, const tb_writer_def *def, const tb_sce
     tb__frames_init(&w->frames, w->body_count);
     if (def->format == TB_OUTPUT_GLB || def->format == TB_OUTPUT_GLTF) {
         w->looks.shapes = NULL;
-        return tb__looks_load(&w->looks, def->scene_file, scene, error);
+        return tb__looks_load(&w->looks, def, scene, error);
     }
     return TB_STATUS_OK;
 }

@@ -86,8 +86,9 @@ tb_status tb__csv_frame(tb_writer *writer, double t, const double *values);
 tb_status tb__npz_write(tb_writer *writer);
 tb_status tb__gltf_write(tb_writer *writer);
 
-/* Shapes and ground planes for glTF, from the scene file (may be NULL) and the scene. */
-tb_status tb__looks_load(tb__looks *looks, const char *scene_file, const tb_scene *scene,
+/* Shapes and ground planes for glTF, from the scene file or text the def names (neither:
+ * every body as its inertia ellipsoid, no ground) and the scene. */
+tb_status tb__looks_load(tb__looks *looks, const tb_writer_def *def, const tb_scene *scene,
                          tb_error *error);
 void tb__looks_free(tb__looks *looks, size_t body_count);
 

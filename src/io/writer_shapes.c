@@ -183,28 +183,36 @@ static tb_status load_file(tb__loader *ld, const json_t *root, const tb_scene *s
                                   : status;
 }
 
-static tb_status read_scene_file(const char *scene_file, const tb_scene *scene, tb__looks *looks,
-                                 tb_error *error)
+/* The scene file, or the text with its base directory, as JSON. */
+static tb_status parse_scene(const tb_writer_def *def, json_t **out, char *directory, size_t size,
+                             tb_error *error)
 {
     json_error_t json_error;
-    json_t *root = json_load_file(scene_file, 0, &json_error);
+    json_t *root = def->scene_file != NULL ? json_load_file(def->scene_file, 0, &json_error)
+                                           : json_loads(def->scene_text, 0, &json_error);
+    *out = root;
     if (root == NULL) {
-        return tb__set_error(error, TB_STATUS_IO_ERROR, "scene_file: %s: %s", scene_file,
-                             json_error.text);
+        return tb__set_error(error,
+                             def->scene_file != NULL ? TB_STATUS_IO_ERROR : TB_STATUS_PARSE_ERROR,
+                             "%s: %s%s%s", def->scene_file != NULL ? "scene_file" : "scene_text",
+                             def->scene_file != NULL ? def->scene_file : "",
+                             def->scene_file != NULL ? ": " : "", json_error.text);
     }
-    char directory[1024] = "";
-    const char *slash = strrchr(scene_file, '/');
-    if (slash != NULL && (size_t)(slash - scene_file) < sizeof directory - 1) {
-        memcpy(directory, scene_file, (size_t)(slash - scene_file) + 1);
-        directory[slash - scene_file + 1] = '\0';
+    const char *base = def->scene_text != NULL && def->base_directory != NULL ? def->base_directory
+                                                                              : def->scene_file;
+    const char *slash = base != NULL ? strrchr(base, '/') : NULL;
+    directory[0] = '\0';
+    if (def->scene_text != NULL && def->base_directory != NULL) {
+        snprintf(directory, size, "%s%s", base,
+                 base[0] != '\0' && base[strlen(base) - 1] != '/' ? "/" : "");
+    } else if (slash != NULL && (size_t)(slash - base) < size - 1) {
+        memcpy(directory, base, (size_t)(slash - base) + 1);
+        directory[slash - base + 1] = '\0';
     }
-    tb__loader ld = {.name = scene_file, .directory = directory, .error = error};
-    const tb_status status = load_file(&ld, root, scene, looks);
-    json_decref(root);
-    return status;
+    return TB_STATUS_OK;
 }
 
-tb_status tb__looks_load(tb__looks *looks, const char *scene_file, const tb_scene *scene,
+tb_status tb__looks_load(tb__looks *looks, const tb_writer_def *def, const tb_scene *scene,
                          tb_error *error)
 {
     const size_t n = tb_scene_body_count(scene);
@@ -217,7 +225,21 @@ tb_status tb__looks_load(tb__looks *looks, const char *scene_file, const tb_scen
         looks->shapes[id].kind = TB__SHAPE_INERTIA;
         tb_scene_get_mass(scene, id, &looks->shapes[id].mass);
     }
-    return scene_file != NULL ? read_scene_file(scene_file, scene, looks, error) : TB_STATUS_OK;
+    if (def->scene_file == NULL && def->scene_text == NULL) {
+        return TB_STATUS_OK;
+    }
+    char directory[1024];
+    json_t *root = NULL;
+    tb_status status = parse_scene(def, &root, directory, sizeof directory, error);
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    tb__loader ld = {.name = def->scene_file != NULL ? def->scene_file : "scene_text",
+                     .directory = directory,
+                     .error = error};
+    status = load_file(&ld, root, scene, looks);
+    json_decref(root);
+    return status;
 }
 
 void tb__looks_free(tb__looks *looks, size_t body_count)
