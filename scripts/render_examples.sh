@@ -26,3 +26,4 @@ render examples/scenes/spring_chain.json --strobe 5
 render examples/scenes/sliding_block.json --strobe 6
 render examples/scenes/box_on_slope.json --still-time 5
 render examples/scenes/spinning_top.json --strobe 5
+render tests/scenes/shapes/every_shape.json --still-time 0.25

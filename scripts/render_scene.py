@@ -79,14 +79,26 @@ def strobe(scene, objects, count, spread):
 
 
 def add_camera_and_light(scene, low, high):
+    """A camera looking at the box (low, high) from above and to the side, as close as lets
+    every corner of the box into the 16:9 picture; a sun; a grey world."""
     centre = (low + high) / 2
-    size = max((high - low).length, 0.3)
-    direction = mathutils.Vector((1.0, -1.6, 0.9)).normalized()
+    direction = mathutils.Vector((1.0, -1.6, 0.9)).normalized()  # from the centre to the camera
     camera = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
     camera.data.lens = 50
-    camera.location = centre + direction * size * 3.0
-    camera.rotation_euler = (centre - camera.location).to_track_quat("-Z", "Y").to_euler()
-    camera.data.clip_end = size * 100
+    turn = (-direction).to_track_quat("-Z", "Y")
+    right, up = turn @ mathutils.Vector((1, 0, 0)), turn @ mathutils.Vector((0, 1, 0))
+    half_width = math.atan(camera.data.sensor_width / 2 / camera.data.lens)
+    half_height = math.atan(math.tan(half_width) * 9 / 16)
+    distance = 0.3
+    for corner in [mathutils.Vector((x, y, z)) for x in (low.x, high.x)
+                   for y in (low.y, high.y) for z in (low.z, high.z)]:
+        d = corner - centre
+        depth = d.dot(direction)  # towards the camera
+        distance = max(distance, depth + abs(d.dot(right)) / math.tan(half_width),
+                       depth + abs(d.dot(up)) / math.tan(half_height))
+    camera.location = centre + direction * distance * 1.15
+    camera.rotation_euler = turn.to_euler()
+    camera.data.clip_end = distance * 100
     scene.collection.objects.link(camera)
     scene.camera = camera
     sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", "SUN"))
