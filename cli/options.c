@@ -215,10 +215,13 @@ bool cli_parse(int argc, char **argv, cli_options *out, char *message, size_t si
 bool cli_apply(const cli_options *o, tb_run_def *run, char *message, size_t size)
 {
     tb_error error;
-    if (o->method != NULL && tb_method_parse(o->method, &run->integrator.method, &error) != 0) {
+    tb_method method = run->integrator.method;
+    if (o->method != NULL && tb_method_parse(o->method, &method, &error) != 0) {
         snprintf(message, size, "--integrator: %s", error.message);
         return false;
     }
+    /* the scene file's settings for another method (its dt, its rtol) do not carry over */
+    tb_integrator_def_set_method(&run->integrator, method);
     const bool adaptive = tb_method_is_adaptive(run->integrator.method);
     if ((o->has_dt && adaptive) || ((o->has_rtol || o->has_atol) && !adaptive)) {
         snprintf(message, size, "%s applies to %s methods, and the integrator is %s",
