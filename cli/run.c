@@ -100,6 +100,17 @@ static void write_body(cli_output *out, double t, const tb_scene *scene, size_t 
                       w[0], w[1], w[2]);
 }
 
+/* The progress line on a terminal, for every output format: simulated time, the rate in
+ * frames per wall-clock second, and the time left at that rate. */
+static void show_progress(const writer *w, size_t frame, double t, double elapsed)
+{
+    const double rate = (double)(frame + 1) / elapsed;               /* frames per second */
+    const double speed = t > 0 ? t / elapsed : 0.0;                  /* simulated s per wall s */
+    const double left = speed > 0 ? (w->duration - t) / speed : 0.0; /* wall s */
+    fprintf(stderr, "\r  t = %.2f / %.2f s (%.0f%%), %.3g frames/s, %.0f s left\033[K", t,
+            w->duration, w->duration > 0 ? 100.0 * t / w->duration : 100.0, rate, left);
+}
+
 static int on_frame(size_t frame, double t, const tb_scene *scene, void *ctx)
 {
     writer *w = ctx;
@@ -118,8 +129,7 @@ static int on_frame(size_t frame, double t, const tb_scene *scene, void *ctx)
     }
     const double clock = now();
     if (w->progress && clock - w->started > 1.0 && clock - w->last_progress > 0.1) {
-        fprintf(stderr, "\r  t = %.2f / %.2f s (%.0f%%)", t, w->duration,
-                w->duration > 0 ? 100.0 * t / w->duration : 100.0);
+        show_progress(w, frame, t, clock - w->started);
         w->last_progress = clock;
     }
     return 0;
