@@ -594,6 +594,55 @@ static void test_a_non_finite_output_is_refused_and_the_last_good_one_kept(void 
     tb_integrator_destroy(integrator);
 }
 
+/* y' = slope, with a generation that moves when the slope is changed. */
+typedef struct changing_slope {
+    double slope;
+    unsigned long long generation;
+} changing_slope;
+
+static int slope_derivative(double t, const double *y, double *dydt, void *ctx)
+{
+    (void)t, (void)y;
+    dydt[0] = ((const changing_slope *)ctx)->slope;
+    return 0;
+}
+
+static unsigned long long slope_generation(void *ctx)
+{
+    return ((const changing_slope *)ctx)->generation;
+}
+
+/* CVODE steps past the output time and interpolates, so after the slope changes at t = 1 the
+ * next output came from the old right-hand side (y(2) = 2 instead of 1 + 3 = 4). With
+ * rhs_generation it restarts; y is linear, so both methods are exact to round-off (1e-9 covers
+ * rtol 1e-10 on |y| <= 4). */
+static void test_a_changed_right_hand_side_restarts_cvode(void **state)
+{
+    (void)state;
+    for (int m = 0; m < 2; ++m) {
+        changing_slope ctx = {1.0, 0};
+        double y[1] = {0.0};
+        tb_ode_system system = {.n = 1,
+                                .derivative = slope_derivative,
+                                .ctx = &ctx,
+                                .rhs_generation = slope_generation};
+        tb_integrator_def def = adaptive_def(adaptive[m], 1e-10);
+        tb_integrator *integrator = NULL;
+        assert_int_equal(tb_integrator_create(&system, &def, 0.0, y, &integrator, NULL),
+                         TB_STATUS_OK);
+        assert_int_equal(tb_integrator_advance(integrator, 1.0), TB_STATUS_OK);
+        assert_near(y[0], 1.0, 1e-9);
+        ctx.slope = 3.0;
+        ctx.generation++;
+        assert_int_equal(tb_integrator_advance(integrator, 2.0), TB_STATUS_OK);
+        assert_near(y[0], 4.0, 1e-9);
+        tb_integrator_stats stats;
+        tb_integrator_get_stats(integrator, &stats);
+        assert_int_equal(stats.reinitializations, 1);
+        tb_integrator_destroy(integrator);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -609,6 +658,7 @@ int main(void)
         cmocka_unit_test(test_krylov_and_dense_bdf_follow_twenty_jacobi_tops),
         cmocka_unit_test(test_cvode_starts_at_any_finite_time),
         cmocka_unit_test(test_a_non_finite_output_is_refused_and_the_last_good_one_kept),
+        cmocka_unit_test(test_a_changed_right_hand_side_restarts_cvode),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

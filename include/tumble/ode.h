@@ -67,6 +67,13 @@ typedef struct tb_ode_system {
     unsigned long long (*layout_generation)(void *ctx);
     tb_status (*acquire)(void *ctx, unsigned long long generation, char *detail);
     void (*release)(void *ctx);
+
+    /* Optional, for a system whose right-hand side can change between calls without its layout
+     * changing (a scene given a new force or spring): a number that changes whenever the
+     * derivative does. A multistep method (CVODE) compares it at the start of every advance
+     * and step and restarts from y when it moved, since its history is of the old right-hand
+     * side; one-step methods need nothing. NULL (default): the derivative never changes. */
+    unsigned long long (*rhs_generation)(void *ctx);
 } tb_ode_system;
 
 /* How to integrate, chosen as data. */

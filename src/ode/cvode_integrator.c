@@ -48,6 +48,12 @@ static void capture_message(int code, const char *module, const char *function, 
 
 /* --- creation ----------------------------------------------------------------------------- */
 
+/* The system's right-hand-side generation; 0 for a system that does not have one. */
+static unsigned long long rhs_generation(const tb_ode_system *system)
+{
+    return system->rhs_generation != NULL ? system->rhs_generation(system->ctx) : 0;
+}
+
 /* Formats CVODE's name for a return flag (CVodeGetReturnFlagName allocates it). */
 static void flag_name(int flag, char *out, size_t size)
 {
@@ -318,6 +324,7 @@ static tb_status cvode_create(tb_integrator *integrator, const tb_integrator_def
         return status;
     }
     memcpy(cvode->y_seen, integrator->y, integrator->system.n * sizeof(double));
+    cvode->rhs_generation = rhs_generation(&integrator->system);
     return TB_STATUS_OK;
 }
 
@@ -383,18 +390,19 @@ static tb_status restart(tb_integrator *integrator, double t)
     }
     integrator->t = t;
     cvode->t_origin = t;
+    cvode->rhs_generation = rhs_generation(&integrator->system);
     cvode->started = false;
     cvode->stale = false;
     memcpy(cvode->y_seen, integrator->y, integrator->system.n * sizeof(double));
     return TB_STATUS_OK;
 }
 
-/* A state the caller changed since the last output means CVODE's history is stale; so does
- * a refused output. */
+/* A state the caller changed since the last output means CVODE's history is stale; so do a
+ * refused output and a changed right-hand side. */
 static tb_status restart_if_changed(tb_integrator *integrator)
 {
     tb__cvode *cvode = integrator->cvode;
-    if (cvode->stale ||
+    if (cvode->stale || rhs_generation(&integrator->system) != cvode->rhs_generation ||
         memcmp(cvode->y_seen, integrator->y, integrator->system.n * sizeof(double)) != 0) {
         return restart(integrator, integrator->t);
     }
