@@ -330,6 +330,31 @@ static void test_frames_from_values_are_written_as_given(void **state)
     tb_scene_destroy(scene);
 }
 
+/* A run of one frame (duration 0) is a still: the nodes hold the pose and there is no
+ * animation (glTF requires two keys for a cubic spline; one made the validator fail). */
+static void test_one_frame_glb_is_a_still(void **state)
+{
+    (void)state;
+    tb_run_def run;
+    tb_scene *scene = load(&run);
+    const char *path = DIRECTORY "writers_still.glb";
+    tb_writer_def def = tb_writer_def_default();
+    def.format = TB_OUTPUT_GLB;
+    tb_writer *writer = NULL;
+    assert_int_equal(tb_writer_open(path, &def, scene, &writer, NULL), TB_STATUS_OK);
+    assert_int_equal(tb_writer_frame(writer, 0.0, scene), TB_STATUS_OK);
+    assert_int_equal(tb_writer_close(writer, NULL), TB_STATUS_OK);
+    FILE *file = fopen(path, "rb");
+    char data[8192] = {0};
+    const size_t size = fread(data, 1, sizeof data - 1, file);
+    fclose(file);
+    assert_true(size > 20);
+    const char *json = data + 20;
+    assert_null(strstr(json, "\"animations\""));
+    assert_non_null(strstr(json, "\"translation\":["));
+    tb_scene_destroy(scene);
+}
+
 static unsigned read32(const unsigned char *p)
 {
     return p[0] | (unsigned)p[1] << 8 | (unsigned)p[2] << 16 | (unsigned)p[3] << 24;
@@ -394,6 +419,7 @@ int main(void)
         cmocka_unit_test(test_a_failed_write_is_an_error),
         cmocka_unit_test(test_an_unfinished_file_never_replaces_the_old_one),
         cmocka_unit_test(test_glb_is_one_json_chunk_and_one_binary_chunk),
+        cmocka_unit_test(test_one_frame_glb_is_a_still),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

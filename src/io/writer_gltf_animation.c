@@ -101,8 +101,8 @@ static void body_channels(tb__gltf *g, const tb__frames *f, size_t id, bool cubi
 void tb__gltf_add_animation(tb__gltf *g, const tb_writer *w)
 {
     const tb__frames *f = &w->frames;
-    if (f->count == 0 || w->body_count == 0) {
-        return;
+    if (f->count < 2 || w->body_count == 0) {
+        return; /* one frame is a still: the nodes hold it (glTF wants 2 keys a spline) */
     }
     float *scratch = malloc(12 * f->count * sizeof *scratch); /* the largest: cubic rotation */
     if (scratch == NULL) {

@@ -34,7 +34,8 @@ void tb__gltf_free(tb__gltf *g);
 long tb__gltf_accessor(tb__gltf *g, const void *data, size_t count, tb__gltf_type type,
                        tb__gltf_use use, const double *min, const double *max);
 
-/* The animation of every body from the writer's frames (none for fewer than one frame). */
+/* The animation of every body from the writer's frames (none for fewer than two frames: a
+ * single frame is a still, which the nodes' own pose shows). */
 void tb__gltf_add_animation(tb__gltf *g, const tb_writer *w);
 
 /* The document into the writer's file. */
