@@ -28,7 +28,13 @@
 typedef struct blocks {
     size_t fail_block; /* this block fails from fail_time on ... */
     double fail_time;
-    enum { NO_FAILURE, DERIVATIVE_FAILS, HOOK_FAILS, BLOWS_UP } failure; /* ... so */
+    enum {
+        NO_FAILURE,
+        DERIVATIVE_FAILS,
+        HOOK_FAILS,
+        BLOWS_UP,
+        BLOWS_UP_AND_HOOK_FAILS /* the hook fails on the non-finite z, as a scene's on a NaN q */
+    } failure;
 } blocks;
 
 static double rate(size_t b)
@@ -51,7 +57,7 @@ static int block_derivative(double t, const double *y, double *dydt, size_t firs
             if (setup->failure == DERIVATIVE_FAILS) {
                 return 5;
             }
-            if (setup->failure == BLOWS_UP) {
+            if (setup->failure == BLOWS_UP || setup->failure == BLOWS_UP_AND_HOOK_FAILS) {
                 d[2] = INFINITY;
             }
         }
@@ -77,6 +83,9 @@ static int block_hook(double t, double *y, size_t first, size_t count, void *ctx
         s[0] *= scale;
         s[1] *= scale;
         if (b == setup->fail_block && t >= setup->fail_time && setup->failure == HOOK_FAILS) {
+            return 3;
+        }
+        if (setup->failure == BLOWS_UP_AND_HOOK_FAILS && !isfinite(s[2])) {
             return 3;
         }
     }
@@ -166,6 +175,8 @@ static void test_a_failure_in_a_late_chunk_leaves_every_block_as_it_was(void **s
         {DERIVATIVE_FAILS, TB_STATUS_DERIVATIVE_FAILED, "returned 5"},
         {HOOK_FAILS, TB_STATUS_HOOK_FAILED, "hook returned 3"},
         {BLOWS_UP, TB_STATUS_STATE_NOT_FINITE, "y[2702]"}, /* z of block 900 */
+        /* the cause, not the hook that failed on it (was HOOK_FAILED) */
+        {BLOWS_UP_AND_HOOK_FAILS, TB_STATUS_STATE_NOT_FINITE, "y[2702] became inf"},
     };
     static double y[SIZE * BLOCKS], last_good[SIZE * BLOCKS];
     for (int m = 0; m < FIXED_STEP_METHODS; ++m) {
