@@ -24,8 +24,18 @@ static int evaluate(tb_integrator *integrator, double tau, const double *y, doub
     if (rc != 0) {
         cvode->derivative_status = rc;
         cvode->derivative_time = t;
+        return rc; /* CVODE's convention is the layer's: > 0 recoverable, < 0 fatal */
     }
-    return rc; /* CVODE's convention is the layer's: > 0 recoverable, < 0 fatal */
+    /* A NaN or infinite derivative is kept as the cause and made a recoverable failure: a
+     * smaller step may avoid it, and otherwise CVODE's error test would fail on it anyway. */
+    const size_t bad = tb__first_non_finite(dydt, system->n);
+    if (bad < system->n) {
+        cvode->non_finite_index = bad;
+        cvode->non_finite_value = dydt[bad];
+        cvode->non_finite_time = t;
+        return 1;
+    }
+    return 0;
 }
 
 int tb__cvode_derivative(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)

@@ -458,10 +458,14 @@ static tb_status hand_out(tb_integrator *integrator, double t)
     return TB_STATUS_OK;
 }
 
-static tb_status failure_status(int flag, int derivative_status)
+static tb_status failure_status(int flag, const tb__cvode *cvode, size_t n)
 {
-    if (derivative_status != 0) { /* the root cause, whatever CVODE made of it */
+    /* the root cause, whatever CVODE made of it */
+    if (cvode->derivative_status != 0) {
         return TB_STATUS_DERIVATIVE_FAILED;
+    }
+    if (cvode->non_finite_index < n) {
+        return TB_STATUS_STATE_NOT_FINITE;
     }
     switch (flag) {
     case CV_TOO_MUCH_WORK:
@@ -489,13 +493,18 @@ static tb_status fail(tb_integrator *integrator, int flag, double tau_reached, d
           hand_out(integrator, t_reached) == TB_STATUS_OK)) {
         memcpy(integrator->y, cvode->y_seen, integrator->system.n * sizeof(double));
     }
+    const size_t n = integrator->system.n;
     char name[64], derivative_note[96] = "";
     flag_name(flag, name, sizeof name);
     if (cvode->derivative_status != 0) {
         snprintf(derivative_note, sizeof derivative_note, "; derivative returned %d at t = %.17g",
                  cvode->derivative_status, cvode->derivative_time);
+    } else if (cvode->non_finite_index < n) {
+        snprintf(derivative_note, sizeof derivative_note,
+                 "; derivative gave dydt[%zu] = %g at t = %.17g", cvode->non_finite_index,
+                 cvode->non_finite_value, cvode->non_finite_time);
     }
-    return tb__set_detail(integrator->detail, failure_status(flag, cvode->derivative_status),
+    return tb__set_detail(integrator->detail, failure_status(flag, cvode, n),
                           "CVODE %s on the way to t = %.17g, stopped at t = %.17g%s: %s", name,
                           t_target, integrator->t, derivative_note, cvode->message);
 }
@@ -514,6 +523,7 @@ static tb_status run(tb_integrator *integrator, double t_out, int mode)
         return status;
     }
     cvode->derivative_status = 0;
+    cvode->non_finite_index = integrator->system.n;
     cvode->message[0] = '\0';
     /* CVODE's times are tau = t - t_origin */
     const double tau_now = integrator->t - cvode->t_origin, tau_out = t_out - cvode->t_origin;

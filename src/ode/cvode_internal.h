@@ -37,6 +37,9 @@ struct tb__cvode {
     long jacobian_evals;   /* derivative calls made by our dense Jacobian */
     int derivative_status; /* last non-zero return of the derivative, and its time (t) */
     double derivative_time;
+    size_t non_finite_index; /* a derivative value that was NaN or infinite (its index, value
+                                and time), n if none since the call began */
+    double non_finite_value, non_finite_time;
     tb_integrator_stats base;     /* counts from before the last CVodeReInit, which zeroes them */
     char message[TB_DETAIL_SIZE]; /* CVODE's last message, captured instead of printed */
 };
