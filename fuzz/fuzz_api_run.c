@@ -311,8 +311,9 @@ void fuzz_op_run(fuzz_harness *h)
     const tb_status status =
         tb_scene_run(h->scene, &def, callback ? on_frame : NULL, h, &stats, &error);
     h->in_derivative = 0;
-    fuzz_check(h, &before, status, error.message, "tb_scene_run",
-               frames_seen > 0 ? FUZZ_HAS_RUN : FUZZ_LAST_GOOD);
+    /* A run may stop on any status after some frames (UNSTABLE_STEP as the spin grows,
+     * LAYOUT_CHANGED after a callback changed the scene): the last good state. */
+    fuzz_check(h, &before, status, error.message, "tb_scene_run", FUZZ_HAS_RUN);
     if (status == TB_STATUS_OK && error.message[0] != '\0') {
         fuzz_fail("tb_scene_run", "TB_STATUS_OK with message \"%s\"", error.message);
     }
