@@ -261,16 +261,13 @@ static void operate(fuzz_harness *h)
     switch (fuzz_choice(h->in, 12)) {
     case 0:
     case 1:
-        fuzz_before_layout_change(h);
         fuzz_op_add_body(h);
         break;
     case 2:
     case 3:
-        fuzz_before_layout_change(h); /* a ground plane adds states */
         fuzz_op_add_effect(h);
         break;
     case 4:
-        fuzz_before_layout_change(h);
         fuzz_op_contact_points(h);
         break;
     case 5:

@@ -130,14 +130,6 @@ void fuzz_op_run(fuzz_harness *h);
 void fuzz_op_read(fuzz_harness *h);
 void fuzz_op_null_arguments(fuzz_harness *h);
 
-/* With finding F5 known (fixed-step methods without a step budget): whether advancing over
- * `span` seconds would take more steps than def->max_steps, which the harness then skips. */
-int fuzz_unbudgeted(const tb_integrator_def *def, double span);
-
-/* With F7 known (integrators left on a freed or shorter state after the layout changed): drops
- * the integrators before a call that may change the layout. */
-void fuzz_before_layout_change(fuzz_harness *h);
-
 /* An id: mostly a body of the scene, sometimes one past the end or a huge value. */
 size_t fuzz_body_id(fuzz_harness *h);
 

@@ -29,16 +29,6 @@ static void check_finite(const tb_scene *scene, const char *when)
     }
 }
 
-/* F5 (fixed-step methods without a step budget) open: skip runs that would need more steps an
- * advance than the budget allows. */
-static int unbudgeted(const tb_run_def *run)
-{
-    const char *known = getenv("TUMBLE_FUZZ_KNOWN");
-    return known != NULL && strstr(known, "F5") != NULL &&
-           !tb_method_is_adaptive(run->integrator.method) &&
-           !(1.0 / run->fps / run->integrator.dt <= (double)run->integrator.max_steps);
-}
-
 static void exercise(tb_scene *scene, tb_run_def *run)
 {
     check_finite(scene, "after loading");
@@ -51,9 +41,6 @@ static void exercise(tb_scene *scene, tb_run_def *run)
     run->duration = 0.05;
     run->fps = 20;
     run->integrator.max_steps = 1000;
-    if (unbudgeted(run)) {
-        return;
-    }
     tb_error error;
     const tb_status status = tb_scene_run(scene, run, NULL, NULL, NULL, &error);
     if (status != TB_STATUS_OK && error.message[0] == '\0') {

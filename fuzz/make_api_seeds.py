@@ -1,5 +1,7 @@
 #!/usr/bin/env python3
-"""Writes the hand-made seed inputs of the C-API fuzz target into fuzz/corpus/api/.
+"""Writes the hand-made seed inputs of the C-API fuzz target into fuzz/corpus/api/, and the
+hand-made regression inputs of findings whose fuzzer-found reproducer no longer reads as the
+same calls into fuzz/regressions/api/.
 
 Each seed is a small program in the byte encoding fuzz_api.c reads (one byte a choice; see
 operate() and the fuzz_op_* functions): a sphere or a box under gravity with an integrator of
@@ -85,8 +87,38 @@ SEEDS = {
     "run_bdf_add_ground": SCENE + box_body() + box_contacts() + gravity() + run(4, frame_kind=3),
 }
 
+def null_arguments(which):
+    """operate() 11, an even byte: fuzz_op_null_arguments, probe `which` (0-23); every probe
+    ends with tb_effect_add_force/_torque given NULL and the derivative given a NULL state."""
+    return bytes([11, 0, which])
+
+
+def user_force_on_missing_body():
+    """A user effect (kind 0: tb_effect_add_force) on body id = body count (232 % 8 == 0)."""
+    one = 40  # fuzz_double: a byte below 64 is (b & 63) / 8 - 4, so 40 is 1.0
+    return bytes([OP_EFFECT, 6, 0, 232, one, one, one, one, one, one, 0])
+
+
+REGRESSIONS = {
+    # F3: tb_scene_derivative / tb_scene_normalize_quaternions given a NULL state, with no body
+    # (returned success) and with one (dereferenced NULL).
+    "F3-null-state-no-body": SCENE + null_arguments(13),
+    "F3-null-state-one-body": SCENE + sphere_body() + null_arguments(13),
+    # F4: tb_effect_add_force with a NULL force (UB: NULL + 16), and with an id past the body
+    # count from inside a user effect while RK4 steps.
+    "F4-add-force-null": SCENE + sphere_body() + null_arguments(14),
+    "F4-add-force-missing-body": SCENE + sphere_body() + user_force_on_missing_body() +
+    integrator(2) + advance(),
+}
+
 folder = os.path.join(os.path.dirname(os.path.abspath(__file__)), "corpus", "api")
 os.makedirs(folder, exist_ok=True)
 for name, data in SEEDS.items():
+    with open(os.path.join(folder, name), "wb") as out:
+        out.write(data)
+
+folder = os.path.join(os.path.dirname(os.path.abspath(__file__)), "regressions", "api")
+os.makedirs(folder, exist_ok=True)
+for name, data in REGRESSIONS.items():
     with open(os.path.join(folder, name), "wb") as out:
         out.write(data)
