@@ -500,6 +500,15 @@ static void test_a_step_that_times_near_t_cannot_resolve_is_refused(void **state
     assert_near(tb_integrator_time(run.integrator), 1e9 + 1.0, 0.0);
     tb_integrator_destroy(run.integrator);
 
+    /* dt = 1/8 just below 2^40, where doubles are 2^-13 = dt / 1024 apart: a step may start
+     * there but not end past 2^40, where they are twice as far apart */
+    start_slope(&run, 0.125, 100000, 0x1p40 - 0.0625);
+    assert_int_equal(tb_integrator_step(run.integrator), TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(strstr(tb_integrator_detail(run.integrator), "t + dt"));
+    assert_int_equal(run.calls, 0);
+    assert_true(tb_integrator_time(run.integrator) == 0x1p40 - 0.0625);
+    tb_integrator_destroy(run.integrator);
+
     start_slope(&run, 1.0 / 240.0, LONG_MAX, 0.0);
     assert_int_equal(tb_integrator_advance(run.integrator, 1e15), TB_STATUS_INVALID_ARGUMENT);
     assert_non_null(strstr(tb_integrator_detail(run.integrator), "t_target = 1000000000000000"));
