@@ -91,12 +91,11 @@ static int long_line(const uint8_t *data, size_t size)
 
 static void check_reader(const char *path, const uint8_t *data, size_t size)
 {
-    double *vertices = NULL;
-    unsigned *triangles = NULL;
-    size_t vertex_count = 0, triangle_count = 0;
+    tb__mesh_buffers mesh;
     char detail[TB_DETAIL_SIZE] = "";
-    const tb_status status =
-        tb__read_obj(path, &vertices, &vertex_count, &triangles, &triangle_count, detail);
+    const tb_status status = tb__obj_read_file(path, TB_SCENE_FILE_MAX_MESH_BYTES, &mesh, detail);
+    const unsigned *triangles = mesh.triangles;
+    const size_t vertex_count = mesh.vertex_count, triangle_count = mesh.triangle_count;
     if (status != TB_STATUS_OK) {
         if (detail[0] == '\0') {
             fail("%s: the reader failed without a message", tb_status_name(status));
@@ -121,8 +120,7 @@ static void check_reader(const char *path, const uint8_t *data, size_t size)
             fail("%s", "a triangle index past the vertices");
         }
     }
-    free(vertices);
-    free(triangles);
+    tb__mesh_buffers_free(&mesh);
 }
 
 static void check_loader(const char *folder)

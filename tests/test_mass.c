@@ -539,6 +539,14 @@ static tb_status mesh_tiny_mass(tb_mass_properties *o, tb_error *e)
     test_mesh_free(&mesh);
     return s;
 }
+static tb_status huge_entries(tb_mass_properties *o, tb_error *e)
+{
+    /* Fuzz finding F8: gave OK with NaN moments (not positive definite; the solver overflowed). */
+    return tb_mass_from_tensor(0.1, (double[]){0, 0, 0},
+                               (double[]){6.8056473384187693e38, 1e308, 0, 1e308, 3,
+                                          3.2378592100206092e-319, 0, 3.2378592100206092e-319, 4},
+                               o, e);
+}
 static tb_status validate_into(tb_mass_properties props, tb_mass_properties *o, tb_error *e)
 {
     tb_status s = tb_mass_validate(&props, e);
@@ -605,6 +613,7 @@ static void test_unphysical_inputs_are_rejected_with_the_input_named(void **stat
         {"tiny sphere moments", tiny_sphere_moments, TB_STATUS_BAD_MASS_PROPERTIES,
          "TB_MOMENT_MIN"},
         {"mesh subnormal mass", mesh_tiny_mass, TB_STATUS_INVALID_ARGUMENT, "mass: must be from"},
+        {"huge entries (F8)", huge_entries, TB_STATUS_BAD_MASS_PROPERTIES, "TB_MOMENT_MAX"},
         {"validate subnormal mass", validate_subnormal_mass, TB_STATUS_INVALID_ARGUMENT,
          "mass: must be from"},
         {"validate huge mass", validate_huge_mass, TB_STATUS_INVALID_ARGUMENT, "got 1e+308"},

@@ -8,7 +8,37 @@
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+
+#define TB__OPTIONS_COOKIE 0x5f11e
+
+tb_scene_file_options tb_scene_file_options_default(void)
+{
+    tb_scene_file_options options;
+    memset(&options, 0, sizeof options);
+    options.allow_paths_outside = false;
+    options.mesh_root = NULL;
+    options.max_mesh_file_bytes = TB_SCENE_FILE_MAX_MESH_BYTES;
+    options.internal_cookie = TB__OPTIONS_COOKIE;
+    return options;
+}
+
+/* The options, or the defaults for NULL; refused if not made by the default function. */
+static tb_status take_options(const tb_scene_file_options *options, tb_scene_file_options *out,
+                              tb_error *error)
+{
+    *out = options != NULL ? *options : tb_scene_file_options_default();
+    if (out->internal_cookie != TB__OPTIONS_COOKIE) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "options: not initialised by tb_scene_file_options_default()");
+    }
+    if (out->max_mesh_file_bytes == 0) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "options.max_mesh_file_bytes: must be > 0, got 0");
+    }
+    return TB_STATUS_OK;
+}
 
 tb_status tb__load_fail(tb__loader *ld, tb_status status, const char *path, const char *format, ...)
 {
@@ -21,7 +51,7 @@ tb_status tb__load_fail(tb__loader *ld, tb_status status, const char *path, cons
                          message);
 }
 
-static const char *kind_of(const json_t *value)
+const char *tb__json_kind(const json_t *value)
 {
     switch (json_typeof(value)) {
     case JSON_OBJECT:
@@ -57,7 +87,7 @@ tb_status tb__json_object(tb__loader *ld, const json_t *value, const char *path,
 {
     if (!json_is_object(value)) {
         return tb__load_fail(ld, TB_STATUS_BAD_SCENE, path, "must be an object, got %s",
-                             kind_of(value));
+                             tb__json_kind(value));
     }
     const char *key;
     const json_t *member;
@@ -99,7 +129,7 @@ static tb_status number_value(tb__loader *ld, const json_t *value, const char *w
 {
     if (!json_is_number(value)) {
         return tb__load_fail(ld, TB_STATUS_BAD_SCENE, where, "must be a number, got %s",
-                             kind_of(value));
+                             tb__json_kind(value));
     }
     const double number = json_number_value(value);
     if (!isfinite(number)) {
@@ -129,7 +159,8 @@ tb_status tb__json_numbers(tb__loader *ld, const json_t *value, const char *wher
         return tb__load_fail(ld, TB_STATUS_BAD_SCENE, where,
                              "must be an array of %zu numbers, "
                              "got %s%s",
-                             n, kind_of(value), json_is_array(value) ? " of another length" : "");
+                             n, tb__json_kind(value),
+                             json_is_array(value) ? " of another length" : "");
     }
     double values[16];
     for (size_t i = 0; i < n && i < 16; ++i) {
@@ -171,7 +202,7 @@ tb_status tb__json_string(tb__loader *ld, const json_t *object, const char *path
         char where[160];
         member_path(where, sizeof where, path, key);
         return tb__load_fail(ld, TB_STATUS_BAD_SCENE, where, "must be a string, got %s",
-                             kind_of(value));
+                             tb__json_kind(value));
     }
     *out = json_string_value(value);
     return TB_STATUS_OK;
@@ -214,132 +245,6 @@ tb_status tb__check_non_negative_at(tb__loader *ld, const char *path, const char
     return TB_STATUS_OK;
 }
 
-/* --- integrator and output ---------------------------------------------------------------- */
-
-static tb_status load_linear_solver(tb__loader *ld, const json_t *object, tb_integrator_def *def)
-{
-    const char *name = NULL;
-    tb_status status = tb__json_string(ld, object, "integrator", "linear_solver", false, &name);
-    if (status != TB_STATUS_OK || name == NULL) {
-        return status;
-    }
-    static const char *const names[] = {"auto", "dense", "krylov"};
-    for (int k = 0; k < 3; ++k) {
-        if (strcmp(name, names[k]) == 0) {
-            def->linear_solver = (tb_linear_solver)k;
-            return TB_STATUS_OK;
-        }
-    }
-    return tb__load_fail(ld, TB_STATUS_BAD_SCENE, "integrator.linear_solver",
-                         "must be one of auto, dense, krylov, got \"%s\"", name);
-}
-
-/* Settings of the other kind of method are refused rather than ignored: a "dt" next to
- * "cvode-bdf" is a mistake the user should hear about. */
-static tb_status check_settings_fit(tb__loader *ld, const json_t *object, tb_method method)
-{
-    static const char *const fixed_only[] = {"dt", "allow_unstable", NULL};
-    static const char *const adaptive_only[] = {"rtol",      "atol",          "max_steps",
-                                                "max_order", "linear_solver", NULL};
-    const bool adaptive = tb_method_is_adaptive(method);
-    const char *const *wrong = adaptive ? fixed_only : adaptive_only;
-    for (size_t k = 0; wrong[k] != NULL; ++k) {
-        if (json_object_get(object, wrong[k]) != NULL) {
-            char where[64];
-            snprintf(where, sizeof where, "integrator.%s", wrong[k]);
-            return tb__load_fail(ld, TB_STATUS_BAD_SCENE, where, "applies to %s methods, not to %s",
-                                 adaptive ? "fixed-step (euler, midpoint, rk4)"
-                                          : "adaptive (cvode-adams, cvode-bdf)",
-                                 tb_method_name(method));
-        }
-    }
-    return TB_STATUS_OK;
-}
-
-static tb_status load_integrator(tb__loader *ld, const json_t *object)
-{
-    static const char *const keys[] = {"method",    "dt",        "rtol",          "atol",
-                                       "max_steps", "max_order", "linear_solver", "allow_unstable",
-                                       NULL};
-    tb_status status = tb__json_object(ld, object, "integrator", keys);
-    tb_integrator_def *def = &ld->run.integrator;
-    const char *method = NULL;
-    if (status == TB_STATUS_OK) {
-        status = tb__json_string(ld, object, "integrator", "method", false, &method);
-    }
-    if (status == TB_STATUS_OK && method != NULL &&
-        tb_method_from_name(method, &def->method) != TB_STATUS_OK) {
-        status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, "integrator.method",
-                               "must be one of euler, midpoint, rk4, cvode-adams, cvode-bdf, got "
-                               "\"%s\"",
-                               method);
-    }
-    if (status == TB_STATUS_OK) {
-        status = check_settings_fit(ld, object, def->method);
-    }
-    long max_order = def->max_order;
-    if (status == TB_STATUS_OK) {
-        status = tb__json_number(ld, object, "integrator", "dt", false, &def->dt);
-    }
-    if (status == TB_STATUS_OK) {
-        status = tb__check_positive_at(ld, "integrator", "dt", def->dt);
-    }
-    if (status == TB_STATUS_OK) {
-        status = tb__json_number(ld, object, "integrator", "rtol", false, &def->rtol);
-    }
-    if (status == TB_STATUS_OK && !(def->rtol >= 1e-15 && def->rtol < 1)) {
-        status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, "integrator.rtol",
-                               "must be in [1e-15, 1), got %g", def->rtol);
-    }
-    if (status == TB_STATUS_OK) {
-        status = tb__json_number(ld, object, "integrator", "atol", false, &def->atol);
-    }
-    if (status == TB_STATUS_OK) {
-        status = tb__check_non_negative_at(ld, "integrator", "atol", def->atol);
-    }
-    if (status == TB_STATUS_OK) {
-        status = tb__json_count(ld, object, "integrator", "max_steps", false, &def->max_steps);
-    }
-    if (status == TB_STATUS_OK) {
-        status = tb__check_positive_at(ld, "integrator", "max_steps", (double)def->max_steps);
-    }
-    if (status == TB_STATUS_OK) {
-        status = tb__json_count(ld, object, "integrator", "max_order", false, &max_order);
-    }
-    if (status == TB_STATUS_OK && max_order > tb_method_order(def->method)) {
-        status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, "integrator.max_order",
-                               "must be at most %d for %s, got %ld", tb_method_order(def->method),
-                               tb_method_name(def->method), max_order);
-    }
-    def->max_order = (int)max_order;
-    const json_t *unstable = json_object_get(object, "allow_unstable");
-    if (status == TB_STATUS_OK && unstable != NULL && !json_is_boolean(unstable)) {
-        status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, "integrator.allow_unstable",
-                               "must be true or false, got %s", kind_of(unstable));
-    }
-    tb_scene_set_allow_unstable(ld->scene, unstable != NULL && json_is_true(unstable));
-    return status == TB_STATUS_OK ? load_linear_solver(ld, object, def) : status;
-}
-
-static tb_status load_output(tb__loader *ld, const json_t *object)
-{
-    static const char *const keys[] = {"fps", "duration", NULL};
-    tb_status status = tb__json_object(ld, object, "output", keys);
-    if (status == TB_STATUS_OK) {
-        status = tb__json_number(ld, object, "output", "fps", false, &ld->run.fps);
-    }
-    if (status == TB_STATUS_OK) {
-        status = tb__check_positive_at(ld, "output", "fps", ld->run.fps);
-    }
-    if (status == TB_STATUS_OK) {
-        status = tb__json_number(ld, object, "output", "duration", false, &ld->run.duration);
-    }
-    if (status == TB_STATUS_OK) {
-        status = tb__check_non_negative_at(ld, "output", "duration", ld->run.duration);
-    }
-    return status;
-}
-
 /* --- top level ---------------------------------------------------------------------------- */
 
 static tb_status load_document(tb__loader *ld, const json_t *root)
@@ -365,11 +270,11 @@ static tb_status load_document(tb__loader *ld, const json_t *root)
     }
     section = json_object_get(root, "integrator");
     if (status == TB_STATUS_OK && section != NULL) {
-        status = load_integrator(ld, section);
+        status = tb__load_integrator(ld, section);
     }
     section = json_object_get(root, "output");
     if (status == TB_STATUS_OK && section != NULL) {
-        status = load_output(ld, section);
+        status = tb__load_output(ld, section);
     }
     return status;
 }
@@ -408,8 +313,11 @@ static tb_status syntax_error(tb__loader *ld, const json_error_t *error)
                          error->column, error->text);
 }
 
-tb_status tb_scene_load_string(const char *json, const char *name, const char *base_directory,
-                               tb_scene **out_scene, tb_run_def *out_run, tb_error *out_error)
+tb_status tb_scene_load_string_with_options(const char *json, const char *name,
+                                            const char *base_directory,
+                                            const tb_scene_file_options *options,
+                                            tb_scene **out_scene, tb_run_def *out_run,
+                                            tb_error *out_error)
 {
     tb__clear_error(out_error);
     if (json == NULL || out_scene == NULL) {
@@ -420,6 +328,10 @@ tb_status tb_scene_load_string(const char *json, const char *name, const char *b
     tb__loader ld = {.name = name != NULL ? name : "<string>",
                      .directory = base_directory != NULL ? base_directory : "",
                      .error = out_error};
+    tb_status status = take_options(options, &ld.options, out_error);
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
     json_error_t error;
     json_t *root = json_loads(json, JSON_REJECT_DUPLICATES, &error);
     if (root == NULL) {
@@ -428,24 +340,31 @@ tb_status tb_scene_load_string(const char *json, const char *name, const char *b
     return load_json(&ld, root, out_scene, out_run);
 }
 
-tb_status tb_scene_load_file(const char *path, tb_scene **out_scene, tb_run_def *out_run,
-                             tb_error *out_error)
+tb_status tb_scene_load_string(const char *json, const char *name, const char *base_directory,
+                               tb_scene **out_scene, tb_run_def *out_run, tb_error *out_error)
 {
-    tb__clear_error(out_error);
-    if (path == NULL || out_scene == NULL) {
-        return tb__set_error(out_error, TB_STATUS_NULL_POINTER, "%s is NULL",
-                             path == NULL ? "path" : "out_scene");
-    }
-    *out_scene = NULL;
-    char directory[1024] = "";
+    return tb_scene_load_string_with_options(json, name, base_directory, NULL, out_scene, out_run,
+                                             out_error);
+}
+
+/* (A fixed buffer once dropped folders of 1023 bytes or more, and meshes were read from the
+ * current directory instead.) */
+char *tb__folder_of(const char *path)
+{
     const char *slash = strrchr(path, '/');
-    if (slash != NULL && (size_t)(slash - path) < sizeof directory - 1) {
-        memcpy(directory, path, (size_t)(slash - path) + 1);
-        directory[slash - path + 1] = '\0';
+    const size_t length = slash != NULL ? (size_t)(slash - path) + 1 : 0;
+    char *folder = malloc(length + 1);
+    if (folder != NULL) {
+        memcpy(folder, path, length);
+        folder[length] = '\0';
     }
-    tb__loader ld = {.name = path, .directory = directory, .error = out_error};
-    /* Open and probe it here, so that a directory or unreadable file is reported as what it
-     * is rather than as JSON that ended early. */
+    return folder;
+}
+
+/* Opens and probes path, so that a directory or unreadable file is reported as what it is
+ * rather than as JSON that ended early. */
+static tb_status open_scene_file(const char *path, const char *shown, FILE **out, tb_error *error)
+{
     FILE *file = fopen(path, "rb");
     const int first = file != NULL ? fgetc(file) : EOF;
     if (file == NULL || (first == EOF && ferror(file))) {
@@ -453,15 +372,51 @@ tb_status tb_scene_load_file(const char *path, tb_scene **out_scene, tb_run_def 
         if (file != NULL) {
             fclose(file);
         }
-        return tb__set_error(out_error, TB_STATUS_IO_ERROR, "%s: cannot read: %s", path,
+        return tb__set_error(error, TB_STATUS_IO_ERROR, "%s: cannot read: %s", shown,
                              strerror(reason));
     }
     ungetc(first, file);
+    *out = file;
+    return TB_STATUS_OK;
+}
+
+tb_status tb_scene_load_file_with_options(const char *path, const tb_scene_file_options *options,
+                                          tb_scene **out_scene, tb_run_def *out_run,
+                                          tb_error *out_error)
+{
+    tb__clear_error(out_error);
+    if (path == NULL || out_scene == NULL) {
+        return tb__set_error(out_error, TB_STATUS_NULL_POINTER, "%s is NULL",
+                             path == NULL ? "path" : "out_scene");
+    }
+    *out_scene = NULL;
+    tb__loader ld = {.error = out_error};
+    tb__shown_path(ld.shown_name, path);
+    ld.name = ld.shown_name;
+    FILE *file = NULL;
+    tb_status status = take_options(options, &ld.options, out_error);
+    if (status == TB_STATUS_OK) {
+        status = open_scene_file(path, ld.name, &file, out_error);
+    }
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    char *directory = tb__folder_of(path);
+    if (directory == NULL) {
+        fclose(file);
+        return tb__set_error(out_error, TB_STATUS_OUT_OF_MEMORY, "%s: the folder's name", ld.name);
+    }
+    ld.directory = directory;
     json_error_t error;
     json_t *root = json_loadf(file, JSON_REJECT_DUPLICATES, &error);
     fclose(file);
-    if (root == NULL) {
-        return syntax_error(&ld, &error);
-    }
-    return load_json(&ld, root, out_scene, out_run);
+    status = root == NULL ? syntax_error(&ld, &error) : load_json(&ld, root, out_scene, out_run);
+    free(directory);
+    return status;
+}
+
+tb_status tb_scene_load_file(const char *path, tb_scene **out_scene, tb_run_def *out_run,
+                             tb_error *out_error)
+{
+    return tb_scene_load_file_with_options(path, NULL, out_scene, out_run, out_error);
 }

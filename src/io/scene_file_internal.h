@@ -3,6 +3,7 @@
 #ifndef TUMBLE_SCENE_FILE_INTERNAL_H
 #define TUMBLE_SCENE_FILE_INTERNAL_H
 
+#include "io/obj_reader.h"
 #include "tumble/effects.h"
 #include "tumble/scene_file.h"
 
@@ -11,8 +12,10 @@
 #include <stdbool.h>
 
 typedef struct tb__loader {
-    const char *name;      /* the file, for messages */
-    const char *directory; /* where mesh files are looked for ("" for the current one) */
+    const char *name;              /* the file, for messages (shortened when long) */
+    char shown_name[80];           /* a long file name's shortened form (TB__SHOWN_PATH_SIZE) */
+    const char *directory;         /* where mesh files are looked for ("" for the current one) */
+    tb_scene_file_options options; /* from tb_scene_file_options_default() at least */
     tb_error *error;
     tb_scene *scene;
     tb_run_def run;
@@ -24,6 +27,9 @@ tb_status tb__load_fail(tb__loader *ld, tb_status status, const char *path, cons
     __attribute__((format(printf, 4, 5)))
 #endif
     ;
+
+/* "an object", "a number", ...: what a JSON value is, for messages. */
+const char *tb__json_kind(const json_t *value);
 
 /* path must be an object with no keys outside allowed (NULL-terminated). */
 tb_status tb__json_object(tb__loader *ld, const json_t *value, const char *path,
@@ -51,18 +57,47 @@ tb_status tb__check_non_negative_at(tb__loader *ld, const char *path, const char
 /* "bodies[2]" style paths. */
 void tb__path_index(char *out, size_t size, const char *path, const char *key, size_t index);
 
+/* Contact points a shape brings by default, and how many of them carry it at rest. */
+#define TB__SHAPE_POINTS_MAX 32
+typedef struct tb__shape_contacts {
+    tb_contact_point points[TB__SHAPE_POINTS_MAX];
+    size_t count;
+    size_t support;
+    tb_contact_point *many; /* meshes and point sets: allocated, else NULL */
+} tb__shape_contacts;
+
+typedef struct tb__body_build {
+    tb_body_def def;
+    tb__shape_contacts contacts;
+    bool has_contacts;
+} tb__body_build;
+
+/* A mass-property refusal from the library (its message names the mass, density or inertia)
+ * as BAD_SCENE prefixed with the body's path; OK passes through. */
+tb_status tb__mass_result(tb__loader *ld, tb_status status, const char *path,
+                          const tb_error *error);
+
+/* body.shape into b: mass properties (with the body's mass or density) and contact points. */
+tb_status tb__load_shape(tb__loader *ld, const json_t *body, const char *path, tb__body_build *b);
+
 /* The sections. */
 tb_status tb__load_bodies(tb__loader *ld, const json_t *bodies);
 tb_status tb__load_effects(tb__loader *ld, const json_t *effects);
+tb_status tb__load_integrator(tb__loader *ld, const json_t *integrator);
+tb_status tb__load_output(tb__loader *ld, const json_t *output);
+
+/* The folder part of path, up to and including its last '/' ("" if none); malloc'd, as long
+ * as the path is. NULL when memory runs out. */
+char *tb__folder_of(const char *path);
+
+/* A "mesh" shape's triangles, from its "file" (resolved and confined as ld->options say,
+ * regular, bounded) or inline; *m starts empty, the caller frees it (emptied on failure). */
+tb_status tb__load_mesh_buffers(tb__loader *ld, const json_t *shape, const char *path,
+                                tb__mesh_buffers *m);
 
 /* A "mesh" shape: mass properties, and its vertices (malloc'd, for contact points). */
 tb_status tb__load_mesh_shape(tb__loader *ld, const json_t *shape, const char *path,
                               tb_mass_mode mode, double value, tb_mass_properties *mass,
                               double **vertices, size_t *vertex_count, tb_error *error);
-
-/* Reads a Wavefront OBJ mesh (v and f lines; polygons are fanned into triangles). The
- * arrays are allocated with malloc; the caller frees them. */
-tb_status tb__read_obj(const char *path, double **out_vertices, size_t *out_vertex_count,
-                       unsigned **out_triangles, size_t *out_triangle_count, char *detail);
 
 #endif

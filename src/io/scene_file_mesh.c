@@ -1,139 +1,22 @@
 /* Scene files: mesh shapes, given inline ("vertices" and "triangles") or as a Wavefront OBJ
- * file ("file", relative to the scene file). */
+ * file ("file", relative to the scene file and, unless the loader's options say otherwise,
+ * inside the scene file's folder). */
+#define _XOPEN_SOURCE 700 /* realpath */
+
+#include "io/obj_reader.h"
 #include "io/scene_file_internal.h"
 
 #include "core/detail.h"
 
 #include <errno.h>
-#include <limits.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-typedef struct mesh_buffers {
-    double *vertices;
-    size_t vertex_count, vertex_capacity;
-    unsigned *triangles;
-    size_t triangle_count, triangle_capacity;
-} mesh_buffers;
-
-static int grow(void **data, size_t *capacity, size_t needed, size_t item)
-{
-    if (needed <= *capacity) {
-        return 1;
-    }
-    const size_t next = needed > 2 * *capacity ? needed : 2 * *capacity;
-    void *grown = realloc(*data, next * item);
-    if (grown == NULL) {
-        return 0;
-    }
-    *data = grown;
-    *capacity = next;
-    return 1;
-}
-
-static int push_vertex(mesh_buffers *m, const double v[3])
-{
-    if (!grow((void **)&m->vertices, &m->vertex_capacity, m->vertex_count + 1,
-              3 * sizeof(double))) {
-        return 0;
-    }
-    memcpy(m->vertices + 3 * m->vertex_count++, v, 3 * sizeof(double));
-    return 1;
-}
-
-static int push_triangle(mesh_buffers *m, unsigned a, unsigned b, unsigned c)
-{
-    if (!grow((void **)&m->triangles, &m->triangle_capacity, m->triangle_count + 1,
-              3 * sizeof(unsigned))) {
-        return 0;
-    }
-    unsigned *t = m->triangles + 3 * m->triangle_count++;
-    t[0] = a, t[1] = b, t[2] = c;
-    return 1;
-}
-
-/* One OBJ face index ("7", "7/2", "7/2/5", "-1/..."), 1-based or negative from the end. */
-static int face_index(const char *token, size_t vertex_count, unsigned *out)
-{
-    char *end;
-    errno = 0;
-    const long index = strtol(token, &end, 10);
-    if (end == token || errno != 0 || (*end != '\0' && *end != '/')) {
-        return 0;
-    }
-    const long resolved = index > 0 ? index - 1 : (long)vertex_count + index;
-    if (index == 0 || resolved < 0 || (size_t)resolved >= vertex_count ||
-        resolved > (long)UINT_MAX) {
-        return 0;
-    }
-    *out = (unsigned)resolved;
-    return 1;
-}
-
-/* "f a b c d ...": fanned into triangles (a b c), (a c d), ... */
-static int obj_face(mesh_buffers *m, char *rest)
-{
-    unsigned first = 0, previous = 0, index;
-    int count = 0;
-    for (char *token = strtok(rest, " \t\r\n"); token != NULL; token = strtok(NULL, " \t\r\n")) {
-        if (!face_index(token, m->vertex_count, &index)) {
-            return 0;
-        }
-        if (count == 0) {
-            first = index;
-        } else if (count >= 2 && !push_triangle(m, first, previous, index)) {
-            return 0;
-        }
-        previous = index;
-        ++count;
-    }
-    return count >= 3;
-}
-
-tb_status tb__read_obj(const char *path, double **out_vertices, size_t *out_vertex_count,
-                       unsigned **out_triangles, size_t *out_triangle_count, char *detail)
-{
-    FILE *file = fopen(path, "r");
-    if (file == NULL) {
-        return tb__set_detail(detail, TB_STATUS_IO_ERROR, "cannot read %s: %s", path,
-                              strerror(errno));
-    }
-    mesh_buffers m = {0};
-    char line[1024];
-    long number = 0;
-    tb_status status = TB_STATUS_OK;
-    while (status == TB_STATUS_OK && fgets(line, sizeof line, file) != NULL) {
-        ++number;
-        double v[3];
-        int ok = 1;
-        if (line[0] == 'v' && (line[1] == ' ' || line[1] == '\t')) {
-            ok = sscanf(line + 2, "%lf %lf %lf", &v[0], &v[1], &v[2]) == 3 && push_vertex(&m, v);
-        } else if (line[0] == 'f' && (line[1] == ' ' || line[1] == '\t')) {
-            ok = obj_face(&m, line + 2);
-        }
-        if (!ok) {
-            status = tb__set_detail(detail, TB_STATUS_BAD_SCENE,
-                                    "%s:%ld: not a vertex (v x y z) or face (f i j k ...) with "
-                                    "indices of earlier vertices",
-                                    path, number);
-        }
-    }
-    fclose(file);
-    if (status != TB_STATUS_OK) {
-        free(m.vertices);
-        free(m.triangles);
-        return status;
-    }
-    *out_vertices = m.vertices;
-    *out_vertex_count = m.vertex_count;
-    *out_triangles = m.triangles;
-    *out_triangle_count = m.triangle_count;
-    return TB_STATUS_OK;
-}
-
 /* Inline: "vertices": [[x, y, z], ...], "triangles": [[i, j, k], ...] (0-based). */
-static tb_status inline_mesh(tb__loader *ld, const json_t *shape, const char *path, mesh_buffers *m)
+static tb_status inline_mesh(tb__loader *ld, const json_t *shape, const char *path,
+                             tb__mesh_buffers *m)
 {
     const json_t *vertices = json_object_get(shape, "vertices");
     const json_t *triangles = json_object_get(shape, "triangles");
@@ -147,7 +30,7 @@ static tb_status inline_mesh(tb__loader *ld, const json_t *shape, const char *pa
         double v[3];
         tb__path_index(item, sizeof item, path, "vertices", k);
         status = tb__json_numbers(ld, json_array_get(vertices, k), item, 3, v);
-        if (status == TB_STATUS_OK && !push_vertex(m, v)) {
+        if (status == TB_STATUS_OK && !tb__mesh_push_vertex(m, v)) {
             status = tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, item, "no memory");
         }
     }
@@ -157,21 +40,106 @@ static tb_status inline_mesh(tb__loader *ld, const json_t *shape, const char *pa
         tb__path_index(item, sizeof item, path, "triangles", k);
         status = tb__json_numbers(ld, json_array_get(triangles, k), item, 3, t);
         for (int i = 0; i < 3 && status == TB_STATUS_OK; ++i) {
-            if (t[i] < 0 || t[i] != (double)(unsigned)t[i] || t[i] >= (double)m->vertex_count) {
+            /* The range is checked on the double: casting 1e10 to an integer first would be
+             * undefined behaviour. vertex_count fits an unsigned (the mesh code checks). */
+            if (!(t[i] >= 0 && t[i] < (double)m->vertex_count && t[i] == floor(t[i]))) {
                 status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, item,
-                                       "vertex indices must be whole numbers from 0 to %zu, got %g",
-                                       m->vertex_count - 1, t[i]);
+                                       "vertex indices must be whole numbers from 0 to the number "
+                                       "of vertices less one (%zu vertices), got %g",
+                                       m->vertex_count, t[i]);
             }
         }
         if (status == TB_STATUS_OK &&
-            !push_triangle(m, (unsigned)t[0], (unsigned)t[1], (unsigned)t[2])) {
+            !tb__mesh_push_triangle(m, (unsigned)t[0], (unsigned)t[1], (unsigned)t[2])) {
             status = tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, item, "no memory");
         }
     }
     return status;
 }
 
-static tb_status file_mesh(tb__loader *ld, const json_t *shape, const char *path, mesh_buffers *m)
+/* directory/file, or file alone when it is absolute or there is no directory; malloc'd, no
+ * length limit. */
+static char *join_path(const char *directory, const char *file)
+{
+    const bool relative = file[0] != '/' && directory[0] != '\0';
+    const char *prefix = relative ? directory : "";
+    const char *slash = relative && prefix[strlen(prefix) - 1] != '/' ? "/" : "";
+    const size_t size = strlen(prefix) + strlen(slash) + strlen(file) + 1;
+    char *joined = malloc(size);
+    if (joined != NULL) {
+        snprintf(joined, size, "%s%s%s", prefix, slash, file);
+    }
+    return joined;
+}
+
+/* The resolved folder mesh files must be inside (malloc'd): the options' mesh_root, else the
+ * scene file's folder. */
+static tb_status resolve_root(tb__loader *ld, const char *path, char **out)
+{
+    const char *folder = ld->options.mesh_root != NULL ? ld->options.mesh_root
+                         : ld->directory[0] != '\0'    ? ld->directory
+                                                       : ".";
+    *out = realpath(folder, NULL);
+    if (*out == NULL) {
+        const int reason = errno;
+        char shown[TB__SHOWN_PATH_SIZE];
+        tb__shown_path(shown, folder);
+        return tb__load_fail(ld, TB_STATUS_IO_ERROR, path,
+                             "file: cannot resolve the folder mesh files must be in, %s: %s", shown,
+                             strerror(reason));
+    }
+    return TB_STATUS_OK;
+}
+
+/* resolved is root itself or below it (both without symbolic links or "..", from realpath). */
+static bool inside(const char *root, const char *resolved)
+{
+    const size_t n = strlen(root);
+    return strncmp(root, resolved, n) == 0 && (root[n - 1] == '/' || resolved[n] == '/');
+}
+
+/* The path to read file from: joined to the scene's folder and, unless the options allow any
+ * path, resolved and checked to be inside the root. */
+static tb_status resolve_mesh_file(tb__loader *ld, const char *file, const char *path, char **out)
+{
+    char *joined = join_path(ld->directory, file);
+    if (joined == NULL) {
+        return tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, path, "file: a path of %zu bytes",
+                             strlen(file));
+    }
+    if (ld->options.allow_paths_outside) {
+        *out = joined;
+        return TB_STATUS_OK;
+    }
+    char *root = NULL;
+    tb_status status = resolve_root(ld, path, &root);
+    char *resolved = status == TB_STATUS_OK ? realpath(joined, NULL) : NULL;
+    const int reason = errno;
+    char shown[TB__SHOWN_PATH_SIZE], shown_root[TB__SHOWN_PATH_SIZE];
+    tb__shown_path(shown, resolved != NULL ? resolved : joined);
+    if (status == TB_STATUS_OK && resolved == NULL) {
+        status = tb__load_fail(ld, TB_STATUS_IO_ERROR, path, "file: cannot read %s: %s", shown,
+                               strerror(reason));
+    }
+    if (status == TB_STATUS_OK && !inside(root, resolved)) {
+        tb__shown_path(shown_root, root);
+        status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, path,
+                               "file: outside the folder mesh files must be in (the loader's "
+                               "allow_paths_outside or mesh_root widens it): %s is not in %s",
+                               shown, shown_root);
+    }
+    free(joined);
+    free(root);
+    if (status != TB_STATUS_OK) {
+        free(resolved);
+        return status;
+    }
+    *out = resolved;
+    return TB_STATUS_OK;
+}
+
+static tb_status file_mesh(tb__loader *ld, const json_t *shape, const char *path,
+                           tb__mesh_buffers *m)
 {
     const char *file = NULL;
     tb_status status = tb__json_string(ld, shape, path, "file", true, &file);
@@ -182,31 +150,70 @@ static tb_status file_mesh(tb__loader *ld, const json_t *shape, const char *path
         return tb__load_fail(ld, TB_STATUS_BAD_SCENE, path,
                              "give \"file\" or \"vertices\" and \"triangles\", not both");
     }
-    char full[2048];
-    snprintf(full, sizeof full, "%s%s", file[0] == '/' ? "" : ld->directory, file);
+    char *full = NULL;
+    status = resolve_mesh_file(ld, file, path, &full);
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
     char detail[TB_DETAIL_SIZE];
-    status = tb__read_obj(full, &m->vertices, &m->vertex_count, &m->triangles, &m->triangle_count,
-                          detail);
+    status = tb__obj_read_file(full, ld->options.max_mesh_file_bytes, m, detail);
+    free(full);
     return status == TB_STATUS_OK ? status : tb__load_fail(ld, status, path, "file: %s", detail);
+}
+
+/* Keeps the vertices some triangle uses, in their order (a stray vertex is no part of the
+ * solid and would make a wrong contact point). */
+static tb_status keep_used_vertices(tb__loader *ld, const char *path, tb__mesh_buffers *m)
+{
+    bool *used = calloc(m->vertex_count, sizeof *used);
+    if (used == NULL) {
+        return tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, path, "%zu vertices", m->vertex_count);
+    }
+    for (size_t corner = 0; corner < 3 * m->triangle_count; ++corner) {
+        used[m->triangles[corner]] = true;
+    }
+    size_t kept = 0;
+    for (size_t v = 0; v < m->vertex_count; ++v) {
+        if (used[v]) {
+            memmove(m->vertices + 3 * kept++, m->vertices + 3 * v, 3 * sizeof(double));
+        }
+    }
+    free(used);
+    m->vertex_count = kept;
+    return TB_STATUS_OK;
+}
+
+tb_status tb__load_mesh_buffers(tb__loader *ld, const json_t *shape, const char *path,
+                                tb__mesh_buffers *m)
+{
+    memset(m, 0, sizeof *m);
+    tb_status status = json_object_get(shape, "file") != NULL ? file_mesh(ld, shape, path, m)
+                                                              : inline_mesh(ld, shape, path, m);
+    if (status != TB_STATUS_OK) {
+        tb__mesh_buffers_free(m);
+    }
+    return status;
 }
 
 tb_status tb__load_mesh_shape(tb__loader *ld, const json_t *shape, const char *path,
                               tb_mass_mode mode, double value, tb_mass_properties *mass,
                               double **vertices, size_t *vertex_count, tb_error *error)
 {
-    mesh_buffers m = {0};
-    tb_status status = json_object_get(shape, "file") != NULL ? file_mesh(ld, shape, path, &m)
-                                                              : inline_mesh(ld, shape, path, &m);
+    tb__mesh_buffers m;
+    tb_status status = tb__load_mesh_buffers(ld, shape, path, &m);
     if (status == TB_STATUS_OK) {
         status = tb_mass_from_mesh(mode, value, m.vertices, m.vertex_count, m.triangles,
                                    m.triangle_count, mass, error);
     }
-    free(m.triangles);
+    if (status == TB_STATUS_OK) {
+        status = keep_used_vertices(ld, path, &m); /* after the mesh is known valid */
+    }
     if (status != TB_STATUS_OK) {
-        free(m.vertices);
+        tb__mesh_buffers_free(&m);
         return status;
     }
-    *vertices = m.vertices;
     *vertex_count = m.vertex_count;
+    *vertices = m.vertices;
+    free(m.triangles);
     return TB_STATUS_OK;
 }

@@ -11,49 +11,20 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Inline mesh: "vertices": [[x, y, z], ...], "triangles": [[i, j, k], ...]. */
-static tb_status inline_mesh(tb__loader *ld, const json_t *shape, const char *path, tb__shape *s)
-{
-    const json_t *vertices = json_object_get(shape, "vertices");
-    const json_t *triangles = json_object_get(shape, "triangles");
-    s->vertex_count = json_array_size(vertices);
-    s->triangle_count = json_array_size(triangles);
-    s->vertices = malloc((s->vertex_count + 1) * 3 * sizeof(double));
-    s->triangles = malloc((s->triangle_count + 1) * 3 * sizeof(unsigned));
-    if (s->vertices == NULL || s->triangles == NULL) {
-        return tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, path, "mesh of %zu vertices",
-                             s->vertex_count);
-    }
-    tb_status status = TB_STATUS_OK;
-    for (size_t k = 0; k < s->vertex_count && status == TB_STATUS_OK; ++k) {
-        status = tb__json_numbers(ld, json_array_get(vertices, k), path, 3, s->vertices + 3 * k);
-    }
-    for (size_t k = 0; k < s->triangle_count && status == TB_STATUS_OK; ++k) {
-        double t[3];
-        status = tb__json_numbers(ld, json_array_get(triangles, k), path, 3, t);
-        for (int i = 0; i < 3 && status == TB_STATUS_OK; ++i) {
-            if (!(t[i] >= 0 && t[i] < (double)s->vertex_count)) {
-                status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, path, "triangles: index %g", t[i]);
-            }
-            s->triangles[3 * k + i] = (unsigned)t[i];
-        }
-    }
-    return status;
-}
-
+/* A mesh, file or inline, read and checked as the loader reads it (mesh files confined to
+ * the scene file's folder by the loader's default options). */
 static tb_status mesh_shape(tb__loader *ld, const json_t *shape, const char *path, tb__shape *s)
 {
     s->kind = TB__SHAPE_MESH;
-    const char *file = NULL;
-    tb_status status = tb__json_string(ld, shape, path, "file", false, &file);
-    if (status != TB_STATUS_OK || file == NULL) {
-        return status == TB_STATUS_OK ? inline_mesh(ld, shape, path, s) : status;
+    tb__mesh_buffers mesh;
+    const tb_status status = tb__load_mesh_buffers(ld, shape, path, &mesh);
+    if (status == TB_STATUS_OK) {
+        s->vertices = mesh.vertices;
+        s->vertex_count = mesh.vertex_count;
+        s->triangles = mesh.triangles;
+        s->triangle_count = mesh.triangle_count;
     }
-    char full[2048], detail[TB_DETAIL_SIZE];
-    snprintf(full, sizeof full, "%s%s", file[0] == '/' ? "" : ld->directory, file);
-    status = tb__read_obj(full, &s->vertices, &s->vertex_count, &s->triangles, &s->triangle_count,
-                          detail);
-    return status == TB_STATUS_OK ? status : tb__load_fail(ld, status, path, "file: %s", detail);
+    return status;
 }
 
 static tb_status points_shape(tb__loader *ld, const json_t *shape, const char *path, tb__shape *s)
@@ -183,8 +154,9 @@ static tb_status load_file(tb__loader *ld, const json_t *root, const tb_scene *s
                                   : status;
 }
 
-/* The scene file, or the text with its base directory, as JSON. */
-static tb_status parse_scene(const tb_writer_def *def, json_t **out, char *directory, size_t size,
+/* The scene file, or the text with its base directory, as JSON; *directory (malloc'd, any
+ * length) is where its mesh files are. */
+static tb_status parse_scene(const tb_writer_def *def, json_t **out, char **directory,
                              tb_error *error)
 {
     json_error_t json_error;
@@ -198,16 +170,19 @@ static tb_status parse_scene(const tb_writer_def *def, json_t **out, char *direc
                              def->scene_file != NULL ? def->scene_file : "",
                              def->scene_file != NULL ? ": " : "", json_error.text);
     }
-    const char *base = def->scene_text != NULL && def->base_directory != NULL ? def->base_directory
-                                                                              : def->scene_file;
-    const char *slash = base != NULL ? strrchr(base, '/') : NULL;
-    directory[0] = '\0';
     if (def->scene_text != NULL && def->base_directory != NULL) {
-        snprintf(directory, size, "%s%s", base,
-                 base[0] != '\0' && base[strlen(base) - 1] != '/' ? "/" : "");
-    } else if (slash != NULL && (size_t)(slash - base) < size - 1) {
-        memcpy(directory, base, (size_t)(slash - base) + 1);
-        directory[slash - base + 1] = '\0';
+        /* the loader joins a folder without a trailing '/' itself */
+        *directory = malloc(strlen(def->base_directory) + 1);
+        if (*directory != NULL) {
+            strcpy(*directory, def->base_directory);
+        }
+    } else {
+        *directory = tb__folder_of(def->scene_file != NULL ? def->scene_file : "");
+    }
+    if (*directory == NULL) {
+        json_decref(root);
+        *out = NULL;
+        return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "writer: the scene's folder name");
     }
     return TB_STATUS_OK;
 }
@@ -228,17 +203,19 @@ tb_status tb__looks_load(tb__looks *looks, const tb_writer_def *def, const tb_sc
     if (def->scene_file == NULL && def->scene_text == NULL) {
         return TB_STATUS_OK;
     }
-    char directory[1024];
+    char *directory = NULL;
     json_t *root = NULL;
-    tb_status status = parse_scene(def, &root, directory, sizeof directory, error);
+    tb_status status = parse_scene(def, &root, &directory, error);
     if (status != TB_STATUS_OK) {
         return status;
     }
     tb__loader ld = {.name = def->scene_file != NULL ? def->scene_file : "scene_text",
                      .directory = directory,
+                     .options = tb_scene_file_options_default(),
                      .error = error};
     status = load_file(&ld, root, scene, looks);
     json_decref(root);
+    free(directory);
     return status;
 }
 

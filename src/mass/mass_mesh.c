@@ -154,17 +154,20 @@ static void integrate(const mesh_view *mesh, const double o[3], double *volume, 
 
 static tb_status check_inputs(const mesh_view *mesh, const tb_mass_properties *out, tb_error *error)
 {
+    /* The counts first: with too few, a NULL array (what an empty list gives) is not the
+     * mistake to report. */
+    if (mesh->vertex_count < 4 || mesh->triangle_count < 4) {
+        return tb__set_error(error, TB_STATUS_BAD_MESH,
+                             "%s: a closed mesh needs at least 4 vertices and 4 triangles, got "
+                             "%zu and %zu",
+                             mesh->vertex_count < 4 ? "vertex_count" : "triangle_count",
+                             mesh->vertex_count, mesh->triangle_count);
+    }
     if (mesh->vertices == NULL || mesh->triangles == NULL || out == NULL) {
         return tb__set_error(error, TB_STATUS_NULL_POINTER, "%s is NULL",
                              mesh->vertices == NULL    ? "vertices"
                              : mesh->triangles == NULL ? "triangles"
                                                        : "out_props");
-    }
-    if (mesh->vertex_count < 4 || mesh->triangle_count < 4) {
-        return tb__set_error(error, TB_STATUS_BAD_MESH,
-                             "a closed mesh needs at least 4 vertices and 4 triangles, got %zu "
-                             "and %zu",
-                             mesh->vertex_count, mesh->triangle_count);
     }
     if (mesh->vertex_count > UINT32_MAX || mesh->triangle_count > SIZE_MAX / 24) {
         return tb__set_error(error, TB_STATUS_BAD_MESH, "mesh too large");

@@ -1,0 +1,161 @@
+/* Scene files: the "integrator" and "output" sections, into the tb_run_def the loader
+ * returns. */
+#include "io/scene_file_internal.h"
+
+#include "core/detail.h"
+
+#include <stdio.h>
+#include <string.h>
+
+/* The most frames tb_scene_run takes (src/scene/run.c). */
+#define TB__MAX_FRAMES 1e9
+
+static tb_status load_linear_solver(tb__loader *ld, const json_t *object, tb_integrator_def *def)
+{
+    const char *name = NULL;
+    tb_status status = tb__json_string(ld, object, "integrator", "linear_solver", false, &name);
+    if (status != TB_STATUS_OK || name == NULL) {
+        return status;
+    }
+    static const char *const names[] = {"auto", "dense", "krylov"};
+    for (int k = 0; k < 3; ++k) {
+        if (strcmp(name, names[k]) == 0) {
+            def->linear_solver = (tb_linear_solver)k;
+            return TB_STATUS_OK;
+        }
+    }
+    return tb__load_fail(ld, TB_STATUS_BAD_SCENE, "integrator.linear_solver",
+                         "must be one of auto, dense, krylov, got \"%s\"", name);
+}
+
+/* Settings of the other kind of method are refused rather than ignored: a "dt" next to
+ * "cvode-bdf" is a mistake the user should hear about. */
+static tb_status check_settings_fit(tb__loader *ld, const json_t *object, tb_method method)
+{
+    static const char *const fixed_only[] = {"dt", "allow_unstable", NULL};
+    static const char *const adaptive_only[] = {"rtol",      "atol",          "max_steps",
+                                                "max_order", "linear_solver", NULL};
+    const bool adaptive = tb_method_is_adaptive(method);
+    const char *const *wrong = adaptive ? fixed_only : adaptive_only;
+    for (size_t k = 0; wrong[k] != NULL; ++k) {
+        if (json_object_get(object, wrong[k]) != NULL) {
+            char where[64];
+            snprintf(where, sizeof where, "integrator.%s", wrong[k]);
+            return tb__load_fail(ld, TB_STATUS_BAD_SCENE, where, "applies to %s methods, not to %s",
+                                 adaptive ? "fixed-step (euler, midpoint, rk4)"
+                                          : "adaptive (cvode-adams, cvode-bdf)",
+                                 tb_method_name(method));
+        }
+    }
+    return TB_STATUS_OK;
+}
+
+/* dt, rtol, atol. */
+static tb_status load_step_settings(tb__loader *ld, const json_t *object, tb_integrator_def *def)
+{
+    tb_status status = tb__json_number(ld, object, "integrator", "dt", false, &def->dt);
+    if (status == TB_STATUS_OK) {
+        status = tb__check_positive_at(ld, "integrator", "dt", def->dt);
+    }
+    if (status == TB_STATUS_OK) {
+        status = tb__json_number(ld, object, "integrator", "rtol", false, &def->rtol);
+    }
+    if (status == TB_STATUS_OK && !(def->rtol >= 1e-15 && def->rtol < 1)) {
+        status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, "integrator.rtol",
+                               "must be in [1e-15, 1), got %g", def->rtol);
+    }
+    if (status == TB_STATUS_OK) {
+        status = tb__json_number(ld, object, "integrator", "atol", false, &def->atol);
+    }
+    if (status == TB_STATUS_OK) {
+        status = tb__check_non_negative_at(ld, "integrator", "atol", def->atol);
+    }
+    return status;
+}
+
+/* max_steps, max_order. */
+static tb_status load_limits(tb__loader *ld, const json_t *object, tb_integrator_def *def)
+{
+    long max_order = def->max_order;
+    tb_status status =
+        tb__json_count(ld, object, "integrator", "max_steps", false, &def->max_steps);
+    if (status == TB_STATUS_OK) {
+        status = tb__check_positive_at(ld, "integrator", "max_steps", (double)def->max_steps);
+    }
+    if (status == TB_STATUS_OK) {
+        status = tb__json_count(ld, object, "integrator", "max_order", false, &max_order);
+    }
+    if (status == TB_STATUS_OK && max_order > tb_method_order(def->method)) {
+        status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, "integrator.max_order",
+                               "must be at most %d for %s, got %ld", tb_method_order(def->method),
+                               tb_method_name(def->method), max_order);
+    }
+    if (status == TB_STATUS_OK) {
+        def->max_order = (int)max_order;
+    }
+    return status;
+}
+
+tb_status tb__load_integrator(tb__loader *ld, const json_t *object)
+{
+    static const char *const keys[] = {"method",    "dt",        "rtol",          "atol",
+                                       "max_steps", "max_order", "linear_solver", "allow_unstable",
+                                       NULL};
+    tb_status status = tb__json_object(ld, object, "integrator", keys);
+    tb_integrator_def *def = &ld->run.integrator;
+    const char *method = NULL;
+    if (status == TB_STATUS_OK) {
+        status = tb__json_string(ld, object, "integrator", "method", false, &method);
+    }
+    if (status == TB_STATUS_OK && method != NULL &&
+        tb_method_from_name(method, &def->method) != TB_STATUS_OK) {
+        status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, "integrator.method",
+                               "must be one of euler, midpoint, rk4, cvode-adams, cvode-bdf, got "
+                               "\"%s\"",
+                               method);
+    }
+    if (status == TB_STATUS_OK) {
+        status = check_settings_fit(ld, object, def->method);
+    }
+    if (status == TB_STATUS_OK) {
+        status = load_step_settings(ld, object, def);
+    }
+    if (status == TB_STATUS_OK) {
+        status = load_limits(ld, object, def);
+    }
+    const json_t *unstable = json_object_get(object, "allow_unstable");
+    if (status == TB_STATUS_OK && unstable != NULL && !json_is_boolean(unstable)) {
+        status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, "integrator.allow_unstable",
+                               "must be true or false, got %s", tb__json_kind(unstable));
+    }
+    tb_scene_set_allow_unstable(ld->scene, unstable != NULL && json_is_true(unstable));
+    return status == TB_STATUS_OK ? load_linear_solver(ld, object, def) : status;
+}
+
+tb_status tb__load_output(tb__loader *ld, const json_t *object)
+{
+    static const char *const keys[] = {"fps", "duration", NULL};
+    tb_status status = tb__json_object(ld, object, "output", keys);
+    if (status == TB_STATUS_OK) {
+        status = tb__json_number(ld, object, "output", "fps", false, &ld->run.fps);
+    }
+    if (status == TB_STATUS_OK) {
+        status = tb__check_positive_at(ld, "output", "fps", ld->run.fps);
+    }
+    if (status == TB_STATUS_OK) {
+        status = tb__json_number(ld, object, "output", "duration", false, &ld->run.duration);
+    }
+    if (status == TB_STATUS_OK) {
+        status = tb__check_non_negative_at(ld, "output", "duration", ld->run.duration);
+    }
+    /* tb_scene_run refuses more than 1e9 frames; refused here too, so that checking a scene
+     * refuses what running it would. */
+    if (status == TB_STATUS_OK && ld->run.duration * ld->run.fps > TB__MAX_FRAMES) {
+        status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, "output",
+                               "duration %g s at %g fps is %g frames, more than the %g a run "
+                               "allows",
+                               ld->run.duration, ld->run.fps, ld->run.duration * ld->run.fps,
+                               TB__MAX_FRAMES);
+    }
+    return status;
+}
