@@ -184,8 +184,9 @@ TB_API int tb_scene_derivative(double t, const double *y, double *dydt, void *ct
 TB_API int tb_scene_normalize_quaternions(double t, double *y, void *ctx);
 
 /* The largest fixed step at which method keeps every mode of the scene, at its current state,
- * from growing by more than 1% a step (oscillations: |h lambda| below 2.78 for RK4, 0.53 for
- * midpoint, 0.14 for Euler) or at all (decay: 2.785 for RK4, 2 for midpoint and Euler). The
+ * from growing (oscillations: |h lambda| up to tb_method_info.imaginary_limit, 2.83 for RK4;
+ * Euler and midpoint amplify every oscillation, and are held to 1% a step: 0.14 and 0.53;
+ * decay: real_limit, 2.785 for RK4, 2 for midpoint and Euler). The
  * rates lambda are bounded from what makes them (docs/physics.md, "Stability"): each body's
  * spin |omega|; springs from k and c with the inverse mass at their ends (rotation included,
  * bounded by the smallest moment); drag (b + 2 c |v|) / M and its angular twin over the

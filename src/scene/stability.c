@@ -18,28 +18,6 @@
 #include <stdarg.h>
 #include <stdio.h>
 
-/* Where a method's stability region ends (|h lambda|), on the imaginary axis where one step
- * amplifies an oscillation by 1% (the root of |R(i y)| = 1.01: Euler 1 + y^2, midpoint
- * 1 + y^4 / 4; RK4 is stable to 2.83 and 2.78 keeps the margin of the real axis), and on the
- * negative real axis where |R(x)| = 1 (Euler and midpoint 2, RK4 2.785). */
-static void step_limits(tb_method method, double *imaginary, double *real)
-{
-    switch (method) {
-    case TB_METHOD_EULER:
-        *imaginary = 0.14, *real = 2.0;
-        return;
-    case TB_METHOD_MIDPOINT:
-        *imaginary = 0.53, *real = 2.0;
-        return;
-    case TB_METHOD_RK4:
-        *imaginary = 2.78, *real = 2.785;
-        return;
-    default:
-        *imaginary = INFINITY, *real = INFINITY;
-        return;
-    }
-}
-
 /* The smallest step limit found so far and what sets it. */
 typedef struct guard {
     double imaginary, real; /* the method's limits */
@@ -103,12 +81,16 @@ static void effect_modes(guard *g, const tb_scene *scene, size_t k, const double
 /* The largest stable step of method for the scene at state y, and what limits it. */
 static void stable_step(const tb_scene *scene, const double *y, tb_method method, guard *g)
 {
-    step_limits(method, &g->imaginary, &g->real);
+    /* the method table's limits: |h lambda| where an oscillation grows by at most 1% a step
+     * (imaginary axis) and where a decay stops decaying (real axis) */
+    tb_method_info info;
     g->dt = INFINITY;
     g->which[0] = '\0';
-    if (!isfinite(g->imaginary)) {
+    if (tb_method_get_info(method, &info) != TB_STATUS_OK || info.adaptive) {
         return; /* adaptive: error control chooses the step */
     }
+    g->imaginary = info.imaginary_limit;
+    g->real = info.real_limit;
     rotation_modes(g, scene, y);
     for (size_t k = 0; k < scene->effect_count; ++k) {
         effect_modes(g, scene, k, y);
