@@ -201,7 +201,7 @@ static void set_up(fixture *f)
     X("run: NULL def", NULL_POINTER, tb_scene_run(f->scene, NULL, NULL, NULL, NULL, NULL))         \
     X("run: zero fps", INVALID_ARGUMENT,                                                           \
       tb_scene_run(f->scene, &f->zero_fps, NULL, NULL, NULL, NULL))                                \
-    X("run: infinite duration", INVALID_ARGUMENT,                                                  \
+    X("run: infinite duration", NOT_FINITE,                                                        \
       tb_scene_run(f->scene, &f->infinite_run, NULL, NULL, NULL, NULL))                            \
     X("load_file: NULL path", NULL_POINTER,                                                        \
       tb_scene_load_file(NULL, &f->other_scene, &f->run, NULL))                                    \

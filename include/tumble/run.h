@@ -23,12 +23,26 @@ typedef struct tb_run_def {
 
 TB_API tb_run_def tb_run_def_default(void);
 
+/* Most frames a run makes (a frame past the first at t = 0). */
+#define TB_RUN_MAX_FRAMES 1e9
+
+/* The number of the last frame of a run: floor(duration * fps), a duration within 1e-9 of a
+ * frame past a whole number of frames ending on that frame (5 s at 60 fps: 300, so 301 frames
+ * with t = 0). Refuses what tb_scene_run refuses: NaN/inf (NOT_FINITE), fps <= 0, duration < 0
+ * or more than TB_RUN_MAX_FRAMES frames (INVALID_ARGUMENT), naming the argument; out_error may
+ * be NULL. Front ends ask it so that checking a scene refuses what running it would. */
+TB_API tb_status tb_run_frame_count(double duration, double fps, size_t *out_frames,
+                                    tb_error *out_error);
+
 /* Called at t = 0 and at every frame time k / fps up to the duration (frame k), with the scene
  * holding the states at that time (quaternions normalised). Return 0 to go on, non-zero to
  * stop the run (tb_scene_run then returns TB_STATUS_CANCELLED). */
 typedef int (*tb_frame_fn)(size_t frame, double t, const tb_scene *scene, void *ctx);
 
-/* Runs the scene from its current state at t = 0 for def->duration seconds. Adaptive methods
+/* Runs the scene from its current state at t = 0 for def->duration seconds. A fixed step the
+ * state outgrows during the run (spin or speed rising past tb_scene_max_stable_step) stops it
+ * after the frame where that is found, before that frame is handed on, with
+ * TB_STATUS_UNSTABLE_STEP. Adaptive methods
  * take their steps as their error control decides and frames come from their interpolant,
  * so the frame rate does not change the solution. out_stats (may be NULL) receives what the
  * integrator did, also on failure. On failure the scene holds the last good state and

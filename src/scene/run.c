@@ -2,6 +2,7 @@
 #include "tumble/run.h"
 
 #include "core/detail.h"
+#include "scene/scene_internal.h"
 
 #include <math.h>
 #include <string.h>
@@ -36,12 +37,48 @@ static tb_status validate(const tb_scene *scene, const tb_run_def *def, tb_error
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
                              "fps: must be finite and > 0, got %g", def->fps);
     }
-    if (!(def->duration >= 0) || !isfinite(def->duration) || def->duration * def->fps > 1e9) {
-        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
-                             "duration: must be finite, >= 0 and at most 1e9 frames, got %g",
-                             def->duration);
+    size_t frames;
+    return tb_run_frame_count(def->duration, def->fps, &frames, error);
+}
+
+tb_status tb_run_frame_count(double duration, double fps, size_t *out_frames, tb_error *out_error)
+{
+    tb__clear_error(out_error);
+    if (out_frames == NULL) {
+        return tb__set_error(out_error, TB_STATUS_NULL_POINTER, "out_frames is NULL");
     }
+    if (!isfinite(fps) || !isfinite(duration)) {
+        return tb__set_error(out_error, TB_STATUS_NOT_FINITE, "%s: must be finite, got %g",
+                             isfinite(fps) ? "duration" : "fps", isfinite(fps) ? duration : fps);
+    }
+    if (!(fps > 0)) {
+        return tb__set_error(out_error, TB_STATUS_INVALID_ARGUMENT, "fps: must be > 0, got %g",
+                             fps);
+    }
+    /* compared before the product is converted, so no value overflows the conversion */
+    const double frames = floor(duration * fps + TB__FRAME_SLACK);
+    if (!(duration >= 0) || !(frames <= TB_RUN_MAX_FRAMES)) {
+        return tb__set_error(out_error, TB_STATUS_INVALID_ARGUMENT,
+                             "duration: must be >= 0 and at most %g frames at %g fps (%g s), got "
+                             "%g s",
+                             (double)TB_RUN_MAX_FRAMES, fps, TB_RUN_MAX_FRAMES / fps, duration);
+    }
+    *out_frames = (size_t)frames;
     return TB_STATUS_OK;
+}
+
+/* After a frame: a fixed step that the state has outgrown (a spin or speed that rose) stops the
+ * run before the frame is handed on. */
+static tb_status check_frame(tb_scene *scene, const tb_run_def *def, double t, tb_error *error)
+{
+    if (tb_method_is_adaptive(def->integrator.method)) {
+        return TB_STATUS_OK;
+    }
+    char detail[TB_DETAIL_SIZE];
+    const tb_status status = tb__scene_check_step(
+        scene, tb_scene_states_const(scene), def->integrator.method, def->integrator.dt, detail);
+    return status == TB_STATUS_OK ? status
+                                  : tb__set_error(error, status, "at t = %g s: %s", t, detail);
 }
 
 tb_status tb_scene_run(tb_scene *scene, const tb_run_def *def, tb_frame_fn on_frame, void *ctx,
@@ -60,12 +97,15 @@ tb_status tb_scene_run(tb_scene *scene, const tb_run_def *def, tb_frame_fn on_fr
     if (status != TB_STATUS_OK) {
         return tb__set_error(out_error, status, "%s", tb_scene_detail(scene));
     }
-    const size_t frames = (size_t)floor(def->duration * def->fps + TB__FRAME_SLACK);
+    size_t frames = 0;
+    tb_run_frame_count(def->duration, def->fps, &frames, NULL);
     for (size_t k = 0; k <= frames && status == TB_STATUS_OK; ++k) {
         const double t = (double)k / def->fps;
         status = tb_integrator_advance(integrator, t);
         if (status != TB_STATUS_OK) {
             tb__set_error(out_error, status, "%s", tb_integrator_detail(integrator));
+        } else if ((status = check_frame(scene, def, t, out_error)) != TB_STATUS_OK) {
+            break;
         } else if (on_frame != NULL && on_frame(k, t, scene, ctx) != 0) {
             status = tb__set_error(out_error, TB_STATUS_CANCELLED,
                                    "the frame callback stopped the run at t = %g", t);

@@ -261,20 +261,21 @@ static tb_status validate_body_def(tb_scene *scene, const tb_body_def *def)
 }
 
 /* The constants the derivative divides by: a finite mass or moment whose inverse overflows
- * (a subnormal mass) is refused here, naming the field, rather than turning every state into
+ * (a subnormal mass) is refused here, naming the field (NOT_FINITE: the value it makes is),
+ * rather than turning every state into
  * infinity at the first step. */
 static tb_status body_constants(tb_scene *scene, const tb_mass_properties *props, tb__body *out)
 {
     out->mass = props->mass;
     out->inv_mass = 1.0 / props->mass;
     if (!isfinite(out->inv_mass)) {
-        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+        return tb__scene_fail(scene, TB_STATUS_NOT_FINITE,
                               "def.mass.mass: %g kg is too small: 1/mass overflows", props->mass);
     }
     for (int k = 0; k < 3; ++k) {
         out->inv_moments[k] = 1.0 / props->moments[k];
         if (!isfinite(out->inv_moments[k])) {
-            return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+            return tb__scene_fail(scene, TB_STATUS_NOT_FINITE,
                                   "def.mass.moments[%d]: %g kg m^2 is too small: 1/moment "
                                   "overflows",
                                   k, props->moments[k]);
@@ -298,13 +299,13 @@ static tb_status momenta(tb_scene *scene, const tb_mass_properties *props, const
     }
     tb__q_rotate(out_L, q, omega_body);
     if (!tb__all_finite(out_P, 3)) {
-        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+        return tb__scene_fail(scene, TB_STATUS_NOT_FINITE,
                               "%svelocity: momentum mass * velocity overflows (%g kg at |v| = "
                               "%g m/s)",
                               prefix, props->mass, tb__v3_norm(v));
     }
     if (!tb__all_finite(out_L, 3)) {
-        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+        return tb__scene_fail(scene, TB_STATUS_NOT_FINITE,
                               "%sangular_velocity: angular momentum I omega overflows (|omega| = "
                               "%g rad/s)",
                               prefix, tb__v3_norm(omega));

@@ -231,6 +231,9 @@ static tb_status scene_integrator_def(tb_scene *scene, const tb_integrator_def *
 tb_status tb_scene_integrator_create(tb_scene *scene, const tb_integrator_def *def, double t0,
                                      tb_integrator **out_integrator)
 {
+    if (out_integrator != NULL) {
+        *out_integrator = NULL; /* also on failure */
+    }
     tb_ode_system system;
     tb_status status = tb_scene_ode_system(scene, &system);
     if (status == TB_STATUS_OK && (def == NULL || out_integrator == NULL)) {
