@@ -380,6 +380,184 @@ static void test_a_fast_ball_does_not_tunnel_through_the_ground(void **state)
     tb_scene_destroy(scene);
 }
 
+/* --- the general stability guard ---------------------------------------------------------- */
+
+static tb_scene *one_sphere(double mass, double radius, const double omega[3])
+{
+    const double I = 0.4 * mass * radius * radius;
+    return test_scene_one_body(mass, (double[]){I, I, I}, NULL, omega);
+}
+
+static double method_limit(tb_method method, int imaginary)
+{
+    tb_method_info info;
+    assert_int_equal(tb_method_get_info(method, &info), TB_STATUS_OK);
+    return imaginary ? info.imaginary_limit : info.real_limit;
+}
+
+/* Linear drag F = -b v with b / m = 1000/s: at the default 1/240 s, h b / m = 4.2 is past
+ * RK4's real-axis limit (2.785), where each step multiplied v by R(-4.2) = 9.6 (1e70 m/s in a
+ * second): refused with UNSTABLE_STEP naming the drag and its rate. At half the suggested
+ * step P' = -(b/m) P is linear, so each RK4 step multiplies v by exactly R(z) = 1 + z + z^2/2 +
+ * z^3/6 + z^4/24 at z = -h b / m; v after n steps is v0 R(z)^n (to 1e-12 relative, rounding),
+ * below v0 (|R| < 1 inside the limit) where the exact solution is v0 e^(-b t / m). */
+static void test_drag_past_the_real_axis_limit_is_refused_and_decays_inside_it(void **state)
+{
+    (void)state;
+    tb_scene *scene = one_sphere(1.0, 0.1, (double[]){0, 0, 0});
+    tb_scene_set_velocity(scene, 0, (double[]){1, 0, 0}, (double[]){0, 0, 0});
+    tb_drag_def drag = tb_drag_def_default();
+    drag.linear = 1000.0;
+    assert_int_equal(tb_scene_add_drag(scene, &drag), TB_STATUS_OK);
+    tb_integrator_def def = tb_integrator_def_default();
+    tb_integrator *integrator = NULL;
+    assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator),
+                     TB_STATUS_UNSTABLE_STEP);
+    print_message("%s\n", tb_scene_detail(scene));
+    assert_non_null(strstr(tb_scene_detail(scene), "(drag) on body 0"));
+    assert_non_null(strstr(tb_scene_detail(scene), "rate 1e+03 1/s"));
+    double max_dt;
+    assert_int_equal(tb_scene_max_stable_step(scene, TB_METHOD_RK4, &max_dt, NULL), TB_STATUS_OK);
+    assert_near(max_dt, method_limit(TB_METHOD_RK4, 0) / 1000.0, 1e-15);
+    def.dt = max_dt / 2.0;
+    assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator), TB_STATUS_OK);
+    const int n = 20;
+    assert_int_equal(tb_integrator_advance(integrator, n * def.dt), TB_STATUS_OK);
+    const double z = -def.dt * 1000.0;
+    const double R = 1 + z + z * z / 2 + z * z * z / 6 + z * z * z * z / 24;
+    tb_body_state s;
+    tb_scene_get_state(scene, 0, &s);
+    print_message("v after %d steps %.6e, v0 R^n %.6e\n", n, s.P[0], pow(R, n));
+    assert_near(s.P[0] / pow(R, n), 1.0, 1e-12);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
+/* A sphere spinning at 2000 rad/s: at 1/240 s a step turns it 8.3 rad, past RK4's reach on the
+ * imaginary axis (the quaternion's rate is |omega| / 2 = 1000/s, h 1000 = 4.2 > 2.83) and it was
+ * 72-144 degrees off at most frames: refused naming the body and its spin. At the suggested
+ * step h = 2.83 / |omega| (the gyroscopic modes reach |omega|) the run is stable and its error
+ * is RK4's phase lag, known exactly: for a sphere omega is constant, q' = 1/2 Omega q is linear
+ * with Omega^2 = -|omega|^2, so a step (then renormalised) turns the body by
+ * 2 atan2(z - z^3/6, 1 - z^2/2 + z^4/24) with z = h |omega| / 2 instead of 2 z. The test checks
+ * the turn after 7 steps against that to 1e-9 rad (rounding). */
+static void test_a_fast_spin_is_refused_and_lags_as_rk4_predicts_inside_the_limit(void **state)
+{
+    (void)state;
+    const double spin = 2000.0;
+    tb_scene *scene = one_sphere(1.0, 0.1, (double[]){0, 0, spin});
+    tb_integrator_def def = tb_integrator_def_default();
+    tb_integrator *integrator = NULL;
+    assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator),
+                     TB_STATUS_UNSTABLE_STEP);
+    print_message("%s\n", tb_scene_detail(scene));
+    assert_non_null(strstr(tb_scene_detail(scene), "spinning at 2e+03 rad/s"));
+    double max_dt;
+    tb_scene_max_stable_step(scene, TB_METHOD_RK4, &max_dt, NULL);
+    assert_near(max_dt * spin, method_limit(TB_METHOD_RK4, 1), 1e-12);
+    def.dt = max_dt;
+    assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator), TB_STATUS_OK);
+    const int n = 7;
+    assert_int_equal(tb_integrator_advance(integrator, n * max_dt), TB_STATUS_OK);
+    const double z = max_dt * spin / 2.0;
+    const double turn = 2.0 * atan2(z - z * z * z / 6, 1 - z * z / 2 + z * z * z * z / 24);
+    tb_body_state s;
+    tb_scene_get_state(scene, 0, &s);
+    /* q = (cos(angle / 2), 0, 0, sin(angle / 2)); compare on the circle */
+    const double expected = n * turn;
+    const double off =
+        atan2(sin(2 * atan2(s.q[3], s.q[0]) - expected), cos(2 * atan2(s.q[3], s.q[0]) - expected));
+    print_message("turn per step %.6f rad (exact %.6f): lag %.4f rad a step; after %d steps "
+                  "off the prediction by %.1e rad\n",
+                  turn, 2 * z, 2 * z - turn, n, off);
+    assert_near(off, 0.0, 1e-9);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
+/* A 0.1 kg ball (I = 1e-4 kg m^2) carried by four contact points 0.7 m from its centre: its
+ * rocking on them is ~22 times faster than its bounce (M r^2 / I ~ 500), and overdamped; at
+ * 1/240 s it spun up to 3e6 rad/s. Refused, naming the contact. At the suggested step, rocked
+ * at 1 rad/s, it stays bounded by energy: contact and friction only take energy out, so
+ * kinetic energy never exceeds the initial kinetic energy plus the potential energy lost,
+ * KE <= KE0 + M g (z0 - z) (to 1e-9 J, the integration error over the run). */
+static void
+test_a_light_body_on_wide_points_is_refused_and_bounded_by_energy_inside_it(void **state)
+{
+    (void)state;
+    const double mass = 0.1, g = 9.81;
+    tb_scene *scene = one_sphere(mass, 0.05, (double[]){1, 0, 0});
+    tb_contact_point points[4];
+    for (int k = 0; k < 4; ++k) {
+        points[k] = (tb_contact_point){{k & 1 ? 0.5 : -0.5, k & 2 ? 0.5 : -0.5, -0.05}, 0.0};
+    }
+    assert_int_equal(tb_scene_set_contact_points(scene, 0, points, 4, 4), TB_STATUS_OK);
+    tb_ground_def ground = tb_ground_def_default();
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+    assert_int_equal(tb_scene_add_gravity(scene, (double[]){0, 0, -g}), TB_STATUS_OK);
+    tb_body_state s0;
+    tb_scene_get_state(scene, 0, &s0);
+    s0.x[2] = 0.05;
+    tb_scene_set_state(scene, 0, &s0);
+    double KE0;
+    tb_scene_kinetic_energy(scene, tb_scene_states(scene), &KE0);
+    tb_integrator_def def = tb_integrator_def_default();
+    tb_integrator *integrator = NULL;
+    assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator),
+                     TB_STATUS_UNSTABLE_STEP);
+    print_message("%s\n", tb_scene_detail(scene));
+    assert_non_null(strstr(tb_scene_detail(scene), "(ground contact) on body 0"));
+    tb_scene_max_stable_step(scene, TB_METHOD_RK4, &def.dt, NULL);
+    assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator), TB_STATUS_OK);
+    double worst = -INFINITY, fastest = 0.0;
+    for (int frame = 1; frame <= 30; ++frame) {
+        assert_int_equal(tb_integrator_advance(integrator, frame / 60.0), TB_STATUS_OK);
+        double KE, omega[3];
+        tb_scene_kinetic_energy(scene, tb_scene_states(scene), &KE);
+        tb_scene_body_angular_velocity(scene, tb_scene_states(scene), 0, omega);
+        const double z = tb_scene_states(scene)[TB_STATE_X + 2];
+        worst = fmax(worst, KE - (KE0 + mass * g * (s0.x[2] - z)));
+        fastest =
+            fmax(fastest, sqrt(omega[0] * omega[0] + omega[1] * omega[1] + omega[2] * omega[2]));
+    }
+    print_message("dt %.3g s: fastest spin %.3g rad/s, KE - (KE0 + M g drop) at most %.2e J\n",
+                  def.dt, fastest, worst);
+    assert_true(worst <= 1e-9);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
+static int last_frame(size_t frame, double t, const tb_scene *scene, void *ctx)
+{
+    (void)frame;
+    (void)scene;
+    *(double *)ctx = t;
+    return 0;
+}
+
+/* A constant torque spins a sphere up (omega = tau t / I exactly: RK4 integrates a constant
+ * exactly) past RK4's limit for 1/240 s, 2.83 * 240 = 679 rad/s, at t = 0.679 s: the run
+ * stops with UNSTABLE_STEP at the first frame past it, and the frames handed on end before. */
+static void test_a_spin_growing_past_the_limit_stops_the_run(void **state)
+{
+    (void)state;
+    tb_scene *scene = one_sphere(2.5, 0.1, (double[]){0, 0, 0}); /* I = 0.01 kg m^2 */
+    assert_int_equal(tb_scene_add_torque(scene, 0, (double[]){0, 0, 10.0}, TB_FRAME_WORLD),
+                     TB_STATUS_OK);
+    tb_run_def run = tb_run_def_default();
+    run.duration = 2.0;
+    double t_last = -1.0;
+    tb_error error;
+    assert_int_equal(tb_scene_run(scene, &run, last_frame, &t_last, NULL, &error),
+                     TB_STATUS_UNSTABLE_STEP);
+    const double t_limit = method_limit(TB_METHOD_RK4, 1) * 240.0 / 1000.0;
+    print_message("%s; last frame handed on at t = %.4f s, limit reached at %.4f s\n",
+                  error.message, t_last, t_limit);
+    assert_true(t_last <= t_limit && t_last > t_limit - 1.0 / 60.0);
+    assert_non_null(strstr(error.message, "spinning at"));
+    tb_scene_destroy(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -391,6 +569,11 @@ int main(void)
         cmocka_unit_test(test_a_block_at_the_friction_thresholds_holds_or_breaks_away),
         cmocka_unit_test(test_a_dropped_box_comes_to_rest_without_jitter),
         cmocka_unit_test(test_a_fast_ball_does_not_tunnel_through_the_ground),
+        cmocka_unit_test(test_drag_past_the_real_axis_limit_is_refused_and_decays_inside_it),
+        cmocka_unit_test(test_a_fast_spin_is_refused_and_lags_as_rk4_predicts_inside_the_limit),
+        cmocka_unit_test(
+            test_a_light_body_on_wide_points_is_refused_and_bounded_by_energy_inside_it),
+        cmocka_unit_test(test_a_spin_growing_past_the_limit_stops_the_run),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

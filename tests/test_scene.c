@@ -13,6 +13,7 @@
 #include "tumble/tumble.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 /* A body whose principal frame is turned against its shape frame: a full tensor with
@@ -305,6 +306,170 @@ static void test_empty_scene_and_null_handles_are_errors_not_crashes(void **stat
     assert_non_null(strstr(error.message, "tb_scene_def_default"));
 }
 
+static tb_body_def sphere_of_mass(double mass)
+{
+    tb_body_def def = tb_body_def_default();
+    def.mass.mass = mass;
+    for (int k = 0; k < 3; ++k) {
+        def.mass.moments[k] = 0.4 * mass * 0.01; /* a sphere of radius 0.1 m */
+    }
+    return def;
+}
+
+/* What set-up would make non-finite is refused, naming the field, and nothing is added or
+ * changed: 1/M of a subnormal mass (refused by the mass range), P = M v and L = I omega that
+ * overflow, in tb_scene_add_body and tb_scene_set_velocity. */
+static void test_set_up_that_overflows_is_refused_naming_the_field(void **state)
+{
+    (void)state;
+    tb_scene *scene = new_scene(1);
+    tb_body_def def = sphere_of_mass(5e-324);
+    assert_int_not_equal(tb_scene_add_body(scene, &def, NULL), TB_STATUS_OK);
+    assert_non_null(strstr(tb_scene_detail(scene), "mass"));
+    def = sphere_of_mass(1e100);
+    def.velocity[0] = 1e300;
+    assert_int_equal(tb_scene_add_body(scene, &def, NULL), TB_STATUS_NOT_FINITE);
+    assert_non_null(strstr(tb_scene_detail(scene), "def.velocity"));
+    def = sphere_of_mass(1.0);
+    def.angular_velocity[1] = 1.7976931348623157e308; /* I omega = 4e-3 * 1.8e308 is finite */
+    def.angular_velocity[0] = 1e10;
+    def.mass.moments[0] = def.mass.moments[1] = def.mass.moments[2] = 10.0;
+    assert_int_equal(tb_scene_add_body(scene, &def, NULL), TB_STATUS_NOT_FINITE);
+    assert_non_null(strstr(tb_scene_detail(scene), "def.angular_velocity"));
+    assert_int_equal(tb_scene_body_count(scene), 0);
+
+    def = sphere_of_mass(1e100);
+    assert_int_equal(tb_scene_add_body(scene, &def, NULL), TB_STATUS_OK);
+    tb_body_state before, after;
+    tb_scene_get_state(scene, 0, &before);
+    assert_int_equal(tb_scene_set_velocity(scene, 0, (double[]){0, 0, 1e300}, (double[]){0, 0, 0}),
+                     TB_STATUS_NOT_FINITE);
+    assert_non_null(strstr(tb_scene_detail(scene), "velocity: momentum"));
+    tb_scene_get_state(scene, 0, &after);
+    assert_memory_equal(&before, &after, sizeof before);
+    tb_scene_destroy(scene);
+}
+
+/* The derivative and the renormalisation hook refuse a NULL state with a fatal (< 0) return,
+ * whatever the body count, instead of reading through it. */
+static void test_derivative_and_hook_refuse_a_null_state(void **state)
+{
+    (void)state;
+    tb_scene *scene = new_scene(1);
+    tb_body_def def = sphere_of_mass(1.0);
+    assert_int_equal(tb_scene_add_body(scene, &def, NULL), TB_STATUS_OK);
+    double dydt[TB_STATE_SIZE];
+    assert_true(tb_scene_derivative(0.0, NULL, dydt, scene) < 0);
+    assert_true(tb_scene_derivative(0.0, tb_scene_states(scene), NULL, scene) < 0);
+    assert_true(tb_scene_normalize_quaternions(0.0, NULL, scene) < 0);
+    assert_int_equal(tb_scene_derivative(0.0, tb_scene_states(scene), dydt, scene), 0);
+    tb_scene_destroy(scene);
+}
+
+/* Every scene function clears the last failure's detail before it checks, so a NULL argument
+ * is reported as itself, not as the failure before it. */
+static void test_a_null_argument_replaces_the_previous_detail(void **state)
+{
+    (void)state;
+    tb_scene *scene = new_scene(1);
+    tb_body_def def = sphere_of_mass(1.0);
+    assert_int_equal(tb_scene_add_body(scene, &def, NULL), TB_STATUS_OK);
+#define TB_EXPECT_NULL(call, name)                                                                 \
+    do {                                                                                           \
+        tb_scene_add_gravity(scene, (double[]){NAN, 0, 0});                                        \
+        assert_non_null(strstr(tb_scene_detail(scene), "NaN"));                                    \
+        assert_int_equal((call), TB_STATUS_NULL_POINTER);                                          \
+        assert_non_null(strstr(tb_scene_detail(scene), name " is NULL"));                          \
+    } while (0)
+    size_t id;
+    double dt;
+    tb_ode_system system;
+    tb_integrator *integrator = NULL;
+    tb_integrator_def idef = tb_integrator_def_default();
+    TB_EXPECT_NULL(tb_scene_add_body(scene, NULL, NULL), "def");
+    TB_EXPECT_NULL(tb_scene_set_state(scene, 0, NULL), "state");
+    TB_EXPECT_NULL(tb_scene_get_state(scene, 0, NULL), "out_state");
+    TB_EXPECT_NULL(tb_scene_set_velocity(scene, 0, NULL, (double[]){0, 0, 0}), "velocity");
+    TB_EXPECT_NULL(tb_scene_set_velocity(scene, 0, (double[]){0, 0, 0}, NULL), "angular_velocity");
+    TB_EXPECT_NULL(tb_scene_get_mass(scene, 0, NULL), "out_mass");
+    TB_EXPECT_NULL(tb_scene_find_body(scene, NULL, &id), "name");
+    TB_EXPECT_NULL(tb_scene_ode_system(scene, NULL), "out_system");
+    TB_EXPECT_NULL(tb_scene_max_stable_step(scene, TB_METHOD_RK4, NULL, NULL), "out_dt");
+    TB_EXPECT_NULL(tb_scene_absolute_tolerances(scene, 1.0, NULL), "out_atol");
+    TB_EXPECT_NULL(tb_scene_integrator_create(scene, NULL, 0.0, &integrator), "def");
+    TB_EXPECT_NULL(tb_scene_integrator_create(scene, &idef, 0.0, NULL), "out_integrator");
+#undef TB_EXPECT_NULL
+    (void)dt;
+    (void)system;
+    tb_scene_destroy(scene);
+}
+
+/* A failed tb_scene_integrator_create leaves *out_integrator NULL, whatever it held. */
+static void test_a_refused_integrator_is_null(void **state)
+{
+    (void)state;
+    tb_scene *scene = new_scene(1);
+    tb_integrator_def def = tb_integrator_def_default();
+    tb_integrator *integrator = (tb_integrator *)&def;
+    assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator),
+                     TB_STATUS_INVALID_ARGUMENT); /* no bodies */
+    assert_null(integrator);
+    tb_scene_destroy(scene);
+}
+
+/* A start time so large that doubles near it are coarser than the step (at 1e15 s they are
+ * 0.125 s apart, 30 steps of 1/240 s) is refused naming t0, instead of taking 0 s steps. The
+ * limit is a spacing of 1e-6 dt: 1e9 s (spacing 1.2e-7 s) is refused at 1/240 s, 1e6 s
+ * (1.2e-10 s) is not. */
+static void test_a_start_time_too_coarse_for_the_step_is_refused(void **state)
+{
+    (void)state;
+    tb_scene *scene = new_scene(1);
+    tb_body_def body = sphere_of_mass(1.0);
+    assert_int_equal(tb_scene_add_body(scene, &body, NULL), TB_STATUS_OK);
+    tb_integrator_def def = tb_integrator_def_default();
+    tb_integrator *integrator = NULL;
+    const double refused[2] = {1e15, 1e9};
+    for (int k = 0; k < 2; ++k) {
+        assert_int_equal(tb_scene_integrator_create(scene, &def, refused[k], &integrator),
+                         TB_STATUS_INVALID_ARGUMENT);
+        assert_non_null(strstr(tb_scene_detail(scene), "t0: "));
+    }
+    assert_int_equal(tb_scene_integrator_create(scene, &def, 1e6, &integrator), TB_STATUS_OK);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
+/* Names by hash: 20000 bodies named "b<i>" (and 20000 named by default) are each found at
+ * their id, a duplicate is refused naming the body that has it, and an unknown name is
+ * OUT_OF_RANGE with a detail. */
+static void test_every_name_is_found_and_duplicates_are_refused(void **state)
+{
+    (void)state;
+    tb_scene *scene = new_scene(1);
+    tb_body_def def = sphere_of_mass(1.0);
+    char name[32];
+    for (size_t i = 0; i < 40000; ++i) {
+        snprintf(name, sizeof name, "b%zu", i);
+        def.name = i % 2 == 0 ? name : NULL;
+        assert_int_equal(tb_scene_add_body(scene, &def, NULL), TB_STATUS_OK);
+    }
+    for (size_t i = 0; i < 40000; ++i) {
+        size_t id = SIZE_MAX;
+        snprintf(name, sizeof name, i % 2 == 0 ? "b%zu" : "body%zu", i);
+        assert_int_equal(tb_scene_find_body(scene, name, &id), TB_STATUS_OK);
+        assert_int_equal(id, i);
+    }
+    def.name = "b400";
+    assert_int_equal(tb_scene_add_body(scene, &def, NULL), TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(strstr(tb_scene_detail(scene), "already body 400's name"));
+    size_t id;
+    assert_int_equal(tb_scene_find_body(scene, "b401", &id), TB_STATUS_OUT_OF_RANGE);
+    assert_non_null(strstr(tb_scene_detail(scene), "b401"));
+    assert_int_equal(tb_scene_body_count(scene), 40000);
+    tb_scene_destroy(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -313,6 +478,12 @@ int main(void)
         cmocka_unit_test(test_total_momenta_add_orbital_and_spin_parts),
         cmocka_unit_test(test_bad_input_is_refused_and_changes_nothing),
         cmocka_unit_test(test_empty_scene_and_null_handles_are_errors_not_crashes),
+        cmocka_unit_test(test_set_up_that_overflows_is_refused_naming_the_field),
+        cmocka_unit_test(test_derivative_and_hook_refuse_a_null_state),
+        cmocka_unit_test(test_a_null_argument_replaces_the_previous_detail),
+        cmocka_unit_test(test_a_refused_integrator_is_null),
+        cmocka_unit_test(test_a_start_time_too_coarse_for_the_step_is_refused),
+        cmocka_unit_test(test_every_name_is_found_and_duplicates_are_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
