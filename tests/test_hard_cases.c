@@ -414,7 +414,7 @@ static void test_drag_past_the_real_axis_limit_is_refused_and_decays_inside_it(v
     assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator),
                      TB_STATUS_UNSTABLE_STEP);
     print_message("%s\n", tb_scene_detail(scene));
-    assert_non_null(strstr(tb_scene_detail(scene), "(drag) on body 0"));
+    assert_non_null(strstr(tb_scene_detail(scene), "(a drag) on body 0"));
     assert_non_null(strstr(tb_scene_detail(scene), "rate 1e+03 1/s"));
     double max_dt;
     assert_int_equal(tb_scene_max_stable_step(scene, TB_METHOD_RK4, &max_dt, NULL), TB_STATUS_OK);
@@ -506,7 +506,7 @@ test_a_light_body_on_wide_points_is_refused_and_bounded_by_energy_inside_it(void
     assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator),
                      TB_STATUS_UNSTABLE_STEP);
     print_message("%s\n", tb_scene_detail(scene));
-    assert_non_null(strstr(tb_scene_detail(scene), "(ground contact) on body 0"));
+    assert_non_null(strstr(tb_scene_detail(scene), "(a ground) on body 0"));
     tb_scene_max_stable_step(scene, TB_METHOD_RK4, &def.dt, NULL);
     assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator), TB_STATUS_OK);
     double worst = -INFINITY, fastest = 0.0;
