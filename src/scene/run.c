@@ -59,9 +59,9 @@ tb_status tb_run_frame_count(double duration, double fps, size_t *out_frames, tb
     const double frames = floor(duration * fps + TB__FRAME_SLACK);
     if (!(duration >= 0) || !(frames <= TB_RUN_MAX_FRAMES)) {
         return tb__set_error(out_error, TB_STATUS_INVALID_ARGUMENT,
-                             "duration: must be >= 0 and at most %g frames at %g fps (%g s), got "
-                             "%g s",
-                             (double)TB_RUN_MAX_FRAMES, fps, TB_RUN_MAX_FRAMES / fps, duration);
+                             "duration: must be >= 0 and at most 1e9 frames (TB_RUN_MAX_FRAMES) "
+                             "at %g fps (%g s), got %g s",
+                             fps, TB_RUN_MAX_FRAMES / fps, duration);
     }
     *out_frames = (size_t)frames;
     return TB_STATUS_OK;
