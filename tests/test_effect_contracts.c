@@ -57,7 +57,7 @@ static double rk4_real_limit(void)
 static bool near_limit(double dt, double rate)
 {
     const double expected = rk4_real_limit() / rate;
-    return dt <= expected && dt >= 0.999 * expected;
+    return dt <= expected * (1 + 1e-12) && dt >= 0.999 * expected; /* 1e-12: rounding of 1/I */
 }
 
 /* --- the user-effect load helpers ---------------------------------------------------------- */

@@ -491,14 +491,14 @@ test_a_light_body_on_wide_points_is_refused_and_bounded_by_energy_inside_it(void
     for (int k = 0; k < 4; ++k) {
         points[k] = (tb_contact_point){{k & 1 ? 0.5 : -0.5, k & 2 ? 0.5 : -0.5, -0.05}, 0.0};
     }
+    tb_body_state s0; /* resting on the points' plane */
+    tb_scene_get_state(scene, 0, &s0);
+    s0.x[2] = 0.05;
+    tb_scene_set_state(scene, 0, &s0);
     assert_int_equal(tb_scene_set_contact_points(scene, 0, points, 4, 4), TB_STATUS_OK);
     tb_ground_def ground = tb_ground_def_default();
     assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
     assert_int_equal(tb_scene_add_gravity(scene, (double[]){0, 0, -g}), TB_STATUS_OK);
-    tb_body_state s0;
-    tb_scene_get_state(scene, 0, &s0);
-    s0.x[2] = 0.05;
-    tb_scene_set_state(scene, 0, &s0);
     double KE0;
     tb_scene_kinetic_energy(scene, tb_scene_states(scene), &KE0);
     tb_integrator_def def = tb_integrator_def_default();
