@@ -57,6 +57,39 @@ int main(void)
     FIELD(tb_integrator_stats, last_order);
     FIELD(tb_integrator_stats, current_order);
     FIELD(tb_integrator_stats, reinitializations);
+    printf("\"_\": 0},\n");
+
+    printf("\"tb_accuracy_setting\": {\"size\": %zu, ", sizeof(tb_accuracy_setting));
+    FIELD(tb_accuracy_setting, method);
+    FIELD(tb_accuracy_setting, setting);
+    printf("\"_\": 0},\n");
+
+    printf("\"tb_accuracy_def\": {\"size\": %zu, ", sizeof(tb_accuracy_def));
+    FIELD(tb_accuracy_def, settings);
+    FIELD(tb_accuracy_def, setting_count);
+    FIELD(tb_accuracy_def, reference_rtol);
+    FIELD(tb_accuracy_def, check_rtol);
+    FIELD(tb_accuracy_def, max_steps);
+    FIELD(tb_accuracy_def, internal_cookie);
+    printf("\"_\": 0},\n");
+
+    printf("\"tb_accuracy_result\": {\"size\": %zu, ", sizeof(tb_accuracy_result));
+    FIELD(tb_accuracy_result, method);
+    FIELD(tb_accuracy_result, setting);
+    FIELD(tb_accuracy_result, status);
+    FIELD(tb_accuracy_result, detail);
+    FIELD(tb_accuracy_result, error);
+    FIELD(tb_accuracy_result, position_error);
+    FIELD(tb_accuracy_result, angle_error);
+    FIELD(tb_accuracy_result, cpu_seconds);
+    FIELD(tb_accuracy_result, steps);
+    FIELD(tb_accuracy_result, derivative_evals);
+    printf("\"_\": 0},\n");
+
+    printf("\"tb_accuracy_reference\": {\"size\": %zu, ", sizeof(tb_accuracy_reference));
+    FIELD(tb_accuracy_reference, error);
+    FIELD(tb_accuracy_reference, position_error);
+    FIELD(tb_accuracy_reference, angle_error);
     printf("\"_\": 0}}\n");
     return 0;
 }

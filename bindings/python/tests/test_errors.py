@@ -1,5 +1,9 @@
 """Errors arrive as TumbleError carrying the library's status and message."""
 
+import os
+import subprocess
+import sys
+
 import pytest
 
 import tumble
@@ -40,3 +44,77 @@ def test_a_step_beyond_the_stability_limit_is_refused():
         "effects": [{"type": "spring", "body_a": "a", "point_b": [0, 0, 0], "stiffness": 1e7}]})
     with pytest.raises(tumble.TumbleError, match="stability limit"):
         scene.run(method="rk4", dt=0.01)
+
+
+# One rule for exceptions: what the library refuses is a TumbleError (a refused value also a
+# ValueError); a wrong type is a TypeError; an option the method does not read a ValueError.
+
+def _ball():
+    return tumble.Scene.from_dict({"bodies": [{"name": "a", "mass": 1, "inertia": [1, 1, 1]}]})
+
+
+def test_an_unknown_method_is_the_librarys_refusal():
+    with pytest.raises(tumble.TumbleError) as caught:
+        _ball().run(method="rk45")
+    assert caught.value.status == "INVALID_ARGUMENT"
+    assert 'unknown method "rk45"; methods: euler, midpoint, rk4' in caught.value.message
+
+
+def test_a_method_name_in_any_case_is_accepted():
+    assert _ball().run(method="RK4", duration=0.1).stats["steps"] > 0
+
+
+@pytest.mark.parametrize("options", [{"dt": "fast"}, {"fps": "60"}, {"method": 4},
+                                     {"duration": [1]}, {"method": "cvode-bdf", "rtol": True}])
+def test_an_argument_of_the_wrong_type_is_a_type_error(options):
+    with pytest.raises(TypeError):
+        _ball().run(**options)
+
+
+@pytest.mark.parametrize("options, field", [({"fps": float("nan")}, "fps"),
+                                            ({"fps": -1.0}, "fps"),
+                                            ({"duration": 1e300}, "duration")])
+def test_a_refused_value_is_a_tumble_error_and_a_value_error(options, field):
+    # NaN fps and a duration of 1e300 s used to fail inside NumPy (converting NaN to an integer,
+    # an array too large) before the library saw them.
+    with pytest.raises(tumble.TumbleError) as caught:
+        _ball().run(**options)
+    assert isinstance(caught.value, ValueError)
+    assert caught.value.message.startswith(field)
+
+
+@pytest.mark.parametrize("method, options, named", [("rk4", {"rtol": 1e-8}, "rtol"),
+                                                    ("euler", {"atol": 1e-9}, "atol"),
+                                                    ("cvode-bdf", {"dt": 0.01}, "dt")])
+def test_an_option_the_method_does_not_read_is_refused(method, options, named):
+    # rtol given to rk4 used to be ignored silently; the CLI refuses it.
+    with pytest.raises(ValueError, match=f"^{named} applies to .* methods, and the method is "
+                                         f"{method}$"):
+        _ball().run(method=method, **options)
+
+
+def test_a_scene_file_with_a_nul_byte_is_refused(tmp_path):
+    # ctypes passes a bytes object up to its first NUL: the part before it, a valid scene, was
+    # loaded and the rest ignored. The CLI refuses such a file; so do the bindings.
+    path = tmp_path / "nul.json"
+    valid = b'{"bodies": [{"name": "a", "mass": 1, "inertia": [1, 1, 1]}]}'
+    path.write_bytes(valid + b'\0{"more": 1}')
+    with pytest.raises(tumble.TumbleError) as caught:
+        tumble.Scene.from_file(path)
+    assert caught.value.status == "PARSE_ERROR"
+    assert f"a NUL byte at offset {len(valid)}" in caught.value.message
+
+
+def test_a_libtumble_of_another_version_is_refused(tmp_path):
+    # A stand-in libtumble that says it is 9.9.9: importing tumble against it must fail with a
+    # message naming both versions, before any struct is read with the wrong layout.
+    source = tmp_path / "fake.c"
+    source.write_text('const char *tb_version(void) { return "9.9.9"; }\n')
+    library = tmp_path / "libtumble_fake.so"
+    subprocess.run(["cc", "-shared", "-fPIC", str(source), "-o", str(library)], check=True)
+    env = dict(os.environ, TUMBLE_LIBRARY=str(library), PYTHONPATH=os.pathsep.join(sys.path))
+    result = subprocess.run([sys.executable, "-c", "import tumble"], env=env,
+                            capture_output=True, text=True)
+    assert result.returncode != 0
+    assert (f"is libtumble 9.9.9, but this tumble Python package is {tumble.__version__}"
+            in result.stderr)

@@ -74,3 +74,51 @@ def test_accuracy_sweep_finds_a_setting_that_meets_the_budget(scenes):
     rk4 = [r["error"] for r in rows if r["method"] == "rk4"]
     assert rk4[0] > rk4[1] > 0
     assert {r["method"] for r in rows} == set(tumble.METHODS)
+
+
+def _order(rows, method, coarse, fine):
+    """The observed order of convergence between two step rates of a method: log of the error
+    ratio over log of the step ratio."""
+    error = {r["setting"]: r["error"] for r in rows if r["method"] == method}
+    return math.log(error[coarse] / error[fine]) / math.log(fine / coarse)
+
+
+def test_accuracy_errors_converge_at_each_methods_order(scenes):
+    # The sweep runs in the library (tb_scene_accuracy_sweep), the same function `tumble
+    # accuracy` calls. A box thrown under gravity: its centre's parabola is exact for every
+    # method, so the error is the rotation's, and it must fall as h^p with the method's order
+    # p: Euler 1, midpoint 2, RK4 4 (within 0.3: the step rates are 4x apart, and at the
+    # coarser one the error is not yet purely the leading term).
+    rows, _ = tumble.Scene.from_file(scenes / "tumbling_box.json").accuracy()
+    assert abs(_order(rows, "euler", 1000, 4000) - 1) < 0.3
+    assert abs(_order(rows, "midpoint", 240, 1000) - 2) < 0.3
+    assert abs(_order(rows, "rk4", 60, 240) - 4) < 0.3
+    assert [(r["method"], r["setting"]) for r in rows] == list(tumble.ACCURACY_SWEEP)
+
+
+def test_accuracy_names_the_reason_when_the_reference_fails():
+    # A spring of 1e300 N/m: CVODE's corrector cannot converge; the library's detail (CVODE's
+    # flag) arrives, not "the reference run failed".
+    scene = tumble.Scene.from_dict({
+        "bodies": [{"name": "ball", "shape": {"type": "sphere", "radius": 0.1}, "mass": 1,
+                    "position": [1.1, 0, 0]}],
+        "effects": [{"type": "spring", "body_a": "ball", "point_b": [0, 0, 0],
+                     "stiffness": 1e300, "rest_length": 1}],
+        "output": {"fps": 10, "duration": 1}})
+    with pytest.raises(tumble.TumbleError, match=r"reference run \(cvode-bdf at rtol 1e-11\) "
+                                                 r"failed: CVODE"):
+        scene.accuracy()
+
+
+def test_accuracy_reports_a_refused_setting_with_the_librarys_reason():
+    # A stiff spring (k/m = 1e6, omega = 1000 rad/s): Euler at 240 steps/s (h omega = 4.2) is
+    # beyond every explicit method's stability limit and refused; BDF runs.
+    scene = tumble.Scene.from_dict({
+        "bodies": [{"name": "ball", "shape": {"type": "sphere", "radius": 0.1}, "mass": 1,
+                    "position": [1.01, 0, 0]}],
+        "effects": [{"type": "spring", "body_a": "ball", "point_b": [0, 0, 0],
+                     "stiffness": 1e6, "rest_length": 1}],
+        "output": {"fps": 10, "duration": 0.2}})
+    rows, _ = scene.accuracy(sweep=[("euler", 240), ("cvode-bdf", 1e-6)])
+    assert rows[0]["status"] == "UNSTABLE_STEP" and "stability limit" in rows[0]["note"]
+    assert rows[1]["status"] == "OK" and rows[1]["note"] is None

@@ -6,14 +6,20 @@
     frames.position[:, 0, 0]        # x of body 0 at every frame, m
 
 Scenes come from files, from dictionaries in the scene-file format (docs/scene-format.md), or
-from a SceneBuilder. Every error raises TumbleError with the library's message, e.g.
-"scene.json: bodies[0].mass: must be > 0, got -1".
+from a SceneBuilder.
+
+Errors, by one rule: what the library refuses raises TumbleError with the library's status and
+message, e.g. "scene.json: bodies[0].mass: must be > 0, got -1"; when what it refused is an
+argument's value (INVALID_ARGUMENT, NOT_FINITE, OUT_OF_RANGE, UNSTABLE_STEP) the exception is
+also a ValueError. An argument of the wrong type raises TypeError, and a value the bindings
+refuse before calling the library (an option that does not apply to the method) ValueError.
+A file that cannot be read raises OSError.
 """
 
 import copy
 import ctypes
 import json
-import time
+import numbers
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -21,11 +27,13 @@ import numpy as np
 from . import _native
 from ._native import lib
 
-__all__ = ["Scene", "SceneBuilder", "Frames", "TumbleError", "METHODS", "ACCURACY_SWEEP",
-           "__version__"]
+__all__ = ["Scene", "SceneBuilder", "Frames", "TumbleError", "TumbleValueError", "METHODS",
+           "ACCURACY_SWEEP", "__version__"]
 
-#: The package's version; tests/test_layout.py requires it to equal the C library's.
-__version__ = "0.1.0"
+from ._version import __version__  # noqa: E402 (equal to the library's: _native checks it)
+
+_PARSE_ERROR = -14  # TB_STATUS_PARSE_ERROR (include/tumble/status.h)
+
 library_version = lib.tb_version().decode()
 
 METHODS = ("euler", "midpoint", "rk4", "cvode-adams", "cvode-bdf")
@@ -39,6 +47,37 @@ class TumbleError(Exception):
         self.status = lib.tb_status_name(status).decode()
         self.message = message
         super().__init__(f"{self.status}: {message}")
+
+
+class TumbleValueError(TumbleError, ValueError):
+    """The library refused an argument's value: a TumbleError, and a ValueError as Python's
+    conventions have it."""
+
+
+_VALUE_STATUSES = {"INVALID_ARGUMENT", "NOT_FINITE", "OUT_OF_RANGE", "UNSTABLE_STEP"}
+
+
+def _failure(status, message):
+    """The exception for a library status: TumbleValueError for a refused value."""
+    name = lib.tb_status_name(status).decode()
+    return (TumbleValueError if name in _VALUE_STATUSES else TumbleError)(status, message)
+
+
+def _number(name, value):
+    """A float from a real number; TypeError for anything else (a string, None, a bool)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name} must be a number, got {type(value).__name__} {value!r}")
+    return float(value)
+
+
+def _method_code(method):
+    if not isinstance(method, str):
+        raise TypeError(f"method must be a string, got {type(method).__name__} {method!r}")
+    code, error = ctypes.c_int(), _native.Error()
+    status = lib.tb_method_parse(method.encode(), ctypes.byref(code), ctypes.byref(error))
+    if status != 0:
+        raise _failure(status, error.message.decode())
+    return code.value
 
 
 @dataclass
@@ -65,54 +104,60 @@ def _stats_dict(stats):
 
 
 class _Recorder:
-    """Collects each frame the C run hands over into preallocated arrays."""
+    """Collects each frame the C run hands over. Frames are appended as they come, so the
+    library alone decides how many there are (and refuses a run with too many)."""
 
-    def __init__(self, frames, bodies):
-        self.count = 0
-        self.names = []
-        self.t = np.zeros(frames)
-        self.position = np.zeros((frames, bodies, 3))
-        self.orientation = np.zeros((frames, bodies, 4))
-        self.velocity = np.zeros((frames, bodies, 3))
-        self.angular_velocity = np.zeros((frames, bodies, 3))
-        self.kinetic = np.zeros(frames)
-        self.potential = np.zeros(frames)
-        self.P = np.zeros((frames, 3))
-        self.L = np.zeros((frames, 3))
+    def __init__(self, bodies):
+        self.bodies = bodies
+        self.t, self.position, self.orientation = [], [], []
+        self.velocity, self.angular_velocity = [], []
+        self.kinetic, self.potential, self.P, self.L = [], [], [], []
         self.failure = None
 
     def __call__(self, frame, t, scene, ctx):
         try:
-            self._record(frame, t, scene)
+            self._record(t, scene)
             return 0
-        except Exception as failure:  # cannot cross C: stop the run, re-raise afterwards
+        except BaseException as failure:  # cannot cross C: stop the run, re-raise afterwards
             self.failure = failure
             return 1
 
-    def _record(self, k, t, scene):
+    def _record(self, t, scene):
         y = lib.tb_scene_states_const(scene)
         p = ctypes.POINTER(ctypes.c_double)
         as_ptr = lambda array: array.ctypes.data_as(p)
-        self.t[k] = t
-        for i in range(self.position.shape[1]):
-            position, q = np.zeros(3), np.zeros(4)
-            v, w = np.zeros(3), np.zeros(3)
-            lib.tb_scene_body_shape_pose(scene, y, i, as_ptr(position), as_ptr(q))
-            lib.tb_scene_body_velocity(scene, y, i, as_ptr(v))
-            lib.tb_scene_body_angular_velocity(scene, y, i, as_ptr(w))
-            arm = position - np.ctypeslib.as_array(y, shape=(13 * (i + 1),))[13 * i:13 * i + 3]
-            self.position[k, i], self.orientation[k, i] = position, q
-            self.velocity[k, i], self.angular_velocity[k, i] = v + np.cross(w, arm), w
+        position, q = np.zeros((self.bodies, 3)), np.zeros((self.bodies, 4))
+        v, w = np.zeros((self.bodies, 3)), np.zeros((self.bodies, 3))
+        for i in range(self.bodies):
+            lib.tb_scene_body_shape_pose(scene, y, i, as_ptr(position[i]), as_ptr(q[i]))
+            lib.tb_scene_body_velocity(scene, y, i, as_ptr(v[i]))
+            lib.tb_scene_body_angular_velocity(scene, y, i, as_ptr(w[i]))
+            center = np.ctypeslib.as_array(y, shape=(13 * (i + 1),))[13 * i:13 * i + 3]
+            v[i] += np.cross(w[i], position[i] - center)  # velocity of the shape origin
+        self.t.append(t)
+        self.position.append(position)
+        self.orientation.append(q)
+        self.velocity.append(v)
+        self.angular_velocity.append(w)
         value = ctypes.c_double()
         lib.tb_scene_kinetic_energy(scene, y, ctypes.byref(value))
-        self.kinetic[k] = value.value
+        self.kinetic.append(value.value)
         lib.tb_scene_potential_energy(scene, y, ctypes.byref(value))
-        self.potential[k] = value.value
+        self.potential.append(value.value)
         P, L = np.zeros(3), np.zeros(3)
         lib.tb_scene_linear_momentum(scene, y, as_ptr(P))
         lib.tb_scene_angular_momentum(scene, y, as_ptr(np.zeros(3)), as_ptr(L))
-        self.P[k], self.L[k] = P, L
-        self.count = k + 1
+        self.P.append(P)
+        self.L.append(L)
+
+    def frames(self, names, stats):
+        shaped = lambda rows, *shape: np.array(rows).reshape((len(self.t),) + shape)
+        b = self.bodies
+        return Frames(names, np.array(self.t), shaped(self.position, b, 3),
+                      shaped(self.orientation, b, 4), shaped(self.velocity, b, 3),
+                      shaped(self.angular_velocity, b, 3), np.array(self.kinetic),
+                      np.array(self.potential), shaped(self.P, 3), shaped(self.L, 3),
+                      _stats_dict(stats))
 
 
 class Scene:
@@ -142,6 +187,9 @@ class Scene:
         path = str(path)
         with open(path, "rb") as f:
             text = f.read()
+        if b"\0" in text:  # ctypes would pass the text up to the NUL: refuse, as the CLI does
+            raise TumbleError(_PARSE_ERROR, f"{path}: a NUL byte at offset {text.index(0)}: "
+                                            f"a scene file is JSON text")
         directory = path.rsplit("/", 1)[0] + "/" if "/" in path else ""
         return cls(text, path, directory)
 
@@ -158,21 +206,27 @@ class Scene:
                                           ctypes.byref(handle), ctypes.byref(run),
                                           ctypes.byref(error))
         if status != 0:
-            raise TumbleError(status, error.message.decode())
+            raise _failure(status, error.message.decode())
         return handle, run
 
     def _apply(self, run, method, dt, rtol, atol, fps, duration):
+        """The run's settings with the given ones instead; as the CLI, an option that the
+        method does not read is refused (ValueError), not ignored."""
         if method is not None:
-            code = ctypes.c_int()
-            if lib.tb_method_from_name(method.encode(), ctypes.byref(code)) != 0:
-                raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
             # the fields the new method does not read go back to their defaults
-            lib.tb_integrator_def_set_method(ctypes.byref(run.integrator), code.value)
-        for name, value in (("dt", dt), ("rtol", rtol), ("atol", atol)):
-            if value is not None:
-                setattr(run.integrator, name, float(value))
-        run.fps = float(fps) if fps is not None else run.fps
-        run.duration = float(duration) if duration is not None else run.duration
+            lib.tb_integrator_def_set_method(ctypes.byref(run.integrator), _method_code(method))
+        adaptive = bool(lib.tb_method_is_adaptive(run.integrator.method))
+        name = lib.tb_method_name(run.integrator.method).decode()
+        for option, value, applies in (("dt", dt, not adaptive), ("rtol", rtol, adaptive),
+                                       ("atol", atol, adaptive)):
+            if value is None:
+                continue
+            if not applies:
+                kind = "adaptive (cvode-*)" if option != "dt" else "fixed-step"
+                raise ValueError(f"{option} applies to {kind} methods, and the method is {name}")
+            setattr(run.integrator, option, _number(option, value))
+        run.fps = _number("fps", fps) if fps is not None else run.fps
+        run.duration = _number("duration", duration) if duration is not None else run.duration
 
     def run(self, method=None, dt=None, rtol=None, atol=None, fps=None, duration=None):
         """Simulates the scene (with the file's settings unless given here) and returns its
@@ -180,8 +234,7 @@ class Scene:
         handle, run = self._load()
         try:
             self._apply(run, method, dt, rtol, atol, fps, duration)
-            frames = int(np.floor(run.duration * run.fps + 1e-9)) + 1 if run.fps > 0 else 1
-            recorder = _Recorder(max(frames, 1), lib.tb_scene_body_count(handle))
+            recorder = _Recorder(lib.tb_scene_body_count(handle))
             callback = _native.FRAME_FN(recorder)
             stats, error = _native.IntegratorStats(), _native.Error()
             status = lib.tb_scene_run(handle, ctypes.byref(run), callback, None,
@@ -191,58 +244,62 @@ class Scene:
         if recorder.failure is not None:
             raise recorder.failure
         if status != 0:
-            raise TumbleError(status, error.message.decode())
-        n = recorder.count
-        return Frames(self.body_names, recorder.t[:n], recorder.position[:n],
-                      recorder.orientation[:n], recorder.velocity[:n],
-                      recorder.angular_velocity[:n], recorder.kinetic[:n],
-                      recorder.potential[:n], recorder.P[:n], recorder.L[:n],
-                      _stats_dict(stats))
+            raise _failure(status, error.message.decode())
+        return recorder.frames(self.body_names, stats)
 
 
-#: The sweep of Scene.accuracy and `tumble accuracy`: steps per second for the fixed-step
-#: methods, rtol for CVODE.
-ACCURACY_SWEEP = ([("euler", s) for s in (240, 1000, 4000)] +
-                  [("midpoint", s) for s in (60, 240, 1000)] +
-                  [("rk4", s) for s in (60, 240, 1000, 4000)] +
-                  [(m, r) for m in ("cvode-adams", "cvode-bdf") for r in (1e-3, 1e-5, 1e-7, 1e-9)])
+def _default_sweep():
+    count = ctypes.c_size_t()
+    settings = lib.tb_accuracy_default_sweep(ctypes.byref(count))
+    return tuple((lib.tb_method_name(settings[k].method).decode(), settings[k].setting)
+                 for k in range(count.value))
 
 
-def _errors(frames, reference, lengths):
-    """Largest position error (m), angle error (rad) and displacement |dx| + l angle (m)."""
-    dx = np.linalg.norm(frames.position - reference.position, axis=2)
-    p, r = frames.orientation, reference.orientation
-    # the rotation r* p between them: its vector part has length sin(angle / 2); atan2 keeps
-    # full precision near zero, where arccos of the dot product would not
-    w = np.sum(r * p, axis=2)
-    v = r[..., :1] * p[..., 1:] - p[..., :1] * r[..., 1:] - np.cross(r[..., 1:], p[..., 1:])
-    angle = 2 * np.arctan2(np.linalg.norm(v, axis=2), np.abs(w))
-    return float(dx.max()), float(angle.max()), float((dx + np.asarray(lengths) * angle).max())
+#: The sweep of Scene.accuracy and `tumble accuracy` (the library's default): steps per
+#: second for the fixed-step methods, rtol for CVODE.
+ACCURACY_SWEEP = _default_sweep()
+
+
+def _accuracy_row(result):
+    ok = result.status == 0
+    return dict(method=lib.tb_method_name(result.method).decode(), setting=result.setting,
+                error=result.error if ok else None,
+                position_error=result.position_error if ok else None,
+                angle_error=result.angle_error if ok else None,
+                cpu_ms=1e3 * result.cpu_seconds, steps=result.steps,
+                derivatives=result.derivative_evals,
+                status=lib.tb_status_name(result.status).decode(),
+                note=None if ok else result.detail.decode())
 
 
 def _accuracy(self, target_error=1e-3, sweep=ACCURACY_SWEEP):
     """Runs the scene with each integrator setting of `sweep` against cvode-bdf at rtol 1e-11
-    (as `tumble accuracy` does) and returns (rows, best): each row a dict with method,
-    setting, error (the largest displacement |dx| + l angle of a body's points at its radius
-    of gyration l, m), position_error (m), angle_error (rad), cpu_ms, derivatives, and note
-    (None, or why the setting did not run); best is the cheapest row with error <= target."""
-    reference = self.run(method="cvode-bdf", rtol=1e-11, atol=0.0)
-    rows = []
-    for method, setting in sweep:
-        options = {"rtol": setting, "atol": 0.0} if method.startswith("cvode") else \
-            {"dt": 1.0 / setting}
-        start = time.process_time()
-        try:
-            frames = self.run(method=method, **options)
-        except TumbleError as failure:
-            rows.append(dict(method=method, setting=setting, note=failure.message))
-            continue
-        position, angle, error = _errors(frames, reference, self.radius_of_gyration)
-        rows.append(dict(method=method, setting=setting, error=error, position_error=position,
-                         angle_error=angle, cpu_ms=1e3 * (time.process_time() - start),
-                         derivatives=frames.stats["derivative_evals"], note=None))
-    ok = [r for r in rows if r["note"] is None and r["error"] <= target_error]
-    return rows, min(ok, key=lambda r: r["cpu_ms"]) if ok else None
+    (the library's tb_scene_accuracy_sweep, as `tumble accuracy`) and returns (rows, best):
+    each row a dict with method, setting, error (the largest displacement |dx| + l angle of a
+    body's points at its radius of gyration l, m), position_error (m), angle_error (rad),
+    cpu_ms, steps, derivatives, status and note (None, or the library's detail saying why the
+    setting did not run); best is the cheapest row with error <= target_error, or None.
+    Raises TumbleError when the reference run fails, with the library's reason."""
+    target_error = _number("target_error", target_error)
+    settings = (_native.AccuracySetting * max(len(sweep), 1))()
+    for k, (method, setting) in enumerate(sweep):
+        settings[k] = _native.AccuracySetting(_method_code(method), _number("setting", setting))
+    handle, run = self._load()
+    try:
+        definition = lib.tb_accuracy_def_default()
+        definition.settings, definition.setting_count = settings, len(sweep)
+        results = (_native.AccuracyResult * max(len(sweep), 1))()
+        reference, error = _native.AccuracyReference(), _native.Error()
+        status = lib.tb_scene_accuracy_sweep(handle, ctypes.byref(run), ctypes.byref(definition),
+                                             _native.ACCURACY_FN(), None, results,
+                                             ctypes.byref(reference), ctypes.byref(error))
+    finally:
+        lib.tb_scene_destroy(handle)
+    if status != 0:
+        raise _failure(status, error.message.decode())
+    rows = [_accuracy_row(results[k]) for k in range(len(sweep))]
+    best = lib.tb_accuracy_cheapest(results, len(sweep), target_error)
+    return rows, rows[best] if best < len(sweep) else None
 
 
 Scene.accuracy = _accuracy

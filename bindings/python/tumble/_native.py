@@ -6,6 +6,8 @@ import ctypes.util
 import os
 import pathlib
 
+from ._version import __version__
+
 DETAIL_SIZE = 256
 STATE_SIZE = 13
 
@@ -66,16 +68,57 @@ class IntegratorStats(ctypes.Structure):
     ]
 
 
+class AccuracySetting(ctypes.Structure):
+    _fields_ = [("method", ctypes.c_int), ("setting", ctypes.c_double)]
+
+
+class AccuracyDef(ctypes.Structure):
+    _fields_ = [
+        ("settings", ctypes.POINTER(AccuracySetting)),
+        ("setting_count", ctypes.c_size_t),
+        ("reference_rtol", ctypes.c_double),
+        ("check_rtol", ctypes.c_double),
+        ("max_steps", ctypes.c_long),
+        ("internal_cookie", ctypes.c_int),
+    ]
+
+
+class AccuracyResult(ctypes.Structure):
+    _fields_ = [
+        ("method", ctypes.c_int),
+        ("setting", ctypes.c_double),
+        ("status", ctypes.c_int),
+        ("detail", ctypes.c_char * DETAIL_SIZE),
+        ("error", ctypes.c_double),
+        ("position_error", ctypes.c_double),
+        ("angle_error", ctypes.c_double),
+        ("cpu_seconds", ctypes.c_double),
+        ("steps", ctypes.c_long),
+        ("derivative_evals", ctypes.c_long),
+    ]
+
+
+class AccuracyReference(ctypes.Structure):
+    _fields_ = [("error", ctypes.c_double), ("position_error", ctypes.c_double),
+                ("angle_error", ctypes.c_double)]
+
+
 STRUCTS = {
     "tb_error": Error,
     "tb_integrator_def": IntegratorDef,
     "tb_run_def": RunDef,
     "tb_mass_properties": MassProperties,
     "tb_integrator_stats": IntegratorStats,
+    "tb_accuracy_setting": AccuracySetting,
+    "tb_accuracy_def": AccuracyDef,
+    "tb_accuracy_result": AccuracyResult,
+    "tb_accuracy_reference": AccuracyReference,
 }
 
 FRAME_FN = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_size_t, ctypes.c_double, ctypes.c_void_p,
                             ctypes.c_void_p)
+ACCURACY_FN = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_size_t, ctypes.POINTER(AccuracyResult),
+                               ctypes.c_void_p)
 
 
 def _find_library():
@@ -103,7 +146,10 @@ def _declare(lib):
         "tb_status_string": (ctypes.c_char_p, [ctypes.c_int]),
         "tb_method_name": (ctypes.c_char_p, [ctypes.c_int]),
         "tb_method_from_name": (ctypes.c_int, [ctypes.c_char_p, ctypes.POINTER(ctypes.c_int)]),
-        "tb_integrator_def_set_method": (ctypes.c_int, [ctypes.POINTER(IntegratorDef), ctypes.c_int]),
+        "tb_integrator_def_set_method": (ctypes.c_int, [ctypes.POINTER(IntegratorDef),
+                                                         ctypes.c_int]),
+        "tb_method_parse": (ctypes.c_int, [ctypes.c_char_p, ctypes.POINTER(ctypes.c_int),
+                                           ctypes.POINTER(Error)]),
         "tb_run_def_default": (RunDef, []),
         "tb_scene_load_string": (ctypes.c_int, [ctypes.c_char_p, ctypes.c_char_p, ctypes.c_char_p,
                                                 ctypes.POINTER(ctypes.c_void_p),
@@ -132,6 +178,18 @@ def _declare(lib):
         "tb_scene_run": (ctypes.c_int, [ctypes.c_void_p, ctypes.POINTER(RunDef), FRAME_FN,
                                         ctypes.c_void_p, ctypes.POINTER(IntegratorStats),
                                         ctypes.POINTER(Error)]),
+        "tb_method_is_adaptive": (ctypes.c_int, [ctypes.c_int]),
+        "tb_accuracy_default_sweep": (ctypes.POINTER(AccuracySetting),
+                                      [ctypes.POINTER(ctypes.c_size_t)]),
+        "tb_accuracy_def_default": (AccuracyDef, []),
+        "tb_scene_accuracy_sweep": (ctypes.c_int, [ctypes.c_void_p, ctypes.POINTER(RunDef),
+                                                   ctypes.POINTER(AccuracyDef), ACCURACY_FN,
+                                                   ctypes.c_void_p,
+                                                   ctypes.POINTER(AccuracyResult),
+                                                   ctypes.POINTER(AccuracyReference),
+                                                   ctypes.POINTER(Error)]),
+        "tb_accuracy_cheapest": (ctypes.c_size_t, [ctypes.POINTER(AccuracyResult),
+                                                   ctypes.c_size_t, ctypes.c_double]),
     }
     for name, (restype, argtypes) in signatures.items():
         function = getattr(lib, name)
@@ -140,4 +198,18 @@ def _declare(lib):
     return lib
 
 
-lib = _declare(ctypes.CDLL(_find_library()))
+def _check_version(lib, path):
+    """Refuses a libtumble of another version than this package's: the ctypes declarations
+    above describe this version's structs, and another's would be read as garbage."""
+    lib.tb_version.restype = ctypes.c_char_p
+    lib.tb_version.argtypes = []
+    found = lib.tb_version().decode()
+    if found != __version__:
+        raise ImportError(f"{path} is libtumble {found}, but this tumble Python package is "
+                          f"{__version__}: use the libtumble built from the same source "
+                          f"(set TUMBLE_LIBRARY to its path)")
+    return lib
+
+
+_path = _find_library()
+lib = _declare(_check_version(ctypes.CDLL(_path), _path))
