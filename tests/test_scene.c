@@ -470,6 +470,55 @@ static void test_every_name_is_found_and_duplicates_are_refused(void **state)
     tb_scene_destroy(scene);
 }
 
+/* Read-outs by hand: a body of tilted_mass (centre of mass at c = (0.1, 0.2, 0.3) in its shape
+ * frame) with orientation identity at x = (1, 2, 3), v = (0.5, 0, 0), omega = (0, 0, 2). A
+ * point p of the shape frame is at x + (p - c) and moves at v + omega x (p - c); the shape
+ * origin is p = 0. Turned 90 degrees about z, the shape frame sees omega_world = (1, 0, 2) as
+ * (0, -1, 2). Tolerance 1e-12: a few roundings of numbers of order 1. */
+static void test_body_points_and_body_frame_omega_read_as_by_hand(void **state)
+{
+    (void)state;
+    tb_scene *scene = new_scene(1);
+    tb_body_def def = tb_body_def_default();
+    def.mass = tilted_mass();
+    def.position[0] = 1, def.position[1] = 2, def.position[2] = 3;
+    def.velocity[0] = 0.5;
+    def.angular_velocity[2] = 2.0;
+    assert_int_equal(tb_scene_add_body(scene, &def, NULL), TB_STATUS_OK);
+    const double *y = tb_scene_states_const(scene);
+    const double p[3] = {1.0, -1.0, 0.5};
+    const double arm[3] = {p[0] - 0.1, p[1] - 0.2, p[2] - 0.3};
+    double position[3], velocity[3];
+    assert_int_equal(tb_scene_body_point(scene, y, 0, p, position, velocity), TB_STATUS_OK);
+    const double expected_velocity[3] = {0.5 - 2.0 * arm[1], 2.0 * arm[0], 0.0};
+    for (int k = 0; k < 3; ++k) {
+        assert_near(position[k], def.position[k] + arm[k], 1e-12);
+        assert_near(velocity[k], expected_velocity[k], 1e-12);
+    }
+    assert_int_equal(tb_scene_body_shape_velocity(scene, y, 0, velocity), TB_STATUS_OK);
+    assert_near(velocity[0], 0.5 - 2.0 * -0.2, 1e-12);
+    assert_near(velocity[1], 2.0 * -0.1, 1e-12);
+    assert_near(velocity[2], 0.0, 1e-12);
+    assert_int_equal(tb_scene_body_point(scene, y, 0, NULL, position, NULL),
+                     TB_STATUS_NULL_POINTER);
+    assert_non_null(strstr(tb_scene_detail(scene), "point is NULL"));
+
+    const double half = sqrt(0.5);
+    tb_body_def turned = tb_body_def_default();
+    turned.mass = tilted_mass();
+    turned.orientation[0] = half, turned.orientation[3] = half;
+    turned.angular_velocity[0] = 1.0, turned.angular_velocity[2] = 2.0;
+    assert_int_equal(tb_scene_add_body(scene, &turned, NULL), TB_STATUS_OK);
+    double omega[3];
+    assert_int_equal(
+        tb_scene_body_frame_angular_velocity(scene, tb_scene_states_const(scene), 1, omega),
+        TB_STATUS_OK);
+    assert_near(omega[0], 0.0, 1e-12);
+    assert_near(omega[1], -1.0, 1e-12);
+    assert_near(omega[2], 2.0, 1e-12);
+    tb_scene_destroy(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -484,6 +533,7 @@ int main(void)
         cmocka_unit_test(test_a_refused_integrator_is_null),
         cmocka_unit_test(test_a_start_time_too_coarse_for_the_step_is_refused),
         cmocka_unit_test(test_every_name_is_found_and_duplicates_are_refused),
+        cmocka_unit_test(test_body_points_and_body_frame_omega_read_as_by_hand),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

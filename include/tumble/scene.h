@@ -89,6 +89,21 @@ TB_API tb_status tb_scene_body_angular_velocity(const tb_scene *scene, const dou
 TB_API tb_status tb_scene_body_shape_pose(const tb_scene *scene, const double *y, size_t id,
                                           double out_position[3], double out_orientation[4]);
 
+/* A point fixed in body id, given in its shape frame (m, from the shape origin): its world
+ * position (m) and, if out_velocity is not NULL, its velocity v + omega x (p - x) (world, m/s).
+ * The one helper for contact points, spring ends, markers and the shape origin. */
+TB_API tb_status tb_scene_body_point(const tb_scene *scene, const double *y, size_t id,
+                                     const double point[3], double out_position[3],
+                                     double out_velocity[3]);
+/* Velocity of the shape origin (world, m/s): what a renderer moving the shape frame needs,
+ * which differs from the centre of mass's when the body spins and they are apart. */
+TB_API tb_status tb_scene_body_shape_velocity(const tb_scene *scene, const double *y, size_t id,
+                                              double out_velocity[3]);
+/* Angular velocity in the body's shape frame (rad/s): R_shape^T omega, the body-frame omega of
+ * Euler's equations when the shape frame is the principal frame (mass.rotation identity). */
+TB_API tb_status tb_scene_body_frame_angular_velocity(const tb_scene *scene, const double *y,
+                                                      size_t id, double out_omega[3]);
+
 /* Total kinetic energy, sum P^2 / 2M + omega . L / 2, J. */
 TB_API tb_status tb_scene_kinetic_energy(const tb_scene *scene, const double *y,
                                          double *out_energy);

@@ -5,7 +5,7 @@
 
 void tb__unit_quaternion(const double *y, size_t i, double q[4])
 {
-    const double *raw = y + TB_STATE_SIZE * i + 3;
+    const double *raw = y + TB_STATE_SIZE * i + TB_STATE_Q;
     const double inv_norm = 1.0 / tb__q_norm(raw);
     for (int k = 0; k < 4; ++k) {
         q[k] = raw[k] * inv_norm;
@@ -18,8 +18,8 @@ void tb__unit_quaternion(const double *y, size_t i, double q[4])
 static inline void angular_velocity(const tb__body *body, const double *s, double omega[3])
 {
     double R[9], w_body[3];
-    tb__q_to_matrix_any(R, s + 3);
-    const double *L = s + 10;
+    tb__q_to_matrix_any(R, s + TB_STATE_Q);
+    const double *L = s + TB_STATE_L;
     for (int k = 0; k < 3; ++k) {
         w_body[k] = (R[k] * L[0] + R[3 + k] * L[1] + R[6 + k] * L[2]) * body->inv_moments[k];
     }
@@ -45,15 +45,15 @@ static void kinematics(const tb__body *bodies, const double *y, double *dydt, si
          * |q| = const. */
         double omega[3];
         angular_velocity(body, s, omega);
-        const double *qr = s + 3;
+        const double *qr = s + TB_STATE_Q;
         for (int k = 0; k < 3; ++k) {
-            d[k] = s[7 + k] * body->inv_mass;
+            d[TB_STATE_X + k] = s[TB_STATE_P + k] * body->inv_mass;
         }
         d[3] = 0.5 * (-omega[0] * qr[1] - omega[1] * qr[2] - omega[2] * qr[3]);
         d[4] = 0.5 * (omega[0] * qr[0] + omega[1] * qr[3] - omega[2] * qr[2]);
         d[5] = 0.5 * (-omega[0] * qr[3] + omega[1] * qr[0] + omega[2] * qr[1]);
         d[6] = 0.5 * (omega[0] * qr[2] - omega[1] * qr[1] + omega[2] * qr[0]);
-        for (int k = 7; k < TB_STATE_SIZE; ++k) {
+        for (int k = TB_STATE_P; k < TB_STATE_SIZE; ++k) { /* P and L */
             d[k] = 0.0;
         }
     }
@@ -135,7 +135,8 @@ void tb__body_motion(const tb__body *body, const double *s, tb__motion *out)
     out->x = s;
     tb__unit_quaternion(s, 0, out->q);
     angular_velocity(body, s, out->omega);
-    tb__v3_set(out->v, s[7] * body->inv_mass, s[8] * body->inv_mass, s[9] * body->inv_mass);
+    const double *P = s + TB_STATE_P;
+    tb__v3_set(out->v, P[0] * body->inv_mass, P[1] * body->inv_mass, P[2] * body->inv_mass);
 }
 
 void tb__point_arm(const tb__motion *motion, const double r[3], double arm[3])
@@ -153,15 +154,15 @@ void tb__add_load(double *dydt, size_t i, const double arm[3], const double f[3]
 {
     double torque[3];
     tb__v3_cross(torque, arm, f);
-    tb__v3_axpy(dydt + TB_STATE_SIZE * i + 7, 1.0, f);
-    tb__v3_axpy(dydt + TB_STATE_SIZE * i + 10, 1.0, torque);
+    tb__v3_axpy(dydt + TB_STATE_SIZE * i + TB_STATE_P, 1.0, f);
+    tb__v3_axpy(dydt + TB_STATE_SIZE * i + TB_STATE_L, 1.0, torque);
 }
 
 /* q <- q / |q| for `count` bodies from y; the largest | |q| - 1 | found goes into *drift. */
 static int normalize(double *y, size_t count, double *drift)
 {
     for (size_t i = 0; i < count; ++i) {
-        double *q = y + TB_STATE_SIZE * i + 3;
+        double *q = y + TB_STATE_SIZE * i + TB_STATE_Q;
         const double norm = tb__q_norm(q);
         if (!(norm > 0) || !isfinite(norm)) {
             return 1;

@@ -3,9 +3,18 @@
 
 #include "math/tb_math.h"
 
+/* The prologue of every read-out: clears the detail, then names a NULL state or output. */
 static tb_status check(const tb_scene *scene, const double *y, const void *out)
 {
-    return scene == NULL || y == NULL || out == NULL ? TB_STATUS_NULL_POINTER : TB_STATUS_OK;
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    if (y == NULL || out == NULL) {
+        return tb__scene_fail((tb_scene *)scene, TB_STATUS_NULL_POINTER, "%s is NULL",
+                              y == NULL ? "y" : "output");
+    }
+    return TB_STATUS_OK;
 }
 
 static tb_status check_body(const tb_scene *scene, const double *y, size_t id, const void *out)
@@ -29,7 +38,7 @@ tb_status tb_scene_body_velocity(const tb_scene *scene, const double *y, size_t 
 {
     tb_status status = check_body(scene, y, id, out_v);
     if (status == TB_STATUS_OK) {
-        const double *P = y + TB_STATE_SIZE * id + 7;
+        const double *P = y + TB_STATE_SIZE * id + TB_STATE_P;
         const double inv_mass = scene->bodies[id].inv_mass;
         tb__v3_set(out_v, P[0] * inv_mass, P[1] * inv_mass, P[2] * inv_mass);
     }
@@ -51,7 +60,8 @@ tb_status tb_scene_body_shape_pose(const tb_scene *scene, const double *y, size_
 {
     tb_status status = check_body(scene, y, id, out_position);
     if (status == TB_STATUS_OK && out_orientation == NULL) {
-        status = TB_STATUS_NULL_POINTER;
+        status =
+            tb__scene_fail((tb_scene *)scene, TB_STATUS_NULL_POINTER, "out_orientation is NULL");
     }
     if (status != TB_STATUS_OK) {
         return status;
@@ -68,6 +78,60 @@ tb_status tb_scene_body_shape_pose(const tb_scene *scene, const double *y, size_
     return TB_STATUS_OK;
 }
 
+tb_status tb_scene_body_point(const tb_scene *scene, const double *y, size_t id,
+                              const double point[3], double out_position[3], double out_velocity[3])
+{
+    tb_status status = check_body(scene, y, id, out_position);
+    if (status == TB_STATUS_OK && point == NULL) {
+        status = tb__scene_fail((tb_scene *)scene, TB_STATUS_NULL_POINTER, "point is NULL");
+    }
+    if (status == TB_STATUS_OK && !tb__all_finite(point, 3)) {
+        status = tb__scene_fail((tb_scene *)scene, TB_STATUS_NOT_FINITE,
+                                "point: contains NaN or infinity (%g, %g, %g)", point[0], point[1],
+                                point[2]);
+    }
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    double r[3], arm[3];
+    tb__shape_point_to_principal(&scene->mass_props[id], point, r);
+    tb__motion motion;
+    tb__body_motion(&scene->bodies[id], y + TB_STATE_SIZE * id, &motion);
+    tb__point_arm(&motion, r, arm);
+    tb__v3_set(out_position, motion.x[0] + arm[0], motion.x[1] + arm[1], motion.x[2] + arm[2]);
+    if (out_velocity != NULL) {
+        tb__point_velocity(&motion, arm, out_velocity);
+    }
+    return TB_STATUS_OK;
+}
+
+tb_status tb_scene_body_shape_velocity(const tb_scene *scene, const double *y, size_t id,
+                                       double out_velocity[3])
+{
+    tb_status status = check_body(scene, y, id, out_velocity);
+    if (status == TB_STATUS_OK) {
+        double position[3];
+        status =
+            tb_scene_body_point(scene, y, id, (const double[3]){0, 0, 0}, position, out_velocity);
+    }
+    return status;
+}
+
+tb_status tb_scene_body_frame_angular_velocity(const tb_scene *scene, const double *y, size_t id,
+                                               double out_omega[3])
+{
+    double pose[3], orientation[4], omega[3];
+    tb_status status = tb_scene_body_shape_pose(scene, y, id, pose, orientation);
+    if (status == TB_STATUS_OK && out_omega == NULL) {
+        status = tb__scene_fail((tb_scene *)scene, TB_STATUS_NULL_POINTER, "out_omega is NULL");
+    }
+    if (status == TB_STATUS_OK) {
+        tb__angular_velocity(&scene->bodies[id], y + TB_STATE_SIZE * id, omega);
+        tb__q_rotate_inverse(out_omega, orientation, omega); /* world -> shape frame */
+    }
+    return status;
+}
+
 tb_status tb_scene_kinetic_energy(const tb_scene *scene, const double *y, double *out_energy)
 {
     tb_status status = check(scene, y, out_energy);
@@ -79,8 +143,8 @@ tb_status tb_scene_kinetic_energy(const tb_scene *scene, const double *y, double
         const double *s = y + TB_STATE_SIZE * i;
         double omega[3];
         tb__angular_velocity(&scene->bodies[i], s, omega);
-        energy += 0.5 * tb__v3_dot(s + 7, s + 7) * scene->bodies[i].inv_mass +
-                  0.5 * tb__v3_dot(omega, s + 10);
+        energy += 0.5 * tb__v3_dot(s + TB_STATE_P, s + TB_STATE_P) * scene->bodies[i].inv_mass +
+                  0.5 * tb__v3_dot(omega, s + TB_STATE_L);
     }
     *out_energy = energy;
     return TB_STATUS_OK;
@@ -94,7 +158,7 @@ tb_status tb_scene_linear_momentum(const tb_scene *scene, const double *y, doubl
     }
     double P[3] = {0, 0, 0};
     for (size_t i = 0; i < scene->body_count; ++i) {
-        tb__v3_axpy(P, 1.0, y + TB_STATE_SIZE * i + 7);
+        tb__v3_axpy(P, 1.0, y + TB_STATE_SIZE * i + TB_STATE_P);
     }
     tb__v3_copy(out_P, P);
     return TB_STATUS_OK;
@@ -105,7 +169,7 @@ tb_status tb_scene_angular_momentum(const tb_scene *scene, const double *y, cons
 {
     tb_status status = check(scene, y, out_L);
     if (status == TB_STATUS_OK && point == NULL) {
-        status = TB_STATUS_NULL_POINTER;
+        status = tb__scene_fail((tb_scene *)scene, TB_STATUS_NULL_POINTER, "point is NULL");
     }
     if (status != TB_STATUS_OK) {
         return status;
@@ -115,9 +179,9 @@ tb_status tb_scene_angular_momentum(const tb_scene *scene, const double *y, cons
         const double *s = y + TB_STATE_SIZE * i;
         const double arm[3] = {s[0] - point[0], s[1] - point[1], s[2] - point[2]};
         double orbital[3];
-        tb__v3_cross(orbital, arm, s + 7);
+        tb__v3_cross(orbital, arm, s + TB_STATE_P);
         tb__v3_axpy(L, 1.0, orbital);
-        tb__v3_axpy(L, 1.0, s + 10);
+        tb__v3_axpy(L, 1.0, s + TB_STATE_L);
     }
     tb__v3_copy(out_L, L);
     return TB_STATUS_OK;
