@@ -385,6 +385,89 @@ static void test_a_body_starting_deep_in_the_ground_is_refused(void **state)
     tb_scene_destroy(scene);
 }
 
+/* --- effects added while an integrator exists --------------------------------------------- */
+
+/* A ball touching the plane z = 0 at its contact point (no gravity: it stays there), and an
+ * integrator of `method` made on it. */
+static tb_scene *ball_with_integrator(tb_method method, tb_integrator **out)
+{
+    tb_scene *scene = empty_scene();
+    const size_t ball = add_sphere(scene, 1.0, 0.1, (double[]){0, 0, 0.1});
+    const tb_contact_point point = {{0, 0, 0}, 0.1};
+    assert_int_equal(tb_scene_set_contact_points(scene, ball, &point, 1, 1), TB_STATUS_OK);
+    assert_int_equal(make_integrator(scene, method, 1.0 / 240.0, out), TB_STATUS_OK);
+    assert_int_equal(tb_integrator_advance(*out, 0.1), TB_STATUS_OK);
+    return scene;
+}
+
+static tb_status add_default_ground(tb_scene *scene)
+{
+    tb_ground_def ground = tb_ground_def_default();
+    return tb_scene_add_ground(scene, &ground);
+}
+
+static tb_status add_wider_points(tb_scene *scene)
+{
+    const tb_contact_point points[2] = {{{0, 0, 0}, 0.1}, {{0, 0, 0.05}, 0.1}};
+    return tb_scene_set_contact_points(scene, 0, points, 2, 1);
+}
+
+/* A ground plane (2 bristle states per contact point) or more contact points make the state
+ * longer than the integrator's: it refuses to advance (LAYOUT_CHANGED) instead of writing past
+ * its array (the sanitizer and valgrind builds run this), and the bodies' states stay as they
+ * were. Under RK4 and both CVODE methods. */
+static void test_a_layout_change_after_the_integrator_is_refused_by_it(void **state)
+{
+    (void)state;
+    const tb_method methods[3] = {TB_METHOD_RK4, TB_METHOD_CVODE_ADAMS, TB_METHOD_CVODE_BDF};
+    tb_status (*changes[2])(tb_scene *) = {add_default_ground, add_wider_points};
+    for (int m = 0; m < 3; ++m) {
+        for (int c = 0; c < 2; ++c) {
+            tb_integrator *integrator = NULL;
+            tb_scene *scene = ball_with_integrator(methods[m], &integrator);
+            if (c == 1) {
+                assert_int_equal(add_default_ground(scene), TB_STATUS_OK);
+                tb_integrator_destroy(integrator);
+                assert_int_equal(make_integrator(scene, methods[m], 1.0 / 240.0, &integrator),
+                                 TB_STATUS_OK);
+            }
+            assert_int_equal(changes[c](scene), TB_STATUS_OK);
+            double before[TB_STATE_SIZE];
+            memcpy(before, tb_scene_states_const(scene), sizeof before);
+            assert_int_equal(tb_integrator_advance(integrator, 0.2), TB_STATUS_LAYOUT_CHANGED);
+            print_message("%s: %s\n", tb_method_name(methods[m]), tb_integrator_detail(integrator));
+            assert_memory_equal(tb_scene_states_const(scene), before, sizeof before);
+            tb_integrator_destroy(integrator);
+            tb_scene_destroy(scene);
+        }
+    }
+}
+
+/* A free 2 kg body at rest; at t = 1 s a force of 4 N along x is added: x(t) = (t - 1)^2 for
+ * t > 1 (a = 2 m/s^2). RK4 is exact on a quadratic (to rounding); CVODE at rtol 1e-10 must see the
+ * force too (it kept integrating the old right-hand side from its history before), to 1e-6 m. */
+static void test_a_force_added_mid_run_acts_under_every_method(void **state)
+{
+    (void)state;
+    const tb_method methods[3] = {TB_METHOD_RK4, TB_METHOD_CVODE_ADAMS, TB_METHOD_CVODE_BDF};
+    for (int m = 0; m < 3; ++m) {
+        tb_scene *scene = empty_scene();
+        const size_t body = add_sphere(scene, 2.0, 0.1, (double[]){0, 0, 0});
+        tb_integrator *integrator = NULL;
+        assert_int_equal(make_integrator(scene, methods[m], 1e-2, &integrator), TB_STATUS_OK);
+        assert_int_equal(tb_integrator_advance(integrator, 1.0), TB_STATUS_OK);
+        assert_int_equal(tb_scene_add_force(scene, body, (double[]){4, 0, 0}, (double[]){0, 0, 0},
+                                            TB_FRAME_WORLD),
+                         TB_STATUS_OK);
+        assert_int_equal(tb_integrator_advance(integrator, 3.0), TB_STATUS_OK);
+        const double x = tb_scene_states_const(scene)[TB_STATE_X];
+        print_message("%-12s x(3) = %.12f (exact 4)\n", tb_method_name(methods[m]), x);
+        assert_true(fabs(x - 4.0) < 1e-6);
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -396,6 +479,8 @@ int main(void)
         cmocka_unit_test(test_the_guard_reads_quadratic_and_angular_drag_at_the_state),
         cmocka_unit_test(test_a_light_body_on_wide_contact_points_sets_a_short_step),
         cmocka_unit_test(test_a_body_starting_deep_in_the_ground_is_refused),
+        cmocka_unit_test(test_a_layout_change_after_the_integrator_is_refused_by_it),
+        cmocka_unit_test(test_a_force_added_mid_run_acts_under_every_method),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
