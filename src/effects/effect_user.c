@@ -61,22 +61,31 @@ static tb_status refuse(const tb_scene *scene, tb_status status)
     return status;
 }
 
+/* The common case, checked inline (these run once per load per derivative): every pointer
+ * set, id in range, the vectors finite. The checks above then only write the detail. */
+static inline bool load_is_good(const tb_scene *scene, const double *dydt, size_t id,
+                                const double *load, const double *point)
+{
+    return dydt != NULL && id < scene->body_count && load != NULL && point != NULL &&
+           tb__all_finite(load, 3) && tb__all_finite(point, 3);
+}
+
 tb_status tb_effect_add_force(const tb_scene *scene, const double *y, double *dydt, size_t id,
                               const double force[3], const double point[3])
 {
     if (scene == NULL) {
         return TB_STATUS_NULL_POINTER;
     }
-    tb__scene_clear_detail(scene);
     char *detail = ((tb_scene *)scene)->detail;
-    tb_status status = tb__validate_pointer(detail, y, "y");
-    if (status == TB_STATUS_OK) {
-        status = check_load(scene, dydt, id, force, "force");
-    }
-    if (status == TB_STATUS_OK) {
-        status = tb__validate_vector(detail, point, "point");
-    }
-    if (status != TB_STATUS_OK) {
+    detail[0] = '\0';
+    if (y == NULL || !load_is_good(scene, dydt, id, force, point)) {
+        tb_status status = tb__validate_pointer(detail, y, "y");
+        if (status == TB_STATUS_OK) {
+            status = check_load(scene, dydt, id, force, "force");
+        }
+        if (status == TB_STATUS_OK) {
+            status = tb__validate_vector(detail, point, "point");
+        }
         return refuse(scene, status);
     }
     const double *x = y + TB_STATE_SIZE * id + TB_STATE_X;
@@ -91,10 +100,9 @@ tb_status tb_effect_add_torque(const tb_scene *scene, double *dydt, size_t id,
     if (scene == NULL) {
         return TB_STATUS_NULL_POINTER;
     }
-    tb__scene_clear_detail(scene);
-    const tb_status status = check_load(scene, dydt, id, torque, "torque");
-    if (status != TB_STATUS_OK) {
-        return refuse(scene, status);
+    ((tb_scene *)scene)->detail[0] = '\0';
+    if (!load_is_good(scene, dydt, id, torque, torque)) {
+        return refuse(scene, check_load(scene, dydt, id, torque, "torque"));
     }
     tb__v3_axpy(dydt + TB_STATE_SIZE * id + TB_STATE_L, 1.0, torque);
     return TB_STATUS_OK;
