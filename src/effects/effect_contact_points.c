@@ -11,7 +11,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-static tb_status check_points(tb_scene *scene, const tb_contact_point *points, size_t count)
+/* Finite positions and radii >= 0, and no point so far out (1e200 m) that the contact's rate,
+ * which grows with the inverse mass M |r|^2 / I at the point's reach, overflows. */
+static tb_status check_points(tb_scene *scene, size_t id, const tb_contact_point *points,
+                              size_t count)
 {
     for (size_t k = 0; k < count; ++k) {
         char what[48];
@@ -23,6 +26,16 @@ static tb_status check_points(tb_scene *scene, const tb_contact_point *points, s
         }
         if (status != TB_STATUS_OK) {
             return status;
+        }
+        double r[3];
+        tb__shape_point_to_principal(&scene->mass_props[id], points[k].position, r);
+        const double reach = tb__v3_norm(r) + points[k].radius;
+        const double arm[3] = {reach, 0.0, 0.0};
+        if (!isfinite(scene->bodies[id].mass * tb__inverse_mass_at(&scene->bodies[id], arm))) {
+            return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                                  "points[%zu]: %g m from the body's centre of mass is so far "
+                                  "that the contact's rate overflows",
+                                  k, reach);
         }
     }
     return TB_STATUS_OK;
@@ -36,7 +49,7 @@ static tb_status validate(tb_scene *scene, size_t id, const tb_contact_point *po
     }
     tb_status status = tb__scene_check_id(scene, id, "id");
     if (status == TB_STATUS_OK) {
-        status = check_points(scene, points, count);
+        status = check_points(scene, id, points, count);
     }
     if (status == TB_STATUS_OK && count > 0 && (support == 0 || support > count)) {
         status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,

@@ -129,7 +129,7 @@ static void spring_rate(const tb__effect *effect, const tb_scene *scene, const d
     }
     *out = (tb__effect_rate){.oscillation = sqrt(spring->stiffness * w),
                              .oscillation_body = effect->body,
-                             .decay = spring->damping * w,
+                             .decay = spring->damping > 0.0 ? spring->damping * w : 0.0,
                              .decay_body = effect->body};
 }
 
@@ -193,6 +193,33 @@ static tb_status validate(tb_scene *scene, const tb_spring_def *def)
     return status;
 }
 
+/* A point so far from its body's centre of mass (6e246 m) that the inverse mass at it, and so
+ * the spring's rate, overflow: no step could be judged stable. Refused, naming the point. */
+static tb_status check_rate(tb_scene *scene, const tb__effect *effect, const tb_spring_def *def)
+{
+    tb__effect_rate rate;
+    spring_rate(effect, scene, scene->states, &rate);
+    if (isfinite(rate.oscillation) && isfinite(rate.decay)) {
+        return TB_STATUS_OK;
+    }
+    const tb__spring_params *spring = &effect->params.spring;
+    const bool a_far = !isfinite(tb__inverse_mass_at(&scene->bodies[effect->body], spring->point));
+    const bool b_far =
+        spring->other != TB_WORLD &&
+        !isfinite(tb__inverse_mass_at(&scene->bodies[spring->other], spring->anchor));
+    if (!a_far && !b_far) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "stiffness: %g N/m with damping %g N s/m makes the spring's rate "
+                              "overflow",
+                              spring->stiffness, spring->damping);
+    }
+    const double *p = a_far ? def->point_a : def->point_b;
+    return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                          "%s: (%g, %g, %g) m is so far from the body's centre of mass that the "
+                          "inverse mass there, and the spring's rate, overflow",
+                          a_far ? "point_a" : "point_b", p[0], p[1], p[2]);
+}
+
 tb_status tb_scene_add_spring(tb_scene *scene, const tb_spring_def *def)
 {
     if (scene == NULL) {
@@ -219,5 +246,9 @@ tb_status tb_scene_add_spring(tb_scene *scene, const tb_spring_def *def)
     spring->stiffness = def->stiffness;
     spring->damping = def->damping;
     spring->rest_length = def->rest_length;
+    status = check_rate(scene, &effect, def);
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
     return tb__scene_push_effect(scene, &effect);
 }
