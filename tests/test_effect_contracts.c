@@ -469,6 +469,31 @@ static void test_a_spring_whose_rate_overflows_is_refused(void **state)
     tb_scene_destroy(scene);
 }
 
+/* A free 2 kg body at rest; at t = 1 s a force of 4 N along x is added: x(t) = (t - 1)^2 for
+ * t > 1 (a = 2 m/s^2). RK4 is exact on a quadratic (to rounding); CVODE at rtol 1e-10 must see the
+ * force too (it kept integrating the old right-hand side from its history before), to 1e-6 m. */
+static void test_a_force_added_mid_run_acts_under_every_method(void **state)
+{
+    (void)state;
+    const tb_method methods[3] = {TB_METHOD_RK4, TB_METHOD_CVODE_ADAMS, TB_METHOD_CVODE_BDF};
+    for (int m = 0; m < 3; ++m) {
+        tb_scene *scene = empty_scene();
+        const size_t body = add_sphere(scene, 2.0, 0.1, (double[]){0, 0, 0});
+        tb_integrator *integrator = NULL;
+        assert_int_equal(make_integrator(scene, methods[m], 1e-2, &integrator), TB_STATUS_OK);
+        assert_int_equal(tb_integrator_advance(integrator, 1.0), TB_STATUS_OK);
+        assert_int_equal(tb_scene_add_force(scene, body, (double[]){4, 0, 0}, (double[]){0, 0, 0},
+                                            TB_FRAME_WORLD),
+                         TB_STATUS_OK);
+        assert_int_equal(tb_integrator_advance(integrator, 3.0), TB_STATUS_OK);
+        const double x = tb_scene_states_const(scene)[TB_STATE_X];
+        print_message("%-12s x(3) = %.12f (exact 4)\n", tb_method_name(methods[m]), x);
+        assert_true(fabs(x - 4.0) < 1e-6);
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -482,6 +507,7 @@ int main(void)
         cmocka_unit_test(test_a_body_starting_deep_in_the_ground_is_refused),
         cmocka_unit_test(test_a_spring_whose_rate_overflows_is_refused),
         cmocka_unit_test(test_a_layout_change_after_the_integrator_is_refused_by_it),
+        cmocka_unit_test(test_a_force_added_mid_run_acts_under_every_method),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -76,6 +76,14 @@ static tb_status acquire(void *ctx, unsigned long long generation, char *detail)
     return TB_STATUS_OK;
 }
 
+/* tb_ode_system.rhs_generation: effects added since (a force, a drag) change the right-hand
+ * side without changing the layout; CVODE restarts on them. */
+static unsigned long long rhs_generation(void *ctx)
+{
+    const tb_scene *scene = ctx;
+    return scene->effects_generation;
+}
+
 static void release(void *ctx)
 {
     tb_scene *scene = ctx;
@@ -105,6 +113,7 @@ tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
         .layout_generation = claim,
         .acquire = acquire,
         .release = release,
+        .rhs_generation = rhs_generation,
     };
     /* Bodies that do not interact are the system's blocks. */
     if (tb__scene_separable(scene)) {
