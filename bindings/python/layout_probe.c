@@ -90,6 +90,15 @@ int main(void)
     FIELD(tb_accuracy_reference, error);
     FIELD(tb_accuracy_reference, position_error);
     FIELD(tb_accuracy_reference, angle_error);
+    printf("\"_\": 0},\n");
+
+    printf("\"tb_writer_def\": {\"size\": %zu, ", sizeof(tb_writer_def));
+    FIELD(tb_writer_def, format);
+    FIELD(tb_writer_def, rotation_keys);
+    FIELD(tb_writer_def, scene_file);
+    FIELD(tb_writer_def, scene_text);
+    FIELD(tb_writer_def, base_directory);
+    FIELD(tb_writer_def, internal_cookie);
     printf("\"_\": 0}}\n");
     return 0;
 }

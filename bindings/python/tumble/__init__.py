@@ -24,8 +24,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _native
+from . import _export, _native
 from ._native import lib
+
+_export.declare(lib, _native.Error)
 
 __all__ = ["Scene", "SceneBuilder", "Frames", "TumbleError", "TumbleValueError", "METHODS",
            "ACCURACY_SWEEP", "__version__"]
@@ -97,6 +99,38 @@ class Frames:
     linear_momentum: np.ndarray
     angular_momentum: np.ndarray
     stats: dict = field(default_factory=dict)
+    #: the Scene the frames came from: its bodies' names and shapes, for the files below
+    source: object = field(default=None, repr=False, compare=False)
+
+    def to_file(self, path, format=None, rotation="cubic"):
+        """Writes the frames as they are in memory to path through the library's writer:
+        format "csv", "npz", "glb" or "gltf" (default: from the extension); rotation "cubic"
+        or "linear" glTF keys. docs/export.md describes the files (tumble's world is z up;
+        glTF's root node turns it to y up). Raises TumbleError when the file cannot be
+        written (none is left behind), ValueError for a format or rotation it does not know."""
+        if self.source is None:
+            raise ValueError("these frames have no source Scene: the names and shapes written "
+                             "come from the scene they were run from")
+        handle, _ = self.source._load()
+        try:
+            _export.write(lib, _native.Error, _failure, self, handle, self.source._text,
+                          self.source._base, path, format, rotation)
+        finally:
+            lib.tb_scene_destroy(handle)
+
+    def to_gltf(self, path, rotation="cubic"):
+        """Animated glTF 2.0 for Blender and browsers: binary .glb, or .gltf text when path
+        ends in .gltf; rotation keys "cubic" (following the spin) or "linear"."""
+        gltf = str(path).lower().endswith(".gltf")
+        self.to_file(path, "gltf" if gltf else "glb", rotation)
+
+    def to_npz(self, path):
+        """NumPy .npz: t, position, orientation, velocity, angular_velocity, names, units."""
+        self.to_file(path, "npz")
+
+    def to_csv(self, path):
+        """CSV with 17 significant digits: every number reads back exactly."""
+        self.to_file(path, "csv")
 
 
 def _stats_dict(stats):
@@ -245,7 +279,9 @@ class Scene:
             raise recorder.failure
         if status != 0:
             raise _failure(status, error.message.decode())
-        return recorder.frames(self.body_names, stats)
+        frames = recorder.frames(self.body_names, stats)
+        frames.source = self
+        return frames
 
 
 def _default_sweep():

@@ -6,6 +6,7 @@ import ctypes.util
 import os
 import pathlib
 
+from ._export import WriterDef
 from ._version import __version__
 
 DETAIL_SIZE = 256
@@ -113,6 +114,7 @@ STRUCTS = {
     "tb_accuracy_def": AccuracyDef,
     "tb_accuracy_result": AccuracyResult,
     "tb_accuracy_reference": AccuracyReference,
+    "tb_writer_def": WriterDef,
 }
 
 FRAME_FN = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_size_t, ctypes.c_double, ctypes.c_void_p,

@@ -1,0 +1,64 @@
+"""Frames to files through the C library's writer: the .npz holds the frames in memory bit
+for bit, the CSV reads back exactly, glTF is a GLB with a node per body; bad arguments are
+refused with the library's or Python's errors."""
+
+import csv
+import json
+import struct
+
+import numpy as np
+import pytest
+
+import tumble
+
+
+@pytest.fixture
+def frames(scenes):
+    return tumble.Scene.from_file(scenes / "spring_chain.json").run(duration=1.0)
+
+
+def test_npz_holds_the_frames_bit_for_bit(frames, tmp_path):
+    frames.to_npz(tmp_path / "chain.npz")
+    with np.load(tmp_path / "chain.npz") as npz:
+        for key in ("t", "position", "orientation", "velocity", "angular_velocity"):
+            # the 64-bit patterns, so not even -0.0 against 0.0 passes
+            assert np.array_equal(npz[key].view(np.uint64),
+                                  getattr(frames, key).view(np.uint64)), key
+        assert list(npz["names"]) == frames.names
+        assert str(npz["up_axis"]) == "z"
+
+
+def test_csv_reads_back_exactly(frames, tmp_path):
+    frames.to_csv(tmp_path / "chain.csv")
+    rows = list(csv.DictReader(open(tmp_path / "chain.csv", newline="")))
+    assert len(rows) == len(frames.t) * len(frames.names)
+    last = rows[-1]
+    assert last["body"] == frames.names[-1]
+    assert float(last["t"]) == frames.t[-1]
+    assert [float(last[k]) for k in ("x", "y", "z")] == list(frames.position[-1, -1])
+
+
+def test_gltf_is_a_glb_with_a_node_per_body(frames, tmp_path):
+    frames.to_gltf(tmp_path / "chain.glb")
+    data = (tmp_path / "chain.glb").read_bytes()
+    magic, version, length, json_length, kind = struct.unpack_from("<4sIII4s", data)
+    assert (magic, version, length, kind) == (b"glTF", 2, len(data), b"JSON")
+    document = json.loads(data[20:20 + json_length])
+    names = [node["name"] for node in document["nodes"]]
+    assert set(frames.names) <= set(names)
+    assert document["animations"][0]["samplers"][1]["interpolation"] == "CUBICSPLINE"
+    frames.to_gltf(tmp_path / "chain.gltf", rotation="linear")
+    text = json.loads((tmp_path / "chain.gltf").read_text())
+    assert text["animations"][0]["samplers"][1]["interpolation"] == "LINEAR"
+
+
+def test_bad_arguments_are_refused_and_leave_no_file(frames, tmp_path):
+    with pytest.raises(ValueError, match="format must be one of"):
+        frames.to_file(tmp_path / "x.glb", format="gif")
+    with pytest.raises(ValueError, match="cannot tell the format"):
+        frames.to_file(tmp_path / "x.txt")
+    with pytest.raises(ValueError, match="rotation must be one of"):
+        frames.to_gltf(tmp_path / "x.glb", rotation="smooth")
+    with pytest.raises(tumble.TumbleError, match="cannot open for writing"):
+        frames.to_npz(tmp_path / "no_such_directory" / "x.npz")
+    assert list(tmp_path.iterdir()) == []
