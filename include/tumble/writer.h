@@ -72,7 +72,11 @@ typedef struct tb_writer tb_writer;
 
 /* Opens a writer for the frames of scene (its bodies, names and, for glTF, shapes are taken
  * now; the scene must keep its bodies while the writer is fed). On failure *out_writer is
- * NULL, no file is left behind and out_error (may be NULL) names the input or the file. */
+ * NULL, no file is left behind and out_error (may be NULL) names the input or the file:
+ * TB_STATUS_NULL_POINTER, TB_STATUS_INVALID_ARGUMENT (a def not from tb_writer_def_default,
+ * an unknown format, scene_file and scene_text both given), TB_STATUS_IO_ERROR (the file
+ * cannot be created, the scene file cannot be read), TB_STATUS_PARSE_ERROR (scene_text is
+ * not JSON), TB_STATUS_BAD_SCENE (a shape the scene description gets wrong). */
 TB_API tb_status tb_writer_open(const char *path, const tb_writer_def *def, const tb_scene *scene,
                                 tb_writer **out_writer, tb_error *out_error);
 
