@@ -286,13 +286,17 @@ static void operate(fuzz_harness *h)
     case 10:
         fuzz_op_run(h);
         break;
-    default:
-        if (fuzz_byte(h->in) & 1) {
+    default: {
+        const uint8_t which = fuzz_byte(h->in);
+        if (which & 1) {
             fuzz_op_read(h);
+        } else if (which & 64) {
+            fuzz_op_differential(h);
         } else {
             fuzz_op_null_arguments(h);
         }
         break;
+    }
     }
 }
 

@@ -129,6 +129,7 @@ void fuzz_op_advance(fuzz_harness *h);
 void fuzz_op_run(fuzz_harness *h);
 void fuzz_op_read(fuzz_harness *h);
 void fuzz_op_null_arguments(fuzz_harness *h);
+void fuzz_op_differential(fuzz_harness *h); /* in fuzz_api_differential.c */
 
 /* An id: mostly a body of the scene, sometimes one past the end or a huge value. */
 size_t fuzz_body_id(fuzz_harness *h);
