@@ -348,6 +348,50 @@ static void test_set_up_that_overflows_is_refused_naming_the_field(void **state)
     tb_scene_get_state(scene, 0, &after);
     assert_memory_equal(&before, &after, sizeof before);
     tb_scene_destroy(scene);
+
+    /* P = M v finite but dx/dt = P / M not: 0.9 kg at -1.797e308 m/s (P = -1.6e308) */
+    scene = new_scene(1);
+    def = sphere_of_mass(0.9);
+    def.velocity[0] = -1.7976931348623157e308;
+    assert_int_equal(tb_scene_add_body(scene, &def, NULL), TB_STATUS_NOT_FINITE);
+    assert_non_null(strstr(tb_scene_detail(scene), "def.velocity"));
+    def = sphere_of_mass(0.5);
+    assert_int_equal(tb_scene_add_body(scene, &def, NULL), TB_STATUS_OK);
+    tb_scene_get_state(scene, 0, &before);
+    after = before;
+    after.P[1] = 1e308; /* P / M = 2e308 */
+    assert_int_equal(tb_scene_set_state(scene, 0, &after), TB_STATUS_NOT_FINITE);
+    assert_non_null(strstr(tb_scene_detail(scene), "P / M"));
+    tb_scene_get_state(scene, 0, &after);
+    assert_memory_equal(&before, &after, sizeof before);
+    tb_scene_destroy(scene);
+}
+
+/* A body moved deep into a ground plane after the plane was added (10 m: it was launched at
+ * 366 m/s) is refused when an integrator is made, naming the effect and the body. */
+static void test_a_start_deep_in_the_ground_is_refused_at_integrator_creation(void **state)
+{
+    (void)state;
+    tb_scene *scene = new_scene(1);
+    tb_body_def def = sphere_of_mass(1.0);
+    def.position[2] = 1.0;
+    assert_int_equal(tb_scene_add_body(scene, &def, NULL), TB_STATUS_OK);
+    tb_contact_point point = {{0, 0, 0}, 0.1};
+    assert_int_equal(tb_scene_set_contact_points(scene, 0, &point, 1, 1), TB_STATUS_OK);
+    tb_ground_def ground = tb_ground_def_default();
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+    tb_body_state s;
+    tb_scene_get_state(scene, 0, &s);
+    s.x[2] = -10.0;
+    assert_int_equal(tb_scene_set_state(scene, 0, &s), TB_STATUS_OK);
+    tb_integrator_def idef = tb_integrator_def_default();
+    tb_integrator *integrator = NULL;
+    assert_int_equal(tb_scene_integrator_create(scene, &idef, 0.0, &integrator),
+                     TB_STATUS_INVALID_ARGUMENT);
+    print_message("%s\n", tb_scene_detail(scene));
+    assert_non_null(strstr(tb_scene_detail(scene), "(a ground)"));
+    assert_null(integrator);
+    tb_scene_destroy(scene);
 }
 
 /* The derivative and the renormalisation hook refuse a NULL state with a fatal (< 0) return,
@@ -534,6 +578,7 @@ int main(void)
         cmocka_unit_test(test_a_start_time_too_coarse_for_the_step_is_refused),
         cmocka_unit_test(test_every_name_is_found_and_duplicates_are_refused),
         cmocka_unit_test(test_body_points_and_body_frame_omega_read_as_by_hand),
+        cmocka_unit_test(test_a_start_deep_in_the_ground_is_refused_at_integrator_creation),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

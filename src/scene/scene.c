@@ -284,6 +284,27 @@ static tb_status body_constants(tb_scene *scene, const tb_mass_properties *props
     return TB_STATUS_OK;
 }
 
+/* P (if not NULL) and L (if not NULL) finite, and the velocities made from them too:
+ * |P| / M and |L| / I_min, bounded through the largest component times sqrt(3). */
+static bool rates_finite(const tb_mass_properties *props, const double P[3], const double L[3])
+{
+    const double root3 = 1.7320508075688772;
+    if (P != NULL) {
+        const double largest = fmax(fabs(P[0]), fmax(fabs(P[1]), fabs(P[2])));
+        if (!isfinite(largest) || !isfinite(root3 * largest / props->mass)) {
+            return false;
+        }
+    }
+    if (L != NULL) {
+        const double largest = fmax(fabs(L[0]), fmax(fabs(L[1]), fabs(L[2])));
+        const double smallest = fmin(props->moments[0], fmin(props->moments[1], props->moments[2]));
+        if (!isfinite(largest) || !isfinite(root3 * largest / smallest)) {
+            return false;
+        }
+    }
+    return true;
+}
+
 /* P = M v and L = R diag(I) R^T omega for a body of mass properties props at orientation q
  * (principal -> world, unit). Refuses momenta that overflow (1e308 kg at 10 m/s), naming the
  * argument (`velocity`, `angular_velocity`, with `prefix` before it). */
@@ -298,13 +319,15 @@ static tb_status momenta(tb_scene *scene, const tb_mass_properties *props, const
         omega_body[k] *= props->moments[k];
     }
     tb__q_rotate(out_L, q, omega_body);
-    if (!tb__all_finite(out_P, 3)) {
+    /* P and L finite, and so are the rates made from them: dx/dt = P / M (v = -1.8e308 m/s
+     * rounds to a finite P whose P / M is not) and omega = I^-1 L */
+    if (!rates_finite(props, out_P, NULL)) {
         return tb__scene_fail(scene, TB_STATUS_NOT_FINITE,
                               "%svelocity: momentum mass * velocity overflows (%g kg at |v| = "
                               "%g m/s)",
                               prefix, props->mass, tb__v3_norm(v));
     }
-    if (!tb__all_finite(out_L, 3)) {
+    if (!rates_finite(props, NULL, out_L)) {
         return tb__scene_fail(scene, TB_STATUS_NOT_FINITE,
                               "%sangular_velocity: angular momentum I omega overflows (|omega| = "
                               "%g rad/s)",
@@ -469,6 +492,11 @@ tb_status tb_scene_set_state(tb_scene *scene, size_t id, const tb_body_state *st
     status = tb__check_unit_quaternion(state->q, "q", &error);
     if (status != TB_STATUS_OK) {
         return tb__scene_fail(scene, status, "state of body %zu: %s", id, error.message);
+    }
+    if (!rates_finite(&scene->mass_props[id], state->P, state->L)) {
+        return tb__scene_fail(scene, TB_STATUS_NOT_FINITE,
+                              "state of body %zu: P / M or I^-1 L overflows (|P| %g, |L| %g)", id,
+                              tb__v3_norm(state->P), tb__v3_norm(state->L));
     }
     double *s = scene->states + TB_STATE_SIZE * id;
     memcpy(s, values, TB_STATE_SIZE * sizeof(double));

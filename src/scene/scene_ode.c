@@ -214,6 +214,25 @@ static tb_status check_fixed_step(tb_scene *scene, const tb_integrator_def *def,
     return status == TB_STATUS_OK ? status : tb__scene_fail(scene, status, "def.%s", detail);
 }
 
+/* Every effect's check of the starting state (a body moved deep into a ground plane by
+ * tb_scene_set_state after the plane was added). */
+static tb_status check_start(tb_scene *scene)
+{
+    char detail[TB_DETAIL_SIZE];
+    for (size_t k = 0; k < scene->effect_count; ++k) {
+        const tb__effect *effect = &scene->effects[k];
+        if (effect->ops->check_start == NULL) {
+            continue;
+        }
+        const tb_status status = effect->ops->check_start(effect, scene, scene->states, detail);
+        if (status != TB_STATUS_OK) {
+            return tb__scene_fail(scene, status, "effect %zu (a %s): %s", k, effect->ops->name,
+                                  detail);
+        }
+    }
+    return TB_STATUS_OK;
+}
+
 /* def with the scene's automatic tolerances (atol_vector, allocated into *out_atol) and
  * preconditioner bandwidth filled in. */
 static tb_status scene_integrator_def(tb_scene *scene, const tb_integrator_def *def,
@@ -251,6 +270,9 @@ tb_status tb_scene_integrator_create(tb_scene *scene, const tb_integrator_def *d
     }
     if (status == TB_STATUS_OK) {
         status = check_fixed_step(scene, def, t0);
+    }
+    if (status == TB_STATUS_OK) {
+        status = check_start(scene);
     }
     tb_integrator_def scene_def;
     double *atol = NULL;
