@@ -350,8 +350,9 @@ static void test_a_light_body_on_wide_contact_points_sets_a_short_step(void **st
 
 /* A ball (radius 0.1 m) whose centre is 10 m under the plane z = 0 is 10.1 m deep: the contact
  * would push it with 10^4 times its weight and launch it (366 m/s before this was refused).
- * Refused whichever comes last, the plane or the contact points, naming the body and depth;
- * nothing changes. 5 mm deep (5 penetrations, a placement off by a little) is accepted. */
+ * Refused whichever comes last, the plane or the contact points, or at integrator creation
+ * when the body was moved there after both, naming the body and depth; nothing changes. 5 mm deep
+ * (5 penetrations, a placement off by a little) is accepted. */
 static void test_a_body_starting_deep_in_the_ground_is_refused(void **state)
 {
     (void)state;
@@ -376,6 +377,22 @@ static void test_a_body_starting_deep_in_the_ground_is_refused(void **state)
                      TB_STATUS_INVALID_ARGUMENT);
     assert_non_null(strstr(tb_scene_detail(scene), "starts 10.1 m inside"));
     assert_int_equal(tb_scene_state_size(scene), size); /* no bristle states were added */
+    tb_scene_destroy(scene);
+
+    /* moved there after both: the integrator is refused, naming the body */
+    scene = empty_scene();
+    add_sphere(scene, 1.0, 0.1, (double[]){0, 0, 0.1});
+    assert_int_equal(tb_scene_set_contact_points(scene, ball, &point, 1, 1), TB_STATUS_OK);
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+    tb_body_state moved;
+    assert_int_equal(tb_scene_get_state(scene, ball, &moved), TB_STATUS_OK);
+    moved.x[2] = -10.0;
+    assert_int_equal(tb_scene_set_state(scene, ball, &moved), TB_STATUS_OK);
+    tb_integrator *integrator = (tb_integrator *)scene;
+    assert_int_equal(make_integrator(scene, TB_METHOD_CVODE_BDF, 0.0, &integrator),
+                     TB_STATUS_INVALID_ARGUMENT);
+    assert_null(integrator);
+    assert_non_null(strstr(tb_scene_detail(scene), "body 0 (\"body0\"): starts 10.1 m inside"));
     tb_scene_destroy(scene);
 
     scene = empty_scene();

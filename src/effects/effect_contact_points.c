@@ -60,22 +60,6 @@ static tb_status validate(tb_scene *scene, size_t id, const tb_contact_point *po
     return status;
 }
 
-/* The scene's effects accept its state with the new points (no body deep inside a plane). */
-static tb_status check_start(tb_scene *scene)
-{
-    for (size_t e = 0; e < scene->effect_count; ++e) {
-        const tb__effect *effect = &scene->effects[e];
-        if (effect->ops->check_start != NULL) {
-            const tb_status status =
-                effect->ops->check_start(effect, scene, scene->states, scene->detail);
-            if (status != TB_STATUS_OK) {
-                return status;
-            }
-        }
-    }
-    return TB_STATUS_OK;
-}
-
 /* Removes body id's points and appends the new ones at the end (keeps each body's points
  * contiguous). Works on a copy so that a failure changes nothing. */
 tb_status tb_scene_set_contact_points(tb_scene *scene, size_t id, const tb_contact_point *points,
@@ -121,7 +105,7 @@ tb_status tb_scene_set_contact_points(tb_scene *scene, size_t id, const tb_conta
     scene->contacts = contacts;
     scene->contact_count = total;
     scene->contact_capacity = total;
-    status = check_start(scene);
+    status = tb__scene_check_effects_start(scene, scene->states);
     if (status == TB_STATUS_OK) {
         status = tb__scene_layout_states(scene, scene->body_count);
     }

@@ -106,6 +106,20 @@ tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect)
     return TB_STATUS_OK;
 }
 
+tb_status tb__scene_check_effects_start(tb_scene *scene, const double *y)
+{
+    for (size_t e = 0; e < scene->effect_count; ++e) {
+        const tb__effect *effect = &scene->effects[e];
+        if (effect->ops->check_start != NULL) {
+            const tb_status status = effect->ops->check_start(effect, scene, y, scene->detail);
+            if (status != TB_STATUS_OK) {
+                return status;
+            }
+        }
+    }
+    return TB_STATUS_OK;
+}
+
 size_t tb_scene_effect_count(const tb_scene *scene)
 {
     return scene == NULL ? 0 : scene->effect_count;

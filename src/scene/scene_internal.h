@@ -210,6 +210,10 @@ tb_status tb__scene_reserve_effects(tb_scene *scene, size_t capacity);
  * while the scene is being stepped. */
 tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect);
 
+/* Asks every effect's row whether the scene can start from y (tb__effect_ops.check_start: no
+ * body deep inside a ground plane); the first refusal's status, with its detail. */
+tb_status tb__scene_check_effects_start(tb_scene *scene, const double *y);
+
 /* TB_STATUS_BUSY (detail naming `what`) while an integrator is stepping the scene: a call from
  * inside a derivative, hook or user effect must not change what the step is reading. */
 tb_status tb__scene_check_idle(tb_scene *scene, const char *what);
