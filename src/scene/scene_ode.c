@@ -269,9 +269,6 @@ tb_status tb_scene_integrator_create(tb_scene *scene, const tb_integrator_def *d
                                 def == NULL ? "def" : "out_integrator");
     }
     if (status == TB_STATUS_OK) {
-        status = tb__scene_check_effects_start(scene, scene->states);
-    }
-    if (status == TB_STATUS_OK) {
         status = check_fixed_step(scene, def, t0);
     }
     if (status == TB_STATUS_OK) {
