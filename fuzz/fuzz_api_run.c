@@ -81,6 +81,7 @@ static tb_status create(fuzz_harness *h, const tb_integrator_def *def, double t0
                fuzz_c_double(t0));
     tb_status status = tb_scene_ode_system(h->scene, &system);
     if (status != TB_STATUS_OK) {
+        *out = NULL; /* no creation was called: nothing to check of *out */
         *detail = tb_scene_detail(h->scene);
         return status;
     }
