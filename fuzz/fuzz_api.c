@@ -25,18 +25,6 @@ void fuzz_fail(const char *call, const char *format, ...)
     abort();
 }
 
-int fuzz_known(const char *tag)
-{
-    const char *known = getenv("TUMBLE_FUZZ_KNOWN");
-    const size_t length = strlen(tag);
-    for (const char *at = known; at != NULL && (at = strstr(at, tag)) != NULL; at += length) {
-        if ((at == known || at[-1] == ',') && (at[length] == '\0' || at[length] == ',')) {
-            return 1;
-        }
-    }
-    return 0;
-}
-
 void fuzz_trace(const fuzz_harness *h, const char *format, ...)
 {
     if (!h->trace) {

@@ -100,11 +100,6 @@ void fuzz_fail(const char *call, const char *format, ...)
 #endif
     ;
 
-/* Whether finding `tag` (F1, F2, ... in the findings list) is listed in TUMBLE_FUZZ_KNOWN
- * (comma-separated): a known, still open defect whose check or trigger the harness then skips,
- * so that a fuzz run looks past it. Empty by default: every check is on. */
-int fuzz_known(const char *tag);
-
 /* Trace: with h->trace set, prints one line of C to stderr. */
 void fuzz_trace(const fuzz_harness *h, const char *format, ...)
 #if defined(__GNUC__) || defined(__clang__)

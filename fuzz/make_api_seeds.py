@@ -99,7 +99,35 @@ def user_force_on_missing_body():
     return bytes([OP_EFFECT, 6, 0, 232, one, one, one, one, one, one, 0])
 
 
+def raw_double(value):
+    """fuzz_double: a selector byte >= 192, then the double's 8 bytes, most significant first."""
+    return bytes([0xC0]) + struct.pack(">d", value)
+
+
+def far_spring_to_world(distance):
+    """A spring (kind 4) from body 0's point (0, distance, 0) to the world origin, 2.1 N/m."""
+    return bytes([OP_EFFECT, 4, 0, 1, 0, 32]) + raw_double(distance) + bytes([32, KEEP]) + \
+        size(20) + bytes([KEEP, KEEP])
+
+
+def read_outs():
+    """operate() 11, an odd byte: fuzz_op_read (body 0, then tb_scene_max_stable_step)."""
+    return bytes([11, 1])
+
+
+def sphere_at_velocity(kilograms_tenths, velocity):
+    """A sphere of radius 0.5 m given its mass, at the velocity (0, velocity, 0)."""
+    return bytes([OP_BODY, 0, 0]) + size(kilograms_tenths) + size(5) * 3 + \
+        bytes([0, KEEP, KEEP, 0, 32]) + raw_double(velocity) + bytes([32, KEEP])
+
+
 REGRESSIONS = {
+    # F9: a spring point 6e246 m from the centre of mass: the guard's |r|^2 / I overflowed and
+    # tb_scene_max_stable_step answered OK with dt = 0 (the spring is now refused).
+    "F9-far-spring-point-stable-step-zero": SCENE + sphere_body() +
+    far_spring_to_world(6.3498042097568784e246) + read_outs(),
+    # F15: 0.9 kg at -1.797e308 m/s: P = M v is finite, dx/dt = P / M is not (now refused).
+    "F15-velocity-rate-overflows": SCENE + sphere_at_velocity(9, -1.7976931348623157e308),
     # F3: tb_scene_derivative / tb_scene_normalize_quaternions given a NULL state, with no body
     # (returned success) and with one (dereferenced NULL).
     "F3-null-state-no-body": SCENE + null_arguments(13),

@@ -335,6 +335,29 @@ static void test_long_obj_lines_are_one_line(void **state)
     assert_int_equal(load_cube(CUBE_SCENE("cube.obj"), folder, NULL, &error), TB_STATUS_OK);
 }
 
+/* F13 (fuzz): a NUL byte ended an OBJ line early, so "f 1 4 3 2<NUL> 9" read as the face
+ * 1 4 3 2 and the file was accepted with text the reader never saw. A NUL byte is refused, naming
+ * its line: an OBJ file is text. */
+static void test_a_nul_byte_in_an_obj_file_is_refused_by_line(void **state)
+{
+    (void)state;
+    char folder[512], path[600];
+    fresh_folder(folder, sizeof folder, "nul_byte");
+    snprintf(path, sizeof path, "%s/cube.obj", folder);
+    static const char tail[] = "\0 9\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+    char text[512];
+    const size_t head = strlen(CUBE_VERTICES "f 1 4 3 2");
+    memcpy(text, CUBE_VERTICES "f 1 4 3 2", head);
+    memcpy(text + head, tail, sizeof tail - 1);
+    FILE *file = fopen(path, "wb");
+    assert_non_null(file);
+    assert_int_equal(fwrite(text, 1, head + sizeof tail - 1, file), head + sizeof tail - 1);
+    assert_int_equal(fclose(file), 0);
+    tb_error error;
+    assert_int_equal(load_cube(CUBE_SCENE("cube.obj"), folder, NULL, &error), TB_STATUS_BAD_SCENE);
+    assert_non_null(strstr(error.message, "cube.obj:9: a NUL byte"));
+}
+
 /* Statements a rigid body does not need are ignored (documented); any other is refused with
  * its line, rather than silently dropped. */
 static void test_obj_statements_are_read_ignored_or_refused_by_line(void **state)
@@ -526,6 +549,7 @@ int main(void)
         cmocka_unit_test(test_mesh_files_are_read_relative_to_the_scene),
         cmocka_unit_test(test_long_obj_lines_are_one_line),
         cmocka_unit_test(test_obj_statements_are_read_ignored_or_refused_by_line),
+        cmocka_unit_test(test_a_nul_byte_in_an_obj_file_is_refused_by_line),
         cmocka_unit_test(test_obj_reader_takes_regular_files_of_bounded_size),
         cmocka_unit_test(test_mesh_files_stay_inside_the_scene_folder),
         cmocka_unit_test(test_long_scene_folders_are_kept_or_refused),

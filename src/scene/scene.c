@@ -323,15 +323,15 @@ static tb_status momenta(tb_scene *scene, const tb_mass_properties *props, const
      * rounds to a finite P whose P / M is not) and omega = I^-1 L */
     if (!rates_finite(props, out_P, NULL)) {
         return tb__scene_fail(scene, TB_STATUS_NOT_FINITE,
-                              "%svelocity: momentum mass * velocity overflows (%g kg at |v| = "
-                              "%g m/s)",
-                              prefix, props->mass, tb__v3_norm(v));
+                              "%svelocity: (%g, %g, %g) m/s: the momentum M v or the speed "
+                              "|P| / M overflows (M = %g kg)",
+                              prefix, v[0], v[1], v[2], props->mass);
     }
     if (!rates_finite(props, NULL, out_L)) {
         return tb__scene_fail(scene, TB_STATUS_NOT_FINITE,
-                              "%sangular_velocity: angular momentum I omega overflows (|omega| = "
-                              "%g rad/s)",
-                              prefix, tb__v3_norm(omega));
+                              "%sangular_velocity: (%g, %g, %g) rad/s: the angular momentum "
+                              "I omega or the rate I^-1 L overflows",
+                              prefix, omega[0], omega[1], omega[2]);
     }
     return TB_STATUS_OK;
 }
