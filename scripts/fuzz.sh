@@ -28,12 +28,6 @@ while [ $# -gt 0 ]; do
     esac
 done
 targets=("$@")
-# Findings still open, whose checks the targets skip (fuzz/known-open.txt); set
-# TUMBLE_FUZZ_KNOWN= (empty) to check everything.
-if [ -z "${TUMBLE_FUZZ_KNOWN+set}" ]; then
-    TUMBLE_FUZZ_KNOWN=$(grep -o '^F[0-9]*' fuzz/known-open.txt | paste -sd, -)
-    export TUMBLE_FUZZ_KNOWN
-fi
 [ ${#targets[@]} -eq 0 ] && targets=(scene_loader api obj)
 
 if [ -z "$build" ]; then
@@ -66,8 +60,7 @@ for target in "${targets[@]}"; do
     fi
     [ -n "$seed" ] && options+=(-seed="$seed")
     bound=${runs:+$runs inputs}
-    echo "fuzz: $target (${bound:-$seconds s}), corpus $corpus," \
-        "known open: ${TUMBLE_FUZZ_KNOWN:-none}" >&2
+    echo "fuzz: $target (${bound:-$seconds s}), corpus $corpus" >&2
     seeds=("fuzz/corpus/$target")
     [ "$target" = scene_loader ] && seeds+=(examples/scenes tests/scenes)
     # Niced: the fuzzer must not starve the rest of the machine.
