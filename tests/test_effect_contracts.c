@@ -486,6 +486,41 @@ static void test_a_spring_whose_rate_overflows_is_refused(void **state)
     tb_scene_destroy(scene);
 }
 
+/* The guard's rates are numbers for every state the scene accepts: a 1 kg sphere of radius 0.5 m
+ * (I = 0.1 kg m^2) spinning at 1e300 rad/s, or moving at 1e200 m/s under quadratic drag
+ * c = 1 kg/m, has the rotation rate |omega| = 1e300 1/s and the drag rate 2 c |v| / m = 2e200 1/s,
+ * so the largest stable RK4 step is the method's limit over them (2.8e-300 s, 1.4e-200 s), not
+ * the 0 s that |omega|^2 = 1e600 overflowing to infinity gave. */
+static void test_the_guard_answers_a_step_for_fast_states_it_accepted(void **state)
+{
+    (void)state;
+    tb_method_info info;
+    assert_int_equal(tb_method_get_info(TB_METHOD_RK4, &info), TB_STATUS_OK);
+    tb_scene *scene = empty_scene();
+    tb_body_def def = tb_body_def_default();
+    assert_int_equal(tb_mass_from_sphere(TB_MASS_GIVEN, 1.0, 0.5, &def.mass, NULL), TB_STATUS_OK);
+    def.angular_velocity[2] = 1e300;
+    assert_int_equal(tb_scene_add_body(scene, &def, NULL), TB_STATUS_OK);
+    double dt = -1.0;
+    assert_int_equal(tb_scene_max_stable_step(scene, TB_METHOD_RK4, &dt, NULL), TB_STATUS_OK);
+    print_message("spinning at 1e300 rad/s: dt %g s\n", dt);
+    const double spin_limit = info.imaginary_limit / 1e300; /* the margin: at most 0.1% below */
+    assert_true(dt <= spin_limit * (1 + 1e-12) && dt >= 0.999 * spin_limit);
+    tb_scene_destroy(scene);
+
+    scene = empty_scene();
+    def.angular_velocity[2] = 0.0;
+    def.velocity[0] = 1e200;
+    assert_int_equal(tb_scene_add_body(scene, &def, NULL), TB_STATUS_OK);
+    tb_drag_def drag = tb_drag_def_default();
+    drag.quadratic = 1.0;
+    assert_int_equal(tb_scene_add_drag(scene, &drag), TB_STATUS_OK);
+    assert_int_equal(tb_scene_max_stable_step(scene, TB_METHOD_RK4, &dt, NULL), TB_STATUS_OK);
+    print_message("1e200 m/s under quadratic drag: dt %g s\n", dt);
+    assert_true(near_limit(dt, 2e200));
+    tb_scene_destroy(scene);
+}
+
 /* A free 2 kg body at rest; at t = 1 s a force of 4 N along x is added: x(t) = (t - 1)^2 for
  * t > 1 (a = 2 m/s^2). RK4 is exact on a quadratic (to rounding); CVODE at rtol 1e-10 must see the
  * force too (it kept integrating the old right-hand side from its history before), to 1e-6 m. */
@@ -523,6 +558,7 @@ int main(void)
         cmocka_unit_test(test_a_light_body_on_wide_contact_points_sets_a_short_step),
         cmocka_unit_test(test_a_body_starting_deep_in_the_ground_is_refused),
         cmocka_unit_test(test_a_spring_whose_rate_overflows_is_refused),
+        cmocka_unit_test(test_the_guard_answers_a_step_for_fast_states_it_accepted),
         cmocka_unit_test(test_a_layout_change_after_the_integrator_is_refused_by_it),
         cmocka_unit_test(test_a_force_added_mid_run_acts_under_every_method),
     };

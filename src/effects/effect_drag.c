@@ -48,14 +48,14 @@ static int apply_drag(const tb__effect *effect, const tb_scene *scene, double t,
  * two, for the body where it is largest. */
 static double drag_body_rate(const tb__drag_params *drag, const tb__body *body, const double *s)
 {
-    const double speed = tb__v3_norm(s + TB_STATE_P) * body->inv_mass;
+    const double speed = tb__v3_hypot(s + TB_STATE_P) * body->inv_mass;
     double rate = (drag->linear + 2.0 * drag->quadratic * speed) * body->inv_mass;
     if (drag->angular != 0.0 || drag->angular_quadratic != 0.0) {
         double omega[3];
         tb__angular_velocity(body, s, omega);
         const double *inverse = body->inv_moments;
         const double largest_inverse = fmax(inverse[0], fmax(inverse[1], inverse[2]));
-        rate = fmax(rate, (drag->angular + 2.0 * drag->angular_quadratic * tb__v3_norm(omega)) *
+        rate = fmax(rate, (drag->angular + 2.0 * drag->angular_quadratic * tb__v3_hypot(omega)) *
                               largest_inverse);
     }
     return rate;

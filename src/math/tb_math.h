@@ -28,6 +28,13 @@ static inline double tb__v3_norm(const double a[3])
     return sqrt(tb__v3_dot(a, a));
 }
 
+/* |a| without the overflow of its squares (|a| = 1e300 is a number; tb__v3_norm gives inf):
+ * slower, for checks and estimates outside the hot loop. */
+static inline double tb__v3_hypot(const double a[3])
+{
+    return hypot(hypot(a[0], a[1]), a[2]);
+}
+
 /* out = a x b; out may alias neither input. */
 static inline void tb__v3_cross(double out[3], const double a[3], const double b[3])
 {

@@ -51,7 +51,7 @@ static void rotation_modes(guard *g, const tb_scene *scene, const double *y)
     for (size_t i = 0; i < scene->body_count; ++i) {
         double omega[3];
         tb__angular_velocity(&scene->bodies[i], y + TB_STATE_SIZE * i, omega);
-        const double spin = tb__v3_norm(omega);
+        const double spin = tb__v3_hypot(omega);
         if (spin * g->dt > g->imaginary) {
             consider(g, spin, true, "body %zu (\"%s\") spinning at %.3g rad/s", i, scene->names[i],
                      spin);
