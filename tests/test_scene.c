@@ -344,7 +344,7 @@ static void test_set_up_that_overflows_is_refused_naming_the_field(void **state)
     tb_scene_get_state(scene, 0, &before);
     assert_int_equal(tb_scene_set_velocity(scene, 0, (double[]){0, 0, 1e300}, (double[]){0, 0, 0}),
                      TB_STATUS_NOT_FINITE);
-    assert_non_null(strstr(tb_scene_detail(scene), "velocity: momentum"));
+    assert_non_null(strstr(tb_scene_detail(scene), "velocity: (0, 0, 1e+300) m/s: the momentum"));
     tb_scene_get_state(scene, 0, &after);
     assert_memory_equal(&before, &after, sizeof before);
     tb_scene_destroy(scene);
@@ -481,6 +481,11 @@ static void test_a_start_time_too_coarse_for_the_step_is_refused(void **state)
     }
     assert_int_equal(tb_scene_integrator_create(scene, &def, 1e6, &integrator), TB_STATUS_OK);
     tb_integrator_destroy(integrator);
+    /* near t0 = 0 it is dt that cannot be resolved (5e-324 s: the spacing of doubles there) */
+    def.dt = 5e-324;
+    assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator),
+                     TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(strstr(tb_scene_detail(scene), "def.dt: 4.94066e-324 s is too small"));
     tb_scene_destroy(scene);
 }
 

@@ -201,6 +201,13 @@ static tb_status check_fixed_step(tb_scene *scene, const tb_integrator_def *def,
         return TB_STATUS_OK; /* tb_integrator_create names what is wrong */
     }
     const double spacing = nextafter(fabs(t0), INFINITY) - fabs(t0);
+    if (spacing > TB__TIME_RESOLUTION * def->dt && fabs(t0) <= def->dt) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "def.dt: %g s is too small to step: doubles near t0 = %g s are %g s "
+                              "apart, so every step would be rounded by %.2g of itself (at most "
+                              "%g)",
+                              def->dt, t0, spacing, spacing / def->dt, TB__TIME_RESOLUTION);
+    }
     if (spacing > TB__TIME_RESOLUTION * def->dt) {
         return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
                               "t0: %g s is too large for def.dt = %g s: doubles near t0 are %g s "
