@@ -15,24 +15,26 @@
 #include <string.h>
 
 typedef struct fixture {
-    tb_scene *scene, *other_scene;
-    tb_integrator *integrator, *other;
+    tb_scene *scene, *other_scene, *grown_scene;
+    tb_integrator *integrator, *other, *stale;
     tb_ode_system system;
-    tb_integrator_def idef;
-    tb_body_def body, long_name, duplicate;
+    tb_integrator_def idef, rk4_with_rtol;
+    tb_scene_def huge_effect_capacity;
+    tb_body_def body, long_name, duplicate, subnormal_mass, overflowing_momentum;
     tb_body_state state, bad_state;
     tb_mass_properties mass, bad_mass;
     tb_mass_part part;
     tb_drag_def drag;
-    tb_spring_def spring;
+    tb_spring_def spring, far_spring;
     tb_ground_def ground;
     tb_run_def run, zero_fps, infinite_run;
     tb_contact_point points[8];
     tb_method method;
     tb_conserved conserved;
     double y[2], v[3], matrix[9], value, positions[6], masses[2], nan_positions[6];
-    double vertices[12];
-    unsigned triangles[12];
+    double vertices[12], subnormal_tensor[9], subnormal_masses[2], huge_omega[3];
+    unsigned triangles[12], past_the_vertices[12];
+    tb_contact_point far_point;
     size_t id, count;
     char name[100];
 } fixture;
@@ -43,6 +45,42 @@ static int harmonic(double t, const double *y, double *dydt, void *ctx)
     dydt[0] = y[1];
     dydt[1] = -y[0];
     return 0;
+}
+
+/* Inputs at the ends of the double range (issue 11): each made a hang, a crash or a
+ * non-finite value before it was refused. */
+static void set_up_extremes(fixture *f)
+{
+    f->huge_effect_capacity = tb_scene_def_default();
+    f->huge_effect_capacity.effect_capacity = (size_t)1 << 61; /* its byte size overflowed */
+    f->subnormal_mass = f->body;
+    f->subnormal_mass.name = "light";
+    f->subnormal_mass.mass.mass = 5e-324; /* 1 / m = inf */
+    f->overflowing_momentum = f->body;
+    f->overflowing_momentum.name = "heavy";
+    tb_mass_from_sphere(TB_MASS_GIVEN, 1e100, 0.1, &f->overflowing_momentum.mass, NULL);
+    f->overflowing_momentum.velocity[0] = 1e300; /* P = 1e400 */
+    f->huge_omega[2] = 1.7976931348623157e308;   /* I omega finite, I^-1 L with it not */
+    for (int k = 0; k < 9; ++k) {
+        f->subnormal_tensor[k] = k % 4 == 0 ? 1e-322 : 0.0; /* GSL's eigen-solver hung */
+    }
+    f->subnormal_masses[0] = f->subnormal_masses[1] = 5e-324;
+    memcpy(f->past_the_vertices, f->triangles, sizeof f->triangles);
+    f->past_the_vertices[11] = 7;
+    f->far_spring = tb_spring_def_default();
+    f->far_spring.point_a[1] = 6.3498042097568784e246; /* its rate overflowed: stable dt 0 s */
+    f->far_spring.stiffness = 2.8;
+    f->far_point = (tb_contact_point){{0, 1e200, 0}, 0.0};
+    f->rk4_with_rtol = f->idef;
+    f->rk4_with_rtol.rtol = 1e-8; /* ignored silently before */
+    /* an integrator whose scene grew a body after it was made */
+    tb_scene_def scene_def = tb_scene_def_default();
+    tb_scene_create(&scene_def, &f->grown_scene, NULL);
+    tb_scene_add_body(f->grown_scene, &f->body, NULL);
+    tb_scene_integrator_create(f->grown_scene, &f->idef, 0.0, &f->stale);
+    f->long_name.name = "second";
+    tb_scene_add_body(f->grown_scene, &f->long_name, NULL);
+    f->long_name.name = f->name;
 }
 
 static void set_up(fixture *f)
@@ -95,6 +133,7 @@ static void set_up(fixture *f)
     }
     memset(&f->mass, 0x5a, sizeof f->mass);
     memset(&f->method, 0x5a, sizeof f->method);
+    set_up_extremes(f);
 }
 
 #define BAD_INPUTS(X)                                                                              \
@@ -209,7 +248,41 @@ static void set_up(fixture *f)
     X("load_string: NULL json", NULL_POINTER,                                                      \
       tb_scene_load_string(NULL, "x", NULL, &f->other_scene, &f->run, NULL))                       \
     X("load_string: empty", PARSE_ERROR,                                                           \
-      tb_scene_load_string("", "x", NULL, &f->other_scene, &f->run, NULL))
+      tb_scene_load_string("", "x", NULL, &f->other_scene, &f->run, NULL))                         \
+    EXTREME_INPUTS(X)
+
+/* Issue 11's classes: hangs, crashes, silent garbage at the ends of the double range. */
+#define EXTREME_INPUTS(X)                                                                          \
+    X("scene_create: effect_capacity 2^61", OUT_OF_MEMORY,                                         \
+      tb_scene_create(&f->huge_effect_capacity, &f->other_scene, NULL))                            \
+    X("points: subnormal masses", INVALID_ARGUMENT,                                                \
+      tb_mass_from_points(f->positions, f->subnormal_masses, 2, &f->mass, NULL))                   \
+    X("tensor: subnormal entries", BAD_MASS_PROPERTIES,                                            \
+      tb_mass_from_tensor(1, f->v, f->subnormal_tensor, &f->mass, NULL))                           \
+    X("mesh: index past the vertices", BAD_MESH,                                                   \
+      tb_mass_from_mesh(TB_MASS_GIVEN, 1, f->vertices, 4, f->past_the_vertices, 4, &f->mass,       \
+                        NULL))                                                                     \
+    X("add_body: mass 5e-324", INVALID_ARGUMENT,                                                   \
+      tb_scene_add_body(f->scene, &f->subnormal_mass, NULL))                                       \
+    X("add_body: 1e100 kg at 1e300 m/s", NOT_FINITE,                                               \
+      tb_scene_add_body(f->scene, &f->overflowing_momentum, NULL))                                 \
+    X("set_velocity: omega 1.8e308", NOT_FINITE,                                                   \
+      tb_scene_set_velocity(f->scene, 0, f->v, f->huge_omega))                                     \
+    X("add_force: NULL force", NULL_POINTER,                                                       \
+      tb_scene_add_force(f->scene, 0, NULL, NULL, TB_FRAME_WORLD))                                 \
+    X("add_spring: point 6e246 m out", INVALID_ARGUMENT,                                           \
+      tb_scene_add_spring(f->scene, &f->far_spring))                                               \
+    X("set_contact_points: 1e200 m out", INVALID_ARGUMENT,                                         \
+      tb_scene_set_contact_points(f->scene, 0, &f->far_point, 1, 1))                               \
+    X("advance: 1e9 s at 1/240 s a step", TOO_MANY_STEPS,                                          \
+      tb_integrator_advance(f->integrator, 1e9))                                                   \
+    X("advance: the scene grew a body", LAYOUT_CHANGED, tb_integrator_advance(f->stale, 1.0))      \
+    X("integrator_create on scene: t0 1e15", INVALID_ARGUMENT,                                     \
+      tb_scene_integrator_create(f->scene, &f->idef, 1e15, &f->other))                             \
+    X("integrator_create on scene: rk4 rtol", INVALID_ARGUMENT,                                    \
+      tb_scene_integrator_create(f->scene, &f->rk4_with_rtol, 0, &f->other))                       \
+    X("run_frame_count: 1e9 s at 60 fps", INVALID_ARGUMENT,                                        \
+      tb_run_frame_count(1e9, 60, &f->count, NULL))
 
 static tb_status attempt(size_t index, fixture *f)
 {
@@ -268,7 +341,9 @@ static void test_every_public_function_refuses_bad_input_and_changes_nothing(voi
         assert_null(f.other);
         assert_null(f.other_scene);
         tb_integrator_destroy(f.integrator);
+        tb_integrator_destroy(f.stale);
         tb_scene_destroy(f.scene);
+        tb_scene_destroy(f.grown_scene);
     }
 }
 
