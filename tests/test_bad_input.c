@@ -27,7 +27,7 @@ typedef struct fixture {
     tb_drag_def drag;
     tb_spring_def spring, far_spring;
     tb_ground_def ground;
-    tb_run_def run, zero_fps, infinite_run;
+    tb_run_def run, zero_fps, infinite_run, tiny_dt_run;
     tb_contact_point points[8];
     tb_method method;
     tb_conserved conserved;
@@ -73,6 +73,8 @@ static void set_up_extremes(fixture *f)
     f->far_point = (tb_contact_point){{0, 1e200, 0}, 0.0};
     f->rk4_with_rtol = f->idef;
     f->rk4_with_rtol.rtol = 1e-8; /* ignored silently before */
+    f->tiny_dt_run = tb_run_def_default();
+    f->tiny_dt_run.integrator.dt = 1e-300; /* 1.7e298 steps a frame: ran "forever" */
     /* an integrator whose scene grew a body after it was made */
     tb_scene_def scene_def = tb_scene_def_default();
     tb_scene_create(&scene_def, &f->grown_scene, NULL);
@@ -282,7 +284,9 @@ static void set_up(fixture *f)
     X("integrator_create on scene: rk4 rtol", INVALID_ARGUMENT,                                    \
       tb_scene_integrator_create(f->scene, &f->rk4_with_rtol, 0, &f->other))                       \
     X("run_frame_count: 1e9 s at 60 fps", INVALID_ARGUMENT,                                        \
-      tb_run_frame_count(1e9, 60, &f->count, NULL))
+      tb_run_frame_count(1e9, 60, &f->count, NULL))                                                \
+    X("run: dt 1e-300 (a frame over max_steps)", TOO_MANY_STEPS,                                   \
+      tb_scene_run(f->scene, &f->tiny_dt_run, NULL, NULL, NULL, NULL))
 
 static tb_status attempt(size_t index, fixture *f)
 {

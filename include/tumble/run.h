@@ -39,7 +39,9 @@ TB_API tb_status tb_run_frame_count(double duration, double fps, size_t *out_fra
  * stop the run (tb_scene_run then returns TB_STATUS_CANCELLED). */
 typedef int (*tb_frame_fn)(size_t frame, double t, const tb_scene *scene, void *ctx);
 
-/* Runs the scene from its current state at t = 0 for def->duration seconds. A fixed step the
+/* Runs the scene from its current state at t = 0 for def->duration seconds. A fixed step that
+ * needs more than def->integrator.max_steps steps from one frame to the next is refused before
+ * the first frame (TB_STATUS_TOO_MANY_STEPS, nothing done). A fixed step the
  * state outgrows during the run (spin or speed rising past tb_scene_max_stable_step) stops it
  * after the frame where that is found, before that frame is handed on, with
  * TB_STATUS_UNSTABLE_STEP. Adaptive methods
