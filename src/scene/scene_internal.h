@@ -150,6 +150,7 @@ struct tb_scene {
     tb__contact *contacts;
     size_t contact_count;
     size_t contact_capacity;
+    size_t contact_bodies_end; /* 1 + the largest id of a body with points (0: none) */
     /* Counts changes of the effects that leave the layout alone (an effect added): the
      * right-hand side changed, so an integrator with a history of it (CVODE) restarts. */
     unsigned long long effects_generation;
