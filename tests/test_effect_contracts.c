@@ -460,6 +460,27 @@ static void test_a_layout_change_after_the_integrator_is_refused_by_it(void **st
     }
 }
 
+/* F17 (fuzz): no points for a body on a scene without any (NULL storage) did arithmetic on a
+ * NULL pointer (undefined; the sanitizer builds stop on it). Each contact point of a scene with
+ * a ground owns 2 states (the bristle's deflection), so the state size counts the points: none,
+ * one, none again. */
+static void test_contact_points_come_and_go_with_their_states(void **state)
+{
+    (void)state;
+    tb_scene *scene = empty_scene();
+    add_sphere(scene, 1.0, 0.1, (double[]){0, 0, 1});
+    assert_int_equal(tb_scene_set_contact_points(scene, 0, NULL, 0, 0), TB_STATUS_OK);
+    tb_ground_def ground = tb_ground_def_default();
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+    assert_int_equal(tb_scene_state_size(scene), 13);
+    const tb_contact_point centre = {{0, 0, 0}, 0.1};
+    assert_int_equal(tb_scene_set_contact_points(scene, 0, &centre, 1, 1), TB_STATUS_OK);
+    assert_int_equal(tb_scene_state_size(scene), 13 + 2);
+    assert_int_equal(tb_scene_set_contact_points(scene, 0, NULL, 0, 0), TB_STATUS_OK);
+    assert_int_equal(tb_scene_state_size(scene), 13);
+    tb_scene_destroy(scene);
+}
+
 /* F9 (fuzz): a spring point 6e246 m from its body's centre of mass made the inverse mass at the
  * arm, |r|^2 / I, overflow, and the guard answered a largest stable step of 0 s with status OK.
  * Such a spring is refused, naming the point; the guard never answers 0 for what it accepted. */
@@ -557,6 +578,7 @@ int main(void)
         cmocka_unit_test(test_the_guard_reads_quadratic_and_angular_drag_at_the_state),
         cmocka_unit_test(test_a_light_body_on_wide_contact_points_sets_a_short_step),
         cmocka_unit_test(test_a_body_starting_deep_in_the_ground_is_refused),
+        cmocka_unit_test(test_contact_points_come_and_go_with_their_states),
         cmocka_unit_test(test_a_spring_whose_rate_overflows_is_refused),
         cmocka_unit_test(test_the_guard_answers_a_step_for_fast_states_it_accepted),
         cmocka_unit_test(test_a_layout_change_after_the_integrator_is_refused_by_it),

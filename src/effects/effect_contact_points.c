@@ -131,7 +131,9 @@ static tb_status append_points(tb_scene *scene, size_t id, const tb_contact_poin
         scene->contacts = grown; /* the points held so far are unchanged */
         scene->contact_capacity = capacity;
     }
-    fill_points(scene, id, points, count, support, scene->contacts + old_count);
+    if (count > 0) { /* with no points, contacts may still be NULL */
+        fill_points(scene, id, points, count, support, scene->contacts + old_count);
+    }
     scene->contact_count = total;
     const size_t end =
         count > 0 && id >= scene->contact_bodies_end ? id + 1 : scene->contact_bodies_end;
