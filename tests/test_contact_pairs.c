@@ -188,7 +188,8 @@ static bool boxes_overlap(const tb__aabb *a, const tb__aabb *b)
 }
 
 /* Exactly the pairs that a check of all N (N - 1) / 2 finds, each once, on random scenes
- * (including a pile on a floor and boxes sharing bounds exactly), in batches of any size. */
+ * (a pile on a floor, boxes sharing bounds exactly on a grid, one box across the scene), in
+ * batches of any size. */
 static void test_broad_phase_finds_exactly_the_overlapping_pairs(void **state)
 {
     (void)state;
@@ -208,6 +209,10 @@ static void test_broad_phase_finds_exactly_the_overlapping_pairs(void **state)
                 const double h = scene % 3 == 2 ? 0.5 : test_uniform(&rng, 0.01, 1.0);
                 b->min[k] = c - h;
                 b->max[k] = c + h;
+            }
+            if (scene == 5 && i == 0) { /* one box across the scene: a single strip */
+                b->min[0] = b->min[1] = -50.0;
+                b->max[0] = b->max[1] = 50.0;
             }
         }
         tb__broad_phase_sort(&bp, count);
