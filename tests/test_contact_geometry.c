@@ -112,6 +112,36 @@ static void test_sphere_box_depth_from_face_edge_corner_and_inside(void **state)
     free(sphere);
 }
 
+/* A capsule lying on a box's top face rests on both ends: 2 points under the end spheres,
+ * equally deep; tilted so that one end lifts 1 cm clear, one point, under the lower end. */
+static void test_capsule_lying_on_a_box_rests_on_both_ends(void **state)
+{
+    (void)state;
+    tb__collision_shape *box = test_box(2, 2, 1), *capsule = test_capsule(0.1, 1.0);
+    const double y_axis[3] = {0, 1, 0};
+    double pb[7], pc[7];
+    test_pose(pb, 0, 0, -0.5, z_axis, 0.0);
+    test_pose(pc, 0.2, 0.3, 0.1 - 2e-3, y_axis, 0.5 * 3.141592653589793);
+    tb__contact_manifold m;
+    collide_ok(box, pb, capsule, pc, 0.0, &m, 2);
+    assert_near(m.normal[2], 1.0, EXACT);
+    double xs[2];
+    for (int k = 0; k < 2; ++k) {
+        assert_near(m.points[k].depth, 2e-3, EXACT);
+        assert_near(m.points[k].position[2], -1e-3, EXACT);
+        assert_near(m.points[k].position[1], 0.3, EXACT);
+        xs[k] = m.points[k].position[0];
+    }
+    assert_near(fmin(xs[0], xs[1]), 0.2 - 0.5, EXACT);
+    assert_near(fmax(xs[0], xs[1]), 0.2 + 0.5, EXACT);
+    const double tilt = asin(0.012); /* the upper end 1.2 cm higher than the lower */
+    test_pose(pc, 0.2, 0.3, 0.1 - 2e-3 + 0.006, y_axis, 0.5 * 3.141592653589793 - tilt);
+    collide_ok(box, pb, capsule, pc, 0.0, &m, 1);
+    assert_near(m.points[0].depth, 2e-3, 1e-9);
+    free(box);
+    free(capsule);
+}
+
 /* A 1 m cube resting flat on a 2 m slab, sunk 1 mm, turned 0.3 rad about the vertical: 4
  * points at the cube's bottom corners, each 1 mm deep, normal straight up. */
 static void test_box_resting_flat_on_a_box_touches_at_four_corners(void **state)
@@ -357,6 +387,7 @@ int main(void)
         cmocka_unit_test(test_spheres_overlap_by_the_sum_of_radii_less_the_distance),
         cmocka_unit_test(test_capsule_depth_is_distance_to_its_segment),
         cmocka_unit_test(test_sphere_box_depth_from_face_edge_corner_and_inside),
+        cmocka_unit_test(test_capsule_lying_on_a_box_rests_on_both_ends),
         cmocka_unit_test(test_box_resting_flat_on_a_box_touches_at_four_corners),
         cmocka_unit_test(test_box_edges_meet_faces_and_edges),
         cmocka_unit_test(test_swapping_the_shapes_negates_the_normal),

@@ -51,6 +51,38 @@ static void test_box_on_a_plane_touches_at_its_lowest_corners(void **state)
     free(box);
 }
 
+/* A capsule lying on the plane rests on its two end spheres; a cylinder standing on it on 4
+ * rim points 90 degrees apart, lying on it on its two lowest rim points; all equally deep. */
+static void test_capsules_and_cylinders_rest_on_a_plane_along_their_length(void **state)
+{
+    (void)state;
+    const double x_axis[3] = {1, 0, 0}, half_turn = 0.5 * 3.141592653589793;
+    tb_shape s = tb_shape_default();
+    s.radius = 0.1;
+    s.length = 0.6;
+    s.type = TB_SHAPE_CAPSULE;
+    tb__collision_shape *capsule = test_shape(&s);
+    s.type = TB_SHAPE_CYLINDER;
+    tb__collision_shape *cylinder = test_shape(&s);
+    double pose[7];
+    tb__contact_manifold m;
+    test_pose(pose, 0, 0, 0.1 - 1e-3, x_axis, half_turn);
+    assert_int_equal(tb__collide_plane(up, 0.0, capsule, pose, 0.0, &m), 2);
+    assert_near(m.points[0].depth, 1e-3, EXACT);
+    assert_near(m.points[1].depth, 1e-3, EXACT);
+    assert_near(fabs(m.points[0].position[1] - m.points[1].position[1]), 0.6, EXACT);
+    assert_int_equal(tb__collide_plane(up, 0.0, cylinder, pose, 0.0, &m), 2);
+    assert_near(fabs(m.points[0].position[1] - m.points[1].position[1]), 0.6, EXACT);
+    test_pose(pose, 0, 0, 0.3 - 1e-3, z_axis, 0.4);
+    assert_int_equal(tb__collide_plane(up, 0.0, cylinder, pose, 0.0, &m), 4);
+    for (int k = 0; k < 4; ++k) {
+        assert_near(m.points[k].depth, 1e-3, EXACT);
+        assert_near(hypot(m.points[k].position[0], m.points[k].position[1]), 0.1, EXACT);
+    }
+    free(capsule);
+    free(cylinder);
+}
+
 /* Every shape on a tilted plane n . x = d: the depth of its lowest point from the support
  * function's closed form (sphere r, capsule r + h |n . a|, cylinder h |n . a| + r sqrt(1 -
  * (n . a)^2), ellipsoid |A R^T n|) below the centre's height. */
@@ -486,6 +518,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_box_on_a_plane_touches_at_its_lowest_corners),
+        cmocka_unit_test(test_capsules_and_cylinders_rest_on_a_plane_along_their_length),
         cmocka_unit_test(test_every_shape_on_a_plane_is_as_deep_as_its_lowest_point),
         cmocka_unit_test(test_bounds_are_the_support_points_along_the_axes),
         cmocka_unit_test(test_convex_hull_keeps_exactly_the_extreme_points),
