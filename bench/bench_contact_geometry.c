@@ -87,9 +87,6 @@ static size_t candidates(tb__broad_phase *bp_in, const tb_scene *scene, const do
                          size_t count, double *sweep_seconds)
 {
     tb__broad_phase bp = *bp_in;
-    if (tb__broad_phase_init(&bp, count) != TB_STATUS_OK) {
-        return 0;
-    }
     size_t boxes = 0;
     for (size_t i = 0; i < count; ++i) {
         double low[3], high[3];
@@ -151,6 +148,8 @@ static void measure(size_t count, int repeats)
     size_t c = 0;
     tb__broad_phase bp;
     if (tb__broad_phase_init(&bp, count) != TB_STATUS_OK) {
+        tb__contact_pairs_destroy(pairs);
+        tb_scene_destroy(scene);
         return;
     }
     pass_result r = one_pass(pairs, scene, y); /* the first sort starts from any order */

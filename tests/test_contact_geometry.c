@@ -381,6 +381,49 @@ static void test_closed_forms_agree_with_libccd(void **state)
     assert_true(compared > 300);
 }
 
+/* Degenerate and extreme inputs give a finite, defined answer or none, never a crash, a hang
+ * or undefined behaviour (the sanitizer builds run this): concentric spheres (depth the sum of
+ * radii, normal the fallback +z), coincident boxes, NaN and infinite poses, coordinates of
+ * 1e100 m, every pair of types. */
+static void test_degenerate_and_extreme_poses_are_answered(void **state)
+{
+    (void)state;
+    tb__collision_shape *a = test_sphere(0.5), *b = test_sphere(0.25);
+    double pa[7], pb[7];
+    test_pose(pa, 1, 1, 1, z_axis, 0.0);
+    tb__contact_manifold m;
+    collide_ok(a, pa, b, pa, 0.0, &m, 1);
+    assert_near(m.points[0].depth, 0.75, EXACT);
+    assert_near(fabs(m.normal[2]), 1.0, EXACT);
+    free(a);
+    free(b);
+    uint64_t rng = 55;
+    const double specials[] = {NAN, INFINITY, -INFINITY, 1e100, -1e100, 1e-300, 0.0};
+    for (int trial = 0; trial < 700; ++trial) {
+        a = random_shape(&rng, trial % KINDS);
+        b = random_shape(&rng, (trial / KINDS) % KINDS);
+        random_pose(&rng, pa, 0.3);
+        random_pose(&rng, pb, 0.3);
+        if (trial % 3 == 0) {
+            pb[trial % 7] = specials[(trial / 3) % 7];
+        } else if (trial % 3 == 1) {
+            memcpy(pb, pa, sizeof pb); /* the same pose */
+        }
+        const int count = tb__collide(a, pa, b, pb, 0.01, &m);
+        assert_true(count >= 0 && count <= TB__MANIFOLD_POINTS && count == m.count);
+        const double g[3] = {0, 0, 1};
+        tb__contact_manifold ground;
+        const int on_plane = tb__collide_plane(g, 0.0, b, pb, 0.01, &ground);
+        assert_true(on_plane >= 0 && on_plane <= TB__MANIFOLD_POINTS);
+        if (trial % 3 == 1 && trial % KINDS < 3 && (trial / KINDS) % KINDS < 3) {
+            assert_true(count >= 1); /* closed forms: coincident shapes touch */
+            assert_true(isfinite(m.points[0].depth));
+        }
+        free(a);
+        free(b);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -393,6 +436,7 @@ int main(void)
         cmocka_unit_test(test_swapping_the_shapes_negates_the_normal),
         cmocka_unit_test(test_rigid_motion_of_both_moves_the_contact_with_them),
         cmocka_unit_test(test_closed_forms_agree_with_libccd),
+        cmocka_unit_test(test_degenerate_and_extreme_poses_are_answered),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

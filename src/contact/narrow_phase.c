@@ -50,7 +50,7 @@ static int pick(const tb__candidates *c, const bool *taken, const int *chosen, c
                                          : (rule == 2 ? 1.0 : -1.0) *
                                                signed_area(c->points[chosen[0]].position,
                                                            c->points[chosen[1]].position, p, n);
-        if (!taken[i] && score > best_score) {
+        if (!taken[i] && (score > best_score || best < 0)) { /* NaN scores: the first */
             best_score = score;
             best = i;
         }
