@@ -90,6 +90,31 @@ static void test_capsule_depth_is_distance_to_its_segment(void **state)
     free(other);
 }
 
+/* Capsules lying side by side along x, overlapping from x = -0.2 to 0.5, 1 mm deep: they rest
+ * on the ends of the overlap (and the closest pair between), each 1 mm deep. */
+static void test_parallel_capsules_rest_along_their_overlap(void **state)
+{
+    (void)state;
+    tb__collision_shape *a = test_capsule(0.1, 1.0), *b = test_capsule(0.1, 1.0);
+    const double y_axis[3] = {0, 1, 0}, half_turn = 0.5 * 3.141592653589793;
+    double pa[7], pb[7];
+    test_pose(pa, 0, 0, 0, y_axis, half_turn);
+    test_pose(pb, 0.3, 0, 0.2 - 1e-3, y_axis, half_turn);
+    tb__contact_manifold m;
+    collide_ok(a, pa, b, pb, 0.0, &m, 3);
+    double low = INFINITY, high = -INFINITY;
+    for (int k = 0; k < m.count; ++k) {
+        assert_near(m.points[k].depth, 1e-3, EXACT);
+        assert_near(m.points[k].position[2], 0.1 - 0.5e-3, EXACT);
+        low = fmin(low, m.points[k].position[0]);
+        high = fmax(high, m.points[k].position[0]);
+    }
+    assert_near(low, -0.2, EXACT);
+    assert_near(high, 0.5, EXACT);
+    free(a);
+    free(b);
+}
+
 static void test_sphere_box_depth_from_face_edge_corner_and_inside(void **state)
 {
     (void)state;
@@ -429,6 +454,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_spheres_overlap_by_the_sum_of_radii_less_the_distance),
         cmocka_unit_test(test_capsule_depth_is_distance_to_its_segment),
+        cmocka_unit_test(test_parallel_capsules_rest_along_their_overlap),
         cmocka_unit_test(test_sphere_box_depth_from_face_edge_corner_and_inside),
         cmocka_unit_test(test_capsule_lying_on_a_box_rests_on_both_ends),
         cmocka_unit_test(test_box_resting_flat_on_a_box_touches_at_four_corners),

@@ -154,6 +154,40 @@ static int sphere_capsule(const double c[3], double r, const tb__collision_shape
     return tb__spheres(c, r, closest, capsule->radius, world_up, margin, out);
 }
 
+/* Capsules lying side by side rest along their length: each segment end (ends[0..2) B's,
+ * [2..4) A's) against the other segment is a candidate too, with the closest pair's normal. An
+ * end enters at depth -margin, so crossing capsules keep one point and parallel ones gain the
+ * ends of their overlap continuously. */
+static int capsule_ends(const double *ends[4], double radii, double radius_a, double margin,
+                        tb__contact_manifold *out)
+{
+    tb__candidates c = {.count = 1, .points = {out->points[0]}};
+    const double *n = out->normal, *p0 = ends[2], *p1 = ends[3], *q0 = ends[0], *q1 = ends[1];
+    for (int e = 0; e < 4; ++e) {
+        const double *end = ends[e];
+        double s, t, on_a[3], on_b[3];
+        e < 2 ? tb__segments_closest(p0, p1, end, end, &s, &t)
+              : tb__segments_closest(end, end, q0, q1, &s, &t);
+        lerp(on_a, e < 2 ? p0 : end, e < 2 ? p1 : end, s);
+        lerp(on_b, e < 2 ? end : q0, e < 2 ? end : q1, t);
+        double p_a[3], gap[3] = {on_b[0] - on_a[0], on_b[1] - on_a[1], on_b[2] - on_a[2]};
+        tb__v3_copy(p_a, on_a);
+        tb__v3_axpy(p_a, radius_a, n);
+        const double depth = radii - tb__v3_norm(gap);
+        double position[3];
+        tb__v3_copy(position, p_a);
+        tb__v3_axpy(position, -0.5 * depth, n);
+        bool known = false;
+        for (int k = 0; k < c.count; ++k) {
+            known |= distance2(position, c.points[k].position) <= 1e-18 * radii * radii;
+        }
+        if (!known) {
+            tb__candidate_add(&c, n, p_a, depth, margin);
+        }
+    }
+    return tb__reduce_candidates(&c, n, out);
+}
+
 static int capsule_capsule(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
                            const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE],
                            double margin, tb__contact_manifold *out)
@@ -178,7 +212,11 @@ static int capsule_capsule(const tb__collision_shape *a, const double pose_a[TB_
     } else {
         tb__v3_copy(fallback, world_up);
     }
-    return tb__spheres(ca, a->radius, cb, b->radius, fallback, margin, out);
+    if (tb__spheres(ca, a->radius, cb, b->radius, fallback, margin, out) == 0) {
+        return 0;
+    }
+    const double *ends[4] = {q0, q1, p0, p1};
+    return capsule_ends(ends, a->radius + b->radius, a->radius, margin, out);
 }
 
 /* Solving order: sphere, capsule, box, then the libccd types by their enum value. */
