@@ -65,10 +65,9 @@ static void box_nearest(const double h[3], const double c[3], double q[3], doubl
     q[face] = n[face] * h[face];
 }
 
-/* Sphere (c, r) against the box as a candidate; its normal into n. */
-static void sphere_candidate(const tb__collision_shape *box, const double pose[TB__POSE_SIZE],
-                             const double c[3], double r, double margin, tb__candidates *out,
-                             double n[3])
+void tb__box_sphere_candidate(const tb__collision_shape *box, const double pose[TB__POSE_SIZE],
+                              const double c[3], double r, double margin, tb__candidates *out,
+                              double n[3])
 {
     double local[3], q[3], n_local[3], p_a[3];
     to_local(pose, c, local);
@@ -86,7 +85,7 @@ int tb__box_sphere(const tb__collision_shape *box, const double pose_box[TB__POS
 {
     tb__candidates c = {0};
     double n[3];
-    sphere_candidate(box, pose_box, center, radius, margin, &c, n);
+    tb__box_sphere_candidate(box, pose_box, center, radius, margin, &c, n);
     return tb__reduce_candidates(&c, n, out);
 }
 
@@ -125,7 +124,7 @@ int tb__box_capsule(const tb__collision_shape *box, const double pose_box[TB__PO
         deepest[k] = p0[k] + s * (p1[k] - p0[k]);
     }
     tb__candidates c = {0};
-    sphere_candidate(box, pose_box, deepest, capsule->radius, margin, &c, n);
+    tb__box_sphere_candidate(box, pose_box, deepest, capsule->radius, margin, &c, n);
     /* A capsule lying on a face rests on both ends: add an end whose own contact has the same
      * normal, and drop the middle point when both ends carry it. */
     tb__candidates ends = {0};
@@ -133,7 +132,8 @@ int tb__box_capsule(const tb__collision_shape *box, const double pose_box[TB__PO
         const double t = e == 0 ? 0.0 : 1.0;
         tb__candidates one = {0};
         double n_end[3];
-        sphere_candidate(box, pose_box, e == 0 ? p0 : p1, capsule->radius, margin, &one, n_end);
+        tb__box_sphere_candidate(box, pose_box, e == 0 ? p0 : p1, capsule->radius, margin, &one,
+                                 n_end);
         if (one.count == 1 && tb__v3_dot(n_end, n) > 1.0 - 1e-9 && fabs(t - s) > 1e-9) {
             ends.points[ends.count++] = one.points[0];
         }

@@ -38,6 +38,23 @@ void tb__segments_closest(const double p0[3], const double p1[3], const double q
 void tb__capsule_ends(const tb__collision_shape *capsule, const double pose[TB__POSE_SIZE],
                       double out_p0[3], double out_p1[3]);
 
+/* A cylinder's 8 rim points (world): 4 on each end circle, 90 degrees apart, starting from
+ * the circle's farthest point along the world direction d (shape x when d is along the axis,
+ * where every rim point is as far). */
+void tb__cylinder_rim_points(const tb__collision_shape *cylinder, const double pose[TB__POSE_SIZE],
+                             const double d[3], double out[8][3]);
+
+/* A box against a shape without a closed form (narrow_box_convex.c): libccd's normal, then
+ * the shape's vertices, rim points or spheres that rest on the box face it gives. */
+int tb__box_general(const tb__collision_shape *box, const double pose_box[TB__POSE_SIZE],
+                    const tb__collision_shape *other, const double pose_other[TB__POSE_SIZE],
+                    double margin, tb__contact_manifold *out);
+
+/* Sphere (c, r) against the box as a candidate, and that candidate's normal. */
+void tb__box_sphere_candidate(const tb__collision_shape *box, const double pose[TB__POSE_SIZE],
+                              const double c[3], double r, double margin, tb__candidates *out,
+                              double n[3]);
+
 /* Box pairs (narrow_box.c); A is the box. */
 int tb__box_sphere(const tb__collision_shape *box, const double pose_box[TB__POSE_SIZE],
                    const double center[3], double radius, double margin, tb__contact_manifold *out);

@@ -219,6 +219,28 @@ static int capsule_capsule(const tb__collision_shape *a, const double pose_a[TB_
     return capsule_ends(ends, a->radius + b->radius, a->radius, margin, out);
 }
 
+void tb__cylinder_rim_points(const tb__collision_shape *cylinder, const double pose[TB__POSE_SIZE],
+                             const double d[3], double out[8][3])
+{
+    double local_d[3], far[3], side[3];
+    tb__q_rotate_inverse(local_d, pose + 3, d);
+    const double rho = hypot(local_d[0], local_d[1]);
+    tb__v3_set(far, rho > 1e-12 ? local_d[0] / rho : 1.0, rho > 1e-12 ? local_d[1] / rho : 0.0,
+               0.0);
+    tb__v3_set(side, -far[1], far[0], 0.0); /* 90 degrees on */
+    for (int k = 0; k < 8; ++k) {
+        const double c = k % 4 == 0 ? 1.0 : k % 4 == 2 ? -1.0 : 0.0;
+        const double s = k % 4 == 1 ? 1.0 : k % 4 == 3 ? -1.0 : 0.0;
+        double local[3];
+        for (int i = 0; i < 2; ++i) {
+            local[i] = cylinder->radius * (c * far[i] + s * side[i]);
+        }
+        local[2] = (k < 4 ? -1.0 : 1.0) * cylinder->half_length;
+        tb__q_rotate(out[k], pose + 3, local);
+        tb__v3_axpy(out[k], 1.0, pose);
+    }
+}
+
 /* Solving order: sphere, capsule, box, then the libccd types by their enum value. */
 static int rank(tb_shape_type type)
 {
@@ -264,6 +286,9 @@ static int ordered(const tb__collision_shape *a, const double pose_a[TB__POSE_SI
     }
     if (ta == TB_SHAPE_BOX && tb == TB_SHAPE_BOX) {
         return tb__box_box(a, pose_a, b, pose_b, margin, out);
+    }
+    if (ta == TB_SHAPE_BOX) { /* b has no closed form: its base on the box's face */
+        return tb__box_general(a, pose_a, b, pose_b, margin, out);
     }
     const int count = tb__ccd_collide(a, pose_a, b, pose_b, margin, TB__CCD_MPR, out);
     return count > 0 ? count : (out->count = 0);

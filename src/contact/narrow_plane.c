@@ -42,30 +42,14 @@ static void box_corners(const plane *g, const tb__collision_shape *box,
     }
 }
 
-/* 4 rim points of each end circle, 90 degrees apart, starting at the circle's lowest point. */
 static void cylinder_rims(const plane *g, const tb__collision_shape *cylinder,
                           const double pose[TB__POSE_SIZE], tb__candidates *out)
 {
-    double axis[3], down[3], n_local[3];
-    tb__q_rotate_inverse(n_local, pose + 3, g->n);
-    /* The rim's lowest direction in the shape frame: -n projected on the x-y plane; when the
-     * axis is along n every rim point is equally low and shape x is used. */
-    double rho = hypot(n_local[0], n_local[1]);
-    tb__v3_set(down, rho > 1e-12 ? -n_local[0] / rho : 1.0, rho > 1e-12 ? -n_local[1] / rho : 0.0,
-               0.0);
-    tb__v3_set(axis, -down[1], down[0], 0.0); /* 90 degrees on */
-    for (int end = -1; end <= 1; end += 2) {
-        for (int k = 0; k < 4; ++k) {
-            const double c = k == 0 ? 1.0 : k == 2 ? -1.0 : 0.0;
-            const double s = k == 1 ? 1.0 : k == 3 ? -1.0 : 0.0;
-            double local[3], world[3];
-            for (int i = 0; i < 3; ++i) {
-                local[i] = cylinder->radius * (c * down[i] + s * axis[i]);
-            }
-            local[2] = end * cylinder->half_length;
-            local_point(pose, local, world);
-            sphere_point(g, world, 0.0, out);
-        }
+    const double down[3] = {-g->n[0], -g->n[1], -g->n[2]};
+    double rim[8][3];
+    tb__cylinder_rim_points(cylinder, pose, down, rim);
+    for (int k = 0; k < 8; ++k) {
+        sphere_point(g, rim[k], 0.0, out);
     }
 }
 
