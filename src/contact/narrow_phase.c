@@ -256,11 +256,19 @@ static bool solve_swapped(const tb__collision_shape *a, const double pose_a[TB__
     if (rank(a->type) != rank(b->type)) {
         return rank(a->type) > rank(b->type);
     }
-    const int by_pose = memcmp(pose_a, pose_b, TB__POSE_SIZE * sizeof(double));
-    if (by_pose != 0) {
-        return by_pose > 0;
+    for (int k = 0; k < TB__POSE_SIZE; ++k) { /* by value: the order changes only when the */
+        if (pose_a[k] != pose_b[k]) {         /* shapes' x (then y, ...) cross */
+            return pose_a[k] > pose_b[k];
+        }
     }
-    return memcmp(a->half, b->half, sizeof a->half) > 0 || a->radius > b->radius;
+    const double sizes_a[5] = {a->radius, a->half_length, a->half[0], a->half[1], a->half[2]};
+    const double sizes_b[5] = {b->radius, b->half_length, b->half[0], b->half[1], b->half[2]};
+    for (int k = 0; k < 5; ++k) {
+        if (sizes_a[k] != sizes_b[k]) {
+            return sizes_a[k] > sizes_b[k];
+        }
+    }
+    return false; /* the same shape at the same pose: either order */
 }
 
 static int ordered(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
