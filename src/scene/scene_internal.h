@@ -94,7 +94,9 @@ typedef struct tb__spring_params {
 typedef struct tb__ground_params {
     double normal[3], tangent[2][3]; /* orthonormal, right-handed, world */
     double offset;                   /* the plane normal . x = offset, m */
-    double gravity, penetration, damping_ratio;
+    double gravity, penetration;
+    double omega;         /* sqrt(gravity / penetration), rad/s */
+    double damping_ratio; /* from the restitution (contact/contact_law.h) */
     double static_friction, kinetic_friction, stribeck_velocity;
     double bristle_stiffness, bristle_damping; /* LuGre's s0 (1/m) and s1 (s/m) */
 } tb__ground_params;
