@@ -283,6 +283,9 @@ int tb__scene_block_normalize(double t, double *y, size_t first, size_t count, v
 tb_status tb__scene_check_step(const tb_scene *scene, const double *y, tb_method method, double dt,
                                char *detail);
 
+/* The step tb_scene_default_step describes, for the scene at state y (stability.c). */
+double tb__scene_default_step(const tb_scene *scene, const double *y, tb_method method);
+
 /* How body i moves, read from y once for an effect that looks at several of its points. */
 typedef struct tb__motion {
     const double *x; /* centre of mass, world */
