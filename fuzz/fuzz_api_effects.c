@@ -148,19 +148,19 @@ static tb_status add_ground(fuzz_harness *h)
     maybe(h, &def.offset);
     maybe(h, &def.gravity);
     maybe(h, &def.penetration);
-    maybe(h, &def.damping_ratio);
+    maybe(h, &def.restitution);
     maybe(h, &def.static_friction);
     maybe(h, &def.kinetic_friction);
     maybe(h, &def.stribeck_velocity);
     maybe(h, &def.presliding);
     fuzz_trace(h,
                "ground = tb_ground_def_default(); ground.normal = %s; ground.offset = %s;\n"
-               "ground.gravity = %s; ground.penetration = %s; ground.damping_ratio = %s;\n"
+               "ground.gravity = %s; ground.penetration = %s; ground.restitution = %s;\n"
                "ground.static_friction = %s; ground.kinetic_friction = %s;\n"
                "ground.stribeck_velocity = %s; ground.presliding = %s;\n"
                "tb_scene_add_ground(scene, &ground);",
                fuzz_c_vector(def.normal, 3), fuzz_c_double(def.offset), fuzz_c_double(def.gravity),
-               fuzz_c_double(def.penetration), fuzz_c_double(def.damping_ratio),
+               fuzz_c_double(def.penetration), fuzz_c_double(def.restitution),
                fuzz_c_double(def.static_friction), fuzz_c_double(def.kinetic_friction),
                fuzz_c_double(def.stribeck_velocity), fuzz_c_double(def.presliding));
     return tb_scene_add_ground(h->scene, &def);

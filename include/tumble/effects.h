@@ -58,11 +58,14 @@ TB_API tb_status tb_scene_add_spring(tb_scene *scene, const tb_spring_def *def);
 /* --- contact with a ground plane ------------------------------------------------------------
  * Bodies touch the plane through contact points: points fixed in the body (shape frame) with
  * a radius (0 for a corner, r for a sphere's centre). A point whose sphere dips below the
- * plane n . x = offset by delta gets a normal force N = max(0, k delta - c v_n) at the
- * sphere's lowest point, with k = M g / (support penetration) and c = 2 damping_ratio
- * sqrt(k M / support) for a body of mass M whose weight rests on `support` of its points
- * (4 of a box's 8 corners): at rest the body sinks by `penetration`, whatever its mass, and
- * the contact rings at sqrt(g / penetration) rad/s (99 rad/s by default).
+ * plane n . x = offset by delta gets a normal force N = max(0, k delta + c delta') at the
+ * sphere's lowest point (delta' the rate of sinking; never pulling), with k = M g / (support
+ * penetration) and c = 2 zeta sqrt(k M / support) for a body of mass M whose weight rests on
+ * `support` of its points (4 of a box's 8 corners): at rest the body sinks by `penetration`,
+ * whatever its mass, and the contact rings at omega = sqrt(g / penetration) rad/s. The damping
+ * ratio zeta is chosen from `restitution` so that a point carrying its body's whole weight that
+ * hits the plane at v leaves at e v whatever v (the clamped spring-dashpot's exact e(zeta);
+ * e below 0.048 gets zeta = 2, e = 0.048).
  *
  * Friction is Coulomb's, static and kinetic, through the LuGre bristle model (Canudas de Wit
  * et al., IEEE Trans. Automatic Control 40(3), 1995): each contact point carries a tangential
@@ -84,7 +87,7 @@ typedef struct tb_ground_def {
     double offset;            /* the plane is normal . x = offset, m; default 0 */
     double gravity;           /* g used to size the contact, m/s^2, > 0; default 9.81 */
     double penetration;       /* static sinking under a body's own weight, m, > 0; 1e-3 */
-    double damping_ratio;     /* of the normal contact, >= 0; default 1 (critical) */
+    double restitution;       /* e in [0, 1]: a point hits at v and leaves at e v; default 0.3 */
     double static_friction;   /* mu_s >= mu_k; default 0.6 */
     double kinetic_friction;  /* mu_k >= 0; default 0.5 */
     double stribeck_velocity; /* m/s, > 0: speed over which mu falls from mu_s to mu_k;

@@ -212,6 +212,14 @@ TB_API int tb_scene_normalize_quaternions(double t, double *y, void *ctx);
 TB_API tb_status tb_scene_max_stable_step(const tb_scene *scene, tb_method method, double *out_dt,
                                           char *out_which);
 
+/* The step a fixed-step integrator made by tb_scene_integrator_create takes when its def.dt is
+ * 0 (the scene file's when it gives no dt): 1/240 s where that is stable; otherwise (a stiff
+ * contact or spring) the largest 1/(240 n) s, n = 2, 3, ..., within half of
+ * tb_scene_max_stable_step and at most 0.5 / rate of the scene's fastest oscillation (a period
+ * resolved by 12 steps: a bounce's restitution within 3 % under RK4, docs/effects.md), so that
+ * frames at 60 or 240 per second fall on steps. INFINITY for adaptive methods. */
+TB_API tb_status tb_scene_default_step(const tb_scene *scene, tb_method method, double *out_dt);
+
 /* Lets fixed-step integrators made on the scene run at a step beyond tb_scene_max_stable_step
  * (default false): for showing what an unstable step does. The scene file's
  * integrator.allow_unstable sets it. */

@@ -5,6 +5,7 @@
  * F_t = -N (s0 z + s1 dz/dt), normalised by the normal force N. */
 #include "scene/scene_internal.h"
 
+#include "contact/contact_law.h"
 #include "core/detail.h"
 #include "core/validate.h"
 #include "math/tb_math.h"
@@ -27,14 +28,13 @@
  * 10 m. Deeper than this is a set-up mistake, refused. */
 #define TB__START_DEPTH_PENETRATIONS 10.0
 
-/* Normal force magnitude for a point of a body of mass M carrying share of its weight. */
+/* Normal force magnitude for a point of a body of mass M carrying share of its weight: the shared
+ * law (contact/contact_law.h) with effective mass M share, so that k = M share g / penetration. */
 static double normal_force(const tb__ground_params *ground, double mass, double share, double depth,
                            double normal_speed)
 {
-    const double stiffness = mass * ground->gravity * share / ground->penetration;
-    const double damping = 2.0 * ground->damping_ratio * sqrt(stiffness * mass * share);
-    const double force = stiffness * depth - damping * normal_speed;
-    return force > 0.0 ? force : 0.0;
+    return tb__contact_normal_force(mass * share, ground->omega, ground->damping_ratio, depth,
+                                    -normal_speed);
 }
 
 /* LuGre at one point: writes dz and returns the friction force per unit normal force in
@@ -190,7 +190,7 @@ static void ground_rate(const tb__effect *effect, const tb_scene *scene, const d
     (void)y;
     const tb__ground_params *ground = &effect->params.ground;
     *out = (tb__effect_rate){0.0, TB_ALL_BODIES, 0.0, TB_ALL_BODIES};
-    const double omega0 = sqrt(ground->gravity / ground->penetration);
+    const double omega0 = ground->omega;
     const double bristles = sqrt(ground->gravity * ground->bristle_stiffness);
     size_t first = 0;
     for (size_t j = 1; j <= scene->contact_count; ++j) {
@@ -253,7 +253,7 @@ tb_ground_def tb_ground_def_default(void)
     def.normal[2] = 1.0;
     def.gravity = 9.81;
     def.penetration = 1e-3;
-    def.damping_ratio = 1.0;
+    def.restitution = 0.3;
     def.static_friction = 0.6;
     def.kinetic_friction = 0.5;
     def.stribeck_velocity = 0.01;
@@ -285,13 +285,16 @@ static tb_status validate_ground(tb_scene *scene, const tb_ground_def *def)
                     {def->penetration, "penetration"},
                     {def->stribeck_velocity, "stribeck_velocity"},
                     {def->presliding, "presliding"}},
-      nonnegative[] = {{def->damping_ratio, "damping_ratio"},
-                       {def->kinetic_friction, "kinetic_friction"}};
+      nonnegative[] = {{def->kinetic_friction, "kinetic_friction"}};
     for (size_t k = 0; k < 4 && status == TB_STATUS_OK; ++k) {
         status = tb__validate_positive(detail, positive[k].value, positive[k].name);
     }
-    for (size_t k = 0; k < 2 && status == TB_STATUS_OK; ++k) {
+    for (size_t k = 0; k < 1 && status == TB_STATUS_OK; ++k) {
         status = tb__validate_nonnegative(detail, nonnegative[k].value, nonnegative[k].name);
+    }
+    if (status == TB_STATUS_OK && !(def->restitution >= 0.0 && def->restitution <= 1.0)) {
+        status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                                "restitution: must be in [0, 1], got %g", def->restitution);
     }
     if (status == TB_STATUS_OK) {
         status = tb__validate_finite(detail, def->static_friction, "static_friction");
@@ -325,7 +328,8 @@ static void ground_params(const tb_ground_def *def, tb__ground_params *ground)
     ground->offset = def->offset;
     ground->gravity = def->gravity;
     ground->penetration = def->penetration;
-    ground->damping_ratio = def->damping_ratio;
+    ground->omega = sqrt(def->gravity / def->penetration);
+    ground->damping_ratio = tb__contact_damping_ratio(def->restitution);
     ground->static_friction = def->static_friction;
     ground->kinetic_friction = def->kinetic_friction;
     ground->stribeck_velocity = def->stribeck_velocity;

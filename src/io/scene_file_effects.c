@@ -190,21 +190,14 @@ static tb_status load_force_or_torque(tb__loader *ld, const json_t *e, const cha
 
 static tb_status load_ground(tb__loader *ld, const json_t *e, const char *path)
 {
-    static const char *const keys[] = {"type",
-                                       "normal",
-                                       "offset",
-                                       "gravity",
-                                       "penetration",
-                                       "damping_ratio",
-                                       "static_friction",
-                                       "kinetic_friction",
-                                       "stribeck_velocity",
-                                       "presliding",
-                                       NULL};
+    static const char *const keys[] = {
+        "type",        "normal",          "offset",           "gravity",           "penetration",
+        "restitution", "static_friction", "kinetic_friction", "stribeck_velocity", "presliding",
+        NULL};
     tb_ground_def def = tb_ground_def_default();
     const number_field fields[] = {{"gravity", &def.gravity, true},
                                    {"penetration", &def.penetration, true},
-                                   {"damping_ratio", &def.damping_ratio, false},
+                                   {"restitution", &def.restitution, false},
                                    {"static_friction", &def.static_friction, false},
                                    {"kinetic_friction", &def.kinetic_friction, false},
                                    {"stribeck_velocity", &def.stribeck_velocity, true},

@@ -94,7 +94,9 @@ typedef struct tb__spring_params {
 typedef struct tb__ground_params {
     double normal[3], tangent[2][3]; /* orthonormal, right-handed, world */
     double offset;                   /* the plane normal . x = offset, m */
-    double gravity, penetration, damping_ratio;
+    double gravity, penetration;
+    double omega;         /* sqrt(gravity / penetration), rad/s */
+    double damping_ratio; /* from the restitution (contact/contact_law.h) */
     double static_friction, kinetic_friction, stribeck_velocity;
     double bristle_stiffness, bristle_damping; /* LuGre's s0 (1/m) and s1 (s/m) */
 } tb__ground_params;
@@ -285,6 +287,9 @@ int tb__scene_block_normalize(double t, double *y, size_t first, size_t count, v
  * allows unstable steps. */
 tb_status tb__scene_check_step(const tb_scene *scene, const double *y, tb_method method, double dt,
                                char *detail);
+
+/* The step tb_scene_default_step describes, for the scene at state y (stability.c). */
+double tb__scene_default_step(const tb_scene *scene, const double *y, tb_method method);
 
 /* How body i moves, read from y once for an effect that looks at several of its points. */
 typedef struct tb__motion {

@@ -275,7 +275,13 @@ tb_status tb_scene_integrator_create(tb_scene *scene, const tb_integrator_def *d
         status = tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "%s is NULL",
                                 def == NULL ? "def" : "out_integrator");
     }
+    tb_integrator_def stepped; /* def.dt 0: the scene's default step */
     if (status == TB_STATUS_OK) {
+        stepped = *def;
+        if (!tb_method_is_adaptive(def->method) && def->dt == 0.0) {
+            stepped.dt = tb__scene_default_step(scene, scene->states, def->method);
+        }
+        def = &stepped;
         status = check_fixed_step(scene, def, t0);
     }
     if (status == TB_STATUS_OK) {

@@ -22,6 +22,7 @@
 typedef struct guard {
     double imaginary, real; /* the method's limits */
     double dt;
+    double oscillation; /* the fastest oscillation's rate seen, 1/s */
     char which[TB_DETAIL_SIZE];
 } guard;
 
@@ -33,6 +34,9 @@ static void
 consider(guard *g, double rate, bool oscillatory, const char *format, ...)
 {
     const double dt = (oscillatory ? g->imaginary : g->real) / rate;
+    if (oscillatory && rate > g->oscillation) {
+        g->oscillation = rate;
+    }
     if (!(rate > 0.0) || !(dt < g->dt)) {
         return;
     }
@@ -85,12 +89,14 @@ static void stable_step(const tb_scene *scene, const double *y, tb_method method
      * (imaginary axis) and where a decay stops decaying (real axis) */
     tb_method_info info;
     g->dt = INFINITY;
+    g->oscillation = 0.0;
     g->which[0] = '\0';
     if (tb_method_get_info(method, &info) != TB_STATUS_OK || info.adaptive) {
         return; /* adaptive: error control chooses the step */
     }
     g->imaginary = info.imaginary_limit;
     g->real = info.real_limit;
+    g->oscillation = 0.0; /* rotation is counted only where it limits the step */
     rotation_modes(g, scene, y);
     for (size_t k = 0; k < scene->effect_count; ++k) {
         effect_modes(g, scene, k, y);
@@ -127,8 +133,51 @@ tb_status tb__scene_check_step(const tb_scene *scene, const double *y, tb_method
     if (!(dt > g.dt)) {
         return TB_STATUS_OK;
     }
-    return tb__set_detail(detail, TB_STATUS_UNSTABLE_STEP,
-                          "dt: %g s is beyond %s's stability limit for %s: use dt <= %.3g s, an "
-                          "adaptive method (cvode-adams, cvode-bdf), or allow_unstable",
-                          dt, tb_method_name(method), g.which, g.dt);
+    return tb__set_detail(
+        detail, TB_STATUS_UNSTABLE_STEP,
+        "dt: %g s is beyond %s's stability limit for %s: use dt <= %.3g s (dt = 0: "
+        "the scene's default step, %.3g s), an adaptive method (cvode-adams, "
+        "cvode-bdf), or allow_unstable",
+        dt, tb_method_name(method), g.which, g.dt, tb__scene_default_step(scene, y, method));
+}
+
+/* The default step's rules (tb_scene_default_step): frames at 240 per second, half the stable
+ * step, and 12 steps per period of the fastest oscillation. */
+#define TB__DEFAULT_STEP (1.0 / 240.0)
+#define TB__DEFAULT_STABILITY_MARGIN 0.5
+#define TB__DEFAULT_RESOLUTION 0.5
+
+double tb__scene_default_step(const tb_scene *scene, const double *y, tb_method method)
+{
+    guard g;
+    stable_step(scene, y, method, &g);
+    if (!isfinite(g.dt) && tb_method_is_adaptive(method)) {
+        return INFINITY;
+    }
+    if (!(TB__DEFAULT_STEP > g.dt)) {
+        return TB__DEFAULT_STEP;
+    }
+    double limit = TB__DEFAULT_STABILITY_MARGIN * g.dt;
+    if (g.oscillation > 0.0) {
+        limit = fmin(limit, TB__DEFAULT_RESOLUTION / g.oscillation);
+    }
+    const double n = ceil(TB__DEFAULT_STEP / limit);
+    return n < 1e15 ? TB__DEFAULT_STEP / n : limit;
+}
+
+tb_status tb_scene_default_step(const tb_scene *scene, tb_method method, double *out_dt)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    if (out_dt == NULL) {
+        return tb__scene_fail((tb_scene *)scene, TB_STATUS_NULL_POINTER, "out_dt is NULL");
+    }
+    if ((int)method < 0 || method >= TB_METHOD_COUNT) {
+        return tb__scene_fail((tb_scene *)scene, TB_STATUS_INVALID_ARGUMENT,
+                              "method: %d is not a method", (int)method);
+    }
+    *out_dt = tb__scene_default_step(scene, scene->states, method);
+    return TB_STATUS_OK;
 }
