@@ -18,10 +18,17 @@ cmake -S . -B build-shared -G Ninja -DTUMBLE_WARNINGS_AS_ERRORS=ON -DBUILD_SHARE
     >/dev/null
 cmake --build build-shared
 ctest --test-dir build-shared --output-on-failure -R "install_consumers|example_embed_loop"
+# The Python package as a user gets it: a wheel that pip builds (scikit-build-core running this
+# CMake project: bindings/python/pyproject.toml), installed into a fresh venv and tested from
+# outside the source tree with no TUMBLE_LIBRARY (tests/test_install.py checks which copy runs).
+rm -rf build-shared/venv build-shared/wheel
 python3 -m venv build-shared/venv
 build-shared/venv/bin/pip install --quiet --upgrade pip
-build-shared/venv/bin/pip install --quiet numpy pytest ./bindings/python
-(cd build-shared && TUMBLE_LIBRARY="$PWD/libtumble.so" \
+build-shared/venv/bin/pip wheel --quiet --no-deps ./bindings/python -w build-shared/wheel
+build-shared/venv/bin/pip install --quiet build-shared/wheel/tumble-*.whl pytest matplotlib \
+    "dask[distributed]"
+(cd build-shared && env -u TUMBLE_LIBRARY venv/bin/python -c "import tumble; print(tumble.__version__)")
+(cd build-shared && env -u TUMBLE_LIBRARY TUMBLE_TEST_INSTALLED=1 \
     TUMBLE_LAYOUT_PROBE="$PWD/bindings/python/tumble_layout_probe" \
     venv/bin/python -m pytest -q ../bindings/python/tests)
 

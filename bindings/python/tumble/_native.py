@@ -3,11 +3,12 @@ headers by tests/test_layout.py (a C probe prints sizeof/offsetof from the real 
 
 import ctypes
 import ctypes.util
+import json
 import os
 import pathlib
 
 from ._export import WriterDef
-from ._version import __version__
+from ._version import LAYOUT_FILE, __version__
 
 DETAIL_SIZE = 256
 STATE_SIZE = 13
@@ -124,20 +125,53 @@ ACCURACY_FN = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_size_t, ctypes.POINTER(Acc
 
 
 def _find_library():
-    """TUMBLE_LIBRARY if set; else a libtumble.so next to this package (a bundled copy); else
+    """The libtumble.so the wheel ships beside this module; TUMBLE_LIBRARY, if set, overrides
+    it (a developer's build-shared/libtumble.so); a source checkout without it falls back to
     the system's (after `cmake --install`)."""
     explicit = os.environ.get("TUMBLE_LIBRARY")
     if explicit:
         return explicit
-    here = pathlib.Path(__file__).resolve().parent
-    for name in ("libtumble.so", "libtumble.so.0", "libtumble.dylib"):
-        if (here / name).exists():
-            return str(here / name)
+    bundled = pathlib.Path(__file__).resolve().parent / "libtumble.so"
+    if bundled.exists():
+        return str(bundled)
     found = ctypes.util.find_library("tumble")
     if found is None:
-        raise OSError("libtumble not found: build tumble with -DBUILD_SHARED_LIBS=ON and set "
-                      "TUMBLE_LIBRARY to the libtumble.so path, or install it")
+        raise ImportError("libtumble not found: install the package with "
+                          "`pip install ./bindings/python` (it builds and ships the library), "
+                          "or set TUMBLE_LIBRARY to a libtumble.so built with "
+                          "-DBUILD_SHARED_LIBS=ON")
     return found
+
+
+def check_layout(layout, structs):
+    """The ctypes structs against a layout printed by layout_probe.c: a list of mismatches
+    ("tb_run_def.fps: offset 16 here, 24 in C"), empty when they agree."""
+    mismatches = []
+    for name, struct in structs.items():
+        c = layout.get(name)
+        if c is None:
+            mismatches.append(f"{name}: not in the layout")
+            continue
+        if ctypes.sizeof(struct) != c["size"]:
+            mismatches.append(f"{name}: size {ctypes.sizeof(struct)} here, {c['size']} in C")
+        for field, _ in struct._fields_:
+            offset = getattr(struct, field).offset
+            if offset != c.get(field):
+                mismatches.append(f"{name}.{field}: offset {offset} here, {c.get(field)} in C")
+        extra = set(c) - {"size", "_"} - {f for f, _ in struct._fields_}
+        mismatches += [f"{name}.{field}: in C, not declared here" for field in sorted(extra)]
+    return mismatches
+
+
+def _check_layout():
+    """Refuses to run when the ctypes declarations disagree with the headers the shipped
+    library was built from (layout.json, from the build): fields would be read as garbage."""
+    if not LAYOUT_FILE.exists():
+        return  # a source checkout: tests/test_layout.py checks against the probe
+    mismatches = check_layout(json.loads(LAYOUT_FILE.read_text()), STRUCTS)
+    if mismatches:
+        raise ImportError("tumble's ctypes declarations disagree with the C headers it was "
+                          "built with: " + "; ".join(mismatches))
 
 
 def _declare(lib):
@@ -213,5 +247,8 @@ def _check_version(lib, path):
     return lib
 
 
+_check_layout()
 _path = _find_library()
+# CDLL (not PyDLL): every foreign call releases the GIL while C runs, so other Python threads
+# go on during a long run (tests/test_threads.py).
 lib = _declare(_check_version(ctypes.CDLL(_path), _path))
