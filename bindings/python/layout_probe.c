@@ -94,6 +94,13 @@ int main(void)
     FIELD(tb_accuracy_reference, angle_error);
     printf("\"_\": 0},\n");
 
+    printf("\"tb_body_state\": {\"size\": %zu, ", sizeof(tb_body_state));
+    FIELD(tb_body_state, x);
+    FIELD(tb_body_state, q);
+    FIELD(tb_body_state, P);
+    FIELD(tb_body_state, L);
+    printf("\"_\": 0},\n");
+
     printf("\"tb_writer_def\": {\"size\": %zu, ", sizeof(tb_writer_def));
     FIELD(tb_writer_def, format);
     FIELD(tb_writer_def, rotation_keys);

@@ -12,6 +12,7 @@ from ._version import LAYOUT_FILE, __version__
 
 DETAIL_SIZE = 256
 STATE_SIZE = 13
+FRAME_VALUES = 13  # TB_FRAME_VALUES: doubles a body takes in tb_scene_frame_values
 
 
 class Error(ctypes.Structure):
@@ -42,6 +43,11 @@ class RunDef(ctypes.Structure):
         ("duration", ctypes.c_double),
         ("internal_cookie", ctypes.c_int),
     ]
+
+
+class BodyState(ctypes.Structure):
+    _fields_ = [("x", ctypes.c_double * 3), ("q", ctypes.c_double * 4),
+                ("P", ctypes.c_double * 3), ("L", ctypes.c_double * 3)]
 
 
 class MassProperties(ctypes.Structure):
@@ -116,10 +122,14 @@ STRUCTS = {
     "tb_accuracy_result": AccuracyResult,
     "tb_accuracy_reference": AccuracyReference,
     "tb_writer_def": WriterDef,
+    "tb_body_state": BodyState,
 }
 
 FRAME_FN = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_size_t, ctypes.c_double, ctypes.c_void_p,
                             ctypes.c_void_p)
+USER_EFFECT_FN = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_double, ctypes.c_void_p,
+                                  ctypes.POINTER(ctypes.c_double), ctypes.POINTER(ctypes.c_double),
+                                  ctypes.c_void_p)
 ACCURACY_FN = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_size_t, ctypes.POINTER(AccuracyResult),
                                ctypes.c_void_p)
 
@@ -226,6 +236,35 @@ def _declare(lib):
                                                    ctypes.POINTER(Error)]),
         "tb_accuracy_cheapest": (ctypes.c_size_t, [ctypes.POINTER(AccuracyResult),
                                                    ctypes.c_size_t, ctypes.c_double]),
+        "tb_scene_frame_values": (ctypes.c_int, [ctypes.c_void_p, c_double_p, c_double_p]),
+        "tb_run_frame_count": (ctypes.c_int, [ctypes.c_double, ctypes.c_double,
+                                              ctypes.POINTER(ctypes.c_size_t),
+                                              ctypes.POINTER(Error)]),
+        "tb_scene_states": (c_double_p, [ctypes.c_void_p]),
+        "tb_scene_get_state": (ctypes.c_int, [ctypes.c_void_p, ctypes.c_size_t,
+                                              ctypes.POINTER(BodyState)]),
+        "tb_scene_set_state": (ctypes.c_int, [ctypes.c_void_p, ctypes.c_size_t,
+                                              ctypes.POINTER(BodyState)]),
+        "tb_scene_set_velocity": (ctypes.c_int, [ctypes.c_void_p, ctypes.c_size_t, c_double_p,
+                                                 c_double_p]),
+        "tb_scene_integrator_create": (ctypes.c_int, [ctypes.c_void_p,
+                                                      ctypes.POINTER(IntegratorDef),
+                                                      ctypes.c_double,
+                                                      ctypes.POINTER(ctypes.c_void_p)]),
+        "tb_integrator_advance": (ctypes.c_int, [ctypes.c_void_p, ctypes.c_double]),
+        "tb_integrator_step": (ctypes.c_int, [ctypes.c_void_p]),
+        "tb_integrator_time": (ctypes.c_double, [ctypes.c_void_p]),
+        "tb_integrator_reset": (ctypes.c_int, [ctypes.c_void_p, ctypes.c_double]),
+        "tb_integrator_get_stats": (ctypes.c_int, [ctypes.c_void_p,
+                                                   ctypes.POINTER(IntegratorStats)]),
+        "tb_integrator_detail": (ctypes.c_char_p, [ctypes.c_void_p]),
+        "tb_integrator_destroy": (None, [ctypes.c_void_p]),
+        "tb_scene_add_user_effect": (ctypes.c_int, [ctypes.c_void_p, USER_EFFECT_FN,
+                                                    ctypes.c_void_p]),
+        "tb_effect_add_force": (ctypes.c_int, [ctypes.c_void_p, c_double_p, c_double_p,
+                                               ctypes.c_size_t, c_double_p, c_double_p]),
+        "tb_effect_add_torque": (ctypes.c_int, [ctypes.c_void_p, c_double_p, ctypes.c_size_t,
+                                                c_double_p]),
     }
     for name, (restype, argtypes) in signatures.items():
         function = getattr(lib, name)
