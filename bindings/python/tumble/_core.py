@@ -1,8 +1,11 @@
 """What every part of the package shares: the library handle, its exceptions and the checks of
 arguments made before calling it."""
 
+import contextlib
 import ctypes
 import numbers
+import signal
+import threading
 
 
 from . import _export, _native
@@ -94,3 +97,41 @@ def apply_settings(run, method=None, dt=None, rtol=None, atol=None, fps=None, du
         setattr(run.integrator, option, number(option, value))
     run.fps = number("fps", fps) if fps is not None else run.fps
     run.duration = number("duration", duration) if duration is not None else run.duration
+
+
+class _Interrupt:
+    """Whether Ctrl-C came while C code ran (see deferred_interrupt)."""
+
+    def __init__(self):
+        self.pending = False
+
+    def note(self, signum, frame):
+        self.pending = True
+
+
+_active = []  # the deferred_interrupt in force, innermost last
+
+
+@contextlib.contextmanager
+def deferred_interrupt():
+    """While a library call runs (calling Python back only at frames or derivatives), Ctrl-C
+    is noted instead of raised at once: raised on entry to a ctypes callback it would be lost
+    (ctypes reports and drops it). Callbacks look at `pending` and stop the call; after it,
+    the caller raises KeyboardInterrupt. Nested uses share the outermost one. Only the main thread with Python's own SIGINT
+    handler is changed; elsewhere nothing is deferred."""
+    if _active:
+        yield _active[-1]
+        return
+    interrupt = _Interrupt()
+    if (threading.current_thread() is not threading.main_thread()
+            or signal.getsignal(signal.SIGINT) is not signal.default_int_handler):
+        yield interrupt
+        return
+    previous = signal.signal(signal.SIGINT, interrupt.note)
+    _active.append(interrupt)
+    try:
+        yield interrupt
+    finally:
+        _active.pop()
+        signal.signal(signal.SIGINT, previous)
+

@@ -241,6 +241,8 @@ def _declare(lib):
                                               ctypes.POINTER(ctypes.c_size_t),
                                               ctypes.POINTER(Error)]),
         "tb_scene_states": (c_double_p, [ctypes.c_void_p]),
+        "tb_scene_find_body": (ctypes.c_int, [ctypes.c_void_p, ctypes.c_char_p,
+                                              ctypes.POINTER(ctypes.c_size_t)]),
         "tb_scene_get_state": (ctypes.c_int, [ctypes.c_void_p, ctypes.c_size_t,
                                               ctypes.POINTER(BodyState)]),
         "tb_scene_set_state": (ctypes.c_int, [ctypes.c_void_p, ctypes.c_size_t,

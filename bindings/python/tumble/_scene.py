@@ -11,8 +11,8 @@ from typing import Callable, Optional
 import numpy as np
 
 from . import _export, _native
-from ._core import (_PARSE_ERROR, TumbleError, apply_settings, as_pointer, failure, lib,
-                    method_code, number, stats_dict)
+from ._core import (_PARSE_ERROR, TumbleError, apply_settings, as_pointer,
+                    deferred_interrupt, failure, lib, method_code, number, stats_dict)
 
 @dataclass
 class Frames:
@@ -109,12 +109,15 @@ class _Recorder:
         self.count = 0
         self.on_frame = on_frame
         self.failure = None
+        self.interrupt = None  # the run's deferred_interrupt
         self._origin = np.zeros(3)
         self.callback = _native.FRAME_FN(self._called)  # kept alive while the run lasts
 
     def _called(self, frame, t, scene, ctx):
         try:
             self._record(frame, t, scene)
+            if self.interrupt is not None and self.interrupt.pending:
+                raise KeyboardInterrupt
             if self.on_frame is not None:
                 view = self.values[frame]
                 view.flags.writeable = False
@@ -235,11 +238,14 @@ class Scene:
             apply_settings(run, method, dt, rtol, atol, fps, duration)
             recorder = _Recorder(handle, run, self.masses, on_frame)
             stats, error = _native.IntegratorStats(), _native.Error()
-            status = lib.tb_scene_run(handle, ctypes.byref(run), recorder.callback, None,
-                                      ctypes.byref(stats), ctypes.byref(error))
+            with deferred_interrupt() as recorder.interrupt:
+                status = lib.tb_scene_run(handle, ctypes.byref(run), recorder.callback, None,
+                                          ctypes.byref(stats), ctypes.byref(error))
         finally:
             lib.tb_scene_destroy(handle)
         frames = recorder.frames(self, stats)
+        if recorder.failure is None and recorder.interrupt.pending and status == 0:
+            recorder.failure = KeyboardInterrupt()  # came after the last frame
         if recorder.failure is not None:
             recorder.failure.frames = frames
             raise recorder.failure
