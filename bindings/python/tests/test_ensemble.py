@@ -77,6 +77,20 @@ def test_bad_arguments_are_refused_before_anything_runs():
         tumble.run_many([3.5])
 
 
+def final_orientation(frames):
+    """A summary computed where the run ran: only it travels back."""
+    return frames.orientation[-1].copy()
+
+
+def test_reduce_returns_a_summary_of_each_run():
+    serial = [tumble.Scene.from_dict(handle(s)).run() for s in SPINS[:3]]
+    reduced = tumble.run_many([handle(s) for s in SPINS[:3]], reduce=final_orientation)
+    for k in range(3):
+        assert np.array_equal(reduced[k], final_orientation(serial[k]))
+    with pytest.raises(TypeError, match="reduce"):
+        tumble.run_many([handle(0.0)], reduce=3)
+
+
 def _distributed():
     if os.environ.get("TUMBLE_TEST_INSTALLED"):  # the test command installs Dask: never skip
         import distributed
@@ -92,8 +106,11 @@ def test_a_dask_cluster_of_processes_gives_the_serial_runs_bit_for_bit():
             distributed.Client(cluster) as client:
         remote = tumble.run_many([handle(s) for s in SPINS], method="rk4", dt=1 / 480,
                                  client=client)
+        last = tumble.run_many([handle(s) for s in SPINS], method="rk4", dt=1 / 480,
+                               client=client, reduce=final_orientation)
         pids = set(client.run(os.getpid).values())
     assert len(pids) == 3 and os.getpid() not in pids  # other processes did the work
     for k in range(len(SPINS)):
         assert_same_bits(remote[k], serial[k])
+        assert np.array_equal(last[k], final_orientation(serial[k]))
     assert remote[0].names == ["handle"] and remote[0].source.body_names == ["handle"]

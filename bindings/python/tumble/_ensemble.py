@@ -3,17 +3,18 @@ without the GIL) or across a Dask cluster."""
 
 import os
 from concurrent.futures import ThreadPoolExecutor
-from typing import Any, List, Optional, Sequence
+from typing import Any, Callable, List, Optional, Sequence
 
-from ._scene import Scene
+from ._scene import Frames, Scene
 
 _SETTINGS = ("method", "dt", "rtol", "atol", "fps", "duration")
 
 
-def _task(scene, settings, errors):
+def _task(scene, settings, errors, reduce=None):
     """One run (module-level, so Dask can send it to a worker by reference)."""
     try:
-        return Scene.coerce(scene).run(**settings)
+        frames = Scene.coerce(scene).run(**settings)
+        return frames if reduce is None else reduce(frames)
     except Exception as caught:
         if errors == "raise":
             raise
@@ -43,7 +44,8 @@ def _tasks(items, defaults):
 def run_many(items: Sequence[Any], *, method: Optional[str] = None, dt: Optional[float] = None,
              rtol: Optional[float] = None, atol: Optional[float] = None,
              fps: Optional[float] = None, duration: Optional[float] = None,
-             workers: Optional[int] = None, client=None, errors: str = "raise") -> List[Any]:
+             workers: Optional[int] = None, client=None, errors: str = "raise",
+             reduce: Optional[Callable[[Frames], Any]] = None) -> List[Any]:
     """Runs every item as Scene.run does and returns their Frames in the items' order.
 
     An item is a Scene, a scene-file path, a dict in the scene-file format (docs/
@@ -60,6 +62,10 @@ def run_many(items: Sequence[Any], *, method: Optional[str] = None, dt: Optional
     names must exist at the same path on the workers) and the Frames come back pickled; the
     workers need this package installed (the same version).
 
+    reduce: a function of a run's Frames whose result is returned instead of the Frames,
+    called where the run ran (on a Dask worker: only its result travels back, which is what
+    makes a cluster pay off for big scenes; it must be picklable, e.g. a module's function).
+
     errors: "raise" (the first failure raises, in item order) or "return" (a failed item's
     place holds its exception). Ctrl-C cancels the runs not yet started.
     """
@@ -68,23 +74,27 @@ def run_many(items: Sequence[Any], *, method: Optional[str] = None, dt: Optional
     defaults = {name: value for name, value in zip(
         _SETTINGS, (method, dt, rtol, atol, fps, duration)) if value is not None}
     tasks = _tasks(items, defaults)
+    if reduce is not None and not callable(reduce):
+        raise TypeError(f"reduce must be callable, got {type(reduce).__name__}")
     if client is not None:
-        return _on_dask(client, tasks, errors)
+        return _on_dask(client, tasks, errors, reduce)
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)):
         raise TypeError(f"workers must be an int, got {type(workers).__name__}")
     if workers is not None and workers < 1:
         raise ValueError(f"workers must be >= 1, got {workers}")
     pool = ThreadPoolExecutor(max_workers=workers or os.cpu_count() or 1)
     try:
-        futures = [pool.submit(_task, scene, settings, errors) for scene, settings in tasks]
+        futures = [pool.submit(_task, scene, settings, errors, reduce)
+                   for scene, settings in tasks]
         return [future.result() for future in futures]
     finally:
         pool.shutdown(wait=True, cancel_futures=True)
 
 
-def _on_dask(client, tasks, errors):
+def _on_dask(client, tasks, errors, reduce):
+    count = len(tasks)
     futures = client.map(_task, [scene for scene, _ in tasks], [s for _, s in tasks],
-                         [errors] * len(tasks), pure=False)
+                         [errors] * count, [reduce] * count, pure=False)
     try:
         return client.gather(futures)
     except BaseException:
