@@ -55,7 +55,7 @@ class Frames:
         point = np.broadcast_to(np.asarray(point, dtype=float), self.linear_momentum.shape)
         return self.angular_momentum - np.cross(point, self.linear_momentum)
 
-    def to_file(self, path, format=None, rotation="cubic"):
+    def to_file(self, path, format: Optional[str] = None, rotation: str = "cubic") -> None:
         """Writes the frames as they are in memory to path through the library's writer:
         format "csv", "npz", "glb" or "gltf" (default: from the extension); rotation "cubic"
         or "linear" glTF keys. docs/export.md describes the files (tumble's world is z up;
@@ -71,17 +71,17 @@ class Frames:
         finally:
             lib.tb_scene_destroy(handle)
 
-    def to_gltf(self, path, rotation="cubic"):
+    def to_gltf(self, path, rotation: str = "cubic") -> None:
         """Animated glTF 2.0 for Blender and browsers: binary .glb, or .gltf text when path
         ends in .gltf; rotation keys "cubic" (following the spin) or "linear"."""
         gltf = str(path).lower().endswith(".gltf")
         self.to_file(path, "gltf" if gltf else "glb", rotation)
 
-    def to_npz(self, path):
+    def to_npz(self, path) -> None:
         """NumPy .npz: t, position, orientation, velocity, angular_velocity, names, units."""
         self.to_file(path, "npz")
 
-    def to_csv(self, path):
+    def to_csv(self, path) -> None:
         """CSV with 17 significant digits: every number reads back exactly."""
         self.to_file(path, "csv")
 
@@ -153,10 +153,21 @@ class _Recorder:
 
 
 class Scene:
-    """A scene description. Each run() loads it afresh, so runs are independent and
-    repeatable."""
+    """A scene description: bodies, effects, and its own integrator and output settings, in
+    the scene-file format (docs/scene-format.md). The library checks it when the Scene is made
+    (TumbleError naming the field). Each run() loads it afresh, so runs are independent and
+    repeatable; a Scene pickles as its text.
 
-    def __init__(self, text, name, base_directory=None):
+    body_names          the bodies' names, in order (body i is index i everywhere)
+    masses              each body's mass, kg
+    radius_of_gyration  each body's sqrt(I_max / M), m
+    run_settings        the file's method, dt (s), rtol, atol, fps and duration (s)
+    """
+
+    def __init__(self, text: bytes, name: str, base_directory: Optional[str] = None):
+        """A Scene from JSON text (bytes); name labels its messages, base_directory is where
+        files it names (OBJ meshes) are found. Scene.from_file and Scene.from_dict are the
+        usual ways in."""
         self._text = text
         self._name = name
         self._base = base_directory
@@ -193,7 +204,10 @@ class Scene:
         raise TypeError(f"a scene is a tumble.Scene, a path or a dict, got {type(scene).__name__}")
 
     @classmethod
-    def from_file(cls, path):
+    def from_file(cls, path: "str | os.PathLike") -> "Scene":
+        """The scene in a JSON scene file (meshes it names are found beside it). OSError if
+        it cannot be read, TumbleError (PARSE_ERROR with line and column, BAD_SCENE naming
+        the field) if the library refuses it."""
         path = str(path)
         with open(path, "rb") as f:
             text = f.read()
@@ -204,7 +218,10 @@ class Scene:
         return cls(text, path, directory)
 
     @classmethod
-    def from_dict(cls, description, name="<dict>", base_directory=None):
+    def from_dict(cls, description: dict, name: str = "<dict>",
+                  base_directory: Optional[str] = None) -> "Scene":
+        """The scene a dict in the scene-file format describes (keys "bodies", "effects",
+        "integrator", "output"); name labels the library's messages."""
         return cls(json.dumps(description).encode(), name, base_directory)
 
     def _load(self):
@@ -280,7 +297,7 @@ def _accuracy_row(result):
                 note=None if ok else result.detail.decode())
 
 
-def _accuracy(self, target_error=1e-3, sweep=ACCURACY_SWEEP):
+def _accuracy(self, target_error: float = 1e-3, sweep=ACCURACY_SWEEP) -> tuple:
     """Runs the scene with each integrator setting of `sweep` against cvode-bdf at rtol 1e-11
     (the library's tb_scene_accuracy_sweep, as `tumble accuracy`) and returns (rows, best):
     each row a dict with method, setting, error (the largest displacement |dx| + l angle of a
@@ -325,15 +342,23 @@ class SceneBuilder:
     def __init__(self):
         self._description = {"bodies": [], "effects": []}
 
-    def add_body(self, name, **fields):
+    def add_body(self, name: str, **fields) -> "SceneBuilder":
+        """A body with the scene format's fields: shape, mass or density (kg, kg/m^3),
+        inertia, position (m, world, centre of mass), orientation (w, x, y, z),
+        velocity (m/s), angular_velocity (rad/s, world) or angular_velocity_body, ..."""
         self._description["bodies"].append({"name": name, **fields})
         return self
 
-    def add_effect(self, type, **fields):
+    def add_effect(self, type: str, **fields) -> "SceneBuilder":
+        """An effect with the scene format's fields: "gravity", "drag", "spring", "force",
+        "torque", "ground", ... (docs/scene-format.md, "Effects")."""
         self._description["effects"].append({"type": type, **fields})
         return self
 
-    def build(self, fps=None, duration=None, **integrator):
+    def build(self, fps: Optional[float] = None, duration: Optional[float] = None,
+              **integrator) -> "Scene":
+        """The Scene, checked by the library; fps (frames/s) and duration (s) are its output
+        settings, integrator its method and dt/rtol/atol (scene format's "integrator")."""
         description = copy.deepcopy(self._description)
         if integrator:
             description["integrator"] = integrator

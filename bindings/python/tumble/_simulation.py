@@ -50,8 +50,9 @@ class Simulation:
     angular_velocity (N, 3) rad/s (omega = R I_body^-1 R^T L); frame_values() the shape-frame
     pose and velocities (N, 13), as a Frames frame holds them.
 
-    Stepping releases the GIL while C runs. Ctrl-C is seen when advance() or step() returns,
-    and at every frame of run(); an exception raised by a user force stops the step (the
+    Stepping releases the GIL while C runs. Ctrl-C raises KeyboardInterrupt when advance() or
+    step() returns (at the next derivative evaluation when Python forces act) and at every
+    frame of run() (with the frames so far on the exception); an exception raised by a user force stops the step (the
     state stays at the last good step) and is raised again from advance() or step().
 
     Lifetimes: the views stay valid as long as they are referenced (they keep the simulation
@@ -140,6 +141,7 @@ class Simulation:
 
     @property
     def body_names(self) -> list:
+        """The bodies' names; body i of every array is the i-th."""
         return list(self.scene.body_names)
 
     def body(self, body: Body) -> int:
