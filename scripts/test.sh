@@ -31,6 +31,9 @@ build-shared/venv/bin/pip install --quiet build-shared/wheel/tumble-*.whl pytest
 (cd build-shared && env -u TUMBLE_LIBRARY TUMBLE_TEST_INSTALLED=1 \
     TUMBLE_LAYOUT_PROBE="$PWD/bindings/python/tumble_layout_probe" \
     venv/bin/python -m pytest -q ../bindings/python/tests)
+# The Python-against-C speed benchmark, in a smoke form (docs/performance.md has the real run).
+(cd build-shared && venv/bin/python ../bindings/python/bench/bench_frames.py \
+    --c-bench bench/bench_frames_in_memory --bodies 100 --repeats 1)
 
 # The whole suite again under AddressSanitizer and UndefinedBehaviorSanitizer.
 cmake -S . -B build-sanitize -G Ninja -DTUMBLE_WARNINGS_AS_ERRORS=ON -DTUMBLE_SANITIZE=ON \

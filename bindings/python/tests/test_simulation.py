@@ -221,3 +221,24 @@ def test_ctrl_c_stops_an_advance_at_the_next_python_force():
         timer.cancel()
     assert 0 < sim.t < 99.0
     sim.advance(sim.t + 0.01)  # and it goes on from there
+
+
+def test_a_view_keeps_the_simulation_alive(scenes):
+    # The views point into memory the library owns: the last reference to a view, not to the
+    # Simulation, decides when it is freed (else reading it would read freed memory).
+    import gc
+    position = tumble.Simulation(scenes / "tumbling_box.json").position
+    gc.collect()
+    np.testing.assert_array_equal(position, [[0.0, 0.0, 1.0]])
+    assert position.base is not None
+
+
+def test_reset_goes_back_to_the_start_bit_for_bit(scenes):
+    # A scene with ground contact: the state includes the friction states beyond 13 per body.
+    sim = tumble.Simulation(scenes / "sliding_block.json")
+    start = sim._y.copy()
+    first = sim.run(duration=0.5)
+    sim.reset()
+    assert sim.t == 0.0 and np.array_equal(sim._y, start)
+    again = sim.run(duration=0.5)
+    assert np.array_equal(first.position, again.position)

@@ -275,6 +275,25 @@ def _declare(lib):
     return lib
 
 
+class _ByAddress:
+    """The read-outs a frame calls, declared with plain addresses (ints) for their arrays:
+    what the run's frame callback passes, without making a ctypes pointer object per array
+    per frame (scene/_scene.py's _Recorder; the same C functions as above)."""
+
+    def __init__(self, lib):
+        p = ctypes.c_void_p
+
+        def bind(name, restype, *argtypes):
+            return ctypes.CFUNCTYPE(restype, *argtypes)((name, lib))
+
+        self.states = bind("tb_scene_states_const", p, p)
+        self.frame_values = bind("tb_scene_frame_values", ctypes.c_int, p, p, p)
+        self.kinetic_energy = bind("tb_scene_kinetic_energy", ctypes.c_int, p, p, p)
+        self.potential_energy = bind("tb_scene_potential_energy", ctypes.c_int, p, p, p)
+        self.linear_momentum = bind("tb_scene_linear_momentum", ctypes.c_int, p, p, p)
+        self.angular_momentum = bind("tb_scene_angular_momentum", ctypes.c_int, p, p, p, p)
+
+
 def _check_version(lib, path):
     """Refuses a libtumble of another version than this package's: the ctypes declarations
     above describe this version's structs, and another's would be read as garbage."""
@@ -293,3 +312,4 @@ _path = _find_library()
 # CDLL (not PyDLL): every foreign call releases the GIL while C runs, so other Python threads
 # go on during a long run (tests/test_threads.py).
 lib = _declare(_check_version(ctypes.CDLL(_path), _path))
+by_address = _ByAddress(lib)

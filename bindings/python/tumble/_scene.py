@@ -11,7 +11,7 @@ from typing import Callable, Optional
 import numpy as np
 
 from . import _export, _native
-from ._core import (_PARSE_ERROR, TumbleError, apply_settings, as_pointer,
+from ._core import (_PARSE_ERROR, TumbleError, apply_settings,
                     deferred_interrupt, failure, lib, method_code, number, stats_dict)
 
 @dataclass
@@ -111,6 +111,9 @@ class _Recorder:
         self.failure = None
         self.interrupt = None  # the run's deferred_interrupt
         self._origin = np.zeros(3)
+        self._values_address, self._values_stride = self.values.ctypes.data, self.values.strides[0]
+        self._totals_address, self._totals_stride = self.totals.ctypes.data, self.totals.strides[0]
+        self._y_address, self._x = None, None
         self.callback = _native.FRAME_FN(self._called)  # kept alive while the run lasts
 
     def _called(self, frame, t, scene, ctx):
@@ -129,18 +132,20 @@ class _Recorder:
             return 1
 
     def _record(self, k, t, scene):
-        y = lib.tb_scene_states_const(scene)
-        totals = self.totals[k]
-        lib.tb_scene_frame_values(scene, y, as_pointer(self.values[k]))
-        lib.tb_scene_kinetic_energy(scene, y, as_pointer(totals[0:]))
-        lib.tb_scene_potential_energy(scene, y, as_pointer(totals[1:]))
-        lib.tb_scene_linear_momentum(scene, y, as_pointer(totals[2:]))
-        lib.tb_scene_angular_momentum(scene, y, as_pointer(self._origin), as_pointer(totals[5:]))
-        if self.bodies > 0:
-            x = np.ctypeslib.as_array(y, shape=(self.bodies, _native.STATE_SIZE))[:, 0:3]
-            totals[8:11] = self.mass_fraction @ x
-        else:
-            totals[8:11] = 0.0
+        fast = _native.by_address  # addresses, not pointer objects: this runs every frame
+        y = fast.states(scene)
+        totals = self._totals_address + k * self._totals_stride
+        fast.frame_values(scene, y, self._values_address + k * self._values_stride)
+        fast.kinetic_energy(scene, y, totals)
+        fast.potential_energy(scene, y, totals + 8)
+        fast.linear_momentum(scene, y, totals + 16)
+        fast.angular_momentum(scene, y, self._origin.ctypes.data, totals + 40)
+        if y != self._y_address:  # the scene's array: it stays put during a run
+            self._y_address = y
+            n = self.bodies * _native.STATE_SIZE
+            array = np.frombuffer((ctypes.c_double * max(n, 1)).from_address(y), count=n)
+            self._x = array.reshape(self.bodies, _native.STATE_SIZE)[:, 0:3]
+        self.totals[k, 8:11] = self.mass_fraction @ self._x
         self.t[k] = t
         self.count = k + 1
 
