@@ -53,6 +53,15 @@ def test_views_are_live_zero_copy_and_follow_the_parabola():
     np.testing.assert_allclose(sim.velocity[0], [1, 0, 5 - G * t], atol=1e-12)
 
 
+def test_a_builder_makes_a_simulation():
+    builder = tumble.SceneBuilder()
+    builder.add_body("ball", shape={"type": "sphere", "radius": 0.1}, mass=1.0,
+                     velocity=[0, 0, 2])
+    sim = tumble.Simulation(builder, method="rk4", dt=0.01)
+    sim.advance(1.0)
+    assert sim.position[0, 2] == pytest.approx(2.0, abs=1e-12)  # no force: x = v t
+
+
 def test_step_takes_one_fixed_step():
     sim = tumble.Simulation(thrown_ball(), method="rk4", dt=0.01)
     assert sim.step() == pytest.approx(0.01, abs=1e-15)

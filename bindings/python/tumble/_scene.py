@@ -198,10 +198,12 @@ class Scene:
 
     @classmethod
     def coerce(cls, scene) -> "Scene":
-        """A Scene from a Scene, a scene-file path (str or os.PathLike) or a dict in the
-        scene-file format; TypeError for anything else."""
+        """A Scene from a Scene, a SceneBuilder (built with its settings), a scene-file path
+        (str or os.PathLike) or a dict in the scene-file format; TypeError for anything else."""
         if isinstance(scene, Scene):
             return scene
+        if isinstance(scene, SceneBuilder):
+            return scene.build()
         if isinstance(scene, (str, os.PathLike)):
             return cls.from_file(scene)
         if isinstance(scene, dict):

@@ -9,7 +9,7 @@ import numpy as np
 from . import _native
 from ._core import (_active, apply_settings, as_pointer, deferred_interrupt, failure, lib,
                     number, stats_dict)
-from ._scene import Frames, Scene, _Recorder
+from ._scene import Frames, Scene, SceneBuilder, _Recorder  # noqa: F401 (hints)
 
 Body = Union[int, str]
 #: A user force: force(t, state) -> forces, or (forces, torques). state is the (N, 13) state
@@ -29,7 +29,8 @@ class Simulation:
         sim.set_velocity(0, angular_velocity=[0, 20, 0.1])   # the integrator restarts
         frames = sim.run(duration=1.0)   # 1 s more, every frame, as Scene.run
 
-    Construction: scene is a Scene, a scene-file path or a dict in the scene-file format;
+    Construction: scene is a Scene, a SceneBuilder, a scene-file path or a dict in the
+    scene-file format;
     method one of tumble.METHODS ("euler", "midpoint", "rk4", "cvode-adams", "cvode-bdf"),
     dt (s) for the fixed-step methods, rtol and atol for CVODE (the scene file's integrator
     unless given; an option the method does not read is a ValueError, as in the CLI). A fixed
@@ -59,7 +60,7 @@ class Simulation:
     alive); the library frees the scene when the last reference goes.
     """
 
-    def __init__(self, scene: Union[Scene, str, dict], method: Optional[str] = None,
+    def __init__(self, scene: Union[Scene, "SceneBuilder", str, dict], method: Optional[str] = None,
                  dt: Optional[float] = None, rtol: Optional[float] = None,
                  atol: Optional[float] = None, forces: Sequence[ForceFunction] = ()):
         self.scene = Scene.coerce(scene)
