@@ -28,6 +28,10 @@ build-shared/venv/bin/pip wheel --quiet --no-deps ./bindings/python -w build-sha
 build-shared/venv/bin/pip install --quiet build-shared/wheel/tumble-*.whl pytest matplotlib \
     "dask[distributed]"
 (cd build-shared && env -u TUMBLE_LIBRARY venv/bin/python -c "import tumble; print(tumble.__version__)")
+# And exactly what the README tells a user, in another fresh venv.
+rm -rf build-shared/venv-user && python3 -m venv build-shared/venv-user
+build-shared/venv-user/bin/pip install --quiet ./bindings/python
+(cd build-shared && env -u TUMBLE_LIBRARY venv-user/bin/python -c "import tumble; print(tumble.__version__)")
 (cd build-shared && env -u TUMBLE_LIBRARY TUMBLE_TEST_INSTALLED=1 \
     TUMBLE_LAYOUT_PROBE="$PWD/bindings/python/tumble_layout_probe" \
     venv/bin/python -m pytest -q ../bindings/python/tests)

@@ -132,6 +132,8 @@ class _Recorder:
             return 1
 
     def _record(self, k, t, scene):
+        if not 0 <= k < len(self.t):  # the writes below go by address: never past the end
+            raise IndexError(f"frame {k} of a run of {len(self.t)} frames")
         fast = _native.by_address  # addresses, not pointer objects: this runs every frame
         y = fast.states(scene)
         totals = self._totals_address + k * self._totals_stride

@@ -114,7 +114,10 @@ class Simulation:
             self._handle = None
 
     def __del__(self):
-        self._free()
+        try:
+            self._free()
+        except (AttributeError, TypeError):  # at interpreter exit the module may be gone
+            pass
 
     def __repr__(self):
         return (f"<tumble.Simulation of {self.bodies} bodies at t = {self.t:g} s, "
