@@ -18,12 +18,26 @@ cmake -S . -B build-shared -G Ninja -DTUMBLE_WARNINGS_AS_ERRORS=ON -DBUILD_SHARE
     >/dev/null
 cmake --build build-shared
 ctest --test-dir build-shared --output-on-failure -R "install_consumers|example_embed_loop"
+# The Python package as a user gets it: a wheel that pip builds (scikit-build-core running this
+# CMake project: bindings/python/pyproject.toml), installed into a fresh venv and tested from
+# outside the source tree with no TUMBLE_LIBRARY (tests/test_install.py checks which copy runs).
+rm -rf build-shared/venv build-shared/wheel
 python3 -m venv build-shared/venv
 build-shared/venv/bin/pip install --quiet --upgrade pip
-build-shared/venv/bin/pip install --quiet numpy pytest ./bindings/python
-(cd build-shared && TUMBLE_LIBRARY="$PWD/libtumble.so" \
+build-shared/venv/bin/pip wheel --quiet --no-deps ./bindings/python -w build-shared/wheel
+build-shared/venv/bin/pip install --quiet build-shared/wheel/tumble-*.whl pytest matplotlib \
+    "dask[distributed]"
+(cd build-shared && env -u TUMBLE_LIBRARY venv/bin/python -c "import tumble; print(tumble.__version__)")
+# And exactly what the README tells a user, in another fresh venv.
+rm -rf build-shared/venv-user && python3 -m venv build-shared/venv-user
+build-shared/venv-user/bin/pip install --quiet ./bindings/python
+(cd build-shared && env -u TUMBLE_LIBRARY venv-user/bin/python -c "import tumble; print(tumble.__version__)")
+(cd build-shared && env -u TUMBLE_LIBRARY TUMBLE_TEST_INSTALLED=1 \
     TUMBLE_LAYOUT_PROBE="$PWD/bindings/python/tumble_layout_probe" \
     venv/bin/python -m pytest -q ../bindings/python/tests)
+# The Python-against-C speed benchmark, in a smoke form (docs/performance.md has the real run).
+(cd build-shared && venv/bin/python ../bindings/python/bench/bench_frames.py \
+    --c-bench bench/bench_frames_in_memory --bodies 100 --repeats 1)
 
 # The whole suite again under AddressSanitizer and UndefinedBehaviorSanitizer.
 cmake -S . -B build-sanitize -G Ninja -DTUMBLE_WARNINGS_AS_ERRORS=ON -DTUMBLE_SANITIZE=ON \

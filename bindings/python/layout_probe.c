@@ -1,6 +1,7 @@
 /* Prints, as JSON, the size and field offsets of the structs the Python bindings declare with
  * ctypes, compiled against the real headers: tests/test_layout.py compares the two, so the
- * bindings cannot drift from the C library silently. */
+ * bindings cannot drift from the C library silently. The wheel ships this output
+ * (tumble/layout.json) with the headers' version, and the package checks both at import. */
 #include "tumble/tumble.h"
 
 #include <stddef.h>
@@ -10,7 +11,8 @@
 
 int main(void)
 {
-    printf("{\"tb_error\": {\"size\": %zu, ", sizeof(tb_error));
+    printf("{\"version\": \"%s\",\n", TB_VERSION_STRING);
+    printf("\"tb_error\": {\"size\": %zu, ", sizeof(tb_error));
     FIELD(tb_error, status);
     FIELD(tb_error, message);
     printf("\"_\": 0},\n");
@@ -90,6 +92,13 @@ int main(void)
     FIELD(tb_accuracy_reference, error);
     FIELD(tb_accuracy_reference, position_error);
     FIELD(tb_accuracy_reference, angle_error);
+    printf("\"_\": 0},\n");
+
+    printf("\"tb_body_state\": {\"size\": %zu, ", sizeof(tb_body_state));
+    FIELD(tb_body_state, x);
+    FIELD(tb_body_state, q);
+    FIELD(tb_body_state, P);
+    FIELD(tb_body_state, L);
     printf("\"_\": 0},\n");
 
     printf("\"tb_writer_def\": {\"size\": %zu, ", sizeof(tb_writer_def));

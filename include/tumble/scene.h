@@ -104,6 +104,18 @@ TB_API tb_status tb_scene_body_shape_velocity(const tb_scene *scene, const doubl
 TB_API tb_status tb_scene_body_frame_angular_velocity(const tb_scene *scene, const double *y,
                                                       size_t id, double out_omega[3]);
 
+/* Doubles a body takes in tb_scene_frame_values's output. */
+#define TB_FRAME_VALUES 13
+
+/* Every body's frame in one call: what a renderer, a writer or a binding stores per frame.
+ * Body i's TB_FRAME_VALUES doubles at out_values[13 i]: [0, 3) the world position of its
+ * shape-frame origin (m), [3, 7) the shape -> world unit quaternion (w, x, y, z), [7, 10) the
+ * shape origin's velocity (world, m/s; tb_scene_body_shape_velocity), [10, 13) the angular
+ * velocity (world, rad/s). The layout tb_writer_frame_values reads and tb_writer_frame writes.
+ * out_values holds 13 * tb_scene_body_count() doubles, owned by the caller; nothing is
+ * allocated. */
+TB_API tb_status tb_scene_frame_values(const tb_scene *scene, const double *y, double *out_values);
+
 /* Total kinetic energy, sum P^2 / 2M + omega . L / 2, J. */
 TB_API tb_status tb_scene_kinetic_energy(const tb_scene *scene, const double *y,
                                          double *out_energy);

@@ -245,9 +245,7 @@ tb_status tb_writer_frame(tb_writer *writer, double t, const tb_scene *scene)
     if (status != TB_STATUS_OK) {
         return status;
     }
-    for (size_t id = 0; id < writer->body_count; ++id) {
-        tb__writer_readout(scene, id, writer->values + 13 * id);
-    }
+    tb_scene_frame_values(scene, tb_scene_states_const(scene), writer->values);
     return add_frame(writer, t, writer->values);
 }
 

@@ -6,20 +6,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-void tb__writer_readout(const tb_scene *scene, size_t id, double out[13])
-{
-    const double *y = tb_scene_states_const(scene);
-    double *origin = out, *q = out + 3, *v = out + 7, *omega = out + 10, arm[3], spin[3];
-    tb_scene_body_shape_pose(scene, y, id, origin, q);
-    tb_scene_body_velocity(scene, y, id, v);
-    tb_scene_body_angular_velocity(scene, y, id, omega);
-    /* the shape origin moves with v + omega x (origin - centre of mass) */
-    const double *x = y + TB_STATE_SIZE * id + TB_STATE_X;
-    tb__v3_set(arm, origin[0] - x[0], origin[1] - x[1], origin[2] - x[2]);
-    tb__v3_cross(spin, omega, arm);
-    tb__v3_axpy(v, 1.0, spin);
-}
-
 tb_status tb__frames_init(tb__frames *frames, size_t body_count)
 {
     memset(frames, 0, sizeof *frames);

@@ -69,9 +69,6 @@ struct tb_writer {
     char detail[TB_DETAIL_SIZE];
 };
 
-/* One body's frame quantities (13 doubles: position, orientation, velocity, omega). */
-void tb__writer_readout(const tb_scene *scene, size_t id, double out[13]);
-
 tb_status tb__frames_init(tb__frames *frames, size_t body_count);
 /* Appends a frame of body_count x 13 values (position, orientation, velocity, omega). */
 tb_status tb__frames_append(tb__frames *frames, double t, const double *values);

@@ -132,6 +132,29 @@ tb_status tb_scene_body_frame_angular_velocity(const tb_scene *scene, const doub
     return status;
 }
 
+/* One body's frame values (tb_scene_frame_values), its id checked by the caller. */
+static void frame_values_of(const tb_scene *scene, const double *y, size_t id, double out[13])
+{
+    double *origin = out, *q = out + 3, *v = out + 7, *omega = out + 10, arm[3], spin[3];
+    tb_scene_body_shape_pose(scene, y, id, origin, q);
+    tb_scene_body_velocity(scene, y, id, v);
+    tb__angular_velocity(&scene->bodies[id], y + TB_STATE_SIZE * id, omega);
+    /* the shape origin moves with v + omega x (origin - centre of mass) */
+    const double *x = y + TB_STATE_SIZE * id + TB_STATE_X;
+    tb__v3_set(arm, origin[0] - x[0], origin[1] - x[1], origin[2] - x[2]);
+    tb__v3_cross(spin, omega, arm);
+    tb__v3_axpy(v, 1.0, spin);
+}
+
+tb_status tb_scene_frame_values(const tb_scene *scene, const double *y, double *out_values)
+{
+    tb_status status = check(scene, y, out_values);
+    for (size_t id = 0; status == TB_STATUS_OK && id < scene->body_count; ++id) {
+        frame_values_of(scene, y, id, out_values + TB_FRAME_VALUES * id);
+    }
+    return status;
+}
+
 tb_status tb_scene_kinetic_energy(const tb_scene *scene, const double *y, double *out_energy)
 {
     tb_status status = check(scene, y, out_energy);

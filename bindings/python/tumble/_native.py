@@ -3,14 +3,16 @@ headers by tests/test_layout.py (a C probe prints sizeof/offsetof from the real 
 
 import ctypes
 import ctypes.util
+import json
 import os
 import pathlib
 
 from ._export import WriterDef
-from ._version import __version__
+from ._version import LAYOUT_FILE, __version__
 
 DETAIL_SIZE = 256
 STATE_SIZE = 13
+FRAME_VALUES = 13  # TB_FRAME_VALUES: doubles a body takes in tb_scene_frame_values
 
 
 class Error(ctypes.Structure):
@@ -41,6 +43,11 @@ class RunDef(ctypes.Structure):
         ("duration", ctypes.c_double),
         ("internal_cookie", ctypes.c_int),
     ]
+
+
+class BodyState(ctypes.Structure):
+    _fields_ = [("x", ctypes.c_double * 3), ("q", ctypes.c_double * 4),
+                ("P", ctypes.c_double * 3), ("L", ctypes.c_double * 3)]
 
 
 class MassProperties(ctypes.Structure):
@@ -115,29 +122,66 @@ STRUCTS = {
     "tb_accuracy_result": AccuracyResult,
     "tb_accuracy_reference": AccuracyReference,
     "tb_writer_def": WriterDef,
+    "tb_body_state": BodyState,
 }
 
 FRAME_FN = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_size_t, ctypes.c_double, ctypes.c_void_p,
                             ctypes.c_void_p)
+USER_EFFECT_FN = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_double, ctypes.c_void_p,
+                                  ctypes.POINTER(ctypes.c_double), ctypes.POINTER(ctypes.c_double),
+                                  ctypes.c_void_p)
 ACCURACY_FN = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_size_t, ctypes.POINTER(AccuracyResult),
                                ctypes.c_void_p)
 
 
 def _find_library():
-    """TUMBLE_LIBRARY if set; else a libtumble.so next to this package (a bundled copy); else
+    """The libtumble.so the wheel ships beside this module; TUMBLE_LIBRARY, if set, overrides
+    it (a developer's build-shared/libtumble.so); a source checkout without it falls back to
     the system's (after `cmake --install`)."""
     explicit = os.environ.get("TUMBLE_LIBRARY")
     if explicit:
         return explicit
-    here = pathlib.Path(__file__).resolve().parent
-    for name in ("libtumble.so", "libtumble.so.0", "libtumble.dylib"):
-        if (here / name).exists():
-            return str(here / name)
+    bundled = pathlib.Path(__file__).resolve().parent / "libtumble.so"
+    if bundled.exists():
+        return str(bundled)
     found = ctypes.util.find_library("tumble")
     if found is None:
-        raise OSError("libtumble not found: build tumble with -DBUILD_SHARED_LIBS=ON and set "
-                      "TUMBLE_LIBRARY to the libtumble.so path, or install it")
+        raise ImportError("libtumble not found: install the package with "
+                          "`pip install ./bindings/python` (it builds and ships the library), "
+                          "or set TUMBLE_LIBRARY to a libtumble.so built with "
+                          "-DBUILD_SHARED_LIBS=ON")
     return found
+
+
+def check_layout(layout, structs):
+    """The ctypes structs against a layout printed by layout_probe.c: a list of mismatches
+    ("tb_run_def.fps: offset 16 here, 24 in C"), empty when they agree."""
+    mismatches = []
+    for name, struct in structs.items():
+        c = layout.get(name)
+        if c is None:
+            mismatches.append(f"{name}: not in the layout")
+            continue
+        if ctypes.sizeof(struct) != c["size"]:
+            mismatches.append(f"{name}: size {ctypes.sizeof(struct)} here, {c['size']} in C")
+        for field, _ in struct._fields_:
+            offset = getattr(struct, field).offset
+            if offset != c.get(field):
+                mismatches.append(f"{name}.{field}: offset {offset} here, {c.get(field)} in C")
+        extra = set(c) - {"size", "_"} - {f for f, _ in struct._fields_}
+        mismatches += [f"{name}.{field}: in C, not declared here" for field in sorted(extra)]
+    return mismatches
+
+
+def _check_layout():
+    """Refuses to run when the ctypes declarations disagree with the headers the shipped
+    library was built from (layout.json, from the build): fields would be read as garbage."""
+    if not LAYOUT_FILE.exists():
+        return  # a source checkout: tests/test_layout.py checks against the probe
+    mismatches = check_layout(json.loads(LAYOUT_FILE.read_text()), STRUCTS)
+    if mismatches:
+        raise ImportError("tumble's ctypes declarations disagree with the C headers it was "
+                          "built with: " + "; ".join(mismatches))
 
 
 def _declare(lib):
@@ -192,12 +236,62 @@ def _declare(lib):
                                                    ctypes.POINTER(Error)]),
         "tb_accuracy_cheapest": (ctypes.c_size_t, [ctypes.POINTER(AccuracyResult),
                                                    ctypes.c_size_t, ctypes.c_double]),
+        "tb_scene_frame_values": (ctypes.c_int, [ctypes.c_void_p, c_double_p, c_double_p]),
+        "tb_run_frame_count": (ctypes.c_int, [ctypes.c_double, ctypes.c_double,
+                                              ctypes.POINTER(ctypes.c_size_t),
+                                              ctypes.POINTER(Error)]),
+        "tb_scene_states": (c_double_p, [ctypes.c_void_p]),
+        "tb_scene_find_body": (ctypes.c_int, [ctypes.c_void_p, ctypes.c_char_p,
+                                              ctypes.POINTER(ctypes.c_size_t)]),
+        "tb_scene_get_state": (ctypes.c_int, [ctypes.c_void_p, ctypes.c_size_t,
+                                              ctypes.POINTER(BodyState)]),
+        "tb_scene_set_state": (ctypes.c_int, [ctypes.c_void_p, ctypes.c_size_t,
+                                              ctypes.POINTER(BodyState)]),
+        "tb_scene_set_velocity": (ctypes.c_int, [ctypes.c_void_p, ctypes.c_size_t, c_double_p,
+                                                 c_double_p]),
+        "tb_scene_integrator_create": (ctypes.c_int, [ctypes.c_void_p,
+                                                      ctypes.POINTER(IntegratorDef),
+                                                      ctypes.c_double,
+                                                      ctypes.POINTER(ctypes.c_void_p)]),
+        "tb_integrator_advance": (ctypes.c_int, [ctypes.c_void_p, ctypes.c_double]),
+        "tb_integrator_step": (ctypes.c_int, [ctypes.c_void_p]),
+        "tb_integrator_time": (ctypes.c_double, [ctypes.c_void_p]),
+        "tb_integrator_reset": (ctypes.c_int, [ctypes.c_void_p, ctypes.c_double]),
+        "tb_integrator_get_stats": (ctypes.c_int, [ctypes.c_void_p,
+                                                   ctypes.POINTER(IntegratorStats)]),
+        "tb_integrator_detail": (ctypes.c_char_p, [ctypes.c_void_p]),
+        "tb_integrator_destroy": (None, [ctypes.c_void_p]),
+        "tb_scene_add_user_effect": (ctypes.c_int, [ctypes.c_void_p, USER_EFFECT_FN,
+                                                    ctypes.c_void_p]),
+        "tb_effect_add_force": (ctypes.c_int, [ctypes.c_void_p, c_double_p, c_double_p,
+                                               ctypes.c_size_t, c_double_p, c_double_p]),
+        "tb_effect_add_torque": (ctypes.c_int, [ctypes.c_void_p, c_double_p, ctypes.c_size_t,
+                                                c_double_p]),
     }
     for name, (restype, argtypes) in signatures.items():
         function = getattr(lib, name)
         function.restype = restype
         function.argtypes = argtypes
     return lib
+
+
+class _ByAddress:
+    """The read-outs a frame calls, declared with plain addresses (ints) for their arrays:
+    what the run's frame callback passes, without making a ctypes pointer object per array
+    per frame (scene/_scene.py's _Recorder; the same C functions as above)."""
+
+    def __init__(self, lib):
+        p = ctypes.c_void_p
+
+        def bind(name, restype, *argtypes):
+            return ctypes.CFUNCTYPE(restype, *argtypes)((name, lib))
+
+        self.states = bind("tb_scene_states_const", p, p)
+        self.frame_values = bind("tb_scene_frame_values", ctypes.c_int, p, p, p)
+        self.kinetic_energy = bind("tb_scene_kinetic_energy", ctypes.c_int, p, p, p)
+        self.potential_energy = bind("tb_scene_potential_energy", ctypes.c_int, p, p, p)
+        self.linear_momentum = bind("tb_scene_linear_momentum", ctypes.c_int, p, p, p)
+        self.angular_momentum = bind("tb_scene_angular_momentum", ctypes.c_int, p, p, p, p)
 
 
 def _check_version(lib, path):
@@ -213,5 +307,9 @@ def _check_version(lib, path):
     return lib
 
 
+_check_layout()
 _path = _find_library()
+# CDLL (not PyDLL): every foreign call releases the GIL while C runs, so other Python threads
+# go on during a long run (tests/test_threads.py).
 lib = _declare(_check_version(ctypes.CDLL(_path), _path))
+by_address = _ByAddress(lib)

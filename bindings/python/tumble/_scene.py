@@ -1,0 +1,377 @@
+"""Scenes (from files, dictionaries or a builder), runs that return every frame as NumPy
+arrays, and the accuracy sweep."""
+
+import copy
+import ctypes
+import json
+import os
+from dataclasses import dataclass, field
+from typing import Callable, Optional
+
+import numpy as np
+
+from . import _export, _native
+from ._core import (_PARSE_ERROR, TumbleError, apply_settings,
+                    deferred_interrupt, failure, lib, method_code, number, stats_dict)
+
+@dataclass
+class Frames:
+    """A run's frames: F frames of N bodies, world frame (z up), SI units.
+
+    t                 (F,) s
+    position          (F, N, 3) m, the origin of each body's shape frame (the frame its shape
+                      and tb_body_def.orientation are given in), not its centre of mass
+    orientation       (F, N, 4) unit quaternion (w, x, y, z), shape frame -> world
+    velocity          (F, N, 3) m/s, of the shape-frame origin (v + omega x (origin - x))
+    angular_velocity  (F, N, 3) rad/s, world frame
+    kinetic_energy    (F,) J, all bodies;  potential_energy (F,) J, gravity and springs
+    linear_momentum   (F, 3) kg m/s, total;  angular_momentum (F, 3) kg m^2/s, total about
+                      the world origin (about another point: angular_momentum_about)
+    center_of_mass    (F, 3) m, of all bodies
+    stats             what the integrator did (steps, derivative_evals, ...)
+
+    The per-body arrays are views of one (F, N, 13) block, the layout of
+    tb_scene_frame_values (include/tumble/scene.h)."""
+
+    names: list
+    t: np.ndarray
+    position: np.ndarray
+    orientation: np.ndarray
+    velocity: np.ndarray
+    angular_velocity: np.ndarray
+    kinetic_energy: np.ndarray
+    potential_energy: np.ndarray
+    linear_momentum: np.ndarray
+    angular_momentum: np.ndarray
+    center_of_mass: np.ndarray
+    stats: dict = field(default_factory=dict)
+    #: the Scene the frames came from: its bodies' names and shapes, for the files below
+    source: object = field(default=None, repr=False, compare=False)
+
+    def angular_momentum_about(self, point) -> np.ndarray:
+        """Total angular momentum (F, 3), kg m^2/s, about `point`: a world point (3,) in m, or
+        one per frame (F, 3) such as center_of_mass, the centre of mass of all bodies.
+        L_point = L_origin - point x P, since L_origin = sum x_i x P_i + L_i."""
+        point = np.broadcast_to(np.asarray(point, dtype=float), self.linear_momentum.shape)
+        return self.angular_momentum - np.cross(point, self.linear_momentum)
+
+    def to_file(self, path, format: Optional[str] = None, rotation: str = "cubic") -> None:
+        """Writes the frames as they are in memory to path through the library's writer:
+        format "csv", "npz", "glb" or "gltf" (default: from the extension); rotation "cubic"
+        or "linear" glTF keys. docs/export.md describes the files (tumble's world is z up;
+        glTF's root node turns it to y up). Raises TumbleError when the file cannot be
+        written (none is left behind), ValueError for a format or rotation it does not know."""
+        if self.source is None:
+            raise ValueError("these frames have no source Scene: the names and shapes written "
+                             "come from the scene they were run from")
+        handle, _ = self.source._load()
+        try:
+            _export.write(lib, _native.Error, failure, self, handle, self.source._text,
+                          self.source._base, path, format, rotation)
+        finally:
+            lib.tb_scene_destroy(handle)
+
+    def to_gltf(self, path, rotation: str = "cubic") -> None:
+        """Animated glTF 2.0 for Blender and browsers: binary .glb, or .gltf text when path
+        ends in .gltf; rotation keys "cubic" (following the spin) or "linear"."""
+        gltf = str(path).lower().endswith(".gltf")
+        self.to_file(path, "gltf" if gltf else "glb", rotation)
+
+    def to_npz(self, path) -> None:
+        """NumPy .npz: t, position, orientation, velocity, angular_velocity, names, units."""
+        self.to_file(path, "npz")
+
+    def to_csv(self, path) -> None:
+        """CSV with 17 significant digits: every number reads back exactly."""
+        self.to_file(path, "csv")
+
+
+
+
+class _Recorder:
+    """Collects each frame the C run hands over into one array allocated up front for the
+    frame count the library gives (tb_run_frame_count): a frame costs one call that fills it
+    (tb_scene_frame_values) and four for the totals, and no copy."""
+
+    def __init__(self, handle, run, masses, on_frame=None):
+        count, error = ctypes.c_size_t(), _native.Error()
+        status = lib.tb_run_frame_count(run.duration, run.fps, ctypes.byref(count),
+                                        ctypes.byref(error))
+        if status != 0:
+            raise failure(status, error.message.decode())
+        frames, bodies = count.value + 1, lib.tb_scene_body_count(handle)
+        self.t = np.empty(frames)
+        self.values = np.empty((frames, bodies, _native.FRAME_VALUES))
+        # kinetic, potential, P[3], L[3] about the origin, centre of mass[3]
+        self.totals = np.empty((frames, 11))
+        self.bodies = bodies
+        self.mass_fraction = np.asarray(masses) / max(sum(masses), np.finfo(float).tiny)
+        self.count = 0
+        self.on_frame = on_frame
+        self.failure = None
+        self.interrupt = None  # the run's deferred_interrupt
+        self._origin = np.zeros(3)
+        self._values_address, self._values_stride = self.values.ctypes.data, self.values.strides[0]
+        self._totals_address, self._totals_stride = self.totals.ctypes.data, self.totals.strides[0]
+        self._y_address, self._x = None, None
+        self.callback = _native.FRAME_FN(self._called)  # kept alive while the run lasts
+
+    def _called(self, frame, t, scene, ctx):
+        try:
+            self._record(frame, t, scene)
+            if self.interrupt is not None and self.interrupt.pending:
+                raise KeyboardInterrupt
+            if self.on_frame is not None:
+                view = self.values[frame]
+                view.flags.writeable = False
+                self.on_frame(frame, t, view)
+                view.flags.writeable = True
+            return 0
+        except BaseException as caught:  # cannot cross C: stop the run, re-raise afterwards
+            self.failure = caught
+            return 1
+
+    def _record(self, k, t, scene):
+        if not 0 <= k < len(self.t):  # the writes below go by address: never past the end
+            raise IndexError(f"frame {k} of a run of {len(self.t)} frames")
+        fast = _native.by_address  # addresses, not pointer objects: this runs every frame
+        y = fast.states(scene)
+        totals = self._totals_address + k * self._totals_stride
+        fast.frame_values(scene, y, self._values_address + k * self._values_stride)
+        fast.kinetic_energy(scene, y, totals)
+        fast.potential_energy(scene, y, totals + 8)
+        fast.linear_momentum(scene, y, totals + 16)
+        fast.angular_momentum(scene, y, self._origin.ctypes.data, totals + 40)
+        if y != self._y_address:  # the scene's array: it stays put during a run
+            self._y_address = y
+            n = self.bodies * _native.STATE_SIZE
+            array = np.frombuffer((ctypes.c_double * max(n, 1)).from_address(y), count=n)
+            self._x = array.reshape(self.bodies, _native.STATE_SIZE)[:, 0:3]
+        self.totals[k, 8:11] = self.mass_fraction @ self._x
+        self.t[k] = t
+        self.count = k + 1
+
+    def frames(self, source, stats):
+        k = self.count
+        values, totals = self.values[:k], self.totals[:k]
+        return Frames(list(source.body_names), self.t[:k], values[..., 0:3], values[..., 3:7],
+                      values[..., 7:10], values[..., 10:13], totals[:, 0], totals[:, 1],
+                      totals[:, 2:5], totals[:, 5:8], totals[:, 8:11], stats_dict(stats), source)
+
+
+class Scene:
+    """A scene description: bodies, effects, and its own integrator and output settings, in
+    the scene-file format (docs/scene-format.md). The library checks it when the Scene is made
+    (TumbleError naming the field). Each run() loads it afresh, so runs are independent and
+    repeatable; a Scene pickles as its text.
+
+    body_names          the bodies' names, in order (body i is index i everywhere)
+    masses              each body's mass, kg
+    radius_of_gyration  each body's sqrt(I_max / M), m
+    run_settings        the file's method, dt (s), rtol, atol, fps and duration (s)
+    """
+
+    def __init__(self, text: bytes, name: str, base_directory: Optional[str] = None):
+        """A Scene from JSON text (bytes); name labels its messages, base_directory is where
+        files it names (OBJ meshes) are found. Scene.from_file and Scene.from_dict are the
+        usual ways in."""
+        self._text = text
+        self._name = name
+        self._base = base_directory
+        handle, run = self._load()  # validate now: errors surface at construction
+        self.body_names = [lib.tb_scene_body_name(handle, i).decode()
+                           for i in range(lib.tb_scene_body_count(handle))]
+        self.run_settings = {"method": lib.tb_method_name(run.integrator.method).decode(),
+                             "dt": run.integrator.dt, "rtol": run.integrator.rtol,
+                             "atol": run.integrator.atol, "fps": run.fps,
+                             "duration": run.duration}
+        self.radius_of_gyration = []
+        #: each body's mass, kg
+        self.masses = []
+        for i in range(len(self.body_names)):
+            mass = _native.MassProperties()
+            lib.tb_scene_get_mass(handle, i, ctypes.byref(mass))
+            self.radius_of_gyration.append(float(np.sqrt(max(mass.moments) / mass.mass)))
+            self.masses.append(mass.mass)
+        lib.tb_scene_destroy(handle)
+
+    def __reduce__(self):  # pickled (Dask) as its text, reloaded and checked on arrival
+        return (Scene, (self._text, self._name, self._base))
+
+    @classmethod
+    def coerce(cls, scene) -> "Scene":
+        """A Scene from a Scene, a SceneBuilder (built with its settings), a scene-file path
+        (str or os.PathLike) or a dict in the scene-file format; TypeError for anything else."""
+        if isinstance(scene, Scene):
+            return scene
+        if isinstance(scene, SceneBuilder):
+            return scene.build()
+        if isinstance(scene, (str, os.PathLike)):
+            return cls.from_file(scene)
+        if isinstance(scene, dict):
+            return cls.from_dict(scene)
+        raise TypeError(f"a scene is a tumble.Scene, a path or a dict, got {type(scene).__name__}")
+
+    @classmethod
+    def from_file(cls, path: "str | os.PathLike") -> "Scene":
+        """The scene in a JSON scene file (meshes it names are found beside it). OSError if
+        it cannot be read, TumbleError (PARSE_ERROR with line and column, BAD_SCENE naming
+        the field) if the library refuses it."""
+        path = str(path)
+        with open(path, "rb") as f:
+            text = f.read()
+        if b"\0" in text:  # ctypes would pass the text up to the NUL: refuse, as the CLI does
+            raise TumbleError(_PARSE_ERROR, f"{path}: a NUL byte at offset {text.index(0)}: "
+                                            f"a scene file is JSON text")
+        directory = path.rsplit("/", 1)[0] + "/" if "/" in path else ""
+        return cls(text, path, directory)
+
+    @classmethod
+    def from_dict(cls, description: dict, name: str = "<dict>",
+                  base_directory: Optional[str] = None) -> "Scene":
+        """The scene a dict in the scene-file format describes (keys "bodies", "effects",
+        "integrator", "output"); name labels the library's messages."""
+        return cls(json.dumps(description).encode(), name, base_directory)
+
+    def _load(self):
+        handle = ctypes.c_void_p()
+        run = _native.RunDef()
+        error = _native.Error()
+        status = lib.tb_scene_load_string(self._text, self._name.encode(),
+                                          self._base.encode() if self._base else None,
+                                          ctypes.byref(handle), ctypes.byref(run),
+                                          ctypes.byref(error))
+        if status != 0:
+            raise failure(status, error.message.decode())
+        return handle, run
+
+    def run(self, method: Optional[str] = None, dt: Optional[float] = None,
+            rtol: Optional[float] = None, atol: Optional[float] = None,
+            fps: Optional[float] = None, duration: Optional[float] = None,
+            on_frame: Optional[Callable[[int, float, np.ndarray], None]] = None) -> "Frames":
+        """Simulates the scene from its initial state for `duration` seconds (the file's settings
+        unless given here: method "euler", "midpoint", "rk4", "cvode-adams" or "cvode-bdf"; dt in
+        s for the fixed-step methods, rtol and atol for CVODE, frames per second fps) and returns
+        every frame (t = k / fps, k = 0, 1, ...) as Frames. The whole run is one library call
+        (tb_scene_run) that fills each frame in one more (tb_scene_frame_values); Python runs
+        only between frames, where on_frame(k, t, values) is called if given (values: the frame's
+        (bodies, 13) array, read-only). An option the method does not read is refused
+        (ValueError). Raises TumbleError if the integrator refuses the settings or the run fails;
+        a KeyboardInterrupt (Ctrl-C, seen at the next frame) or an exception from on_frame stops
+        the run, and the frames made so far are on the exception's `frames` attribute."""
+        handle, run = self._load()
+        try:
+            apply_settings(run, method, dt, rtol, atol, fps, duration)
+            recorder = _Recorder(handle, run, self.masses, on_frame)
+            stats, error = _native.IntegratorStats(), _native.Error()
+            with deferred_interrupt() as recorder.interrupt:
+                status = lib.tb_scene_run(handle, ctypes.byref(run), recorder.callback, None,
+                                          ctypes.byref(stats), ctypes.byref(error))
+        finally:
+            lib.tb_scene_destroy(handle)
+        frames = recorder.frames(self, stats)
+        if recorder.failure is None and recorder.interrupt.pending and status == 0:
+            recorder.failure = KeyboardInterrupt()  # came after the last frame
+        if recorder.failure is not None:
+            recorder.failure.frames = frames
+            raise recorder.failure
+        if status != 0:
+            failed = failure(status, error.message.decode())
+            failed.frames = frames
+            raise failed
+        return frames
+
+
+def _default_sweep():
+    count = ctypes.c_size_t()
+    settings = lib.tb_accuracy_default_sweep(ctypes.byref(count))
+    return tuple((lib.tb_method_name(settings[k].method).decode(), settings[k].setting)
+                 for k in range(count.value))
+
+
+#: The sweep of Scene.accuracy and `tumble accuracy` (the library's default): steps per
+#: second for the fixed-step methods, rtol for CVODE.
+ACCURACY_SWEEP = _default_sweep()
+
+
+def _accuracy_row(result):
+    ok = result.status == 0
+    return dict(method=lib.tb_method_name(result.method).decode(), setting=result.setting,
+                error=result.error if ok else None,
+                position_error=result.position_error if ok else None,
+                angle_error=result.angle_error if ok else None,
+                cpu_ms=1e3 * result.cpu_seconds, steps=result.steps,
+                derivatives=result.derivative_evals,
+                status=lib.tb_status_name(result.status).decode(),
+                note=None if ok else result.detail.decode())
+
+
+def _accuracy(self, target_error: float = 1e-3, sweep=ACCURACY_SWEEP) -> tuple:
+    """Runs the scene with each integrator setting of `sweep` against cvode-bdf at rtol 1e-11
+    (the library's tb_scene_accuracy_sweep, as `tumble accuracy`) and returns (rows, best):
+    each row a dict with method, setting, error (the largest displacement |dx| + l angle of a
+    body's points at its radius of gyration l, m), position_error (m), angle_error (rad),
+    cpu_ms, steps, derivatives, status and note (None, or the library's detail saying why the
+    setting did not run); best is the cheapest row with error <= target_error, or None.
+    Raises TumbleError when the reference run fails, with the library's reason."""
+    target_error = number("target_error", target_error)
+    settings = (_native.AccuracySetting * max(len(sweep), 1))()
+    for k, (method, setting) in enumerate(sweep):
+        settings[k] = _native.AccuracySetting(method_code(method), number("setting", setting))
+    handle, run = self._load()
+    try:
+        definition = lib.tb_accuracy_def_default()
+        definition.settings, definition.setting_count = settings, len(sweep)
+        results = (_native.AccuracyResult * max(len(sweep), 1))()
+        reference, error = _native.AccuracyReference(), _native.Error()
+        status = lib.tb_scene_accuracy_sweep(handle, ctypes.byref(run), ctypes.byref(definition),
+                                             _native.ACCURACY_FN(), None, results,
+                                             ctypes.byref(reference), ctypes.byref(error))
+    finally:
+        lib.tb_scene_destroy(handle)
+    if status != 0:
+        raise failure(status, error.message.decode())
+    rows = [_accuracy_row(results[k]) for k in range(len(sweep))]
+    best = lib.tb_accuracy_cheapest(results, len(sweep), target_error)
+    return rows, rows[best] if best < len(sweep) else None
+
+
+Scene.accuracy = _accuracy
+
+
+class SceneBuilder:
+    """Builds a scene in code, in the scene-file format's words:
+
+        b = tumble.SceneBuilder()
+        b.add_body("ball", shape={"type": "sphere", "radius": 0.1}, mass=1, position=[0, 0, 2])
+        b.add_effect("gravity")
+        scene = b.build(method="rk4", dt=1/240, fps=60, duration=2)
+    """
+
+    def __init__(self):
+        self._description = {"bodies": [], "effects": []}
+
+    def add_body(self, name: str, **fields) -> "SceneBuilder":
+        """A body with the scene format's fields: shape, mass or density (kg, kg/m^3),
+        inertia, position (m, world, centre of mass), orientation (w, x, y, z),
+        velocity (m/s), angular_velocity (rad/s, world) or angular_velocity_body, ..."""
+        self._description["bodies"].append({"name": name, **fields})
+        return self
+
+    def add_effect(self, type: str, **fields) -> "SceneBuilder":
+        """An effect with the scene format's fields: "gravity", "drag", "spring", "force",
+        "torque", "ground", ... (docs/scene-format.md, "Effects")."""
+        self._description["effects"].append({"type": type, **fields})
+        return self
+
+    def build(self, fps: Optional[float] = None, duration: Optional[float] = None,
+              **integrator) -> "Scene":
+        """The Scene, checked by the library; fps (frames/s) and duration (s) are its output
+        settings, integrator its method and dt/rtol/atol (scene format's "integrator")."""
+        description = copy.deepcopy(self._description)
+        if integrator:
+            description["integrator"] = integrator
+        output = {k: v for k, v in (("fps", fps), ("duration", duration)) if v is not None}
+        if output:
+            description["output"] = output
+        return Scene.from_dict(description, name="<builder>")
