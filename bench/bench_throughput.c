@@ -12,7 +12,12 @@
  * Adams' order (and history) at 5; cvode-bdf-band uses the banded preconditioner instead of the
  * block-diagonal one.
  *
- * usage: bench_throughput [--quick] [--method PREFIX] (PREFIX: rows whose name starts so) */
+ * --path NAME steps the scenes on one vector path (tb_vector_path_name: none, baseline, avx2,
+ * avx512; default auto, the widest the processor has), --threads T on T threads (default 1),
+ * --sizes N1,N2,... only those body counts.
+ *
+ * usage: bench_throughput [--quick] [--method PREFIX] [--path NAME] [--threads T] [--sizes LIST]
+ * (PREFIX: rows whose name starts so) */
 #define _GNU_SOURCE /* mallinfo2 */
 #include "bench_common.h"
 #include "tumble/tumble.h"
@@ -21,12 +26,16 @@
 #include <stdio.h>
 #include <string.h>
 
+static tb_vector_path vector_path = TB_VECTOR_PATH_AUTO;
+static int threads = 1;
+
 static tb_scene *make_scene(size_t bodies, size_t forces)
 {
     tb_scene_def def = tb_scene_def_default();
     def.body_capacity = bodies;
     tb_scene *scene = NULL;
     tb_scene_create(&def, &scene, NULL);
+    tb_scene_set_vector_path(scene, vector_path);
     for (size_t i = 0; i < bodies; ++i) {
         tb_body_def body = tb_body_def_default();
         tb_mass_from_box(TB_MASS_DENSITY, 500.0, (double[]){0.1, 0.2, 0.3}, &body.mass, NULL);
@@ -74,6 +83,7 @@ static tb_integrator *make_integrator(tb_scene *scene, const variant *v)
     def.method = v->method;
     def.rtol = 1e-6;
     def.max_order = v->max_order;
+    def.threads = tb_method_is_adaptive(v->method) ? 1 : threads;
     tb_integrator *integrator = NULL;
     if (!v->whole_array) {
         tb_scene_integrator_create(scene, &def, 0.0, &integrator);
@@ -130,24 +140,49 @@ static double derivative_ns(size_t bodies, int repeats, double body_steps)
     return 1e9 * bench_median(times, (size_t)repeats) / (double)evaluations / (double)bodies;
 }
 
+/* "100,1000" into sizes (at most 16); the count read. */
+static size_t parse_sizes(const char *list, size_t *sizes)
+{
+    size_t count = 0;
+    for (const char *p = list; *p != '\0' && count < 16;) {
+        char *end;
+        const unsigned long long value = strtoull(p, &end, 10);
+        if (end == p) {
+            break;
+        }
+        sizes[count++] = (size_t)value;
+        p = *end == ',' ? end + 1 : end;
+    }
+    return count;
+}
+
 int main(int argc, char **argv)
 {
     int quick = 0;
     const char *only = NULL; /* one method, or all */
+    size_t sizes[16] = {1, 10, 100, 1000, 10000, 100000}, count = 6, sizes_given = 0;
     for (int a = 1; a < argc; ++a) {
         if (strcmp(argv[a], "--quick") == 0) {
             quick = 1;
         } else if (strcmp(argv[a], "--method") == 0 && a + 1 < argc) {
             only = argv[++a];
+        } else if (strcmp(argv[a], "--path") == 0 && a + 1 < argc &&
+                   tb_vector_path_parse(argv[a + 1], &vector_path) == TB_STATUS_OK &&
+                   tb_vector_path_supported(vector_path)) {
+            ++a;
+        } else if (strcmp(argv[a], "--threads") == 0 && a + 1 < argc) {
+            threads = atoi(argv[++a]);
+        } else if (strcmp(argv[a], "--sizes") == 0 && a + 1 < argc) {
+            sizes_given = parse_sizes(argv[++a], sizes);
         } else {
-            fprintf(stderr, "usage: bench_throughput [--quick] [--method PREFIX]\n");
+            fprintf(stderr, "usage: bench_throughput [--quick] [--method PREFIX] [--path "
+                            "none|baseline|avx2|avx512] [--threads T] [--sizes N1,N2,...]\n");
             return 2;
         }
     }
     const int repeats = quick ? 1 : 7;
     const double body_steps = quick ? 2e4 : 2e6;
-    static const size_t sizes[] = {1, 10, 100, 1000, 10000, 100000};
-    const size_t count = quick ? 2 : sizeof sizes / sizeof sizes[0];
+    count = sizes_given > 0 ? sizes_given : quick ? 2 : count;
     variant variants[TB_METHOD_COUNT + 5];
     size_t variant_count = 0;
     for (int method = 0; method < TB_METHOD_COUNT; ++method) {
