@@ -24,6 +24,11 @@
  * only), the stepper's two of scratch; without lanes the new chunk and the scratch. */
 #define TB__CHUNK_BUFFERS 4
 
+/* Chunks a thread must have for a step to be shared out: below that, starting and joining the
+ * threads (microseconds, far more on a loaded machine) costs more than the thread saves. 8
+ * lane groups are 256 bodies. */
+#define TB__CHUNKS_PER_THREAD 8
+
 void tb__chunk_layout(tb_integrator *integrator, int threads)
 {
     const tb_ode_system *system = &integrator->system;
@@ -41,12 +46,15 @@ void tb__chunk_layout(tb_integrator *integrator, int threads)
     }
 #endif
     const size_t chunks = (blocks + per_chunk - 1) / per_chunk;
-    /* no more threads than chunks, nor than the library was built to start */
+    /* no more threads than have TB__CHUNKS_PER_THREAD chunks each, nor than the library was
+     * built to start */
     size_t count = threads < 1 ? 1 : (size_t)threads;
 #ifndef _OPENMP
     count = 1;
 #endif
-    integrator->threads = (int)(count < chunks ? count : chunks);
+    const size_t worth = chunks / TB__CHUNKS_PER_THREAD;
+    count = count < worth ? count : worth;
+    integrator->threads = count < 1 ? 1 : (int)count;
 }
 
 /* A chunk of a separable system seen as a system of its own, for the steppers. */

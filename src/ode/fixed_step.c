@@ -167,7 +167,7 @@ static void fixed_destroy(tb_integrator *integrator)
 /* The common case is one vectorisable pass: y * 0 is 0 for finite y and NaN for NaN or
  * infinity, so the sum is NaN exactly when some component is not finite; only then is it
  * located. */
-TB__CLONES size_t tb__first_non_finite(const double *y, size_t n)
+TB__CLONES static size_t first_non_finite(const double *y, size_t n)
 {
     double probes[TB__PROBES] = {0.0};
     size_t i = 0;
@@ -192,6 +192,12 @@ TB__CLONES size_t tb__first_non_finite(const double *y, size_t n)
         }
     }
     return n;
+}
+
+/* (clang 14 emits no symbol for a multi-versioned function of external linkage) */
+size_t tb__first_non_finite(const double *y, size_t n)
+{
+    return first_non_finite(y, n);
 }
 
 static tb_status derivative_failed(tb_integrator *integrator, int rc, double h)
