@@ -14,7 +14,7 @@ void TB__LANES_NAME(tb__gravity_lanes)(const tb__effect *effect, const tb__lanes
 {
     const size_t n = lanes->lanes;
     const double *g = effect->params.gravity.g;
-    const double *restrict mass = lanes->mass;
+    const double *restrict mass = lanes->constants + TB__LANE_MASS * n;
     for (size_t k = 0; k < 3; ++k) {
         double *restrict dP = lanes->dydt + (TB_STATE_P + k) * n;
         const double gk = g[k];

@@ -39,7 +39,10 @@ void tb__chunk_layout(tb_integrator *integrator, int threads)
         per_chunk = per_chunk == 0 ? 1 : per_chunk < blocks ? per_chunk : blocks;
     }
     integrator->chunk_blocks = per_chunk;
-    integrator->chunk_work = TB__CHUNK_BUFFERS * per_chunk * system->block_size;
+    /* a whole number of cache lines */
+    const size_t per_line = TB__LINE / sizeof(double);
+    integrator->chunk_work =
+        (TB__CHUNK_BUFFERS * per_chunk * system->block_size + per_line - 1) / per_line * per_line;
 #ifdef _OPENMP
     if (threads == 0) {
         threads = omp_get_num_procs();

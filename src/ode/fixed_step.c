@@ -7,6 +7,7 @@
 
 #include <math.h>
 #include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -59,10 +60,16 @@ int tb__midpoint_step(const tb_ode_system *system, double t, double h, const dou
 }
 
 /* RK4's stage pass: y_new = sum + b k (the stage accumulated) and y_stage = y + a k (the next
- * stage's input); sum is y or y_new. */
+ * stage's input; none after the last stage, y_stage NULL); sum is y or y_new. */
 TB__CLONES static void rk4_stage(double *y_new, const double *sum, double *y_stage, const double *y,
                                  const double *k, double b, double a, size_t n)
 {
+    if (y_stage == NULL) {
+        for (size_t i = 0; i < n; ++i) {
+            y_new[i] = sum[i] + b * k[i];
+        }
+        return;
+    }
     for (size_t i = 0; i < n; ++i) {
         y_new[i] = sum[i] + b * k[i];
         y_stage[i] = y[i] + a * k[i];
@@ -89,7 +96,7 @@ int tb__rk4_step(const tb_ode_system *system, double t, double h, const double *
         const double b = weight[s] * h, a = next_stage[s] * h;
         /* one pass: accumulate the stage (the first one starts the sum from y) and form the
          * next stage's input */
-        rk4_stage(y_new, s == 0 ? y : y_new, y_stage, y, k, b, a, n);
+        rk4_stage(y_new, s == 0 ? y : y_new, s < 3 ? y_stage : NULL, y, k, b, a, n);
         stage_input = y_stage;
     }
     return 0;
@@ -138,17 +145,28 @@ static tb_status fixed_create(tb_integrator *integrator, const tb_integrator_def
     const size_t n = integrator->system.n;
     /* whole-array path: the new state (n) and the stepper's scratch (2n); chunked path: the
      * state before the step, to undo a failed one (n), and each thread's chunk buffers */
-    size_t size = 3 * n;
+    size_t size = 3 * n, chunk_buffers = 0;
     if (integrator->system.block_size > 0) {
         tb__chunk_layout(integrator, def->threads);
-        size = n + (size_t)integrator->threads * integrator->chunk_work;
+        chunk_buffers = (size_t)integrator->threads * integrator->chunk_work;
+        size = chunk_buffers + n;
     }
-    integrator->y_new = malloc(size * sizeof(double));
-    if (integrator->y_new == NULL) {
+    /* from a cache line (chunk buffers first, each a whole number of lines), so that the vector
+     * unit's loads do not straddle lines */
+    integrator->workspace = malloc(size * sizeof(double) + TB__LINE);
+    if (integrator->workspace == NULL) {
         return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "integrator workspace of %zu doubles",
                              size);
     }
-    integrator->work = integrator->y_new + n;
+    const uintptr_t base = (uintptr_t)integrator->workspace;
+    double *buffer = (double *)(base + (TB__LINE - base % TB__LINE) % TB__LINE);
+    if (chunk_buffers > 0) {
+        integrator->work = buffer;
+        integrator->y_new = buffer + chunk_buffers;
+    } else {
+        integrator->y_new = buffer;
+        integrator->work = buffer + n;
+    }
     integrator->dt = def->dt;
     integrator->stats.last_order = integrator->stats.current_order = integrator->entry->info.order;
     integrator->stats.current_step = def->dt;
@@ -157,7 +175,7 @@ static tb_status fixed_create(tb_integrator *integrator, const tb_integrator_def
 
 static void fixed_destroy(tb_integrator *integrator)
 {
-    free(integrator->y_new);
+    free(integrator->workspace);
 }
 
 /* Partial sums of the finiteness probe: independent chains, so the pass runs at the vector

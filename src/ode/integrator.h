@@ -70,6 +70,7 @@ struct tb_integrator {
     double *y_new;       /* candidate state, n doubles; committed to y only when the step is good
                             (chunked: the state before the step, to undo a failed one) */
     double *work;        /* 2n doubles for the stepper (chunked: chunk_work doubles per thread) */
+    void *workspace;     /* the allocation y_new and work are in */
     size_t chunk_blocks; /* chunked: blocks per chunk (the lane group's size with lanes) */
     size_t chunk_work;   /* chunked: doubles of work per thread */
     int threads;         /* chunked: threads the chunks are shared among, >= 1 */
@@ -91,6 +92,9 @@ struct tb_integrator {
 
 /* Index of the first non-finite component of y[0..n), or n if all are finite. */
 size_t tb__first_non_finite(const double *y, size_t n);
+
+/* Bytes in a cache line, to which the fixed-step workspace is aligned. */
+#define TB__LINE 64
 
 /* The most blocks a lane group may hold (tb_ode_system.lanes). */
 #define TB__MAX_LANES 1024

@@ -24,6 +24,10 @@ static inline size_t tb__lanes_for(size_t bodies)
     return bodies >= TB__LANES ? TB__LANES : bodies >= TB__LANES_SMALL ? TB__LANES_SMALL : 0;
 }
 
+/* The bodies' constants of a lane group, each a row of `lanes` (the lanes past the last body
+ * repeat it): mass, inverse mass, the three inverse moments. */
+enum { TB__LANE_MASS, TB__LANE_INV_MASS, TB__LANE_INV_MOMENTS, TB__LANE_CONSTANTS = 5 };
+
 /* A lane group during one derivative: the bodies [first, first + count) in `lanes` lanes (the
  * lanes past count repeat the last body), their constants, and what the kinematics found. */
 typedef struct tb__lanes {
@@ -31,9 +35,13 @@ typedef struct tb__lanes {
     const double *y;
     double *dydt;
     size_t first, count, lanes;
-    double mass[TB__LANES], inv_mass[TB__LANES], inv_moments[3][TB__LANES];
+    const double *constants;    /* TB__LANE_CONSTANTS rows of lanes */
     double omega[3][TB__LANES]; /* world angular velocity (rad/s) */
 } tb__lanes;
+
+/* Lays the bodies' constants out for the lane kernels (scene->lane_constants), growing the
+ * array if needed; TB_STATUS_OUT_OF_MEMORY (nothing changed) if it cannot. */
+tb_status tb__scene_prepare_lanes(tb_scene *scene);
 
 /* One vector path's kernels. */
 typedef struct tb__lanes_kernels {

@@ -12,21 +12,6 @@
 #error "lanes_kernels.c is compiled once per vector path, with TB_LANES_TARGET set"
 #endif
 
-/* The bodies' constants, lane by lane (the padding lanes repeat the last body). */
-static void load_bodies(tb__lanes *lanes)
-{
-    const tb__body *bodies = lanes->scene->bodies + lanes->first;
-    TB__LANES_LOOP
-    for (size_t j = 0; j < lanes->lanes; ++j) {
-        const tb__body *body = &bodies[j < lanes->count ? j : lanes->count - 1];
-        lanes->mass[j] = body->mass;
-        lanes->inv_mass[j] = body->inv_mass;
-        for (int k = 0; k < 3; ++k) {
-            lanes->inv_moments[k][j] = body->inv_moments[k];
-        }
-    }
-}
-
 /* omega = R I_body^-1 R^T L, R the rotation of q/|q| without a square root; see
  * angular_velocity() in derivative.c, whose operations these are. */
 static void angular_velocities(tb__lanes *lanes)
@@ -38,8 +23,8 @@ static void angular_velocities(tb__lanes *lanes)
     const double *restrict L0 = y + TB_STATE_L * n, *restrict L1 = L0 + n, *restrict L2 = L1 + n;
     double *restrict o0 = lanes->omega[0], *restrict o1 = lanes->omega[1],
                      *restrict o2 = lanes->omega[2];
-    const double *restrict i0 = lanes->inv_moments[0], *restrict i1 = lanes->inv_moments[1],
-                           *restrict i2 = lanes->inv_moments[2];
+    const double *restrict i0 = lanes->constants + TB__LANE_INV_MOMENTS * n, *restrict i1 = i0 + n,
+                           *restrict i2 = i1 + n;
     TB__LANES_LOOP
     for (size_t j = 0; j < n; ++j) {
         const double w = qw[j], x = qx[j], yy = qy[j], z = qz[j];
@@ -65,7 +50,7 @@ static void kinematics(tb__lanes *lanes)
     const size_t n = lanes->lanes;
     const double *restrict y = lanes->y;
     double *restrict d = lanes->dydt;
-    const double *restrict inv_mass = lanes->inv_mass;
+    const double *restrict inv_mass = lanes->constants + TB__LANE_INV_MASS * n;
     for (size_t k = 0; k < 3; ++k) {
         const double *restrict P = y + (TB_STATE_P + k) * n;
         double *restrict dx = d + (TB_STATE_X + k) * n;
@@ -170,7 +155,8 @@ static int derivative(double t, const double *y, double *dydt, size_t first, siz
     lanes.first = first;
     lanes.count = count;
     lanes.lanes = tb__lanes_for(scene->body_count);
-    load_bodies(&lanes);
+    /* chunks are whole lane groups from body 0 */
+    lanes.constants = scene->lane_constants + TB__LANE_CONSTANTS * first;
     kinematics(&lanes);
     return apply_effects(&lanes, t);
 }

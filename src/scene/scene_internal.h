@@ -166,7 +166,11 @@ struct tb_scene {
      * then fails the derivative (written through the const scene, like the detail). */
     tb_status user_load_status;
     bool renormalize;
-    int vector_path;         /* tb_vector_path: what tb_scene_ode_system offers integrators */
+    int vector_path; /* tb_vector_path: what tb_scene_ode_system offers integrators */
+    /* The bodies' constants per lane group for the lane kernels (lanes.h), made by
+     * tb_scene_ode_system; lane_constants_size doubles allocated. */
+    double *lane_constants;
+    size_t lane_constants_size;
     double quaternion_drift; /* largest | |q| - 1 | seen by the renormalisation hook */
     char detail[TB_DETAIL_SIZE];
 

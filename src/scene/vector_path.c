@@ -5,6 +5,7 @@
 
 #include "core/detail.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 static const char *const path_names[TB_VECTOR_PATH_COUNT] = {"auto", "none", "baseline", "avx2",
@@ -97,4 +98,34 @@ const tb__lanes_kernels *tb__scene_lanes_kernels(const tb_scene *scene)
                                     ? tb_vector_path_best()
                                     : (tb_vector_path)scene->vector_path;
     return path_kernels(path);
+}
+
+tb_status tb__scene_prepare_lanes(tb_scene *scene)
+{
+    const size_t lanes = tb__lanes_for(scene->body_count);
+    const size_t groups = (scene->body_count + lanes - 1) / lanes;
+    const size_t size = groups * lanes * TB__LANE_CONSTANTS;
+    if (size > scene->lane_constants_size) {
+        double *grown = realloc(scene->lane_constants, size * sizeof(double));
+        if (grown == NULL) {
+            return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY,
+                                  "the lane layout of %zu bodies' constants", scene->body_count);
+        }
+        scene->lane_constants = grown;
+        scene->lane_constants_size = size;
+    }
+    for (size_t g = 0; g < groups; ++g) {
+        double *rows = scene->lane_constants + g * lanes * TB__LANE_CONSTANTS;
+        for (size_t j = 0; j < lanes; ++j) {
+            const size_t i =
+                g * lanes + j < scene->body_count ? g * lanes + j : scene->body_count - 1;
+            const tb__body *body = &scene->bodies[i];
+            rows[TB__LANE_MASS * lanes + j] = body->mass;
+            rows[TB__LANE_INV_MASS * lanes + j] = body->inv_mass;
+            for (size_t k = 0; k < 3; ++k) {
+                rows[(TB__LANE_INV_MOMENTS + k) * lanes + j] = body->inv_moments[k];
+            }
+        }
+    }
+    return TB_STATUS_OK;
 }
