@@ -234,6 +234,8 @@ bool cli_apply(const cli_options *o, tb_run_def *run, char *message, size_t size
         snprintf(message, size, "--rtol: expected a number in [1e-15, 1), got %g", o->rtol);
         return false;
     }
+    /* every core for the chunks of a fixed step (the same bits as one thread) */
+    run->integrator.threads = adaptive ? 1 : 0;
     run->integrator.dt = o->has_dt ? o->dt : run->integrator.dt;
     run->integrator.rtol = o->has_rtol ? o->rtol : run->integrator.rtol;
     run->integrator.atol = o->has_atol ? o->atol : run->integrator.atol;

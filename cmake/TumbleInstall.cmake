@@ -36,6 +36,11 @@ install(FILES ${PROJECT_BINARY_DIR}/tumbleConfig.cmake
 
 # pkg-config: a static library needs its dependencies on the link line (pkg-config --static).
 set(TUMBLE_PC_PRIVATE_LIBS "-lsundials_cvode -lsundials_nvecserial")
+if(TUMBLE_OPENMP)
+  foreach(library IN LISTS OpenMP_C_LIBRARIES)
+    string(APPEND TUMBLE_PC_PRIVATE_LIBS " ${library}")
+  endforeach()
+endif()
 # Relocatable: the prefix is found from the .pc file's own place.
 file(RELATIVE_PATH TUMBLE_PC_TO_PREFIX /root/${CMAKE_INSTALL_LIBDIR}/pkgconfig /root)
 configure_file(cmake/tumble.pc.in ${PROJECT_BINARY_DIR}/tumble.pc @ONLY)

@@ -12,19 +12,26 @@ quick=()
 if [ "${1:-}" = "--quick" ]; then
     quick=(--quick)
 fi
+# The chart's matplotlib, and MuJoCo's C library for bench_peer (the mujoco-core wheel ships
+# libmujoco and its headers; CMake finds them in this environment), before the build.
+scripts/setup.sh
+if [ ! -x build/bench-venv/bin/python ]; then
+    python3 -m venv build/bench-venv
+    build/bench-venv/bin/pip install --quiet --upgrade pip
+fi
+build/bench-venv/bin/python -c "import matplotlib" 2>/dev/null ||
+    build/bench-venv/bin/pip install --quiet matplotlib
+ls build/bench-venv/lib/python3*/site-packages/mujoco/libmujoco.so* >/dev/null 2>&1 ||
+    build/bench-venv/bin/pip install --quiet mujoco-core ||
+    echo "bench: mujoco-core could not be installed: bench_peer runs tumble alone" >&2
 scripts/build.sh
 out=build/bench-results
 mkdir -p "$out"
 for bench in bench_work_precision bench_torque_free_top bench_bdf_scaling bench_effects \
-    bench_throughput bench_export bench_contact_geometry; do
+    bench_throughput bench_export bench_contact_geometry bench_peer; do
     echo "bench: $bench" >&2
     "build/bench/$bench" "${quick[@]}" >"$out/$bench.csv"
 done
-if [ ! -x build/bench-venv/bin/python ]; then
-    python3 -m venv build/bench-venv
-    build/bench-venv/bin/pip install --quiet --upgrade pip
-    build/bench-venv/bin/pip install --quiet matplotlib
-fi
 build/bench-venv/bin/python bench/plot_work_precision.py "$out/bench_work_precision.csv" \
     "$out/work_precision.png"
 echo "bench: results in $out" >&2

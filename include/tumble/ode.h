@@ -52,6 +52,20 @@ typedef struct tb_ode_system {
     tb_ode_block_hook block_post_step;        /* required with block_size if post_step is set;
                                                  unused without post_step */
 
+    /* Optional, with block_size: the same block functions in lane layout, for the vector unit.
+     * A lane group is `lanes` blocks stored component by component: component c of the
+     * group's block j at y[c * lanes + j] (and dydt likewise). Fixed-step methods then step a
+     * group at a time in that layout (the caller's y keeps its layout). The functions get the
+     * group's real blocks [first_block, first_block + block_count), block_count <= lanes; the
+     * lanes past block_count hold copies of the last real block and their results are thrown
+     * away. They must give, component by component, the bits block_derivative and
+     * block_post_step give (the steps are then the same either way). lanes 0 (default): none.
+     * With integrator threads > 1 these and the block functions are called concurrently on
+     * distinct blocks. */
+    size_t lanes;
+    tb_ode_block_derivative lanes_derivative; /* required with lanes */
+    tb_ode_block_hook lanes_post_step;        /* required with lanes if post_step is set */
+
     /* Optional, for a system that other code can change or step (a scene): the integrator
      * calls acquire(ctx, generation) at the start of every advance, step and reset, and goes
      * ahead only if it returns TB_STATUS_OK; release(ctx) when that call ends, whatever its
@@ -185,6 +199,14 @@ typedef struct tb_integrator_def {
                                           < 0 (default) automatic: 12 for scenes (one body's
                                           13 x 13 block exactly), 0 (diagonal) otherwise */
 
+    /* Fixed-step methods on separable systems (block_size > 0): threads the chunks of a step
+     * are shared among, >= 1, or 0 for one per processor; default 1, so an embedding program
+     * keeps its threads to itself. The chunks are the same for any count, so is every bit of
+     * the result. The library starts no more than this many (OpenMP, nested in none of the
+     * caller's: a call from inside the caller's own OpenMP team runs on one). Systems that are
+     * not separable step on one thread. */
+    int threads;
+
     int internal_cookie; /* set by tb_integrator_def_default; catches defs not made by it */
 } tb_integrator_def;
 
@@ -219,12 +241,12 @@ typedef struct tb_integrator_stats {
 
 typedef struct tb_integrator tb_integrator;
 
-/* Which fields a method reads (tb_method_info.adaptive): fixed-step methods read dt and
- * max_steps; adaptive ones read rtol, atol, atol_vector, initial_step, max_step, max_order and
- * max_steps, BDF also linear_solver and preconditioner_half_bandwidth. A field the method does
- * not read that differs from tb_integrator_def_default()'s value was meant for another method:
- * creation refuses it (TB_STATUS_INVALID_ARGUMENT naming the field; rtol given to rk4, dt to
- * cvode-bdf). preconditioner_half_bandwidth is exempt (scenes fill it in for every method).
+/* Which fields a method reads (tb_method_info.adaptive): fixed-step methods read dt,
+ * threads and max_steps; adaptive ones read rtol, atol, atol_vector, initial_step, max_step,
+ * max_order and max_steps, BDF also linear_solver and preconditioner_half_bandwidth. A field the
+ * method does not read that differs from tb_integrator_def_default()'s value was meant for another
+ * method: creation refuses it (TB_STATUS_INVALID_ARGUMENT naming the field; rtol given to rk4, dt
+ * to cvode-bdf). preconditioner_half_bandwidth is exempt (scenes fill it in for every method).
  *
  * Re-entrancy: an integrator's advance, step or reset called from inside its own derivative,
  * hook or acquire returns TB_STATUS_BUSY and changes nothing (its detail says why until the

@@ -179,6 +179,42 @@ TB_API size_t tb_scene_effect_count(const tb_scene *scene);
  * (see tb_scene_integrator_create). */
 TB_API tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system);
 
+/* How a separable scene's bodies are stepped by fixed-step methods (tb_scene_ode_system's
+ * lanes): a lane group of bodies at a time laid out component by component, so the derivative,
+ * the stages and the renormalisation run across bodies in the vector unit, on the widest path
+ * the processor has, chosen at run time; or body by body. Every path gives the same bits
+ * (test_vector_paths): they differ in speed only (docs/performance.md). */
+typedef enum tb_vector_path {
+    TB_VECTOR_PATH_AUTO = 0, /* default: the widest path supported here */
+    TB_VECTOR_PATH_NONE,     /* body by body, in the 13-doubles layout */
+    TB_VECTOR_PATH_BASELINE, /* lanes, compiled for the build's baseline (x86-64: SSE2) */
+    TB_VECTOR_PATH_AVX2,     /* lanes, x86-64 with AVX2 */
+    TB_VECTOR_PATH_AVX512,   /* lanes, x86-64 with AVX-512F */
+    TB_VECTOR_PATH_COUNT
+} tb_vector_path;
+
+/* "auto", "none", "baseline", "avx2", "avx512"; NULL for an unknown path. */
+TB_API const char *tb_vector_path_name(tb_vector_path path);
+
+/* Parses a name of tb_vector_path_name (exact spelling). TB_STATUS_INVALID_ARGUMENT for an
+ * unknown one, TB_STATUS_NULL_POINTER for NULL; *out_path written only on success. */
+TB_API tb_status tb_vector_path_parse(const char *name, tb_vector_path *out_path);
+
+/* Whether this build on this processor can run path (AUTO, NONE and BASELINE always can). */
+TB_API bool tb_vector_path_supported(tb_vector_path path);
+
+/* The path AUTO stands for here: the widest supported. */
+TB_API tb_vector_path tb_vector_path_best(void);
+
+/* Chooses the path for integrators made afterwards (for tests and benchmarks; the default AUTO
+ * is the fastest). TB_STATUS_UNSUPPORTED (detail naming it) for a path this processor or build
+ * lacks, TB_STATUS_INVALID_ARGUMENT for an unknown one; the choice is then unchanged. Scenes of
+ * fewer than 8 bodies, and scenes whose bodies interact, are stepped body by body on any path. */
+TB_API tb_status tb_scene_set_vector_path(tb_scene *scene, tb_vector_path path);
+
+/* The path chosen (AUTO unless set); TB_VECTOR_PATH_COUNT for NULL. */
+TB_API tb_vector_path tb_scene_vector_path(const tb_scene *scene);
+
 /* Switches the quaternion-renormalisation hook (takes effect for systems made after). */
 TB_API void tb_scene_set_renormalize(tb_scene *scene, bool renormalize);
 

@@ -78,6 +78,7 @@ static void drag_rate(const tb__effect *effect, const tb_scene *scene, const dou
 
 static const tb__effect_ops drag_ops = {
     .name = "drag",
+    .lanes_kind = TB__LANES_DRAG, /* effect_lanes.c, for drag on every body */
     .apply_bodies = apply_drag,
     .rate = drag_rate,
 };

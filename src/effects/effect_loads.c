@@ -40,6 +40,7 @@ static bool always(const tb__effect *effect)
 
 static const tb__effect_ops gravity_ops = {
     .name = "gravity",
+    .lanes_kind = TB__LANES_GRAVITY, /* effect_lanes.c */
     .apply_bodies = apply_gravity,
     .potential_energy = gravity_potential_energy,
     .conserves_energy = always,

@@ -7,6 +7,7 @@
 
 #include <math.h>
 #include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,7 +17,7 @@
 #define TB__LANDING_SLACK 1e-9
 
 /* out = y + s k */
-static void add_scaled(double *out, const double *y, double s, const double *k, size_t n)
+TB__CLONES static void add_scaled(double *out, const double *y, double s, const double *k, size_t n)
 {
     for (size_t i = 0; i < n; ++i) {
         out[i] = y[i] + s * k[i];
@@ -58,6 +59,23 @@ int tb__midpoint_step(const tb_ode_system *system, double t, double h, const dou
     return 0;
 }
 
+/* RK4's stage pass: y_new = sum + b k (the stage accumulated) and y_stage = y + a k (the next
+ * stage's input; none after the last stage, y_stage NULL); sum is y or y_new. */
+TB__CLONES static void rk4_stage(double *y_new, const double *sum, double *y_stage, const double *y,
+                                 const double *k, double b, double a, size_t n)
+{
+    if (y_stage == NULL) {
+        for (size_t i = 0; i < n; ++i) {
+            y_new[i] = sum[i] + b * k[i];
+        }
+        return;
+    }
+    for (size_t i = 0; i < n; ++i) {
+        y_new[i] = sum[i] + b * k[i];
+        y_stage[i] = y[i] + a * k[i];
+    }
+}
+
 /* Classical RK4, y_new = y + h/6 (k1 + 2 k2 + 2 k3 + k4), accumulated stage by stage so the
  * workspace is one stage vector and one stage state (2n) instead of four stages. */
 int tb__rk4_step(const tb_ode_system *system, double t, double h, const double *y, double *y_new,
@@ -78,32 +96,10 @@ int tb__rk4_step(const tb_ode_system *system, double t, double h, const double *
         const double b = weight[s] * h, a = next_stage[s] * h;
         /* one pass: accumulate the stage (the first one starts the sum from y) and form the
          * next stage's input */
-        const double *sum = s == 0 ? y : y_new;
-        for (size_t i = 0; i < n; ++i) {
-            y_new[i] = sum[i] + b * k[i];
-            y_stage[i] = y[i] + a * k[i];
-        }
+        rk4_stage(y_new, s == 0 ? y : y_new, s < 3 ? y_stage : NULL, y, k, b, a, n);
         stage_input = y_stage;
     }
     return 0;
-}
-
-/* Chunked stepping (separable systems): components in one chunk (9 bodies). The chunk's four
- * buffers (state, stage derivative, stage input, new state) stay in L1 whatever the chunk;
- * smaller chunks left less of the next chunk's memory traffic unhidden. Measured with RK4 at
- * 100000 bodies (bench_throughput): 95, 100, 107, 110 ns a body-step for 128, 256, 512, 1024
- * doubles, against 81-84 ns at 1000 bodies for all four. */
-#define TB__CHUNK_DOUBLES 128
-
-/* Blocks per chunk for a system declared separable, 0 for one that is not. */
-static size_t chunk_blocks(const tb_ode_system *system)
-{
-    if (system->block_size == 0) {
-        return 0;
-    }
-    const size_t blocks = system->n / system->block_size;
-    const size_t per_chunk = TB__CHUNK_DOUBLES / system->block_size;
-    return per_chunk == 0 ? 1 : per_chunk < blocks ? per_chunk : blocks;
 }
 
 /* Times must resolve a step to this fraction of dt: near t = 1e15 doubles are 0.125 apart, and
@@ -148,16 +144,29 @@ static tb_status fixed_create(tb_integrator *integrator, const tb_integrator_def
     }
     const size_t n = integrator->system.n;
     /* whole-array path: the new state (n) and the stepper's scratch (2n); chunked path: the
-     * state before the step, to undo a failed one (n), and the new chunk and the stepper's
-     * scratch (3 chunks) */
-    const size_t chunk = chunk_blocks(&integrator->system) * integrator->system.block_size;
-    const size_t size = chunk > 0 ? n + 3 * chunk : 3 * n;
-    integrator->y_new = malloc(size * sizeof(double));
-    if (integrator->y_new == NULL) {
+     * state before the step, to undo a failed one (n), and each thread's chunk buffers */
+    size_t size = 3 * n, chunk_buffers = 0;
+    if (integrator->system.block_size > 0) {
+        tb__chunk_layout(integrator, def->threads);
+        chunk_buffers = (size_t)integrator->threads * integrator->chunk_work;
+        size = chunk_buffers + n;
+    }
+    /* from a cache line (chunk buffers first, each a whole number of lines), so that the vector
+     * unit's loads do not straddle lines */
+    integrator->workspace = malloc(size * sizeof(double) + TB__LINE);
+    if (integrator->workspace == NULL) {
         return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "integrator workspace of %zu doubles",
                              size);
     }
-    integrator->work = integrator->y_new + n;
+    const uintptr_t base = (uintptr_t)integrator->workspace;
+    double *buffer = (double *)(base + (TB__LINE - base % TB__LINE) % TB__LINE);
+    if (chunk_buffers > 0) {
+        integrator->work = buffer;
+        integrator->y_new = buffer + chunk_buffers;
+    } else {
+        integrator->y_new = buffer;
+        integrator->work = buffer + n;
+    }
     integrator->dt = def->dt;
     integrator->stats.last_order = integrator->stats.current_order = integrator->entry->info.order;
     integrator->stats.current_step = def->dt;
@@ -166,27 +175,47 @@ static tb_status fixed_create(tb_integrator *integrator, const tb_integrator_def
 
 static void fixed_destroy(tb_integrator *integrator)
 {
-    free(integrator->y_new);
+    free(integrator->workspace);
 }
+
+/* Partial sums of the finiteness probe: independent chains, so the pass runs at the vector
+ * unit's width rather than at one add's latency a component. */
+#define TB__PROBES 16
 
 /* The common case is one vectorisable pass: y * 0 is 0 for finite y and NaN for NaN or
  * infinity, so the sum is NaN exactly when some component is not finite; only then is it
  * located. */
-size_t tb__first_non_finite(const double *y, size_t n)
+TB__CLONES static size_t first_non_finite(const double *y, size_t n)
 {
+    double probes[TB__PROBES] = {0.0};
+    size_t i = 0;
+    for (; i + TB__PROBES <= n; i += TB__PROBES) {
+        for (size_t k = 0; k < TB__PROBES; ++k) {
+            probes[k] += y[i + k] * 0.0;
+        }
+    }
+    for (; i < n; ++i) {
+        probes[0] += y[i] * 0.0;
+    }
     double probe = 0.0;
-    for (size_t i = 0; i < n; ++i) {
-        probe += y[i] * 0.0;
+    for (size_t k = 0; k < TB__PROBES; ++k) {
+        probe += probes[k];
     }
     if (probe == 0.0) {
         return n;
     }
-    for (size_t i = 0; i < n; ++i) {
+    for (i = 0; i < n; ++i) {
         if (!isfinite(y[i])) {
             return i;
         }
     }
     return n;
+}
+
+/* (clang 14 emits no symbol for a multi-versioned function of external linkage) */
+size_t tb__first_non_finite(const double *y, size_t n)
+{
+    return first_non_finite(y, n);
 }
 
 static tb_status derivative_failed(tb_integrator *integrator, int rc, double h)
@@ -219,6 +248,21 @@ static tb_status not_finite(tb_integrator *integrator, size_t index, double valu
                           index, value, integrator->entry->info.name, integrator->t, h, hook_note);
 }
 
+tb_status tb__fixed_report(tb_integrator *integrator, const tb__step_failure *failure, double h,
+                           double t_end)
+{
+    switch (failure->status) {
+    case TB_STATUS_DERIVATIVE_FAILED:
+        return derivative_failed(integrator, failure->rc, h);
+    case TB_STATUS_HOOK_FAILED:
+        return hook_failed(integrator, failure->rc, t_end);
+    case TB_STATUS_STATE_NOT_FINITE:
+        return not_finite(integrator, failure->index, failure->value, h, failure->hook_rc);
+    default:
+        return failure->status;
+    }
+}
+
 static void commit(tb_integrator *integrator, double h, double t_end)
 {
     integrator->t = t_end;
@@ -226,115 +270,43 @@ static void commit(tb_integrator *integrator, double h, double t_end)
     integrator->stats.last_step = h;
 }
 
-/* Steps `part` (the whole system, or a chunk of it seen as a system) from y into fresh, with
- * 2 part->n doubles of scratch, applies its post-step hook and checks that every component is
- * finite. offset: where the part starts in the whole state, for the detail. */
-static tb_status step_part(tb_integrator *integrator, const tb_ode_system *part, const double *y,
-                           double *fresh, double *scratch, double h, double t_end, size_t offset,
-                           long *evals)
+/* Steps the whole system from y into fresh, with 2n doubles of scratch, applies its post-step
+ * hook and checks that every component is finite. */
+static tb__step_failure step_whole(tb_integrator *integrator, const double *y, double *fresh,
+                                   double *scratch, double h, double t_end, long *evals)
 {
-    int rc = integrator->entry->step(part, integrator->t, h, y, fresh, scratch, evals);
+    const tb_ode_system *system = &integrator->system;
+    tb__step_failure failure = {TB_STATUS_OK, 0, 0, 0, 0.0};
+    int rc = integrator->entry->step(system, integrator->t, h, y, fresh, scratch, evals);
     if (rc != 0) {
-        return derivative_failed(integrator, rc, h);
+        return (tb__step_failure){TB_STATUS_DERIVATIVE_FAILED, rc, 0, 0, 0.0};
     }
-    if (part->post_step != NULL) {
-        rc = part->post_step(t_end, fresh, part->ctx);
+    if (system->post_step != NULL) {
+        rc = system->post_step(t_end, fresh, system->ctx);
         if (rc != 0) {
             /* a hook that fails on a state that is no longer finite (a scene cannot
              * normalise a NaN quaternion) reports the real cause */
-            const size_t bad = tb__first_non_finite(fresh, part->n);
-            return bad < part->n ? not_finite(integrator, offset + bad, fresh[bad], h, rc)
-                                 : hook_failed(integrator, rc, t_end);
+            failure = (tb__step_failure){TB_STATUS_HOOK_FAILED, rc, rc, 0, 0.0};
         }
     }
-    const size_t bad = tb__first_non_finite(fresh, part->n);
-    if (bad < part->n) {
-        return not_finite(integrator, offset + bad, fresh[bad], h, 0);
+    const size_t bad = tb__first_non_finite(fresh, system->n);
+    if (bad < system->n) {
+        failure =
+            (tb__step_failure){TB_STATUS_STATE_NOT_FINITE, 0, failure.hook_rc, bad, fresh[bad]};
     }
-    return TB_STATUS_OK;
+    return failure;
 }
 
 /* One step of size h over the whole array; commits to y only if everything succeeded. */
 static tb_status take_whole_step(tb_integrator *integrator, double h, double t_end)
 {
-    const tb_status status =
-        step_part(integrator, &integrator->system, integrator->y, integrator->y_new,
-                  integrator->work, h, t_end, 0, &integrator->stats.derivative_evals);
-    if (status != TB_STATUS_OK) {
-        return status;
+    const tb__step_failure failure =
+        step_whole(integrator, integrator->y, integrator->y_new, integrator->work, h, t_end,
+                   &integrator->stats.derivative_evals);
+    if (failure.status != TB_STATUS_OK) {
+        return tb__fixed_report(integrator, &failure, h, t_end);
     }
     memcpy(integrator->y, integrator->y_new, integrator->system.n * sizeof(double));
-    commit(integrator, h, t_end);
-    return TB_STATUS_OK;
-}
-
-/* A chunk of a separable system seen as a system of its own, for the steppers. */
-typedef struct chunk {
-    const tb_ode_system *system;
-    size_t first_block, block_count;
-} chunk;
-
-static int chunk_derivative(double t, const double *y, double *dydt, void *ctx)
-{
-    const chunk *c = ctx;
-    return c->system->block_derivative(t, y, dydt, c->first_block, c->block_count, c->system->ctx);
-}
-
-static int chunk_hook(double t, double *y, void *ctx)
-{
-    const chunk *c = ctx;
-    return c->system->block_post_step(t, y, c->first_block, c->block_count, c->system->ctx);
-}
-
-/* Asks for y[from, to) ahead of use, one request per 64-byte line, so that the next chunk
- * arrives from memory while this one is computed (measured: RK4 at 100000 bodies 136 -> 95 ns
- * a body-step). */
-static void prefetch(const double *y, size_t from, size_t to)
-{
-#if defined(__GNUC__) || defined(__clang__)
-    for (size_t i = from; i < to; i += 8) {
-        __builtin_prefetch(y + i, 0, 3);
-    }
-#else
-    (void)y, (void)from, (void)to;
-#endif
-}
-
-/* One step of size h a chunk at a time: every stage, the hook and the finiteness check of a
- * chunk while it is in cache, then the chunk goes into y, its old values into a copy from
- * which a failure in a later chunk restores y. Same arithmetic as take_whole_step. */
-static tb_status take_chunked_step(tb_integrator *integrator, double h, double t_end)
-{
-    const tb_ode_system *system = &integrator->system;
-    const size_t size = system->block_size, blocks = system->n / size;
-    const size_t per_chunk = chunk_blocks(system);
-    double *y = integrator->y, *before = integrator->y_new, *fresh = integrator->work;
-    double *scratch = fresh + per_chunk * size;
-    long evals = 0;
-    tb_status status = TB_STATUS_OK;
-    size_t done = 0; /* components of y already replaced */
-    for (size_t first = 0; first < blocks && status == TB_STATUS_OK; first += per_chunk) {
-        chunk c = {system, first, blocks - first < per_chunk ? blocks - first : per_chunk};
-        const size_t length = c.block_count * size;
-        /* block_post_step is set whenever post_step is */
-        const tb_ode_system part = {.n = length,
-                                    .derivative = chunk_derivative,
-                                    .post_step = system->post_step != NULL ? chunk_hook : NULL,
-                                    .ctx = &c};
-        evals = 0;
-        prefetch(y, done + length, done + 2 * length < system->n ? done + 2 * length : system->n);
-        status = step_part(integrator, &part, y + done, fresh, scratch, h, t_end, done, &evals);
-        if (status == TB_STATUS_OK) {
-            memcpy(before + done, y + done, length * sizeof(double));
-            memcpy(y + done, fresh, length * sizeof(double));
-            done += length;
-        }
-    }
-    integrator->stats.derivative_evals += evals; /* a step's stages, counted once */
-    if (status != TB_STATUS_OK) {
-        memcpy(y, before, done * sizeof(double));
-        return status;
-    }
     commit(integrator, h, t_end);
     return TB_STATUS_OK;
 }
@@ -342,8 +314,14 @@ static tb_status take_chunked_step(tb_integrator *integrator, double h, double t
 /* One step of size h from the integrator's time; commits to y only if everything succeeded. */
 static tb_status take_step(tb_integrator *integrator, double h, double t_end)
 {
-    return integrator->system.block_size > 0 ? take_chunked_step(integrator, h, t_end)
-                                             : take_whole_step(integrator, h, t_end);
+    if (integrator->system.block_size == 0) {
+        return take_whole_step(integrator, h, t_end);
+    }
+    const tb_status status = tb__take_chunked_step(integrator, h, t_end);
+    if (status == TB_STATUS_OK) {
+        commit(integrator, h, t_end);
+    }
+    return status;
 }
 
 static tb_status fixed_step(tb_integrator *integrator)

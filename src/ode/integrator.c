@@ -24,6 +24,7 @@ tb_integrator_def tb_integrator_def_default(void)
     def.max_steps = 100000;
     def.linear_solver = TB_LINEAR_SOLVER_AUTO;
     def.preconditioner_half_bandwidth = -1;
+    def.threads = 1;
     def.internal_cookie = TB__INTEGRATOR_COOKIE;
     return def;
 }
@@ -39,6 +40,7 @@ static tb_status validate_unread_fields(const tb_integrator_def *def, tb_error *
         unsigned group;
     } fields[] = {
         {"dt", !(def->dt == d.dt), TB__READS_DT},
+        {"threads", def->threads != d.threads, TB__READS_DT},
         {"rtol", !(def->rtol == d.rtol), TB__READS_TOLERANCES},
         {"atol", !(def->atol == d.atol), TB__READS_TOLERANCES},
         {"atol_vector", def->atol_vector != NULL, TB__READS_TOLERANCES},
@@ -55,7 +57,7 @@ static tb_status validate_unread_fields(const tb_integrator_def *def, tb_error *
                 "def.%s: %s does not read it (it reads %s%s); leave it at its default, or "
                 "switch methods with tb_integrator_def_set_method",
                 fields[i].field, entry->info.name,
-                entry->reads & TB__READS_DT ? "dt"
+                entry->reads & TB__READS_DT ? "dt, threads"
                                             : "rtol, atol, atol_vector, initial_step, max_step, "
                                               "max_order",
                 entry->reads & TB__READS_LINEAR_SOLVER ? ", linear_solver and max_steps"
@@ -78,6 +80,7 @@ tb_status tb_integrator_def_set_method(tb_integrator_def *def, tb_method method)
     def->method = method;
     if (!(reads & TB__READS_DT)) {
         def->dt = d.dt;
+        def->threads = d.threads;
     }
     if (!(reads & TB__READS_TOLERANCES)) {
         def->rtol = d.rtol;
@@ -108,6 +111,18 @@ static tb_status validate_blocks(const tb_ode_system *system, tb_error *error)
     if (system->post_step != NULL && system->block_post_step == NULL) {
         return tb__set_error(error, TB_STATUS_NULL_POINTER,
                              "system.block_post_step is NULL but post_step and block_size are set");
+    }
+    if (system->lanes > 0 && system->lanes_derivative == NULL) {
+        return tb__set_error(error, TB_STATUS_NULL_POINTER,
+                             "system.lanes_derivative is NULL but lanes is %zu", system->lanes);
+    }
+    if (system->lanes > 0 && system->post_step != NULL && system->lanes_post_step == NULL) {
+        return tb__set_error(error, TB_STATUS_NULL_POINTER,
+                             "system.lanes_post_step is NULL but post_step and lanes are set");
+    }
+    if (system->lanes > TB__MAX_LANES) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT, "system.lanes: at most %d, got %zu",
+                             TB__MAX_LANES, system->lanes);
     }
     return TB_STATUS_OK;
 }
@@ -171,6 +186,11 @@ static tb_status validate(const tb_ode_system *system, const tb_integrator_def *
     const tb_status unread = validate_unread_fields(def, error);
     if (unread != TB_STATUS_OK) {
         return unread;
+    }
+    if (def->threads < 0) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "def.threads: must be >= 1, or 0 for one per processor, got %d",
+                             def->threads);
     }
     if (def->max_steps <= 0) {
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,

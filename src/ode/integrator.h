@@ -67,13 +67,55 @@ struct tb_integrator {
     char detail[TB_DETAIL_SIZE];
     /* fixed-step */
     double dt;
-    double *y_new; /* candidate state, n doubles; committed to y only when the step is good */
-    double *work;  /* 2n doubles for the stepper */
+    double *y_new;       /* candidate state, n doubles; committed to y only when the step is good
+                            (chunked: the state before the step, to undo a failed one) */
+    double *work;        /* 2n doubles for the stepper (chunked: chunk_work doubles per thread) */
+    void *workspace;     /* the allocation y_new and work are in */
+    size_t chunk_blocks; /* chunked: blocks per chunk (the lane group's size with lanes) */
+    size_t chunk_work;   /* chunked: doubles of work per thread */
+    int threads;         /* chunked: threads the chunks are shared among, >= 1 */
     /* CVODE */
     struct tb__cvode *cvode;
 };
 
+/* Before a stepper's elementwise loop function: compiled for each x86-64 vector width and
+ * picked for the processor when the library is loaded (function multi-versioning, GCC and
+ * clang on glibc). Elementwise without contraction, so every version gives the same bits. */
+#if defined(__x86_64__) && defined(__linux__) && defined(__has_attribute)
+#if __has_attribute(target_clones) && !defined(__SANITIZE_ADDRESS__)
+#define TB__CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
+#endif
+#endif
+#ifndef TB__CLONES
+#define TB__CLONES
+#endif
+
 /* Index of the first non-finite component of y[0..n), or n if all are finite. */
 size_t tb__first_non_finite(const double *y, size_t n);
+
+/* Bytes in a cache line, to which the fixed-step workspace is aligned. */
+#define TB__LINE 64
+
+/* The most blocks a lane group may hold (tb_ode_system.lanes). */
+#define TB__MAX_LANES 1024
+
+/* How a step of a part of the system (the whole, or a chunk) failed: status OK for none; rc is
+ * the derivative's or the hook's return, index and value the first non-finite component (of the
+ * whole state). tb__fixed_report writes the detail and counts the failed step. */
+typedef struct tb__step_failure {
+    tb_status status;
+    int rc, hook_rc;
+    size_t index;
+    double value;
+} tb__step_failure;
+
+tb_status tb__fixed_report(tb_integrator *integrator, const tb__step_failure *failure, double h,
+                           double t_end);
+
+/* The chunked path of the fixed-step methods (chunked_step.c), for systems with block_size:
+ * chunk_layout fills chunk_blocks, chunk_work and threads at creation; take_chunked_step takes
+ * one step of size h to t_end, committing to y only if every chunk succeeded. */
+void tb__chunk_layout(tb_integrator *integrator, int threads);
+tb_status tb__take_chunked_step(tb_integrator *integrator, double h, double t_end);
 
 #endif

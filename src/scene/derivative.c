@@ -59,23 +59,14 @@ static void kinematics(const tb__body *bodies, const double *y, double *dydt, si
     }
 }
 
-/* The per-body effects on the bodies [first, first + count), y and dydt pointing at body
- * first: those on every body, then those on one body of the range, found by bisection. */
-static int apply_per_body_effects(const tb_scene *scene, double t, const double *y, double *dydt,
-                                  size_t first, size_t count)
+void tb__scene_single_body_effects(const tb_scene *scene, size_t first, size_t count, size_t *begin,
+                                   size_t *end)
 {
     const tb__effect *effects = scene->effects;
     const size_t *order = scene->effect_order;
     const size_t all = scene->all_body_effect_count;
-    const size_t end = all + scene->single_body_effect_count;
-    for (size_t k = 0; k < all; ++k) {
-        const tb__effect *effect = &effects[order[k]];
-        const int rc = effect->ops->apply_bodies(effect, scene, t, y, dydt, first, count);
-        if (rc != 0) {
-            return rc;
-        }
-    }
-    size_t low = all, high = end;
+    const size_t last = all + scene->single_body_effect_count;
+    size_t low = all, high = last;
     while (low < high) {
         const size_t middle = low + (high - low) / 2;
         if (effects[order[middle]].body < first) {
@@ -84,7 +75,30 @@ static int apply_per_body_effects(const tb_scene *scene, double t, const double 
             high = middle;
         }
     }
-    for (size_t k = low; k < end && effects[order[k]].body - first < count; ++k) {
+    *begin = low;
+    while (low < last && effects[order[low]].body - first < count) {
+        ++low;
+    }
+    *end = low;
+}
+
+/* The per-body effects on the bodies [first, first + count), y and dydt pointing at body
+ * first: those on every body, then those on one body of the range, found by bisection. */
+static int apply_per_body_effects(const tb_scene *scene, double t, const double *y, double *dydt,
+                                  size_t first, size_t count)
+{
+    const tb__effect *effects = scene->effects;
+    const size_t *order = scene->effect_order;
+    for (size_t k = 0; k < scene->all_body_effect_count; ++k) {
+        const tb__effect *effect = &effects[order[k]];
+        const int rc = effect->ops->apply_bodies(effect, scene, t, y, dydt, first, count);
+        if (rc != 0) {
+            return rc;
+        }
+    }
+    size_t begin, end;
+    tb__scene_single_body_effects(scene, first, count, &begin, &end);
+    for (size_t k = begin; k < end; ++k) {
         const tb__effect *effect = &effects[order[k]];
         const int rc = effect->ops->apply_bodies(effect, scene, t, y, dydt, first, count);
         if (rc != 0) {
@@ -158,30 +172,48 @@ void tb__add_load(double *dydt, size_t i, const double arm[3], const double f[3]
     tb__v3_axpy(dydt + TB_STATE_SIZE * i + TB_STATE_L, 1.0, torque);
 }
 
-/* q <- q / |q| for `count` bodies from y; the largest | |q| - 1 | found goes into *drift. */
-static int normalize(double *y, size_t count, double *drift)
+void tb__scene_note_drift(tb_scene *scene, double drift)
 {
-    for (size_t i = 0; i < count; ++i) {
+#if defined(__GNUC__) || defined(__clang__)
+    /* a chunk's hook may run on any thread (fixed-step threads) */
+    double seen;
+    __atomic_load(&scene->quaternion_drift, &seen, __ATOMIC_RELAXED);
+    while (drift > seen && !__atomic_compare_exchange(&scene->quaternion_drift, &seen, &drift,
+                                                      false, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) {
+    }
+#else
+    scene->quaternion_drift = fmax(scene->quaternion_drift, drift);
+#endif
+}
+
+/* q <- q / |q| for `count` bodies from y; the largest | |q| - 1 | found (up to a failure) goes
+ * into the scene's drift. */
+static int normalize(tb_scene *scene, double *y, size_t count)
+{
+    double drift = 0.0;
+    int rc = 0;
+    for (size_t i = 0; i < count && rc == 0; ++i) {
         double *q = y + TB_STATE_SIZE * i + TB_STATE_Q;
         const double norm = tb__q_norm(q);
         if (!(norm > 0) || !isfinite(norm)) {
-            return 1;
+            rc = 1;
+            break;
         }
-        *drift = fmax(*drift, fabs(norm - 1.0));
+        drift = fmax(drift, fabs(norm - 1.0));
         const double inverse = 1.0 / norm;
         for (int k = 0; k < 4; ++k) {
             q[k] *= inverse;
         }
     }
-    return 0;
+    tb__scene_note_drift(scene, drift);
+    return rc;
 }
 
 int tb_scene_normalize_quaternions(double t, double *y, void *ctx)
 {
     (void)t;
     tb_scene *scene = ctx;
-    return scene == NULL || y == NULL ? -1
-                                      : normalize(y, scene->body_count, &scene->quaternion_drift);
+    return scene == NULL || y == NULL ? -1 : normalize(scene, y, scene->body_count);
 }
 
 int tb__scene_block_normalize(double t, double *y, size_t first, size_t count, void *ctx)
@@ -189,5 +221,5 @@ int tb__scene_block_normalize(double t, double *y, size_t first, size_t count, v
     (void)t;
     (void)first;
     tb_scene *scene = ctx;
-    return scene == NULL ? -1 : normalize(y, count, &scene->quaternion_drift);
+    return scene == NULL ? -1 : normalize(scene, y, count);
 }

@@ -181,6 +181,7 @@ void tb_scene_destroy(tb_scene *scene)
     if (scene != NULL) {
         free(scene->states);
         free(scene->bodies);
+        free(scene->lane_constants);
         free(scene->mass_props);
         free(scene->names);
         free(scene->effects);

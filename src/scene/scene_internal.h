@@ -42,8 +42,17 @@ typedef struct tb__effect_rate {
 /* One constant row per effect kind: every fact about the kind, asked by the derivative, the
  * read-outs and the stability guard; nothing outside the effect's own file reads its
  * parameters. */
+/* Which lane form a per-body effect on every body has (tb__effect_ops.lanes_kind, lanes.h);
+ * the others are applied lane by lane through apply_bodies, with the same arithmetic. */
+typedef enum tb__lanes_kind {
+    TB__LANES_BY_BODY = 0,
+    TB__LANES_GRAVITY,
+    TB__LANES_DRAG,
+} tb__lanes_kind;
+
 typedef struct tb__effect_ops {
     const char *name;                     /* "gravity", "drag", "spring", "ground", ... */
+    tb__lanes_kind lanes_kind;            /* per-body effects: its lane form, if any */
     tb__effect_apply apply;               /* effects that couple bodies or own states */
     tb__effect_apply_bodies apply_bodies; /* per-body effects: exactly one of the two is set */
     bool couples_bodies;                  /* its loads on one body depend on another's state */
@@ -164,6 +173,11 @@ struct tb_scene {
      * then fails the derivative (written through the const scene, like the detail). */
     tb_status user_load_status;
     bool renormalize;
+    int vector_path; /* tb_vector_path: what tb_scene_ode_system offers integrators */
+    /* The bodies' constants per lane group for the lane kernels (lanes.h), made by
+     * tb_scene_ode_system; lane_constants_size doubles allocated. */
+    double *lane_constants;
+    size_t lane_constants_size;
     double quaternion_drift; /* largest | |q| - 1 | seen by the renormalisation hook */
     char detail[TB_DETAIL_SIZE];
 
@@ -275,6 +289,14 @@ static inline double tb__inverse_mass_at(const tb__body *body, const double r[3]
 /* True when every effect acts on each body alone: the derivative of a body's 13 states then
  * depends on those states only, and the scene's ODE system is separable into bodies. */
 bool tb__scene_separable(const tb_scene *scene);
+
+/* Where in effect_order the single-body effects on the bodies [first, first + count) are:
+ * [*begin, *end). */
+void tb__scene_single_body_effects(const tb_scene *scene, size_t first, size_t count, size_t *begin,
+                                   size_t *end);
+
+/* Raises the scene's quaternion_drift to drift if larger; safe from concurrent hooks. */
+void tb__scene_note_drift(tb_scene *scene, double drift);
 
 /* The tb_ode_system block functions of a separable scene (ctx is the scene). */
 int tb__scene_block_derivative(double t, const double *y, double *dydt, size_t first, size_t count,

@@ -2,6 +2,7 @@
  * lifetimes that keep an integrator from stepping a scene whose layout changed under it (or
  * that another call is stepping), tolerances, and integrator creation with the stability
  * gate. */
+#include "scene/lanes.h"
 #include "scene/scene_internal.h"
 
 #include "core/detail.h"
@@ -120,6 +121,15 @@ tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
         out_system->block_size = TB_STATE_SIZE;
         out_system->block_derivative = tb__scene_block_derivative;
         out_system->block_post_step = scene->renormalize ? tb__scene_block_normalize : NULL;
+        const tb__lanes_kernels *kernels = tb__scene_lanes_kernels(scene);
+        if (kernels != NULL && tb__scene_prepare_lanes(scene) != TB_STATUS_OK) {
+            return TB_STATUS_OUT_OF_MEMORY;
+        }
+        if (kernels != NULL) {
+            out_system->lanes = tb__lanes_for(scene->body_count);
+            out_system->lanes_derivative = kernels->derivative;
+            out_system->lanes_post_step = scene->renormalize ? kernels->normalize : NULL;
+        }
     }
     return TB_STATUS_OK;
 }
