@@ -406,6 +406,42 @@ static void test_closed_forms_agree_with_libccd(void **state)
     assert_true(compared > 300);
 }
 
+/* Box pairs on random overlapping poses: the manifold's deepest point is never deeper than
+ * the overlap along the normal libccd finds (MPR, GJK + EPA; 1e-9 m round-off), which bounds
+ * the least penetration from above: the clipped faces never claim more penetration than
+ * there is. (Its exact cases are the tests above.) */
+static void test_box_pairs_never_claim_more_than_libccd_finds(void **state)
+{
+    (void)state;
+    uint64_t rng = 606;
+    int compared = 0;
+    for (int trial = 0; trial < 800; ++trial) {
+        tb__collision_shape *a = random_shape(&rng, 2), *b = random_shape(&rng, 2);
+        double pa[7], pb[7];
+        random_pose(&rng, pa, 0.5);
+        random_pose(&rng, pb, 0.5);
+        tb__contact_manifold m, mpr, epa;
+        if (tb__collide(a, pa, b, pb, 0.0, &m) == 0) {
+            free(a);
+            free(b);
+            continue;
+        }
+        double deepest = -INFINITY;
+        for (int k = 0; k < m.count; ++k) {
+            deepest = fmax(deepest, m.points[k].depth);
+        }
+        assert_int_equal(tb__ccd_collide(a, pa, b, pb, 0.0, TB__CCD_MPR, &mpr), 1);
+        assert_true(deepest <= mpr.points[0].depth + 1e-9);
+        if (tb__ccd_collide(a, pa, b, pb, 0.0, TB__CCD_EPA, &epa) == 1) {
+            assert_true(deepest <= epa.points[0].depth + 1e-9);
+        }
+        ++compared;
+        free(a);
+        free(b);
+    }
+    assert_true(compared > 200);
+}
+
 /* Degenerate and extreme inputs give a finite, defined answer or none, never a crash, a hang
  * or undefined behaviour (the sanitizer builds run this): concentric spheres (depth the sum of
  * radii, normal the fallback +z), coincident boxes, NaN and infinite poses, coordinates of
@@ -462,6 +498,7 @@ int main(void)
         cmocka_unit_test(test_swapping_the_shapes_negates_the_normal),
         cmocka_unit_test(test_rigid_motion_of_both_moves_the_contact_with_them),
         cmocka_unit_test(test_closed_forms_agree_with_libccd),
+        cmocka_unit_test(test_box_pairs_never_claim_more_than_libccd_finds),
         cmocka_unit_test(test_degenerate_and_extreme_poses_are_answered),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -11,9 +11,10 @@
  * Sphere, capsule and box pairs and every shape against a plane have closed forms whose depth
  * is continuous in the poses (except where the normal itself jumps: concentric spheres, a
  * box's centre crossing into another's); a box resting flat on a box gets the 4 corners of
- * their overlap. Other pairs (cylinder, ellipsoid, convex, points) go through libccd's MPR
- * (ccd_wrap.c) with one point. Swapping A and B negates the normal and keeps the depths.
- * Nothing here allocates. */
+ * their overlap. Other pairs (cylinder, ellipsoid, convex, points) take their normal from
+ * libccd's MPR (ccd_wrap.c); against a box their vertices, spheres or rim points on the box's
+ * face give up to 4 points, otherwise MPR's one. Swapping A and B negates the normal and keeps
+ * the depths exactly. docs/contact.md has each pair's method. Nothing here allocates. */
 #ifndef TUMBLE_NARROW_PHASE_H
 #define TUMBLE_NARROW_PHASE_H
 
