@@ -542,6 +542,45 @@ static void test_the_guard_answers_a_step_for_fast_states_it_accepted(void **sta
     tb_scene_destroy(scene);
 }
 
+/* F18 (fuzz): a ground with presliding 1e-310 m (bristle stiffness mu_s / presliding = inf) was
+ * accepted, and the guard then answered a largest stable step of 0 s with OK. Such a ground is
+ * refused naming the field; a rate that still is not a number (linear drag 1e300 N s/m on a
+ * 1e-100 kg body: b / m = 1e400 1/s) makes the guard answer NOT_FINITE naming it, and a
+ * fixed step is refused. */
+static void test_rates_that_are_not_numbers_are_refused(void **state)
+{
+    (void)state;
+    tb_scene *scene = empty_scene();
+    add_sphere(scene, 1.0, 0.1, (double[]){0, 0, 1});
+    tb_ground_def ground = tb_ground_def_default();
+    ground.presliding = 1e-310;
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(strstr(tb_scene_detail(scene), "presliding: 1e-310 m"));
+    ground = tb_ground_def_default();
+    ground.penetration = 1e-310;
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(strstr(tb_scene_detail(scene), "penetration: 1e-310 m"));
+    assert_int_equal(tb_scene_effect_count(scene), 0);
+    tb_scene_destroy(scene);
+
+    scene = empty_scene();
+    add_sphere(scene, 1e-100, 1e-30, (double[]){0, 0, 1});
+    tb_drag_def drag = tb_drag_def_default();
+    drag.linear = 1e300;
+    assert_int_equal(tb_scene_add_drag(scene, &drag), TB_STATUS_OK);
+    double dt = -1.0;
+    assert_int_equal(tb_scene_max_stable_step(scene, TB_METHOD_RK4, &dt, NULL),
+                     TB_STATUS_NOT_FINITE);
+    print_message("%s\n", tb_scene_detail(scene));
+    assert_non_null(strstr(tb_scene_detail(scene), "a drag"));
+    assert_true(dt == -1.0); /* the output untouched */
+    tb_integrator *integrator = NULL;
+    assert_int_equal(make_integrator(scene, TB_METHOD_RK4, 1e-3, &integrator),
+                     TB_STATUS_UNSTABLE_STEP);
+    assert_null(integrator);
+    tb_scene_destroy(scene);
+}
+
 /* A free 2 kg body at rest; at t = 1 s a force of 4 N along x is added: x(t) = (t - 1)^2 for
  * t > 1 (a = 2 m/s^2). RK4 is exact on a quadratic (to rounding); CVODE at rtol 1e-10 must see the
  * force too (it kept integrating the old right-hand side from its history before), to 1e-6 m. */
@@ -581,6 +620,7 @@ int main(void)
         cmocka_unit_test(test_contact_points_come_and_go_with_their_states),
         cmocka_unit_test(test_a_spring_whose_rate_overflows_is_refused),
         cmocka_unit_test(test_the_guard_answers_a_step_for_fast_states_it_accepted),
+        cmocka_unit_test(test_rates_that_are_not_numbers_are_refused),
         cmocka_unit_test(test_a_layout_change_after_the_integrator_is_refused_by_it),
         cmocka_unit_test(test_a_force_added_mid_run_acts_under_every_method),
     };

@@ -256,7 +256,8 @@ TB_API int tb_scene_normalize_quaternions(double t, double *y, void *ctx);
  * smallest moment; ground contact's bounce, rocking on the body's contact arms and friction
  * bristles. User effects are not estimated. INFINITY when nothing limits the step (and for
  * adaptive methods); out_which (may be NULL, TB_DETAIL_SIZE bytes) names the body or effect and
- * its rate. The one function front ends ask. */
+ * its rate. A rate that is not a number (inf, NaN) gives TB_STATUS_NOT_FINITE naming it, and
+ * *out_dt is left alone. The one function front ends ask. */
 TB_API tb_status tb_scene_max_stable_step(const tb_scene *scene, tb_method method, double *out_dt,
                                           char *out_which);
 

@@ -262,6 +262,27 @@ tb_ground_def tb_ground_def_default(void)
     return def;
 }
 
+/* The contact's rates are numbers (F18: presliding 1e-310 m made the bristle stiffness
+ * static_friction / presliding infinite, and the guard's largest stable step 0 s): bouncing
+ * g / penetration, the bristles' stiffness and their g s0 and s0 / g (see ground_params). */
+static tb_status validate_ground_rates(tb_scene *scene, const tb_ground_def *def)
+{
+    const double s0 = def->static_friction / def->presliding;
+    if (!isfinite(def->gravity / def->penetration)) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "penetration: %g m under gravity %g m/s^2 makes the contact's rate "
+                              "g / penetration overflow",
+                              def->penetration, def->gravity);
+    }
+    if (!isfinite(s0) || !isfinite(def->gravity * s0) || !isfinite(s0 / def->gravity)) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "presliding: %g m makes the bristles' stiffness static_friction / "
+                              "presliding (%g 1/m) or its rate under gravity %g m/s^2 overflow",
+                              def->presliding, s0, def->gravity);
+    }
+    return TB_STATUS_OK;
+}
+
 static tb_status validate_ground(tb_scene *scene, const tb_ground_def *def)
 {
     if (def->internal_cookie != TB__GROUND_COOKIE) {
@@ -305,7 +326,7 @@ static tb_status validate_ground(tb_scene *scene, const tb_ground_def *def)
                                 "got %g",
                                 def->kinetic_friction, def->static_friction);
     }
-    return status;
+    return status == TB_STATUS_OK ? validate_ground_rates(scene, def) : status;
 }
 
 /* t1, t2: an orthonormal basis of the plane, right-handed with n. */

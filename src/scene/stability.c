@@ -23,6 +23,7 @@ typedef struct guard {
     double imaginary, real; /* the method's limits */
     double dt;
     double oscillation; /* the fastest oscillation's rate seen, 1/s */
+    bool overflowed; /* a rate that is not a number (inf, NaN): no step can be given */
     char which[TB_DETAIL_SIZE];
 } guard;
 
@@ -37,10 +38,12 @@ consider(guard *g, double rate, bool oscillatory, const char *format, ...)
     if (oscillatory && rate > g->oscillation) {
         g->oscillation = rate;
     }
-    if (!(rate > 0.0) || !(dt < g->dt)) {
-        return;
+    const bool overflowed = !isfinite(rate); /* inf, or NaN from inf - inf or 0 * inf */
+    if (g->overflowed || (!overflowed && (!(rate > 0.0) || !(dt < g->dt)))) {
+        return; /* the first rate that is not a number is the one named */
     }
-    g->dt = dt;
+    g->dt = overflowed ? 0.0 : dt;
+    g->overflowed = overflowed;
     va_list args;
     va_start(args, format);
     const int length = vsnprintf(g->which, sizeof g->which, format, args);
@@ -90,6 +93,7 @@ static void stable_step(const tb_scene *scene, const double *y, tb_method method
     tb_method_info info;
     g->dt = INFINITY;
     g->oscillation = 0.0;
+    g->overflowed = false;
     g->which[0] = '\0';
     if (tb_method_get_info(method, &info) != TB_STATUS_OK || info.adaptive) {
         return; /* adaptive: error control chooses the step */
@@ -115,10 +119,14 @@ tb_status tb_scene_max_stable_step(const tb_scene *scene, tb_method method, doub
     }
     guard g;
     stable_step(scene, scene->states, method, &g);
-    *out_dt = g.dt;
     if (out_which != NULL) {
         snprintf(out_which, TB_DETAIL_SIZE, "%s", g.which);
     }
+    if (g.overflowed) {
+        return tb__scene_fail((tb_scene *)scene, TB_STATUS_NOT_FINITE,
+                              "no stable step: the rate of %s is not a number", g.which);
+    }
+    *out_dt = g.dt;
     return TB_STATUS_OK;
 }
 
@@ -130,6 +138,12 @@ tb_status tb__scene_check_step(const tb_scene *scene, const double *y, tb_method
     }
     guard g;
     stable_step(scene, y, method, &g);
+    if (g.overflowed) {
+        return tb__set_detail(detail, TB_STATUS_UNSTABLE_STEP,
+                              "dt: no fixed step is stable: the rate of %s is not a number; use "
+                              "an adaptive method (cvode-adams, cvode-bdf) or allow_unstable",
+                              g.which);
+    }
     if (!(dt > g.dt)) {
         return TB_STATUS_OK;
     }
