@@ -251,3 +251,25 @@ def test_reset_goes_back_to_the_start_bit_for_bit(scenes):
     assert sim.t == 0.0 and np.array_equal(sim._y, start)
     again = sim.run(duration=0.5)
     assert np.array_equal(first.position, again.position)
+
+
+def test_threads_share_a_step_and_change_no_bit():
+    # The library shares the chunks of a step of bodies that do not interact among threads,
+    # the same chunks for any count (include/tumble/ode.h): every bit must agree.
+    scene = tumble.Scene.from_dict({
+        "bodies": [{"name": f"b{i}", "shape": {"type": "box", "size": [0.1, 0.2, 0.4]},
+                    "density": 700, "position": [float(i), 0, 0],
+                    "angular_velocity": [0.3, 5.0 + 0.01 * i, 0.2]} for i in range(600)],
+        "effects": [{"type": "gravity"}]})
+    one = scene.run(method="rk4", dt=1 / 240, duration=0.5, threads=1)
+    two = scene.run(method="rk4", dt=1 / 240, duration=0.5, threads=2)
+    assert np.array_equal(one.orientation, two.orientation)
+    assert np.array_equal(one.position, two.position)
+    sim = tumble.Simulation(scene, method="rk4", dt=1 / 240, threads=0)
+    assert np.array_equal(sim.run(duration=0.5).angular_velocity, one.angular_velocity)
+    with pytest.raises(ValueError, match="threads applies to fixed-step"):
+        scene.run(method="cvode-adams", threads=2)
+    with pytest.raises(TypeError):
+        scene.run(threads=1.5)
+    with pytest.raises(ValueError, match=">= 0"):
+        scene.run(threads=-1)

@@ -79,7 +79,8 @@ def stats_dict(stats):
     return {name: getattr(stats, name) for name, _ in _native.IntegratorStats._fields_}
 
 
-def apply_settings(run, method=None, dt=None, rtol=None, atol=None, fps=None, duration=None):
+def apply_settings(run, method=None, dt=None, rtol=None, atol=None, fps=None, duration=None,
+                   threads=None):
     """A tb_run_def with the given settings instead of its own; as the CLI and scene files, an
     option that the method does not read is refused (ValueError), not ignored."""
     if method is not None:
@@ -95,6 +96,14 @@ def apply_settings(run, method=None, dt=None, rtol=None, atol=None, fps=None, du
             kind = "adaptive (cvode-*)" if option != "dt" else "fixed-step"
             raise ValueError(f"{option} applies to {kind} methods, and the method is {name}")
         setattr(run.integrator, option, number(option, value))
+    if threads is not None:
+        if isinstance(threads, bool) or not isinstance(threads, numbers.Integral):
+            raise TypeError(f"threads must be an int, got {type(threads).__name__} {threads!r}")
+        if adaptive:
+            raise ValueError(f"threads applies to fixed-step methods, and the method is {name}")
+        if threads < 0:
+            raise ValueError(f"threads must be >= 0 (0: one per processor), got {threads}")
+        run.integrator.threads = int(threads)
     run.fps = number("fps", fps) if fps is not None else run.fps
     run.duration = number("duration", duration) if duration is not None else run.duration
 

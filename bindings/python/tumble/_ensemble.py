@@ -7,7 +7,7 @@ from typing import Any, Callable, List, Optional, Sequence
 
 from ._scene import Frames, Scene
 
-_SETTINGS = ("method", "dt", "rtol", "atol", "fps", "duration")
+_SETTINGS = ("method", "dt", "rtol", "atol", "fps", "duration", "threads")
 
 
 def _task(scene, settings, errors, reduce=None):
@@ -44,18 +44,19 @@ def _tasks(items, defaults):
 def run_many(items: Sequence[Any], *, method: Optional[str] = None, dt: Optional[float] = None,
              rtol: Optional[float] = None, atol: Optional[float] = None,
              fps: Optional[float] = None, duration: Optional[float] = None,
-             workers: Optional[int] = None, client=None, errors: str = "raise",
+             threads: Optional[int] = None, workers: Optional[int] = None, client=None, errors: str = "raise",
              reduce: Optional[Callable[[Frames], Any]] = None) -> List[Any]:
     """Runs every item as Scene.run does and returns their Frames in the items' order.
 
     An item is a Scene, a scene-file path, a dict in the scene-file format (docs/
     scene-format.md), or a pair (one of those, settings) whose settings (method, dt, rtol,
-    atol, fps, duration) override the keyword arguments here, which override each scene's own
+    atol, fps, duration, threads) override the keyword arguments here, which override each scene's own
     (an item that names its method takes none of the integrator settings given here).
     Each run is independent and deterministic: the results equal serial runs bit for bit,
     however many workers run them and in whatever order they finish.
 
-    Without a client the runs go to a pool of `workers` threads (default: os.cpu_count()).
+    Without a client the runs go to a pool of `workers` threads (default: os.cpu_count()),
+    each run on one thread unless `threads` says more.
     Each run steps in C without the GIL, so threads use all cores; Python runs only between
     frames. With client (a dask.distributed.Client) each run is a Dask task on the cluster's
     workers (processes or machines): scenes travel as their JSON text (a mesh file a scene
@@ -72,7 +73,7 @@ def run_many(items: Sequence[Any], *, method: Optional[str] = None, dt: Optional
     if errors not in ("raise", "return"):
         raise ValueError(f'errors must be "raise" or "return", got {errors!r}')
     defaults = {name: value for name, value in zip(
-        _SETTINGS, (method, dt, rtol, atol, fps, duration)) if value is not None}
+        _SETTINGS, (method, dt, rtol, atol, fps, duration, threads)) if value is not None}
     tasks = _tasks(items, defaults)
     if reduce is not None and not callable(reduce):
         raise TypeError(f"reduce must be callable, got {type(reduce).__name__}")

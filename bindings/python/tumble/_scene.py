@@ -248,7 +248,8 @@ class Scene:
     def run(self, method: Optional[str] = None, dt: Optional[float] = None,
             rtol: Optional[float] = None, atol: Optional[float] = None,
             fps: Optional[float] = None, duration: Optional[float] = None,
-            on_frame: Optional[Callable[[int, float, np.ndarray], None]] = None) -> "Frames":
+            on_frame: Optional[Callable[[int, float, np.ndarray], None]] = None,
+            threads: Optional[int] = None) -> "Frames":
         """Simulates the scene from its initial state for `duration` seconds (the file's settings
         unless given here: method "euler", "midpoint", "rk4", "cvode-adams" or "cvode-bdf"; dt in
         s for the fixed-step methods, rtol and atol for CVODE, frames per second fps) and returns
@@ -256,12 +257,14 @@ class Scene:
         (tb_scene_run) that fills each frame in one more (tb_scene_frame_values); Python runs
         only between frames, where on_frame(k, t, values) is called if given (values: the frame's
         (bodies, 13) array, read-only). An option the method does not read is refused
-        (ValueError). Raises TumbleError if the integrator refuses the settings or the run fails;
+        (ValueError). threads (fixed-step methods): how many threads share each step of a
+        scene whose bodies do not interact (0: one per processor; default 1); the frames are
+        the same bits for any count. Raises TumbleError if the integrator refuses the settings or the run fails;
         a KeyboardInterrupt (Ctrl-C, seen at the next frame) or an exception from on_frame stops
         the run, and the frames made so far are on the exception's `frames` attribute."""
         handle, run = self._load()
         try:
-            apply_settings(run, method, dt, rtol, atol, fps, duration)
+            apply_settings(run, method, dt, rtol, atol, fps, duration, threads)
             recorder = _Recorder(handle, run, self.masses, on_frame)
             stats, error = _native.IntegratorStats(), _native.Error()
             with deferred_interrupt() as recorder.interrupt:

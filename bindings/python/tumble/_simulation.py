@@ -33,7 +33,9 @@ class Simulation:
     scene-file format;
     method one of tumble.METHODS ("euler", "midpoint", "rk4", "cvode-adams", "cvode-bdf"),
     dt (s) for the fixed-step methods, rtol and atol for CVODE (the scene file's integrator
-    unless given; an option the method does not read is a ValueError, as in the CLI). A fixed
+    unless given; an option the method does not read is a ValueError, as in the CLI); threads
+    (fixed-step methods, bodies that do not interact) shares each step among threads, with the
+    same bits for any count (0: one per processor; default 1). A fixed
     step beyond the scene's stability limit is refused (TumbleValueError, UNSTABLE_STEP).
 
     State (N bodies; world frame, z up, SI units). These are live views of the library's own
@@ -62,14 +64,15 @@ class Simulation:
 
     def __init__(self, scene: Union[Scene, "SceneBuilder", str, dict], method: Optional[str] = None,
                  dt: Optional[float] = None, rtol: Optional[float] = None,
-                 atol: Optional[float] = None, forces: Sequence[ForceFunction] = ()):
+                 atol: Optional[float] = None, forces: Sequence[ForceFunction] = (),
+                 threads: Optional[int] = None):
         self.scene = Scene.coerce(scene)
         self._handle, run = self.scene._load()
         self._integrator = ctypes.c_void_p()
         self._user_effects = []  # the ctypes callbacks, alive as long as the scene
         self._failure = None
         try:
-            apply_settings(run, method, dt, rtol, atol)
+            apply_settings(run, method, dt, rtol, atol, threads=threads)
             self._run = run
             self.bodies = lib.tb_scene_body_count(self._handle)
             self._views()
