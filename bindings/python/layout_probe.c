@@ -27,6 +27,7 @@ int main(void)
     FIELD(tb_integrator_def, max_order);
     FIELD(tb_integrator_def, linear_solver);
     FIELD(tb_integrator_def, preconditioner_half_bandwidth);
+    FIELD(tb_integrator_def, threads);
     FIELD(tb_integrator_def, internal_cookie);
     printf("\"_\": 0},\n");
 

@@ -30,6 +30,7 @@ class IntegratorDef(ctypes.Structure):
         ("max_order", ctypes.c_int),
         ("linear_solver", ctypes.c_int),
         ("preconditioner_half_bandwidth", ctypes.c_int),
+        ("threads", ctypes.c_int),
         ("internal_cookie", ctypes.c_int),
     ]
 
