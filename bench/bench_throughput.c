@@ -223,15 +223,15 @@ int main(int argc, char **argv)
         (variant){"cvode-adams-order-5", TB_METHOD_CVODE_ADAMS, 0, 0, 5, -1, 0, 0, 0};
     variants[variant_count++] =
         (variant){"cvode-bdf-band", TB_METHOD_CVODE_BDF, 1, 0, 0, -1, 0, 0, 0};
-    /* RK4 on each vector path the processor has (rk4-path-none: body by body), on two
-     * threads, and with drag on every body */
+    /* RK4 on each vector path the processor has (rk4-advance-path-none: body by body, all in
+     * one advance), on two threads, and with drag on every body */
     static char path_names[TB_VECTOR_PATH_COUNT][32];
     for (int p = TB_VECTOR_PATH_NONE; p < TB_VECTOR_PATH_COUNT; ++p) {
         if (tb_vector_path_supported((tb_vector_path)p)) {
-            snprintf(path_names[p], sizeof path_names[p], "rk4-path-%s",
+            snprintf(path_names[p], sizeof path_names[p], "rk4-advance-path-%s",
                      tb_vector_path_name((tb_vector_path)p));
             variants[variant_count++] =
-                (variant){path_names[p], TB_METHOD_RK4, 0, 0, 0, p, 0, 0, 0};
+                (variant){path_names[p], TB_METHOD_RK4, 0, 0, 0, p, 0, 0, 1};
         }
     }
     variants[variant_count++] = (variant){"rk4-2-threads", TB_METHOD_RK4, 0, 0, 0, -1, 2, 0, 0};
