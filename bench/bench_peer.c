@@ -153,7 +153,8 @@ static mjModel *mujoco_model(const char *xml)
     mjSpec *spec = mj_parseXMLString(xml, NULL, error, sizeof error);
     mjModel *model = spec != NULL ? mj_compile(spec, NULL) : NULL;
     if (model == NULL) {
-        fprintf(stderr, "bench_peer: MuJoCo refused the model: %s\n", error);
+        fprintf(stderr, "bench_peer: MuJoCo refused the model: %s\n",
+                spec != NULL ? mjs_getError(spec) : error);
     }
     mj_deleteSpec(spec);
     return model;
@@ -168,10 +169,11 @@ static double mujoco_boxes_seconds(size_t bodies, long steps)
         return NAN;
     }
     size_t used = (size_t)snprintf(xml, size,
-                                   "<mujoco><option timestep=\"%.17g\" integrator=\"RK4\" "
-                                   "gravity=\"0 0 -9.81\"><flag contact=\"disable\" "
-                                   "constraint=\"disable\"/></option><worldbody>",
-                                   DT);
+                                   "<mujoco><size memory=\"%zuM\"/><option timestep=\"%.17g\" "
+                                   "integrator=\"RK4\" gravity=\"0 0 -9.81\"><flag "
+                                   "contact=\"disable\" constraint=\"disable\"/></option>"
+                                   "<worldbody>",
+                                   16 + bodies / 64, DT);
     for (size_t i = 0; i < bodies; ++i) {
         used += (size_t)snprintf(xml + used, size - used,
                                  "<body pos=\"%zu 0 0\"><freejoint/><geom type=\"box\" "

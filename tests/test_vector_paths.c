@@ -126,7 +126,7 @@ static void test_every_path_and_thread_count_gives_the_body_by_body_bits(void **
         for (int m = 0; m < FIXED_STEP_METHODS; ++m) {
             tb_scene *reference = every_per_body_effect(sizes[s]);
             tb_integrator_stats expected, got;
-            const double T = sizes[s] > 100 ? 0.125 : 1.0; /* 60 steps of the big scene */
+            const double T = sizes[s] > 100 ? 0.05 : 0.5; /* 24 steps of the big scene */
             run(reference, (tb_method)m, TB_VECTOR_PATH_NONE, 1, T, &expected);
             const size_t bytes = TB_STATE_SIZE * sizes[s] * sizeof(double);
             for (int p = TB_VECTOR_PATH_NONE; p < TB_VECTOR_PATH_COUNT; ++p) {

@@ -152,7 +152,8 @@ static void prefetch(const double *y, size_t from, size_t to)
 /* What one thread does in a step: its chunks in order, each written into y once it succeeded
  * (its old values kept in before), until the first failure. */
 typedef struct thread_range {
-    size_t first_chunk, end_chunk;
+    _Alignas(64) size_t first_chunk; /* a cache line each: threads write only their own */
+    size_t end_chunk;
     size_t written; /* components of y replaced, from the range's first */
     long evals;     /* the stages of one chunk */
     tb__step_failure failure;
@@ -179,9 +180,10 @@ static const double *step_chunk(const tb_integrator *integrator, size_t first, s
         part.derivative = chunk_derivative;
         part.post_step = system->post_step != NULL ? chunk_hook : NULL; /* block_post_step set */
     }
-    range->evals = 0;
+    long evals = 0;
     tb__step_failure *failure = &range->failure;
-    int rc = integrator->entry->step(&part, integrator->t, h, y, fresh, scratch, &range->evals);
+    int rc = integrator->entry->step(&part, integrator->t, h, y, fresh, scratch, &evals);
+    range->evals = evals;
     if (rc != 0) {
         *failure = (tb__step_failure){TB_STATUS_DERIVATIVE_FAILED, rc, 0, 0, 0.0};
         return fresh;

@@ -242,10 +242,13 @@ static tb_status not_finite(tb_integrator *integrator, size_t index, double valu
     if (hook_rc != 0) {
         snprintf(hook_note, sizeof hook_note, " (the post-step hook returned %d on it)", hook_rc);
     }
+    /* a NaN's sign differs between scalar and vector arithmetic and means nothing: printed
+     * without it, the detail is the same on every vector path */
     return tb__set_detail(integrator->detail, TB_STATUS_STATE_NOT_FINITE,
                           "y[%zu] became %g in the %s step from t = %.17g (h = %g)%s; the step "
                           "size is beyond the method's stability limit or the system blew up",
-                          index, value, integrator->entry->info.name, integrator->t, h, hook_note);
+                          index, isnan(value) ? fabs(value) : value, integrator->entry->info.name,
+                          integrator->t, h, hook_note);
 }
 
 tb_status tb__fixed_report(tb_integrator *integrator, const tb__step_failure *failure, double h,
