@@ -23,7 +23,7 @@ typedef struct guard {
     double imaginary, real; /* the method's limits */
     double dt;
     double oscillation; /* the fastest oscillation's rate seen, 1/s */
-    bool overflowed; /* a rate that is not a number (inf, NaN): no step can be given */
+    bool overflowed;    /* a rate that is not a number (inf, NaN): no step can be given */
     char which[TB_DETAIL_SIZE];
 } guard;
 
