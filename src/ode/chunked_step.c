@@ -29,6 +29,9 @@
  * lane groups are 256 bodies. */
 #define TB__CHUNKS_PER_THREAD 8
 
+/* The most threads a step is shared among. */
+#define TB__MAX_THREADS 256
+
 void tb__chunk_layout(tb_integrator *integrator, int threads)
 {
     const tb_ode_system *system = &integrator->system;
@@ -57,6 +60,7 @@ void tb__chunk_layout(tb_integrator *integrator, int threads)
 #endif
     const size_t worth = chunks / TB__CHUNKS_PER_THREAD;
     count = count < worth ? count : worth;
+    count = count < TB__MAX_THREADS ? count : TB__MAX_THREADS;
     integrator->threads = count < 1 ? 1 : (int)count;
 }
 
@@ -231,9 +235,6 @@ static void step_range(const tb_integrator *integrator, double *work, double h, 
         range->written += length;
     }
 }
-
-/* The most threads a step is shared among. */
-#define TB__MAX_THREADS 256
 
 tb_status tb__take_chunked_step(tb_integrator *integrator, double h, double t_end)
 {

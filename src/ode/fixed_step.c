@@ -195,7 +195,7 @@ TB__CLONES static size_t first_non_finite(const double *y, size_t n)
         }
     }
     for (; i < n; ++i) {
-        probes[0] += y[i] * 0.0;
+        probes[i % TB__PROBES] += y[i] * 0.0; /* independent chains here too */
     }
     double probe = 0.0;
     for (size_t k = 0; k < TB__PROBES; ++k) {
