@@ -2,7 +2,8 @@
  * couples them, so RK4 steps them a chunk at a time), run for T seconds at 60 fps with RK4 at
  * 1/240 s, with no output, then into each writer (.npz, .glb, .csv, and .npz to /dev/null). Median
  * of 3 runs each, CPU seconds of this process (the disk's own write-back is not in it) and wall
- * seconds. bench_export [--quick]     default N = 1000, T = 20 s; --quick N = 10, T = 1 s, 1 run
+ * seconds. bench_export [--quick] [OUTPUT...]   default N = 1000, T = 20 s, every output;
+ * --quick N = 10, T = 1 s, 1 run; OUTPUTs (labels below) pick some ("none" always runs).
  * CSV on standard output: output,bodies,frames,cpu_seconds,wall_seconds,extra_cpu_percent,bytes
  * (extra_cpu_percent: CPU time above the run without output, in percent of it). */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
@@ -63,6 +64,9 @@ static int measure(size_t bodies, double duration, const char *path, tb_output_f
     int ok = 1;
     if (path != NULL) {
         def.format = format;
+        size_t last = 0;
+        tb_run_frame_count(run.duration, run.fps, &last, NULL);
+        def.frame_count = last + 1; /* npz: streamed while the run goes on */
         ok = tb_writer_open(path, &def, scene, &writer, NULL) == TB_STATUS_OK;
     }
     ok = ok && tb_scene_run(scene, &run, writer ? tb_writer_on_frame : ignore, writer, NULL,
@@ -72,6 +76,17 @@ static int measure(size_t bodies, double duration, const char *path, tb_output_f
     *wall = wall_seconds() - wall0;
     tb_scene_destroy(scene);
     return ok;
+}
+
+/* Whether the output labelled label is asked for: every one when no label is given. */
+static bool wanted(const char *label, int argc, char **argv, int first)
+{
+    for (int k = first; k < argc; ++k) {
+        if (strcmp(argv[k], label) == 0) {
+            return true;
+        }
+    }
+    return first >= argc || strcmp(label, "none") == 0;
 }
 
 int main(int argc, char **argv)
@@ -93,6 +108,9 @@ int main(int argc, char **argv)
     double base = 0;
     printf("output,bodies,frames,cpu_seconds,wall_seconds,extra_cpu_percent,bytes\n");
     for (size_t o = 0; o < sizeof outputs / sizeof outputs[0]; ++o) {
+        if (!wanted(outputs[o].label, argc, argv, quick ? 2 : 1)) {
+            continue;
+        }
         char path[512];
         if (outputs[o].extension != NULL) {
             snprintf(path, sizeof path, "%s/bench_export.%s", directory, outputs[o].extension);

@@ -2,6 +2,7 @@
 # and is found the CMake way.
 find_package(GSL 2.6 REQUIRED)
 find_package(SUNDIALS 6 REQUIRED CONFIG COMPONENTS cvode nvecserial)
+find_package(Threads REQUIRED) # the npz writer's thread
 # jansson ships a pkg-config file on Debian (no CMake config).
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(JANSSON REQUIRED IMPORTED_TARGET jansson>=2.13)

@@ -35,7 +35,7 @@ install(FILES ${PROJECT_BINARY_DIR}/tumbleConfig.cmake
   ${PROJECT_BINARY_DIR}/tumbleConfigVersion.cmake DESTINATION ${TUMBLE_CMAKE_DIR})
 
 # pkg-config: a static library needs its dependencies on the link line (pkg-config --static).
-set(TUMBLE_PC_PRIVATE_LIBS "-lsundials_cvode -lsundials_nvecserial")
+set(TUMBLE_PC_PRIVATE_LIBS "-lsundials_cvode -lsundials_nvecserial ${CMAKE_THREAD_LIBS_INIT}")
 # Relocatable: the prefix is found from the .pc file's own place.
 file(RELATIVE_PATH TUMBLE_PC_TO_PREFIX /root/${CMAKE_INSTALL_LIBDIR}/pkgconfig /root)
 configure_file(cmake/tumble.pc.in ${PROJECT_BINARY_DIR}/tumble.pc @ONLY)

@@ -53,6 +53,12 @@ typedef struct tb_writer_def {
      * current directory). */
     const char *scene_text;
     const char *base_directory;
+    /* npz only: the number of frames that will come, if known (0, the default: not known). A
+     * run of tb_scene_run makes 1 + the number tb_run_frame_count gives. Known, the frames are
+     * not kept: they go to the file as they come, written by a thread of the writer while the
+     * caller computes the next ones; one frame more is refused, fewer fail tb_writer_close
+     * (TB_STATUS_INVALID_ARGUMENT both). */
+    size_t frame_count;
     int internal_cookie; /* set by tb_writer_def_default */
 } tb_writer_def;
 
