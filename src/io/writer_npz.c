@@ -5,6 +5,8 @@
 
 #include "core/detail.h"
 
+#include <libdeflate.h>
+
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
@@ -17,38 +19,9 @@ static bool little_endian(void)
     return *(const unsigned char *)&probe == 1;
 }
 
-void tb__crc_tables_init(tb__crc_tables *c)
+uint32_t tb__crc32_update(uint32_t crc, const void *data, size_t size)
 {
-    for (uint32_t b = 0; b < 256; ++b) {
-        uint32_t crc = b;
-        for (int bit = 0; bit < 8; ++bit) {
-            crc = crc & 1 ? (crc >> 1) ^ 0xEDB88320u : crc >> 1;
-        }
-        c->table[0][b] = crc;
-    }
-    for (uint32_t b = 0; b < 256; ++b) {
-        for (int k = 1; k < 8; ++k) {
-            const uint32_t previous = c->table[k - 1][b];
-            c->table[k][b] = (previous >> 8) ^ c->table[0][previous & 0xff];
-        }
-    }
-}
-
-uint32_t tb__crc32_update(const tb__crc_tables *c, uint32_t crc, const void *data, size_t size)
-{
-    const unsigned char *p = data;
-    crc = ~crc;
-    for (; size >= 8; size -= 8, p += 8) {
-        const uint32_t low = crc ^ ((uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 |
-                                    (uint32_t)p[3] << 24);
-        crc = c->table[7][low & 0xff] ^ c->table[6][(low >> 8) & 0xff] ^
-              c->table[5][(low >> 16) & 0xff] ^ c->table[4][low >> 24] ^ c->table[3][p[4]] ^
-              c->table[2][p[5]] ^ c->table[1][p[6]] ^ c->table[0][p[7]];
-    }
-    for (; size > 0; --size, ++p) {
-        crc = (crc >> 8) ^ c->table[0][(crc ^ *p) & 0xff];
-    }
-    return ~crc;
+    return size == 0 ? crc : libdeflate_crc32(crc, data, size);
 }
 
 static void put16(unsigned char *p, unsigned v)
@@ -140,8 +113,8 @@ tb_status tb__npz_write_head(tb_writer *w, const tb__zip_entry *entry, const cha
 }
 
 /* A member whose data is in memory, at the file's position (offset into the archive). */
-static tb_status write_member(tb_writer *w, const tb__crc_tables *crc, const tb__npy_array *a,
-                              tb__zip_entry *entry, uint32_t *offset)
+static tb_status write_member(tb_writer *w, const tb__npy_array *a, tb__zip_entry *entry,
+                              uint32_t *offset)
 {
     char header[TB__NPY_HEADER_MAX];
     size_t header_size = 0;
@@ -149,8 +122,7 @@ static tb_status write_member(tb_writer *w, const tb__crc_tables *crc, const tb_
     if (status != TB_STATUS_OK) {
         return status;
     }
-    entry->crc =
-        tb__crc32_update(crc, tb__crc32_update(crc, 0, header, header_size), a->data, a->data_size);
+    entry->crc = tb__crc32_update(tb__crc32_update(0, header, header_size), a->data, a->data_size);
     status = tb__npz_write_head(w, entry, header, header_size);
     if (status == TB_STATUS_OK) {
         status = write_bytes(w, a->data, a->data_size);
@@ -276,8 +248,7 @@ static size_t text_arrays(const tb_writer *w, tb__npy_array *arrays, uint32_t **
     return count;
 }
 
-tb_status tb__npz_write_tail(tb_writer *w, const tb__crc_tables *crc, tb__zip_entry *entries,
-                             uint32_t offset)
+tb_status tb__npz_write_tail(tb_writer *w, tb__zip_entry *entries, uint32_t offset)
 {
     tb__npy_array arrays[TB__NPZ_MEMBERS - TB__NPZ_FLOATS];
     uint32_t *text[TB__NPZ_MEMBERS - TB__NPZ_FLOATS] = {NULL};
@@ -290,7 +261,7 @@ tb_status tb__npz_write_tail(tb_writer *w, const tb__crc_tables *crc, tb__zip_en
         }
     }
     for (size_t k = 0; k < count && status == TB_STATUS_OK; ++k) {
-        status = write_member(w, crc, &arrays[k], &entries[TB__NPZ_FLOATS + k], &offset);
+        status = write_member(w, &arrays[k], &entries[TB__NPZ_FLOATS + k], &offset);
     }
     if (status == TB_STATUS_OK) {
         status = write_directory(w, entries, TB__NPZ_FLOATS + count, offset);
@@ -305,13 +276,11 @@ tb_status tb__npz_write(tb_writer *w)
 {
     tb__npy_array arrays[TB__NPZ_FLOATS];
     tb__npz_float_arrays(w->frames.count, w->body_count, &w->frames, arrays);
-    tb__crc_tables crc;
-    tb__crc_tables_init(&crc);
     tb__zip_entry entries[TB__NPZ_MEMBERS];
     uint32_t offset = 0;
     tb_status status = TB_STATUS_OK;
     for (size_t k = 0; k < TB__NPZ_FLOATS && status == TB_STATUS_OK; ++k) {
-        status = write_member(w, &crc, &arrays[k], &entries[k], &offset);
+        status = write_member(w, &arrays[k], &entries[k], &offset);
     }
-    return status == TB_STATUS_OK ? tb__npz_write_tail(w, &crc, entries, offset) : status;
+    return status == TB_STATUS_OK ? tb__npz_write_tail(w, entries, offset) : status;
 }

@@ -30,15 +30,9 @@ typedef struct tb__zip_entry {
 /* The longest .npy header written (a shape of three 20-digit numbers fits), bytes. */
 #define TB__NPY_HEADER_MAX 256
 
-/* CRC-32 of zip (reflected polynomial 0xEDB88320), eight bytes a step ("slicing by 8"):
- * table[k][b] is the CRC of byte b followed by k zero bytes. */
-typedef struct tb__crc_tables {
-    uint32_t table[8][256];
-} tb__crc_tables;
-
-void tb__crc_tables_init(tb__crc_tables *c);
-/* The CRC of what crc covered followed by size bytes of data (crc 0: of nothing). */
-uint32_t tb__crc32_update(const tb__crc_tables *c, uint32_t crc, const void *data, size_t size);
+/* The CRC-32 of zip (ISO 3309) of what crc covered followed by size bytes of data (crc 0: of
+ * nothing), by libdeflate. */
+uint32_t tb__crc32_update(uint32_t crc, const void *data, size_t size);
 
 /* The header of a .npy (magic, version 1.0, the dict padded to a multiple of 64 bytes) into
  * out; its length. */
@@ -63,8 +57,7 @@ tb_status tb__npz_write_head(tb_writer *w, const tb__zip_entry *entry, const cha
 /* Writes, at the file's position (offset bytes into the archive), the text members (body
  * names, metadata) and then the central directory of entries[0..TB__NPZ_FLOATS) (the float
  * members, already in the file) and of the text members. */
-tb_status tb__npz_write_tail(tb_writer *w, const tb__crc_tables *crc, tb__zip_entry *entries,
-                             uint32_t offset);
+tb_status tb__npz_write_tail(tb_writer *w, tb__zip_entry *entries, uint32_t offset);
 
 /* Starts streaming frame_count frames into w's file (its writer thread, or the caller's thread
  * if none can start). TB_STATUS_OUT_OF_MEMORY, TB_STATUS_UNSUPPORTED (over 4 GiB). */

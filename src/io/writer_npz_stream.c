@@ -38,7 +38,6 @@ struct tb__npz_stream {
     size_t header_sizes[TB__NPZ_FLOATS];
     uint64_t data_offsets[TB__NPZ_FLOATS]; /* where each array's data starts in the file */
     uint32_t end_offset;                   /* after the float members */
-    tb__crc_tables crc;
     npz_block blocks[2];
     int filling; /* the block the caller fills */
     /* owned by whoever writes blocks (the thread while it runs) */
@@ -79,7 +78,7 @@ static int write_block(tb__npz_stream *s, const npz_block *b, uint64_t *out_offs
         const size_t frame_bytes = s->widths[k] * sizeof(double);
         const size_t bytes = b->count * frame_bytes;
         const uint64_t offset = s->data_offsets[k] + (uint64_t)s->frames_written * frame_bytes;
-        s->crcs[k] = tb__crc32_update(&s->crc, s->crcs[k], b->parts[k], bytes);
+        s->crcs[k] = tb__crc32_update(s->crcs[k], b->parts[k], bytes);
         const int error = write_at(s->fd, b->parts[k], bytes, offset);
         if (error != 0) {
             *out_offset = offset;
@@ -193,7 +192,7 @@ static tb_status plan(tb_writer *w, tb__npz_stream *s)
             return status;
         }
         s->header_sizes[k] = head;
-        s->crcs[k] = tb__crc32_update(&s->crc, 0, s->headers[k], head);
+        s->crcs[k] = tb__crc32_update(0, s->headers[k], head);
         s->data_offsets[k] = offset + 30 + strlen(s->entries[k].name) + head;
         offset = s->data_offsets[k] + s->arrays[k].data_size;
     }
@@ -233,7 +232,6 @@ tb_status tb__npz_stream_open(tb_writer *w, size_t frame_count)
     s->frame_count = frame_count;
     const size_t n = w->body_count, widths[TB__NPZ_FLOATS] = {1, 3 * n, 4 * n, 3 * n, 3 * n};
     memcpy(s->widths, widths, sizeof widths);
-    tb__crc_tables_init(&s->crc);
     tb_status status = plan(w, s);
     if (status != TB_STATUS_OK) {
         return status;
@@ -284,8 +282,7 @@ tb_status tb__npz_stream_finish(tb_writer *w)
     if (status == TB_STATUS_OK && fseeko(w->file, (off_t)s->end_offset, SEEK_SET) != 0) {
         status = tb__writer_io_failure(w, "seek failed");
     }
-    return status == TB_STATUS_OK ? tb__npz_write_tail(w, &s->crc, s->entries, s->end_offset)
-                                  : status;
+    return status == TB_STATUS_OK ? tb__npz_write_tail(w, s->entries, s->end_offset) : status;
 }
 
 void tb__npz_stream_free(tb__npz_stream *s)
