@@ -20,6 +20,7 @@
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 static double wall_seconds(void)
 {
@@ -73,17 +74,26 @@ static int measure(size_t bodies, double duration, const char *path, tb_output_f
     tb_writer *writer = NULL;
     tb_writer_def def = tb_writer_def_default();
     const double cpu0 = bench_cpu_seconds(), wall0 = wall_seconds(), caller0 = thread_cpu_seconds();
+    tb_error error = {0};
     int ok = 1;
     if (path != NULL) {
         def.format = format;
         size_t last = 0;
         tb_run_frame_count(run.duration, run.fps, &last, NULL);
         def.frame_count = announce ? last + 1 : 0; /* npz: streamed while the run goes on */
-        ok = tb_writer_open(path, &def, scene, &writer, NULL) == TB_STATUS_OK;
+        ok = tb_writer_open(path, &def, scene, &writer, &error) == TB_STATUS_OK;
     }
     ok = ok && tb_scene_run(scene, &run, writer ? tb_writer_on_frame : ignore, writer, NULL,
-                            NULL) == TB_STATUS_OK;
-    ok = ok && (writer == NULL || tb_writer_close(writer, NULL) == TB_STATUS_OK);
+                            &error) == TB_STATUS_OK;
+    if (!ok && writer != NULL) {
+        fprintf(stderr, "bench_export: %s\n", tb_writer_detail(writer));
+        tb_writer_destroy(writer);
+        writer = NULL;
+    }
+    ok = ok && (writer == NULL || tb_writer_close(writer, &error) == TB_STATUS_OK);
+    if (!ok) {
+        fprintf(stderr, "bench_export: %s\n", error.message);
+    }
     *cpu = bench_cpu_seconds() - cpu0;
     *caller = thread_cpu_seconds() - caller0;
     *wall = wall_seconds() - wall0;
@@ -123,7 +133,9 @@ static int measure_round(output *outputs, size_t count, size_t bodies, double du
         }
         char path[512] = "/dev/null";
         if (out->extension != NULL) {
-            snprintf(path, sizeof path, "%s/bench_export.%s", directory, out->extension);
+            /* the process id: another bench_export at the same time writes its own file */
+            snprintf(path, sizeof path, "%s/bench_export-%ld.%s", directory, (long)getpid(),
+                     out->extension);
         }
         if (!measure(bodies, duration, o > 0 ? path : NULL, out->format, out->announce,
                      &out->cpu[r], &out->caller[r], &out->wall[r])) {
