@@ -3,8 +3,9 @@
 # .glb (examples/export_scene) and drawn by Blender headless (scripts/render_scene.py, Cycles
 # on the CPU, 16 samples, no denoising) twice: docs/images/<scene>.png, a 480 x 270 multiple
 # exposure of the motion (the Dzhanibekov handle as a film strip, as it stays in place), and
-# docs/images/<scene>.gif, the motion at 320 x 180, 12 pictures a simulated second played at
-# 12 a second (real time; runs over 6 s faster, 72 pictures), made from the pictures by ffmpeg.
+# docs/images/<scene>.gif, the motion at 480 x 270, 12 pictures a simulated second played at
+# 12 a second (real time; runs over 6 s faster, 72 pictures; the Dzhanibekov handle once a
+# turn of its spin), made from the pictures by ffmpeg.
 # Installs blender, NumPy for its Python and ffmpeg when missing (scripts/setup.sh).
 # About 10 minutes on 2 cores.
 #   scripts/render_examples.sh [BUILD_DIRECTORY] [--movie]   (--movie: also <scene>.mp4)
@@ -19,14 +20,15 @@ blender_render() { # render_scene.py's arguments
     blender -b --factory-startup --python scripts/render_scene.py -- "$@" 2>&1 |
         grep -E "^Error|Traceback" || true
 }
-render() { # scene, then render_scene.py options for the still
+render() { # scene, "render_scene.py options for the still", [options for the GIF's pictures]
     local name
     name=$(basename "$1" .json)
     "$build/examples/export_scene" "$1" "$build/renders/$name.glb" >/dev/null
-    shift
-    blender_render "$build/renders/$name.glb" "docs/images/$name" "${movie[@]}" "$@"
+    # shellcheck disable=SC2086 # the options are words
+    blender_render "$build/renders/$name.glb" "docs/images/$name" "${movie[@]}" $2
     rm -f "$build/renders/$name"-[0-9]*.png
-    blender_render "$build/renders/$name.glb" "$build/renders/$name" --frames 72 --width 320
+    # shellcheck disable=SC2086
+    blender_render "$build/renders/$name.glb" "$build/renders/$name" --width 480 ${3:---frames 72}
     # one palette for the whole animation (64 colours, ordered dither: small and steady)
     ffmpeg -loglevel error -y -framerate 12 -pattern_type glob \
         -i "$build/renders/$name-[0-9]*.png" \
@@ -35,10 +37,12 @@ render() { # scene, then render_scene.py options for the still
     echo "render: docs/images/$name.png ($(stat -c %s "docs/images/$name.png") bytes)," \
         "docs/images/$name.gif ($(stat -c %s "docs/images/$name.gif") bytes)"
 }
-render examples/scenes/tumbling_box.json --strobe 9
-render examples/scenes/dzhanibekov.json --strobe 13 --spread 0.1
-render examples/scenes/spring_chain.json --strobe 5
-render examples/scenes/sliding_block.json --strobe 6
-render examples/scenes/box_on_slope.json --still-time 5
-render examples/scenes/spinning_top.json --strobe 5
-render tests/scenes/shapes/every_shape.json --still-time 0.25
+render examples/scenes/tumbling_box.json "--strobe 9"
+# the handle spins at 20 rad/s: a picture a turn (2 pi / 20 s) holds the spin still, so the
+# flips of the spin axis show
+render examples/scenes/dzhanibekov.json "--strobe 13 --spread 0.1" "--every 0.3141593"
+render examples/scenes/spring_chain.json "--strobe 5"
+render examples/scenes/sliding_block.json "--strobe 6"
+render examples/scenes/box_on_slope.json "--still-time 5"
+render examples/scenes/spinning_top.json "--strobe 5"
+render tests/scenes/shapes/every_shape.json "--still-time 0.25"

@@ -9,7 +9,8 @@ bodies' whole path from above and to the side, a sun lights them, the world is l
 writes OUT_STEM.png (and OUT_STEM.mp4 with --movie, every frame up to 240, H.264). --frames N
 instead writes OUT_STEM-NNNN.png, the motion at 12 pictures a simulated second (real time at
 12 fps) or, for a run longer than N / 12 s, N pictures evenly over it: scripts/render_examples.sh
-makes them an animated GIF with ffmpeg. --strobe N
+makes them an animated GIF with ffmpeg. --every T takes the pictures every T simulated seconds
+instead (a stroboscope: at a spin's period the spin stands still and what else turns shows). --strobe N
 draws each body at N evenly spaced times in one still (a multiple exposure of the motion);
 --spread D moves the k-th copy by k D metres along x, a film strip of a body that stays put.
 """
@@ -27,7 +28,7 @@ import mathutils  # noqa: E402
 def arguments():
     argv = sys.argv[sys.argv.index("--") + 1:]
     options = {"--still-time": None, "--strobe": 0, "--spread": 0.0, "--width": 480, "--samples": 16,
-               "--movie": False, "--frames": 0}
+               "--movie": False, "--frames": 0, "--every": 0.0}
     positional = []
     while argv:
         item = argv.pop(0)
@@ -125,6 +126,17 @@ def set_up_render(scene, options):
     scene.render.film_transparent = False
 
 
+def render_every(scene, stem, seconds):
+    """A picture every `seconds` of simulated time (between Blender's frames if need be)."""
+    k = 0
+    while k * seconds * scene.render.fps <= scene.frame_end - scene.frame_start:
+        frame = scene.frame_start + k * seconds * scene.render.fps
+        scene.frame_set(int(frame), subframe=frame - int(frame))
+        scene.render.filepath = f"{stem}-{k:04d}.png"
+        bpy.ops.render.render(write_still=True)
+        k += 1
+
+
 def render_frames(scene, stem, count):
     """The motion as PNG pictures, 12 a simulated second (Blender's 24 frames a second: every
     second frame) or count of them evenly over a longer run."""
@@ -144,13 +156,18 @@ def main():
     objects = body_objects()
     start, end = (int(v) for v in bpy.data.actions[0].frame_range)
     scene.frame_start, scene.frame_end = start, end
-    if options["--strobe"] > 0 and options["--frames"] == 0:
+    if options["--strobe"] > 0 and options["--frames"] == 0 and options["--every"] == 0:
         copies = strobe(scene, objects, int(options["--strobe"]), options["--spread"])
         scene.frame_set(start)
         add_camera_and_light(scene, *motion_bounds(scene, copies, animated=False))
     else:
         add_camera_and_light(scene, *motion_bounds(scene, objects))
     set_up_render(scene, options)
+    if options["--every"] > 0:
+        scene.render.image_settings.file_format = "PNG"
+        scene.render.image_settings.color_mode = "RGB"
+        render_every(scene, stem, options["--every"])
+        return
     if options["--frames"] > 0:
         render_frames(scene, stem, int(options["--frames"]))
         return
