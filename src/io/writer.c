@@ -90,7 +90,7 @@ static tb_status check_def(const tb_writer_def *def, tb_error *error)
                              "def.rotation_keys: must be a tb_rotation_keys, got %d",
                              (int)def->rotation_keys);
     }
-    if (def->frame_count > UINT32_MAX) {
+    if (def->format == TB_OUTPUT_NPZ && def->frame_count > UINT32_MAX) {
         return tb__set_error(error, TB_STATUS_UNSUPPORTED,
                              "def.frame_count: %zu frames pass 4 GiB, which needs zip64",
                              def->frame_count);
