@@ -255,6 +255,10 @@ int cli_run_command(const cli_options *o)
         fprintf(stderr, "tumble: %s\n", message);
         code = CLI_EXIT_INPUT;
     }
+    size_t last_frame = 0; /* npz: known, the frames stream to the file during the run */
+    if (code == CLI_EXIT_OK && tb_run_frame_count(run.duration, run.fps, &last_frame, NULL) == 0) {
+        def.frame_count = last_frame + 1;
+    }
     if (code == CLI_EXIT_OK && def.format != TB_OUTPUT_CSV) {
         code = open_frames_writer(o, &def, scene, &w);
     } else if (code == CLI_EXIT_OK &&

@@ -35,7 +35,7 @@ install(FILES ${PROJECT_BINARY_DIR}/tumbleConfig.cmake
   ${PROJECT_BINARY_DIR}/tumbleConfigVersion.cmake DESTINATION ${TUMBLE_CMAKE_DIR})
 
 # pkg-config: a static library needs its dependencies on the link line (pkg-config --static).
-set(TUMBLE_PC_PRIVATE_LIBS "-lsundials_cvode -lsundials_nvecserial")
+set(TUMBLE_PC_PRIVATE_LIBS "-lsundials_cvode -lsundials_nvecserial ${CMAKE_THREAD_LIBS_INIT}")
 if(TUMBLE_OPENMP)
   foreach(library IN LISTS OpenMP_C_LIBRARIES)
     string(APPEND TUMBLE_PC_PRIVATE_LIBS " ${library}")

@@ -41,6 +41,13 @@ int main(int argc, char **argv)
         tb_scene_destroy(scene);
         return fail(argv[2], "extension must be .csv, .npz, .glb or .gltf");
     }
+    /* the number of frames, known before the run: the .npz writer then streams them */
+    size_t last_frame = 0;
+    if (tb_run_frame_count(run.duration, run.fps, &last_frame, &error) != TB_STATUS_OK) {
+        tb_scene_destroy(scene);
+        return fail(argv[1], error.message);
+    }
+    def.frame_count = last_frame + 1;
     tb_writer *writer = NULL;
     if (tb_writer_open(argv[2], &def, scene, &writer, &error) != TB_STATUS_OK) {
         tb_scene_destroy(scene);

@@ -1,11 +1,16 @@
 """Renders a tumble glTF export in Blender (headless, Cycles on the CPU, denoising off): a
-still PNG at a chosen time and, optionally, an MP4 of the motion. The camera looks at the
+still PNG at a chosen time, or (--frames) the frames of an animation, or an MP4 of the motion. The camera looks at the
 bodies' whole path from above and to the side, a sun lights them, the world is light grey.
 
     blender -b --factory-startup --python scripts/render_scene.py -- \
-        FILE.glb OUT_STEM [--still-time T | --strobe N] [--movie] [--width 480] [--samples 16]
+        FILE.glb OUT_STEM [--still-time T | --strobe N] [--frames N] [--movie] [--width 480]
+        [--samples 16]
 
-writes OUT_STEM.png (and OUT_STEM.mp4 with --movie, every frame up to 240, H.264). --strobe N
+writes OUT_STEM.png (and OUT_STEM.mp4 with --movie, every frame up to 240, H.264). --frames N
+instead writes OUT_STEM-NNNN.png, the motion at 12 pictures a simulated second (real time at
+12 fps) or, for a run longer than N / 12 s, N pictures evenly over it: scripts/render_examples.sh
+makes them an animated GIF with ffmpeg. --every T takes the pictures every T simulated seconds
+instead (a stroboscope: at a spin's period the spin stands still and what else turns shows). --strobe N
 draws each body at N evenly spaced times in one still (a multiple exposure of the motion);
 --spread D moves the k-th copy by k D metres along x, a film strip of a body that stays put.
 """
@@ -22,7 +27,8 @@ import mathutils  # noqa: E402
 
 def arguments():
     argv = sys.argv[sys.argv.index("--") + 1:]
-    options = {"--still-time": None, "--strobe": 0, "--spread": 0.0, "--width": 480, "--samples": 16, "--movie": False}
+    options = {"--still-time": None, "--strobe": 0, "--spread": 0.0, "--width": 480, "--samples": 16,
+               "--movie": False, "--frames": 0, "--every": 0.0}
     positional = []
     while argv:
         item = argv.pop(0)
@@ -89,7 +95,7 @@ def add_camera_and_light(scene, low, high):
     right, up = turn @ mathutils.Vector((1, 0, 0)), turn @ mathutils.Vector((0, 1, 0))
     half_width = math.atan(camera.data.sensor_width / 2 / camera.data.lens)
     half_height = math.atan(math.tan(half_width) * 9 / 16)
-    distance = 0.3
+    distance = 0.0  # as close as the bounds allow (a small body fills the picture)
     for corner in [mathutils.Vector((x, y, z)) for x in (low.x, high.x)
                    for y in (low.y, high.y) for z in (low.z, high.z)]:
         d = corner - centre
@@ -120,6 +126,28 @@ def set_up_render(scene, options):
     scene.render.film_transparent = False
 
 
+def render_every(scene, stem, seconds):
+    """A picture every `seconds` of simulated time (between Blender's frames if need be)."""
+    k = 0
+    while k * seconds * scene.render.fps <= scene.frame_end - scene.frame_start:
+        frame = scene.frame_start + k * seconds * scene.render.fps
+        scene.frame_set(int(frame), subframe=frame - int(frame))
+        scene.render.filepath = f"{stem}-{k:04d}.png"
+        bpy.ops.render.render(write_still=True)
+        k += 1
+
+
+def render_frames(scene, stem, count):
+    """The motion as PNG pictures, 12 a simulated second (Blender's 24 frames a second: every
+    second frame) or count of them evenly over a longer run."""
+    length = scene.frame_end - scene.frame_start
+    scene.frame_step = max(2, math.ceil(length / max(count - 1, 1)))
+    scene.render.image_settings.file_format = "PNG"
+    scene.render.image_settings.color_mode = "RGB"
+    scene.render.filepath = stem + "-"
+    bpy.ops.render.render(animation=True)
+
+
 def main():
     path, stem, options = arguments()
     bpy.ops.wm.read_factory_settings(use_empty=True)
@@ -128,13 +156,21 @@ def main():
     objects = body_objects()
     start, end = (int(v) for v in bpy.data.actions[0].frame_range)
     scene.frame_start, scene.frame_end = start, end
-    if options["--strobe"] > 0:
+    if options["--strobe"] > 0 and options["--frames"] == 0 and options["--every"] == 0:
         copies = strobe(scene, objects, int(options["--strobe"]), options["--spread"])
         scene.frame_set(start)
         add_camera_and_light(scene, *motion_bounds(scene, copies, animated=False))
     else:
         add_camera_and_light(scene, *motion_bounds(scene, objects))
     set_up_render(scene, options)
+    if options["--every"] > 0:
+        scene.render.image_settings.file_format = "PNG"
+        scene.render.image_settings.color_mode = "RGB"
+        render_every(scene, stem, options["--every"])
+        return
+    if options["--frames"] > 0:
+        render_frames(scene, stem, int(options["--frames"]))
+        return
     time = options["--still-time"]
     scene.frame_set(int(time * scene.render.fps) if time is not None else (start + end) // 2)
     scene.render.image_settings.file_format = "PNG"

@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # Installs the distribution packages tumble needs to build and test, if any are missing.
 # As root it installs them (apt-get); anyone else is told the exact command to run.
+#   scripts/setup.sh [EXTRA_PACKAGE...]   (extra ones for one script, e.g. blender)
 set -euo pipefail
 
 # clang with its sanitizer and libFuzzer runtimes (libclang-rt-dev: Debian 12 ships them apart
 # from clang) and OpenMP (SUNDIALS' CMake package asks for it): the clang build of the test
 # command and scripts/fuzz.sh.
-packages=(cmake ninja-build gcc g++ pkg-config libgsl-dev libsundials-dev libcmocka-dev libjansson-dev libccd-dev valgrind clang-format
-          python3 python3-venv python3-pip clang libclang-rt-dev libomp-dev)
+packages=(cmake ninja-build gcc g++ pkg-config libgsl-dev libsundials-dev libcmocka-dev libjansson-dev libccd-dev libdeflate-dev valgrind clang-format
+          python3 python3-venv python3-pip clang libclang-rt-dev libomp-dev "$@")
 
 if ! command -v dpkg-query >/dev/null 2>&1; then
     echo "setup: not a Debian-like system; make sure these are installed: ${packages[*]}" >&2

@@ -6,11 +6,12 @@ scripts/build.sh -DTUMBLE_WARNINGS_AS_ERRORS=ON
 ctest --test-dir build --output-on-failure -j "$(nproc)"
 # The exports read back by NumPy, pygltflib and the Khronos glTF validator (installs them).
 scripts/test_export.sh build
-# Blender imports every example's .glb (its own script: Blender is big; run when installed).
-if command -v blender >/dev/null 2>&1; then
-    scripts/test_blender.sh build
+# Blender imports every example's .glb (installs Debian's Blender when missing: ~70 s, then ~40 s
+# of checks). TUMBLE_SKIP_BLENDER=1 leaves it out (say so when reporting a run).
+if [ "${TUMBLE_SKIP_BLENDER:-0}" = 1 ]; then
+    echo "test: TUMBLE_SKIP_BLENDER=1: scripts/test_blender.sh not run" >&2
 else
-    echo "test: blender not installed, skipping scripts/test_blender.sh" >&2
+    scripts/test_blender.sh build
 fi
 
 # A shared libtumble: the install consumers against it, and the Python bindings' tests.

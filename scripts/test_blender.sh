@@ -2,12 +2,13 @@
 # Blender (headless) imports every example scene's .glb; each body's world position and
 # rotation at every key frame must match the run within 1e-4 m and 0.1 degree
 # (tests/export/blender_check.py). The fast tumble is also measured between keys, with
-# CUBICSPLINE and LINEAR keys, and the figures printed. Blender is big and slow to start, so
-# this is its own script, which scripts/test.sh calls only when `blender` is installed
-# (Debian: apt-get install blender python3-numpy).
+# CUBICSPLINE and LINEAR keys, and the figures printed. scripts/test.sh calls it; it installs
+# Debian's Blender 3.4 and NumPy for its Python when they are missing (scripts/setup.sh: as
+# root with apt-get, about 70 s on a fresh machine; the checks take about 40 s).
 #   scripts/test_blender.sh [BUILD_DIRECTORY]     (default build; needs examples/export_scene)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+scripts/setup.sh blender python3-numpy
 build=${1:-build}
 out="$build/blender-check"
 mkdir -p "$out"

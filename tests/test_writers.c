@@ -11,6 +11,7 @@
 
 #include "tumble/tumble.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -407,6 +408,189 @@ static void test_glb_is_one_json_chunk_and_one_binary_chunk(void **state)
     }
 }
 
+/* The whole of a file (NULL if it cannot be read); its size in *size. */
+static unsigned char *read_all(const char *path, long *size)
+{
+    *size = file_size(path);
+    FILE *file = fopen(path, "rb");
+    unsigned char *data = *size >= 0 && file != NULL ? malloc((size_t)*size + 1) : NULL;
+    if (data != NULL && fread(data, 1, (size_t)*size, file) != (size_t)*size) {
+        free(data);
+        data = NULL;
+    }
+    if (file != NULL) {
+        fclose(file);
+    }
+    return data;
+}
+
+static void assert_same_file(const char *a, const char *b)
+{
+    long size_a = 0, size_b = 0;
+    unsigned char *data_a = read_all(a, &size_a), *data_b = read_all(b, &size_b);
+    assert_non_null(data_a);
+    assert_non_null(data_b);
+    assert_int_equal(size_a, size_b);
+    assert_memory_equal(data_a, data_b, (size_t)size_a);
+    free(data_a);
+    free(data_b);
+}
+
+/* Feeds two writers: one streaming (the frame count announced), one keeping the frames. */
+typedef struct two_writers {
+    tb_writer *streamed, *kept;
+} two_writers;
+
+static int feed_both(size_t frame, double t, const tb_scene *scene, void *ctx)
+{
+    two_writers *w = ctx;
+    return tb_writer_on_frame(frame, t, scene, w->streamed) |
+           tb_writer_on_frame(frame, t, scene, w->kept);
+}
+
+static void open_npz(const char *path, size_t frame_count, const tb_scene *scene, tb_writer **out)
+{
+    tb_writer_def def = tb_writer_def_default();
+    def.format = TB_OUTPUT_NPZ;
+    def.frame_count = frame_count;
+    assert_int_equal(tb_writer_open(path, &def, scene, out, NULL), TB_STATUS_OK);
+}
+
+/* Frame k of the two bodies: values that differ in every frame, body and component, and a
+ * unit quaternion turning about z. */
+static void frame_values(size_t k, double values[26])
+{
+    for (size_t id = 0; id < 2; ++id) {
+        double *s = values + 13 * id;
+        const double angle = 0.01 * (double)k + 0.3 * (double)id;
+        for (int c = 0; c < 13; ++c) {
+            s[c] = 1.0 / (1.0 + (double)k) + 0.1 * c - (double)id;
+        }
+        s[3] = cos(angle), s[4] = 0, s[5] = 0, s[6] = sin(angle);
+    }
+}
+
+/* Streamed by the writer's thread or kept in memory until close, the .npz is the same file
+ * byte for byte (NumPy reads both back bit for bit: tests/export for the streamed files of
+ * every example, the Python tests for kept ones). A run's frames (read out of the scene into
+ * the stream's block), and 12 000 frames given as values, more than one block of the stream
+ * holds (about 1 MiB, 4854 frames of 2 bodies), so blocks take turns and the last is partial. */
+static void test_npz_streamed_is_the_npz_kept_byte_for_byte(void **state)
+{
+    (void)state;
+    tb_run_def run;
+    tb_scene *scene = load(&run);
+    size_t last = 0;
+    assert_int_equal(tb_run_frame_count(run.duration, run.fps, &last, NULL), TB_STATUS_OK);
+    two_writers w;
+    open_npz(DIRECTORY "writers_streamed.npz", last + 1, scene, &w.streamed);
+    open_npz(DIRECTORY "writers_kept.npz", 0, scene, &w.kept);
+    assert_int_equal(tb_scene_run(scene, &run, feed_both, &w, NULL, NULL), TB_STATUS_OK);
+    assert_int_equal(tb_writer_close(w.streamed, NULL), TB_STATUS_OK);
+    assert_int_equal(tb_writer_close(w.kept, NULL), TB_STATUS_OK);
+    assert_same_file(DIRECTORY "writers_streamed.npz", DIRECTORY "writers_kept.npz");
+
+    const size_t frames = 12000;
+    open_npz(DIRECTORY "writers_streamed.npz", frames, scene, &w.streamed);
+    open_npz(DIRECTORY "writers_kept.npz", 0, scene, &w.kept);
+    double values[26];
+    for (size_t k = 0; k < frames; ++k) {
+        frame_values(k, values);
+        assert_int_equal(tb_writer_frame_values(w.streamed, 0.01 * (double)k, values), 0);
+        assert_int_equal(tb_writer_frame_values(w.kept, 0.01 * (double)k, values), 0);
+    }
+    assert_int_equal(tb_writer_close(w.streamed, NULL), TB_STATUS_OK);
+    assert_int_equal(tb_writer_close(w.kept, NULL), TB_STATUS_OK);
+    assert_same_file(DIRECTORY "writers_streamed.npz", DIRECTORY "writers_kept.npz");
+    assert_true(file_size(DIRECTORY "writers_kept.npz") > (long)(frames * 26 * sizeof(double)));
+    tb_scene_destroy(scene);
+}
+
+/* The announced frame count holds: one frame more is refused and changes nothing, fewer
+ * frames fail close and leave no file; a count past what zip without zip64 holds is refused
+ * at open. */
+static void test_npz_frame_count_is_held_to(void **state)
+{
+    (void)state;
+    tb_run_def run;
+    tb_scene *scene = load(&run);
+    const char *path = DIRECTORY "writers_count.npz";
+    remove(path);
+    tb_writer *writer = NULL;
+    tb_error error;
+    double values[26];
+    frame_values(0, values);
+    open_npz(path, 2, scene, &writer);
+    assert_int_equal(tb_writer_frame_values(writer, 0.0, values), TB_STATUS_OK);
+    assert_int_equal(tb_writer_close(writer, &error), TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(strstr(error.message, "announced 2 frames, 1 came"));
+    assert_int_equal(file_size(path), -1);
+    open_npz(path, 1, scene, &writer);
+    assert_int_equal(tb_writer_frame_values(writer, 0.0, values), TB_STATUS_OK);
+    assert_int_equal(tb_writer_frame(writer, 0.5, scene), TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(strstr(tb_writer_detail(writer), "one frame more than the 1"));
+    assert_int_equal(tb_writer_frame_count(writer), 1);
+    assert_int_equal(tb_writer_close(writer, NULL), TB_STATUS_OK);
+    assert_true(file_size(path) > 0);
+    tb_writer_def def = tb_writer_def_default();
+    def.format = TB_OUTPUT_NPZ;
+    def.frame_count = (size_t)UINT32_MAX + 1;
+    assert_int_equal(tb_writer_open(path, &def, scene, &writer, &error), TB_STATUS_UNSUPPORTED);
+    assert_null(writer);
+    def.frame_count = 40000000; /* 2 bodies: 8.3 GB */
+    assert_int_equal(tb_writer_open(path, &def, scene, &writer, &error), TB_STATUS_UNSUPPORTED);
+    assert_non_null(strstr(error.message, "zip64"));
+    assert_null(writer);
+    assert_true(file_size(path) > 0); /* the finished file before is left as it was */
+    tb_scene_destroy(scene);
+}
+
+/* The disk fills while the writer's thread writes: the failure comes back as IO_ERROR with the
+ * system's reason, from the frame that hands over the next block, from every call after it and
+ * from close; never as success. */
+static void test_a_failed_streamed_write_is_reported_with_its_reason(void **state)
+{
+    (void)state;
+    if (file_size("/dev/full") < 0) {
+        skip();
+    }
+    tb_run_def run;
+    tb_scene *scene = load(&run);
+    tb_writer *writer = NULL;
+    tb_error error;
+    open_npz("/dev/full", 12000, scene, &writer);
+    double values[26];
+    tb_status status = TB_STATUS_OK;
+    size_t k = 0;
+    for (; k < 12000 && status == TB_STATUS_OK; ++k) {
+        frame_values(k, values);
+        status = tb_writer_frame_values(writer, 0.01 * (double)k, values);
+    }
+    assert_int_equal(status, TB_STATUS_IO_ERROR);
+    assert_true(k < 12000);
+    assert_non_null(strstr(tb_writer_detail(writer), "/dev/full: write failed"));
+    assert_non_null(strstr(tb_writer_detail(writer), strerror(ENOSPC)));
+    assert_int_equal(tb_writer_frame_values(writer, 0.01 * (double)k, values), TB_STATUS_IO_ERROR);
+    assert_int_equal(tb_writer_close(writer, &error), TB_STATUS_IO_ERROR);
+    assert_non_null(strstr(error.message, strerror(ENOSPC)));
+    /* a short run, all in the first block: the failure shows at close */
+    open_npz("/dev/full", 3, scene, &writer);
+    for (k = 0; k < 3; ++k) {
+        frame_values(k, values);
+        assert_int_equal(tb_writer_frame_values(writer, 0.01 * (double)k, values), TB_STATUS_OK);
+    }
+    assert_int_equal(tb_writer_close(writer, &error), TB_STATUS_IO_ERROR);
+    assert_non_null(strstr(error.message, strerror(ENOSPC)));
+    /* abandoned while its thread may still be writing */
+    open_npz("/dev/null", 12000, scene, &writer);
+    for (k = 0; k < 6000; ++k) {
+        frame_values(k, values);
+        assert_int_equal(tb_writer_frame_values(writer, 0.01 * (double)k, values), TB_STATUS_OK);
+    }
+    tb_writer_destroy(writer);
+    tb_scene_destroy(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -420,6 +604,9 @@ int main(void)
         cmocka_unit_test(test_an_unfinished_file_never_replaces_the_old_one),
         cmocka_unit_test(test_glb_is_one_json_chunk_and_one_binary_chunk),
         cmocka_unit_test(test_one_frame_glb_is_a_still),
+        cmocka_unit_test(test_npz_streamed_is_the_npz_kept_byte_for_byte),
+        cmocka_unit_test(test_npz_frame_count_is_held_to),
+        cmocka_unit_test(test_a_failed_streamed_write_is_reported_with_its_reason),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

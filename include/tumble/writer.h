@@ -53,6 +53,13 @@ typedef struct tb_writer_def {
      * current directory). */
     const char *scene_text;
     const char *base_directory;
+    /* npz only: the number of frames that will come, if known (0, the default: not known). A
+     * run of tb_scene_run makes 1 + the number tb_run_frame_count gives. Known, the frames are
+     * not kept: they go to the file as they come, written by a thread of the writer while the
+     * caller computes the next ones (the thread touches only the writer's copies of the frames
+     * and the file, never the scene); one frame more is refused, fewer fail tb_writer_close
+     * (TB_STATUS_INVALID_ARGUMENT both). Into a file that cannot seek (a pipe) they are kept. */
+    size_t frame_count;
     int internal_cookie; /* set by tb_writer_def_default */
 } tb_writer_def;
 
@@ -81,8 +88,10 @@ TB_API tb_status tb_writer_open(const char *path, const tb_writer_def *def, cons
                                 tb_writer **out_writer, tb_error *out_error);
 
 /* Adds the scene's current states as the frame at time t (s). Frames come in increasing t,
- * from a scene with the writer's body count (else TB_STATUS_INVALID_ARGUMENT, nothing
- * added). A write that fails gives TB_STATUS_IO_ERROR, and every later call the same. */
+ * from a scene with the writer's body count, at most def.frame_count of them when it was given
+ * (else TB_STATUS_INVALID_ARGUMENT, nothing added). A write that fails gives
+ * TB_STATUS_IO_ERROR, and every later call the same (a streamed npz's thread reports its
+ * failure to the call that hands it the next block of frames, or to tb_writer_close). */
 TB_API tb_status tb_writer_frame(tb_writer *writer, double t, const tb_scene *scene);
 
 /* Adds a frame from values the caller holds (a run recorded in memory, another simulator):
@@ -104,9 +113,11 @@ TB_API const char *tb_writer_detail(const tb_writer *writer);
 /* Number of frames added so far. */
 TB_API size_t tb_writer_frame_count(const tb_writer *writer);
 
-/* Finishes the file (npz and glTF are written now, from the frames kept in memory), puts it
- * at its path and frees the writer, also on failure (then no file is left behind and
- * out_error, may be NULL, says why). An earlier failed write makes close fail the same way. */
+/* Finishes the file (glTF, and npz without a frame count, are written now from the frames kept
+ * in memory; a streamed npz gets its last frames, headers and directory), puts it at its path
+ * and frees the writer, also on failure (then no file is left behind and out_error, may be
+ * NULL, says why). An earlier failed write makes close fail the same way; so do fewer frames
+ * than def.frame_count announced (TB_STATUS_INVALID_ARGUMENT). */
 TB_API tb_status tb_writer_close(tb_writer *writer, tb_error *out_error);
 
 /* Frees the writer without finishing its file (which is removed); accepts NULL. */

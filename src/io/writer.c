@@ -1,6 +1,6 @@
 /* Writers: choosing a format, opening the file, taking frames, finishing the file whole. */
-#define _POSIX_C_SOURCE 200809L /* stat, strdup */
-#include "io/writer_internal.h"
+#define _POSIX_C_SOURCE 200809L /* stat, lseek */
+#include "io/writer_npz_internal.h"
 
 #include "core/detail.h"
 #include "math/tb_math.h"
@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #define TB__WRITER_COOKIE 0x77726974
 
@@ -89,6 +90,11 @@ static tb_status check_def(const tb_writer_def *def, tb_error *error)
                              "def.rotation_keys: must be a tb_rotation_keys, got %d",
                              (int)def->rotation_keys);
     }
+    if (def->format == TB_OUTPUT_NPZ && def->frame_count > UINT32_MAX) {
+        return tb__set_error(error, TB_STATUS_UNSUPPORTED,
+                             "def.frame_count: %zu frames pass 4 GiB, which needs zip64",
+                             def->frame_count);
+    }
     if (def->scene_file != NULL && def->scene_text != NULL) {
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
                              "def.scene_file and def.scene_text: give one or neither");
@@ -150,6 +156,11 @@ static tb_status open_file(tb_writer *w, const char *path, tb_error *error)
                              strerror(errno));
     }
     status = w->format == TB_OUTPUT_CSV ? tb__csv_header(w) : TB_STATUS_OK;
+    /* npz of a known length into a file that can seek: streamed; else kept until close */
+    if (status == TB_STATUS_OK && w->announced_frames > 0 &&
+        lseek(fileno(w->file), 0, SEEK_CUR) != -1) {
+        status = tb__npz_stream_open(w, w->announced_frames);
+    }
     return status == TB_STATUS_OK ? status : tb__set_error(error, status, "%s", w->detail);
 }
 
@@ -179,6 +190,7 @@ tb_status tb_writer_open(const char *path, const tb_writer_def *def, const tb_sc
     w->format = def->format;
     w->rotation_keys = def->rotation_keys;
     w->last_t = -INFINITY;
+    w->announced_frames = def->format == TB_OUTPUT_NPZ ? def->frame_count : 0;
     status = take_scene(w, def, scene, out_error);
     if (status == TB_STATUS_OK) {
         status = open_file(w, path, out_error);
@@ -191,7 +203,8 @@ tb_status tb_writer_open(const char *path, const tb_writer_def *def, const tb_sc
     return TB_STATUS_OK;
 }
 
-static tb_status check_frame(tb_writer *w, double t, const tb_scene *scene)
+/* t after the last frame's, and room for one more frame than came (npz: of those announced). */
+static tb_status check_time(tb_writer *w, double t)
 {
     if (!isfinite(t)) {
         return tb__set_detail(w->detail, TB_STATUS_NOT_FINITE, "t: must be finite, got %g", t);
@@ -201,32 +214,63 @@ static tb_status check_frame(tb_writer *w, double t, const tb_scene *scene)
                               "t: must be after the previous frame's %.17g s, got %.17g", w->last_t,
                               t);
     }
-    if (tb_scene_body_count(scene) != w->body_count) {
+    if (w->announced_frames > 0 && w->frame_count == w->announced_frames) {
         return tb__set_detail(w->detail, TB_STATUS_INVALID_ARGUMENT,
-                              "scene: has %zu bodies, the writer was opened for %zu",
-                              tb_scene_body_count(scene), w->body_count);
+                              "t = %.17g s: one frame more than the %zu def.frame_count announced",
+                              t, w->announced_frames);
     }
     return TB_STATUS_OK;
 }
 
-/* The checked frame into the file (CSV) or the kept frames (npz, glTF). */
-static tb_status add_frame(tb_writer *writer, double t, const double *values)
+/* Where the next frame goes (npz, glTF): the stream's block, or the frames kept. */
+static tb_status frame_slot(tb_writer *w, double **parts)
 {
-    tb_status status;
-    if (writer->format == TB_OUTPUT_CSV) {
-        status = tb__csv_frame(writer, t, values);
-    } else {
-        status = tb__frames_append(&writer->frames, t, values);
-        if (status != TB_STATUS_OK) {
-            tb__set_detail(writer->detail, status, "frame %zu: no memory for %zu bodies",
-                           writer->frame_count, writer->body_count);
-        }
+    if (w->stream != NULL) {
+        return tb__npz_stream_slot(w, parts);
     }
-    if (status == TB_STATUS_OK) {
-        writer->last_t = t;
-        writer->frame_count++;
+    const tb_status status = tb__frames_slot(&w->frames, parts);
+    if (status != TB_STATUS_OK) {
+        tb__set_detail(w->detail, status, "frame %zu: no memory for %zu bodies", w->frame_count,
+                       w->body_count);
     }
     return status;
+}
+
+static void frame_done(tb_writer *w, double t, double **parts)
+{
+    if (w->format != TB_OUTPUT_CSV) {
+        parts[0][0] = t;
+    }
+    if (w->stream != NULL) {
+        tb__npz_stream_commit(w);
+    } else if (w->format != TB_OUTPUT_CSV) {
+        w->frames.count++;
+    }
+    w->last_t = t;
+    w->frame_count++;
+}
+
+/* A frame's values (13 doubles a body) into the file (CSV) or to their place (npz, glTF). */
+static tb_status add_values(tb_writer *w, double t, const double *values)
+{
+    double *parts[TB__NPZ_FLOATS] = {w->values};
+    tb_status status =
+        w->format == TB_OUTPUT_CSV ? tb__csv_frame(w, t, values) : frame_slot(w, parts);
+    if (status != TB_STATUS_OK || w->format == TB_OUTPUT_CSV) {
+        if (status == TB_STATUS_OK) {
+            frame_done(w, t, parts);
+        }
+        return status;
+    }
+    for (size_t id = 0; id < w->body_count; ++id) {
+        const double *s = values + 13 * id;
+        memcpy(parts[1] + 3 * id, s, 3 * sizeof(double));
+        memcpy(parts[2] + 4 * id, s + 3, 4 * sizeof(double));
+        memcpy(parts[3] + 3 * id, s + 7, 3 * sizeof(double));
+        memcpy(parts[4] + 3 * id, s + 10, 3 * sizeof(double));
+    }
+    frame_done(w, t, parts);
+    return TB_STATUS_OK;
 }
 
 tb_status tb_writer_frame(tb_writer *writer, double t, const tb_scene *scene)
@@ -241,12 +285,18 @@ tb_status tb_writer_frame(tb_writer *writer, double t, const tb_scene *scene)
     if (scene == NULL) {
         return tb__set_detail(writer->detail, TB_STATUS_NULL_POINTER, "scene: is NULL");
     }
-    tb_status status = check_frame(writer, t, scene);
+    tb_status status = check_time(writer, t);
+    if (status == TB_STATUS_OK && tb_scene_body_count(scene) != writer->body_count) {
+        status = tb__set_detail(writer->detail, TB_STATUS_INVALID_ARGUMENT,
+                                "scene: has %zu bodies, the writer was opened for %zu",
+                                tb_scene_body_count(scene), writer->body_count);
+    }
     if (status != TB_STATUS_OK) {
         return status;
     }
+    /* one library call reads the whole frame (shape-origin pose, velocity, omega) */
     tb_scene_frame_values(scene, tb_scene_states_const(scene), writer->values);
-    return add_frame(writer, t, writer->values);
+    return add_values(writer, t, writer->values);
 }
 
 /* Finite values, and unit quaternions (to 1e-6: what a double-precision run keeps). */
@@ -283,16 +333,11 @@ tb_status tb_writer_frame_values(tb_writer *writer, double t, const double *valu
     if (values == NULL) {
         return tb__set_detail(writer->detail, TB_STATUS_NULL_POINTER, "values: is NULL");
     }
-    if (!isfinite(t)) {
-        return tb__set_detail(writer->detail, TB_STATUS_NOT_FINITE, "t: must be finite, got %g", t);
+    tb_status status = check_time(writer, t);
+    if (status == TB_STATUS_OK) {
+        status = check_values(writer, values);
     }
-    if (!(t > writer->last_t)) {
-        return tb__set_detail(writer->detail, TB_STATUS_INVALID_ARGUMENT,
-                              "t: must be after the previous frame's %.17g s, got %.17g",
-                              writer->last_t, t);
-    }
-    const tb_status status = check_values(writer, values);
-    return status == TB_STATUS_OK ? add_frame(writer, t, values) : status;
+    return status == TB_STATUS_OK ? add_values(writer, t, values) : status;
 }
 
 int tb_writer_on_frame(size_t frame, double t, const tb_scene *scene, void *writer)
@@ -313,6 +358,8 @@ size_t tb_writer_frame_count(const tb_writer *writer)
 
 static void release(tb_writer *w, bool remove_file)
 {
+    tb__npz_stream_free(w->stream); /* before the file closes: its thread may be writing */
+    w->stream = NULL;
     if (w->file != NULL) {
         fclose(w->file);
     }
@@ -335,7 +382,14 @@ tb_status tb_writer_close(tb_writer *writer, tb_error *out_error)
         return tb__set_error(out_error, TB_STATUS_NULL_POINTER, "writer: is NULL");
     }
     tb_status status = writer->failed;
-    if (status == TB_STATUS_OK && writer->format == TB_OUTPUT_NPZ) {
+    if (status == TB_STATUS_OK && writer->frame_count != writer->announced_frames &&
+        writer->announced_frames > 0) {
+        status = tb__set_detail(writer->detail, TB_STATUS_INVALID_ARGUMENT,
+                                "%s: def.frame_count announced %zu frames, %zu came", writer->path,
+                                writer->announced_frames, writer->frame_count);
+    } else if (status == TB_STATUS_OK && writer->stream != NULL) {
+        status = tb__npz_stream_finish(writer);
+    } else if (status == TB_STATUS_OK && writer->format == TB_OUTPUT_NPZ) {
         status = tb__npz_write(writer);
     } else if (status == TB_STATUS_OK && writer->format != TB_OUTPUT_CSV) {
         status = tb__gltf_write(writer);

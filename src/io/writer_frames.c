@@ -45,22 +45,18 @@ static tb_status reserve(tb__frames *f)
     return TB_STATUS_OK;
 }
 
-tb_status tb__frames_append(tb__frames *f, double t, const double *values)
+tb_status tb__frames_slot(tb__frames *f, double **out_parts)
 {
     const tb_status status = reserve(f);
     if (status != TB_STATUS_OK) {
         return status;
     }
     const size_t n = f->body_count, k = f->count;
-    f->t[k] = t;
-    for (size_t id = 0; id < n; ++id) {
-        const double *s = values + 13 * id;
-        memcpy(f->position + 3 * (k * n + id), s, 3 * sizeof(double));
-        memcpy(f->orientation + 4 * (k * n + id), s + 3, 4 * sizeof(double));
-        memcpy(f->velocity + 3 * (k * n + id), s + 7, 3 * sizeof(double));
-        memcpy(f->angular_velocity + 3 * (k * n + id), s + 10, 3 * sizeof(double));
-    }
-    f->count = k + 1;
+    out_parts[0] = f->t + k;
+    out_parts[1] = f->position + 3 * n * k;
+    out_parts[2] = f->orientation + 4 * n * k;
+    out_parts[3] = f->velocity + 3 * n * k;
+    out_parts[4] = f->angular_velocity + 3 * n * k;
     return TB_STATUS_OK;
 }
 

@@ -19,6 +19,9 @@ typedef struct tb__frames {
     double *angular_velocity; /* [count][body_count][3] world, rad/s */
 } tb__frames;
 
+/* npz frames streamed to the file as they come (writer_npz_stream.c). */
+typedef struct tb__npz_stream tb__npz_stream;
+
 /* What each body looks like (glTF). Sizes in the shape frame, m. */
 typedef enum tb__shape_kind {
     TB__SHAPE_INERTIA = 0, /* no shape given: the ellipsoid of equal mass and inertia */
@@ -60,9 +63,11 @@ struct tb_writer {
     char *path;         /* where the file ends up */
     char *written_path; /* where it is written: "<path>.partial", or path itself */
     FILE *file;
-    tb__frames frames; /* npz, glTF */
-    double *values;    /* [13 * body_count]: one frame's read-outs from the scene */
-    tb__looks looks;   /* glTF */
+    tb__frames frames;       /* npz, glTF: kept in memory until close */
+    tb__npz_stream *stream;  /* npz with a known frame count, into a file that can seek */
+    size_t announced_frames; /* npz: def.frame_count, 0 if not known */
+    double *values;          /* [13 * body_count]: one frame's read-outs from the scene */
+    tb__looks looks;         /* glTF */
     double last_t;
     size_t frame_count;
     tb_status failed; /* a write failed: every later call reports it */
@@ -70,8 +75,9 @@ struct tb_writer {
 };
 
 tb_status tb__frames_init(tb__frames *frames, size_t body_count);
-/* Appends a frame of body_count x 13 values (position, orientation, velocity, omega). */
-tb_status tb__frames_append(tb__frames *frames, double t, const double *values);
+/* The place of the next frame (room made for it): t[1], position[3 n], orientation[4 n],
+ * velocity[3 n], angular_velocity[3 n]; TB_STATUS_OUT_OF_MEMORY. frames->count++ takes it. */
+tb_status tb__frames_slot(tb__frames *frames, double **out_parts);
 void tb__frames_free(tb__frames *frames);
 
 /* "path: what failed: strerror" into the writer's detail; returns TB_STATUS_IO_ERROR. */

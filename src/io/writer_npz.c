@@ -1,31 +1,16 @@
 /* Writers: NumPy .npz, written without NumPy: a zip archive of stored (uncompressed) .npy
  * files, format version 1.0 (numpy.lib.format). The arrays are in the byte order of the
  * machine that wrote them, which their headers state ('<f8' on x86 and ARM). */
-#include "io/writer_internal.h"
+#include "io/writer_npz_internal.h"
 
 #include "core/detail.h"
+
+#include <libdeflate.h>
 
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* One .npy member: a header naming dtype and shape, then the data. */
-typedef struct npy_array {
-    const char *name; /* member "<name>.npy" */
-    char descr[32];   /* dtype, e.g. "<f8", "<U12" */
-    size_t shape[3];  /* dimensions, rank of them used */
-    int rank;         /* 0 for a scalar */
-    const void *data; /* row-major */
-    size_t data_size; /* bytes */
-} npy_array;
-
-/* A zip member's place in the file, for the central directory. */
-typedef struct zip_entry {
-    char name[32];
-    uint32_t crc, size, offset;
-} zip_entry;
-
-#define TB__NPZ_MEMBERS 10
 #define TB__DOS_DATE ((1u << 5) | 1u) /* 1980-01-01, the first date zip can say */
 
 static bool little_endian(void)
@@ -34,44 +19,9 @@ static bool little_endian(void)
     return *(const unsigned char *)&probe == 1;
 }
 
-/* CRC-32 of zip (reflected polynomial 0xEDB88320), eight bytes a step ("slicing by 8"):
- * table[k][b] is the CRC of byte b followed by k zero bytes. */
-typedef struct crc_tables {
-    uint32_t table[8][256];
-} crc_tables;
-
-static void crc_tables_init(crc_tables *c)
+uint32_t tb__crc32_update(uint32_t crc, const void *data, size_t size)
 {
-    for (uint32_t b = 0; b < 256; ++b) {
-        uint32_t crc = b;
-        for (int bit = 0; bit < 8; ++bit) {
-            crc = crc & 1 ? (crc >> 1) ^ 0xEDB88320u : crc >> 1;
-        }
-        c->table[0][b] = crc;
-    }
-    for (uint32_t b = 0; b < 256; ++b) {
-        for (int k = 1; k < 8; ++k) {
-            const uint32_t previous = c->table[k - 1][b];
-            c->table[k][b] = (previous >> 8) ^ c->table[0][previous & 0xff];
-        }
-    }
-}
-
-static uint32_t crc32_update(const crc_tables *c, uint32_t crc, const void *data, size_t size)
-{
-    const unsigned char *p = data;
-    crc = ~crc;
-    for (; size >= 8; size -= 8, p += 8) {
-        const uint32_t low = crc ^ ((uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 |
-                                    (uint32_t)p[3] << 24);
-        crc = c->table[7][low & 0xff] ^ c->table[6][(low >> 8) & 0xff] ^
-              c->table[5][(low >> 16) & 0xff] ^ c->table[4][low >> 24] ^ c->table[3][p[4]] ^
-              c->table[2][p[5]] ^ c->table[1][p[6]] ^ c->table[0][p[7]];
-    }
-    for (; size > 0; --size, ++p) {
-        crc = (crc >> 8) ^ c->table[0][(crc ^ *p) & 0xff];
-    }
-    return ~crc;
+    return size == 0 ? crc : libdeflate_crc32(crc, data, size);
 }
 
 static void put16(unsigned char *p, unsigned v)
@@ -88,7 +38,7 @@ static void put32(unsigned char *p, uint32_t v)
 
 /* The header: magic, version 1.0, length, then the dict padded with spaces to a multiple of
  * 64 bytes and ended by '\n' (numpy.lib.format's alignment). Returns its length. */
-static size_t npy_header(const npy_array *a, char *out, size_t size)
+size_t tb__npy_header(const tb__npy_array *a, char *out, size_t size)
 {
     char shape[96] = "";
     for (int k = 0; k < a->rank; ++k) {
@@ -124,24 +74,29 @@ static tb_status write_bytes(tb_writer *w, const void *data, size_t size)
                : tb__writer_io_failure(w, "write failed");
 }
 
-/* Local file header (stored, no data descriptor: the CRC is known before the data). */
-static tb_status write_member(tb_writer *w, const crc_tables *crc, const npy_array *a,
-                              zip_entry *entry, uint32_t *offset)
+tb_status tb__npz_member_layout(tb_writer *w, const tb__npy_array *a, uint32_t offset,
+                                tb__zip_entry *entry, char *header, size_t *out_head_size)
 {
-    char header[256];
-    const size_t header_size = npy_header(a, header, sizeof header);
+    const size_t header_size = tb__npy_header(a, header, TB__NPY_HEADER_MAX);
     const uint64_t size = (uint64_t)header_size + a->data_size;
-    if (size > UINT32_MAX - 1024 || (uint64_t)*offset + size + 1024 > UINT32_MAX) {
+    if (size > UINT32_MAX - 1024 || (uint64_t)offset + size + 1024 > UINT32_MAX) {
         return tb__set_detail(w->detail, TB_STATUS_UNSUPPORTED,
                               "%s: %s.npy: over 4 GiB needs zip64, which this writer does not "
                               "write; write fewer frames or bodies per file",
                               w->path, a->name);
     }
     snprintf(entry->name, sizeof entry->name, "%s.npy", a->name);
-    entry->crc =
-        crc32_update(crc, crc32_update(crc, 0, header, header_size), a->data, a->data_size);
     entry->size = (uint32_t)size;
-    entry->offset = *offset;
+    entry->offset = offset;
+    *out_head_size = header_size;
+    return TB_STATUS_OK;
+}
+
+/* Local file header (stored, no data descriptor: the CRC is known before the header is
+ * written), the member's name and its .npy header. */
+tb_status tb__npz_write_head(tb_writer *w, const tb__zip_entry *entry, const char *header,
+                             size_t header_size)
+{
     const size_t name_length = strlen(entry->name);
     unsigned char local[30] = {0x50, 0x4b, 0x03, 0x04};
     put16(local + 4, 20); /* version needed: 2.0 */
@@ -154,17 +109,29 @@ static tb_status write_member(tb_writer *w, const crc_tables *crc, const npy_arr
     if (status == TB_STATUS_OK) {
         status = write_bytes(w, entry->name, name_length);
     }
-    if (status == TB_STATUS_OK) {
-        status = write_bytes(w, header, header_size);
+    return status == TB_STATUS_OK ? write_bytes(w, header, header_size) : status;
+}
+
+/* A member whose data is in memory, at the file's position (offset into the archive). */
+static tb_status write_member(tb_writer *w, const tb__npy_array *a, tb__zip_entry *entry,
+                              uint32_t *offset)
+{
+    char header[TB__NPY_HEADER_MAX];
+    size_t header_size = 0;
+    tb_status status = tb__npz_member_layout(w, a, *offset, entry, header, &header_size);
+    if (status != TB_STATUS_OK) {
+        return status;
     }
+    entry->crc = tb__crc32_update(tb__crc32_update(0, header, header_size), a->data, a->data_size);
+    status = tb__npz_write_head(w, entry, header, header_size);
     if (status == TB_STATUS_OK) {
         status = write_bytes(w, a->data, a->data_size);
     }
-    *offset += (uint32_t)(sizeof local + name_length + size);
+    *offset += (uint32_t)(30 + strlen(entry->name) + entry->size);
     return status;
 }
 
-static tb_status write_directory(tb_writer *w, const zip_entry *entries, size_t count,
+static tb_status write_directory(tb_writer *w, const tb__zip_entry *entries, size_t count,
                                  uint32_t offset)
 {
     uint32_t directory_size = 0;
@@ -216,7 +183,7 @@ static size_t utf32(const char *text, uint32_t *out, size_t capacity)
 /* A fixed-width unicode array of count strings, the k-th at first + k * stride bytes: rank 1
  * (body names), or rank 0 for a single string (metadata). */
 static uint32_t *unicode_array(const char *name, const char *first, size_t count, size_t stride,
-                               int rank, npy_array *a)
+                               int rank, tb__npy_array *a)
 {
     memset(a, 0, sizeof *a);
     a->name = name;
@@ -245,22 +212,33 @@ static const char *const metadata[][2] = {
     {"quaternion_order", "w,x,y,z"},
 };
 
-static void float_array(const char *name, const double *data, const tb__frames *f, size_t width,
-                        npy_array *a)
+void tb__npz_float_arrays(size_t frame_count, size_t body_count, const tb__frames *frames,
+                          tb__npy_array arrays[TB__NPZ_FLOATS])
 {
-    memset(a, 0, sizeof *a);
-    a->name = name;
-    snprintf(a->descr, sizeof a->descr, "%cf8", little_endian() ? '<' : '>');
-    a->shape[0] = f->count;
-    a->shape[1] = f->body_count;
-    a->shape[2] = width;
-    a->rank = width > 0 ? 3 : 1;
-    a->data = data;
-    a->data_size = f->count * (width > 0 ? f->body_count * width : 1) * sizeof(double);
+    static const char *const names[TB__NPZ_FLOATS] = {"t", "position", "orientation", "velocity",
+                                                      "angular_velocity"};
+    static const size_t widths[TB__NPZ_FLOATS] = {0, 3, 4, 3, 3};
+    const double *data[TB__NPZ_FLOATS] = {NULL};
+    if (frames != NULL) {
+        data[0] = frames->t, data[1] = frames->position, data[2] = frames->orientation;
+        data[3] = frames->velocity, data[4] = frames->angular_velocity;
+    }
+    for (size_t k = 0; k < TB__NPZ_FLOATS; ++k) {
+        tb__npy_array *a = &arrays[k];
+        memset(a, 0, sizeof *a);
+        a->name = names[k];
+        snprintf(a->descr, sizeof a->descr, "%cf8", little_endian() ? '<' : '>');
+        a->shape[0] = frame_count;
+        a->shape[1] = body_count;
+        a->shape[2] = widths[k];
+        a->rank = widths[k] > 0 ? 3 : 1;
+        a->data = data[k];
+        a->data_size = frame_count * (widths[k] > 0 ? body_count * widths[k] : 1) * sizeof(double);
+    }
 }
 
 /* The arrays that are text: the body names and the metadata. */
-static size_t text_arrays(const tb_writer *w, npy_array *arrays, uint32_t **text)
+static size_t text_arrays(const tb_writer *w, tb__npy_array *arrays, uint32_t **text)
 {
     text[0] = unicode_array("names", w->names[0], w->body_count, TB_NAME_SIZE, 1, &arrays[0]);
     size_t count = 1;
@@ -270,36 +248,39 @@ static size_t text_arrays(const tb_writer *w, npy_array *arrays, uint32_t **text
     return count;
 }
 
-tb_status tb__npz_write(tb_writer *w)
+tb_status tb__npz_write_tail(tb_writer *w, tb__zip_entry *entries, uint32_t offset)
 {
-    const tb__frames *f = &w->frames;
-    npy_array arrays[TB__NPZ_MEMBERS];
-    uint32_t *text[TB__NPZ_MEMBERS] = {NULL};
-    float_array("t", f->t, f, 0, &arrays[0]);
-    float_array("position", f->position, f, 3, &arrays[1]);
-    float_array("orientation", f->orientation, f, 4, &arrays[2]);
-    float_array("velocity", f->velocity, f, 3, &arrays[3]);
-    float_array("angular_velocity", f->angular_velocity, f, 3, &arrays[4]);
-    const size_t count = 5 + text_arrays(w, arrays + 5, text + 5);
+    tb__npy_array arrays[TB__NPZ_MEMBERS - TB__NPZ_FLOATS];
+    uint32_t *text[TB__NPZ_MEMBERS - TB__NPZ_FLOATS] = {NULL};
+    const size_t count = text_arrays(w, arrays, text);
     tb_status status = TB_STATUS_OK;
-    for (size_t k = 5; k < count && status == TB_STATUS_OK; ++k) {
+    for (size_t k = 0; k < count && status == TB_STATUS_OK; ++k) {
         if (text[k] == NULL) {
             status = tb__set_detail(w->detail, TB_STATUS_OUT_OF_MEMORY, "%s: %s array", w->path,
                                     arrays[k].name);
         }
     }
-    crc_tables crc;
-    crc_tables_init(&crc);
-    zip_entry entries[TB__NPZ_MEMBERS];
-    uint32_t offset = 0;
     for (size_t k = 0; k < count && status == TB_STATUS_OK; ++k) {
-        status = write_member(w, &crc, &arrays[k], &entries[k], &offset);
+        status = write_member(w, &arrays[k], &entries[TB__NPZ_FLOATS + k], &offset);
     }
     if (status == TB_STATUS_OK) {
-        status = write_directory(w, entries, count, offset);
+        status = write_directory(w, entries, TB__NPZ_FLOATS + count, offset);
     }
-    for (size_t k = 5; k < count; ++k) {
+    for (size_t k = 0; k < count; ++k) {
         free(text[k]);
     }
     return status;
+}
+
+tb_status tb__npz_write(tb_writer *w)
+{
+    tb__npy_array arrays[TB__NPZ_FLOATS];
+    tb__npz_float_arrays(w->frames.count, w->body_count, &w->frames, arrays);
+    tb__zip_entry entries[TB__NPZ_MEMBERS];
+    uint32_t offset = 0;
+    tb_status status = TB_STATUS_OK;
+    for (size_t k = 0; k < TB__NPZ_FLOATS && status == TB_STATUS_OK; ++k) {
+        status = write_member(w, &arrays[k], &entries[k], &offset);
+    }
+    return status == TB_STATUS_OK ? tb__npz_write_tail(w, entries, offset) : status;
 }

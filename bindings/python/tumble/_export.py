@@ -18,6 +18,7 @@ class WriterDef(ctypes.Structure):
         ("scene_file", ctypes.c_char_p),
         ("scene_text", ctypes.c_char_p),
         ("base_directory", ctypes.c_char_p),
+        ("frame_count", ctypes.c_size_t),
         ("internal_cookie", ctypes.c_int),
     ]
 
@@ -69,6 +70,7 @@ def write(lib, error_type, fail, frames, scene_handle, scene_text, base_director
     definition.rotation_keys = ROTATIONS.index(rotation)
     definition.scene_text = scene_text
     definition.base_directory = base_directory.encode() if base_directory else None
+    definition.frame_count = len(frames.t)  # npz: streamed to the file as the frames are given
     writer, error = ctypes.c_void_p(), error_type()
     status = lib.tb_writer_open(str(path).encode(), ctypes.byref(definition), scene_handle,
                                 ctypes.byref(writer), ctypes.byref(error))
