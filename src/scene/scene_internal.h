@@ -98,7 +98,8 @@ typedef struct tb__ground_params {
     double omega;         /* sqrt(gravity / penetration), rad/s */
     double damping_ratio; /* from the restitution (contact/contact_law.h) */
     double static_friction, kinetic_friction, stribeck_velocity;
-    double bristle_stiffness, bristle_damping; /* LuGre's s0 (1/m) and s1 (s/m) */
+    double bristle_stiffness,
+        bristle_damping; /* friction spring per unit weight: s0 (1/m), s1 (s/m) */
 } tb__ground_params;
 
 typedef struct tb__user_params {
