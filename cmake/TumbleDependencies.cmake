@@ -5,6 +5,8 @@ find_package(SUNDIALS 6 REQUIRED CONFIG COMPONENTS cvode nvecserial)
 # jansson ships a pkg-config file on Debian (no CMake config).
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(JANSSON REQUIRED IMPORTED_TARGET jansson>=2.13)
+# libccd (collision detection between convex shapes; Debian's libccd-dev, pkg-config name ccd).
+pkg_check_modules(CCD REQUIRED IMPORTED_TARGET ccd>=2.0)
 
 if(TUMBLE_BUILD_TESTS)
   # CMocka 1.1.5 ships a config that only sets variables; wrap them in an imported target.

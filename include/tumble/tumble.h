@@ -10,6 +10,7 @@
 #include "tumble/body.h"
 #include "tumble/scene.h"
 #include "tumble/effects.h"
+#include "tumble/shape.h"
 #include "tumble/run.h"
 #include "tumble/scene_file.h"
 #include "tumble/writer.h"

@@ -170,9 +170,16 @@ static tb_status add_body(tb__loader *ld, const char *path, tb__body_build *b)
         status = tb_scene_set_contact_points(ld->scene, id, points, b->contacts.count,
                                              b->contacts.support);
     }
+    if (status != TB_STATUS_OK) {
+        return tb__load_fail(ld, status, path, "contact: %s", tb_scene_detail(ld->scene));
+    }
+    if (b->shape.type != TB_SHAPE_NONE) {
+        status = tb_scene_set_body_shape(ld->scene, id, &b->shape);
+    }
     return status == TB_STATUS_OK
                ? status
-               : tb__load_fail(ld, status, path, "contact: %s", tb_scene_detail(ld->scene));
+               : tb__load_fail(ld, status == TB_STATUS_OUT_OF_MEMORY ? status : TB_STATUS_BAD_SCENE,
+                               path, "shape: %s", tb_scene_detail(ld->scene));
 }
 
 static tb_status load_body(tb__loader *ld, const json_t *body, const char *path)
@@ -193,6 +200,7 @@ static tb_status load_body(tb__loader *ld, const json_t *body, const char *path)
     tb__body_build b;
     memset(&b, 0, sizeof b);
     b.def = tb_body_def_default();
+    b.shape = tb_shape_default();
     tb_status status = tb__json_object(ld, body, path, keys);
     if (status == TB_STATUS_OK) {
         status = tb__json_string(ld, body, path, "name", true, &b.def.name);
@@ -226,6 +234,7 @@ static tb_status load_body(tb__loader *ld, const json_t *body, const char *path)
         status = add_body(ld, path, &b);
     }
     free(b.contacts.many);
+    free(b.shape_vertices);
     return status;
 }
 

@@ -6,6 +6,7 @@
 #include "io/obj_reader.h"
 #include "tumble/effects.h"
 #include "tumble/scene_file.h"
+#include "tumble/shape.h"
 
 #include <jansson.h>
 
@@ -70,6 +71,8 @@ typedef struct tb__body_build {
     tb_body_def def;
     tb__shape_contacts contacts;
     bool has_contacts;
+    tb_shape shape;         /* its collision shape (type TB_SHAPE_NONE without "shape") */
+    double *shape_vertices; /* mesh and points shapes: malloc'd, shape.vertices points here */
 } tb__body_build;
 
 /* A mass-property refusal from the library (its message names the mass, density or inertia)

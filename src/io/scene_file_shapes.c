@@ -100,6 +100,8 @@ static tb_status load_box_sphere(tb__loader *ld, const json_t *shape, const char
         status = positive_vector(ld, shape, path, "size", size);
         if (status == TB_STATUS_OK) {
             status = tb_mass_from_box(mode, value, size, &b->def.mass, error);
+            b->shape.type = TB_SHAPE_BOX;
+            memcpy(b->shape.size, size, sizeof size);
             tb_contact_points_box(size, b->contacts.points, TB__SHAPE_POINTS_MAX,
                                   &b->contacts.count);
             b->contacts.support = 4;
@@ -110,6 +112,8 @@ static tb_status load_box_sphere(tb__loader *ld, const json_t *shape, const char
     status = positive_number(ld, shape, path, "radius", &radius);
     if (status == TB_STATUS_OK) {
         status = tb_mass_from_sphere(mode, value, radius, &b->def.mass, error);
+        b->shape.type = TB_SHAPE_SPHERE;
+        b->shape.radius = radius;
         tb_contact_points_sphere(radius, b->contacts.points, TB__SHAPE_POINTS_MAX,
                                  &b->contacts.count);
         b->contacts.support = 1;
@@ -125,6 +129,8 @@ static tb_status load_round(tb__loader *ld, const json_t *shape, const char *pat
         tb_status status = positive_vector(ld, shape, path, "semi_axes", semi_axes);
         if (status == TB_STATUS_OK) {
             status = tb_mass_from_ellipsoid(mode, value, semi_axes, &b->def.mass, error);
+            b->shape.type = TB_SHAPE_ELLIPSOID;
+            memcpy(b->shape.semi_axes, semi_axes, sizeof semi_axes);
             ellipsoid_contacts(semi_axes, &b->contacts);
         }
         return status;
@@ -137,6 +143,9 @@ static tb_status load_round(tb__loader *ld, const json_t *shape, const char *pat
     if (status != TB_STATUS_OK) {
         return status;
     }
+    b->shape.radius = radius;
+    b->shape.length = length;
+    b->shape.type = strcmp(type, "cylinder") == 0 ? TB_SHAPE_CYLINDER : TB_SHAPE_CAPSULE;
     if (strcmp(type, "cylinder") == 0) {
         cylinder_contacts(radius, length, &b->contacts);
         return tb_mass_from_cylinder(mode, value, radius, length, &b->def.mass, error);
@@ -174,7 +183,9 @@ static tb_status load_mesh(tb__loader *ld, const json_t *shape, const char *path
     if (status == TB_STATUS_OK) {
         status = vertex_contacts(ld, vertices, count, path, &b->contacts);
     }
-    free(vertices);
+    b->shape.type = TB_SHAPE_CONVEX; /* a mesh collides as its convex hull */
+    b->shape.vertices = b->shape_vertices = vertices;
+    b->shape.vertex_count = count;
     return status;
 }
 
@@ -211,7 +222,9 @@ static tb_status load_points(tb__loader *ld, const json_t *shape, const char *pa
     if (status == TB_STATUS_OK) {
         status = vertex_contacts(ld, positions, n, path, &b->contacts);
     }
-    free(positions);
+    b->shape.type = TB_SHAPE_POINTS; /* collides as the points' convex hull */
+    b->shape.vertices = b->shape_vertices = positions;
+    b->shape.vertex_count = n;
     free(masses);
     return status;
 }

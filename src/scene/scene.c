@@ -186,6 +186,10 @@ void tb_scene_destroy(tb_scene *scene)
         free(scene->effects);
         free(scene->effect_order);
         free(scene->contacts);
+        for (size_t i = 0; i < scene->shape_capacity; ++i) {
+            free(scene->shapes[i]);
+        }
+        free(scene->shapes);
         free(scene->name_slots);
         free(scene);
     }

@@ -153,6 +153,10 @@ struct tb_scene {
     tb__contact *contacts;
     size_t contact_count;
     size_t contact_capacity;
+    /* Collision shapes (src/contact/collision_shape.c): shapes[i] is body i's, NULL when it has
+     * none; shape_capacity entries (at most body_count), each one allocation freed by free(). */
+    struct tb__collision_shape **shapes;
+    size_t shape_capacity;
     /* Counts changes of the effects that leave the layout alone (an effect added): the
      * right-hand side changed, so an integrator with a history of it (CVODE) restarts. */
     unsigned long long effects_generation;

@@ -1,0 +1,72 @@
+/* Collision shapes: the geometry a body touches other bodies with. A shape is described in the
+ * body's shape frame (the frame of tb_body_def.orientation, the frame mass properties are given
+ * in); it does not change the body's mass properties, which stay as given when the body was
+ * added. Sizes follow the tb_mass_from_* constructors, so the same numbers make both. Units m. */
+#ifndef TUMBLE_SHAPE_H
+#define TUMBLE_SHAPE_H
+
+#include "tumble/export.h"
+
+#include "tumble/scene.h"
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum tb_shape_type {
+    TB_SHAPE_NONE = 0,  /* no shape: the body touches nothing */
+    TB_SHAPE_SPHERE,    /* radius, centred at the shape origin */
+    TB_SHAPE_BOX,       /* size (full edge lengths along shape x, y, z), centred */
+    TB_SHAPE_CAPSULE,   /* radius, length: the segment between the hemisphere centres, along z
+                           (total length length + 2 radius), centred */
+    TB_SHAPE_CYLINDER,  /* radius, length (total, along z), centred */
+    TB_SHAPE_ELLIPSOID, /* semi_axes along x, y, z, centred */
+    TB_SHAPE_CONVEX,    /* the convex hull of vertices (a mesh's vertices: a non-convex mesh
+                           collides as its convex hull), computed when the shape is set */
+    TB_SHAPE_POINTS     /* spheres at vertices with radii (NULL: all 0); the shape is the
+                           convex hull of the spheres */
+} tb_shape_type;
+
+/* Fill with tb_shape_default(), set type and the fields that type reads; the others are
+ * ignored. Limits: every size finite, > 0 (radii of points >= 0) and at most 1e100 m;
+ * vertex_count <= 1 000 000. */
+typedef struct tb_shape {
+    tb_shape_type type;
+    double radius;          /* sphere, capsule, cylinder, m */
+    double length;          /* capsule, cylinder, m (see above) */
+    double size[3];         /* box, m */
+    double semi_axes[3];    /* ellipsoid, m */
+    const double *vertices; /* convex, points: vertices[3 * vertex_count], shape frame, m */
+    size_t vertex_count;    /* convex: >= 4, not all in one plane; points: >= 1 */
+    const double *radii;    /* points: radii[vertex_count], m, >= 0; NULL: all 0 */
+} tb_shape;
+
+/* A zeroed shape of type TB_SHAPE_NONE. */
+TB_API tb_shape tb_shape_default(void);
+
+/* Gives body id a collision shape (the data is copied; a convex shape keeps only its hull's
+ * vertices), replacing the one it had; NULL or TB_SHAPE_NONE removes it. Refused with a detail
+ * naming the field: a bad id (TB_STATUS_OUT_OF_RANGE), NULL vertices (TB_STATUS_NULL_POINTER), a
+ * non-finite number (TB_STATUS_NOT_FINITE), a size out of its range, an unknown type, too few
+ * vertices or a flat convex set (TB_STATUS_INVALID_ARGUMENT); TB_STATUS_BUSY while an
+ * integrator steps the scene. A refused call changes nothing. Effects that read shapes see the
+ * change at their next derivative; CVODE restarts its history. */
+TB_API tb_status tb_scene_set_body_shape(tb_scene *scene, size_t id, const tb_shape *shape);
+
+/* Body id's shape type (TB_SHAPE_NONE when it has none). */
+TB_API tb_status tb_scene_body_shape_type(const tb_scene *scene, size_t id,
+                                          tb_shape_type *out_type);
+
+/* Body id's shape's axis-aligned bounding box in the world at state y (its own scene's size),
+ * m: what the broad phase sees before its margin is added. TB_STATUS_INVALID_ARGUMENT when
+ * the body has no shape. */
+TB_API tb_status tb_scene_body_shape_bounds(const tb_scene *scene, const double *y, size_t id,
+                                            double out_min[3], double out_max[3]);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

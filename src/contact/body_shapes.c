@@ -1,0 +1,125 @@
+/* The scene's collision shapes: one per body, set, read and placed at a state. */
+#include "contact/contact_pairs.h"
+
+#include "math/tb_math.h"
+#include "scene/scene_internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+tb_shape tb_shape_default(void)
+{
+    tb_shape shape;
+    memset(&shape, 0, sizeof shape);
+    shape.type = TB_SHAPE_NONE;
+    return shape;
+}
+
+/* Room for body_count shape slots, new ones empty; nothing changes on failure. */
+static tb_status reserve_shapes(tb_scene *scene)
+{
+    const size_t count = scene->body_count;
+    if (count <= scene->shape_capacity) {
+        return TB_STATUS_OK;
+    }
+    tb__collision_shape **shapes = realloc(scene->shapes, count * sizeof *shapes);
+    if (shapes == NULL) {
+        return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "shapes for %zu bodies", count);
+    }
+    for (size_t i = scene->shape_capacity; i < count; ++i) {
+        shapes[i] = NULL;
+    }
+    scene->shapes = shapes;
+    scene->shape_capacity = count;
+    return TB_STATUS_OK;
+}
+
+tb_status tb_scene_set_body_shape(tb_scene *scene, size_t id, const tb_shape *shape)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    tb_status status = tb__scene_check_id(scene, id, "id");
+    if (status == TB_STATUS_OK) {
+        status = tb__scene_check_idle(scene, "tb_scene_set_body_shape");
+    }
+    if (status == TB_STATUS_OK) {
+        status = reserve_shapes(scene);
+    }
+    tb__collision_shape *made = NULL;
+    if (status == TB_STATUS_OK && shape != NULL && shape->type != TB_SHAPE_NONE) {
+        made = tb__collision_shape_make(shape, scene->detail, &status);
+    }
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    free(scene->shapes[id]);
+    scene->shapes[id] = made;
+    ++scene->effects_generation; /* contact effects' right-hand side changed */
+    return TB_STATUS_OK;
+}
+
+const tb__collision_shape *tb__scene_body_collision_shape(const tb_scene *scene, size_t id)
+{
+    return id < scene->shape_capacity ? scene->shapes[id] : NULL;
+}
+
+tb_status tb_scene_body_shape_type(const tb_scene *scene, size_t id, tb_shape_type *out_type)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    if (out_type == NULL) {
+        return tb__scene_fail((tb_scene *)scene, TB_STATUS_NULL_POINTER, "out_type is NULL");
+    }
+    tb_status status = tb__scene_check_id(scene, id, "id");
+    if (status == TB_STATUS_OK) {
+        const tb__collision_shape *shape = tb__scene_body_collision_shape(scene, id);
+        *out_type = shape != NULL ? shape->type : TB_SHAPE_NONE;
+    }
+    return status;
+}
+
+void tb__shape_pose(const tb_scene *scene, const double *y, size_t id,
+                    double out_pose[TB__POSE_SIZE])
+{
+    const tb_mass_properties *props = &scene->mass_props[id];
+    const double *r = props->rotation;
+    const double principal_from_shape[4] = {r[0], -r[1], -r[2], -r[3]};
+    double q[4], offset[3];
+    tb__unit_quaternion(y, id, q);
+    tb__q_mul(out_pose + 3, q, principal_from_shape); /* shape -> principal -> world */
+    tb__q_rotate(offset, out_pose + 3, props->center);
+    const double *x = y + TB_STATE_SIZE * id;
+    tb__v3_set(out_pose, x[0] - offset[0], x[1] - offset[1], x[2] - offset[2]);
+}
+
+tb_status tb_scene_body_shape_bounds(const tb_scene *scene, const double *y, size_t id,
+                                     double out_min[3], double out_max[3])
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    if (y == NULL || out_min == NULL || out_max == NULL) {
+        return tb__scene_fail((tb_scene *)scene, TB_STATUS_NULL_POINTER, "%s is NULL",
+                              y == NULL         ? "y"
+                              : out_min == NULL ? "out_min"
+                                                : "out_max");
+    }
+    tb_status status = tb__scene_check_id(scene, id, "id");
+    const tb__collision_shape *shape =
+        status == TB_STATUS_OK ? tb__scene_body_collision_shape(scene, id) : NULL;
+    if (status == TB_STATUS_OK && shape == NULL) {
+        status = tb__scene_fail((tb_scene *)scene, TB_STATUS_INVALID_ARGUMENT,
+                                "body %zu (%s) has no shape", id, scene->names[id]);
+    }
+    if (status == TB_STATUS_OK) {
+        double pose[TB__POSE_SIZE];
+        tb__shape_pose(scene, y, id, pose);
+        tb__collision_shape_bounds(shape, pose, out_min, out_max);
+    }
+    return status;
+}

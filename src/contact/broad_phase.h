@@ -1,0 +1,61 @@
+/* Private: the broad phase, sweep and prune in strips. Axis-aligned boxes are binned into
+ * strips across the axis of second-largest spread of their centres (strips as wide as the
+ * widest box, so a box meets boxes of its own and the two neighbouring strips only), sorted by
+ * strip and then by lower bound along the axis of largest spread, and swept: each box is
+ * tested against the boxes of its strip and of the neighbouring strips that start after it
+ * and before it ends. One axis alone scans every box in a slab through the scene, which grows
+ * as sqrt(N) a body on a floor (bench_contact_geometry); the strips keep the scan to a box's
+ * neighbourhood. One body as wide as the scene makes one strip: plain sweep and prune.
+ *
+ * Sorting is a merge sort that skips merges of runs already in order, so a scene that moved
+ * little since the last call sorts in about N steps and any scene in N log N; ties are broken
+ * by index, so the order and the pairs depend on the boxes alone, never on earlier calls.
+ *
+ * Pairs come out in batches through a cursor that the broad phase keeps: a full batch is
+ * never an error, the caller handles it and asks for the next. So nothing needs to grow inside
+ * the derivative, and all memory is allocated once for a capacity of boxes. */
+#ifndef TUMBLE_BROAD_PHASE_H
+#define TUMBLE_BROAD_PHASE_H
+
+#include "tumble/status.h"
+
+#include <stddef.h>
+
+typedef struct tb__aabb {
+    double min[3], max[3]; /* world, m */
+} tb__aabb;
+
+typedef struct tb__index_pair {
+    size_t first, second; /* indices into the boxes, first < second */
+} tb__index_pair;
+
+typedef struct tb__broad_phase {
+    size_t capacity;     /* boxes allocated */
+    size_t count;        /* boxes in use, set by tb__broad_phase_sort */
+    tb__aabb *boxes;     /* capacity; the caller fills [0, count) before sorting */
+    size_t *order;       /* capacity: box indices sorted by strip, then lower bound on axis */
+    size_t *scratch;     /* capacity: the merge sort's buffer */
+    size_t *strip;       /* capacity: each box's strip */
+    size_t *strip_start; /* capacity + 1: where each strip starts in order */
+    size_t strip_count;
+    int axis, strip_axis; /* the sweep axis and the axis across the strips, 0..2 */
+    /* The sweep's place: order[cursor] against order[next] (< end), in its own strip (phase 0),
+     * the next strip (1) or the previous one (2). */
+    size_t cursor, next, end;
+    int phase;
+} tb__broad_phase;
+
+/* Allocates room for capacity boxes (capacity 0 is allowed); on failure bp is left empty and
+ * TB_STATUS_OUT_OF_MEMORY returned. */
+tb_status tb__broad_phase_init(tb__broad_phase *bp, size_t capacity);
+void tb__broad_phase_free(tb__broad_phase *bp);
+
+/* Sorts boxes [0, count) (count <= capacity) and rewinds the cursor. */
+void tb__broad_phase_sort(tb__broad_phase *bp, size_t count);
+
+/* Writes up to capacity pairs of overlapping boxes (closed intervals on all three axes) after
+ * the cursor and returns how many; 0 when the sweep is done. Every overlapping pair comes out
+ * exactly once per sweep, in an order fixed by the boxes. */
+size_t tb__broad_phase_next(tb__broad_phase *bp, tb__index_pair *out, size_t capacity);
+
+#endif

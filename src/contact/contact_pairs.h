@@ -1,0 +1,43 @@
+/* Private: the hook a contact effect calls every derivative. Over a set of bodies with
+ * shapes, it runs the broad phase (world bounds at y grown by margin, sweep and prune) and the
+ * narrow phase on each candidate, and hands back the touching pairs in batches: the caller
+ * gives a buffer of any size, applies the batch and asks for the next until none is left.
+ * Memory is allocated at creation for the body set; a pass allocates nothing and reads only
+ * y, the scene's bodies and their shapes. Pairs come in an order that depends on y alone, so
+ * forces sum in the same order on every run. */
+#ifndef TUMBLE_CONTACT_PAIRS_H
+#define TUMBLE_CONTACT_PAIRS_H
+
+#include "contact/broad_phase.h"
+#include "contact/narrow_phase.h"
+#include "tumble/scene.h"
+
+typedef struct tb__pair_contact {
+    size_t body_a, body_b; /* body ids, body_a < body_b; the manifold's normal points from a */
+    tb__contact_manifold manifold; /* count >= 1 */
+} tb__pair_contact;
+
+typedef struct tb__contact_pairs tb__contact_pairs;
+
+/* For bodies[0 .. count) (ids of the scene's bodies, each at most once; bodies NULL: every
+ * body of the scene now), margin >= 0 (m; finite). Bodies without a shape when a pass runs
+ * are skipped, so shapes may be set or removed later; bodies added later are not included.
+ * On failure *out is NULL and detail (TB_DETAIL_SIZE bytes, may be NULL) names the input. */
+tb_status tb__contact_pairs_create(const tb_scene *scene, const size_t *bodies, size_t count,
+                                   double margin, tb__contact_pairs **out, char *detail);
+void tb__contact_pairs_destroy(tb__contact_pairs *pairs);
+
+/* Starts a pass at state y (the scene's state array): bounds, sort. */
+void tb__contact_pairs_begin(tb__contact_pairs *pairs, const tb_scene *scene, const double *y);
+
+/* The pass's next touching pairs, up to capacity (>= 1) of them, into out; returns how many
+ * were written, 0 when the pass is done. */
+size_t tb__contact_pairs_next(tb__contact_pairs *pairs, const tb_scene *scene, const double *y,
+                              tb__pair_contact *out, size_t capacity);
+
+/* Body id's shape pose at y (collision_shape.h), without checks; NULL shape when it has none. */
+const tb__collision_shape *tb__scene_body_collision_shape(const tb_scene *scene, size_t id);
+void tb__shape_pose(const tb_scene *scene, const double *y, size_t id,
+                    double out_pose[TB__POSE_SIZE]);
+
+#endif

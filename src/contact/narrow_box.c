@@ -1,0 +1,344 @@
+/* Box pairs in closed form: sphere-box (closest point, or the nearest face from inside),
+ * capsule-box (the segment point of least signed distance, which is convex along the segment,
+ * plus the segment's ends when they rest on the same face), and box-box by the separating axis
+ * test over the 15 axes (Gottschalk, Lin and Manocha, OBBTree, SIGGRAPH 1996) with the
+ * incident face clipped against the reference face's sides (Sutherland-Hodgman), so boxes
+ * resting flat on each other touch at the corners of their overlap. */
+#include "contact/narrow_internal.h"
+
+#include "math/tb_math.h"
+
+/* Box axes at pose: axis[i] is shape axis i in the world. */
+static void box_axes(const double pose[TB__POSE_SIZE], double axis[3][3])
+{
+    double R[9];
+    tb__q_to_matrix(R, pose + 3);
+    for (int i = 0; i < 3; ++i) {
+        tb__v3_set(axis[i], R[i], R[3 + i], R[6 + i]);
+    }
+}
+
+static double sign_of(double x)
+{
+    return x < 0.0 ? -1.0 : 1.0;
+}
+
+/* Signed distance of the local point c from the box of half-extents h (< 0 inside). */
+static double box_signed_distance(const double h[3], const double c[3])
+{
+    double outside = 0.0, inside = -INFINITY;
+    for (int k = 0; k < 3; ++k) {
+        const double q = fabs(c[k]) - h[k];
+        outside += q > 0.0 ? q * q : 0.0;
+        inside = fmax(inside, q);
+    }
+    return sqrt(outside) + fmin(inside, 0.0);
+}
+
+static void to_local(const double pose[TB__POSE_SIZE], const double p[3], double out[3])
+{
+    const double d[3] = {p[0] - pose[0], p[1] - pose[1], p[2] - pose[2]};
+    tb__q_rotate_inverse(out, pose + 3, d);
+}
+
+/* The box's point nearest c (local) and the outward normal there (local); from inside, the
+ * nearest face's. */
+static void box_nearest(const double h[3], const double c[3], double q[3], double n[3])
+{
+    double distance2 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        q[k] = fmin(fmax(c[k], -h[k]), h[k]);
+        n[k] = c[k] - q[k];
+        distance2 += n[k] * n[k];
+    }
+    if (distance2 > 0.0) {
+        const double d = sqrt(distance2);
+        tb__v3_set(n, n[0] / d, n[1] / d, n[2] / d);
+        return;
+    }
+    int face = 0;
+    for (int k = 1; k < 3; ++k) {
+        face = h[k] - fabs(c[k]) < h[face] - fabs(c[face]) ? k : face;
+    }
+    tb__v3_set(n, 0.0, 0.0, 0.0);
+    n[face] = sign_of(c[face]);
+    q[face] = n[face] * h[face];
+}
+
+void tb__box_sphere_candidate(const tb__collision_shape *box, const double pose[TB__POSE_SIZE],
+                              const double c[3], double r, double margin, tb__candidates *out,
+                              double n[3])
+{
+    double local[3], q[3], n_local[3], p_a[3];
+    to_local(pose, c, local);
+    box_nearest(box->half, local, q, n_local);
+    const double depth = r - tb__v3_dot(n_local, (const double[]){local[0] - q[0], local[1] - q[1],
+                                                                  local[2] - q[2]});
+    tb__q_rotate(n, pose + 3, n_local);
+    tb__q_rotate(p_a, pose + 3, q);
+    tb__v3_axpy(p_a, 1.0, pose);
+    tb__candidate_add(out, n, p_a, depth, margin);
+}
+
+int tb__box_sphere(const tb__collision_shape *box, const double pose_box[TB__POSE_SIZE],
+                   const double center[3], double radius, double margin, tb__contact_manifold *out)
+{
+    tb__candidates c = {0};
+    double n[3];
+    tb__box_sphere_candidate(box, pose_box, center, radius, margin, &c, n);
+    return tb__reduce_candidates(&c, n, out);
+}
+
+/* The segment parameter in [0, 1] of least signed distance to the box: the signed distance of
+ * a convex set is convex, so golden-section search converges to it (to 1e-12 of the segment). */
+static double deepest_parameter(const double h[3], const double p0[3], const double p1[3])
+{
+    const double ratio = 0.5 * (sqrt(5.0) - 1.0);
+    double low = 0.0, high = 1.0;
+    while (high - low > 1e-12) {
+        const double s1 = high - ratio * (high - low), s2 = low + ratio * (high - low);
+        double x1[3], x2[3];
+        for (int k = 0; k < 3; ++k) {
+            x1[k] = p0[k] + s1 * (p1[k] - p0[k]);
+            x2[k] = p0[k] + s2 * (p1[k] - p0[k]);
+        }
+        if (box_signed_distance(h, x1) <= box_signed_distance(h, x2)) {
+            high = s2;
+        } else {
+            low = s1;
+        }
+    }
+    return 0.5 * (low + high);
+}
+
+int tb__box_capsule(const tb__collision_shape *box, const double pose_box[TB__POSE_SIZE],
+                    const tb__collision_shape *capsule, const double pose_capsule[TB__POSE_SIZE],
+                    double margin, tb__contact_manifold *out)
+{
+    double p0[3], p1[3], l0[3], l1[3], deepest[3], n[3];
+    tb__capsule_ends(capsule, pose_capsule, p0, p1);
+    to_local(pose_box, p0, l0);
+    to_local(pose_box, p1, l1);
+    const double s = deepest_parameter(box->half, l0, l1);
+    for (int k = 0; k < 3; ++k) {
+        deepest[k] = p0[k] + s * (p1[k] - p0[k]);
+    }
+    tb__candidates c = {0};
+    tb__box_sphere_candidate(box, pose_box, deepest, capsule->radius, margin, &c, n);
+    /* A capsule lying on a face rests on both ends: add an end whose own contact has the same
+     * normal, and drop the middle point when both ends carry it. */
+    tb__candidates ends = {0};
+    for (int e = 0; e < 2 && c.count > 0; ++e) {
+        const double t = e == 0 ? 0.0 : 1.0;
+        tb__candidates one = {0};
+        double n_end[3];
+        tb__box_sphere_candidate(box, pose_box, e == 0 ? p0 : p1, capsule->radius, margin, &one,
+                                 n_end);
+        if (one.count == 1 && tb__v3_dot(n_end, n) > 1.0 - 1e-9 && fabs(t - s) > 1e-9) {
+            ends.points[ends.count++] = one.points[0];
+        }
+    }
+    if (ends.count == 2) {
+        c = ends;
+    } else if (ends.count == 1) {
+        c.points[c.count++] = ends.points[0];
+    }
+    return tb__reduce_candidates(&c, n, out);
+}
+
+/* --- box-box ---------------------------------------------------------------------------- */
+
+typedef struct box_pose {
+    const double *center;
+    double axis[3][3];
+    const double *half;
+} box_pose;
+
+static double projected_radius(const box_pose *b, const double L[3])
+{
+    return b->half[0] * fabs(tb__v3_dot(b->axis[0], L)) +
+           b->half[1] * fabs(tb__v3_dot(b->axis[1], L)) +
+           b->half[2] * fabs(tb__v3_dot(b->axis[2], L));
+}
+
+/* Separation of the boxes along unit L (< 0: overlap). */
+static double separation(const box_pose *a, const box_pose *b, const double T[3], const double L[3])
+{
+    return fabs(tb__v3_dot(T, L)) - projected_radius(a, L) - projected_radius(b, L);
+}
+
+/* Clips the polygon (count points) to u . (x - o) <= limit; returns the new count. */
+static int clip(double poly[][3], int count, const double o[3], const double u[3], double limit)
+{
+    double out[12][3];
+    int w = 0;
+    for (int i = 0; i < count; ++i) {
+        const double *p = poly[i], *q = poly[(i + 1) % count];
+        const double dp = tb__v3_dot(u, p) - tb__v3_dot(u, o) - limit;
+        const double dq = tb__v3_dot(u, q) - tb__v3_dot(u, o) - limit;
+        if (dp <= 0.0) {
+            tb__v3_copy(out[w++], p);
+        }
+        if ((dp < 0.0 && dq > 0.0) || (dp > 0.0 && dq < 0.0)) {
+            const double s = dp / (dp - dq);
+            tb__v3_set(out[w++], p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1]),
+                       p[2] + s * (q[2] - p[2]));
+        }
+    }
+    for (int i = 0; i < w; ++i) {
+        tb__v3_copy(poly[i], out[i]);
+    }
+    return w;
+}
+
+/* The incident box's face most against n (from the reference box), as 4 corners in order. */
+static void incident_face(const box_pose *inc, const double n[3], double poly[][3])
+{
+    int j = 0;
+    for (int k = 1; k < 3; ++k) {
+        j = fabs(tb__v3_dot(inc->axis[k], n)) > fabs(tb__v3_dot(inc->axis[j], n)) ? k : j;
+    }
+    const double t = -sign_of(tb__v3_dot(inc->axis[j], n));
+    const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+    static const double corners[4][2] = {{1, 1}, {-1, 1}, {-1, -1}, {1, -1}};
+    for (int c = 0; c < 4; ++c) {
+        tb__v3_copy(poly[c], inc->center);
+        tb__v3_axpy(poly[c], t * inc->half[j], inc->axis[j]);
+        tb__v3_axpy(poly[c], corners[c][0] * inc->half[j1], inc->axis[j1]);
+        tb__v3_axpy(poly[c], corners[c][1] * inc->half[j2], inc->axis[j2]);
+    }
+}
+
+/* Face contact: face k of ref, normal n_ref (from ref toward inc); ref_is_a says which is A. */
+static void face_contact(const box_pose *ref, const box_pose *inc, int k, const double n_ref[3],
+                         bool ref_is_a, double margin, tb__candidates *out)
+{
+    double poly[12][3];
+    incident_face(inc, n_ref, poly);
+    int count = 4;
+    for (int side = 1; side <= 2 && count > 0; ++side) {
+        const double *u = ref->axis[(k + side) % 3];
+        const double neg[3] = {-u[0], -u[1], -u[2]};
+        count = clip(poly, count, ref->center, u, ref->half[(k + side) % 3]);
+        count = count > 0 ? clip(poly, count, ref->center, neg, ref->half[(k + side) % 3]) : 0;
+    }
+    const double face_height = tb__v3_dot(ref->center, n_ref) + ref->half[k];
+    const double n_a[3] = {ref_is_a ? n_ref[0] : -n_ref[0], ref_is_a ? n_ref[1] : -n_ref[1],
+                           ref_is_a ? n_ref[2] : -n_ref[2]};
+    for (int i = 0; i < count; ++i) {
+        const double depth = face_height - tb__v3_dot(poly[i], n_ref);
+        double p_a[3];
+        tb__v3_copy(p_a, poly[i]);
+        if (ref_is_a) {
+            tb__v3_axpy(p_a, depth, n_ref); /* A's point: the vertex lifted onto A's face */
+        }
+        tb__candidate_add(out, n_a, p_a, depth, margin);
+    }
+}
+
+/* The edge of b along axis i that lies farthest along L: its two ends. */
+static void extreme_edge(const box_pose *b, int i, const double L[3], double e0[3], double e1[3])
+{
+    double c[3];
+    tb__v3_copy(c, b->center);
+    for (int k = 0; k < 3; ++k) {
+        if (k != i) {
+            tb__v3_axpy(c, sign_of(tb__v3_dot(b->axis[k], L)) * b->half[k], b->axis[k]);
+        }
+    }
+    tb__v3_copy(e0, c);
+    tb__v3_axpy(e0, -b->half[i], b->axis[i]);
+    tb__v3_copy(e1, c);
+    tb__v3_axpy(e1, b->half[i], b->axis[i]);
+}
+
+static void edge_contact(const box_pose *a, const box_pose *b, int i, int j, const double L[3],
+                         double margin, tb__candidates *out)
+{
+    const double minus_L[3] = {-L[0], -L[1], -L[2]};
+    double a0[3], a1[3], b0[3], b1[3], s, t, pa[3], pb[3];
+    extreme_edge(a, i, L, a0, a1);
+    extreme_edge(b, j, minus_L, b0, b1);
+    tb__segments_closest(a0, a1, b0, b1, &s, &t);
+    for (int k = 0; k < 3; ++k) {
+        pa[k] = a0[k] + s * (a1[k] - a0[k]);
+        pb[k] = b0[k] + t * (b1[k] - b0[k]);
+    }
+    const double d[3] = {pa[0] - pb[0], pa[1] - pb[1], pa[2] - pb[2]};
+    tb__candidate_add(out, L, pa, tb__v3_dot(d, L), margin);
+}
+
+/* The axis of largest separation among a's faces, b's faces (kind 0, 1; index) and the edge
+ * pairs (kind 2; index 3 i + j), preferring faces: an edge axis must separate by more than
+ * 1e-6 of the boxes' size beyond the best face's. */
+typedef struct best_axis {
+    double separation;
+    int kind, index;
+    double L[3];
+} best_axis;
+
+static void consider(best_axis *best, double separation, int kind, int index, const double L[3],
+                     double bias)
+{
+    if (separation > best->separation + bias) {
+        best->separation = separation;
+        best->kind = kind;
+        best->index = index;
+        tb__v3_copy(best->L, L);
+    }
+}
+
+static best_axis find_axis(const box_pose *a, const box_pose *b, const double T[3])
+{
+    const double size = a->half[0] + a->half[1] + a->half[2] + b->half[0] + b->half[1] + b->half[2];
+    best_axis best = {.separation = -INFINITY};
+    for (int kind = 0; kind < 2; ++kind) {
+        for (int i = 0; i < 3; ++i) {
+            const double *L = (kind == 0 ? a : b)->axis[i];
+            consider(&best, separation(a, b, T, L), kind, i, L, kind == 0 ? 0.0 : 1e-9 * size);
+        }
+    }
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            double L[3];
+            tb__v3_cross(L, a->axis[i], b->axis[j]);
+            const double length = tb__v3_norm(L);
+            if (length > 1e-6) {
+                tb__v3_set(L, L[0] / length, L[1] / length, L[2] / length);
+                consider(&best, separation(a, b, T, L), 2, 3 * i + j, L, 1e-6 * size);
+            }
+        }
+    }
+    return best;
+}
+
+int tb__box_box(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE], double margin,
+                tb__contact_manifold *out)
+{
+    box_pose A = {.center = pose_a, .half = a->half}, B = {.center = pose_b, .half = b->half};
+    box_axes(pose_a, A.axis);
+    box_axes(pose_b, B.axis);
+    const double T[3] = {pose_b[0] - pose_a[0], pose_b[1] - pose_a[1], pose_b[2] - pose_a[2]};
+    best_axis best = find_axis(&A, &B, T);
+    tb__candidates c = {0};
+    double n[3];
+    tb__v3_copy(n, best.L);
+    if (tb__v3_dot(T, n) < 0.0) {
+        tb__v3_set(n, -n[0], -n[1], -n[2]); /* from A to B */
+    }
+    if (!(best.separation < margin)) {
+        out->count = 0;
+        tb__v3_copy(out->normal, n);
+        return 0;
+    }
+    if (best.kind == 0) {
+        face_contact(&A, &B, best.index, n, true, margin, &c);
+    } else if (best.kind == 1) {
+        const double n_b[3] = {-n[0], -n[1], -n[2]};
+        face_contact(&B, &A, best.index, n_b, false, margin, &c);
+    } else {
+        edge_contact(&A, &B, best.index / 3, best.index % 3, n, margin, &c);
+    }
+    return tb__reduce_candidates(&c, n, out);
+}

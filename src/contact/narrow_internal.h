@@ -1,0 +1,68 @@
+/* Private to the narrow-phase sources: the pair routines and the helpers they share. */
+#ifndef TUMBLE_NARROW_INTERNAL_H
+#define TUMBLE_NARROW_INTERNAL_H
+
+#include "contact/narrow_phase.h"
+
+#include <stdbool.h>
+
+/* Candidate points before the manifold is filled (a clipped face gives up to 8). */
+#define TB__CANDIDATES_MAX 16
+
+typedef struct tb__candidates {
+    int count;
+    tb__contact_point points[TB__CANDIDATES_MAX];
+} tb__candidates;
+
+/* Appends the point of depth `depth` whose A side is p_a (position p_a - depth/2 n) if
+ * depth > -margin and there is room. */
+void tb__candidate_add(tb__candidates *c, const double n[3], const double p_a[3], double depth,
+                       double margin);
+
+/* Up to TB__MANIFOLD_POINTS of the candidates into out (normal n): all when they fit, else
+ * the deepest, the one farthest from it, and the two spanning the largest triangles with them
+ * on either side. Returns out->count. */
+int tb__reduce_candidates(const tb__candidates *c, const double n[3], tb__contact_manifold *out);
+
+/* A point of depth `depth` on the line between two sphere centres: the core of every
+ * sphere-swept pair. c_a, c_b centres, r_a, r_b radii; fallback is the normal when the centres
+ * coincide. */
+int tb__spheres(const double c_a[3], double r_a, const double c_b[3], double r_b,
+                const double fallback[3], double margin, tb__contact_manifold *out);
+
+/* Closest points of segments [p0, p1] and [q0, q1]: parameters s, t in [0, 1]. */
+void tb__segments_closest(const double p0[3], const double p1[3], const double q0[3],
+                          const double q1[3], double *out_s, double *out_t);
+
+/* A capsule's segment ends at pose (world). */
+void tb__capsule_ends(const tb__collision_shape *capsule, const double pose[TB__POSE_SIZE],
+                      double out_p0[3], double out_p1[3]);
+
+/* A cylinder's 8 rim points (world): 4 on each end circle, 90 degrees apart, starting from
+ * the circle's farthest point along the world direction d (shape x when d is along the axis,
+ * where every rim point is as far). */
+void tb__cylinder_rim_points(const tb__collision_shape *cylinder, const double pose[TB__POSE_SIZE],
+                             const double d[3], double out[8][3]);
+
+/* A box against a shape without a closed form (narrow_box_convex.c): libccd's normal, then
+ * the shape's vertices, rim points or spheres that rest on the box face it gives. */
+int tb__box_general(const tb__collision_shape *box, const double pose_box[TB__POSE_SIZE],
+                    const tb__collision_shape *other, const double pose_other[TB__POSE_SIZE],
+                    double margin, tb__contact_manifold *out);
+
+/* Sphere (c, r) against the box as a candidate, and that candidate's normal. */
+void tb__box_sphere_candidate(const tb__collision_shape *box, const double pose[TB__POSE_SIZE],
+                              const double c[3], double r, double margin, tb__candidates *out,
+                              double n[3]);
+
+/* Box pairs (narrow_box.c); A is the box. */
+int tb__box_sphere(const tb__collision_shape *box, const double pose_box[TB__POSE_SIZE],
+                   const double center[3], double radius, double margin, tb__contact_manifold *out);
+int tb__box_capsule(const tb__collision_shape *box, const double pose_box[TB__POSE_SIZE],
+                    const tb__collision_shape *capsule, const double pose_capsule[TB__POSE_SIZE],
+                    double margin, tb__contact_manifold *out);
+int tb__box_box(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE], double margin,
+                tb__contact_manifold *out);
+
+#endif

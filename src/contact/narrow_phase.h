@@ -1,0 +1,48 @@
+/* Private: the narrow phase. For two shapes at their poses (collision_shape.h: shape-frame
+ * origin + shape -> world quaternion), whether they touch, and where.
+ *
+ * Result (a manifold): normal is the world unit normal from A to B; each point has
+ *   depth    (p_A - p_B) . normal, m: > 0 overlapping (penetration), < 0 apart by -depth;
+ *            only points with depth > -margin are reported, so a pair is seen before it
+ *            touches;
+ *   position (p_A + p_B) / 2, world, m: halfway between the deepest point p_A of A along
+ *            normal and the deepest point p_B of B along -normal, so p_A = position +
+ *            depth/2 normal and p_B = position - depth/2 normal.
+ * Sphere, capsule and box pairs and every shape against a plane have closed forms whose depth
+ * is continuous in the poses (except where the normal itself jumps: concentric spheres, a
+ * box's centre crossing into another's); a box resting flat on a box gets the 4 corners of
+ * their overlap. Other pairs (cylinder, ellipsoid, convex, points) go through libccd's MPR
+ * (ccd_wrap.c) with one point. Swapping A and B negates the normal and keeps the depths.
+ * Nothing here allocates. */
+#ifndef TUMBLE_NARROW_PHASE_H
+#define TUMBLE_NARROW_PHASE_H
+
+#include "contact/collision_shape.h"
+
+#define TB__MANIFOLD_POINTS 4
+
+typedef struct tb__contact_point {
+    double position[3]; /* world, m */
+    double depth;       /* m, > 0 when overlapping */
+} tb__contact_point;
+
+typedef struct tb__contact_manifold {
+    double normal[3]; /* world, unit, from A to B */
+    int count;        /* 0 .. TB__MANIFOLD_POINTS */
+    tb__contact_point points[TB__MANIFOLD_POINTS];
+} tb__contact_manifold;
+
+/* Fills out and returns its point count (0: farther apart than margin, out->count 0).
+ * margin >= 0, m. */
+int tb__collide(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE], double margin,
+                tb__contact_manifold *out);
+
+/* Shape b against the plane normal . x = offset (normal unit, world, pointing out of the
+ * solid half-space, which plays A): out->normal is the plane's normal; the points are the
+ * shape's lowest ones (up to 4: a box's corners, a cylinder's rim, a hull's vertices, spread
+ * over its lowest face), position halfway between the shape's point and the plane. */
+int tb__collide_plane(const double normal[3], double offset, const tb__collision_shape *b,
+                      const double pose_b[TB__POSE_SIZE], double margin, tb__contact_manifold *out);
+
+#endif

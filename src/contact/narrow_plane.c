@@ -1,0 +1,113 @@
+/* Every shape against a plane, in closed form: the shape's lowest features, each a point whose
+ * depth is continuous in the pose (a box's corners, a capsule's two end spheres, a cylinder's
+ * rim points, an ellipsoid's lowest point, a hull's vertices, a point set's spheres); up to 4
+ * of them, spread over the lowest face. A feature enters the manifold when it comes within
+ * margin of the plane, where a contact law's force is still zero. */
+#include "contact/narrow_internal.h"
+
+#include "math/tb_math.h"
+
+typedef struct plane {
+    const double *n;
+    double offset;
+    double margin;
+} plane;
+
+/* A sphere of radius r at world c: its lowest point's depth below the plane. */
+static void sphere_point(const plane *g, const double c[3], double r, tb__candidates *out)
+{
+    const double height = tb__v3_dot(g->n, c) - g->offset;
+    double on_plane[3]; /* A's (the plane's) point under c */
+    tb__v3_copy(on_plane, c);
+    tb__v3_axpy(on_plane, -height, g->n);
+    tb__candidate_add(out, g->n, on_plane, r - height, g->margin);
+}
+
+static void local_point(const double pose[TB__POSE_SIZE], const double local[3], double out[3])
+{
+    tb__q_rotate(out, pose + 3, local);
+    tb__v3_axpy(out, 1.0, pose);
+}
+
+static void box_corners(const plane *g, const tb__collision_shape *box,
+                        const double pose[TB__POSE_SIZE], tb__candidates *out)
+{
+    for (unsigned corner = 0; corner < 8; ++corner) {
+        double local[3], world[3];
+        for (int k = 0; k < 3; ++k) {
+            local[k] = (corner >> k & 1u ? 1.0 : -1.0) * box->half[k];
+        }
+        local_point(pose, local, world);
+        sphere_point(g, world, 0.0, out);
+    }
+}
+
+static void cylinder_rims(const plane *g, const tb__collision_shape *cylinder,
+                          const double pose[TB__POSE_SIZE], tb__candidates *out)
+{
+    const double down[3] = {-g->n[0], -g->n[1], -g->n[2]};
+    double rim[8][3];
+    tb__cylinder_rim_points(cylinder, pose, down, rim);
+    for (int k = 0; k < 8; ++k) {
+        sphere_point(g, rim[k], 0.0, out);
+    }
+}
+
+static void vertices(const plane *g, const tb__collision_shape *s, const double pose[TB__POSE_SIZE],
+                     tb__candidates *out)
+{
+    for (size_t i = 0; i < s->vertex_count; ++i) {
+        double world[3];
+        local_point(pose, s->vertices + 3 * i, world);
+        const double r = s->radii != NULL ? s->radii[i] : 0.0;
+        if (out->count == TB__CANDIDATES_MAX) { /* keep the deepest: replace the shallowest */
+            tb__candidates one = {0};
+            sphere_point(g, world, r, &one);
+            int shallowest = 0;
+            for (int k = 1; k < out->count; ++k) {
+                shallowest = out->points[k].depth < out->points[shallowest].depth ? k : shallowest;
+            }
+            if (one.count == 1 && one.points[0].depth > out->points[shallowest].depth) {
+                out->points[shallowest] = one.points[0];
+            }
+        } else {
+            sphere_point(g, world, r, out);
+        }
+    }
+}
+
+int tb__collide_plane(const double normal[3], double offset, const tb__collision_shape *b,
+                      const double pose_b[TB__POSE_SIZE], double margin, tb__contact_manifold *out)
+{
+    const plane g = {normal, offset, margin};
+    tb__candidates c = {0};
+    switch (b->type) {
+    case TB_SHAPE_SPHERE:
+        sphere_point(&g, pose_b, b->radius, &c);
+        break;
+    case TB_SHAPE_CAPSULE: {
+        double p0[3], p1[3];
+        tb__capsule_ends(b, pose_b, p0, p1);
+        sphere_point(&g, p0, b->radius, &c);
+        sphere_point(&g, p1, b->radius, &c);
+        break;
+    }
+    case TB_SHAPE_BOX:
+        box_corners(&g, b, pose_b, &c);
+        break;
+    case TB_SHAPE_CYLINDER:
+        cylinder_rims(&g, b, pose_b, &c);
+        break;
+    case TB_SHAPE_ELLIPSOID: {
+        double lowest[3];
+        const double down[3] = {-normal[0], -normal[1], -normal[2]};
+        tb__collision_shape_support(b, pose_b, down, lowest);
+        sphere_point(&g, lowest, 0.0, &c);
+        break;
+    }
+    default:
+        vertices(&g, b, pose_b, &c);
+        break;
+    }
+    return tb__reduce_candidates(&c, normal, out);
+}
