@@ -123,6 +123,32 @@ TB_API tb_status tb_contact_points_sphere(double radius, tb_contact_point *out, 
 TB_API tb_status tb_contact_points_capsule(double radius, double length, tb_contact_point *out,
                                            size_t capacity, size_t *out_count);
 
+/* --- contact between bodies -----------------------------------------------------------------
+ * Bodies with collision shapes (tb_scene_set_body_shape, include/tumble/shape.h) push each other
+ * apart where they overlap, with the ground's normal law (see above) at each point of a pair's
+ * contact manifold (up to 4 points, src/contact/narrow_phase.h): per point k = M_min g /
+ * (points penetration), the damping from `restitution` at the reduced mass, so that two free
+ * bodies meeting at one point part at e times their approach speed. Friction: Coulomb's
+ * mu(v) N with mu falling from mu_s to mu_k over stribeck_velocity, regularised below 1 mm/s
+ * (no friction state: it creeps under a static load). Forces on the two bodies are equal and
+ * opposite at the same world point: linear and angular momentum are conserved. bodies NULL
+ * (body_count 0): every body of the scene when the effect is added; bodies added later are not
+ * included. */
+typedef struct tb_contact_def {
+    const size_t *bodies; /* ids, each at most once, copied; NULL: every body */
+    size_t body_count;
+    double restitution;       /* e in [0, 1]; default 0.3 */
+    double static_friction;   /* mu_s >= mu_k; default 0.6 */
+    double kinetic_friction;  /* mu_k >= 0; default 0.5 */
+    double penetration;       /* m, > 0: sets omega = sqrt(g / penetration); default 8e-7 */
+    double gravity;           /* m/s^2, > 0, sizes the contact; default 9.81 */
+    double stribeck_velocity; /* m/s, > 0; default 0.01 */
+    int internal_cookie;
+} tb_contact_def;
+
+TB_API tb_contact_def tb_contact_def_default(void);
+TB_API tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def);
+
 /* --- user effects -------------------------------------------------------------------------
  * A callback that adds forces and torques. It receives the time and the scene's state array y
  * as the derivative sees it (read it with the tb_scene_body_* read-outs, passing y), and adds
