@@ -171,11 +171,93 @@ static void test_colliding_bodies_keep_momentum_and_angular_momentum(void **stat
     tb_scene_destroy(scene);
 }
 
+/* A scene file's {"type": "contact"}: equal balls, e = 1, one at rest: the moving one stops and
+ * the other leaves at its speed (momentum and energy together say so), to 1e-4 m/s at the
+ * default step (RK4's error through the contact, measured 3e-6). */
+static void test_a_scene_files_contact_passes_the_momentum_on(void **state)
+{
+    (void)state;
+    const char *json =
+        "{\"bodies\": ["
+        "{\"name\": \"a\", \"shape\": {\"type\": \"sphere\", \"radius\": 0.1}, \"mass\": 1,"
+        " \"position\": [-0.2, 0, 0], \"velocity\": [1, 0, 0]},"
+        "{\"name\": \"b\", \"shape\": {\"type\": \"sphere\", \"radius\": 0.1}, \"mass\": 1,"
+        " \"position\": [0.2, 0, 0]}],"
+        " \"effects\": [{\"type\": \"contact\", \"bodies\": [\"a\", \"b\"], \"restitution\": 1}]}";
+    tb_scene *scene = NULL;
+    tb_run_def run;
+    tb_error error;
+    assert_int_equal(tb_scene_load_string(json, "cradle", NULL, &scene, &run, &error),
+                     TB_STATUS_OK);
+    run.duration = 1.0;
+    assert_int_equal(tb_scene_run(scene, &run, NULL, NULL, NULL, &error), TB_STATUS_OK);
+    const double *y = tb_scene_states(scene);
+    print_message("after: v_a = %.2e, v_b = %.6f m/s\n", y[TB_STATE_P],
+                  y[TB_STATE_SIZE + TB_STATE_P]);
+    assert_near(y[TB_STATE_P], 0.0, 1e-4);
+    assert_near(y[TB_STATE_SIZE + TB_STATE_P], 1.0, 1e-4);
+    tb_scene_destroy(scene);
+}
+
+/* Bad definitions are refused with a detail naming the field, and add nothing. */
+static void test_bad_contact_definitions_are_refused_and_change_nothing(void **state)
+{
+    (void)state;
+    tb_scene *scene = empty_scene();
+    add_ball(scene, 1.0, 0.1, (double[]){0, 0, 0}, (double[]){0, 0, 0});
+    const size_t missing[1] = {7}, twice[2] = {0, 0};
+    for (int k = 0; k < 6; ++k) {
+        tb_contact_def def = tb_contact_def_default();
+        const char *field = NULL;
+        switch (k) {
+        case 0:
+            def.restitution = 1.5;
+            field = "restitution";
+            break;
+        case 1:
+            def.static_friction = 0.1;
+            field = "static_friction";
+            break;
+        case 2:
+            def.penetration = 0.0;
+            field = "penetration";
+            break;
+        case 3:
+            def.body_count = 2;
+            field = "bodies";
+            break;
+        case 4:
+            def.bodies = missing;
+            def.body_count = 1;
+            field = "7";
+            break;
+        default:
+            def.bodies = twice;
+            def.body_count = 2;
+            field = "0";
+            break;
+        }
+        const tb_status status = tb_scene_add_contact(scene, &def);
+        print_message("%s -> %s: %s\n", field, tb_status_string(status), tb_scene_detail(scene));
+        assert_true(status != TB_STATUS_OK);
+        assert_non_null(strstr(tb_scene_detail(scene), field));
+        assert_int_equal(tb_scene_effect_count(scene), 0);
+    }
+    tb_contact_def def;
+    memset(&def, 0, sizeof def);
+    assert_int_equal(tb_scene_add_contact(scene, &def), TB_STATUS_INVALID_ARGUMENT);
+    assert_int_equal(tb_scene_add_contact(scene, NULL), TB_STATUS_NULL_POINTER);
+    assert_int_equal(tb_scene_effect_count(scene), 0);
+    tb_scene_destroy(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_balls_meeting_head_on_part_at_e_times_their_approach_speed),
         cmocka_unit_test(test_colliding_bodies_keep_momentum_and_angular_momentum),
+        cmocka_unit_test(test_a_scene_files_contact_passes_the_momentum_on),
+        cmocka_unit_test(test_bad_contact_definitions_are_refused_and_change_nothing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
