@@ -199,6 +199,48 @@ static void test_a_scene_files_contact_passes_the_momentum_on(void **state)
     tb_scene_destroy(scene);
 }
 
+/* Two equal boxes (0.2 x 0.2 x 0.1 m, 1 kg) stacked on the ground: the box-box manifold is
+ * their overlap's 4 corners with k = M omega^2 / 4 each, so the upper box sinks into the lower
+ * by M g / (M omega^2) = penetration, and the lower into the ground by 2 penetrations (twice the
+ * weight on the ground's k = M g / penetration). After 1 s of settling, to 1e-8 m (the
+ * friction's regularised creep is sideways and nothing pushes sideways here). */
+static void test_a_box_resting_on_a_box_sinks_by_the_penetration(void **state)
+{
+    (void)state;
+    tb_scene *scene = empty_scene();
+    const double size[3] = {0.2, 0.2, 0.1};
+    tb_contact_point corners[8];
+    size_t count;
+    assert_int_equal(tb_contact_points_box(size, corners, 8, &count), TB_STATUS_OK);
+    for (int k = 0; k < 2; ++k) {
+        tb_body_def def = tb_body_def_default();
+        assert_int_equal(tb_mass_from_box(TB_MASS_GIVEN, 1.0, size, &def.mass, NULL), TB_STATUS_OK);
+        def.position[2] = 0.05 + 0.1 * k;
+        size_t id;
+        assert_int_equal(tb_scene_add_body(scene, &def, &id), TB_STATUS_OK);
+        tb_shape shape = tb_shape_default();
+        shape.type = TB_SHAPE_BOX;
+        memcpy(shape.size, size, sizeof size);
+        assert_int_equal(tb_scene_set_body_shape(scene, id, &shape), TB_STATUS_OK);
+    }
+    assert_int_equal(tb_scene_set_contact_points(scene, 0, corners, count, 4), TB_STATUS_OK);
+    assert_int_equal(tb_scene_add_gravity(scene, (double[]){0, 0, -9.81}), TB_STATUS_OK);
+    tb_ground_def ground = tb_ground_def_default();
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+    tb_contact_def contact = tb_contact_def_default();
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    tb_integrator *integrator = integrator_for(scene, TB_METHOD_RK4);
+    assert_int_equal(tb_integrator_advance(integrator, 1.0), TB_STATUS_OK);
+    const double *y = tb_scene_states(scene);
+    const double pen = contact.penetration;
+    print_message("lower box sinks %.4e m (2 penetrations %.4e), upper into it %.4e m\n",
+                  0.05 - y[2], 2 * pen, 0.1 - (y[TB_STATE_SIZE + 2] - y[2]));
+    assert_near(0.05 - y[2], 2.0 * pen, 1e-8);
+    assert_near(0.1 - (y[TB_STATE_SIZE + 2] - y[2]), pen, 1e-8);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
 /* Bad definitions are refused with a detail naming the field, and add nothing. */
 static void test_bad_contact_definitions_are_refused_and_change_nothing(void **state)
 {
@@ -257,6 +299,7 @@ int main(void)
         cmocka_unit_test(test_balls_meeting_head_on_part_at_e_times_their_approach_speed),
         cmocka_unit_test(test_colliding_bodies_keep_momentum_and_angular_momentum),
         cmocka_unit_test(test_a_scene_files_contact_passes_the_momentum_on),
+        cmocka_unit_test(test_a_box_resting_on_a_box_sinks_by_the_penetration),
         cmocka_unit_test(test_bad_contact_definitions_are_refused_and_change_nothing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
