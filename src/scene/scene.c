@@ -179,6 +179,11 @@ tb_status tb_scene_create(const tb_scene_def *def, tb_scene **out_scene, tb_erro
 void tb_scene_destroy(tb_scene *scene)
 {
     if (scene != NULL) {
+        for (size_t k = 0; k < scene->effect_count; ++k) {
+            if (scene->effects[k].ops->release != NULL) {
+                scene->effects[k].ops->release(&scene->effects[k]);
+            }
+        }
         free(scene->states);
         free(scene->bodies);
         free(scene->lane_constants);

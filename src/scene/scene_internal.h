@@ -73,6 +73,9 @@ typedef struct tb__effect_ops {
      * naming the body, written into detail (TB_DETAIL_SIZE bytes); NULL: accepts every state. */
     tb_status (*check_start)(const tb__effect *effect, const tb_scene *scene, const double *y,
                              char *detail);
+    /* Frees what the effect's parameters own (the contact effect's pair finder) when the scene
+     * is destroyed; NULL: they own nothing. */
+    void (*release)(tb__effect *effect);
 } tb__effect_ops;
 
 /* Each kind's parameters, typed: the effect's own file reads them, nobody else. Points fixed in
@@ -107,8 +110,18 @@ typedef struct tb__ground_params {
     double omega;         /* sqrt(gravity / penetration), rad/s */
     double damping_ratio; /* from the restitution (contact/contact_law.h) */
     double static_friction, kinetic_friction, stribeck_velocity;
-    double bristle_stiffness, bristle_damping; /* LuGre's s0 (1/m) and s1 (s/m) */
+    double bristle_stiffness,
+        bristle_damping; /* friction spring per unit weight: s0 (1/m), s1 (s/m) */
 } tb__ground_params;
+
+/* Contact between bodies (effect_contact.c): the pair finder and the law's constants. */
+typedef struct tb__contact_params {
+    struct tb__contact_pairs *pairs; /* owned; contact/contact_pairs.h */
+    size_t *bodies;                  /* owned: the ids it acts on */
+    size_t body_count;
+    double omega, damping_ratio; /* rad/s, from penetration and restitution */
+    double static_friction, kinetic_friction, stribeck_velocity, gravity;
+} tb__contact_params;
 
 typedef struct tb__user_params {
     tb_user_effect_fn fn;
@@ -128,6 +141,7 @@ struct tb__effect {
         tb__drag_params drag;
         tb__spring_params spring;
         tb__ground_params ground;
+        tb__contact_params contact;
         tb__user_params user;
     } params;
 };
