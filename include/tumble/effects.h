@@ -121,6 +121,40 @@ TB_API tb_status tb_contact_points_sphere(double radius, tb_contact_point *out, 
 TB_API tb_status tb_contact_points_capsule(double radius, double length, tb_contact_point *out,
                                            size_t capacity, size_t *out_count);
 
+/* --- contact between bodies --------------------------------------------------------------
+ * Bodies with a collision shape (tumble/shape.h) push each other apart where their shapes
+ * overlap. At each point of a touching pair's manifold (normal n from body a to body b, depth
+ * d > 0 overlapping) the normal force is the ground's law (docs/effects.md) for the pair's
+ * effective mass along n at that point, m_eff with 1/m_eff = 1/m_a + 1/m_b
+ * + n . ((Ia^-1 (r_a x n)) x r_a) + n . ((Ib^-1 (r_b x n)) x r_b), ringing at
+ * omega = sqrt(gravity / penetration): two bodies meeting at relative speed v separate at e v
+ * (restitution), whatever their masses and speed; the force is shared equally among the
+ * manifold's points. A sphere of mass m resting on a body of mass M (touching on the line
+ * through both centres) sinks by penetration (1 + m / M). Friction is kinetic Coulomb friction,
+ * regularised: F_t = -mu_k N v_t / sqrt(|v_t|^2 + v_eps^2) against the relative tangential
+ * velocity v_t; a body held by friction creeps at about v_eps (tan(slope) / mu_k) (static
+ * friction without creep between bodies is not built yet: static_friction is checked and kept).
+ * v_eps is 1 cm/s, raised per point where needed so that friction's decay rate stays at or
+ * below 400 per second. Forces on the two bodies are equal and opposite at the same world
+ * point. Memory is allocated here, never in a derivative. */
+typedef struct tb_contact_def {
+    const size_t *bodies;    /* ids of the bodies that may touch each other, each once; NULL:
+                                every body of the scene when the effect is added */
+    size_t body_count;       /* entries in bodies (ignored when bodies is NULL) */
+    double gravity;          /* g used to size the contact, m/s^2, > 0; default 9.81 */
+    double penetration;      /* sinking of a light body resting on a heavy one, m, > 0; 1e-3 */
+    double restitution;      /* e in [0, 1]; default 0.3 */
+    double static_friction;  /* mu_s >= mu_k; default 0.6 (kept, not yet used: see above) */
+    double kinetic_friction; /* mu_k >= 0; default 0.5 */
+    int internal_cookie;
+} tb_contact_def;
+
+TB_API tb_contact_def tb_contact_def_default(void);
+/* Refused with a detail naming the field, changing nothing: a def not from
+ * tb_contact_def_default(), a bad or repeated body id, fewer than 2 bodies, a parameter out of
+ * its range; TB_STATUS_BUSY while an integrator steps the scene. */
+TB_API tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def);
+
 /* --- user effects -------------------------------------------------------------------------
  * A callback that adds forces and torques. It receives the time and the scene's state array y
  * as the derivative sees it (read it with the tb_scene_body_* read-outs, passing y), and adds

@@ -184,6 +184,11 @@ void tb_scene_destroy(tb_scene *scene)
         free(scene->lane_constants);
         free(scene->mass_props);
         free(scene->names);
+        for (size_t e = 0; e < scene->effect_count; ++e) {
+            if (scene->effects[e].ops->release != NULL) {
+                scene->effects[e].ops->release(&scene->effects[e]);
+            }
+        }
         free(scene->effects);
         free(scene->effect_order);
         free(scene->contacts);

@@ -73,6 +73,9 @@ typedef struct tb__effect_ops {
      * naming the body, written into detail (TB_DETAIL_SIZE bytes); NULL: accepts every state. */
     tb_status (*check_start)(const tb__effect *effect, const tb_scene *scene, const double *y,
                              char *detail);
+    /* Frees what the effect allocated when it was added (contact between bodies: its pairs
+     * hook), called by tb_scene_destroy; NULL: nothing to free. */
+    void (*release)(tb__effect *effect);
 } tb__effect_ops;
 
 /* Each kind's parameters, typed: the effect's own file reads them, nobody else. Points fixed in
@@ -110,6 +113,16 @@ typedef struct tb__ground_params {
     double bristle_stiffness, bristle_damping; /* LuGre's s0 (1/m) and s1 (s/m) */
 } tb__ground_params;
 
+/* Contact between bodies (effect_contact.c). */
+typedef struct tb__pair_params {
+    struct tb__contact_pairs *pairs; /* the broad and narrow phase over the effect's bodies */
+    double *pair_weight;             /* body_count scratch for the stability guard's bound */
+    size_t weight_count;             /* entries in pair_weight */
+    double omega;                    /* sqrt(gravity / penetration), rad/s */
+    double damping_ratio;            /* from the restitution (contact/contact_law.h) */
+    double kinetic_friction, static_friction;
+} tb__pair_params;
+
 typedef struct tb__user_params {
     tb_user_effect_fn fn;
     void *ctx;
@@ -128,6 +141,7 @@ struct tb__effect {
         tb__drag_params drag;
         tb__spring_params spring;
         tb__ground_params ground;
+        tb__pair_params pair;
         tb__user_params user;
     } params;
 };
