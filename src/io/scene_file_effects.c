@@ -6,6 +6,7 @@
 #include "math/tb_math.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* The body called by the string at object.key, or (allow_world) TB_WORLD if it is missing. */
@@ -221,6 +222,73 @@ static tb_status load_ground(tb__loader *ld, const json_t *e, const char *path)
     return status == TB_STATUS_OK ? added(ld, tb_scene_add_ground(ld->scene, &def), path) : status;
 }
 
+/* The ids of the bodies named by the array at e.bodies, into a new array (*out, freed by the
+ * caller); NULL when the key is missing. */
+static tb_status body_list(tb__loader *ld, const json_t *e, const char *path, size_t **out,
+                           size_t *out_count)
+{
+    const json_t *list = json_object_get(e, "bodies");
+    *out = NULL;
+    *out_count = 0;
+    if (list == NULL) {
+        return TB_STATUS_OK;
+    }
+    char where[160];
+    snprintf(where, sizeof where, "%s.bodies", path);
+    if (!json_is_array(list) || json_array_size(list) < 2) {
+        return tb__load_fail(ld, TB_STATUS_BAD_SCENE, where,
+                             "must be an array of at least 2 body names");
+    }
+    const size_t n = json_array_size(list);
+    size_t *ids = malloc(n * sizeof *ids);
+    if (ids == NULL) {
+        return tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, where, "room for %zu bodies", n);
+    }
+    for (size_t k = 0; k < n; ++k) {
+        const char *name = json_string_value(json_array_get(list, k));
+        char item[192];
+        snprintf(item, sizeof item, "%s[%zu]", where, k);
+        if (name == NULL || tb_scene_find_body(ld->scene, name, &ids[k]) != TB_STATUS_OK) {
+            free(ids);
+            return name == NULL ? tb__load_fail(ld, TB_STATUS_BAD_SCENE, item,
+                                                "must be a body name (a string)")
+                                : tb__load_fail(ld, TB_STATUS_BAD_SCENE, item,
+                                                "no body is named \"%s\"", name);
+        }
+    }
+    *out = ids;
+    *out_count = n;
+    return TB_STATUS_OK;
+}
+
+static tb_status load_contact(tb__loader *ld, const json_t *e, const char *path)
+{
+    static const char *const keys[] = {
+        "type",        "bodies",          "gravity",          "penetration",
+        "restitution", "static_friction", "kinetic_friction", NULL};
+    tb_contact_def def = tb_contact_def_default();
+    const number_field fields[] = {{"gravity", &def.gravity, true},
+                                   {"penetration", &def.penetration, true},
+                                   {"restitution", &def.restitution, false},
+                                   {"static_friction", &def.static_friction, false},
+                                   {"kinetic_friction", &def.kinetic_friction, false},
+                                   {NULL, NULL, false}};
+    tb_status status = tb__json_object(ld, e, path, keys);
+    if (status == TB_STATUS_OK) {
+        status = numbers(ld, e, path, fields);
+    }
+    size_t *ids = NULL;
+    if (status == TB_STATUS_OK) {
+        status = body_list(ld, e, path, &ids, &def.body_count);
+    }
+    if (status == TB_STATUS_OK) {
+        def.bodies = ids;
+        status = added(ld, tb_scene_add_contact(ld->scene, &def), path);
+    }
+    free(ids);
+    return status;
+}
+
 static tb_status load_effect(tb__loader *ld, const json_t *e, const char *path)
 {
     const char *type = NULL;
@@ -245,11 +313,14 @@ static tb_status load_effect(tb__loader *ld, const json_t *e, const char *path)
     if (strcmp(type, "ground") == 0) {
         return load_ground(ld, e, path);
     }
+    if (strcmp(type, "contact") == 0) {
+        return load_contact(ld, e, path);
+    }
     char where[160];
     snprintf(where, sizeof where, "%s.type", path);
-    return tb__load_fail(ld, TB_STATUS_BAD_SCENE, where,
-                         "must be one of gravity, drag, spring, force, torque, ground, got \"%s\"",
-                         type);
+    return tb__load_fail(
+        ld, TB_STATUS_BAD_SCENE, where,
+        "must be one of gravity, drag, spring, force, torque, ground, contact, got \"%s\"", type);
 }
 
 tb_status tb__load_effects(tb__loader *ld, const json_t *effects)
