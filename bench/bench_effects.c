@@ -53,7 +53,10 @@ static void add_effects(tb_scene *scene, int bodies, int effects)
     }
     if (effects & GROUND) {
         tb_ground_def ground = tb_ground_def_default();
-        tb_scene_add_ground(scene, &ground);
+        if (tb_scene_add_ground(scene, &ground) != TB_STATUS_OK) {
+            fprintf(stderr, "bench_effects: %s\n", tb_scene_detail(scene));
+            exit(1);
+        }
     }
     if (effects & USER) {
         tb_scene_add_user_effect(scene, user_push, NULL);
@@ -74,7 +77,8 @@ static tb_scene *make_scene(int bodies, int effects)
         tb_body_def body = tb_body_def_default();
         tb_mass_from_box(TB_MASS_DENSITY, 500.0, size, &body.mass, NULL);
         body.position[0] = i;
-        body.position[2] = 0.199; /* resting on the ground: every corner below is in contact */
+        /* resting on the ground, sunk by its penetration: every corner below is in contact */
+        body.position[2] = 0.2 - tb_ground_def_default().penetration;
         body.angular_velocity[2] = 0.5;
         tb_scene_add_body(scene, &body, NULL);
         tb_scene_set_contact_points(scene, (size_t)i, corners, count, 4);

@@ -220,8 +220,13 @@ bool cli_apply(const cli_options *o, tb_run_def *run, char *message, size_t size
         snprintf(message, size, "--integrator: %s", error.message);
         return false;
     }
-    /* the scene file's settings for another method (its dt, its rtol) do not carry over */
+    /* the scene file's settings for another method (its dt, its rtol) do not carry over; a
+     * fixed-step method replacing an adaptive one takes the scene's default step (dt 0) */
+    const bool was_adaptive = tb_method_is_adaptive(run->integrator.method);
     tb_integrator_def_set_method(&run->integrator, method);
+    if (was_adaptive && !tb_method_is_adaptive(method)) {
+        run->integrator.dt = 0.0;
+    }
     const bool adaptive = tb_method_is_adaptive(run->integrator.method);
     if ((o->has_dt && adaptive) || ((o->has_rtol || o->has_atol) && !adaptive)) {
         snprintf(message, size, "%s applies to %s methods, and the integrator is %s",

@@ -92,7 +92,7 @@ int main()
         nullptr);
 
     tb_integrator_def how = tb_integrator_def_default(); // RK4 at 1/240 s
-    how.dt = 1.0 / 480.0;
+    how.dt = 0.0; // the scene's default step: ground contact is stiff (tb_scene_default_step)
     tb_integrator *raw_integrator = nullptr;
     if (tb_scene_integrator_create(scene.get(), &how, 0.0, &raw_integrator) != TB_STATUS_OK) {
         std::fprintf(stderr, "%s\n", tb_scene_detail(scene.get()));

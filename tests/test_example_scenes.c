@@ -142,15 +142,16 @@ static void spring_chain(void)
     tb_scene_destroy(scene);
 }
 
-/* Kinetic friction: stops after v^2 / (2 mu_k g) + v / r (the bristles' build-up at the
- * documented rate cap r = 400/s): 1.14679 + 0.0075 m, to 1 mm. */
+/* Kinetic friction: stops after v^2 / (2 mu_k g) = 1.14679 m, to 1 mm (the friction law caps
+ * the force at mu N from the first presliding deflection on, so there is no build-up lag; the
+ * mu_s cap of the first ~1e-5 s and the Stribeck rise at the end shorten it by less). */
 static void sliding_block(void)
 {
     tb_run_def run;
     tb_scene *scene = run_scene("sliding_block", &run);
     const double *s = rec.state[rec.frames - 1];
-    const double expected = 9.0 / (2 * 0.4 * 9.81) + 3.0 / 400.0;
-    check(fabs(s[0] - expected) < 1e-3, "stopping distance minus v^2/(2 mu_k g) + v/r (m)",
+    const double expected = 9.0 / (2 * 0.4 * 9.81);
+    check(fabs(s[0] - expected) < 1e-3, "stopping distance minus v^2/(2 mu_k g) (m)",
           s[0] - expected, 1e-3);
     check(fabs(s[7]) / 2.0 < 1e-3, "speed at the end (m/s)", fabs(s[7]) / 2.0, 1e-3);
     tb_scene_destroy(scene);

@@ -62,23 +62,24 @@ TB_API tb_status tb_scene_add_spring(tb_scene *scene, const tb_spring_def *def);
  * sphere's lowest point (delta' the rate of sinking; never pulling), with k = M g / (support
  * penetration) and c = 2 zeta sqrt(k M / support) for a body of mass M whose weight rests on
  * `support` of its points (4 of a box's 8 corners): at rest the body sinks by `penetration`,
- * whatever its mass, and the contact rings at omega = sqrt(g / penetration) rad/s. The damping
- * ratio zeta is chosen from `restitution` so that a point carrying its body's whole weight that
- * hits the plane at v leaves at e v whatever v (the clamped spring-dashpot's exact e(zeta);
- * e below 0.048 gets zeta = 2, e = 0.048).
+ * whatever its mass, and the contact rings at omega = sqrt(g / penetration) rad/s; the dashpot c
+ * fades in from touchdown (c omega delta / (omega delta + delta' / 2)) so that N is continuous.
+ * The damping ratio zeta is chosen from `restitution` so that a point carrying its body's whole
+ * weight that hits the plane at v leaves at e v whatever v (e below 0.062 gets zeta = 3,
+ * e = 0.062).
  *
- * Friction is Coulomb's, static and kinetic, through the LuGre bristle model (Canudas de Wit
- * et al., IEEE Trans. Automatic Control 40(3), 1995): each contact point carries a tangential
- * bristle deflection z with dz/dt = v_t - s0 |v_t| z / mu(v_t), mu(v) = mu_k + (mu_s - mu_k)
- * exp(-(v / stribeck_velocity)^2), and the friction force is -N (s0 z + s1 dz/dt), with
- * s0 = mu_s / presliding and bristle damping s1 exp(-(v / stribeck_velocity)^2),
- * s1 = sqrt(s0 / g) (damping ratio 1/2 for the mass a point carries). At rest dz/dt = 0: a load
- * below mu_s N is held with the bristles deflected by less than `presliding`, and the body does not
- * creep. Sliding, the force tends to mu_k N. The bristles' relaxation rate s0 |v| / mu is
- * capped at 400 per second so that RK4 at 240 steps per second stays stable; below
- * |v| = 400 mu / s0 (3 cm/s by default) the model is LuGre's exactly. The deflections are extra
- * state (2 doubles per contact point and plane) kept after the bodies' states; they relax to
- * zero when a point leaves the plane. A body whose contact point starts deeper than 10
+ * Friction is Coulomb's, static and kinetic, through a stick anchor with plastic slip: each
+ * contact point carries a tangential deflection z, a spring k = m g mu_s / presliding and damper
+ * sqrt(k m) (m = M / support) whose force is capped at mu N. z follows the point while it sticks;
+ * beyond the static cone mu_s N / k the excess relaxes at 400 per second, which makes
+ * w = 400 (excess) the slip speed, and mu = mu_k + (mu_s - mu_k) exp(-(w / stribeck_velocity)^2)
+ * falls with the slip, not with the velocity: a body released at rest under a load below
+ * mu_s N stays, with the spring deflected by less than `presliding`, and does not creep.
+ * Sliding, the force is mu_k N. The deflections are extra state (2 doubles per contact point and
+ * plane) kept after the bodies' states; they relax to zero when a point leaves the plane. The
+ * defaults are stiff enough for impacts (a 5 cm die dropped from 1 m sinks at most 2 mm), which
+ * makes fixed-step methods need more than 240 steps per second: give them dt = 0 for the scene's
+ * default step (tb_scene_default_step). A body whose contact point starts deeper than 10
  * penetrations inside the plane is refused (TB_STATUS_INVALID_ARGUMENT, naming it and its depth)
  * by tb_scene_add_ground or tb_scene_set_contact_points, whichever comes last: the contact would
  * launch it. */
@@ -86,13 +87,14 @@ typedef struct tb_ground_def {
     double normal[3];         /* unit normal, pointing out of the ground; default (0,0,1) */
     double offset;            /* the plane is normal . x = offset, m; default 0 */
     double gravity;           /* g used to size the contact, m/s^2, > 0; default 9.81 */
-    double penetration;       /* static sinking under a body's own weight, m, > 0; 1e-3 */
+    double penetration;       /* static sinking under a body's own weight, m, > 0; 8e-7 */
     double restitution;       /* e in [0, 1]: a point hits at v and leaves at e v; default 0.3 */
     double static_friction;   /* mu_s >= mu_k; default 0.6 */
     double kinetic_friction;  /* mu_k >= 0; default 0.5 */
     double stribeck_velocity; /* m/s, > 0: speed over which mu falls from mu_s to mu_k;
                                  default 0.01 */
-    double presliding;        /* bristle deflection at breakaway, m, > 0; default 1e-4 */
+    double presliding;        /* deflection at breakaway under a body's own weight, m, > 0;
+                                 default 5e-7 */
     int internal_cookie;
 } tb_ground_def;
 
@@ -121,38 +123,30 @@ TB_API tb_status tb_contact_points_sphere(double radius, tb_contact_point *out, 
 TB_API tb_status tb_contact_points_capsule(double radius, double length, tb_contact_point *out,
                                            size_t capacity, size_t *out_count);
 
-/* --- contact between bodies --------------------------------------------------------------
- * Bodies with a collision shape (tumble/shape.h) push each other apart where their shapes
- * overlap. At each point of a touching pair's manifold (normal n from body a to body b, depth
- * d > 0 overlapping) the normal force is the ground's law (docs/effects.md) for the pair's
- * effective mass along n at that point, m_eff with 1/m_eff = 1/m_a + 1/m_b
- * + n . ((Ia^-1 (r_a x n)) x r_a) + n . ((Ib^-1 (r_b x n)) x r_b), ringing at
- * omega = sqrt(gravity / penetration): two bodies meeting at relative speed v separate at e v
- * (restitution), whatever their masses and speed; the force is shared equally among the
- * manifold's points. A sphere of mass m resting on a body of mass M (touching on the line
- * through both centres) sinks by penetration (1 + m / M). Friction is kinetic Coulomb friction,
- * regularised: F_t = -mu_k N v_t / sqrt(|v_t|^2 + v_eps^2) against the relative tangential
- * velocity v_t; a body held by friction creeps at about v_eps (tan(slope) / mu_k) (static
- * friction without creep between bodies is not built yet: static_friction is checked and kept).
- * v_eps is 1 cm/s, raised per point where needed so that friction's decay rate stays at or
- * below 400 per second. Forces on the two bodies are equal and opposite at the same world
- * point. Memory is allocated here, never in a derivative. */
+/* --- contact between bodies -----------------------------------------------------------------
+ * Bodies with collision shapes (tb_scene_set_body_shape, include/tumble/shape.h) push each other
+ * apart where they overlap, with the ground's normal law (see above) at each point of a pair's
+ * contact manifold (up to 4 points, src/contact/narrow_phase.h): per point k = M_min g /
+ * (points penetration), the damping from `restitution` at the reduced mass, so that two free
+ * bodies meeting at one point part at e times their approach speed. Friction: Coulomb's
+ * mu(v) N with mu falling from mu_s to mu_k over stribeck_velocity, regularised below 1 mm/s
+ * (no friction state: it creeps under a static load). Forces on the two bodies are equal and
+ * opposite at the same world point: linear and angular momentum are conserved. bodies NULL
+ * (body_count 0): every body of the scene when the effect is added; bodies added later are not
+ * included. */
 typedef struct tb_contact_def {
-    const size_t *bodies;    /* ids of the bodies that may touch each other, each once; NULL:
-                                every body of the scene when the effect is added */
-    size_t body_count;       /* entries in bodies (ignored when bodies is NULL) */
-    double gravity;          /* g used to size the contact, m/s^2, > 0; default 9.81 */
-    double penetration;      /* sinking of a light body resting on a heavy one, m, > 0; 1e-3 */
-    double restitution;      /* e in [0, 1]; default 0.3 */
-    double static_friction;  /* mu_s >= mu_k; default 0.6 (kept, not yet used: see above) */
-    double kinetic_friction; /* mu_k >= 0; default 0.5 */
+    const size_t *bodies; /* ids, each at most once, copied; NULL: every body */
+    size_t body_count;
+    double restitution;       /* e in [0, 1]; default 0.3 */
+    double static_friction;   /* mu_s >= mu_k; default 0.6 */
+    double kinetic_friction;  /* mu_k >= 0; default 0.5 */
+    double penetration;       /* m, > 0: sets omega = sqrt(g / penetration); default 8e-7 */
+    double gravity;           /* m/s^2, > 0, sizes the contact; default 9.81 */
+    double stribeck_velocity; /* m/s, > 0; default 0.01 */
     int internal_cookie;
 } tb_contact_def;
 
 TB_API tb_contact_def tb_contact_def_default(void);
-/* Refused with a detail naming the field, changing nothing: a def not from
- * tb_contact_def_default(), a bad or repeated body id, fewer than 2 bodies, a parameter out of
- * its range; TB_STATUS_BUSY while an integrator steps the scene. */
 TB_API tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def);
 
 /* --- user effects -------------------------------------------------------------------------

@@ -170,7 +170,8 @@ typedef struct tb_integrator_def {
     tb_method method; /* default TB_METHOD_RK4 */
 
     /* Fixed-step methods. */
-    double dt; /* step size in the system's time unit (s for scenes), > 0; default 1/240.
+    double dt; /* step size in the system's time unit (s for scenes), > 0; default 1/240;
+                  0 for tb_scene_integrator_create: the scene's default step.
                   The times a run reaches must resolve it: doubles near t must be at most
                   dt / 1024 apart (near t = 1e15 they are 0.125 apart), else creation, reset
                   or advance is refused (TB_STATUS_INVALID_ARGUMENT naming dt and the time) */

@@ -275,6 +275,7 @@ TB_API void tb_scene_set_allow_unstable(tb_scene *scene, bool allow);
 TB_API bool tb_scene_allow_unstable(const tb_scene *scene);
 
 /* Creates an integrator over the scene's own state array at time t0.
+ * A fixed-step def with dt 0 takes tb_scene_default_step.
  * A fixed-step def whose dt exceeds tb_scene_max_stable_step is refused with
  * TB_STATUS_UNSTABLE_STEP, the detail naming the body or effect, its rate and the largest
  * stable dt, unless the scene allows unstable steps; the same check runs at the start of every

@@ -1,8 +1,6 @@
-/* Contact with a ground plane: penalty normal force and LuGre friction at the bodies' contact
- * points. The friction model (Canudas de Wit, Olsson, Astrom, Lischinsky, IEEE Trans.
- * Automatic Control 40(3), 1995) gives each contact point a bristle deflection z, here two
- * components in the plane, with dz/dt = v_t - s0 |v_t| z / mu(|v_t|) and friction
- * F_t = -N (s0 z + s1 dz/dt), normalised by the normal force N. */
+/* Contact with a ground plane: the compliant normal law (contact/contact_law.h) and stick-anchor
+ * friction at the bodies' contact points. Each point keeps a tangential deflection z, two
+ * components in the plane, in the state after the bodies' (bristles() and docs/effects.md). */
 #include "scene/scene_internal.h"
 
 #include "contact/contact_law.h"
@@ -16,16 +14,16 @@
 /* Rate (1/s) at which a lifted point's bristles relax: fast against motion, slow enough for
  * RK4 at 60 steps per second (h * rate = 1.7 < 2.78). */
 #define TB__BRISTLE_RELEASE_RATE 100.0
-/* LuGre's bristles relax towards their sliding deflection at s0 |v| / mu per second: 24000/s
- * at 2 m/s with the defaults, beyond any explicit step an animator would take. The rate is
- * capped here, so RK4 at 240 steps per second stays stable (h * 400 = 1.7 < 2.78); below
- * |v| = 400 mu / s0 (3 cm/s with the defaults) the model is LuGre's exactly, and above it the
- * bristles reach their sliding deflection in a few milliseconds instead of microseconds. */
+/* Rate (1/s) at which a deflection beyond the static cone relaxes back to it, so that in a slide
+ * at v the excess is v / rate and rate * excess is the slip speed; slow enough for RK4 at 240
+ * steps per second (h * 400 = 1.7 < 2.78). The friction force is capped at mu N whatever the
+ * excess, so the rate only sets how long a slide's excess takes to fade once the slide stops. */
 #define TB__BRISTLE_MAX_RATE 400.0
 /* How deep (in penetrations) a body may start inside a plane. The contact pushes a point d deep
  * with d / penetration times the weight it carries, and would launch the body at about
- * d sqrt(g / penetration): 1 m/s from 10 penetrations at the defaults, 366 m/s (damped) from
- * 10 m. Deeper than this is a set-up mistake, refused. */
+ * d sqrt(g / penetration): 2.8 cm/s from 10 penetrations at the defaults, 1 m/s with
+ * penetration 1e-3, 366 m/s (damped, penetration 1e-3) from 10 m. Deeper than this is a set-up
+ * mistake, refused. */
 #define TB__START_DEPTH_PENETRATIONS 10.0
 
 /* Normal force magnitude for a point of a body of mass M carrying share of its weight: the shared
@@ -37,37 +35,43 @@ static double normal_force(const tb__ground_params *ground, double mass, double 
                                     -normal_speed);
 }
 
-/* LuGre at one point: writes dz and returns the friction force per unit normal force in
- * the tangent basis. dz/dt = v - s0 |v| z / mu is written as rate (z_sliding - z) with
- * rate = s0 |v| / mu and z_sliding = mu v / (s0 |v|), so the rate can be capped. The bristle
- * damping fades with speed, s1 exp(-(v / v_s)^2), as Canudas de Wit et al. suggest, so that
- * it damps presliding and does not add to sliding friction. */
-static void bristles(const tb__ground_params *ground, const double v_t[2], const double z[2],
-                     double dz[2], double friction[2])
+/* Friction at one point: writes dz and returns the friction force (N, tangent basis). A stick
+ * anchor with plastic slip (docs/effects.md, "Friction"): z is the elastic deflection of a
+ * tangential spring and dashpot of stiffness k = m g s0 and damping ratio 1/2 for the mass m the
+ * point carries, whose force is capped at mu N. z grows with the tangential velocity until it
+ * passes the static cone z_s = mu_s N / k; the excess relaxes at TB__BRISTLE_MAX_RATE r, so in a
+ * slide at v it settles at v / r and r excess estimates the slip speed. mu falls from mu_s to
+ * mu_k with that slip speed (Stribeck), not with the velocity: a presliding transient, however
+ * fast, does not lower the cap, so a load below mu_s N is held whatever the release. At rest
+ * dz = 0 exactly and the spring holds the load: no creep. */
+static void bristles(const tb__ground_params *ground, double mass, double N, const double v_t[2],
+                     const double z[2], double dz[2], double friction[2])
 {
-    const double speed = hypot(v_t[0], v_t[1]);
-    const double ratio = speed / ground->stribeck_velocity;
-    const double fade = exp(-ratio * ratio);
-    const double mu =
-        ground->kinetic_friction + (ground->static_friction - ground->kinetic_friction) * fade;
-    if (!(mu > 0.0)) { /* frictionless */
+    if (!(ground->static_friction > 0.0)) { /* frictionless */
         for (int k = 0; k < 2; ++k) {
             dz[k] = -TB__BRISTLE_RELEASE_RATE * z[k];
             friction[k] = 0.0;
         }
         return;
     }
-    const double s0 = ground->bristle_stiffness;
-    const double rate = s0 * speed / mu;
+    const double stiffness = mass * ground->gravity * ground->bristle_stiffness;
+    const double damping = mass * ground->gravity * ground->bristle_damping;
+    const double deflection = hypot(z[0], z[1]);
+    const double cone = ground->static_friction * N / stiffness;
+    const double excess = deflection > cone ? deflection - cone : 0.0;
+    const double slip = TB__BRISTLE_MAX_RATE * excess / ground->stribeck_velocity;
+    const double mu = ground->kinetic_friction +
+                      (ground->static_friction - ground->kinetic_friction) * exp(-slip * slip);
+    double trial[2], magnitude = 0.0;
     for (int k = 0; k < 2; ++k) {
-        if (rate <= TB__BRISTLE_MAX_RATE) {
-            dz[k] = v_t[k] - rate * z[k];
-        } else {
-            const double sliding = mu * v_t[k] / (s0 * speed);
-            dz[k] = TB__BRISTLE_MAX_RATE * (sliding - z[k]);
-        }
-        friction[k] = -(s0 * z[k] + ground->bristle_damping * fade * dz[k]);
+        trial[k] = -(stiffness * z[k] + damping * v_t[k]);
+        magnitude += trial[k] * trial[k];
+        dz[k] = v_t[k] - (excess > 0.0 ? TB__BRISTLE_MAX_RATE * excess * z[k] / deflection : 0.0);
     }
+    magnitude = sqrt(magnitude);
+    const double scale = magnitude > mu * N ? mu * N / magnitude : 1.0;
+    friction[0] = scale * trial[0];
+    friction[1] = scale * trial[1];
 }
 
 /* How far contact point c's sphere dips below the plane (m, negative above it); its lever
@@ -99,10 +103,10 @@ static void contact(const tb__ground_params *ground, const tb_scene *scene, cons
     const double N = normal_force(ground, mass, c->share, depth, tb__v3_dot(n, velocity));
     const double v_t[2] = {tb__v3_dot(t1, velocity), tb__v3_dot(t2, velocity)};
     double friction[2];
-    bristles(ground, v_t, z, dz, friction);
+    bristles(ground, mass * c->share, N, v_t, z, dz, friction);
     double f[3];
     for (int k = 0; k < 3; ++k) {
-        f[k] = N * (n[k] + friction[0] * t1[k] + friction[1] * t2[k]);
+        f[k] = N * n[k] + friction[0] * t1[k] + friction[1] * t2[k];
     }
     tb__add_load(dydt, c->body, arm, f);
 }
@@ -180,10 +184,10 @@ static void damped_mode(double omega, double zeta, size_t body, tb__effect_rate 
 
 /* Every mode of the contact scales alike: a point's stiffness is its share of M g / penetration
  * and its damping 2 zeta sqrt(k M share), so bouncing has omega0 = sqrt(g / penetration) and
- * damping ratio zeta, rocking omega0 a and zeta a. The bristles of a point, stiffness N s0 and
- * damping N s1 (ratio 1/2 per point), ring at sqrt(g s0) a with ratio a / 2. Their relaxation
- * towards sliding (capped at TB__BRISTLE_MAX_RATE) and a lifted point's release are decaying
- * modes of their own. */
+ * damping ratio zeta, rocking omega0 a and zeta a. The friction spring of a point, stiffness
+ * m g s0 and damping m g s1 (ratio 1/2 per point), rings at sqrt(g s0) a with ratio a / 2. The
+ * relaxation of a deflection beyond the cone (TB__BRISTLE_MAX_RATE) and a lifted point's release
+ * are decaying modes of their own. */
 static void ground_rate(const tb__effect *effect, const tb_scene *scene, const double *y,
                         tb__effect_rate *out)
 {
@@ -252,12 +256,12 @@ tb_ground_def tb_ground_def_default(void)
     memset(&def, 0, sizeof def);
     def.normal[2] = 1.0;
     def.gravity = 9.81;
-    def.penetration = 1e-3;
+    def.penetration = 8e-7;
     def.restitution = 0.3;
     def.static_friction = 0.6;
     def.kinetic_friction = 0.5;
     def.stribeck_velocity = 0.01;
-    def.presliding = 1e-4;
+    def.presliding = 5e-7;
     def.internal_cookie = TB__GROUND_COOKIE;
     return def;
 }
@@ -333,11 +337,11 @@ static void ground_params(const tb_ground_def *def, tb__ground_params *ground)
     ground->static_friction = def->static_friction;
     ground->kinetic_friction = def->kinetic_friction;
     ground->stribeck_velocity = def->stribeck_velocity;
-    /* s0 sets the breakaway deflection. s1 gives the bristles of one point, loaded by the mass
-     * m = N / g it carries, a damping ratio of 1/2: sigma1 = 2 (1/2) sqrt(sigma0 m) with
-     * sigma = N s. Not 1: a flat body's yaw mode on its corners is sqrt(3) times stiffer and
+    /* Per unit of the mass m a point carries, times g: the spring k = m g s0 (the breakaway
+     * deflection under the weight is presliding) and the damper m g s1 = sqrt(k m), a damping
+     * ratio of 1/2. Not 1: a flat body's yaw mode on its corners is sqrt(3) times stiffer and
      * sqrt(3) times more damped than one point, and overdamped at 1.73 its fast eigenvalue
-     * (5.4 omega) would leave RK4's stability region at 240 steps per second. */
+     * (5.4 omega) would cost explicit methods a 2.4 times shorter step. */
     ground->bristle_stiffness = def->static_friction / def->presliding;
     ground->bristle_damping = sqrt(ground->bristle_stiffness / def->gravity);
 }

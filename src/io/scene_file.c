@@ -272,6 +272,11 @@ static tb_status load_document(tb__loader *ld, const json_t *root)
     if (status == TB_STATUS_OK && section != NULL) {
         status = tb__load_integrator(ld, section);
     }
+    /* no dt: the scene's default step (tb_scene_default_step), resolved for the method run */
+    if (status == TB_STATUS_OK && !tb_method_is_adaptive(ld->run.integrator.method) &&
+        (section == NULL || json_object_get(section, "dt") == NULL)) {
+        ld->run.integrator.dt = 0.0;
+    }
     section = json_object_get(root, "output");
     if (status == TB_STATUS_OK && section != NULL) {
         status = tb__load_output(ld, section);

@@ -222,67 +222,62 @@ static tb_status load_ground(tb__loader *ld, const json_t *e, const char *path)
     return status == TB_STATUS_OK ? added(ld, tb_scene_add_ground(ld->scene, &def), path) : status;
 }
 
-/* The ids of the bodies named by the array at e.bodies, into a new array (*out, freed by the
- * caller); NULL when the key is missing. */
-static tb_status body_list(tb__loader *ld, const json_t *e, const char *path, size_t **out,
-                           size_t *out_count)
+/* "bodies": an array of body names, into ids[] (room for the scene's bodies). */
+static tb_status contact_bodies(tb__loader *ld, const json_t *names, const char *path, size_t *ids,
+                                size_t *count)
 {
-    const json_t *list = json_object_get(e, "bodies");
-    *out = NULL;
-    *out_count = 0;
-    if (list == NULL) {
-        return TB_STATUS_OK;
-    }
     char where[160];
     snprintf(where, sizeof where, "%s.bodies", path);
-    if (!json_is_array(list) || json_array_size(list) < 2) {
-        return tb__load_fail(ld, TB_STATUS_BAD_SCENE, where,
-                             "must be an array of at least 2 body names");
+    if (!json_is_array(names) || json_array_size(names) == 0) {
+        return tb__load_fail(ld, TB_STATUS_BAD_SCENE, where, "must be an array of body names");
     }
-    const size_t n = json_array_size(list);
-    size_t *ids = malloc(n * sizeof *ids);
-    if (ids == NULL) {
-        return tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, where, "room for %zu bodies", n);
+    *count = json_array_size(names);
+    if (*count > tb_scene_body_count(ld->scene)) {
+        return tb__load_fail(ld, TB_STATUS_BAD_SCENE, where, "names %zu bodies, the scene has %zu",
+                             *count, tb_scene_body_count(ld->scene));
     }
-    for (size_t k = 0; k < n; ++k) {
-        const char *name = json_string_value(json_array_get(list, k));
-        char item[192];
-        snprintf(item, sizeof item, "%s[%zu]", where, k);
-        if (name == NULL || tb_scene_find_body(ld->scene, name, &ids[k]) != TB_STATUS_OK) {
-            free(ids);
-            return name == NULL ? tb__load_fail(ld, TB_STATUS_BAD_SCENE, item,
-                                                "must be a body name (a string)")
-                                : tb__load_fail(ld, TB_STATUS_BAD_SCENE, item,
-                                                "no body is named \"%s\"", name);
+    for (size_t k = 0; k < *count; ++k) {
+        const json_t *name = json_array_get(names, k);
+        if (!json_is_string(name) ||
+            tb_scene_find_body(ld->scene, json_string_value(name), &ids[k]) != TB_STATUS_OK) {
+            return tb__load_fail(ld, TB_STATUS_BAD_SCENE, where, "entry %zu: not a body's name", k);
         }
     }
-    *out = ids;
-    *out_count = n;
     return TB_STATUS_OK;
 }
 
 static tb_status load_contact(tb__loader *ld, const json_t *e, const char *path)
 {
-    static const char *const keys[] = {
-        "type",        "bodies",          "gravity",          "penetration",
-        "restitution", "static_friction", "kinetic_friction", NULL};
+    static const char *const keys[] = {"type",
+                                       "bodies",
+                                       "restitution",
+                                       "static_friction",
+                                       "kinetic_friction",
+                                       "penetration",
+                                       "gravity",
+                                       "stribeck_velocity",
+                                       NULL};
     tb_contact_def def = tb_contact_def_default();
-    const number_field fields[] = {{"gravity", &def.gravity, true},
-                                   {"penetration", &def.penetration, true},
-                                   {"restitution", &def.restitution, false},
+    const number_field fields[] = {{"restitution", &def.restitution, false},
                                    {"static_friction", &def.static_friction, false},
                                    {"kinetic_friction", &def.kinetic_friction, false},
+                                   {"penetration", &def.penetration, true},
+                                   {"gravity", &def.gravity, true},
+                                   {"stribeck_velocity", &def.stribeck_velocity, true},
                                    {NULL, NULL, false}};
     tb_status status = tb__json_object(ld, e, path, keys);
     if (status == TB_STATUS_OK) {
         status = numbers(ld, e, path, fields);
     }
+    const json_t *names = json_object_get(e, "bodies");
     size_t *ids = NULL;
-    if (status == TB_STATUS_OK) {
-        status = body_list(ld, e, path, &ids, &def.body_count);
+    if (status == TB_STATUS_OK && names != NULL) {
+        ids = malloc((tb_scene_body_count(ld->scene) + 1) * sizeof *ids);
+        status = ids == NULL ? tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, path, "body list")
+                             : contact_bodies(ld, names, path, ids, &def.body_count);
+        def.bodies = ids;
     }
     if (status == TB_STATUS_OK) {
-        def.bodies = ids;
         status = added(ld, tb_scene_add_contact(ld->scene, &def), path);
     }
     free(ids);
@@ -320,7 +315,9 @@ static tb_status load_effect(tb__loader *ld, const json_t *e, const char *path)
     snprintf(where, sizeof where, "%s.type", path);
     return tb__load_fail(
         ld, TB_STATUS_BAD_SCENE, where,
-        "must be one of gravity, drag, spring, force, torque, ground, contact, got \"%s\"", type);
+        "must be one of gravity, drag, spring, force, torque, ground, contact, got "
+        "\"%s\"",
+        type);
 }
 
 tb_status tb__load_effects(tb__loader *ld, const json_t *effects)

@@ -115,6 +115,12 @@ tb_status tb_scene_run(tb_scene *scene, const tb_run_def *def, tb_frame_fn on_fr
     if (status != TB_STATUS_OK) {
         return status;
     }
+    tb_run_def stepped = *def; /* dt 0: the scene's default step, also for check_frame */
+    if (!tb_method_is_adaptive(def->integrator.method) && def->integrator.dt == 0.0) {
+        stepped.integrator.dt =
+            tb__scene_default_step(scene, scene->states, def->integrator.method);
+    }
+    def = &stepped;
     tb_integrator *integrator = NULL;
     status = tb_scene_integrator_create(scene, &def->integrator, 0.0, &integrator);
     if (status != TB_STATUS_OK) {

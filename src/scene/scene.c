@@ -179,16 +179,16 @@ tb_status tb_scene_create(const tb_scene_def *def, tb_scene **out_scene, tb_erro
 void tb_scene_destroy(tb_scene *scene)
 {
     if (scene != NULL) {
+        for (size_t k = 0; k < scene->effect_count; ++k) {
+            if (scene->effects[k].ops->release != NULL) {
+                scene->effects[k].ops->release(&scene->effects[k]);
+            }
+        }
         free(scene->states);
         free(scene->bodies);
         free(scene->lane_constants);
         free(scene->mass_props);
         free(scene->names);
-        for (size_t e = 0; e < scene->effect_count; ++e) {
-            if (scene->effects[e].ops->release != NULL) {
-                scene->effects[e].ops->release(&scene->effects[e]);
-            }
-        }
         free(scene->effects);
         free(scene->effect_order);
         free(scene->contacts);

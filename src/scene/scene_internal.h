@@ -73,8 +73,8 @@ typedef struct tb__effect_ops {
      * naming the body, written into detail (TB_DETAIL_SIZE bytes); NULL: accepts every state. */
     tb_status (*check_start)(const tb__effect *effect, const tb_scene *scene, const double *y,
                              char *detail);
-    /* Frees what the effect allocated when it was added (contact between bodies: its pairs
-     * hook), called by tb_scene_destroy; NULL: nothing to free. */
+    /* Frees what the effect's parameters own (the contact effect's pair finder) when the scene
+     * is destroyed; NULL: they own nothing. */
     void (*release)(tb__effect *effect);
 } tb__effect_ops;
 
@@ -110,18 +110,18 @@ typedef struct tb__ground_params {
     double omega;         /* sqrt(gravity / penetration), rad/s */
     double damping_ratio; /* from the restitution (contact/contact_law.h) */
     double static_friction, kinetic_friction, stribeck_velocity;
-    double bristle_stiffness, bristle_damping; /* LuGre's s0 (1/m) and s1 (s/m) */
+    double bristle_stiffness,
+        bristle_damping; /* friction spring per unit weight: s0 (1/m), s1 (s/m) */
 } tb__ground_params;
 
-/* Contact between bodies (effect_contact.c). */
-typedef struct tb__pair_params {
-    struct tb__contact_pairs *pairs; /* the broad and narrow phase over the effect's bodies */
-    double *pair_weight;             /* body_count scratch for the stability guard's bound */
-    size_t weight_count;             /* entries in pair_weight */
-    double omega;                    /* sqrt(gravity / penetration), rad/s */
-    double damping_ratio;            /* from the restitution (contact/contact_law.h) */
-    double kinetic_friction, static_friction;
-} tb__pair_params;
+/* Contact between bodies (effect_contact.c): the pair finder and the law's constants. */
+typedef struct tb__contact_params {
+    struct tb__contact_pairs *pairs; /* owned; contact/contact_pairs.h */
+    size_t *bodies;                  /* owned: the ids it acts on */
+    size_t body_count;
+    double omega, damping_ratio; /* rad/s, from penetration and restitution */
+    double static_friction, kinetic_friction, stribeck_velocity, gravity;
+} tb__contact_params;
 
 typedef struct tb__user_params {
     tb_user_effect_fn fn;
@@ -141,7 +141,7 @@ struct tb__effect {
         tb__drag_params drag;
         tb__spring_params spring;
         tb__ground_params ground;
-        tb__pair_params pair;
+        tb__contact_params contact;
         tb__user_params user;
     } params;
 };
