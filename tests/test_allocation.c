@@ -200,6 +200,59 @@ static void test_building_a_scene_allocates_per_doubling_not_per_body(void **sta
     tb_scene_destroy(scene);
 }
 
+/* Contact between bodies: a row of boxes and balls with shapes, pushed into each other on the
+ * ground, under every method. The pairs hook is made when the effect is added; stepping through
+ * the collisions allocates nothing. */
+static void test_contact_between_bodies_allocates_nothing(void **state)
+{
+    (void)state;
+    for (int m = 0; m < TB_METHOD_COUNT; ++m) {
+        tb_scene_def scene_def = tb_scene_def_default();
+        tb_scene *scene = NULL;
+        assert_int_equal(tb_scene_create(&scene_def, &scene, NULL), TB_STATUS_OK);
+        for (int k = 0; k < 6; ++k) {
+            tb_body_def def = tb_body_def_default();
+            tb_shape shape = tb_shape_default();
+            if (k % 2 == 0) {
+                shape.type = TB_SHAPE_BOX;
+                shape.size[0] = shape.size[1] = shape.size[2] = 0.1;
+                tb_mass_from_box(TB_MASS_GIVEN, 1.0, shape.size, &def.mass, NULL);
+            } else {
+                shape.type = TB_SHAPE_SPHERE;
+                shape.radius = 0.05;
+                tb_mass_from_sphere(TB_MASS_GIVEN, 1.0, 0.05, &def.mass, NULL);
+            }
+            def.position[0] = 0.12 * k;
+            def.position[2] = 0.05;
+            def.velocity[0] = k == 0 ? 1.0 : 0.0;
+            size_t id = 0;
+            assert_int_equal(tb_scene_add_body(scene, &def, &id), TB_STATUS_OK);
+            assert_int_equal(tb_scene_set_body_shape(scene, id, &shape), TB_STATUS_OK);
+        }
+        tb_contact_def contact = tb_contact_def_default();
+        assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+        tb_integrator_def def = tb_integrator_def_default();
+        assert_int_equal(tb_integrator_def_set_method(&def, (tb_method)m), TB_STATUS_OK);
+        if (!tb_method_is_adaptive((tb_method)m)) {
+            def.dt = 0.0; /* the scene's default step */
+        }
+        tb_integrator *integrator = NULL;
+        assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator), TB_STATUS_OK);
+        assert_int_equal(tb_integrator_advance(integrator, 0.01), TB_STATUS_OK); /* warm-up */
+        const long before = allocations;
+        for (int frame = 1; frame <= 60; ++frame) { /* frame by frame: the step budget */
+            assert_int_equal(tb_integrator_advance(integrator, frame / 60.0), TB_STATUS_OK);
+        }
+        print_message("%s: %ld allocations while colliding\n", tb_method_name((tb_method)m),
+                      allocations - before);
+        assert_int_equal(allocations - before, 0);
+        const double *y = tb_scene_states(scene);
+        assert_true(y[TB_STATE_SIZE * 5 + TB_STATE_P] > 0.1); /* the push reached the last body */
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -207,6 +260,7 @@ int main(void)
         cmocka_unit_test(test_stepping_allocates_nothing),
         cmocka_unit_test(test_stepping_with_every_effect_allocates_nothing),
         cmocka_unit_test(test_building_a_scene_allocates_per_doubling_not_per_body),
+        cmocka_unit_test(test_contact_between_bodies_allocates_nothing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -216,6 +216,12 @@ static tb_status validate_contact(tb_scene *scene, const tb_contact_def *def)
                                 "got %g",
                                 def->kinetic_friction, def->static_friction);
     }
+    if (status == TB_STATUS_OK && !isfinite(sqrt(def->gravity / def->penetration))) {
+        status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                                "penetration: %g m with gravity %g m/s^2 makes the contact's rate "
+                                "sqrt(gravity / penetration) overflow",
+                                def->penetration, def->gravity);
+    }
     if (status == TB_STATUS_OK && def->bodies == NULL && def->body_count > 0) {
         status = tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "bodies is NULL (body_count %zu)",
                                 def->body_count);
