@@ -431,6 +431,42 @@ static void test_only_the_listed_bodies_touch(void **state)
     tb_scene_destroy(scene);
 }
 
+/* CVODE at its default tolerances (rtol 1e-6, the scene's automatic atol) must not step over a
+ * collision: in free flight its error estimate is zero and its steps grow without bound, so two
+ * balls 0.1 m apart at 2 m/s met nothing but a step that jumped them through each other (the
+ * light ball ended at x = 1.7 m still at 2 m/s). A scene with contact between bodies caps the
+ * adaptive step at half the shortest push, so a step's end lands in every collision. Then the
+ * outcome is the law's: 1 kg at 2 m/s on 3 kg at rest with e = 0.8 leaves at (1 - 3 e) v / 4 =
+ * -0.7 and (1 + e) v / 4 = 0.9 m/s; the tolerance is 1% of the approach speed, far above what
+ * rtol 1e-6 leaves and far below the pass-through's error (the balls keep 2 and 0 m/s). The
+ * balls first spend 1.5 s apart, so the steps have grown long before they meet. */
+static void test_cvode_at_its_defaults_does_not_step_over_a_collision(void **unused)
+{
+    (void)unused;
+    const tb_method methods[] = {TB_METHOD_CVODE_ADAMS, TB_METHOD_CVODE_BDF};
+    for (int m = 0; m < 2; ++m) {
+        tb_contact_def contact = tb_contact_def_default();
+        contact.restitution = 0.8;
+        tb_scene_def scene_def = tb_scene_def_default();
+        tb_scene *scene = NULL;
+        assert_int_equal(tb_scene_create(&scene_def, &scene, NULL), TB_STATUS_OK);
+        add_ball(scene, 1.0, 0.1, -3.2, 0.0, 2.0);
+        add_ball(scene, 3.0, 0.1, 0.0, 0.0, 0.0);
+        assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+        tb_integrator_def def = tb_integrator_def_default();
+        assert_int_equal(tb_integrator_def_set_method(&def, methods[m]), TB_STATUS_OK);
+        tb_integrator *integrator = NULL;
+        assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator), TB_STATUS_OK);
+        advance_to(integrator, 2.0);
+        const double light = velocity_x(scene, 0, 1.0), heavy = velocity_x(scene, 1, 3.0);
+        print_message("%s at its defaults: light %.6f m/s (-0.7), heavy %.6f m/s (0.9)\n",
+                      tb_method_name(methods[m]), light, heavy);
+        assert_true(fabs(light + 0.7) < 0.02 && fabs(heavy - 0.9) < 0.02);
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -439,6 +475,7 @@ int main(void)
         cmocka_unit_test(test_energy_never_grows_through_a_collision),
         cmocka_unit_test(test_equal_elastic_balls_exchange_velocities),
         cmocka_unit_test(test_every_method_agrees_on_the_collision),
+        cmocka_unit_test(test_cvode_at_its_defaults_does_not_step_over_a_collision),
         cmocka_unit_test(test_the_guard_refuses_a_step_beyond_the_contacts_limit),
         cmocka_unit_test(test_a_ball_rests_on_a_box_at_the_predicted_sinking),
         cmocka_unit_test(test_bad_contact_definitions_are_refused),

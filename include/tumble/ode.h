@@ -190,7 +190,8 @@ typedef struct tb_integrator_def {
                             reached, y at the last good step. A fixed-step advance whose target is
                             more than max_steps steps of dt away is refused before any step */
     double initial_step; /* first step size; 0 (default) lets CVODE estimate it */
-    double max_step;     /* largest step size; 0 (default) for no limit */
+    double max_step;     /* largest step size; 0 (default) for no limit (on a scene with contact
+                            between bodies: half the shortest push, docs/effects.md) */
     int max_order;       /* 0 (default) for the method's largest (Adams 12, BDF 5);
                             CVODE keeps max_order + 1 history vectors, so Adams at 5
                             takes 7 state-sized vectors fewer (docs/performance.md) */

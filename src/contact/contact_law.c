@@ -6,6 +6,8 @@
  * this step against a step 4 times shorter). */
 #include "contact/contact_law.h"
 
+#include <stdbool.h>
+
 #define TB__SETUP_STEP 2e-3
 /* No impact lasts longer in units of 1 / omega: the slow overdamped mode at zeta = 3 decays at
  * 0.17, and the contact ends before d has decayed e^-3 */
@@ -17,11 +19,14 @@ static void rates(double zeta, const double s[2], double out[2])
     out[1] = -tb__contact_normal_force(1.0, 1.0, zeta, s[0], s[1]);
 }
 
-double tb__contact_restitution(double zeta)
+/* The dimensionless impact from d = 0, d' = 1 until it is out of the contact or, with
+ * first_release, until the force first lets go (the dashpot may let go inside the surface and
+ * the spring take hold again); returns the time. */
+static double impact(double zeta, bool first_release, double s[2])
 {
-    double s[2] = {0.0, 1.0}, k[4][2], t[2];
+    double k[4][2], t[2], time = 0.0;
     const double h = TB__SETUP_STEP;
-    for (double time = 0.0; time < TB__SETUP_DURATION; time += h) {
+    for (; time < TB__SETUP_DURATION; time += h) {
         rates(zeta, s, k[0]);
         for (int stage = 1; stage < 4; ++stage) {
             const double c = stage == 3 ? h : 0.5 * h;
@@ -35,8 +40,24 @@ double tb__contact_restitution(double zeta)
         if (s[0] <= 0.0 && s[1] < 0.0) {
             break; /* out of the contact, where no force acts */
         }
+        if (first_release && !(tb__contact_normal_force(1.0, 1.0, zeta, s[0], s[1]) > 0.0)) {
+            break;
+        }
     }
+    return time + h;
+}
+
+double tb__contact_restitution(double zeta)
+{
+    double s[2] = {0.0, 1.0};
+    impact(zeta, false, s);
     return -s[1];
+}
+
+double tb__contact_push_duration(double zeta)
+{
+    double s[2] = {0.0, 1.0};
+    return impact(zeta, true, s);
 }
 
 double tb__contact_damping_ratio(double restitution)

@@ -30,6 +30,12 @@
 /* Restitution of the law at damping ratio zeta >= 0, in (0, 1] (to about 1e-7). */
 double tb__contact_restitution(double zeta);
 
+/* How long the law's force first acts through an impact (N > 0 from touchdown until the
+ * surface or the dashpot first lets go), in units of 1 / omega, at damping ratio zeta >= 0:
+ * about pi for zeta = 0, less with damping; the same at every impact speed (the law is
+ * homogeneous of degree 1). */
+double tb__contact_push_duration(double zeta);
+
 /* The damping ratio whose restitution is e, for e in [0, 1]: 0 for e = 1,
  * TB__CONTACT_MAX_DAMPING_RATIO for e at or below that ratio's restitution. */
 double tb__contact_damping_ratio(double restitution);

@@ -165,6 +165,13 @@ static void release_contact(tb__effect *effect)
     effect->params.contact.bodies = NULL;
 }
 
+/* Half the shortest push: every push then holds a step's end, where CVODE's corrector evaluates
+ * the force and its error test sees it. */
+static double contact_adaptive_max_step(const tb__effect *effect)
+{
+    return 0.5 * effect->params.contact.push_duration;
+}
+
 static const tb__effect_ops contact_ops = {
     .name = "contact",
     .apply = apply_contact,
@@ -172,6 +179,7 @@ static const tb__effect_ops contact_ops = {
     .conserves_momentum = true,
     .rate = contact_rate,
     .release = release_contact,
+    .adaptive_max_step = contact_adaptive_max_step,
 };
 
 tb_contact_def tb_contact_def_default(void)
@@ -267,6 +275,9 @@ tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def)
     if (status == TB_STATUS_OK) {
         contact->omega = sqrt(def->gravity / def->penetration);
         contact->damping_ratio = tb__contact_damping_ratio(def->restitution);
+        /* a pair rings at omega sqrt(M_light / m_reduced) <= omega sqrt(2) (apply_contact) */
+        contact->push_duration =
+            tb__contact_push_duration(contact->damping_ratio) / (sqrt(2.0) * contact->omega);
         contact->static_friction = def->static_friction;
         contact->kinetic_friction = def->kinetic_friction;
         contact->stribeck_velocity = def->stribeck_velocity;

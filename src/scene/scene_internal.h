@@ -76,6 +76,10 @@ typedef struct tb__effect_ops {
     /* Frees what the effect's parameters own (the contact effect's pair finder) when the scene
      * is destroyed; NULL: they own nothing. */
     void (*release)(tb__effect *effect);
+    /* The longest step an error-controlled method may take so that it cannot step over one of
+     * the effect's events whole (s): a collision between bodies of finite thickness is a push
+     * with nothing before or after it, which a long step would never sample. NULL: none. */
+    double (*adaptive_max_step)(const tb__effect *effect);
 } tb__effect_ops;
 
 /* Each kind's parameters, typed: the effect's own file reads them, nobody else. Points fixed in
@@ -121,6 +125,7 @@ typedef struct tb__contact_params {
     size_t body_count;
     double omega, damping_ratio; /* rad/s, from penetration and restitution */
     double static_friction, kinetic_friction, stribeck_velocity, gravity;
+    double push_duration; /* s: the shortest time an impact's force acts, over every pair */
 } tb__contact_params;
 
 typedef struct tb__user_params {
