@@ -193,7 +193,16 @@ def test_keyboard_interrupt_from_a_frame_callback_keeps_the_frames():
     assert len(caught.value.frames.t) == 11
 
 
-def test_ctrl_c_during_a_long_run_keeps_the_frames_so_far():
+@pytest.fixture
+def sigint_raises():
+    # A process started in the background by a non-interactive shell inherits SIGINT ignored,
+    # and Python then installs no KeyboardInterrupt handler: these tests set Python's own.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
+def test_ctrl_c_during_a_long_run_keeps_the_frames_so_far(sigint_raises):
     # SIGINT from another thread while the main thread is in tb_scene_run: Python's handler
     # runs at the next frame callback, the run stops, and the frames so far are kept.
     scene = tumble.Scene.from_dict({
@@ -216,7 +225,7 @@ def test_ctrl_c_during_a_long_run_keeps_the_frames_so_far():
     np.testing.assert_allclose(np.linalg.norm(frames.orientation, axis=2), 1.0, atol=1e-12)
 
 
-def test_ctrl_c_stops_an_advance_at_the_next_python_force():
+def test_ctrl_c_stops_an_advance_at_the_next_python_force(sigint_raises):
     # With a Python force the library calls back at every derivative: Ctrl-C stops the step
     # there (the state stays at the last good step) instead of after 1e5 steps.
     sim = tumble.Simulation(free_ball(), method="rk4", dt=1e-3,
