@@ -12,36 +12,10 @@
 #include "geometry.h"
 #include "contact/contact_pairs.h"
 #include "contact/narrow_phase.h"
+#include "counting_malloc.h"
 #include "tumble/tumble.h"
 
 #include <stdlib.h>
-
-extern void *__libc_malloc(size_t size);
-extern void *__libc_calloc(size_t count, size_t size);
-extern void *__libc_realloc(void *pointer, size_t size);
-extern void __libc_free(void *pointer);
-
-static long allocations;
-
-void *malloc(size_t size)
-{
-    ++allocations;
-    return __libc_malloc(size);
-}
-void *calloc(size_t count, size_t size)
-{
-    ++allocations;
-    return __libc_calloc(count, size);
-}
-void *realloc(void *pointer, size_t size)
-{
-    ++allocations;
-    return __libc_realloc(pointer, size);
-}
-void free(void *pointer)
-{
-    __libc_free(pointer);
-}
 
 static tb_shape shape_of(int type)
 {
@@ -61,26 +35,27 @@ static void test_narrow_phase_allocates_nothing(void **state)
 {
     (void)state;
     tb__collision_shape *shapes[7];
-    const long at_start = allocations;
+    const long at_start = counted_allocations;
     for (int t = 0; t < 7; ++t) {
         const tb_shape s = shape_of(TB_SHAPE_SPHERE + t);
         shapes[t] = test_shape(&s);
     }
-    assert_true(allocations >= at_start + 7); /* the counter is live: making shapes is seen */
+    assert_true(counted_allocations >=
+                at_start + 7); /* the counter is live: making shapes is seen */
     const double axis[3] = {1, 2, 3};
     double pa[7], pb[7];
     test_pose(pa, 0, 0, 0, axis, 0.3);
     test_pose(pb, 0.03, 0.02, 0.01, axis, -0.8);
     tb__contact_manifold m;
     int touching = 0;
-    const long before = allocations;
+    const long before = counted_allocations;
     for (int a = 0; a < 7; ++a) {
         for (int b = 0; b < 7; ++b) {
             touching += tb__collide(shapes[a], pa, shapes[b], pb, 0.01, &m) > 0;
         }
         touching += tb__collide_plane((const double[]){0, 0, 1}, 0.05, shapes[a], pa, 0.0, &m) > 0;
     }
-    assert_int_equal(allocations, before);
+    assert_int_equal(counted_allocations, before);
     assert_true(touching >= 49); /* every pair overlaps here: every routine ran */
     for (int t = 0; t < 7; ++t) {
         free(shapes[t]);
@@ -109,7 +84,7 @@ static void test_contact_pair_passes_allocate_nothing(void **state)
     assert_int_equal(tb__contact_pairs_create(scene, NULL, 0, 0.01, &pairs, NULL), TB_STATUS_OK);
     tb__pair_contact out[8];
     size_t found = 0;
-    const long before = allocations;
+    const long before = counted_allocations;
     for (int pass = 0; pass < 10; ++pass) {
         tb_scene_states(scene)[0] += 0.01; /* a body moves: the sort has work */
         tb__contact_pairs_begin(pairs, scene, tb_scene_states(scene));
@@ -118,7 +93,7 @@ static void test_contact_pair_passes_allocate_nothing(void **state)
             found += n;
         }
     }
-    assert_int_equal(allocations, before);
+    assert_int_equal(counted_allocations, before);
     assert_true(found > 10);
     tb__contact_pairs_destroy(pairs);
     tb_scene_destroy(scene);

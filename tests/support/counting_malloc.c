@@ -1,0 +1,32 @@
+/* The replacements counting_malloc.h describes. */
+#include "counting_malloc.h"
+
+#include <stddef.h>
+
+/* glibc's own entry points, which the replacements forward to. */
+extern void *__libc_malloc(size_t size);
+extern void *__libc_calloc(size_t count, size_t size);
+extern void *__libc_realloc(void *pointer, size_t size);
+extern void __libc_free(void *pointer);
+
+long counted_allocations;
+
+void *malloc(size_t size)
+{
+    ++counted_allocations;
+    return __libc_malloc(size);
+}
+void *calloc(size_t count, size_t size)
+{
+    ++counted_allocations;
+    return __libc_calloc(count, size);
+}
+void *realloc(void *pointer, size_t size)
+{
+    ++counted_allocations;
+    return __libc_realloc(pointer, size);
+}
+void free(void *pointer)
+{
+    __libc_free(pointer);
+}

@@ -1,0 +1,10 @@
+/* A test's allocation counter: linking tests/support/counting_malloc.c into a test replaces
+ * malloc, calloc and realloc with glibc's own behind a count (free is passed through), so a
+ * test can assert that a call allocates nothing. Not for sanitizer builds, whose runtime owns
+ * malloc. */
+#ifndef TUMBLE_TEST_COUNTING_MALLOC_H
+#define TUMBLE_TEST_COUNTING_MALLOC_H
+
+extern long counted_allocations; /* malloc, calloc and realloc calls so far */
+
+#endif
