@@ -18,6 +18,7 @@
  * usage: bench_peer [--quick] */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include "bench_common.h"
+#include "bench_scenes.h"
 #include "torque_free_top.h"
 #include "tumble/tumble.h"
 
@@ -36,7 +37,6 @@
 #define TOP_TOLERANCE 1e-9
 #define REPEATS 5
 
-static const double box_size[3] = {0.1, 0.2, 0.3};
 static const double top_moments[3] = {1.0, 2.0, 3.0};
 static const double top_omega[3] = {1.0, 0.0, 1.0}; /* body frame = world frame at t = 0 */
 
@@ -73,16 +73,7 @@ static tb_scene *tumble_boxes(size_t bodies)
     def.body_capacity = bodies;
     tb_scene *scene = NULL;
     tb_scene_create(&def, &scene, NULL);
-    for (size_t i = 0; i < bodies; ++i) {
-        tb_body_def body = tb_body_def_default();
-        tb_mass_from_box(TB_MASS_DENSITY, 500.0, box_size, &body.mass, NULL);
-        body.position[0] = (double)i;
-        body.velocity[2] = 3.0;
-        body.angular_velocity[0] = 1.0;
-        body.angular_velocity[1] = 2.0;
-        tb_scene_add_body(scene, &body, NULL);
-    }
-    tb_scene_add_gravity(scene, (double[]){0, 0, -9.81});
+    bench_add_free_boxes(scene, bodies);
     return scene;
 }
 
@@ -178,7 +169,8 @@ static double mujoco_boxes_seconds(size_t bodies, long steps)
         used += (size_t)snprintf(xml + used, size - used,
                                  "<body pos=\"%zu 0 0\"><freejoint/><geom type=\"box\" "
                                  "size=\"%g %g %g\" density=\"500\"/></body>",
-                                 i, box_size[0] / 2, box_size[1] / 2, box_size[2] / 2);
+                                 i, bench_box_size[0] / 2, bench_box_size[1] / 2,
+                                 bench_box_size[2] / 2);
     }
     snprintf(xml + used, size - used, "</worldbody></mujoco>");
     mjModel *model = mujoco_model(xml);

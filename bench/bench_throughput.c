@@ -22,6 +22,7 @@
  * (PREFIX: rows whose name starts so) */
 #define _GNU_SOURCE /* mallinfo2 */
 #include "bench_common.h"
+#include "bench_scenes.h"
 #include "tumble/tumble.h"
 
 #include <malloc.h>
@@ -38,16 +39,7 @@ static tb_scene *make_scene(size_t bodies, size_t forces, int drag, tb_vector_pa
     tb_scene *scene = NULL;
     tb_scene_create(&def, &scene, NULL);
     tb_scene_set_vector_path(scene, path);
-    for (size_t i = 0; i < bodies; ++i) {
-        tb_body_def body = tb_body_def_default();
-        tb_mass_from_box(TB_MASS_DENSITY, 500.0, (double[]){0.1, 0.2, 0.3}, &body.mass, NULL);
-        body.position[0] = (double)i;
-        body.velocity[2] = 3.0;
-        body.angular_velocity[0] = 1.0;
-        body.angular_velocity[1] = 2.0;
-        tb_scene_add_body(scene, &body, NULL);
-    }
-    tb_scene_add_gravity(scene, (double[]){0, 0, -9.81});
+    bench_add_free_boxes(scene, bodies);
     if (drag) { /* linear and quadratic, on the motion and the spin */
         tb_drag_def def_drag = tb_drag_def_default();
         def_drag.linear = 0.1;
