@@ -11,6 +11,7 @@
 #include "contact/contact_pairs.h"
 #include "core/detail.h"
 #include "core/validate.h"
+#include "effects/effect_contact_check.h"
 #include "math/tb_math.h"
 
 #include <stdlib.h>
@@ -180,6 +181,7 @@ static const tb__effect_ops contact_ops = {
     .rate = contact_rate,
     .release = release_contact,
     .adaptive_max_step = contact_adaptive_max_step,
+    .check_start = tb__contact_check_start,
 };
 
 tb_contact_def tb_contact_def_default(void)
@@ -271,6 +273,11 @@ tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def)
     if (status == TB_STATUS_OK) {
         status = tb__contact_pairs_create(scene, contact->bodies, contact->body_count,
                                           TB__CONTACT_MARGIN, &contact->pairs, scene->detail);
+    }
+    /* after the pair finder, which checked the ids */
+    if (status == TB_STATUS_OK) {
+        status = tb__contact_check_shared_pairs(scene, &contact_ops, contact->bodies,
+                                                contact->body_count);
     }
     if (status == TB_STATUS_OK) {
         contact->omega = sqrt(def->gravity / def->penetration);
