@@ -235,6 +235,27 @@ static void test_a_pair_in_two_contact_effects_is_refused(void **state)
     tb_scene_destroy(scene);
 }
 
+/* F22: gravity 1e-300 m/s^2 over a penetration of 1e300 m gave omega = sqrt(g / p) = 0 (the
+ * quotient underflows): a contact without stiffness, whose push lasts forever, so CVODE's
+ * integrator was refused for a def.max_step of inf the user never set. Now the contact itself is
+ * refused, naming penetration; an omega that overflows was refused already. */
+static void test_a_contact_rate_that_vanishes_is_refused(void **state)
+{
+    (void)state;
+    tb_scene *scene = empty_scene();
+    add_ball(scene, "a", 1.0, 0.1, 0.0);
+    const double gravity[] = {1e-300, 1e300}, penetration[] = {1e300, 1e-300};
+    for (int k = 0; k < 2; ++k) {
+        tb_contact_def contact = tb_contact_def_default();
+        contact.gravity = gravity[k];
+        contact.penetration = penetration[k];
+        assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_INVALID_ARGUMENT);
+        assert_detail_has(tb_scene_detail(scene), "penetration");
+        assert_int_equal(tb_scene_effect_count(scene), 0);
+    }
+    tb_scene_destroy(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -242,6 +263,7 @@ int main(void)
         cmocka_unit_test(test_bodies_starting_deep_inside_each_other_are_refused),
         cmocka_unit_test(test_a_body_moved_into_another_is_refused_at_the_start),
         cmocka_unit_test(test_a_pair_in_two_contact_effects_is_refused),
+        cmocka_unit_test(test_a_contact_rate_that_vanishes_is_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

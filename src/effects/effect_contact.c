@@ -226,10 +226,11 @@ static tb_status validate_contact(tb_scene *scene, const tb_contact_def *def)
                                 "got %g",
                                 def->kinetic_friction, def->static_friction);
     }
-    if (status == TB_STATUS_OK && !isfinite(sqrt(def->gravity / def->penetration))) {
+    const double omega = status == TB_STATUS_OK ? sqrt(def->gravity / def->penetration) : 1.0;
+    if (!(isfinite(omega) && omega > 0.0)) {
         status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
                                 "penetration: %g m with gravity %g m/s^2 makes the contact's rate "
-                                "sqrt(gravity / penetration) overflow",
+                                "sqrt(gravity / penetration) overflow or vanish",
                                 def->penetration, def->gravity);
     }
     if (status == TB_STATUS_OK && def->bodies == NULL && def->body_count > 0) {
