@@ -13,6 +13,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <unistd.h>
 
 static tb_scene *empty_scene(void)
 {
@@ -256,6 +257,70 @@ static void test_a_contact_rate_that_vanishes_is_refused(void **state)
     tb_scene_destroy(scene);
 }
 
+/* F23 (found by the contact fuzz target): a ball against a point set with one point 2^64 m out
+ * (inside the 1e100 m the shapes allow) sent libccd's MPR round its portal refinement for ever,
+ * which has no iteration cap, so one derivative never returned. The query now has a budget of
+ * support evaluations and reports no contact when it runs out. The poses are the ones the fuzzer
+ * reached (bit for bit); the alarm turns a hang back into a failure. */
+static void test_a_far_hull_point_does_not_hang_the_derivative(void **state)
+{
+    (void)state;
+    tb_scene *scene = empty_scene();
+    add_ball(scene, "ball", 1.0, 0x1.3333333333334p-3, 0.0);
+    add_ball(scene, "points", 1.0, 0.1, 1.0);
+    const double points[] = {-0x0.0000000000001p-1022,
+                             -0x1.9999999999998p-5,
+                             0x0p+0,
+                             -0x1.3333333333334p-3,
+                             -0x1.9999999999998p-5,
+                             0x1.8p+1,
+                             -0x1.3333333333334p-3,
+                             0x1.3333333333334p-3,
+                             0x0p+0,
+                             -0x1.9999999999998p-5,
+                             0x1.999999999999cp-4,
+                             0x1.9999999999998p-5,
+                             0x1.999999999999cp-4,
+                             0x1p+64,
+                             0x1.5p+1,
+                             -0x1.3333333333334p-3,
+                             0x1.3333333333334p-3,
+                             -0x1.8p+1,
+                             0x0p+0,
+                             -0x1.1111111111111p-8,
+                             -0x1.999999999999ap-3,
+                             0x1.999999999999ap-3,
+                             -0x1.9999999999998p-5,
+                             0x1.9999999999998p-5};
+    tb_shape shape = tb_shape_default();
+    shape.type = TB_SHAPE_POINTS;
+    shape.vertices = points;
+    shape.vertex_count = 8;
+    assert_int_equal(tb_scene_set_body_shape(scene, 1, &shape), TB_STATUS_OK);
+    const tb_body_state ball = {
+        {0x1.9999999999998p-5, 0x1.ddde1a29a8a7cp-4, -0x1.999999999999ap-3},
+        {0x1.f5f5fd4009e1dp-1, -0x1.92ad8a11de94fp-3, 0x1.0f4719a5a36c8p-8, -0x1.96eaa67875229p-7},
+        {0, 0, 0},
+        {0, 0, 0}};
+    const tb_body_state set = {{0x1.33334fc75194ep-3, -0x1.33333eccb3d22p-3, 0x1.7ab4333976ce4p-28},
+                               {0x1.ffffffffffffdp-1, 0x1.f9544c117a3d2p-26, 0x1.5378a157ec552p-30,
+                                -0x1.27bbab9bfe936p-28},
+                               {0, 0, 0},
+                               {0, 0, 0}};
+    assert_int_equal(tb_scene_set_state(scene, 0, &ball), TB_STATUS_OK);
+    assert_int_equal(tb_scene_set_state(scene, 1, &set), TB_STATUS_OK);
+    tb_contact_def contact = tb_contact_def_default();
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    double dydt[26];
+    alarm(20); /* the derivative takes microseconds; a hang is killed */
+    assert_int_equal(tb_scene_derivative(0.0, tb_scene_states(scene), dydt, scene), 0);
+    alarm(0);
+    for (int i = 0; i < 26; ++i) {
+        assert_true(isfinite(dydt[i]));
+    }
+    tb_scene_destroy(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -264,6 +329,7 @@ int main(void)
         cmocka_unit_test(test_a_body_moved_into_another_is_refused_at_the_start),
         cmocka_unit_test(test_a_pair_in_two_contact_effects_is_refused),
         cmocka_unit_test(test_a_contact_rate_that_vanishes_is_refused),
+        cmocka_unit_test(test_a_far_hull_point_does_not_hang_the_derivative),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
