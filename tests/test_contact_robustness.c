@@ -321,6 +321,45 @@ static void test_a_far_hull_point_does_not_hang_the_derivative(void **state)
     tb_scene_destroy(scene);
 }
 
+/* F24: a body of 1e100 kg with moments of 1e-200 kg m^2 and a sphere of 1e100 m (each inside
+ * its documented range) makes the contact's rocking rate M |r|^2 / I overflow: no fixed step is
+ * stable. tb_scene_max_stable_step said so (NOT_FINITE), but tb_scene_default_step answered OK
+ * with dt = 0 (the guard's own invariant: OK only with a step > 0). It now refuses as
+ * max_stable_step does; adaptive methods still get INFINITY, and the fixed-step integrator is
+ * refused naming the rate. */
+static void test_no_default_step_is_given_when_no_step_is_stable(void **state)
+{
+    (void)state;
+    tb_scene *scene = empty_scene();
+    for (int b = 0; b < 2; ++b) {
+        tb_body_def def = tb_body_def_default();
+        const double inertia[9] = {1e-200, 0, 0, 0, 1e-200, 0, 0, 0, 1e-200};
+        assert_int_equal(
+            tb_mass_from_tensor(1e100, (const double[]){0, 0, 0}, inertia, &def.mass, NULL),
+            TB_STATUS_OK);
+        def.position[0] = 3e100 * b;
+        assert_int_equal(tb_scene_add_body(scene, &def, NULL), TB_STATUS_OK);
+        tb_shape shape = tb_shape_default();
+        shape.type = TB_SHAPE_SPHERE;
+        shape.radius = 1e100;
+        assert_int_equal(tb_scene_set_body_shape(scene, (size_t)b, &shape), TB_STATUS_OK);
+    }
+    tb_contact_def contact = tb_contact_def_default();
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    double dt = -1.0;
+    assert_int_equal(tb_scene_default_step(scene, TB_METHOD_RK4, &dt), TB_STATUS_NOT_FINITE);
+    assert_detail_has(tb_scene_detail(scene), "a contact");
+    assert_true(dt == -1.0); /* left alone */
+    assert_int_equal(tb_scene_default_step(scene, TB_METHOD_CVODE_ADAMS, &dt), TB_STATUS_OK);
+    assert_true(dt == INFINITY);
+    tb_integrator_def def = tb_integrator_def_default();
+    def.dt = 0.0;
+    tb_integrator *integrator = NULL;
+    assert_int_not_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator), TB_STATUS_OK);
+    assert_null(integrator);
+    tb_scene_destroy(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -330,6 +369,7 @@ int main(void)
         cmocka_unit_test(test_a_pair_in_two_contact_effects_is_refused),
         cmocka_unit_test(test_a_contact_rate_that_vanishes_is_refused),
         cmocka_unit_test(test_a_far_hull_point_does_not_hang_the_derivative),
+        cmocka_unit_test(test_no_default_step_is_given_when_no_step_is_stable),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
