@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Fuzzes tumble with libFuzzer under AddressSanitizer and UndefinedBehaviorSanitizer (clang).
 #   scripts/fuzz.sh [--runs N] [--seed S] [--build DIR] [SECONDS] [TARGET...]
-# TARGETs: scene_loader (scene files), api (random scenes through the C API), obj (OBJ meshes);
-# default all three, one after another, each for SECONDS (default 600). --runs N stops each
+# TARGETs: scene_loader (scene files), api (random scenes through the C API), obj (OBJ meshes),
+# contact (contact between bodies through the C API);
+# default all four, one after another, each for SECONDS (default 600). --runs N stops each
 # after N inputs instead (with --seed, a reproducible run: the test command's short runs).
 # --build DIR uses an existing clang build configured with -DTUMBLE_FUZZ=ON -DTUMBLE_SANITIZE=ON
 # (scripts/test.sh's build-clang) instead of configuring build-fuzz.
@@ -28,7 +29,7 @@ while [ $# -gt 0 ]; do
     esac
 done
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(scene_loader api obj)
+[ ${#targets[@]} -eq 0 ] && targets=(scene_loader api obj contact)
 
 if [ -z "$build" ]; then
     build=build-fuzz

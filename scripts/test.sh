@@ -58,6 +58,7 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
     ctest --test-dir build-clang --output-on-failure -j "$(nproc)"
 scripts/fuzz.sh --build build-clang --seed 1 --runs 30000 scene_loader api # ~10 s each
 scripts/fuzz.sh --build build-clang --seed 1 --runs 4000 obj # a file write an input: ~15 s
+scripts/fuzz.sh --build build-clang --seed 1 --runs 2000 contact # contact steps: ~30 s
 
 # The one benchmark command, in its smoke-test form (every benchmark, the chart).
 scripts/bench.sh --quick

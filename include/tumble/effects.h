@@ -147,6 +147,10 @@ typedef struct tb_contact_def {
 } tb_contact_def;
 
 TB_API tb_contact_def tb_contact_def_default(void);
+/* Refuses (TB_STATUS_INVALID_ARGUMENT, naming the field or the bodies; nothing added) a bad
+ * field, and a set that shares two bodies with an earlier contact effect (that pair would be
+ * pushed by both). tb_scene_integrator_create then refuses a state in which a pair starts deeper
+ * inside each other than 10 times the depth that carries the heavier body's weight. */
 TB_API tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def);
 
 /* --- user effects -------------------------------------------------------------------------

@@ -9,16 +9,31 @@
 
 #include <ccd/ccd.h>
 
+/* Support evaluations one query may make. libccd caps MPR's penetration search at
+ * max_iterations, but not its portal discovery and refinement: on a hull with a vertex 2^64 m
+ * out they cycled forever (F23), the derivative never returning. The most seen in a million
+ * random near-degenerate pairs was 212. */
+#define SUPPORT_BUDGET 2000
+
 typedef struct ccd_object {
     const tb__collision_shape *shape;
     const double *pose;
-    double grow; /* m added along every direction */
+    double grow;     /* m added along every direction */
+    long *remaining; /* the query's support budget, shared by both objects */
 } ccd_object;
 
 static void support(const void *object, const ccd_vec3_t *direction, ccd_vec3_t *out)
 {
     const ccd_object *o = object;
     const double d[3] = {direction->v[0], direction->v[1], direction->v[2]};
+    if (--*o->remaining < 0) {
+        /* -d / |d| from each object makes the Minkowski point -2 d / |d|, behind every
+         * direction libccd asks for: each of its loops then ends (origin outside) */
+        const double length = tb__v3_norm(d);
+        const double scale = length > 0.0 ? -1.0 / length : NAN;
+        ccdVec3Set(out, scale * d[0], scale * d[1], scale * d[2]);
+        return;
+    }
     double p[3];
     tb__collision_shape_support(o->shape, o->pose, d, p);
     const double length = tb__v3_norm(d);
@@ -47,7 +62,9 @@ int tb__ccd_collide(const tb__collision_shape *a, const double pose_a[TB__POSE_S
                     const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE], double margin,
                     tb__ccd_method method, tb__contact_manifold *out)
 {
-    const ccd_object object_a = {a, pose_a, margin}, object_b = {b, pose_b, 0.0};
+    long remaining = SUPPORT_BUDGET;
+    const ccd_object object_a = {a, pose_a, margin, &remaining},
+                     object_b = {b, pose_b, 0.0, &remaining};
     ccd_t ccd;
     CCD_INIT(&ccd);
     ccd.support1 = support;
@@ -64,6 +81,9 @@ int tb__ccd_collide(const tb__collision_shape *a, const double pose_a[TB__POSE_S
         method == TB__CCD_MPR
             ? ccdMPRPenetration(&object_a, &object_b, &ccd, &depth, &direction, &position)
             : ccdGJKPenetration(&object_a, &object_b, &ccd, &depth, &direction, &position);
+    if (remaining < 0) {
+        return -1; /* the budget ran out: no answer, so no contact */
+    }
     if (result != 0) {
         return result == -1 ? 0 : -1; /* -1: apart; -2: EPA's allocation failed */
     }

@@ -12,7 +12,9 @@ typedef enum tb__ccd_method {
 } tb__ccd_method;
 
 /* One contact point for a and b at their poses, as tb__collide reports it (shapes grown by
- * margin find pairs within margin); returns the count (0 or 1), or -1 if libccd failed. */
+ * margin find pairs within margin); returns the count (0 or 1), or -1 if libccd failed or did
+ * not finish within a budget of support evaluations (a cycling portal: callers then report no
+ * contact). */
 int tb__ccd_collide(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
                     const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE], double margin,
                     tb__ccd_method method, tb__contact_manifold *out);

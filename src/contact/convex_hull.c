@@ -216,7 +216,7 @@ static bool add_point(hull *h, size_t i)
 static double extent(const double *points, size_t count)
 {
     double largest = 0.0;
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < 3 && count > 0; ++k) {
         double low = points[k], high = points[k];
         for (size_t i = 1; i < count; ++i) {
             low = fmin(low, points[3 * i + k]);
@@ -227,9 +227,30 @@ static double extent(const double *points, size_t count)
     return largest;
 }
 
+/* points scaled by the power of two nearest 1 / their extent, exactly (no bits lost): the hull's
+ * cross products of differences are then near 1 for any size the shapes allow (1e100 m cubed
+ * overflows, 1e-160 m squared underflows), and the hull of the copy is the scaled hull. */
+static double *scaled_copy(const double *points, size_t count)
+{
+    int exponent = 0;
+    frexp(extent(points, count), &exponent);
+    double *copy = count <= ((size_t)-1) / (3 * sizeof(double))
+                       ? malloc((count > 0 ? 3 * count : 1) * sizeof(double))
+                       : NULL;
+    for (size_t i = 0; copy != NULL && i < 3 * count; ++i) {
+        copy[i] = ldexp(points[i], -exponent);
+    }
+    return copy;
+}
+
 tb_status tb__convex_hull(const double *points, size_t count, unsigned char *on_hull, char *detail)
 {
-    hull h = {.p = points, .eps = 1e-10 * extent(points, count)};
+    double *scaled = scaled_copy(points, count);
+    if (scaled == NULL) {
+        return tb__set_detail(detail, TB_STATUS_OUT_OF_MEMORY, "convex hull of %zu vertices",
+                              count);
+    }
+    hull h = {.p = scaled, .eps = 1e-10 * extent(scaled, count)};
     size_t t[4] = {0, 0, 0, 0};
     tb_status status = count >= 4 ? start_tetrahedron(&h, count, t, detail)
                                   : tb__set_detail(detail, TB_STATUS_INVALID_ARGUMENT,
@@ -254,5 +275,6 @@ tb_status tb__convex_hull(const double *points, size_t count, unsigned char *on_
     }
     free(h.faces);
     free(h.edges);
+    free(scaled);
     return status;
 }

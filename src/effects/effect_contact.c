@@ -11,6 +11,7 @@
 #include "contact/contact_pairs.h"
 #include "core/detail.h"
 #include "core/validate.h"
+#include "effects/effect_contact_check.h"
 #include "math/tb_math.h"
 
 #include <stdlib.h>
@@ -180,6 +181,7 @@ static const tb__effect_ops contact_ops = {
     .rate = contact_rate,
     .release = release_contact,
     .adaptive_max_step = contact_adaptive_max_step,
+    .check_start = tb__contact_check_start,
 };
 
 tb_contact_def tb_contact_def_default(void)
@@ -224,10 +226,11 @@ static tb_status validate_contact(tb_scene *scene, const tb_contact_def *def)
                                 "got %g",
                                 def->kinetic_friction, def->static_friction);
     }
-    if (status == TB_STATUS_OK && !isfinite(sqrt(def->gravity / def->penetration))) {
+    const double omega = status == TB_STATUS_OK ? sqrt(def->gravity / def->penetration) : 1.0;
+    if (!(isfinite(omega) && omega > 0.0)) {
         status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
                                 "penetration: %g m with gravity %g m/s^2 makes the contact's rate "
-                                "sqrt(gravity / penetration) overflow",
+                                "sqrt(gravity / penetration) overflow or vanish",
                                 def->penetration, def->gravity);
     }
     if (status == TB_STATUS_OK && def->bodies == NULL && def->body_count > 0) {
@@ -271,6 +274,11 @@ tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def)
     if (status == TB_STATUS_OK) {
         status = tb__contact_pairs_create(scene, contact->bodies, contact->body_count,
                                           TB__CONTACT_MARGIN, &contact->pairs, scene->detail);
+    }
+    /* after the pair finder, which checked the ids */
+    if (status == TB_STATUS_OK) {
+        status = tb__contact_check_shared_pairs(scene, &contact_ops, contact->bodies,
+                                                contact->body_count);
     }
     if (status == TB_STATUS_OK) {
         contact->omega = sqrt(def->gravity / def->penetration);

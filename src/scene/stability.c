@@ -163,10 +163,13 @@ tb_status tb__scene_check_step(const tb_scene *scene, const double *y, tb_method
 
 double tb__scene_default_step(const tb_scene *scene, const double *y, tb_method method)
 {
+    if (tb_method_is_adaptive(method)) {
+        return INFINITY;
+    }
     guard g;
     stable_step(scene, y, method, &g);
-    if (!isfinite(g.dt) && tb_method_is_adaptive(method)) {
-        return INFINITY;
+    if (g.overflowed) {
+        return 0.0; /* no step is stable: tb__scene_check_step names the rate */
     }
     if (!(TB__DEFAULT_STEP > g.dt)) {
         return TB__DEFAULT_STEP;
@@ -192,6 +195,14 @@ tb_status tb_scene_default_step(const tb_scene *scene, tb_method method, double 
         return tb__scene_fail((tb_scene *)scene, TB_STATUS_INVALID_ARGUMENT,
                               "method: %d is not a method", (int)method);
     }
-    *out_dt = tb__scene_default_step(scene, scene->states, method);
+    const double dt = tb__scene_default_step(scene, scene->states, method);
+    if (!(dt > 0.0)) { /* a rate that is not a number (F24): as tb_scene_max_stable_step */
+        char which[TB_DETAIL_SIZE];
+        const tb_status status = tb_scene_max_stable_step(scene, method, out_dt, which);
+        return status != TB_STATUS_OK ? status
+                                      : tb__scene_fail((tb_scene *)scene, TB_STATUS_NOT_FINITE,
+                                                       "no default step: %s", which);
+    }
+    *out_dt = dt;
     return TB_STATUS_OK;
 }

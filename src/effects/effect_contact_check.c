@@ -1,0 +1,113 @@
+/* The contact effect's set-up checks: one pair in two contact effects, and pairs that start
+ * deep inside each other. Both run outside the derivative. */
+#include "effects/effect_contact_check.h"
+
+#include "contact/contact_pairs.h"
+#include "core/detail.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+/* Pairs handled per batch of the start check (a stack buffer). */
+#define START_BATCH 16
+
+/* The first two of bodies[0 .. count) marked in `in` (first, second), false when fewer. */
+static bool two_marked(const unsigned char *in, const size_t *bodies, size_t count, size_t *first,
+                       size_t *second)
+{
+    int found = 0;
+    for (size_t k = 0; k < count && found < 2; ++k) {
+        if (in[bodies[k]]) {
+            *(found++ == 0 ? first : second) = bodies[k];
+        }
+    }
+    return found == 2;
+}
+
+tb_status tb__contact_check_shared_pairs(tb_scene *scene, const tb__effect_ops *ops,
+                                         const size_t *bodies, size_t count)
+{
+    unsigned char *in = NULL;
+    for (size_t e = 0; e < scene->effect_count; ++e) {
+        const tb__effect *other = &scene->effects[e];
+        if (other->ops != ops) {
+            continue;
+        }
+        if (in == NULL && (in = calloc(scene->body_count > 0 ? scene->body_count : 1, 1)) == NULL) {
+            return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "contact pair check");
+        }
+        const tb__contact_params *contact = &other->params.contact;
+        for (size_t k = 0; k < contact->body_count; ++k) {
+            in[contact->bodies[k]] = 1;
+        }
+        size_t a = 0, b = 0;
+        const bool shared = two_marked(in, bodies, count, &a, &b);
+        for (size_t k = 0; k < contact->body_count; ++k) {
+            in[contact->bodies[k]] = 0;
+        }
+        if (shared) {
+            free(in);
+            return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                                  "bodies: %zu (\"%s\") and %zu (\"%s\") are both in effect %zu "
+                                  "(a contact) already: a pair in two contact effects is pushed "
+                                  "by both (twice the stiffness, neither's restitution); give "
+                                  "each pair to one contact effect",
+                                  a, scene->names[a], b, scene->names[b], e);
+        }
+    }
+    free(in);
+    return TB_STATUS_OK;
+}
+
+/* The depth (m) at which pair's contact carries the heavier body's weight: its points together
+ * push with M_min omega^2 depth (effect_contact.c). */
+static double weight_depth(const tb__contact_params *contact, const tb__body *a, const tb__body *b)
+{
+    const double light = fmin(a->mass, b->mass), heavy = fmax(a->mass, b->mass);
+    return contact->gravity / (contact->omega * contact->omega) * (heavy / light);
+}
+
+static tb_status check_pair(const tb__contact_params *contact, const tb_scene *scene,
+                            const tb__pair_contact *pair, char *detail)
+{
+    double depth = -INFINITY;
+    for (int j = 0; j < pair->manifold.count; ++j) {
+        depth = fmax(depth, pair->manifold.points[j].depth);
+    }
+    const tb__body *a = &scene->bodies[pair->body_a], *b = &scene->bodies[pair->body_b];
+    const double limit = TB__CONTACT_START_DEPTH_WEIGHTS * weight_depth(contact, a, b);
+    if (!(depth > limit)) {
+        return TB_STATUS_OK;
+    }
+    /* one point between free bodies rings at omega sqrt(M_min / m_reduced): the speed its
+     * spring gives them back, released from that depth */
+    const double light = fmin(a->mass, b->mass);
+    const double reduced = a->mass * b->mass / (a->mass + b->mass);
+    const double speed = depth * contact->omega * sqrt(light / reduced);
+    return tb__set_detail(detail, TB_STATUS_INVALID_ARGUMENT,
+                          "bodies %zu (\"%s\") and %zu (\"%s\") start %.3g m inside each other, "
+                          "deeper than %.3g m (%g times the depth that carries the heavier's "
+                          "weight): the contact would part them at about %.3g m/s; start them "
+                          "apart",
+                          pair->body_a, scene->names[pair->body_a], pair->body_b,
+                          scene->names[pair->body_b], depth, limit, TB__CONTACT_START_DEPTH_WEIGHTS,
+                          speed);
+}
+
+tb_status tb__contact_check_start(const tb__effect *effect, const tb_scene *scene, const double *y,
+                                  char *detail)
+{
+    const tb__contact_params *contact = &effect->params.contact;
+    tb__pair_contact batch[START_BATCH];
+    tb__contact_pairs_begin(contact->pairs, scene, y);
+    size_t count;
+    while ((count = tb__contact_pairs_next(contact->pairs, scene, y, batch, START_BATCH)) > 0) {
+        for (size_t k = 0; k < count; ++k) {
+            const tb_status status = check_pair(contact, scene, &batch[k], detail);
+            if (status != TB_STATUS_OK) {
+                return status;
+            }
+        }
+    }
+    return TB_STATUS_OK;
+}

@@ -1,0 +1,26 @@
+/* Private: the contact effect's checks of its set-up (effect_contact_check.c), kept apart from
+ * its forces. */
+#ifndef TUMBLE_EFFECT_CONTACT_CHECK_H
+#define TUMBLE_EFFECT_CONTACT_CHECK_H
+
+#include "scene/scene_internal.h"
+
+/* How deep a pair may start inside each other, in units of the depth at which the pair's
+ * contact carries the heavier body's weight (the ground's rule: 10 penetrations). */
+#define TB__CONTACT_START_DEPTH_WEIGHTS 10.0
+
+/* Refuses a new contact effect over bodies[0 .. count) (ids, each once) when two of them are
+ * also both in an effect of the scene whose row is ops: that pair would be pushed by both, with
+ * twice the stiffness and neither effect's restitution. The scene's detail names the pair and
+ * the effect. Allocates a scratch array at set-up only. */
+tb_status tb__contact_check_shared_pairs(tb_scene *scene, const tb__effect_ops *ops,
+                                         const size_t *bodies, size_t count);
+
+/* The check_start row of the contact effect: refuses a state y in which a pair starts deeper
+ * inside each other than TB__CONTACT_START_DEPTH_WEIGHTS times the depth at which it carries the
+ * heavier body's weight (the force there launches them apart), naming both bodies and the
+ * depth in detail (TB_DETAIL_SIZE bytes). */
+tb_status tb__contact_check_start(const tb__effect *effect, const tb_scene *scene, const double *y,
+                                  char *detail);
+
+#endif

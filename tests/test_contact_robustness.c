@@ -1,0 +1,375 @@
+/* Contact between bodies given what breaks it: shapes at the ends of their range, pairs starting
+ * deep inside each other, a pair in two contact effects. Each refusal names the input and
+ * changes nothing; each accepted extreme keeps its geometry exact. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "tumble/tumble.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+
+static tb_scene *empty_scene(void)
+{
+    tb_scene_def def = tb_scene_def_default();
+    tb_scene *scene = NULL;
+    assert_int_equal(tb_scene_create(&def, &scene, NULL), TB_STATUS_OK);
+    return scene;
+}
+
+/* A ball of mass m, radius r, at x on the x axis, named; its shape a sphere of radius r. */
+static size_t add_ball(tb_scene *scene, const char *name, double m, double r, double x)
+{
+    tb_body_def def = tb_body_def_default();
+    assert_int_equal(tb_mass_from_sphere(TB_MASS_GIVEN, m, r, &def.mass, NULL), TB_STATUS_OK);
+    def.name = name;
+    def.position[0] = x;
+    size_t id = 0;
+    assert_int_equal(tb_scene_add_body(scene, &def, &id), TB_STATUS_OK);
+    tb_shape shape = tb_shape_default();
+    shape.type = TB_SHAPE_SPHERE;
+    shape.radius = r;
+    assert_int_equal(tb_scene_set_body_shape(scene, id, &shape), TB_STATUS_OK);
+    return id;
+}
+
+static void assert_detail_has(const char *detail, const char *words)
+{
+    if (strstr(detail, words) == NULL) {
+        fail_msg("detail \"%s\" lacks \"%s\"", detail, words);
+    }
+}
+
+/* F19: a convex hull's cross products of edge vectors overflowed for cubes of 1e90 m (refused
+ * as "all in one plane") and underflowed for 1e-150 m, though both sizes are in the shape's
+ * documented range. The hull of a cube is its 8 corners, so its bounds at the identity pose are
+ * exactly +-side/2 on every axis (the corners are powers of two times exact halves: no
+ * rounding, so the tolerance is 0). */
+static void test_convex_hulls_of_every_allowed_size_keep_their_corners(void **state)
+{
+    (void)state;
+    const double sides[] = {1e-150, 1e-40, 1.0, 1e90, 2e100};
+    for (size_t s = 0; s < sizeof sides / sizeof sides[0]; ++s) {
+        tb_scene *scene = empty_scene();
+        add_ball(scene, "cube", 1.0, 0.1, 0.0);
+        double corners[27];
+        for (int i = 0; i < 8; ++i) {
+            for (int k = 0; k < 3; ++k) {
+                corners[3 * i + k] = ((i >> k) & 1 ? 0.5 : -0.5) * sides[s];
+            }
+        }
+        for (int k = 0; k < 3; ++k) {
+            corners[24 + k] = 0.1 * sides[s]; /* an inner point, dropped */
+        }
+        tb_shape shape = tb_shape_default();
+        shape.type = TB_SHAPE_CONVEX;
+        shape.vertices = corners;
+        shape.vertex_count = 9;
+        const tb_status status = tb_scene_set_body_shape(scene, 0, &shape);
+        if (status != TB_STATUS_OK) {
+            fail_msg("side %g m: %s", sides[s], tb_scene_detail(scene));
+        }
+        double low[3], high[3];
+        assert_int_equal(tb_scene_body_shape_bounds(scene, tb_scene_states(scene), 0, low, high),
+                         TB_STATUS_OK);
+        for (int k = 0; k < 3; ++k) {
+            assert_true(low[k] == -0.5 * sides[s] && high[k] == 0.5 * sides[s]);
+        }
+        tb_scene_destroy(scene);
+    }
+}
+
+/* The state array and body and effect counts, to show a refused call changed nothing. */
+typedef struct snapshot {
+    double y[13 * 8];
+    size_t size, bodies, effects;
+} snapshot;
+
+static snapshot take(tb_scene *scene)
+{
+    snapshot s = {.size = tb_scene_state_size(scene),
+                  .bodies = tb_scene_body_count(scene),
+                  .effects = tb_scene_effect_count(scene)};
+    assert_true(s.size <= 13 * 8);
+    memcpy(s.y, tb_scene_states(scene), s.size * sizeof(double));
+    return s;
+}
+
+static void assert_unchanged(tb_scene *scene, const snapshot *before)
+{
+    const snapshot after = take(scene);
+    assert_int_equal(after.size, before->size);
+    assert_int_equal(after.bodies, before->bodies);
+    assert_int_equal(after.effects, before->effects);
+    assert_memory_equal(after.y, before->y, after.size * sizeof(double));
+}
+
+/* Two balls of masses m_a and m_b (radius 0.1 m) overlapping by `overlap` under the default
+ * contact; the integrator's status. */
+static tb_status start_overlapping(double m_a, double m_b, double overlap, tb_method method,
+                                   char *detail)
+{
+    tb_scene *scene = empty_scene();
+    add_ball(scene, "left", m_a, 0.1, -0.1);
+    add_ball(scene, "right", m_b, 0.1, 0.1 - overlap);
+    tb_contact_def contact = tb_contact_def_default();
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    const snapshot before = take(scene);
+    tb_integrator_def def = tb_integrator_def_default();
+    assert_int_equal(tb_integrator_def_set_method(&def, method), TB_STATUS_OK);
+    if (method == TB_METHOD_RK4) {
+        def.dt = 0.0; /* the scene's default step */
+    }
+    tb_integrator *integrator = (tb_integrator *)&before; /* must come back NULL on failure */
+    const tb_status status = tb_scene_integrator_create(scene, &def, 0.0, &integrator);
+    snprintf(detail, 512, "%s", tb_scene_detail(scene));
+    if (status != TB_STATUS_OK) {
+        assert_null(integrator);
+        assert_unchanged(scene, &before);
+    }
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+    return status;
+}
+
+/* A pair may start inside each other by up to 10 times the depth at which its contact carries
+ * the heavier body's weight (the ground's rule of 10 penetrations, with the pair's stiffness
+ * M_min omega^2 and omega^2 = g / penetration: 10 penetration M_max / M_min), not deeper: the
+ * contact would launch them apart at about depth omega. Spheres overlap by exactly r_a + r_b -
+ * distance, so 0.9 and 1.1 times the limit lie on either side of it by far more than rounding. */
+static void test_bodies_starting_deep_inside_each_other_are_refused(void **state)
+{
+    (void)state;
+    const double penetration = tb_contact_def_default().penetration;
+    const double ratios[] = {1.0, 100.0};
+    char detail[512];
+    for (int r = 0; r < 2; ++r) {
+        const double limit = 10.0 * penetration * ratios[r];
+        for (int m = 0; m < 3; ++m) {
+            const tb_method method = m == 0   ? TB_METHOD_RK4
+                                     : m == 1 ? TB_METHOD_CVODE_ADAMS
+                                              : TB_METHOD_CVODE_BDF;
+            assert_int_equal(start_overlapping(1.0, ratios[r], 0.9 * limit, method, detail),
+                             TB_STATUS_OK);
+            assert_int_equal(start_overlapping(ratios[r], 1.0, 1.1 * limit, method, detail),
+                             TB_STATUS_INVALID_ARGUMENT);
+            assert_detail_has(detail, "(\"left\") and 1 (\"right\") start");
+            assert_detail_has(detail, "inside each other");
+        }
+    }
+    /* a millimetre's overlap of equal balls: about 3.5 m/s of launch */
+    assert_int_equal(start_overlapping(1.0, 1.0, 1e-3, TB_METHOD_RK4, detail),
+                     TB_STATUS_INVALID_ARGUMENT);
+    assert_detail_has(detail, "0.001 m inside each other");
+    print_message("%s\n", detail);
+}
+
+/* The same check when a body is moved into another after the effect was added, and not for
+ * bodies the effect does not list. */
+static void test_a_body_moved_into_another_is_refused_at_the_start(void **state)
+{
+    (void)state;
+    tb_scene *scene = empty_scene();
+    add_ball(scene, "a", 1.0, 0.1, -0.5);
+    add_ball(scene, "b", 1.0, 0.1, 0.5);
+    add_ball(scene, "ghost", 1.0, 0.1, -0.5); /* inside a, but not in the effect */
+    tb_contact_def contact = tb_contact_def_default();
+    contact.bodies = (const size_t[]){0, 1};
+    contact.body_count = 2;
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    tb_integrator_def def = tb_integrator_def_default();
+    def.dt = 0.0;
+    tb_integrator *integrator = NULL;
+    tb_body_state moved;
+    assert_int_equal(tb_scene_get_state(scene, 1, &moved), TB_STATUS_OK);
+    moved.x[0] = -0.45; /* 0.15 m inside a */
+    assert_int_equal(tb_scene_set_state(scene, 1, &moved), TB_STATUS_OK);
+    assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator),
+                     TB_STATUS_INVALID_ARGUMENT);
+    assert_null(integrator);
+    assert_detail_has(tb_scene_detail(scene), "effect 0 (a contact)");
+    assert_detail_has(tb_scene_detail(scene), "0 (\"a\") and 1 (\"b\")");
+    moved.x[0] = 0.5;
+    assert_int_equal(tb_scene_set_state(scene, 1, &moved), TB_STATUS_OK);
+    assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator), TB_STATUS_OK);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
+/* A pair in two contact effects would be pushed by both: twice the stiffness, so neither
+ * effect's sinking nor restitution. Refused, naming the pair and the effect it is in; sets that
+ * share one body (a table under two groups of dice) are accepted. */
+static void test_a_pair_in_two_contact_effects_is_refused(void **state)
+{
+    (void)state;
+    tb_scene *scene = empty_scene();
+    const char *names[] = {"die1", "die2", "table", "die3", "die4"};
+    for (int k = 0; k < 5; ++k) {
+        add_ball(scene, names[k], 1.0, 0.1, (double)k);
+    }
+    tb_contact_def first = tb_contact_def_default();
+    first.bodies = (const size_t[]){0, 1, 2};
+    first.body_count = 3;
+    assert_int_equal(tb_scene_add_contact(scene, &first), TB_STATUS_OK);
+    tb_contact_def second = tb_contact_def_default();
+    second.restitution = 0.8;
+    second.bodies = (const size_t[]){3, 2, 4};
+    second.body_count = 3;
+    assert_int_equal(tb_scene_add_contact(scene, &second), TB_STATUS_OK);
+    const snapshot before = take(scene);
+    tb_contact_def again = tb_contact_def_default();
+    again.bodies = (const size_t[]){4, 0, 1};
+    again.body_count = 3;
+    assert_int_equal(tb_scene_add_contact(scene, &again), TB_STATUS_INVALID_ARGUMENT);
+    assert_detail_has(tb_scene_detail(scene), "0 (\"die1\") and 1 (\"die2\") are both in effect 0");
+    assert_unchanged(scene, &before);
+    tb_contact_def every = tb_contact_def_default(); /* every body: shares die1, die2 too */
+    assert_int_equal(tb_scene_add_contact(scene, &every), TB_STATUS_INVALID_ARGUMENT);
+    assert_detail_has(tb_scene_detail(scene), "effect 0 (a contact)");
+    assert_unchanged(scene, &before);
+    tb_scene_destroy(scene);
+}
+
+/* F22: gravity 1e-300 m/s^2 over a penetration of 1e300 m gave omega = sqrt(g / p) = 0 (the
+ * quotient underflows): a contact without stiffness, whose push lasts forever, so CVODE's
+ * integrator was refused for a def.max_step of inf the user never set. Now the contact itself is
+ * refused, naming penetration; an omega that overflows was refused already. */
+static void test_a_contact_rate_that_vanishes_is_refused(void **state)
+{
+    (void)state;
+    tb_scene *scene = empty_scene();
+    add_ball(scene, "a", 1.0, 0.1, 0.0);
+    const double gravity[] = {1e-300, 1e300}, penetration[] = {1e300, 1e-300};
+    for (int k = 0; k < 2; ++k) {
+        tb_contact_def contact = tb_contact_def_default();
+        contact.gravity = gravity[k];
+        contact.penetration = penetration[k];
+        assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_INVALID_ARGUMENT);
+        assert_detail_has(tb_scene_detail(scene), "penetration");
+        assert_int_equal(tb_scene_effect_count(scene), 0);
+    }
+    tb_scene_destroy(scene);
+}
+
+/* F23 (found by the contact fuzz target): a ball against a point set with one point 2^64 m out
+ * (inside the 1e100 m the shapes allow) sent libccd's MPR round its portal refinement for ever,
+ * which has no iteration cap, so one derivative never returned. The query now has a budget of
+ * support evaluations and reports no contact when it runs out. The poses are the ones the fuzzer
+ * reached (bit for bit); the alarm turns a hang back into a failure. */
+static void test_a_far_hull_point_does_not_hang_the_derivative(void **state)
+{
+    (void)state;
+    tb_scene *scene = empty_scene();
+    add_ball(scene, "ball", 1.0, 0x1.3333333333334p-3, 0.0);
+    add_ball(scene, "points", 1.0, 0.1, 1.0);
+    const double points[] = {-0x0.0000000000001p-1022,
+                             -0x1.9999999999998p-5,
+                             0x0p+0,
+                             -0x1.3333333333334p-3,
+                             -0x1.9999999999998p-5,
+                             0x1.8p+1,
+                             -0x1.3333333333334p-3,
+                             0x1.3333333333334p-3,
+                             0x0p+0,
+                             -0x1.9999999999998p-5,
+                             0x1.999999999999cp-4,
+                             0x1.9999999999998p-5,
+                             0x1.999999999999cp-4,
+                             0x1p+64,
+                             0x1.5p+1,
+                             -0x1.3333333333334p-3,
+                             0x1.3333333333334p-3,
+                             -0x1.8p+1,
+                             0x0p+0,
+                             -0x1.1111111111111p-8,
+                             -0x1.999999999999ap-3,
+                             0x1.999999999999ap-3,
+                             -0x1.9999999999998p-5,
+                             0x1.9999999999998p-5};
+    tb_shape shape = tb_shape_default();
+    shape.type = TB_SHAPE_POINTS;
+    shape.vertices = points;
+    shape.vertex_count = 8;
+    assert_int_equal(tb_scene_set_body_shape(scene, 1, &shape), TB_STATUS_OK);
+    const tb_body_state ball = {
+        {0x1.9999999999998p-5, 0x1.ddde1a29a8a7cp-4, -0x1.999999999999ap-3},
+        {0x1.f5f5fd4009e1dp-1, -0x1.92ad8a11de94fp-3, 0x1.0f4719a5a36c8p-8, -0x1.96eaa67875229p-7},
+        {0, 0, 0},
+        {0, 0, 0}};
+    const tb_body_state set = {{0x1.33334fc75194ep-3, -0x1.33333eccb3d22p-3, 0x1.7ab4333976ce4p-28},
+                               {0x1.ffffffffffffdp-1, 0x1.f9544c117a3d2p-26, 0x1.5378a157ec552p-30,
+                                -0x1.27bbab9bfe936p-28},
+                               {0, 0, 0},
+                               {0, 0, 0}};
+    assert_int_equal(tb_scene_set_state(scene, 0, &ball), TB_STATUS_OK);
+    assert_int_equal(tb_scene_set_state(scene, 1, &set), TB_STATUS_OK);
+    tb_contact_def contact = tb_contact_def_default();
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    double dydt[26];
+    alarm(20); /* the derivative takes microseconds; a hang is killed */
+    assert_int_equal(tb_scene_derivative(0.0, tb_scene_states(scene), dydt, scene), 0);
+    alarm(0);
+    for (int i = 0; i < 26; ++i) {
+        assert_true(isfinite(dydt[i]));
+    }
+    tb_scene_destroy(scene);
+}
+
+/* F24: a body of 1e100 kg with moments of 1e-200 kg m^2 and a sphere of 1e100 m (each inside
+ * its documented range) makes the contact's rocking rate M |r|^2 / I overflow: no fixed step is
+ * stable. tb_scene_max_stable_step said so (NOT_FINITE), but tb_scene_default_step answered OK
+ * with dt = 0 (the guard's own invariant: OK only with a step > 0). It now refuses as
+ * max_stable_step does; adaptive methods still get INFINITY, and the fixed-step integrator is
+ * refused naming the rate. */
+static void test_no_default_step_is_given_when_no_step_is_stable(void **state)
+{
+    (void)state;
+    tb_scene *scene = empty_scene();
+    for (int b = 0; b < 2; ++b) {
+        tb_body_def def = tb_body_def_default();
+        const double inertia[9] = {1e-200, 0, 0, 0, 1e-200, 0, 0, 0, 1e-200};
+        assert_int_equal(
+            tb_mass_from_tensor(1e100, (const double[]){0, 0, 0}, inertia, &def.mass, NULL),
+            TB_STATUS_OK);
+        def.position[0] = 3e100 * b;
+        assert_int_equal(tb_scene_add_body(scene, &def, NULL), TB_STATUS_OK);
+        tb_shape shape = tb_shape_default();
+        shape.type = TB_SHAPE_SPHERE;
+        shape.radius = 1e100;
+        assert_int_equal(tb_scene_set_body_shape(scene, (size_t)b, &shape), TB_STATUS_OK);
+    }
+    tb_contact_def contact = tb_contact_def_default();
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    double dt = -1.0;
+    assert_int_equal(tb_scene_default_step(scene, TB_METHOD_RK4, &dt), TB_STATUS_NOT_FINITE);
+    assert_detail_has(tb_scene_detail(scene), "a contact");
+    assert_true(dt == -1.0); /* left alone */
+    assert_int_equal(tb_scene_default_step(scene, TB_METHOD_CVODE_ADAMS, &dt), TB_STATUS_OK);
+    assert_true(dt == INFINITY);
+    tb_integrator_def def = tb_integrator_def_default();
+    def.dt = 0.0;
+    tb_integrator *integrator = NULL;
+    assert_int_not_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator), TB_STATUS_OK);
+    assert_null(integrator);
+    tb_scene_destroy(scene);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_convex_hulls_of_every_allowed_size_keep_their_corners),
+        cmocka_unit_test(test_bodies_starting_deep_inside_each_other_are_refused),
+        cmocka_unit_test(test_a_body_moved_into_another_is_refused_at_the_start),
+        cmocka_unit_test(test_a_pair_in_two_contact_effects_is_refused),
+        cmocka_unit_test(test_a_contact_rate_that_vanishes_is_refused),
+        cmocka_unit_test(test_a_far_hull_point_does_not_hang_the_derivative),
+        cmocka_unit_test(test_no_default_step_is_given_when_no_step_is_stable),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
