@@ -55,7 +55,8 @@ typedef struct tb_accuracy_def {
     double check_rtol;
     long max_steps;                       /* each run's step budget per frame; default 1000000 */
     tb_accuracy_reference_kind reference; /* default TB_ACCURACY_REFERENCE_AUTO */
-    double reference_step_fraction;       /* RK4 reference: in (0, 0.5]; default 0.25 */
+    double reference_step_fraction;       /* RK4 reference: in (0, 0.5]; default 0.125 (finer
+                                             than the sweep's finest, a quarter) */
     /* Chaos: where a small difference decides how a body falls, no two runs agree for long, and
      * an error taken over every frame measures the chaos, not the integrator. Frames are compared
      * up to the horizon: the last frame before the check run strays farther than

@@ -80,7 +80,7 @@ tb_accuracy_def tb_accuracy_def_default(void)
     def.check_rtol = 1e-10;
     def.max_steps = 1000000;
     def.reference = TB_ACCURACY_REFERENCE_AUTO;
-    def.reference_step_fraction = 0.25;
+    def.reference_step_fraction = 0.125;
     def.horizon_tolerance = 1e-4;
     def.internal_cookie = TB__ACCURACY_COOKIE;
     return def;
