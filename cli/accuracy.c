@@ -30,9 +30,10 @@ static int print_row(size_t index, const tb_accuracy_result *r, void *ctx)
     fprintf(stderr, "  [%2zu/%zu] %s %s\n", index + 1, t->count, tb_method_name(r->method),
             setting);
     if (r->status == TB_STATUS_OK) {
-        cli_output_printf(t->out, "%-12s %-12s %10.3e  %12.3e  %11.3e  %8.2f  %11ld\n",
+        cli_output_printf(t->out, "%-12s %-12s %10.3e  %12.3e  %11.3e  %8.2f  %11ld  %10.3e\n",
                           tb_method_name(r->method), setting, r->error, r->position_error,
-                          r->angle_error, 1e3 * r->cpu_seconds, r->derivative_evals);
+                          r->angle_error, 1e3 * r->cpu_seconds, r->derivative_evals,
+                          r->energy_error);
     } else if (r->status == TB_STATUS_UNSTABLE_STEP) {
         cli_output_printf(t->out, "%-12s %-12s refused: beyond the stability limit\n",
                           tb_method_name(r->method), setting);
@@ -43,15 +44,43 @@ static int print_row(size_t index, const tb_accuracy_result *r, void *ctx)
     return t->out->error != 0; /* stop when the table is being lost */
 }
 
-static void print_conclusion(cli_output *out, const tb_accuracy_result *results, size_t count,
-                             const tb_accuracy_reference *reference, double target)
+/* How the reference was made, how well it is known, and how far it is compared. */
+static void print_reference(cli_output *out, const tb_accuracy_reference *r,
+                            const tb_accuracy_def *def)
 {
+    char setting[32], check[32];
+    format_setting(setting, sizeof setting, r->method, r->setting);
+    format_setting(check, sizeof check, r->method, r->check_setting);
+    if (r->cvode_detail[0] != '\0') {
+        cli_output_printf(out, "\nthe cvode-bdf reference failed (%s),\nso the reference is rk4.",
+                          r->cvode_detail);
+    }
     cli_output_printf(out,
                       "\nerror: the largest displacement of a body's points at its radius of "
-                      "gyration,\n|dx| + l angle, over all frames and bodies, against cvode-bdf "
-                      "at rtol 1e-11.\nreference uncertainty (vs rtol 1e-10): %.1e m (%.1e m, "
-                      "%.1e rad); smaller errors are not resolved\n",
-                      reference->error, reference->position_error, reference->angle_error);
+                      "gyration,\n|dx| + l angle, over the frames compared and all bodies, "
+                      "against %s %s.\nreference uncertainty (vs %s): %.1e m (%.1e m, %.1e "
+                      "rad); smaller errors are not resolved\n",
+                      tb_method_name(r->method), setting, check, r->error, r->position_error,
+                      r->angle_error);
+    if (r->horizon_frames < r->frames) {
+        cli_output_printf(out,
+                          "horizon: %.6g s (%zu of %zu frames compared): past it the two "
+                          "references differ by more than %g m,\nso small differences decide "
+                          "the motion (chaos) and only statistics compare: energy (J) at the "
+                          "end, reference's own %.1e J\n",
+                          r->horizon, r->horizon_frames, r->frames, def->horizon_tolerance,
+                          r->energy_error);
+    } else {
+        cli_output_printf(out, "horizon: none, the references agree to %g m over all %zu frames\n",
+                          def->horizon_tolerance, r->frames);
+    }
+}
+
+static void print_conclusion(cli_output *out, const tb_accuracy_result *results, size_t count,
+                             const tb_accuracy_reference *reference, const tb_accuracy_def *def,
+                             double target)
+{
+    print_reference(out, reference, def);
     const size_t best = tb_accuracy_cheapest(results, count, target);
     if (best < count) {
         char setting[32];
@@ -68,31 +97,34 @@ static void print_conclusion(cli_output *out, const tb_accuracy_result *results,
 static int sweep(const cli_options *o, tb_scene *scene, const tb_run_def *run, cli_output *out,
                  cli_output *chart)
 {
-    size_t count;
+    tb_accuracy_setting settings[32];
     tb_accuracy_def def = tb_accuracy_def_default();
-    def.settings = tb_accuracy_default_sweep(&count);
+    tb_accuracy_scene_sweep(scene, settings, 32, &def.setting_count);
+    def.settings = settings;
+    const double target = o->has_target ? o->target_error : 1e-3;
+    def.horizon_tolerance = 0.1 * target; /* the reference known to a tenth of the budget */
     tb_accuracy_result results[32];
-    count = count < 32 ? count : 32;
-    def.setting_count = count;
     tb_accuracy_reference reference;
-    table t = {out, count};
+    table t = {out, def.setting_count};
     tb_error error;
-    fprintf(stderr, "tumble accuracy: %s: reference runs (cvode-bdf at rtol %g and %g)\n", o->scene,
-            def.reference_rtol, def.check_rtol);
+    fprintf(stderr,
+            "tumble accuracy: %s: reference runs (cvode-bdf at rtol %g and %g; if they fail, rk4 "
+            "at %g and %g of the default step)\n",
+            o->scene, def.reference_rtol, def.check_rtol, def.reference_step_fraction,
+            2 * def.reference_step_fraction);
     cli_output_printf(out, "method       setting       error (m)  position (m)  angle (rad)  "
-                           "CPU (ms)  derivatives\n");
+                           "CPU (ms)  derivatives  energy (J)\n");
     const tb_status status =
         tb_scene_accuracy_sweep(scene, run, &def, print_row, &t, results, &reference, &error);
     if (status != TB_STATUS_OK && out->error == 0) {
         fprintf(stderr, "tumble: %s: %s\n", o->scene, error.message);
         return CLI_EXIT_SIMULATION;
     }
-    const double target = o->has_target ? o->target_error : 1e-3;
     if (status == TB_STATUS_OK) {
-        print_conclusion(out, results, count, &reference, target);
+        print_conclusion(out, results, def.setting_count, &reference, &def, target);
     }
     if (chart->stream != NULL && status == TB_STATUS_OK) {
-        chart_write(chart, results, count, target);
+        chart_write(chart, results, def.setting_count, target);
     }
     return CLI_EXIT_OK;
 }

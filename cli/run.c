@@ -3,6 +3,7 @@
  * its own rules (frame limit, stability limit, settings that do not fit the method) and the
  * command repeats none of them. */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime, isatty, fileno */
+#include "check_contact.h"
 #include "commands.h"
 #include "output.h"
 #include "summary.h"
@@ -287,6 +288,7 @@ int cli_check_command(const cli_options *o)
                 bodies, summary_plural(bodies, "body", "bodies"), effects,
                 summary_plural(effects, "effect", "effects"), tb_method_name(run.integrator.method),
                 run.duration, run.fps);
+        cli_check_contact(scene);
     }
     tb_scene_destroy(scene);
     return code;

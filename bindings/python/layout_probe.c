@@ -73,6 +73,9 @@ int main(void)
     FIELD(tb_accuracy_def, reference_rtol);
     FIELD(tb_accuracy_def, check_rtol);
     FIELD(tb_accuracy_def, max_steps);
+    FIELD(tb_accuracy_def, reference);
+    FIELD(tb_accuracy_def, reference_step_fraction);
+    FIELD(tb_accuracy_def, horizon_tolerance);
     FIELD(tb_accuracy_def, internal_cookie);
     printf("\"_\": 0},\n");
 
@@ -87,12 +90,21 @@ int main(void)
     FIELD(tb_accuracy_result, cpu_seconds);
     FIELD(tb_accuracy_result, steps);
     FIELD(tb_accuracy_result, derivative_evals);
+    FIELD(tb_accuracy_result, energy_error);
     printf("\"_\": 0},\n");
 
     printf("\"tb_accuracy_reference\": {\"size\": %zu, ", sizeof(tb_accuracy_reference));
     FIELD(tb_accuracy_reference, error);
     FIELD(tb_accuracy_reference, position_error);
     FIELD(tb_accuracy_reference, angle_error);
+    FIELD(tb_accuracy_reference, method);
+    FIELD(tb_accuracy_reference, setting);
+    FIELD(tb_accuracy_reference, check_setting);
+    FIELD(tb_accuracy_reference, horizon);
+    FIELD(tb_accuracy_reference, horizon_frames);
+    FIELD(tb_accuracy_reference, frames);
+    FIELD(tb_accuracy_reference, energy_error);
+    FIELD(tb_accuracy_reference, cvode_detail);
     printf("\"_\": 0},\n");
 
     printf("\"tb_body_state\": {\"size\": %zu, ", sizeof(tb_body_state));

@@ -27,6 +27,24 @@ typedef struct tb_accuracy_setting {
  * *out_count settings. */
 TB_API const tb_accuracy_setting *tb_accuracy_default_sweep(size_t *out_count);
 
+/* The default sweep fitted to a scene: as tb_accuracy_default_sweep, except that a fixed-step
+ * method whose default step on the scene (tb_scene_default_step: stiff contact or springs) is
+ * shorter than 1/240 s runs at 1, 2 and 4 times the rate of that step instead of the table's
+ * rates, which would all be refused as unstable. Writes at most capacity settings to out (the
+ * default sweep's count is always enough) and their number to *out_count. */
+TB_API tb_status tb_accuracy_scene_sweep(const tb_scene *scene, tb_accuracy_setting *out,
+                                         size_t capacity, size_t *out_count);
+
+/* Which run is the reference. */
+typedef enum tb_accuracy_reference_kind {
+    /* CVODE BDF; if it fails (stiff contact whose manifold jumps defeats BDF's error test at
+     * tight tolerances: 12 dice fail near the first impacts), RK4 instead */
+    TB_ACCURACY_REFERENCE_AUTO = 0,
+    TB_ACCURACY_REFERENCE_CVODE, /* CVODE BDF at reference_rtol, checked at check_rtol */
+    /* RK4 at reference_step_fraction of the scene's default RK4 step, checked at twice it */
+    TB_ACCURACY_REFERENCE_RK4,
+} tb_accuracy_reference_kind;
+
 typedef struct tb_accuracy_def {
     const tb_accuracy_setting *settings; /* NULL: the default sweep */
     size_t setting_count;                /* settings' length (ignored for the default) */
@@ -35,7 +53,16 @@ typedef struct tb_accuracy_def {
      * difference where the runs converge). Defaults 1e-11 and 1e-10. */
     double reference_rtol;
     double check_rtol;
-    long max_steps; /* each run's step budget; default 1000000 */
+    long max_steps;                       /* each run's step budget per frame; default 1000000 */
+    tb_accuracy_reference_kind reference; /* default TB_ACCURACY_REFERENCE_AUTO */
+    double reference_step_fraction;       /* RK4 reference: in (0, 0.5]; default 0.125 (finer
+                                             than the sweep's finest, a quarter) */
+    /* Chaos: where a small difference decides how a body falls, no two runs agree for long, and
+     * an error taken over every frame measures the chaos, not the integrator. Frames are compared
+     * up to the horizon: the last frame before the check run strays farther than
+     * horizon_tolerance (m, the error's measure) from the reference, where the reference is still
+     * known to that tolerance. 0 or INFINITY: every frame. Default 1e-4 m. */
+    double horizon_tolerance;
     int internal_cookie;
 } tb_accuracy_def;
 
@@ -58,12 +85,24 @@ typedef struct tb_accuracy_result {
     double cpu_seconds;          /* processor time of the run */
     long steps;
     long derivative_evals;
+    /* |E - E_ref| at the last frame, J (E kinetic plus potential): a statistic that stays
+     * meaningful past the horizon (12 dice come to rest at the same height wherever they land) */
+    double energy_error;
 } tb_accuracy_result;
 
-/* The reference's own uncertainty: the errors of the check run against it. Errors below these
- * are not resolved. */
+/* The reference used and its own uncertainty: the errors of the check run against it, up to
+ * the horizon. Errors below these are not resolved. */
 typedef struct tb_accuracy_reference {
     double error, position_error, angle_error; /* m, m, rad */
+    tb_method method;                          /* TB_METHOD_CVODE_BDF or TB_METHOD_RK4 */
+    double setting;        /* its rtol, or steps per second; as tb_accuracy_setting */
+    double check_setting;  /* the check run's, of the same method */
+    double horizon;        /* s: the time of the last frame compared (see horizon_tolerance) */
+    size_t horizon_frames; /* frames compared (from the first); all the run's when it agrees */
+    size_t frames;         /* frames in the run */
+    double energy_error;   /* the check run's |E - E_ref| at the last frame, J */
+    /* Why CVODE was set aside for RK4 (its run's detail), "" when it was not */
+    char cvode_detail[TB_DETAIL_SIZE];
 } tb_accuracy_reference;
 
 /* Called after each setting has run (index into the sweep); non-zero stops the sweep
@@ -72,12 +111,13 @@ typedef int (*tb_accuracy_fn)(size_t index, const tb_accuracy_result *result, vo
 
 /* Runs the sweep on scene from its current state with run's frames (fps, duration; run's
  * integrator is not used: each setting runs with tb_integrator_def_default() changed to its
- * method, its dt or rtol (atol 0: per body), and def's max_steps). def may be NULL for
- * tb_accuracy_def_default(). out_results holds one result per setting. The scene's states are as
- * they were on return, success or not. Fails (with out_error naming the cause) on bad arguments, or
- * when the reference or check run fails: then the status and detail are the run's, prefixed with
- * which run it was. A setting whose run fails is not a failure of the sweep: its result says why.
- * No printing. */
+ * method, its dt or rtol (atol 0: per body), and def's max_steps), each compared with the
+ * reference over the frames up to the reference's horizon (see horizon_tolerance). def may be
+ * NULL for tb_accuracy_def_default(). out_results holds one result per setting. The scene's
+ * states are as they were on return, success or not. Fails (with out_error naming the cause) on
+ * bad arguments, or when the reference or check run fails (under AUTO: when RK4 fails too): then
+ * the status and detail are the run's, prefixed with which run it was. A setting whose run
+ * fails is not a failure of the sweep: its result says why. No printing. */
 TB_API tb_status tb_scene_accuracy_sweep(tb_scene *scene, const tb_run_def *run,
                                          const tb_accuracy_def *def, tb_accuracy_fn on_result,
                                          void *ctx, tb_accuracy_result *out_results,

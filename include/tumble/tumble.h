@@ -11,6 +11,7 @@
 #include "tumble/scene.h"
 #include "tumble/effects.h"
 #include "tumble/shape.h"
+#include "tumble/contact_info.h"
 #include "tumble/run.h"
 #include "tumble/scene_file.h"
 #include "tumble/writer.h"

@@ -245,6 +245,7 @@ static tb_status copy_bodies(tb_scene *scene, const tb_contact_def *def, tb__con
 {
     const bool all = def->bodies == NULL;
     out->body_count = all ? scene->body_count : def->body_count;
+    out->every_body = all;
     out->bodies = malloc((out->body_count > 0 ? out->body_count : 1) * sizeof(size_t));
     if (out->bodies == NULL) {
         return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "%zu contact bodies",

@@ -222,28 +222,47 @@ static tb_status load_ground(tb__loader *ld, const json_t *e, const char *path)
     return status == TB_STATUS_OK ? added(ld, tb_scene_add_ground(ld->scene, &def), path) : status;
 }
 
-/* "bodies": an array of body names, into ids[] (room for the scene's bodies). */
+/* Entry k of a contact effect's "bodies": the id of a body with a shape, named once. */
+static tb_status contact_body(tb__loader *ld, const json_t *names, const char *where, size_t k,
+                              size_t *ids)
+{
+    const json_t *entry = json_array_get(names, k);
+    if (!json_is_string(entry)) {
+        return tb__load_fail(ld, TB_STATUS_BAD_SCENE, where, "entry %zu: must be a body's name", k);
+    }
+    const char *name = json_string_value(entry);
+    if (tb_scene_find_body(ld->scene, name, &ids[k]) != TB_STATUS_OK) {
+        return tb__load_fail(ld, TB_STATUS_BAD_SCENE, where, "entry %zu: no body is named \"%s\"",
+                             k, name);
+    }
+    for (size_t j = 0; j < k; ++j) {
+        if (ids[j] == ids[k]) {
+            return tb__load_fail(ld, TB_STATUS_BAD_SCENE, where,
+                                 "entry %zu: \"%s\" is listed twice (also entry %zu)", k, name, j);
+        }
+    }
+    tb_shape_type type = TB_SHAPE_NONE;
+    tb_scene_body_shape_type(ld->scene, ids[k], &type);
+    if (type == TB_SHAPE_NONE) {
+        return tb__load_fail(ld, TB_STATUS_BAD_SCENE, where,
+                             "entry %zu: \"%s\" has no shape, so it cannot touch anything", k,
+                             name);
+    }
+    return TB_STATUS_OK;
+}
+
+/* "bodies": an array of body names, into ids[] (room for the array's entries). */
 static tb_status contact_bodies(tb__loader *ld, const json_t *names, const char *path, size_t *ids,
                                 size_t *count)
 {
     char where[160];
     snprintf(where, sizeof where, "%s.bodies", path);
-    if (!json_is_array(names) || json_array_size(names) == 0) {
-        return tb__load_fail(ld, TB_STATUS_BAD_SCENE, where, "must be an array of body names");
-    }
     *count = json_array_size(names);
-    if (*count > tb_scene_body_count(ld->scene)) {
-        return tb__load_fail(ld, TB_STATUS_BAD_SCENE, where, "names %zu bodies, the scene has %zu",
-                             *count, tb_scene_body_count(ld->scene));
+    tb_status status = TB_STATUS_OK;
+    for (size_t k = 0; k < *count && status == TB_STATUS_OK; ++k) {
+        status = contact_body(ld, names, where, k, ids);
     }
-    for (size_t k = 0; k < *count; ++k) {
-        const json_t *name = json_array_get(names, k);
-        if (!json_is_string(name) ||
-            tb_scene_find_body(ld->scene, json_string_value(name), &ids[k]) != TB_STATUS_OK) {
-            return tb__load_fail(ld, TB_STATUS_BAD_SCENE, where, "entry %zu: not a body's name", k);
-        }
-    }
-    return TB_STATUS_OK;
+    return status;
 }
 
 static tb_status load_contact(tb__loader *ld, const json_t *e, const char *path)
@@ -271,8 +290,14 @@ static tb_status load_contact(tb__loader *ld, const json_t *e, const char *path)
     }
     const json_t *names = json_object_get(e, "bodies");
     size_t *ids = NULL;
+    if (status == TB_STATUS_OK && names != NULL &&
+        (!json_is_array(names) || json_array_size(names) == 0)) {
+        char where[160];
+        snprintf(where, sizeof where, "%s.bodies", path);
+        status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, where, "must be an array of body names");
+    }
     if (status == TB_STATUS_OK && names != NULL) {
-        ids = malloc((tb_scene_body_count(ld->scene) + 1) * sizeof *ids);
+        ids = malloc((json_array_size(names) + 1) * sizeof *ids);
         status = ids == NULL ? tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, path, "body list")
                              : contact_bodies(ld, names, path, ids, &def.body_count);
         def.bodies = ids;

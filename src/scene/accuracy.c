@@ -4,8 +4,10 @@
 #include "tumble/accuracy.h"
 
 #include "core/detail.h"
+#include "scene/scene_internal.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -31,6 +33,45 @@ const tb_accuracy_setting *tb_accuracy_default_sweep(size_t *out_count)
     return default_sweep;
 }
 
+/* The fixed-step rates the scene's default step of method asks for, written after *count; false
+ * when the table's rates are stable (the default step is the table's 1/240 s). */
+static bool stiff_rates(const tb_scene *scene, tb_method method, tb_accuracy_setting *out,
+                        size_t capacity, size_t *count)
+{
+    double dt = 0.0;
+    if (tb_scene_default_step(scene, method, &dt) != TB_STATUS_OK || !(dt < 1.0 / 240.0)) {
+        return false;
+    }
+    for (int k = 0; k < 3 && *count < capacity; ++k) {
+        out[(*count)++] = (tb_accuracy_setting){method, (double)(1 << k) / dt};
+    }
+    return true;
+}
+
+tb_status tb_accuracy_scene_sweep(const tb_scene *scene, tb_accuracy_setting *out, size_t capacity,
+                                  size_t *out_count)
+{
+    if (scene == NULL || out == NULL || out_count == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    size_t count = 0, table = sizeof default_sweep / sizeof default_sweep[0];
+    for (size_t k = 0; k < table && count < capacity; ++k) {
+        const tb_method method = default_sweep[k].method;
+        const bool first = k == 0 || default_sweep[k - 1].method != method;
+        if (tb_method_is_adaptive(method)) {
+            out[count++] = default_sweep[k];
+        } else if (first && !stiff_rates(scene, method, out, capacity, &count)) {
+            for (size_t j = k; j < table && default_sweep[j].method == method && count < capacity;
+                 ++j) {
+                out[count++] = default_sweep[j];
+            }
+        }
+    }
+    *out_count = count;
+    return TB_STATUS_OK;
+}
+
 tb_accuracy_def tb_accuracy_def_default(void)
 {
     tb_accuracy_def def;
@@ -38,6 +79,9 @@ tb_accuracy_def tb_accuracy_def_default(void)
     def.reference_rtol = 1e-11;
     def.check_rtol = 1e-10;
     def.max_steps = 1000000;
+    def.reference = TB_ACCURACY_REFERENCE_AUTO;
+    def.reference_step_fraction = 0.125;
+    def.horizon_tolerance = 1e-4;
     def.internal_cookie = TB__ACCURACY_COOKIE;
     return def;
 }
@@ -49,7 +93,14 @@ typedef struct comparison {
     double *reference;    /* frames x bodies x TB__POSE, grown while recording */
     size_t frames, capacity;
     int recording; /* 1: store the poses (the reference run); 0: compare with them */
+    /* The check run looks for the horizon: the first frame farther than tolerance from the
+     * reference ends the frames compared (limit), for it and every later run. */
+    int checking;
+    double tolerance; /* m */
+    size_t limit;     /* frames compared */
+    double horizon;   /* s: the last frame compared */
     double position, angle, displacement;
+    double energy, reference_energy; /* J, at the latest frame of the run and of the reference */
 } comparison;
 
 static int record(comparison *c, const double *y)
@@ -86,8 +137,9 @@ static double angle_between(const double *p, const double *r)
     return 2.0 * atan2(sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), fabs(w));
 }
 
-static void compare(comparison *c, size_t frame, const double *y)
+static void compare(comparison *c, size_t frame, double t, const double *y)
 {
+    double position = 0.0, angle = 0.0, displacement = 0.0;
     for (size_t i = 0; i < c->bodies; ++i) {
         const double *p = y + TB_STATE_SIZE * i;
         const double *r = c->reference + TB__POSE * (frame * c->bodies + i);
@@ -95,22 +147,39 @@ static void compare(comparison *c, size_t frame, const double *y)
                              p[TB_STATE_X + 2] - r[2]};
         const double shift = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
         const double turn = angle_between(p + TB_STATE_Q, r + 3);
-        c->position = fmax(c->position, shift);
-        c->angle = fmax(c->angle, turn);
-        c->displacement = fmax(c->displacement, shift + c->length[i] * turn);
+        position = fmax(position, shift);
+        angle = fmax(angle, turn);
+        displacement = fmax(displacement, shift + c->length[i] * turn);
     }
+    if (c->checking && !(displacement <= c->tolerance)) {
+        c->limit = frame; /* the horizon: this frame and later ones are not compared */
+        return;
+    }
+    c->position = fmax(c->position, position);
+    c->angle = fmax(c->angle, angle);
+    c->displacement = fmax(c->displacement, displacement);
+    c->horizon = t;
+}
+
+static double energy(const tb_scene *scene, const double *y)
+{
+    double kinetic = 0.0, potential = 0.0;
+    tb_scene_kinetic_energy(scene, y, &kinetic);
+    tb_scene_potential_energy(scene, y, &potential);
+    return kinetic + potential;
 }
 
 static int on_frame(size_t frame, double t, const tb_scene *scene, void *ctx)
 {
-    (void)t;
     comparison *c = ctx;
     const double *y = tb_scene_states_const(scene);
     if (c->recording) {
+        c->reference_energy = energy(scene, y);
         return record(c, y);
     }
-    if (frame < c->frames) {
-        compare(c, frame, y);
+    c->energy = energy(scene, y);
+    if (frame < c->frames && frame < c->limit) {
+        compare(c, frame, t, y);
     }
     return 0;
 }
@@ -155,6 +224,7 @@ static tb_status run_one(tb_scene *scene, const tb_run_def *base, const double *
     out->error = c->displacement;
     out->position_error = c->position;
     out->angle_error = c->angle;
+    out->energy_error = fabs(c->energy - c->reference_energy);
     return out->status;
 }
 
@@ -178,6 +248,20 @@ static tb_status validate(const tb_scene *scene, const tb_run_def *run, const tb
                                  k == 0 ? "reference_rtol" : "check_rtol", rtols[k]);
         }
     }
+    if ((unsigned)def->reference > (unsigned)TB_ACCURACY_REFERENCE_RK4) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "def.reference: no such reference, got %d", (int)def->reference);
+    }
+    if (!(def->reference_step_fraction > 0.0 && def->reference_step_fraction <= 0.5)) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "def.reference_step_fraction: must be in (0, 0.5], got %g",
+                             def->reference_step_fraction);
+    }
+    if (!(def->horizon_tolerance >= 0.0)) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "def.horizon_tolerance: must be >= 0 (0: no horizon), got %g",
+                             def->horizon_tolerance);
+    }
     if (def->settings == NULL && def->setting_count != 0) {
         return tb__set_error(error, TB_STATUS_NULL_POINTER, "def.settings is NULL");
     }
@@ -200,29 +284,108 @@ static tb_status validate(const tb_scene *scene, const tb_run_def *run, const tb
     return TB_STATUS_OK;
 }
 
-/* The reference run (recorded) and the check run (compared with it). */
-static tb_status reference_runs(tb_scene *scene, const tb_run_def *run, const double *start,
-                                const tb_accuracy_def *def, comparison *c,
-                                tb_accuracy_reference *out_reference, tb_error *error)
+static void describe(char *out, size_t size, const tb_accuracy_setting *setting)
 {
-    const tb_accuracy_setting settings[2] = {{TB_METHOD_CVODE_BDF, def->reference_rtol},
-                                             {TB_METHOD_CVODE_BDF, def->check_rtol}};
-    tb_accuracy_result result;
+    if (tb_method_is_adaptive(setting->method)) {
+        snprintf(out, size, "%s at rtol %g", tb_method_name(setting->method), setting->setting);
+    } else {
+        snprintf(out, size, "%s at dt %.3g s", tb_method_name(setting->method),
+                 1.0 / setting->setting);
+    }
+}
+
+/* The reference run of pair[0] (recorded) and the check run of pair[1] (compared with it, which
+ * sets the horizon). */
+static tb_status reference_pair(tb_scene *scene, const tb_run_def *run, const double *start,
+                                const tb_accuracy_def *def, const tb_accuracy_setting pair[2],
+                                comparison *c, tb_accuracy_result *result, tb_error *error)
+{
+    const double tolerance = def->horizon_tolerance;
+    c->frames = 0;
+    c->limit = SIZE_MAX;
+    c->tolerance = tolerance > 0.0 ? tolerance : INFINITY;
     for (int k = 0; k < 2; ++k) {
         c->recording = k == 0;
-        const tb_status status = run_one(scene, run, start, def, &settings[k], c, &result);
+        c->checking = k == 1;
+        const tb_status status = run_one(scene, run, start, def, &pair[k], c, result);
         if (status != TB_STATUS_OK) {
-            return tb__set_error(error, status, "%s run (cvode-bdf at rtol %g) failed: %s",
-                                 k == 0 ? "reference" : "check", settings[k].setting,
-                                 result.detail);
+            char what[80];
+            describe(what, sizeof what, &pair[k]);
+            c->recording = c->checking = 0;
+            return tb__set_error(error, status, "%s run (%s) failed: %s",
+                                 k == 0 ? "reference" : "check", what, result->detail);
         }
     }
-    c->recording = 0;
-    if (out_reference != NULL) {
-        *out_reference =
-            (tb_accuracy_reference){result.error, result.position_error, result.angle_error};
-    }
+    c->recording = c->checking = 0;
+    c->limit = c->limit < c->frames ? c->limit : c->frames;
     return TB_STATUS_OK;
+}
+
+/* RK4 at fraction and twice fraction of the scene's default RK4 step at the start. */
+static tb_status rk4_pair(tb_scene *scene, const double *start, const tb_accuracy_def *def,
+                          tb_accuracy_setting pair[2], tb_error *error)
+{
+    memcpy(tb_scene_states(scene), start, tb_scene_state_size(scene) * sizeof(double));
+    double dt = 0.0;
+    const tb_status status = tb_scene_default_step(scene, TB_METHOD_RK4, &dt);
+    if (status != TB_STATUS_OK || !(dt > 0.0 && isfinite(dt))) {
+        return tb__set_error(error, status != TB_STATUS_OK ? status : TB_STATUS_INVALID_ARGUMENT,
+                             "reference: no RK4 step for this scene (%s)", tb_scene_detail(scene));
+    }
+    const double rate = 1.0 / (def->reference_step_fraction * dt);
+    pair[0] = (tb_accuracy_setting){TB_METHOD_RK4, rate};
+    pair[1] = (tb_accuracy_setting){TB_METHOD_RK4, 0.5 * rate};
+    return TB_STATUS_OK;
+}
+
+/* What the reference and check runs found (c after reference_pair). */
+static void describe_reference(const comparison *c, const tb_accuracy_result *check,
+                               const tb_accuracy_setting pair[2], tb_accuracy_reference *out)
+{
+    out->error = check->error;
+    out->position_error = check->position_error;
+    out->angle_error = check->angle_error;
+    out->method = pair[0].method;
+    out->setting = pair[0].setting;
+    out->check_setting = pair[1].setting;
+    out->horizon = c->horizon;
+    out->horizon_frames = c->limit;
+    out->frames = c->frames;
+    out->energy_error = check->energy_error;
+}
+
+/* The reference and check runs the def asks for: CVODE BDF, RK4, or RK4 after BDF failed. */
+static tb_status reference_runs(tb_scene *scene, const tb_run_def *run, const double *start,
+                                const tb_accuracy_def *def, comparison *c,
+                                tb_accuracy_reference *out, tb_error *out_error)
+{
+    tb_accuracy_setting pair[2] = {{TB_METHOD_CVODE_BDF, def->reference_rtol},
+                                   {TB_METHOD_CVODE_BDF, def->check_rtol}};
+    tb_accuracy_result check;
+    tb_error error;
+    memset(out, 0, sizeof *out);
+    tb_status status = TB_STATUS_OK;
+    if (def->reference != TB_ACCURACY_REFERENCE_RK4) {
+        status = reference_pair(scene, run, start, def, pair, c, &check, &error);
+        if (status != TB_STATUS_OK && def->reference == TB_ACCURACY_REFERENCE_AUTO) {
+            snprintf(out->cvode_detail, sizeof out->cvode_detail, "%s", error.message);
+        }
+    }
+    if (def->reference == TB_ACCURACY_REFERENCE_RK4 || out->cvode_detail[0] != '\0') {
+        status = rk4_pair(scene, start, def, pair, &error);
+        if (status == TB_STATUS_OK) {
+            status = reference_pair(scene, run, start, def, pair, c, &check, &error);
+        }
+    }
+    if (status == TB_STATUS_OK) {
+        describe_reference(c, &check, pair, out);
+    } else if (out->cvode_detail[0] != '\0') {
+        return tb__set_error(out_error, status, "%s; and RK4 instead: %s", out->cvode_detail,
+                             error.message);
+    } else {
+        tb__set_error(out_error, status, "%s", error.message);
+    }
+    return status;
 }
 
 static tb_status sweep(tb_scene *scene, const tb_run_def *run, const tb_accuracy_def *def,
@@ -230,7 +393,11 @@ static tb_status sweep(tb_scene *scene, const tb_run_def *run, const tb_accuracy
                        tb_accuracy_result *out_results, tb_accuracy_reference *out_reference,
                        tb_error *error)
 {
-    tb_status status = reference_runs(scene, run, start, def, c, out_reference, error);
+    tb_accuracy_reference reference;
+    tb_status status = reference_runs(scene, run, start, def, c, &reference, error);
+    if (out_reference != NULL) {
+        *out_reference = reference;
+    }
     for (size_t k = 0; k < def->setting_count && status == TB_STATUS_OK; ++k) {
         run_one(scene, run, start, def, &def->settings[k], c, &out_results[k]);
         if (on_result != NULL && on_result(k, &out_results[k], ctx) != 0) {

@@ -123,6 +123,7 @@ typedef struct tb__contact_params {
     struct tb__contact_pairs *pairs; /* owned; contact/contact_pairs.h */
     size_t *bodies;                  /* owned: the ids it acts on */
     size_t body_count;
+    bool every_body;             /* made without a list (tb_contact_info) */
     double omega, damping_ratio; /* rad/s, from penetration and restitution */
     double static_friction, kinetic_friction, stribeck_velocity, gravity;
     double push_duration; /* s: the shortest time an impact's force acts, over every pair */

@@ -88,6 +88,9 @@ class AccuracyDef(ctypes.Structure):
         ("reference_rtol", ctypes.c_double),
         ("check_rtol", ctypes.c_double),
         ("max_steps", ctypes.c_long),
+        ("reference", ctypes.c_int),
+        ("reference_step_fraction", ctypes.c_double),
+        ("horizon_tolerance", ctypes.c_double),
         ("internal_cookie", ctypes.c_int),
     ]
 
@@ -104,12 +107,17 @@ class AccuracyResult(ctypes.Structure):
         ("cpu_seconds", ctypes.c_double),
         ("steps", ctypes.c_long),
         ("derivative_evals", ctypes.c_long),
+        ("energy_error", ctypes.c_double),
     ]
 
 
 class AccuracyReference(ctypes.Structure):
     _fields_ = [("error", ctypes.c_double), ("position_error", ctypes.c_double),
-                ("angle_error", ctypes.c_double)]
+                ("angle_error", ctypes.c_double), ("method", ctypes.c_int),
+                ("setting", ctypes.c_double), ("check_setting", ctypes.c_double),
+                ("horizon", ctypes.c_double), ("horizon_frames", ctypes.c_size_t),
+                ("frames", ctypes.c_size_t), ("energy_error", ctypes.c_double),
+                ("cvode_detail", ctypes.c_char * DETAIL_SIZE)]
 
 
 STRUCTS = {
