@@ -46,3 +46,7 @@ render examples/scenes/sliding_block.json "--strobe 6"
 render examples/scenes/box_on_slope.json "--still-time 5"
 render examples/scenes/spinning_top.json "--strobe 5"
 render tests/scenes/shapes/every_shape.json "--still-time 0.25"
+# contact between bodies: the dice in the air at 0.2 s, and their throw at a quarter speed (a
+# picture every 1/48 s); the dominoes at 0.6 s, half of them down
+render examples/scenes/dice.json "--still-time 0.2" "--every 0.0208333"
+render examples/scenes/dominoes.json "--still-time 0.6" "--every 0.0416667"

@@ -29,6 +29,8 @@ export_and_check() { # scene, fps (0: the scene's), [extra export arguments]
     check "$out/$name.glb" "$out/$name.csv" "$(echo "$line" | sed 's/.* at \([0-9.]*\) fps/\1/')"
 }
 for scene in examples/scenes/*.json tests/scenes/shapes/every_shape.json; do
+    # the dice, dominoes and stack take 10-25 s a run; their boxes are checked in other scenes
+    case "$scene" in */dice.json | */dominoes.json | */stack.json) continue ;; esac
     export_and_check "$scene" 0
 done
 # Between keys: keys at 24 fps, the reference at 16 x 24 fps.
