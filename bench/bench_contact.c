@@ -10,21 +10,22 @@
  * contact's cap); CPU time of one advance, median of the repeats.
  *
  * The shares are measured on the state the run ended in, outside the integrator and without
- * touching the library's build: the derivative of the scene with bodies and gravity only (the
- * rigid-body part), with the ground planes too, and with contact (the whole); the pair finder
- * alone (contact/contact_pairs.h: poses, bounds and sort, then the sweep with the narrow phase)
- * and the broad phase's sweep alone (contact/broad_phase.h on the same bounds). So per
- * derivative: broad = pair finder's begin + sweep, narrow = pair finder - broad, contact law =
- * whole - (with planes) - pair finder (the law, friction and the loads at each manifold
- * point), planes = (with planes) - (bodies only). Multiplied by the derivatives per step they
- * give ns per body-step; what is left of the step is the integrator's own work (stages,
- * renormalisation, CVODE's algebra). Each is a median of the repeats; small parts can come out
- * slightly negative in the noise.
+ * touching the library's build (each a median of 7 batches of evaluations in a row): the derivative
+ * of the scene with bodies and gravity only (the rigid-body part), with the ground planes too, and
+ * with contact (the whole); the pair finder alone (contact/contact_pairs.h: poses, bounds and sort,
+ * then the sweep with the narrow phase) and the broad phase's sweep alone (contact/broad_phase.h on
+ * the same bounds). So per derivative: broad = pair finder's begin + sweep, narrow = pair finder -
+ * broad, contact law = whole - (with planes) - pair finder (the law, friction and the loads at each
+ * manifold point), planes = (with planes) - (bodies only), each as a share of the whole derivative.
+ * The integrator's share is what the derivatives (their count per step times the whole) leave of
+ * the run's time per step: the stages, renormalisation and CVODE's algebra. Shares come from
+ * differences of medians on a shared machine: a small one can come out slightly negative.
  *
  * Prints CSV: scene, bodies, method, setting (dt, s, or rtol), steps, derivatives per step,
- * touching pairs per body, ns per body-step, us per body per simulated second, then ns per
- * body-step of broad phase, narrow phase, contact law, ground planes, rigid-body derivative
- * and the rest. The processor and the load average go to stderr.
+ * touching pairs per body, ns per body-step (median of the repeats), us per body per simulated
+ * second, the time simulated, the derivative's ns per body, then the shares of broad phase,
+ * narrow phase, contact law, ground planes and rigid-body derivative in it, and the
+ * integrator's share of a step. The processor and the load average go to stderr.
  *
  * usage: bench_contact [--quick] */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
@@ -107,15 +108,24 @@ static run_result timed_run(scene_maker make, size_t count, tb_method method, lo
     return r;
 }
 
+/* Evaluations timed together, so that a measurement lasts milliseconds whatever the size. */
+static int batch_size(size_t count)
+{
+    const size_t n = 20000 / (count > 0 ? count : 1);
+    return n > 0 ? (int)n : 1;
+}
+
 /* Median CPU seconds of one derivative of scene at y (its own state size: the first
- * tb_scene_state_size doubles of y are used). */
-static double derivative_seconds(tb_scene *scene, const double *y, double *dydt)
+ * tb_scene_state_size doubles of y are used), timed over batches. */
+static double derivative_seconds(tb_scene *scene, const double *y, double *dydt, int batch)
 {
     double times[PART_REPEATS];
     for (int k = 0; k < PART_REPEATS; ++k) {
         const double start = bench_cpu_seconds();
-        tb_scene_derivative(0.0, y, dydt, scene);
-        times[k] = bench_cpu_seconds() - start;
+        for (int j = 0; j < batch; ++j) {
+            tb_scene_derivative(0.0, y, dydt, scene);
+        }
+        times[k] = (bench_cpu_seconds() - start) / batch;
     }
     return bench_median(times, PART_REPEATS);
 }
@@ -125,26 +135,37 @@ typedef struct parts {
     size_t touching;
 } parts;
 
+/* One pass of the pair finder; returns the touching pairs. */
+static size_t pair_pass(tb__contact_pairs *pairs, const tb_scene *scene, const double *y)
+{
+    tb__pair_contact batch[64];
+    size_t n, touching = 0;
+    tb__contact_pairs_begin(pairs, scene, y);
+    while ((n = tb__contact_pairs_next(pairs, scene, y, batch, 64)) > 0) {
+        touching += n;
+    }
+    return touching;
+}
+
 /* The pair finder on scene at y: begin alone, and begin + sweep + narrow phase. */
-static void pair_finder_seconds(const tb_scene *scene, const double *y, parts *out)
+static void pair_finder_seconds(const tb_scene *scene, const double *y, int batch, parts *out)
 {
     tb__contact_pairs *pairs = NULL;
     if (tb__contact_pairs_create(scene, NULL, 0, CONTACT_MARGIN, &pairs, NULL) != TB_STATUS_OK) {
         return;
     }
     double begin[PART_REPEATS], pass[PART_REPEATS];
-    tb__pair_contact batch[64];
     for (int k = 0; k < PART_REPEATS; ++k) {
         const double t0 = bench_cpu_seconds();
-        tb__contact_pairs_begin(pairs, scene, y);
-        const double t1 = bench_cpu_seconds();
-        size_t n, touching = 0;
-        while ((n = tb__contact_pairs_next(pairs, scene, y, batch, 64)) > 0) {
-            touching += n;
+        for (int j = 0; j < batch; ++j) {
+            tb__contact_pairs_begin(pairs, scene, y);
         }
-        pass[k] = bench_cpu_seconds() - t0;
-        begin[k] = t1 - t0;
-        out->touching = touching;
+        const double t1 = bench_cpu_seconds();
+        for (int j = 0; j < batch; ++j) {
+            out->touching = pair_pass(pairs, scene, y);
+        }
+        pass[k] = (bench_cpu_seconds() - t1) / batch;
+        begin[k] = (t1 - t0) / batch;
     }
     out->begin = bench_median(begin, PART_REPEATS);
     out->pass = bench_median(pass, PART_REPEATS);
@@ -152,8 +173,9 @@ static void pair_finder_seconds(const tb_scene *scene, const double *y, parts *o
 }
 
 /* The broad phase's sweep alone on the bounds the pair finder sees (shape bounds grown by half
- * the margin each way), sorted once before the timed sweeps. */
-static double sweep_seconds(const tb_scene *scene, const double *y, size_t count)
+ * the margin each way), sorted before each timed sweep (the sort is not timed: it is in
+ * begin). */
+static double sweep_seconds(const tb_scene *scene, const double *y, size_t count, int batch)
 {
     tb__broad_phase bp;
     if (tb__broad_phase_init(&bp, count) != TB_STATUS_OK) {
@@ -167,16 +189,20 @@ static double sweep_seconds(const tb_scene *scene, const double *y, size_t count
         }
     }
     double times[PART_REPEATS];
-    tb__index_pair batch[256];
+    tb__index_pair pairs[256];
     volatile size_t found = 0;
     for (int k = 0; k < PART_REPEATS; ++k) {
-        tb__broad_phase_sort(&bp, count);
-        const double start = bench_cpu_seconds();
-        size_t n;
-        while ((n = tb__broad_phase_next(&bp, batch, 256)) > 0) {
-            found += n;
+        double seconds = 0.0;
+        for (int j = 0; j < batch; ++j) {
+            tb__broad_phase_sort(&bp, count);
+            const double start = bench_cpu_seconds();
+            size_t n;
+            while ((n = tb__broad_phase_next(&bp, pairs, 256)) > 0) {
+                found += n;
+            }
+            seconds += bench_cpu_seconds() - start;
         }
-        times[k] = bench_cpu_seconds() - start;
+        times[k] = seconds / batch;
     }
     (void)found;
     tb__broad_phase_free(&bp);
@@ -196,11 +222,12 @@ static parts measure_parts(scene_maker make, tb_scene *whole, size_t count)
     const double *y = tb_scene_states_const(whole);
     if (planes != NULL && bodies != NULL && dydt != NULL && tb_scene_state_size(planes) <= n &&
         tb_scene_state_size(bodies) <= n) {
-        p.whole = derivative_seconds(whole, y, dydt);
-        p.planes = derivative_seconds(planes, y, dydt);
-        p.bodies = derivative_seconds(bodies, y, dydt);
-        pair_finder_seconds(whole, y, &p);
-        p.sweep = sweep_seconds(whole, y, count);
+        const int batch = batch_size(count);
+        p.whole = derivative_seconds(whole, y, dydt, batch);
+        p.planes = derivative_seconds(planes, y, dydt, batch);
+        p.bodies = derivative_seconds(bodies, y, dydt, batch);
+        pair_finder_seconds(whole, y, batch, &p);
+        p.sweep = sweep_seconds(whole, y, count, batch);
     }
     free(dydt);
     tb_scene_destroy(planes);
@@ -223,14 +250,13 @@ static void row(const char *name, size_t count, tb_method method, const run_resu
                 double per_second, const parts *p)
 {
     const double derivs = (double)r->derivatives / (double)r->steps;
-    const double d = derivs * 1e9 / (double)count; /* seconds per derivative -> ns/body-step */
-    const double broad = d * (p->begin + p->sweep), narrow = d * (p->pass - p->begin - p->sweep);
-    const double law = d * (p->whole - p->planes - p->pass), planes = d * (p->planes - p->bodies);
-    const double bodies = d * p->bodies;
-    printf("%s,%zu,%s,%.3g,%ld,%.2f,%.2f,%.1f,%.4g,%.4g,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f\n", name,
+    const double w = p->whole;
+    printf("%s,%zu,%s,%.3g,%ld,%.2f,%.2f,%.1f,%.4g,%.4g,%.1f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f\n", name,
            count, tb_method_name(method), tb_method_is_adaptive(method) ? CVODE_RTOL : r->dt,
            r->steps, derivs, (double)p->touching / (double)count, total, per_second, r->simulated,
-           broad, narrow, law, planes, bodies, total - broad - narrow - law - planes - bodies);
+           1e9 * w / (double)count, (p->begin + p->sweep) / w, (p->pass - p->begin - p->sweep) / w,
+           (w - p->planes - p->pass) / w, (p->planes - p->bodies) / w, p->bodies / w,
+           1.0 - derivs * 1e9 * w / (double)count / total);
 }
 
 /* All five methods on one scene and size. */
@@ -275,9 +301,9 @@ int main(int argc, char **argv)
     fprintf(stderr, "bench_contact: processor %s; load average %.2f at the start\n", model,
             bench_load_average());
     printf("scene,bodies,method,setting,steps,derivatives_per_step,touching_pairs_per_body,"
-           "ns_per_body_step,us_per_body_simulated_second,simulated_seconds,broad_ns,narrow_ns,"
-           "contact_law_ns,"
-           "ground_planes_ns,rigid_body_ns,rest_ns\n");
+           "ns_per_body_step,us_per_body_simulated_second,simulated_seconds,derivative_ns_per_body,"
+           "broad_share,narrow_share,contact_law_share,ground_planes_share,rigid_body_share,"
+           "integrator_share\n");
     static const size_t full[] = {100, 1000, 10000};
     static const size_t brief[] = {27};
     const size_t *sizes = quick ? brief : full;
