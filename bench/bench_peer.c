@@ -43,24 +43,8 @@ static const double top_omega[3] = {1.0, 0.0, 1.0}; /* body frame = world frame 
 /* The processor's name and vector extensions, as Linux reads them, and tumble's path. */
 static void print_machine(void)
 {
-    FILE *cpuinfo = fopen("/proc/cpuinfo", "r");
-    char line[4096], model[256] = "unknown", extensions[256] = "";
-    while (cpuinfo != NULL && fgets(line, sizeof line, cpuinfo) != NULL) {
-        if (strncmp(line, "model name", 10) == 0 && strchr(line, ':') != NULL) {
-            snprintf(model, sizeof model, "%s", strchr(line, ':') + 2);
-            model[strcspn(model, "\n")] = '\0';
-        } else if (strncmp(line, "flags", 5) == 0 && extensions[0] == '\0') {
-            static const char *const wanted[] = {" sse2 ", " avx ", " fma ", " avx2 ", " avx512f "};
-            for (size_t k = 0; k < sizeof wanted / sizeof wanted[0]; ++k) {
-                if (strstr(line, wanted[k]) != NULL) {
-                    strncat(extensions, wanted[k] + 1, strlen(wanted[k]) - 1);
-                }
-            }
-        }
-    }
-    if (cpuinfo != NULL) {
-        fclose(cpuinfo);
-    }
+    char model[256], extensions[256];
+    bench_processor(model, extensions);
     fprintf(stderr, "bench_peer: processor %s; vector extensions %s; tumble's path %s\n", model,
             extensions, tb_vector_path_name(tb_vector_path_best()));
 }
