@@ -88,6 +88,24 @@ typedef struct tb_ode_system {
      * and step and restarts from y when it moved, since its history is of the old right-hand
      * side; one-step methods need nothing. NULL (default): the derivative never changes. */
     unsigned long long (*rhs_generation)(void *ctx);
+
+    /* Optional, for adaptive methods (fixed-step methods ignore them): root_count event
+     * functions g_0 .. g_{root_count-1}, written by roots(t, y, g, ctx) into g[0..root_count).
+     * Each must be continuous in t and y. CVODE checks their signs at the end of every step and
+     * locates a sign change (an event) to within about 100 rounding errors of t in the computed
+     * solution, whose own error is the integration error; every call then stops there
+     * internally, counts the event (tb_integrator_get_events) and goes on, so a step ends on
+     * each event. A root function that returns non-zero fails the call
+     * (TB_STATUS_SOLVER_FAILED naming it). 0 and NULL (default): none. */
+    size_t root_count;
+    int (*roots)(double t, const double *y, double *g, void *ctx);
+    /* Optional, for adaptive methods: the longest step (> 0, in the system's time unit) the
+     * method may take from the accepted state (t, y), whose derivative is dydt (CVODE's, from
+     * its history; NULL before the first step), asked before every step; INFINITY or 0 for
+     * no limit. Applies with
+     * tb_integrator_def.max_step (the tighter wins). The scene uses it to step long in free
+     * flight and short near a contact. NULL (default): none. */
+    double (*step_limit)(double t, const double *y, const double *dydt, void *ctx);
 } tb_ode_system;
 
 /* How to integrate, chosen as data. */
@@ -298,6 +316,22 @@ TB_API double tb_integrator_time(const tb_integrator *integrator);
 /* Tells the integrator that the caller changed y (or wants a new time): the next step starts
  * from y at time t (CVODE restarts at order 1). Statistics keep counting. */
 TB_API tb_status tb_integrator_reset(tb_integrator *integrator, double t);
+
+/* The events an adaptive integrator found since it was created (tb_ode_system.roots). */
+typedef struct tb_integrator_events {
+    long count;         /* events found: one per call-stopping sign change (several functions
+                           changing sign at one time count once) */
+    double last_time;   /* time of the last one, in the system's time unit; NAN before the first */
+    long last_root;     /* the lowest index of the functions that changed sign at last_time, -1
+                           before the first (for a scene: the body whose gap did) */
+    int last_direction; /* +1: that function rose through zero (a scene: separation), -1: it
+                           fell (a scene: contact onset); 0 before the first */
+} tb_integrator_events;
+
+/* Copies the event counts into *out_events; fixed-step integrators report none (count 0).
+ * TB_STATUS_NULL_POINTER for a NULL argument. */
+TB_API tb_status tb_integrator_get_events(const tb_integrator *integrator,
+                                          tb_integrator_events *out_events);
 
 /* Copies the statistics into *out_stats. */
 TB_API tb_status tb_integrator_get_stats(const tb_integrator *integrator,

@@ -9,6 +9,7 @@
 
 #include "contact/contact_law.h"
 #include "contact/contact_pairs.h"
+#include "effects/contact_events.h"
 #include "core/detail.h"
 #include "core/validate.h"
 #include "effects/effect_contact_check.h"
@@ -160,17 +161,11 @@ static void contact_rate(const tb__effect *effect, const tb_scene *scene, const 
 
 static void release_contact(tb__effect *effect)
 {
+    tb__contact_events_release(&effect->params.contact);
     tb__contact_pairs_destroy(effect->params.contact.pairs);
     free(effect->params.contact.bodies);
     effect->params.contact.pairs = NULL;
     effect->params.contact.bodies = NULL;
-}
-
-/* Half the shortest push: every push then holds a step's end, where CVODE's corrector evaluates
- * the force and its error test sees it. */
-static double contact_adaptive_max_step(const tb__effect *effect)
-{
-    return 0.5 * effect->params.contact.push_duration;
 }
 
 static const tb__effect_ops contact_ops = {
@@ -180,8 +175,10 @@ static const tb__effect_ops contact_ops = {
     .conserves_momentum = true,
     .rate = contact_rate,
     .release = release_contact,
-    .adaptive_max_step = contact_adaptive_max_step,
     .check_start = tb__contact_check_start,
+    .event_gaps = tb__contact_event_gaps,          /* effect_contact_events.c */
+    .adaptive_step_limit = tb__contact_step_limit, /* at least half the shortest push */
+    .tunnel_step = tb__contact_tunnel_step,
 };
 
 tb_contact_def tb_contact_def_default(void)
@@ -280,6 +277,9 @@ tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def)
     if (status == TB_STATUS_OK) {
         status = tb__contact_check_shared_pairs(scene, &contact_ops, contact->bodies,
                                                 contact->body_count);
+    }
+    if (status == TB_STATUS_OK) {
+        status = tb__contact_events_create(scene, contact);
     }
     if (status == TB_STATUS_OK) {
         contact->omega = sqrt(def->gravity / def->penetration);

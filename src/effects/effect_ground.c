@@ -6,6 +6,7 @@
 #include "contact/contact_law.h"
 #include "core/detail.h"
 #include "core/validate.h"
+#include "effects/contact_events.h"
 #include "math/tb_math.h"
 
 #include <string.h>
@@ -248,6 +249,7 @@ static const tb__effect_ops ground_ops = {
     .owns_states = true,
     .rate = ground_rate,
     .check_start = ground_check_start,
+    .event_gaps = tb__ground_event_gaps, /* effect_contact_events.c */
 };
 
 tb_ground_def tb_ground_def_default(void)

@@ -236,6 +236,7 @@ static void cvode_destroy(tb_integrator *integrator)
         N_VDestroy(cvode->weights);
     }
     tb__block_preconditioner_destroy(cvode->block_preconditioner);
+    tb__cvode_events_free(cvode);
     if (cvode->y != NULL) {
         N_VDestroy(cvode->y); /* made with N_VMake_Serial: the caller's data is not freed */
     }
@@ -308,6 +309,9 @@ static tb_status cvode_create(tb_integrator *integrator, const tb_integrator_def
     }
     if (status == TB_STATUS_OK) {
         status = set_solvers(integrator, def, error);
+    }
+    if (status == TB_STATUS_OK) {
+        status = tb__cvode_events_init(integrator, error);
     }
     if (status == TB_STATUS_OK && integrator->system.post_step != NULL &&
         integrator->method == TB_METHOD_CVODE_BDF) {
@@ -515,6 +519,28 @@ static tb_status fail(tb_integrator *integrator, int flag, double tau_reached, d
  * one time unit; an output time it overshoots is then interpolated. */
 #define TB__FIRST_STEP_HORIZON 1.0
 
+/* CVODE's own stepping to tau_out (CV_NORMAL) or for one step (CV_ONE_STEP), for a system
+ * without events or step limits. */
+static int step_freely(tb__cvode *cvode, double tau_out, int mode, double horizon,
+                       sunrealtype *tau_reached)
+{
+    int flag = CV_SUCCESS;
+    bool stepped = false;
+    if (!cvode->started) {
+        cvode->started = true;
+        stepped = true;
+        flag = CVode(cvode->mem, horizon, cvode->y, tau_reached, CV_ONE_STEP);
+    }
+    if (flag >= 0 && mode == CV_NORMAL) {
+        flag = *tau_reached >= tau_out
+                   ? CVodeGetDky(cvode->mem, tau_out, 0, cvode->y)
+                   : CVode(cvode->mem, tau_out, cvode->y, tau_reached, CV_NORMAL);
+    } else if (flag >= 0 && !stepped) {
+        flag = CVode(cvode->mem, horizon, cvode->y, tau_reached, CV_ONE_STEP);
+    }
+    return flag;
+}
+
 static tb_status run(tb_integrator *integrator, double t_out, int mode)
 {
     tb__cvode *cvode = integrator->cvode;
@@ -529,20 +555,9 @@ static tb_status run(tb_integrator *integrator, double t_out, int mode)
     const double tau_now = integrator->t - cvode->t_origin, tau_out = t_out - cvode->t_origin;
     const double horizon = tau_now + TB__FIRST_STEP_HORIZON;
     sunrealtype tau_reached = tau_now;
-    int flag = CV_SUCCESS;
-    bool stepped = false;
-    if (!cvode->started) {
-        cvode->started = true;
-        stepped = true;
-        flag = CVode(cvode->mem, horizon, cvode->y, &tau_reached, CV_ONE_STEP);
-    }
-    if (flag >= 0 && mode == CV_NORMAL) {
-        flag = tau_reached >= tau_out
-                   ? CVodeGetDky(cvode->mem, tau_out, 0, cvode->y)
-                   : CVode(cvode->mem, tau_out, cvode->y, &tau_reached, CV_NORMAL);
-    } else if (flag >= 0 && !stepped) {
-        flag = CVode(cvode->mem, horizon, cvode->y, &tau_reached, CV_ONE_STEP);
-    }
+    const int flag = tb__cvode_marches(integrator)
+                         ? tb__cvode_march(integrator, tau_out, mode, horizon, &tau_reached)
+                         : step_freely(cvode, tau_out, mode, horizon, &tau_reached);
     if (flag < 0) {
         return fail(integrator, flag, tau_reached, t_out);
     }

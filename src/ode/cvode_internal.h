@@ -40,6 +40,9 @@ struct tb__cvode {
     size_t non_finite_index; /* a derivative value that was NaN or infinite (its index, value
                                 and time), n if none since the call began */
     double non_finite_value, non_finite_time;
+    int *roots_found;             /* root_count flags from CVodeGetRootInfo (cvode_events.c) */
+    N_Vector y_step;              /* with a step limit: the state at CVODE's internal time */
+    N_Vector dydt_step;           /* and its derivative */
     tb_integrator_stats base;     /* counts from before the last CVodeReInit, which zeroes them */
     char message[TB_DETAIL_SIZE]; /* CVODE's last message, captured instead of printed */
 };
@@ -61,5 +64,16 @@ int tb__cvode_block_setup(sunrealtype t, N_Vector y, N_Vector fy, sunbooleantype
                           sunbooleantype *jcur, sunrealtype gamma, void *user_data);
 int tb__cvode_block_solve(sunrealtype t, N_Vector y, N_Vector fy, N_Vector r, N_Vector z,
                           sunrealtype gamma, sunrealtype delta, int lr, void *user_data);
+
+/* Events and step limits (cvode_events.c). events_init registers the system's root functions
+ * and makes what the step limit needs, at creation; events_free frees it. marches: the system
+ * has roots or a step limit, so run() steps with tb__cvode_march, one CVODE step at a time, each
+ * within the limit, counting events; to tau_out (CV_NORMAL: y then interpolated there) or for
+ * one step or event (CV_ONE_STEP). Returns CVODE's flag; *tau_reached as CVode's tret. */
+tb_status tb__cvode_events_init(tb_integrator *integrator, tb_error *error);
+void tb__cvode_events_free(tb__cvode *cvode);
+bool tb__cvode_marches(const tb_integrator *integrator);
+int tb__cvode_march(tb_integrator *integrator, double tau_out, int mode, double horizon,
+                    sunrealtype *tau_reached);
 
 #endif

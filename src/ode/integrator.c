@@ -4,6 +4,7 @@
 
 #include "core/detail.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdbool.h>
 #include <stdint.h>
@@ -159,6 +160,13 @@ static tb_status validate_system(const tb_ode_system *system, tb_error *error)
             return status;
         }
     }
+    if ((system->root_count > 0) != (system->roots != NULL) || system->root_count > INT_MAX) {
+        return tb__set_error(
+            error, system->roots == NULL ? TB_STATUS_NULL_POINTER : TB_STATUS_INVALID_ARGUMENT,
+            "system.roots and system.root_count (%zu) are set together (count "
+            "at most %d) or not at all",
+            system->root_count, INT_MAX);
+    }
     return validate_lifetime_hooks(system, error);
 }
 
@@ -224,6 +232,7 @@ tb_status tb_integrator_create(const tb_ode_system *system, const tb_integrator_
     integrator->t = t0;
     integrator->y = y;
     integrator->max_steps = def->max_steps;
+    integrator->events = (tb_integrator_events){0, NAN, -1, 0};
     if (system->layout_generation != NULL) {
         integrator->generation = system->layout_generation(system->ctx);
     }
@@ -361,6 +370,16 @@ tb_status tb_integrator_get_stats(const tb_integrator *integrator, tb_integrator
         return tb__set_detail(detail, TB_STATUS_NULL_POINTER, "out_stats is NULL");
     }
     integrator->entry->backend->get_stats(integrator, out_stats);
+    return TB_STATUS_OK;
+}
+
+tb_status tb_integrator_get_events(const tb_integrator *integrator,
+                                   tb_integrator_events *out_events)
+{
+    if (integrator == NULL || out_events == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    *out_events = integrator->events;
     return TB_STATUS_OK;
 }
 

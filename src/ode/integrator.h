@@ -64,6 +64,7 @@ struct tb_integrator {
     unsigned long long generation; /* the system's layout generation at creation */
     bool busy;                     /* an advance, step or reset is in progress */
     tb_integrator_stats stats;
+    tb_integrator_events events; /* adaptive: written by the CVODE backend (cvode_events.c) */
     char detail[TB_DETAIL_SIZE];
     /* fixed-step */
     double dt;

@@ -76,11 +76,29 @@ typedef struct tb__effect_ops {
     /* Frees what the effect's parameters own (the contact effect's pair finder) when the scene
      * is destroyed; NULL: they own nothing. */
     void (*release)(tb__effect *effect);
-    /* The longest step an error-controlled method may take so that it cannot step over one of
-     * the effect's events whole (s): a collision between bodies of finite thickness is a push
-     * with nothing before or after it, which a long step would never sample. NULL: none. */
-    double (*adaptive_max_step)(const tb__effect *effect);
+    /* Events (effect_contact_events.c): lowers gap[i] (m, filled with TB__EVENT_LOOKAHEAD) to
+     * body i's gap to what the effect makes it touch, where that is smaller: negative in
+     * contact, continuous in y. The scene's root functions are these gaps, one per body, so an
+     * adaptive step ends where a body's contact begins or ends. NULL: no events. */
+    void (*event_gaps)(const tb__effect *effect, const tb_scene *scene, const double *y,
+                       double *gap);
+    /* The longest adaptive step from y (with dydt its derivative there, NULL before the first
+     * step) that cannot step over one of the effect's pushes whole (s, INFINITY for none): a
+     * collision between bodies of finite thickness is a push with nothing before or after it,
+     * which a long step would never sample. Long where bodies are far apart for their speeds,
+     * short near a contact. NULL: none. */
+    double (*adaptive_step_limit)(const tb__effect *effect, const tb_scene *scene, const double *y,
+                                  const double *dydt);
+    /* The longest fixed step from y in which no body can pass through another the effect makes
+     * it touch (s, INFINITY for none), the pair that sets it written into which
+     * (TB_DETAIL_SIZE bytes). NULL: the effect has no bodies to pass through. */
+    double (*tunnel_step)(const tb__effect *effect, const tb_scene *scene, const double *y,
+                          char *which, size_t size);
 } tb__effect_ops;
+
+/* The gap (m) the event functions start from: a body farther than this from everything it can
+ * touch has this gap, and the adaptive step limit sees the pairs closer than it. */
+#define TB__EVENT_LOOKAHEAD 0.05
 
 /* Each kind's parameters, typed: the effect's own file reads them, nobody else. Points fixed in
  * a body are offsets from its centre of mass in its principal frame (m). */
@@ -127,6 +145,8 @@ typedef struct tb__contact_params {
     double omega, damping_ratio; /* rad/s, from penetration and restitution */
     double static_friction, kinetic_friction, stribeck_velocity, gravity;
     double push_duration; /* s: the shortest time an impact's force acts, over every pair */
+    struct tb__contact_pairs *lookahead; /* owned: pairs within TB__EVENT_LOOKAHEAD, for the
+                                            events and step limits (effect_contact_events.c) */
 } tb__contact_params;
 
 typedef struct tb__user_params {
@@ -329,6 +349,15 @@ int tb__scene_block_normalize(double t, double *y, size_t first, size_t count, v
  * allows unstable steps. */
 tb_status tb__scene_check_step(const tb_scene *scene, const double *y, tb_method method, double dt,
                                char *detail);
+
+/* Events (scene_events.c): whether some effect has them; the scene's root functions (one
+ * gap per body, tb__effect_ops.event_gaps) and adaptive step limit, for tb_ode_system; the
+ * longest fixed step at state y in which no body can pass through another (INFINITY: none),
+ * what sets it written into which (TB_DETAIL_SIZE bytes). */
+bool tb__scene_has_events(const tb_scene *scene);
+int tb__scene_event_gaps(double t, const double *y, double *gap, void *ctx);
+double tb__scene_step_limit(double t, const double *y, const double *dydt, void *ctx);
+double tb__scene_tunnel_step(const tb_scene *scene, const double *y, char *which);
 
 /* The step tb_scene_default_step describes, for the scene at state y (stability.c). */
 double tb__scene_default_step(const tb_scene *scene, const double *y, tb_method method);

@@ -116,6 +116,13 @@ tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
         .release = release,
         .rhs_generation = rhs_generation,
     };
+    /* Contact: a gap per body for CVODE's root finding, and steps kept short near contacts
+     * (scene_events.c). */
+    if (tb__scene_has_events(scene)) {
+        out_system->root_count = scene->body_count;
+        out_system->roots = tb__scene_event_gaps;
+        out_system->step_limit = tb__scene_step_limit;
+    }
     /* Bodies that do not interact are the system's blocks. */
     if (tb__scene_separable(scene)) {
         out_system->block_size = TB_STATE_SIZE;
@@ -252,24 +259,6 @@ static tb_status check_start(tb_scene *scene)
 
 /* def with the scene's automatic tolerances (atol_vector, allocated into *out_atol) and
  * preconditioner bandwidth filled in. */
-/* The longest adaptive step that samples every effect's events (0: no limit), for a def that
- * left max_step at its default: CVODE steps freely through free flight and would otherwise step
- * over a collision whole (two balls meeting at 2 m/s passed through each other at rtol 1e-6). */
-static double event_max_step(const tb_scene *scene)
-{
-    double limit = 0.0;
-    for (size_t k = 0; k < scene->effect_count; ++k) {
-        const tb__effect *effect = &scene->effects[k];
-        if (effect->ops->adaptive_max_step != NULL) {
-            const double step = effect->ops->adaptive_max_step(effect);
-            if (step > 0.0 && (limit == 0.0 || step < limit)) {
-                limit = step;
-            }
-        }
-    }
-    return limit;
-}
-
 static tb_status scene_integrator_def(tb_scene *scene, const tb_integrator_def *def,
                                       tb_integrator_def *out_def, double **out_atol)
 {
@@ -284,9 +273,6 @@ static tb_status scene_integrator_def(tb_scene *scene, const tb_integrator_def *
         tb_scene_absolute_tolerances(scene, TB__ATOL_FRACTION * def->rtol, atol);
         out_def->atol_vector = atol;
         *out_atol = atol;
-    }
-    if (tb_method_is_adaptive(def->method) && def->max_step == 0.0) {
-        out_def->max_step = event_max_step(scene);
     }
     if (out_def->preconditioner_half_bandwidth < 0) {
         out_def->preconditioner_half_bandwidth = TB__BODY_HALF_BANDWIDTH;

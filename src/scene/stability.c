@@ -130,11 +130,28 @@ tb_status tb_scene_max_stable_step(const tb_scene *scene, tb_method method, doub
     return TB_STATUS_OK;
 }
 
+/* The tunnelling limit (scene_events.c): a fixed step in which two bodies could close by more
+ * than the thinner one's half-thickness is refused, naming them. */
+static tb_status check_tunnelling(const tb_scene *scene, const double *y, tb_method method,
+                                  double dt, char *detail)
+{
+    char which[TB_DETAIL_SIZE / 2];
+    const double limit =
+        tb_method_is_adaptive(method) ? INFINITY : tb__scene_tunnel_step(scene, y, which);
+    if (!(dt > limit)) {
+        return TB_STATUS_OK;
+    }
+    return tb__set_detail(detail, TB_STATUS_UNSTABLE_STEP,
+                          "dt: %g s is too long for contact: %s: use dt <= %.3g s (dt = 0: the "
+                          "scene's default step, %.3g s) or an adaptive method",
+                          dt, which, limit, tb__scene_default_step(scene, y, method));
+}
+
 tb_status tb__scene_check_step(const tb_scene *scene, const double *y, tb_method method, double dt,
                                char *detail)
 {
     if (scene->allow_unstable) {
-        return TB_STATUS_OK;
+        return check_tunnelling(scene, y, method, dt, detail);
     }
     guard g;
     stable_step(scene, y, method, &g);
@@ -145,7 +162,7 @@ tb_status tb__scene_check_step(const tb_scene *scene, const double *y, tb_method
                               g.which);
     }
     if (!(dt > g.dt)) {
-        return TB_STATUS_OK;
+        return check_tunnelling(scene, y, method, dt, detail);
     }
     return tb__set_detail(
         detail, TB_STATUS_UNSTABLE_STEP,
@@ -171,10 +188,12 @@ double tb__scene_default_step(const tb_scene *scene, const double *y, tb_method 
     if (g.overflowed) {
         return 0.0; /* no step is stable: tb__scene_check_step names the rate */
     }
-    if (!(TB__DEFAULT_STEP > g.dt)) {
+    char which[TB_DETAIL_SIZE / 2];
+    const double tunnel = tb__scene_tunnel_step(scene, y, which);
+    if (!(TB__DEFAULT_STEP > g.dt) && !(TB__DEFAULT_STEP > tunnel)) {
         return TB__DEFAULT_STEP;
     }
-    double limit = TB__DEFAULT_STABILITY_MARGIN * g.dt;
+    double limit = TB__DEFAULT_STABILITY_MARGIN * fmin(g.dt, tunnel);
     if (g.oscillation > 0.0) {
         limit = fmin(limit, TB__DEFAULT_RESOLUTION / g.oscillation);
     }

@@ -1,0 +1,25 @@
+/* Private: the events and step limits of contact (effect_contact_events.c), named by the rows of
+ * the contact effect (effect_contact.c) and the ground (effect_ground.c). See tb__effect_ops. */
+#ifndef TUMBLE_CONTACT_EVENTS_H
+#define TUMBLE_CONTACT_EVENTS_H
+
+#include "scene/scene_internal.h"
+
+/* Makes contact->lookahead for contact->bodies (pairs within TB__EVENT_LOOKAHEAD); the detail
+ * names what failed. release frees it (NULL is fine). */
+tb_status tb__contact_events_create(tb_scene *scene, tb__contact_params *contact);
+void tb__contact_events_release(tb__contact_params *contact);
+
+/* tb__effect_ops.event_gaps, adaptive_step_limit and tunnel_step of contact between bodies. */
+void tb__contact_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
+                            double *gap);
+double tb__contact_step_limit(const tb__effect *effect, const tb_scene *scene, const double *y,
+                              const double *dydt);
+double tb__contact_tunnel_step(const tb__effect *effect, const tb_scene *scene, const double *y,
+                               char *which, size_t size);
+
+/* tb__effect_ops.event_gaps of a ground plane: each body's lowest contact point's height. */
+void tb__ground_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
+                           double *gap);
+
+#endif

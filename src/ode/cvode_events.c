@@ -1,0 +1,151 @@
+/* Events and step limits for the CVODE backend: the system's root functions registered with
+ * CVodeRootInit, so that a step ends on each sign change, and a step limit asked of the system
+ * after every step (tb_ode_system.step_limit), applied as CVODE's stop time: CVodeSetMaxStep
+ * would act only from the step after next, since CVODE picks each step's size at the end of the
+ * one before, while a stop time cuts the very next step. With either, an advance steps one CVODE
+ * step at a time (CV_ONE_STEP) and interpolates the output, as the plain path does. */
+#include "ode/cvode_internal.h"
+
+#include "core/detail.h"
+
+#include <cvode/cvode.h>
+#include <nvector/nvector_serial.h>
+
+#include <math.h>
+#include <stdlib.h>
+
+/* CVODE's root function: the system's at t = t_origin + tau. */
+static int roots(sunrealtype tau, N_Vector y, sunrealtype *g, void *user_data)
+{
+    tb_integrator *integrator = user_data;
+    const tb_ode_system *system = &integrator->system;
+    return system->roots(integrator->cvode->t_origin + tau, N_VGetArrayPointer(y), g, system->ctx);
+}
+
+tb_status tb__cvode_events_init(tb_integrator *integrator, tb_error *error)
+{
+    tb__cvode *cvode = integrator->cvode;
+    const tb_ode_system *system = &integrator->system;
+    if (system->root_count > 0) {
+        cvode->roots_found = malloc(system->root_count * sizeof(int));
+        if (cvode->roots_found == NULL) {
+            return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "%zu root flags",
+                                 system->root_count);
+        }
+        int flag = CVodeRootInit(cvode->mem, (int)system->root_count, roots);
+        if (flag == CV_SUCCESS) {
+            /* a function that starts at zero (a body set down touching) is not an error */
+            flag = CVodeSetNoInactiveRootWarn(cvode->mem);
+        }
+        if (flag != CV_SUCCESS) {
+            return tb__set_error(error, TB_STATUS_SOLVER_FAILED,
+                                 "CVODE set-up: CVodeRootInit for %zu functions returned %d: %s",
+                                 system->root_count, flag, cvode->message);
+        }
+    }
+    if (system->step_limit != NULL) {
+        cvode->y_step = N_VClone(cvode->y);
+        cvode->dydt_step = N_VClone(cvode->y);
+        if (cvode->y_step == NULL || cvode->dydt_step == NULL) {
+            return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "step-limit state");
+        }
+    }
+    return TB_STATUS_OK;
+}
+
+void tb__cvode_events_free(tb__cvode *cvode)
+{
+    free(cvode->roots_found);
+    cvode->roots_found = NULL;
+    N_Vector *vectors[2] = {&cvode->y_step, &cvode->dydt_step};
+    for (int k = 0; k < 2; ++k) {
+        if (*vectors[k] != NULL) {
+            N_VDestroy(*vectors[k]);
+            *vectors[k] = NULL;
+        }
+    }
+}
+
+bool tb__cvode_marches(const tb_integrator *integrator)
+{
+    return integrator->system.root_count > 0 || integrator->system.step_limit != NULL;
+}
+
+/* CVODE stopped at an event at tau: counts it and names the lowest function that fired. */
+static void note_event(tb_integrator *integrator, double tau)
+{
+    tb__cvode *cvode = integrator->cvode;
+    tb_integrator_events *events = &integrator->events;
+    CVodeGetRootInfo(cvode->mem, cvode->roots_found);
+    events->count++;
+    events->last_time = cvode->t_origin + tau;
+    for (size_t i = 0; i < integrator->system.root_count; ++i) {
+        if (cvode->roots_found[i] != 0) {
+            events->last_root = (long)i;
+            events->last_direction = cvode->roots_found[i] > 0 ? 1 : -1;
+            return;
+        }
+    }
+}
+
+/* The next step from CVODE's internal time tn is cut to the system's limit at (tn, y_n). */
+static int limit_next_step(tb_integrator *integrator, sunrealtype tn)
+{
+    tb__cvode *cvode = integrator->cvode;
+    const tb_ode_system *system = &integrator->system;
+    if (system->step_limit == NULL) {
+        return CV_SUCCESS;
+    }
+    const double *state = N_VGetArrayPointer(cvode->y), *rate = NULL;
+    if (cvode->started) { /* y may hold an interpolated output: take CVODE's own y_n, y'_n */
+        int flag = CVodeGetDky(cvode->mem, tn, 0, cvode->y_step);
+        if (flag == CV_SUCCESS) {
+            flag = CVodeGetDky(cvode->mem, tn, 1, cvode->dydt_step);
+        }
+        if (flag != CV_SUCCESS) {
+            return flag;
+        }
+        state = N_VGetArrayPointer(cvode->y_step);
+        rate = N_VGetArrayPointer(cvode->dydt_step);
+    }
+    const double limit = system->step_limit(cvode->t_origin + tn, state, rate, system->ctx);
+    /* no limit, or one below the time's resolution: a stop time far ahead (6.x cannot clear
+     * one) */
+    const double stop = limit > 0.0 && isfinite(limit) && tn + limit > tn ? tn + limit : tn + 1e300;
+    return CVodeSetStopTime(cvode->mem, stop);
+}
+
+int tb__cvode_march(tb_integrator *integrator, double tau_out, int mode, double horizon,
+                    sunrealtype *tau_reached)
+{
+    tb__cvode *cvode = integrator->cvode;
+    for (long calls = 0;; ++calls) {
+        sunrealtype tn = *tau_reached;
+        if (cvode->started) {
+            CVodeGetCurrentTime(cvode->mem, &tn);
+        }
+        if (mode == CV_NORMAL && cvode->started && tn >= tau_out) {
+            return CVodeGetDky(cvode->mem, tau_out, 0, cvode->y);
+        }
+        if (calls == integrator->max_steps) {
+            return CV_TOO_MUCH_WORK;
+        }
+        int flag = limit_next_step(integrator, tn);
+        if (flag != CV_SUCCESS) {
+            return flag;
+        }
+        cvode->started = true;
+        /* in one-step mode tout only sets the first step's estimate and the direction */
+        flag = CVode(cvode->mem, horizon, cvode->y, tau_reached, CV_ONE_STEP);
+        if (flag == CV_ROOT_RETURN) {
+            note_event(integrator, *tau_reached);
+        }
+        if (flag < 0 || mode == CV_ONE_STEP) {
+            return flag;
+        }
+        if (*tau_reached >= tau_out && flag == CV_ROOT_RETURN) {
+            return *tau_reached == tau_out ? CV_SUCCESS
+                                           : CVodeGetDky(cvode->mem, tau_out, 0, cvode->y);
+        }
+    }
+}

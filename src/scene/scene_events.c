@@ -1,0 +1,77 @@
+/* The scene's events for the generic integrators: one root function per body (its gap to what
+ * it can touch, from every effect with events), the adaptive step limit near contacts and the
+ * fixed-step limit that keeps bodies from passing through each other (effect rows:
+ * tb__effect_ops.event_gaps, adaptive_step_limit, tunnel_step). */
+#include "scene/scene_internal.h"
+
+#include <math.h>
+#include <stdio.h>
+
+/* m: what an exactly zero gap becomes (tb__scene_event_gaps). */
+#define TB__GAP_FOR_ZERO 1e-150
+
+bool tb__scene_has_events(const tb_scene *scene)
+{
+    for (size_t k = 0; k < scene->effect_count; ++k) {
+        if (scene->effects[k].ops->event_gaps != NULL) {
+            return true;
+        }
+    }
+    return false;
+}
+
+int tb__scene_event_gaps(double t, const double *y, double *gap, void *ctx)
+{
+    (void)t;
+    const tb_scene *scene = ctx;
+    for (size_t i = 0; i < scene->body_count; ++i) {
+        gap[i] = TB__EVENT_LOOKAHEAD;
+    }
+    for (size_t k = 0; k < scene->effect_count; ++k) {
+        const tb__effect *effect = &scene->effects[k];
+        if (effect->ops->event_gaps != NULL) {
+            effect->ops->event_gaps(effect, scene, y, gap);
+        }
+    }
+    /* A gap is a difference of positions (z ~ 0.2 m: doubles 3e-17 m apart), so a slow crossing
+     * is exactly 0 over a stretch of time longer than CVODE's root tolerance, which it refuses
+     * ("root found at and very near t"). A tiny positive gap in its place keeps the crossing and
+     * removes the plateau; tiny, yet far from underflow, since CVODE finds a sign change from the
+     * product of two values (DBL_MIN times -1e-16 rounds to -0, and the root came back for
+     * ever). */
+    for (size_t i = 0; i < scene->body_count; ++i) {
+        gap[i] = gap[i] == 0.0 ? TB__GAP_FOR_ZERO : gap[i];
+    }
+    return 0;
+}
+
+double tb__scene_step_limit(double t, const double *y, const double *dydt, void *ctx)
+{
+    (void)t;
+    const tb_scene *scene = ctx;
+    double limit = INFINITY;
+    for (size_t k = 0; k < scene->effect_count; ++k) {
+        const tb__effect *effect = &scene->effects[k];
+        if (effect->ops->adaptive_step_limit != NULL) {
+            limit = fmin(limit, effect->ops->adaptive_step_limit(effect, scene, y, dydt));
+        }
+    }
+    return limit;
+}
+
+double tb__scene_tunnel_step(const tb_scene *scene, const double *y, char *which)
+{
+    double limit = INFINITY;
+    for (size_t k = 0; k < scene->effect_count; ++k) {
+        const tb__effect *effect = &scene->effects[k];
+        char what[TB_DETAIL_SIZE / 2];
+        const double step = effect->ops->tunnel_step != NULL
+                                ? effect->ops->tunnel_step(effect, scene, y, what, sizeof what)
+                                : INFINITY;
+        if (step < limit) {
+            limit = step;
+            snprintf(which, TB_DETAIL_SIZE, "effect %zu (a %s): %s", k, effect->ops->name, what);
+        }
+    }
+    return limit;
+}

@@ -1,0 +1,356 @@
+/* Events and tunnelling against exact times and geometry: CVODE's root finding puts a step
+ * end on y = 1/2 of y' = -y at t = ln 2 exactly; a ball dropped from rest h above a box touches
+ * it at t = sqrt(2 h / g) and two balls closing at v meet at t = gap / v, under Adams and BDF;
+ * adaptive steps are long in free flight and cannot step over a collision; a fast ball does not
+ * pass through a thin plate at the default fixed step, and a fixed step that would let it is
+ * refused, naming the step that works. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "tumble/tumble.h"
+
+#include <math.h>
+#include <string.h>
+
+static const tb_method adaptive[] = {TB_METHOD_CVODE_ADAMS, TB_METHOD_CVODE_BDF};
+
+/* --- the generic layer ------------------------------------------------------------------- */
+
+static int decay(double t, const double *y, double *dydt, void *ctx)
+{
+    (void)t, (void)ctx;
+    dydt[0] = -y[0];
+    return 0;
+}
+
+/* y - 1/2 and y - 1/4: zero at t = ln 2 and ln 4 on y = exp(-t). */
+static int halves(double t, const double *y, double *g, void *ctx)
+{
+    (void)t, (void)ctx;
+    g[0] = y[0] - 0.5;
+    g[1] = y[0] - 0.25;
+    return 0;
+}
+
+/* At rtol 1e-10 the computed y is within about 1e-9 relative of exp(-t) over [0, 2] (global
+ * error of a few rtol), and CVODE's root finder locates the root of the computed solution to
+ * 100 rounding errors of t; since |y' / y| = 1, the event time is off by the relative error of
+ * y: 1e-8 allows ten times that. */
+static void test_roots_of_exponential_decay_are_found_at_ln2_and_ln4(void **unused)
+{
+    (void)unused;
+    for (int m = 0; m < 2; ++m) {
+        double y = 1.0;
+        tb_ode_system system = {.n = 1, .derivative = decay, .root_count = 2, .roots = halves};
+        tb_integrator_def def = tb_integrator_def_default();
+        assert_int_equal(tb_integrator_def_set_method(&def, adaptive[m]), TB_STATUS_OK);
+        def.rtol = 1e-10;
+        def.atol = 1e-14;
+        tb_integrator *integrator = NULL;
+        assert_int_equal(tb_integrator_create(&system, &def, 0.0, &y, &integrator, NULL),
+                         TB_STATUS_OK);
+        tb_integrator_events events;
+        assert_int_equal(tb_integrator_get_events(integrator, &events), TB_STATUS_OK);
+        assert_int_equal(events.count, 0);
+        assert_int_equal(events.last_root, -1);
+        assert_true(isnan(events.last_time));
+        assert_int_equal(tb_integrator_advance(integrator, 1.0), TB_STATUS_OK);
+        assert_int_equal(tb_integrator_get_events(integrator, &events), TB_STATUS_OK);
+        print_message("%s: y = 1/2 at %.15f (ln 2 = %.15f)\n", tb_method_name(adaptive[m]),
+                      events.last_time, log(2.0));
+        assert_int_equal(events.count, 1);
+        assert_int_equal(events.last_root, 0);
+        assert_int_equal(events.last_direction, -1);
+        assert_true(fabs(events.last_time - log(2.0)) < 1e-8);
+        assert_true(fabs(y - exp(-1.0)) < 1e-8); /* the output is still at the time asked */
+        assert_int_equal(tb_integrator_advance(integrator, 2.0), TB_STATUS_OK);
+        assert_int_equal(tb_integrator_get_events(integrator, &events), TB_STATUS_OK);
+        assert_int_equal(events.count, 2);
+        assert_int_equal(events.last_root, 1);
+        assert_true(fabs(events.last_time - log(4.0)) < 1e-8);
+        tb_integrator_destroy(integrator);
+    }
+}
+
+static double hundredth(double t, const double *y, const double *dydt, void *ctx)
+{
+    (void)t, (void)y, (void)dydt, (void)ctx;
+    return 0.01;
+}
+
+/* y' = -y at rtol 1e-6 takes steps of about 0.1 and more; with a step limit of 0.01 no step
+ * may be longer (a stop time cuts each to the limit, to a few rounding errors). */
+static void test_a_step_limit_bounds_every_adaptive_step(void **unused)
+{
+    (void)unused;
+    for (int m = 0; m < 2; ++m) {
+        double y = 1.0;
+        tb_ode_system system = {.n = 1, .derivative = decay, .step_limit = hundredth};
+        tb_integrator_def def = tb_integrator_def_default();
+        assert_int_equal(tb_integrator_def_set_method(&def, adaptive[m]), TB_STATUS_OK);
+        tb_integrator *integrator = NULL;
+        assert_int_equal(tb_integrator_create(&system, &def, 0.0, &y, &integrator, NULL),
+                         TB_STATUS_OK);
+        double longest = 0.0, t = 0.0;
+        while (t < 1.0) {
+            assert_int_equal(tb_integrator_step(integrator), TB_STATUS_OK);
+            tb_integrator_stats stats;
+            assert_int_equal(tb_integrator_get_stats(integrator, &stats), TB_STATUS_OK);
+            longest = fmax(longest, stats.last_step);
+            t = tb_integrator_time(integrator);
+        }
+        assert_true(longest <= 0.01 * (1.0 + 1e-12) && longest > 0.005);
+        assert_int_equal(tb_integrator_advance(integrator, 5.0), TB_STATUS_OK);
+        assert_true(fabs(y - exp(-5.0)) < 1e-5 * exp(-5.0) * 100); /* still error-controlled */
+        tb_integrator_destroy(integrator);
+    }
+}
+
+/* --- scenes ------------------------------------------------------------------------------ */
+
+static size_t add_sphere(tb_scene *scene, double m, double r, const double x[3], const double v[3])
+{
+    tb_body_def def = tb_body_def_default();
+    assert_int_equal(tb_mass_from_sphere(TB_MASS_GIVEN, m, r, &def.mass, NULL), TB_STATUS_OK);
+    memcpy(def.position, x, sizeof def.position);
+    memcpy(def.velocity, v, sizeof def.velocity);
+    size_t id = 0;
+    assert_int_equal(tb_scene_add_body(scene, &def, &id), TB_STATUS_OK);
+    tb_shape shape = tb_shape_default();
+    shape.type = TB_SHAPE_SPHERE;
+    shape.radius = r;
+    assert_int_equal(tb_scene_set_body_shape(scene, id, &shape), TB_STATUS_OK);
+    return id;
+}
+
+static size_t add_box(tb_scene *scene, double m, const double size[3], const double x[3])
+{
+    tb_body_def def = tb_body_def_default();
+    assert_int_equal(tb_mass_from_box(TB_MASS_GIVEN, m, size, &def.mass, NULL), TB_STATUS_OK);
+    memcpy(def.position, x, sizeof def.position);
+    size_t id = 0;
+    assert_int_equal(tb_scene_add_body(scene, &def, &id), TB_STATUS_OK);
+    tb_shape shape = tb_shape_default();
+    shape.type = TB_SHAPE_BOX;
+    memcpy(shape.size, size, sizeof shape.size);
+    assert_int_equal(tb_scene_set_body_shape(scene, id, &shape), TB_STATUS_OK);
+    return id;
+}
+
+static tb_scene *new_scene(void)
+{
+    tb_scene_def def = tb_scene_def_default();
+    tb_scene *scene = NULL;
+    assert_int_equal(tb_scene_create(&def, &scene, NULL), TB_STATUS_OK);
+    return scene;
+}
+
+static tb_integrator *adaptive_integrator(tb_scene *scene, tb_method method, double rtol)
+{
+    tb_integrator_def def = tb_integrator_def_default();
+    assert_int_equal(tb_integrator_def_set_method(&def, method), TB_STATUS_OK);
+    def.rtol = rtol;
+    tb_integrator *integrator = NULL;
+    assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator), TB_STATUS_OK);
+    return integrator;
+}
+
+static tb_integrator_events events_of(const tb_integrator *integrator)
+{
+    tb_integrator_events events;
+    assert_int_equal(tb_integrator_get_events(integrator, &events), TB_STATUS_OK);
+    return events;
+}
+
+#define G 9.81
+
+/* A ball (2 cm, 0.1 kg) pulled down by its weight alone, released at rest with its lowest point
+ * h = 0.2 m above a box's top (the box feels no gravity, so it waits): free fall touches at
+ * t = sqrt(2 h / g) exactly. At rtol 1e-8 the fall is integrated to about 1e-8 m (the first
+ * low-order steps' error, then exact: the path is a parabola), which at the touching speed
+ * sqrt(2 g h) = 2 m/s is 5e-9 s; 1e-7 s allows twenty times that. Then the ball bounces: a
+ * separation event, the ball's gap rising. */
+static void test_a_dropped_ball_touches_the_box_at_the_free_fall_time(void **unused)
+{
+    (void)unused;
+    const double h = 0.2, r = 0.02, exact = sqrt(2.0 * h / G);
+    for (int m = 0; m < 2; ++m) {
+        tb_scene *scene = new_scene();
+        const size_t ball =
+            add_sphere(scene, 0.1, r, (double[]){0, 0, 0.05 + h + r}, (double[]){0, 0, 0});
+        add_box(scene, 10.0, (double[]){0.4, 0.4, 0.1}, (double[]){0, 0, 0});
+        assert_int_equal(tb_scene_add_force(scene, ball, (double[]){0, 0, -0.1 * G},
+                                            (double[]){0, 0, 0}, TB_FRAME_WORLD),
+                         TB_STATUS_OK);
+        const tb_contact_def contact = tb_contact_def_default();
+        assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+        tb_integrator *integrator = adaptive_integrator(scene, adaptive[m], 1e-8);
+        assert_int_equal(tb_integrator_advance(integrator, exact + 1e-4), TB_STATUS_OK);
+        tb_integrator_events events = events_of(integrator);
+        print_message("%s: touches at %.12f s (sqrt(2h/g) = %.12f), %ld event(s)\n",
+                      tb_method_name(adaptive[m]), events.last_time, exact, events.count);
+        assert_int_equal(events.count, 1);
+        assert_int_equal(events.last_root, (long)ball);
+        assert_int_equal(events.last_direction, -1);
+        assert_true(fabs(events.last_time - exact) < 1e-7);
+        assert_int_equal(tb_integrator_advance(integrator, exact + 0.05), TB_STATUS_OK);
+        events = events_of(integrator);
+        assert_int_equal(events.count, 2);
+        assert_int_equal(events.last_direction, +1);
+        assert_true(events.last_time > exact && events.last_time < exact + 0.01);
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
+/* Two balls (0.1 m) with their surfaces 0.8 m apart closing at 2 m/s meet at t = 0.4 s; no
+ * force acts before, so the motion is exact to rounding and the event time is CVODE's root
+ * finder's: 1e-9 s. The flight before takes few steps (each covers at most half the remaining
+ * gap at the closing speed, so about log2 of the gap over the last step's reach, plus CVODE's
+ * growth from its first step): fewer than 100, where a cap of half a push on every step
+ * (0.25 ms) took 1600. */
+static void test_approaching_balls_meet_at_gap_over_speed_after_few_steps(void **unused)
+{
+    (void)unused;
+    for (int m = 0; m < 2; ++m) {
+        tb_scene *scene = new_scene();
+        add_sphere(scene, 1.0, 0.1, (double[]){-0.5, 0, 0}, (double[]){1, 0, 0});
+        add_sphere(scene, 1.0, 0.1, (double[]){0.5, 0, 0}, (double[]){-1, 0, 0});
+        const tb_contact_def contact = tb_contact_def_default();
+        assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+        tb_integrator *integrator = adaptive_integrator(scene, adaptive[m], 1e-6);
+        assert_int_equal(tb_integrator_advance(integrator, 0.399), TB_STATUS_OK);
+        tb_integrator_stats stats;
+        assert_int_equal(tb_integrator_get_stats(integrator, &stats), TB_STATUS_OK);
+        assert_int_equal(tb_integrator_advance(integrator, 0.4 + 1e-4), TB_STATUS_OK);
+        const tb_integrator_events events = events_of(integrator);
+        print_message("%s: meet at %.12f s (0.4), %ld steps of free flight\n",
+                      tb_method_name(adaptive[m]), events.last_time, stats.steps);
+        assert_int_equal(events.count, 1);
+        assert_int_equal(events.last_direction, -1);
+        assert_true(fabs(events.last_time - 0.4) < 1e-9);
+        assert_true(stats.steps < 100);
+        /* and they do collide: the default restitution 0.3 sends them apart at 0.3 m/s each */
+        assert_int_equal(tb_integrator_advance(integrator, 1.0), TB_STATUS_OK);
+        double v[3];
+        assert_int_equal(tb_scene_body_velocity(scene, tb_scene_states(scene), 0, v), TB_STATUS_OK);
+        assert_true(fabs(v[0] + 0.3) < 0.015);
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
+/* --- fixed steps and thin bodies ----------------------------------------------------------- */
+
+/* A 2 cm steel ball (33 g) at 20 m/s towards a 1 cm aluminium plate (0.2 m square, 1.08 kg)
+ * 4.7 cm away (surface to surface), no gravity. */
+static tb_scene *ball_and_plate(double plate_thickness, const tb_contact_def *contact)
+{
+    tb_scene *scene = new_scene();
+    add_sphere(scene, 0.0329, 0.01, (double[]){-0.057 - 0.5 * plate_thickness, 0, 0},
+               (double[]){20, 0, 0});
+    add_box(scene, 2700.0 * plate_thickness * 0.04, (double[]){plate_thickness, 0.2, 0.2},
+            (double[]){0, 0, 0});
+    assert_int_equal(tb_scene_add_contact(scene, contact), TB_STATUS_OK);
+    return scene;
+}
+
+/* The ball must come back: on its own side (x < 0) moving away (v_x < 0) 10 ms later, when
+ * passing through would have taken it 0.15 m beyond. */
+static void assert_bounced(tb_scene *scene, tb_integrator *integrator, const char *what)
+{
+    for (int k = 1; k <= 10; ++k) {
+        assert_int_equal(tb_integrator_advance(integrator, 1e-3 * k), TB_STATUS_OK);
+    }
+    double v[3];
+    const double *y = tb_scene_states(scene);
+    assert_int_equal(tb_scene_body_velocity(scene, y, 0, v), TB_STATUS_OK);
+    print_message("%s: ball at x = %.4f m, v_x = %.3f m/s\n", what, y[0], v[0]);
+    assert_true(y[0] < 0.0 && v[0] < 0.0);
+}
+
+static void test_a_fast_ball_bounces_off_a_thin_plate_at_the_default_step(void **unused)
+{
+    (void)unused;
+    const tb_method methods[] = {TB_METHOD_EULER, TB_METHOD_MIDPOINT, TB_METHOD_RK4,
+                                 TB_METHOD_CVODE_ADAMS, TB_METHOD_CVODE_BDF};
+    for (int m = 0; m < 5; ++m) {
+        const tb_contact_def contact = tb_contact_def_default();
+        tb_scene *scene = ball_and_plate(0.01, &contact);
+        tb_integrator_def def = tb_integrator_def_default();
+        assert_int_equal(tb_integrator_def_set_method(&def, methods[m]), TB_STATUS_OK);
+        if (!tb_method_is_adaptive(methods[m])) {
+            def.dt = 0.0; /* the scene's default step */
+        }
+        tb_integrator *integrator = NULL;
+        assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator), TB_STATUS_OK);
+        assert_bounced(scene, integrator, tb_method_name(methods[m]));
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
+/* At the default contact the stability guard alone keeps fixed steps far below what tunnelling
+ * needs (the law's rate grows with its stiffness as its sinking shrinks); a caller who lifts it
+ * (allow_unstable) and steps at 1/240 s moves the ball 8.3 cm a step, from 4.7 cm before the
+ * plate to 2.2 cm beyond it without touching it (RK4's middle stage sees the ball 0.5 cm short):
+ * the generic integrator on the scene's ODE system, which has no guard, shows the ball passing
+ * through at 20 m/s. The scene's integrator refuses that step naming both bodies and the step at
+ * which the two cannot close by more than the thinner's half-thickness: 5 mm / 20 m/s = 2.5e-4 s; a
+ * step within it is accepted. */
+static void test_a_step_that_would_pass_through_the_plate_is_refused(void **unused)
+{
+    (void)unused;
+    const tb_contact_def contact = tb_contact_def_default();
+    tb_scene *scene = ball_and_plate(0.01, &contact);
+    tb_scene_set_allow_unstable(scene, true);
+    tb_ode_system system;
+    assert_int_equal(tb_scene_ode_system(scene, &system), TB_STATUS_OK);
+    tb_integrator_def def = tb_integrator_def_default(); /* RK4 at 1/240 s */
+    tb_integrator *integrator = NULL;
+    assert_int_equal(
+        tb_integrator_create(&system, &def, 0.0, tb_scene_states(scene), &integrator, NULL),
+        TB_STATUS_OK);
+    assert_int_equal(tb_integrator_advance(integrator, 0.01), TB_STATUS_OK);
+    double v[3];
+    assert_int_equal(tb_scene_body_velocity(scene, tb_scene_states(scene), 0, v), TB_STATUS_OK);
+    print_message("unguarded rk4 at 1/240 s: ball at x = %.4f m, v_x = %.3f m/s\n",
+                  tb_scene_states(scene)[0], v[0]);
+    assert_true(tb_scene_states(scene)[0] > 0.05 && v[0] == 20.0); /* through, untouched */
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+
+    scene = ball_and_plate(0.01, &contact);
+    tb_scene_set_allow_unstable(scene, true);
+    integrator = NULL;
+    assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator),
+                     TB_STATUS_UNSTABLE_STEP);
+    const char *detail = tb_scene_detail(scene);
+    print_message("refused: %s\n", detail);
+    assert_non_null(strstr(detail, "body 0"));
+    assert_non_null(strstr(detail, "body 1"));
+    assert_non_null(strstr(detail, "dt <= 0.00025 s"));
+    assert_null(integrator);
+    def.dt = 2.4e-4;
+    assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator), TB_STATUS_OK);
+    assert_bounced(scene, integrator, "rk4 at 2.4e-4 s, stability guard lifted");
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_roots_of_exponential_decay_are_found_at_ln2_and_ln4),
+        cmocka_unit_test(test_a_step_limit_bounds_every_adaptive_step),
+        cmocka_unit_test(test_a_dropped_ball_touches_the_box_at_the_free_fall_time),
+        cmocka_unit_test(test_approaching_balls_meet_at_gap_over_speed_after_few_steps),
+        cmocka_unit_test(test_a_fast_ball_bounces_off_a_thin_plate_at_the_default_step),
+        cmocka_unit_test(test_a_step_that_would_pass_through_the_plate_is_refused),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
