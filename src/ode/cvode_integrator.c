@@ -23,8 +23,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* TB_LINEAR_SOLVER_AUTO picks the dense solver up to this many unknowns. */
-#define TB__DENSE_LIMIT 64
+/* TB_LINEAR_SOLVER_AUTO picks the dense solver up to this many unknowns: a few bodies with their
+ * contact's friction states (a box on a box on the ground, 90 unknowns: dense BDF 4400 steps
+ * for 1 s, the banded Krylov preconditioner, blind to the coupling of the friction states at the
+ * end of y to the bodies, 80000 steps for 0.01 s). */
+#define TB__DENSE_LIMIT 128
 
 /* --- messages ----------------------------------------------------------------------------- */
 
