@@ -267,8 +267,10 @@ static void test_boxes_sliding_apart_free_their_slots_under_cvode(void **state)
 
 /* A pool too small for the contact (1 slot for 4 points) neither fails nor allocates: one point
  * keeps the stick anchor, the other three get the memoryless law, counted at every step
- * boundary (3 each). The box still stays on the lower one: the regularised law's creep is
- * below v_reg = 1 mm/s, 1 mm in the second simulated here. */
+ * boundary (3 each). The box then creeps, as that law does (more than 10 um in 1 s, where the
+ * anchor alone holds it to 0.5 um), but no faster than the law's steady creep with the whole
+ * load, v_reg tan 25 / sqrt(mu_s^2 - tan^2 25) = 1.23 mm/s (mu stays within 0.3 % of mu_s at that
+ * speed), plus 5 % for the Stribeck drop. */
 static void test_a_full_pool_falls_back_to_the_memoryless_law_and_counts_it(void **state)
 {
     (void)state;
@@ -288,7 +290,7 @@ static void test_a_full_pool_falls_back_to_the_memoryless_law_and_counts_it(void
     assert_int_equal(stats.in_use, 1);
     assert_true(stats.boundaries == (unsigned long long)steps.steps);
     assert_true(stats.overflows > 2 * stats.boundaries && stats.overflows <= 3 * stats.boundaries);
-    assert_true(fabs(moved) < 1e-3);
+    assert_true(moved > 1e-5 && moved < 1.3e-3);
     tb_integrator_destroy(integrator);
     tb_scene_destroy(scene);
 }
@@ -321,6 +323,7 @@ static void test_bad_friction_inputs_are_refused(void **state)
     tb_contact_def def = tb_contact_def_default();
     def.friction_points = (size_t)-1 / 2;
     expect_refused(&def, "friction_points");
+    def = tb_contact_def_default();
     tb_scene *scene = stacked_boxes(0.0, 0.0, 0.0, 0.3, &def);
     tb_contact_friction_stats stats;
     assert_int_equal(tb_scene_contact_friction_stats(scene, 0, &stats),
