@@ -14,6 +14,7 @@
 
 #include <math.h>
 #include <stdbool.h>
+#include <stdlib.h>
 #include <string.h>
 
 #define PI 3.14159265358979323846
@@ -346,5 +347,9 @@ int main(void)
         cmocka_unit_test(test_a_full_pool_falls_back_to_the_memoryless_law_and_counts_it),
         cmocka_unit_test(test_bad_friction_inputs_are_refused),
     };
+    const char *filter = getenv("TB_TEST_FILTER"); /* e.g. "*bouncing*": one test alone */
+    if (filter != NULL) {
+        cmocka_set_test_filter(filter);
+    }
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
