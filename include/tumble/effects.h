@@ -128,9 +128,16 @@ TB_API tb_status tb_contact_points_capsule(double radius, double length, tb_cont
  * apart where they overlap, with the ground's normal law (see above) at each point of a pair's
  * contact manifold (up to 4 points, src/contact/narrow_phase.h): per point k = M_min g /
  * (points penetration), the damping from `restitution` at the reduced mass, so that two free
- * bodies meeting at one point part at e times their approach speed. Friction: Coulomb's
- * mu(v) N with mu falling from mu_s to mu_k over stribeck_velocity, regularised below 1 mm/s
- * (no friction state: it creeps under a static load). Forces on the two bodies are equal and
+ * bodies meeting at one point part at e times their approach speed. Friction: the ground's
+ * stick anchor (above) at each touching point that holds one of the effect's friction_points
+ * slots: a tangential deflection z, 3 doubles of state per slot in the first body's principal
+ * frame, a spring k = M_min g mu_s / (points presliding) capped at mu N, mu falling from mu_s
+ * to mu_k with the slip speed over stribeck_velocity; a load below mu_s N is held without
+ * creep. The slots are allocated here, so the state's length is fixed when the effect is
+ * added; a point finds its slot again by its position in the first body's frame, a slot is
+ * freed at a step boundary once its pair has parted and its spring relaxed, and a point that
+ * finds no free slot gets the memoryless mu(v) N v / sqrt(v^2 + (1 mm/s)^2), which creeps
+ * (counted: tb_scene_contact_friction_stats). Forces on the two bodies are equal and
  * opposite at the same world point: linear and angular momentum are conserved. bodies NULL
  * (body_count 0): every body of the scene when the effect is added; bodies added later are not
  * included. */
@@ -143,6 +150,10 @@ typedef struct tb_contact_def {
     double penetration;       /* m, > 0: sets omega = sqrt(g / penetration); default 8e-7 */
     double gravity;           /* m/s^2, > 0, sizes the contact; default 9.81 */
     double stribeck_velocity; /* m/s, > 0; default 0.01 */
+    double presliding;        /* m, > 0: the spring's deflection at breakaway; default 5e-7 */
+    /* Touching points that keep a friction state (slots of the pool); 0 (default): 6 per
+     * body of the effect (a box on a box takes 4). */
+    size_t friction_points;
     int internal_cookie;
 } tb_contact_def;
 
@@ -152,6 +163,22 @@ TB_API tb_contact_def tb_contact_def_default(void);
  * pushed by both). tb_scene_integrator_create then refuses a state in which a pair starts deeper
  * inside each other than 10 times the depth that carries the heavier body's weight. */
 TB_API tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def);
+
+/* What a contact effect's friction pool did, counted at step boundaries (after every fixed
+ * step, at every CVODE output). */
+typedef struct tb_contact_friction_stats {
+    size_t slots;                  /* the pool's size (friction_points) */
+    size_t in_use;                 /* slots claimed at the last boundary */
+    size_t peak_in_use;            /* the most claimed at once */
+    unsigned long long boundaries; /* step boundaries seen */
+    unsigned long long overflows;  /* touching points found without a free slot, summed over
+                                      boundaries: they had the memoryless law */
+} tb_contact_friction_stats;
+
+/* The stats of effect number `effect` (0 .. tb_scene_effect_count - 1, in the order added),
+ * which must be a contact effect (TB_STATUS_INVALID_ARGUMENT otherwise). */
+TB_API tb_status tb_scene_contact_friction_stats(const tb_scene *scene, size_t effect,
+                                                 tb_contact_friction_stats *out_stats);
 
 /* --- user effects -------------------------------------------------------------------------
  * A callback that adds forces and torques. It receives the time and the scene's state array y

@@ -170,13 +170,14 @@ TB_API size_t tb_scene_effect_count(const tb_scene *scene);
 /* --- Integration ------------------------------------------------------------------------- */
 
 /* The scene as an ODE system: n = tb_scene_state_size(), derivative tb_scene_derivative, post-step
- * hook tb_scene_normalize_quaternions when renormalisation is on. When no effect couples bodies
- * or owns states (springs between bodies, ground planes and user effects do), the bodies are
- * the system's blocks (block_size 13): fixed-step integrators step them a chunk at a time and
- * BDF's Krylov solver preconditions them body by body (docs/performance.md). The system describes
- * the scene as it is, and its layout_generation/acquire/release hooks keep it so: an integrator
- * made from it claims the scene (older ones stop), and refuses to step once the layout changed
- * (see tb_scene_integrator_create). */
+ * hook tb_scene_normalize_quaternions when renormalisation is on (with contact between bodies, a
+ * scene hook that also updates the contact's friction slot map outside y: docs/effects.md). When no
+ * effect couples bodies or owns states (springs between bodies, ground planes and user effects do),
+ * the bodies are the system's blocks (block_size 13): fixed-step integrators step them a chunk at a
+ * time and BDF's Krylov solver preconditions them body by body (docs/performance.md). The system
+ * describes the scene as it is, and its layout_generation/acquire/release hooks keep it so: an
+ * integrator made from it claims the scene (older ones stop), and refuses to step once the layout
+ * changed (see tb_scene_integrator_create). */
 TB_API tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system);
 
 /* How a separable scene's bodies are stepped by fixed-step methods (tb_scene_ode_system's

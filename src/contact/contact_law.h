@@ -22,6 +22,20 @@
 
 #define TB__CONTACT_DASHPOT_ONSET 0.5
 
+/* Rate (1/s) at which a lifted point's bristles relax (the stick-anchor friction of
+ * ground planes and of contact between bodies): fast against motion, slow enough for
+ * RK4 at 60 steps per second (h * rate = 1.7 < 2.78). */
+#define TB__BRISTLE_RELEASE_RATE 100.0
+/* Rate (1/s) at which a deflection beyond the static cone relaxes back to it, so that in a slide
+ * at v the excess is v / rate and rate * excess is the slip speed; slow enough for RK4 at 240
+ * steps per second (h * 400 = 1.7 < 2.78). The friction force is capped at mu N whatever the
+ * excess, so the rate only sets how long a slide's excess takes to fade once the slide stops. */
+#define TB__BRISTLE_MAX_RATE 400.0
+/* Below this tangential speed (m/s) the memoryless friction between bodies (for a point without
+ * a friction slot) fades linearly to zero: the regularisation. It creeps at about this speed
+ * times load / (mu_s N), which must stay well below the Stribeck velocity: at 1 cm/s a box on a
+ * box at 25 degrees (mu_s 0.6, mu_k 0.4) crept fast enough to lower mu to mu_k and slid away. */
+#define TB__FRICTION_REGULARISATION 1e-3
 /* The damping ratio the law is capped at, with restitution 0.062: more damping would shorten
  * the explicit methods' step (the fast decay 2 zeta omega) for a bounce of 0.4 % of the drop
  * height or less. */

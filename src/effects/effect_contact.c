@@ -2,9 +2,9 @@
  * narrow phase, a manifold of up to 4 points with a normal from A to B) turned into forces by the
  * shared normal law (contact/contact_law.h) and Coulomb friction. Each point's force acts on
  * both bodies at the same world point with opposite signs, so the effect conserves linear and
- * angular momentum to round-off. Friction here keeps no state: a regularised Coulomb law,
- * F_t = -mu(|v_t|) N v_t / sqrt(|v_t|^2 + v_reg^2), which slides at mu_k N but creeps under a
- * static load (docs/effects.md says what is left). */
+ * angular momentum to round-off. Friction is the ground's stick anchor at the points that hold
+ * a slot of the effect's friction pool (effects/contact_friction.h), the memoryless law at the
+ * others. */
 #include "scene/scene_internal.h"
 
 #include "contact/contact_law.h"
@@ -13,6 +13,7 @@
 #include "core/detail.h"
 #include "core/validate.h"
 #include "effects/effect_contact_check.h"
+#include "effects/contact_friction.h"
 #include "math/tb_math.h"
 
 #include <stdlib.h>
@@ -23,64 +24,75 @@
 #define TB__CONTACT_MARGIN 1e-3
 /* Pairs handled per batch of the pass (a stack buffer). */
 #define TB__CONTACT_BATCH 16
-/* Below this tangential speed (m/s) friction fades linearly to zero: the regularisation. */
-#define TB__FRICTION_REGULARISATION 1e-3
+/* Friction slots per body of the effect when the def leaves friction_points at 0. */
+#define TB__FRICTION_POINTS_PER_BODY 6
 
-/* One manifold point of pair (a, b): the force on b is N n + friction, on a its opposite, both at
- * the point's world position. */
-static void point_load(const tb__contact_params *contact, const tb_scene *scene,
-                       const tb__pair_contact *pair, const tb__motion motion[2],
-                       const tb__contact_point *point, double share, double *dydt)
+/* A pair's two bodies as one point of its manifold sees them. */
+typedef struct tb__pair_motion {
+    tb__motion body[2];
+    double light, reduced; /* kg: the lighter mass and the reduced mass */
+} tb__pair_motion;
+
+/* One manifold point of pair (a, b) holding friction slot `slot` (TB__NO_SLOT: none): the force
+ * on b is N n + friction, on a its opposite, both at the point's world position. */
+static void point_load(const tb__effect *effect, const tb__pair_contact *pair,
+                       const tb__pair_motion *m, const tb__contact_point *point, double share,
+                       size_t slot, const double *y, double *dydt)
 {
-    const tb__body *a = &scene->bodies[pair->body_a], *b = &scene->bodies[pair->body_b];
+    const tb__contact_params *contact = &effect->params.contact;
     const double *n = pair->manifold.normal;
     double arm_a[3], arm_b[3], v_a[3], v_b[3];
     for (int k = 0; k < 3; ++k) {
-        arm_a[k] = point->position[k] - motion[0].x[k];
-        arm_b[k] = point->position[k] - motion[1].x[k];
+        arm_a[k] = point->position[k] - m->body[0].x[k];
+        arm_b[k] = point->position[k] - m->body[1].x[k];
     }
-    tb__point_velocity(&motion[0], arm_a, v_a);
-    tb__point_velocity(&motion[1], arm_b, v_b);
+    tb__point_velocity(&m->body[0], arm_a, v_a);
+    tb__point_velocity(&m->body[1], arm_b, v_b);
     const double relative[3] = {v_b[0] - v_a[0], v_b[1] - v_a[1], v_b[2] - v_a[2]};
     const double approach = tb__v3_dot(relative, n);
     /* k = M_min omega^2 share and c = 2 zeta sqrt(k m_r share): one point between free bodies
      * is the law's oscillator at the reduced mass m_r, so its restitution is the user's */
-    const double light = fmin(a->mass, b->mass);
-    const double reduced = a->mass * b->mass / (a->mass + b->mass);
-    const double omega = contact->omega * sqrt(light / reduced);
-    const double N = tb__contact_normal_force(reduced * share, omega, contact->damping_ratio,
+    const double omega = contact->omega * sqrt(m->light / m->reduced);
+    const double N = tb__contact_normal_force(m->reduced * share, omega, contact->damping_ratio,
                                               point->depth, -approach);
     if (!(N > 0.0)) {
-        return;
+        return; /* a slot held here relaxes (tb__friction_relax_all) */
     }
-    double tangent[3];
+    double tangent[3], friction[3];
     for (int k = 0; k < 3; ++k) {
         tangent[k] = relative[k] - approach * n[k];
     }
-    const double speed = tb__v3_norm(tangent);
-    const double ratio = speed / contact->stribeck_velocity;
-    const double mu = contact->kinetic_friction +
-                      (contact->static_friction - contact->kinetic_friction) * exp(-ratio * ratio);
-    const double scale =
-        mu * N / sqrt(speed * speed + TB__FRICTION_REGULARISATION * TB__FRICTION_REGULARISATION);
+    /* the spring sized as the normal one, k_t = M_min g s0 share, damped at ratio 1/2 at the
+     * reduced mass */
+    const double stiffness = m->light * share * contact->gravity * contact->bristle_stiffness;
+    const double damping = sqrt(stiffness * m->reduced * share);
+    const size_t k = effect->state_offset + TB__FRICTION_SLOT_STATES * slot;
+    const bool held = slot != TB__NO_SLOT;
+    tb__friction_force(contact, stiffness, damping, N, n, tangent, m->body[0].q,
+                       held ? y + k : NULL, held ? dydt + k : NULL, friction);
     double f[3], minus[3];
-    for (int k = 0; k < 3; ++k) {
-        f[k] = N * n[k] - scale * tangent[k];
-        minus[k] = -f[k];
+    for (int i = 0; i < 3; ++i) {
+        f[i] = N * n[i] + friction[i];
+        minus[i] = -f[i];
     }
     tb__add_load(dydt, pair->body_b, arm_b, f);
     tb__add_load(dydt, pair->body_a, arm_a, minus);
 }
 
-static void pair_loads(const tb__contact_params *contact, const tb_scene *scene, const double *y,
-                       const tb__pair_contact *pair, double *dydt)
+static void pair_loads(const tb__effect *effect, const tb_scene *scene, const double *y,
+                       const tb__pair_contact *pair, size_t *fresh, double *dydt)
 {
-    tb__motion motion[2];
-    tb__body_motion(&scene->bodies[pair->body_a], y + TB_STATE_SIZE * pair->body_a, &motion[0]);
-    tb__body_motion(&scene->bodies[pair->body_b], y + TB_STATE_SIZE * pair->body_b, &motion[1]);
+    const tb__body *a = &scene->bodies[pair->body_a], *b = &scene->bodies[pair->body_b];
+    tb__pair_motion m;
+    tb__body_motion(a, y + TB_STATE_SIZE * pair->body_a, &m.body[0]);
+    tb__body_motion(b, y + TB_STATE_SIZE * pair->body_b, &m.body[1]);
+    m.light = fmin(a->mass, b->mass);
+    m.reduced = a->mass * b->mass / (a->mass + b->mass);
+    size_t slots[TB__MANIFOLD_POINTS];
+    tb__friction_match(effect->params.contact.friction, pair, &m.body[0], fresh, slots);
     const double share = 1.0 / (double)pair->manifold.count;
     for (int j = 0; j < pair->manifold.count; ++j) {
-        point_load(contact, scene, pair, motion, &pair->manifold.points[j], share, dydt);
+        point_load(effect, pair, &m, &pair->manifold.points[j], share, slots[j], y, dydt);
     }
 }
 
@@ -89,13 +101,15 @@ static int apply_contact(const tb__effect *effect, const tb_scene *scene, double
 {
     (void)t;
     const tb__contact_params *contact = &effect->params.contact;
+    tb__friction_relax_all(contact->friction, y + effect->state_offset,
+                           dydt + effect->state_offset);
     tb__pair_contact batch[TB__CONTACT_BATCH];
     tb__contact_pairs_begin(contact->pairs, scene, y);
-    size_t count;
+    size_t count, fresh = 0;
     while ((count = tb__contact_pairs_next(contact->pairs, scene, y, batch, TB__CONTACT_BATCH)) >
            0) {
         for (size_t k = 0; k < count; ++k) {
-            pair_loads(contact, scene, y, &batch[k], dydt);
+            pair_loads(effect, scene, y, &batch[k], &fresh, dydt);
         }
     }
     return 0;
@@ -120,8 +134,11 @@ static double lightness(const tb_scene *scene, const double *y, size_t id)
 /* The modes of the pairs the effect can form, bounded from its bodies: a point of stiffness
  * k <= M_min omega^2 between bodies whose inverse masses at the point sum to at most
  * 2 max(lightness) / M_min rings at up to omega a, a^2 = 2 max lightness, with damping ratio
- * zeta a (as the ground's rocking); the regularised friction decays at mu_s g a^2 / v_reg under
- * a load of the body's weight. */
+ * zeta a (as the ground's rocking); the friction spring, k_t = M_min g s0 share damped at ratio
+ * 1/2 at the reduced mass, at up to sqrt(g s0) a with ratio a / 2, and the anchor's slip
+ * relaxes at TB__BRISTLE_MAX_RATE. A point that finds no slot has the regularised law, which
+ * decays at mu_s g a^2 / v_reg under a load of the body's weight: counted too, since any point
+ * may find the pool full. */
 static void contact_rate(const tb__effect *effect, const tb_scene *scene, const double *y,
                          tb__effect_rate *out)
 {
@@ -142,27 +159,25 @@ static void contact_rate(const tb__effect *effect, const tb_scene *scene, const 
     if (body == TB_ALL_BODIES) {
         return;
     }
-    const double a = sqrt(2.0 * worst), omega = contact->omega * a,
-                 zeta = contact->damping_ratio * a;
-    if (zeta > 1.0) {
-        out->decay = omega * (zeta + sqrt(zeta * zeta - 1.0));
-        out->decay_body = body;
-    } else {
-        out->oscillation = omega;
-        out->oscillation_body = body;
+    const double a = sqrt(2.0 * worst);
+    tb__effect_rate_add_damped_mode(out, contact->omega * a, contact->damping_ratio * a, body);
+    if (contact->static_friction > 0.0) {
+        tb__effect_rate_add_damped_mode(
+            out, sqrt(contact->gravity * contact->bristle_stiffness) * a, 0.5 * a, body);
+        tb__effect_rate_add_decay(out, TB__BRISTLE_MAX_RATE, body);
     }
-    const double friction =
-        contact->static_friction * contact->gravity * a * a / TB__FRICTION_REGULARISATION;
-    if (friction > out->decay) {
-        out->decay = friction;
-        out->decay_body = body;
-    }
+    tb__effect_rate_add_decay(out, TB__BRISTLE_RELEASE_RATE, body);
+    tb__effect_rate_add_decay(
+        out, contact->static_friction * contact->gravity * a * a / TB__FRICTION_REGULARISATION,
+        body);
 }
 
 static void release_contact(tb__effect *effect)
 {
     tb__contact_events_release(&effect->params.contact);
     tb__contact_pairs_destroy(effect->params.contact.pairs);
+    tb__friction_pool_destroy(effect->params.contact.friction);
+    effect->params.contact.friction = NULL;
     free(effect->params.contact.bodies);
     effect->params.contact.pairs = NULL;
     effect->params.contact.bodies = NULL;
@@ -179,6 +194,8 @@ static const tb__effect_ops contact_ops = {
     .event_gaps = tb__contact_event_gaps,          /* effect_contact_events.c */
     .adaptive_step_limit = tb__contact_step_limit, /* at least half the shortest push */
     .tunnel_step = tb__contact_tunnel_step,
+    .owns_states = true,
+    .post_step = tb__friction_post_step,
 };
 
 tb_contact_def tb_contact_def_default(void)
@@ -191,6 +208,7 @@ tb_contact_def tb_contact_def_default(void)
     def.penetration = 8e-7;
     def.gravity = 9.81;
     def.stribeck_velocity = 0.01;
+    def.presliding = 5e-7;
     def.internal_cookie = TB__CONTACT_COOKIE;
     return def;
 }
@@ -254,6 +272,49 @@ static tb_status copy_bodies(tb_scene *scene, const tb_contact_def *def, tb__con
     return TB_STATUS_OK;
 }
 
+/* The friction spring's parameters are numbers (as the ground's: presliding 1e-310 m would make
+ * s0 = mu_s / presliding infinite) and the pool fits in memory. */
+static tb_status validate_friction(tb_scene *scene, const tb_contact_def *def)
+{
+    tb_status status = tb__validate_positive(scene->detail, def->presliding, "presliding");
+    const double s0 = def->static_friction / def->presliding;
+    if (status == TB_STATUS_OK &&
+        (!isfinite(s0) || !isfinite(def->gravity * s0) || !isfinite(s0 / def->gravity))) {
+        status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                                "presliding: %g m makes the friction spring's stiffness "
+                                "static_friction / presliding (%g 1/m) or its rate under gravity "
+                                "%g m/s^2 overflow",
+                                def->presliding, s0, def->gravity);
+    }
+    size_t bytes;
+    if (status == TB_STATUS_OK) {
+        status = tb__validate_size_product(scene->detail, def->friction_points,
+                                           TB__FRICTION_SLOT_STATES * sizeof(double),
+                                           "friction_points", &bytes);
+    }
+    return status;
+}
+
+/* The friction pool: def's points, or TB__FRICTION_POINTS_PER_BODY per body, at least 1. */
+static tb_status make_pool(tb_scene *scene, const tb_contact_def *def, tb__effect *effect)
+{
+    tb__contact_params *contact = &effect->params.contact;
+    /* body_count ids were allocated, so 6 body_count does not overflow */
+    const size_t bodies = contact->body_count > 0 ? contact->body_count : 1;
+    const size_t slots =
+        def->friction_points > 0 ? def->friction_points : TB__FRICTION_POINTS_PER_BODY * bodies;
+    contact->friction = tb__friction_pool_create(slots, def->presliding);
+    if (contact->friction == NULL) {
+        return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "friction_points: %zu slots", slots);
+    }
+    effect->fixed_states = TB__FRICTION_SLOT_STATES * slots;
+    effect->state_scale = def->presliding;
+    /* per unit of the weight M_min share a point carries, as the ground's (ground_params) */
+    contact->bristle_stiffness = def->static_friction / def->presliding;
+    contact->bristle_damping = sqrt(contact->bristle_stiffness / def->gravity);
+    return TB_STATUS_OK;
+}
+
 tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def)
 {
     if (scene == NULL) {
@@ -264,6 +325,9 @@ tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def)
         return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "def is NULL");
     }
     tb_status status = validate_contact(scene, def);
+    if (status == TB_STATUS_OK) {
+        status = validate_friction(scene, def);
+    }
     tb__effect effect = {.ops = &contact_ops, .body = TB_ALL_BODIES};
     tb__contact_params *contact = &effect.params.contact;
     if (status == TB_STATUS_OK) {
@@ -282,6 +346,9 @@ tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def)
         status = tb__contact_events_create(scene, contact);
     }
     if (status == TB_STATUS_OK) {
+        status = make_pool(scene, def, &effect);
+    }
+    if (status == TB_STATUS_OK) {
         contact->omega = sqrt(def->gravity / def->penetration);
         contact->damping_ratio = tb__contact_damping_ratio(def->restitution);
         /* a pair rings at omega sqrt(M_light / m_reduced) <= omega sqrt(2) (apply_contact) */
@@ -297,4 +364,24 @@ tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def)
         release_contact(&effect);
     }
     return status;
+}
+
+tb_status tb_scene_contact_friction_stats(const tb_scene *scene, size_t effect,
+                                          tb_contact_friction_stats *out_stats)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    tb_scene *writable = (tb_scene *)scene; /* the detail only */
+    if (out_stats == NULL) {
+        return tb__scene_fail(writable, TB_STATUS_NULL_POINTER, "out_stats is NULL");
+    }
+    if (effect >= scene->effect_count || scene->effects[effect].ops != &contact_ops) {
+        return tb__scene_fail(writable, TB_STATUS_INVALID_ARGUMENT,
+                              "effect: %zu is not a contact effect (the scene has %zu effects)",
+                              effect, scene->effect_count);
+    }
+    *out_stats = *tb__friction_stats(scene->effects[effect].params.contact.friction);
+    return TB_STATUS_OK;
 }

@@ -12,14 +12,6 @@
 #include <string.h>
 
 #define TB__GROUND_COOKIE 0x960d
-/* Rate (1/s) at which a lifted point's bristles relax: fast against motion, slow enough for
- * RK4 at 60 steps per second (h * rate = 1.7 < 2.78). */
-#define TB__BRISTLE_RELEASE_RATE 100.0
-/* Rate (1/s) at which a deflection beyond the static cone relaxes back to it, so that in a slide
- * at v the excess is v / rate and rate * excess is the slip speed; slow enough for RK4 at 240
- * steps per second (h * 400 = 1.7 < 2.78). The friction force is capped at mu N whatever the
- * excess, so the rate only sets how long a slide's excess takes to fade once the slide stops. */
-#define TB__BRISTLE_MAX_RATE 400.0
 /* How deep (in penetrations) a body may start inside a plane. The contact pushes a point d deep
  * with d / penetration times the weight it carries, and would launch the body at about
  * d sqrt(g / penetration): 2.8 cm/s from 10 penetrations at the defaults, 1 m/s with
@@ -166,23 +158,6 @@ static double rocking_factor(const tb_scene *scene, size_t first, size_t end)
     return a2;
 }
 
-/* A damped mode of natural rate omega and damping ratio zeta goes into out: oscillating
- * (|lambda| = omega) when underdamped, decaying at its fast root omega (zeta +
- * sqrt(zeta^2 - 1)) when overdamped. */
-static void damped_mode(double omega, double zeta, size_t body, tb__effect_rate *out)
-{
-    if (zeta > 1.0) {
-        const double fast = omega * (zeta + sqrt(zeta * zeta - 1.0));
-        if (fast > out->decay) {
-            out->decay = fast;
-            out->decay_body = body;
-        }
-    } else if (omega > out->oscillation) {
-        out->oscillation = omega;
-        out->oscillation_body = body;
-    }
-}
-
 /* Every mode of the contact scales alike: a point's stiffness is its share of M g / penetration
  * and its damping 2 zeta sqrt(k M share), so bouncing has omega0 = sqrt(g / penetration) and
  * damping ratio zeta, rocking omega0 a and zeta a. The friction spring of a point, stiffness
@@ -204,8 +179,8 @@ static void ground_rate(const tb__effect *effect, const tb_scene *scene, const d
         }
         const size_t body = scene->contacts[first].body;
         const double a = sqrt(rocking_factor(scene, first, j));
-        damped_mode(omega0 * a, ground->damping_ratio * a, body, out);
-        damped_mode(bristles * a, 0.5 * a, body, out);
+        tb__effect_rate_add_damped_mode(out, omega0 * a, ground->damping_ratio * a, body);
+        tb__effect_rate_add_damped_mode(out, bristles * a, 0.5 * a, body);
         const double relaxation =
             ground->static_friction > 0.0 ? TB__BRISTLE_MAX_RATE : TB__BRISTLE_RELEASE_RATE;
         if (relaxation > out->decay) {

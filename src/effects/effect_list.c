@@ -8,6 +8,7 @@
 #include "math/tb_math.h"
 
 #include <assert.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -84,7 +85,7 @@ tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect)
     }
     const size_t index = scene->effect_count;
     scene->effects[scene->effect_count++] = *effect;
-    if (effect->states_per_contact > 0) {
+    if (effect->states_per_contact > 0 || effect->fixed_states > 0) {
         status = tb__scene_layout_states(scene, scene->body_count);
         if (status != TB_STATUS_OK) {
             scene->effect_count--;
@@ -118,6 +119,50 @@ tb_status tb__scene_check_effects_start(tb_scene *scene, const double *y)
         }
     }
     return TB_STATUS_OK;
+}
+
+void tb__effect_rate_add_decay(tb__effect_rate *out, double rate, size_t body)
+{
+    if (rate > out->decay) {
+        out->decay = rate;
+        out->decay_body = body;
+    }
+}
+
+void tb__effect_rate_add_damped_mode(tb__effect_rate *out, double omega, double zeta, size_t body)
+{
+    if (zeta > 1.0) {
+        tb__effect_rate_add_decay(out, omega * (zeta + sqrt(zeta * zeta - 1.0)), body);
+    } else if (omega > out->oscillation) {
+        out->oscillation = omega;
+        out->oscillation_body = body;
+    }
+}
+
+bool tb__scene_has_post_step_effects(const tb_scene *scene)
+{
+    for (size_t e = 0; e < scene->effect_count; ++e) {
+        if (scene->effects[e].ops->post_step != NULL) {
+            return true;
+        }
+    }
+    return false;
+}
+
+int tb__scene_post_step(double t, double *y, void *ctx)
+{
+    const tb_scene *scene = ctx;
+    if (scene == NULL || y == NULL) {
+        return -1;
+    }
+    const int rc = scene->renormalize ? tb_scene_normalize_quaternions(t, y, ctx) : 0;
+    for (size_t e = 0; e < scene->effect_count && rc == 0; ++e) {
+        const tb__effect *effect = &scene->effects[e];
+        if (effect->ops->post_step != NULL) {
+            effect->ops->post_step(effect, scene, y);
+        }
+    }
+    return rc;
 }
 
 size_t tb_scene_effect_count(const tb_scene *scene)

@@ -267,15 +267,9 @@ static tb_status contact_bodies(tb__loader *ld, const json_t *names, const char 
 
 static tb_status load_contact(tb__loader *ld, const json_t *e, const char *path)
 {
-    static const char *const keys[] = {"type",
-                                       "bodies",
-                                       "restitution",
-                                       "static_friction",
-                                       "kinetic_friction",
-                                       "penetration",
-                                       "gravity",
-                                       "stribeck_velocity",
-                                       NULL};
+    static const char *const keys[] = {
+        "type",        "bodies",  "restitution",       "static_friction", "kinetic_friction",
+        "penetration", "gravity", "stribeck_velocity", "presliding",      NULL};
     tb_contact_def def = tb_contact_def_default();
     const number_field fields[] = {{"restitution", &def.restitution, false},
                                    {"static_friction", &def.static_friction, false},
@@ -283,6 +277,7 @@ static tb_status load_contact(tb__loader *ld, const json_t *e, const char *path)
                                    {"penetration", &def.penetration, true},
                                    {"gravity", &def.gravity, true},
                                    {"stribeck_velocity", &def.stribeck_velocity, true},
+                                   {"presliding", &def.presliding, true},
                                    {NULL, NULL, false}};
     tb_status status = tb__json_object(ld, e, path, keys);
     if (status == TB_STATUS_OK) {

@@ -23,8 +23,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* TB_LINEAR_SOLVER_AUTO picks the dense solver up to this many unknowns. */
+/* TB_LINEAR_SOLVER_AUTO picks the dense solver up to this many unknowns, and up to the coupled
+ * limit for a system without blocks, whose Krylov solver gets only a banded preconditioner: a
+ * box on a box on the ground with its contact's friction states (78 unknowns, the states at the
+ * end of y coupled to the bodies outside the band) took it 80000 steps for 0.01 s, and the
+ * dense solver 4400 for 1 s. */
 #define TB__DENSE_LIMIT 64
+#define TB__DENSE_LIMIT_COUPLED 128
 
 /* --- messages ----------------------------------------------------------------------------- */
 
@@ -186,8 +191,10 @@ static tb_status set_solvers(tb_integrator *integrator, const tb_integrator_def 
         return flag == CV_SUCCESS ? TB_STATUS_OK
                                   : setup_failed(cvode, "CVodeSetNonlinearSolver", flag, error);
     }
-    const bool dense = def->linear_solver == TB_LINEAR_SOLVER_DENSE ||
-                       (def->linear_solver == TB_LINEAR_SOLVER_AUTO && n <= TB__DENSE_LIMIT);
+    const bool dense =
+        def->linear_solver == TB_LINEAR_SOLVER_DENSE ||
+        (def->linear_solver == TB_LINEAR_SOLVER_AUTO &&
+         n <= (integrator->system.block_size > 0 ? TB__DENSE_LIMIT : TB__DENSE_LIMIT_COUPLED));
     const int band =
         def->preconditioner_half_bandwidth < 0 ? 0 : def->preconditioner_half_bandwidth;
     if (dense) {

@@ -115,7 +115,7 @@ tb_status tb__scene_layout_states(tb_scene *scene, size_t body_count)
     }
     size_t extra = 0;
     for (size_t e = 0; e < scene->effect_count; ++e) {
-        extra += scene->effects[e].states_per_contact * scene->contact_count;
+        extra += tb__effect_state_count(&scene->effects[e], scene);
     }
     status = reserve_states(scene, TB_STATE_SIZE * body_count + extra);
     if (status != TB_STATUS_OK) {
@@ -124,7 +124,7 @@ tb_status tb__scene_layout_states(tb_scene *scene, size_t body_count)
     size_t offset = TB_STATE_SIZE * body_count;
     for (size_t e = 0; e < scene->effect_count; ++e) {
         scene->effects[e].state_offset = offset;
-        offset += scene->effects[e].states_per_contact * scene->contact_count;
+        offset += tb__effect_state_count(&scene->effects[e], scene);
     }
     memset(scene->states + TB_STATE_SIZE * body_count, 0, extra * sizeof(double));
     scene->extra_count = extra;

@@ -39,6 +39,12 @@ typedef struct tb__effect_rate {
     size_t decay_body;
 } tb__effect_rate;
 
+/* Raise out's fastest modes by a damped mode of natural rate omega and damping ratio zeta on
+ * body: oscillating (|lambda| = omega) when underdamped, decaying at its fast root
+ * omega (zeta + sqrt(zeta^2 - 1)) when overdamped; or by a decay at rate (1/s). */
+void tb__effect_rate_add_damped_mode(tb__effect_rate *out, double omega, double zeta, size_t body);
+void tb__effect_rate_add_decay(tb__effect_rate *out, double rate, size_t body);
+
 /* One constant row per effect kind: every fact about the kind, asked by the derivative, the
  * read-outs and the stability guard; nothing outside the effect's own file reads its
  * parameters. */
@@ -94,6 +100,11 @@ typedef struct tb__effect_ops {
      * (TB_DETAIL_SIZE bytes). NULL: the effect has no bodies to pass through. */
     double (*tunnel_step)(const tb__effect *effect, const tb_scene *scene, const double *y,
                           char *which, size_t size);
+    /* Called at each step boundary with the accepted state (the scene's post-step hook: after
+     * every fixed step, at every CVODE output and BDF projection), never inside a derivative:
+     * bookkeeping outside y that the derivative reads (the contact effect's friction slot
+     * map). It must not change y, and must leave the derivative at y as it was. NULL: none. */
+    void (*post_step)(const tb__effect *effect, const tb_scene *scene, const double *y);
 } tb__effect_ops;
 
 /* The gap (m) the event functions start from: a body farther than this from everything it can
@@ -145,8 +156,10 @@ typedef struct tb__contact_params {
     double omega, damping_ratio; /* rad/s, from penetration and restitution */
     double static_friction, kinetic_friction, stribeck_velocity, gravity;
     double push_duration; /* s: the shortest time an impact's force acts, over every pair */
-    struct tb__contact_pairs *lookahead; /* owned: pairs within TB__EVENT_LOOKAHEAD, for the
-                                            events and step limits (effect_contact_events.c) */
+    struct tb__contact_pairs *lookahead;       /* owned: pairs within TB__EVENT_LOOKAHEAD, for the
+                                                  events and step limits (effect_contact_events.c) */
+    double bristle_stiffness, bristle_damping; /* friction spring per unit weight, as ground's */
+    struct tb__friction_pool *friction;        /* owned; effects/contact_friction.h */
 } tb__contact_params;
 
 typedef struct tb__user_params {
@@ -159,6 +172,7 @@ struct tb__effect {
     const tb__effect_ops *ops;
     size_t body;               /* the body acted on, or TB_ALL_BODIES (the derivative's order) */
     size_t states_per_contact; /* states owned per contact point (ground planes: 2) */
+    size_t fixed_states;       /* states owned whatever the points (contact's friction slots) */
     size_t state_offset;       /* where in y those states start */
     double state_scale;        /* natural size of those states, for absolute tolerances */
     union {                    /* the member ops names */
@@ -271,6 +285,12 @@ tb_status tb__scene_reserve_effects(tb_scene *scene, size_t capacity);
  * while the scene is being stepped. */
 tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect);
 
+/* Whether an effect has a post_step op, and the scene's post-step hook for such scenes
+ * (tb_ode_hook, ctx the scene): the quaternions renormalised if the scene asks for it, then
+ * every effect's post_step op on the result. */
+bool tb__scene_has_post_step_effects(const tb_scene *scene);
+int tb__scene_post_step(double t, double *y, void *ctx);
+
 /* Asks every effect's row whether the scene can start from y (tb__effect_ops.check_start: no
  * body deep inside a ground plane); the first refusal's status, with its detail. */
 tb_status tb__scene_check_effects_start(tb_scene *scene, const double *y);
@@ -308,6 +328,12 @@ void tb__unit_quaternion(const double *y, size_t i, double q[4]);
 
 /* omega (world) of a body from its 13 states s. */
 void tb__angular_velocity(const tb__body *body, const double *s, double omega[3]);
+
+/* How many states effect owns after the bodies': per contact point and fixed. */
+static inline size_t tb__effect_state_count(const tb__effect *effect, const tb_scene *scene)
+{
+    return effect->states_per_contact * scene->contact_count + effect->fixed_states;
+}
 
 /* Body `body`'s index in a range of `count` bodies from `first`, or false if outside it. */
 static inline bool tb__local_body(size_t body, size_t first, size_t count, size_t *local)

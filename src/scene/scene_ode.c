@@ -109,7 +109,9 @@ tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
     *out_system = (tb_ode_system){
         .n = tb_scene_state_size(scene),
         .derivative = tb_scene_derivative,
-        .post_step = scene->renormalize ? tb_scene_normalize_quaternions : NULL,
+        .post_step = tb__scene_has_post_step_effects(scene)
+                         ? tb__scene_post_step
+                         : (scene->renormalize ? tb_scene_normalize_quaternions : NULL),
         .ctx = scene,
         .layout_generation = claim,
         .acquire = acquire,
@@ -189,7 +191,7 @@ tb_status tb_scene_absolute_tolerances(const tb_scene *scene, double scale, doub
     }
     for (size_t e = 0; e < scene->effect_count; ++e) {
         const tb__effect *effect = &scene->effects[e];
-        const size_t count = effect->states_per_contact * scene->contact_count;
+        const size_t count = tb__effect_state_count(effect, scene);
         for (size_t k = 0; k < count; ++k) {
             out_atol[effect->state_offset + k] = scale * effect->state_scale;
         }

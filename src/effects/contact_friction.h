@@ -1,0 +1,68 @@
+/* Private: static friction between bodies (effect_contact_friction.c). Each touching point of a
+ * pair that holds a slot of the effect's fixed pool keeps a tangential deflection z, three
+ * doubles in y in body A's principal frame, and gets the ground's stick-anchor law
+ * (effect_ground.c, docs/effects.md "Friction"); a point without a slot gets the memoryless
+ * regularised law. The pool is allocated when the effect is added, so the state's length is
+ * fixed then and never changes behind an integrator.
+ *
+ * Which slot a point holds is a function of y and of a slot map that changes only at step
+ * boundaries (tb__effect_ops.post_step), so that between two boundaries the derivative is a
+ * pure function of y:
+ *   - a claimed slot is keyed by its pair (a, b) and the point's position in A's principal
+ *     frame at the last boundary; the touching points of a pair (depth > 0) take the pair's
+ *     claimed slots nearest first (greedy on the distance between keys, which does not depend
+ *     on the order the narrow phase lists the points in);
+ *   - a touching point left over takes, provisionally, the next free slot of a queue (the k-th
+ *     such point of a pass the k-th queued slot), and none when the queue runs out (then the
+ *     memoryless law, counted at the boundary);
+ *   - every slot no point holds relaxes z at TB__BRISTLE_RELEASE_RATE, by its own dynamics;
+ *   - at a boundary, held slots take the points' positions as keys, provisional ones are claimed
+ *     (popped from the queue's head, in the same order), and a claimed slot no point holds whose
+ *     deflection has relaxed below TB__FRICTION_FREE_DEFLECTION presliding goes to the queue's
+ *     tail. Neither changes the derivative at the boundary's state: a freed slot relaxes as an
+ *     unheld claimed one did, and slots queued at the tail do not move the provisional slots of
+ *     points that are not yet touching. */
+#ifndef TUMBLE_CONTACT_FRICTION_H
+#define TUMBLE_CONTACT_FRICTION_H
+
+#include "contact/contact_pairs.h"
+#include "scene/scene_internal.h"
+
+/* Doubles of y per slot: z in body A's principal frame, m. */
+#define TB__FRICTION_SLOT_STATES 3
+/* No slot: the memoryless law. */
+#define TB__NO_SLOT ((size_t)-1)
+
+typedef struct tb__friction_pool tb__friction_pool;
+
+/* A pool of `slots` >= 1 slots, all free; presliding (m) scales the freeing threshold. On
+ * failure NULL (out of memory). */
+tb__friction_pool *tb__friction_pool_create(size_t slots, double presliding);
+void tb__friction_pool_destroy(tb__friction_pool *pool);
+size_t tb__friction_pool_slots(const tb__friction_pool *pool);
+
+/* The slots of pair's touching points (depth > 0) at y, TB__NO_SLOT for the others and for
+ * points without one; *fresh counts the pass's provisional claims so far (start it at 0). */
+void tb__friction_match(const tb__friction_pool *pool, const tb__pair_contact *pair,
+                        const tb__motion *motion_a, size_t *fresh,
+                        size_t slots[TB__MANIFOLD_POINTS]);
+
+/* dz = -release z for every slot (states: the pool's first state in y and dydt); the
+ * derivative then overwrites the slots points hold. */
+void tb__friction_relax_all(const tb__friction_pool *pool, const double *z, double *dz);
+
+/* Friction on B at a touching point with normal force N > 0, normal n (A to B), relative
+ * tangential velocity v_t of B against A (world), at a point whose spring has stiffness and
+ * damping given (N/m, N s/m): with z (A's frame, q_a A's unit quaternion) the stick anchor,
+ * writing dz; with z NULL the memoryless law (dz unused). */
+void tb__friction_force(const tb__contact_params *contact, double stiffness, double damping,
+                        double N, const double n[3], const double v_t[3], const double q_a[4],
+                        const double *z, double *dz, double friction[3]);
+
+/* What the pool did (include/tumble/effects.h). */
+const tb_contact_friction_stats *tb__friction_stats(const tb__friction_pool *pool);
+
+/* The contact effect's post_step op: the slot map's update at a step boundary. */
+void tb__friction_post_step(const tb__effect *effect, const tb_scene *scene, const double *y);
+
+#endif

@@ -1,0 +1,339 @@
+/* Static friction between bodies: the contact effect's pool of friction slots, the map from
+ * touching points to slots, its update at step boundaries, and the friction law at a point
+ * (contact_friction.h has the design). */
+#include "effects/contact_friction.h"
+
+#include "contact/contact_law.h"
+#include "math/tb_math.h"
+
+#include <stdbool.h>
+#include <stdlib.h>
+
+/* A claimed slot whose pair no longer holds it is freed once |z| is below this many
+ * presliding distances: a new contact then starts with its spring (nearly) unloaded. At
+ * TB__BRISTLE_RELEASE_RATE that takes ln(1000) / 100 = 69 ms after the pair parted. */
+#define TB__FRICTION_FREE_DEFLECTION 1e-3
+/* Pairs handled per batch of the boundary's pass. */
+#define TB__FRICTION_BATCH 16
+
+typedef struct tb__friction_slot {
+    size_t body_a, body_b; /* the pair holding it; body_a TB__NO_SLOT when free */
+    double key[3];         /* the point in A's principal frame at the last boundary, m */
+} tb__friction_slot;
+
+struct tb__friction_pool {
+    size_t capacity;
+    tb__friction_slot *slots;
+    size_t *queue; /* ring of the free slots, handed out from the head */
+    size_t head, free_count;
+    size_t *index; /* the claimed slots sorted by (body_a, body_b) */
+    size_t index_count;
+    bool *held; /* scratch of the boundary's pass: capacity flags */
+    double free_deflection;
+    tb_contact_friction_stats stats;
+};
+
+tb__friction_pool *tb__friction_pool_create(size_t slots, double presliding)
+{
+    tb__friction_pool *pool =
+        slots <= ((size_t)-1) / sizeof(tb__friction_slot) ? calloc(1, sizeof *pool) : NULL;
+    if (pool == NULL) {
+        return NULL;
+    }
+    pool->slots = malloc(slots * sizeof *pool->slots);
+    pool->queue = malloc(slots * sizeof *pool->queue);
+    pool->index = malloc(slots * sizeof *pool->index);
+    pool->held = malloc(slots * sizeof *pool->held);
+    if (pool->slots == NULL || pool->queue == NULL || pool->index == NULL || pool->held == NULL) {
+        tb__friction_pool_destroy(pool);
+        return NULL;
+    }
+    pool->capacity = slots;
+    for (size_t s = 0; s < slots; ++s) {
+        pool->slots[s].body_a = TB__NO_SLOT;
+        pool->queue[s] = s;
+    }
+    pool->free_count = slots;
+    pool->free_deflection = TB__FRICTION_FREE_DEFLECTION * presliding;
+    pool->stats.slots = slots;
+    return pool;
+}
+
+void tb__friction_pool_destroy(tb__friction_pool *pool)
+{
+    if (pool != NULL) {
+        free(pool->slots);
+        free(pool->queue);
+        free(pool->index);
+        free(pool->held);
+        free(pool);
+    }
+}
+
+size_t tb__friction_pool_slots(const tb__friction_pool *pool)
+{
+    return pool->capacity;
+}
+
+static bool pair_before(const tb__friction_slot *s, size_t a, size_t b)
+{
+    return s->body_a < a || (s->body_a == a && s->body_b < b);
+}
+
+/* The index entries [*first, *end) of pair (a, b). */
+static void pair_run(const tb__friction_pool *pool, size_t a, size_t b, size_t *first, size_t *end)
+{
+    size_t low = 0, high = pool->index_count;
+    while (low < high) {
+        const size_t middle = low + (high - low) / 2;
+        if (pair_before(&pool->slots[pool->index[middle]], a, b)) {
+            low = middle + 1;
+        } else {
+            high = middle;
+        }
+    }
+    *first = low;
+    while (low < pool->index_count && pool->slots[pool->index[low]].body_a == a &&
+           pool->slots[pool->index[low]].body_b == b) {
+        ++low;
+    }
+    *end = low;
+}
+
+static double distance2(const double p[3], const double q[3])
+{
+    const double d[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+    return tb__v3_dot(d, d);
+}
+
+/* The keys of pair's points in A's principal frame; touching[j]: depth > 0. */
+static void point_keys(const tb__pair_contact *pair, const tb__motion *motion_a,
+                       double keys[TB__MANIFOLD_POINTS][3], bool touching[TB__MANIFOLD_POINTS])
+{
+    for (int j = 0; j < pair->manifold.count; ++j) {
+        const tb__contact_point *p = &pair->manifold.points[j];
+        const double arm[3] = {p->position[0] - motion_a->x[0], p->position[1] - motion_a->x[1],
+                               p->position[2] - motion_a->x[2]};
+        tb__q_rotate_inverse(keys[j], motion_a->q, arm);
+        touching[j] = p->depth > 0.0;
+    }
+}
+
+/* Greedy nearest-first matching of the touching points to the run's slots (a pair claims at
+ * most one slot per point it ever had at once, so the run holds at most TB__MANIFOLD_POINTS). */
+static void match_claimed(const tb__friction_pool *pool, size_t first, size_t end, int count,
+                          double keys[TB__MANIFOLD_POINTS][3],
+                          const bool touching[TB__MANIFOLD_POINTS],
+                          size_t slots[TB__MANIFOLD_POINTS])
+{
+    bool used[TB__MANIFOLD_POINTS] = {false};
+    const size_t run = end - first < TB__MANIFOLD_POINTS ? end - first : TB__MANIFOLD_POINTS;
+    for (size_t round = 0; round < run; ++round) {
+        double best = INFINITY;
+        int point = -1;
+        size_t entry = 0;
+        for (int j = 0; j < count; ++j) {
+            for (size_t r = 0; r < run && touching[j] && slots[j] == TB__NO_SLOT; ++r) {
+                const double d = used[r]
+                                     ? INFINITY
+                                     : distance2(keys[j], pool->slots[pool->index[first + r]].key);
+                if (d < best) {
+                    best = d;
+                    point = j;
+                    entry = r;
+                }
+            }
+        }
+        if (point < 0) {
+            return;
+        }
+        used[entry] = true;
+        slots[point] = pool->index[first + entry];
+    }
+}
+
+void tb__friction_match(const tb__friction_pool *pool, const tb__pair_contact *pair,
+                        const tb__motion *motion_a, size_t *fresh,
+                        size_t slots[TB__MANIFOLD_POINTS])
+{
+    double keys[TB__MANIFOLD_POINTS][3];
+    bool touching[TB__MANIFOLD_POINTS];
+    const int count = pair->manifold.count;
+    point_keys(pair, motion_a, keys, touching);
+    for (int j = 0; j < TB__MANIFOLD_POINTS; ++j) {
+        slots[j] = TB__NO_SLOT;
+    }
+    size_t first, end;
+    pair_run(pool, pair->body_a, pair->body_b, &first, &end);
+    match_claimed(pool, first, end, count, keys, touching, slots);
+    for (int j = 0; j < count; ++j) {
+        if (touching[j] && slots[j] == TB__NO_SLOT) {
+            if (*fresh < pool->free_count) {
+                slots[j] = pool->queue[(pool->head + *fresh) % pool->capacity];
+            }
+            ++*fresh; /* past free_count: no slot, counted at the boundary */
+        }
+    }
+}
+
+void tb__friction_relax_all(const tb__friction_pool *pool, const double *z, double *dz)
+{
+    const size_t n = TB__FRICTION_SLOT_STATES * pool->capacity;
+    for (size_t k = 0; k < n; ++k) {
+        dz[k] = -TB__BRISTLE_RELEASE_RATE * z[k];
+    }
+}
+
+/* mu at slip speed w: from mu_s at rest to mu_k (Stribeck, over stribeck_velocity). */
+static double stribeck(const tb__contact_params *contact, double slip)
+{
+    const double ratio = slip / contact->stribeck_velocity;
+    return contact->kinetic_friction +
+           (contact->static_friction - contact->kinetic_friction) * exp(-ratio * ratio);
+}
+
+/* The memoryless law: -mu(|v_t|) N v_t / sqrt(|v_t|^2 + v_reg^2). */
+static void slip_friction(const tb__contact_params *contact, double N, const double v_t[3],
+                          double friction[3])
+{
+    const double speed = tb__v3_norm(v_t);
+    const double scale =
+        stribeck(contact, speed) * N /
+        sqrt(speed * speed + TB__FRICTION_REGULARISATION * TB__FRICTION_REGULARISATION);
+    tb__v3_set(friction, -scale * v_t[0], -scale * v_t[1], -scale * v_t[2]);
+}
+
+/* The stick anchor in world vectors (the ground's law, effect_ground.c bristles(), with z in 3D:
+ * its part along n, which only the turning of n relative to A gives it, relaxes at the release
+ * rate and pushes nothing). */
+static void anchor_friction(const tb__contact_params *contact, double stiffness, double damping,
+                            double N, const double n[3], const double v_t[3], const double z[3],
+                            double dz[3], double friction[3])
+{
+    const double along = tb__v3_dot(z, n);
+    double z_t[3], trial[3];
+    for (int k = 0; k < 3; ++k) {
+        z_t[k] = z[k] - along * n[k];
+    }
+    const double deflection = tb__v3_norm(z_t);
+    const double cone = contact->static_friction * N / stiffness;
+    const double excess = deflection > cone ? deflection - cone : 0.0;
+    const double mu = stribeck(contact, TB__BRISTLE_MAX_RATE * excess);
+    for (int k = 0; k < 3; ++k) {
+        trial[k] = -(stiffness * z_t[k] + damping * v_t[k]);
+        dz[k] = v_t[k] - TB__BRISTLE_RELEASE_RATE * along * n[k] -
+                (excess > 0.0 ? TB__BRISTLE_MAX_RATE * excess * z_t[k] / deflection : 0.0);
+    }
+    const double magnitude = tb__v3_norm(trial);
+    const double scale = magnitude > mu * N ? mu * N / magnitude : 1.0;
+    tb__v3_set(friction, scale * trial[0], scale * trial[1], scale * trial[2]);
+}
+
+void tb__friction_force(const tb__contact_params *contact, double stiffness, double damping,
+                        double N, const double n[3], const double v_t[3], const double q_a[4],
+                        const double *z, double *dz, double friction[3])
+{
+    if (z == NULL) {
+        slip_friction(contact, N, v_t, friction);
+        return;
+    }
+    if (!(contact->static_friction > 0.0)) { /* frictionless: z relaxes (relax_all) */
+        tb__v3_set(friction, 0.0, 0.0, 0.0);
+        return;
+    }
+    double z_world[3], dz_world[3];
+    tb__q_rotate(z_world, q_a, z);
+    anchor_friction(contact, stiffness, damping, N, n, v_t, z_world, dz_world, friction);
+    tb__q_rotate_inverse(dz, q_a, dz_world);
+}
+
+/* The boundary's pass over one pair: held slots take the points' keys, provisional ones are
+ * claimed for the pair. */
+static void hold_pair(tb__friction_pool *pool, const tb_scene *scene, const double *y,
+                      const tb__pair_contact *pair, size_t *fresh)
+{
+    tb__motion motion;
+    tb__body_motion(&scene->bodies[pair->body_a], y + TB_STATE_SIZE * pair->body_a, &motion);
+    double keys[TB__MANIFOLD_POINTS][3];
+    bool touching[TB__MANIFOLD_POINTS];
+    size_t slots[TB__MANIFOLD_POINTS];
+    point_keys(pair, &motion, keys, touching);
+    tb__friction_match(pool, pair, &motion, fresh, slots);
+    for (int j = 0; j < pair->manifold.count; ++j) {
+        if (slots[j] == TB__NO_SLOT) {
+            continue;
+        }
+        tb__friction_slot *slot = &pool->slots[slots[j]];
+        slot->body_a = pair->body_a;
+        slot->body_b = pair->body_b;
+        tb__v3_set(slot->key, keys[j][0], keys[j][1], keys[j][2]);
+        pool->held[slots[j]] = true;
+    }
+}
+
+/* Puts the claims of the pass (the slots held, not yet in the index) into the sorted index;
+ * frees the claimed slots no pair holds whose deflection has relaxed. A slot's place in the
+ * index only changes when it is claimed or freed, so the index stays nearly sorted and one
+ * insertion per claim keeps it so. */
+static void update_index(tb__friction_pool *pool, const double *z)
+{
+    size_t kept = 0;
+    for (size_t k = 0; k < pool->index_count; ++k) {
+        const size_t s = pool->index[k];
+        const double *zs = z + TB__FRICTION_SLOT_STATES * s;
+        if (!pool->held[s] && tb__v3_norm(zs) < pool->free_deflection) {
+            pool->slots[s].body_a = TB__NO_SLOT;
+            pool->queue[(pool->head + pool->free_count++) % pool->capacity] = s;
+        } else {
+            pool->index[kept++] = s;
+        }
+        pool->held[s] = false; /* what remains held is newly claimed */
+    }
+    pool->index_count = kept;
+    for (size_t s = 0; s < pool->capacity; ++s) {
+        if (!pool->held[s]) {
+            continue;
+        }
+        pool->held[s] = false;
+        size_t k = pool->index_count++;
+        const tb__friction_slot *claimed = &pool->slots[s];
+        for (; k > 0 && pair_before(claimed, pool->slots[pool->index[k - 1]].body_a,
+                                    pool->slots[pool->index[k - 1]].body_b);
+             --k) {
+            pool->index[k] = pool->index[k - 1];
+        }
+        pool->index[k] = s;
+    }
+}
+
+void tb__friction_post_step(const tb__effect *effect, const tb_scene *scene, const double *y)
+{
+    const tb__contact_params *contact = &effect->params.contact;
+    tb__friction_pool *pool = contact->friction;
+    for (size_t s = 0; s < pool->capacity; ++s) {
+        pool->held[s] = false;
+    }
+    tb__pair_contact batch[TB__FRICTION_BATCH];
+    tb__contact_pairs_begin(contact->pairs, scene, y);
+    size_t count, fresh = 0;
+    while ((count = tb__contact_pairs_next(contact->pairs, scene, y, batch, TB__FRICTION_BATCH)) >
+           0) {
+        for (size_t k = 0; k < count; ++k) {
+            hold_pair(pool, scene, y, &batch[k], &fresh);
+        }
+    }
+    const size_t claimed = fresh < pool->free_count ? fresh : pool->free_count;
+    pool->head = (pool->head + claimed) % pool->capacity;
+    pool->free_count -= claimed;
+    update_index(pool, y + effect->state_offset);
+    tb_contact_friction_stats *stats = &pool->stats;
+    stats->boundaries++;
+    stats->overflows += fresh - claimed;
+    stats->in_use = pool->index_count;
+    stats->peak_in_use = stats->in_use > stats->peak_in_use ? stats->in_use : stats->peak_in_use;
+}
+
+const tb_contact_friction_stats *tb__friction_stats(const tb__friction_pool *pool)
+{
+    return &pool->stats;
+}
