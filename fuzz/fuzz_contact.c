@@ -69,7 +69,9 @@ static void trace(const harness *h, const char *format, ...)
 }
 
 typedef struct snapshot {
-    double y[13 * FUZZ_BODIES + 2 * 64 * 4];
+    /* bodies, ground friction states, and the friction slots of contact effects (at most one
+     * per pair of bodies, 6 slots of 3 doubles per body of an effect by default) */
+    double y[13 * FUZZ_BODIES + 2 * 64 * 4 + FUZZ_BODIES * FUZZ_BODIES * 6 * 3 * 6];
     size_t size, bodies, effects;
 } snapshot;
 
