@@ -35,6 +35,9 @@ typedef struct fixture {
     double vertices[12], subnormal_tensor[9], subnormal_masses[2], huge_omega[3];
     unsigned triangles[12], past_the_vertices[12];
     tb_contact_point far_point;
+    tb_shape nan_sphere, far_hull, flat_hull;
+    tb_contact_def bad_contact, null_bodies;
+    double far_vertices[12], flat_vertices[12];
     size_t id, count;
     char name[100];
 } fixture;
@@ -85,6 +88,28 @@ static void set_up_extremes(fixture *f)
     f->long_name.name = f->name;
 }
 
+/* Shapes and contact effects (issue 12). */
+static void set_up_contact(fixture *f)
+{
+    f->nan_sphere = tb_shape_default();
+    f->nan_sphere.type = TB_SHAPE_SPHERE;
+    f->nan_sphere.radius = NAN;
+    for (int k = 0; k < 12; ++k) {
+        f->far_vertices[k] = k % 3 == k / 3 ? 1e101 : 0.0; /* a tetrahedron past 1e100 m */
+        f->flat_vertices[k] = k % 3 == 2 ? 0.0 : (double)(k % 4);
+    }
+    f->far_hull = tb_shape_default();
+    f->far_hull.type = TB_SHAPE_CONVEX;
+    f->far_hull.vertices = f->far_vertices;
+    f->far_hull.vertex_count = 4;
+    f->flat_hull = f->far_hull;
+    f->flat_hull.vertices = f->flat_vertices;
+    f->bad_contact = tb_contact_def_default();
+    f->bad_contact.restitution = 2.0;
+    f->null_bodies = tb_contact_def_default();
+    f->null_bodies.body_count = 2;
+}
+
 static void set_up(fixture *f)
 {
     memset(f, 0, sizeof *f);
@@ -133,6 +158,7 @@ static void set_up(fixture *f)
         f->triangles[k] = (unsigned)(k % 4);
         f->vertices[k] = (double)(k % 3 == k / 3);
     }
+    set_up_contact(f);
     memset(&f->mass, 0x5a, sizeof f->mass);
     memset(&f->method, 0x5a, sizeof f->method);
     set_up_extremes(f);
@@ -286,7 +312,22 @@ static void set_up(fixture *f)
     X("run_frame_count: 1e9 s at 60 fps", INVALID_ARGUMENT,                                        \
       tb_run_frame_count(1e9, 60, &f->count, NULL))                                                \
     X("run: dt 1e-300 (a frame over max_steps)", TOO_MANY_STEPS,                                   \
-      tb_scene_run(f->scene, &f->tiny_dt_run, NULL, NULL, NULL, NULL))
+      tb_scene_run(f->scene, &f->tiny_dt_run, NULL, NULL, NULL, NULL))                             \
+    X("set_body_shape: NaN radius", NOT_FINITE,                                                    \
+      tb_scene_set_body_shape(f->scene, 0, &f->nan_sphere))                                        \
+    X("set_body_shape: id 9", OUT_OF_RANGE, tb_scene_set_body_shape(f->scene, 9, &f->nan_sphere))  \
+    X("set_body_shape: hull 1e101 m out", INVALID_ARGUMENT,                                        \
+      tb_scene_set_body_shape(f->scene, 0, &f->far_hull))                                          \
+    X("set_body_shape: a flat hull", INVALID_ARGUMENT,                                             \
+      tb_scene_set_body_shape(f->scene, 0, &f->flat_hull))                                         \
+    X("set_body_shape: NULL scene", NULL_POINTER, tb_scene_set_body_shape(NULL, 0, &f->far_hull))  \
+    X("body_shape_bounds: no shape", INVALID_ARGUMENT,                                             \
+      tb_scene_body_shape_bounds(f->scene, tb_scene_states_const(f->scene), 0, f->v, f->v))        \
+    X("add_contact: restitution 2", INVALID_ARGUMENT,                                              \
+      tb_scene_add_contact(f->scene, &f->bad_contact))                                             \
+    X("add_contact: NULL def", NULL_POINTER, tb_scene_add_contact(f->scene, NULL))                 \
+    X("add_contact: NULL bodies, count 2", NULL_POINTER,                                           \
+      tb_scene_add_contact(f->scene, &f->null_bodies))
 
 static tb_status attempt(size_t index, fixture *f)
 {

@@ -217,7 +217,8 @@ tb_status tb_scene_default_step(const tb_scene *scene, tb_method method, double 
     const double dt = tb__scene_default_step(scene, scene->states, method);
     if (!(dt > 0.0)) { /* a rate that is not a number (F24): as tb_scene_max_stable_step */
         char which[TB_DETAIL_SIZE];
-        const tb_status status = tb_scene_max_stable_step(scene, method, out_dt, which);
+        double stable = 0.0; /* *out_dt is left alone */
+        const tb_status status = tb_scene_max_stable_step(scene, method, &stable, which);
         return status != TB_STATUS_OK ? status
                                       : tb__scene_fail((tb_scene *)scene, TB_STATUS_NOT_FINITE,
                                                        "no default step: %s", which);
