@@ -85,9 +85,13 @@ static void print_conclusion(cli_output *out, const tb_accuracy_result *results,
     if (best < count) {
         char setting[32];
         format_setting(setting, sizeof setting, results[best].method, results[best].setting);
-        cli_output_printf(out, "cheapest setting with error <= %g m: %s, %s (%.3g m in %.2f ms)\n",
+        cli_output_printf(out, "cheapest setting with error <= %g m: %s, %s (%.3g m in %.2f ms)",
                           target, tb_method_name(results[best].method), setting,
                           results[best].error, 1e3 * results[best].cpu_seconds);
+        if (reference->horizon_frames < reference->frames) {
+            cli_output_printf(out, ", judged up to the horizon, %.6g s", reference->horizon);
+        }
+        cli_output_printf(out, "\n");
     } else {
         cli_output_printf(out, "no setting in the sweep reaches an error of %g m\n", target);
     }

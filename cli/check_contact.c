@@ -11,6 +11,8 @@
 /* Above this many penetrations an overlap at the start stores far more energy than a resting
  * contact ever does: the ground refuses a body 10 penetrations deep for the same reason. */
 #define DEEP_OVERLAP 10.0
+/* Lines of touching pairs and names of bodies listed per line before "... and N more". */
+#define MAX_LISTED 20
 
 static const char *shape_name(const tb_scene *scene, size_t id)
 {
@@ -41,10 +43,15 @@ static void print_contact_effect(const tb_scene *scene, const tb_contact_info *c
     }
     printf("  effects[%zu]: contact between %s (%zu):", c->effect,
            c->every_body ? "every body with a shape" : "the bodies listed", shaped);
-    for (size_t k = 0; k < c->body_count; ++k) {
+    size_t listed = 0;
+    for (size_t k = 0; k < c->body_count && listed < MAX_LISTED; ++k) {
         if (has_shape(scene, c->bodies[k])) {
             printf(" %s", tb_scene_body_name(scene, c->bodies[k]));
+            listed += 1;
         }
+    }
+    if (shaped > listed) {
+        printf(" ... and %zu more", shaped - listed);
     }
     printf("\n");
     print_material(c->restitution, c->static_friction, c->kinetic_friction, c->penetration);
@@ -71,10 +78,12 @@ static void print_ground(const tb_scene *scene, const tb_ground_info *g)
     for (size_t id = 0; id < tb_scene_body_count(scene); ++id) {
         size_t points = 0;
         tb_scene_body_contact_point_count(scene, id, &points);
-        if (points > 0) {
+        if (points > 0 && touched++ < MAX_LISTED) {
             printf(" %s (%zu)", tb_scene_body_name(scene, id), points);
-            touched += 1;
         }
+    }
+    if (touched > MAX_LISTED) {
+        printf(" ... and %zu more", touched - MAX_LISTED);
     }
     printf(touched == 0 ? " no body\n" : "\n");
     print_material(g->restitution, g->static_friction, g->kinetic_friction, g->penetration);
@@ -83,39 +92,47 @@ static void print_ground(const tb_scene *scene, const tb_ground_info *g)
 static void print_shapes(const tb_scene *scene)
 {
     printf("  shapes:");
-    for (size_t id = 0; id < tb_scene_body_count(scene); ++id) {
+    const size_t bodies = tb_scene_body_count(scene);
+    for (size_t id = 0; id < bodies && id < MAX_LISTED; ++id) {
         printf(" %s %s%s", tb_scene_body_name(scene, id), shape_name(scene, id),
-               id + 1 < tb_scene_body_count(scene) ? "," : "\n");
+               id + 1 < bodies ? "," : "");
     }
+    if (bodies > MAX_LISTED) {
+        printf(" ... and %zu more", bodies - MAX_LISTED);
+    }
+    printf("\n");
 }
 
-/* Whether effect c acts on body id, and it has a shape. */
-static bool covers(const tb_scene *scene, const tb_contact_info *c, size_t id)
-{
-    for (size_t k = 0; k < c->body_count; ++k) {
-        if (c->bodies[k] == id) {
-            return has_shape(scene, id);
-        }
-    }
-    return false;
-}
-
-/* Pairs two contact effects both act on: their forces add (twice the stiffness). */
+/* Pairs two contact effects both act on: their forces add (twice the stiffness). The bodies
+ * with a shape that both list, marked in a per-body table so that large scenes stay linear. */
 static void print_double_cover(const tb_scene *scene, const tb_contact_info *a,
                                const tb_contact_info *b, int *warnings)
 {
-    size_t pairs = 0, first[2] = {0, 0};
-    for (size_t i = 0; i < tb_scene_body_count(scene); ++i) {
-        for (size_t j = i + 1;
-             covers(scene, a, i) && covers(scene, b, i) && j < tb_scene_body_count(scene); ++j) {
-            if (covers(scene, a, j) && covers(scene, b, j) && pairs++ == 0) {
-                first[0] = i, first[1] = j;
+    const size_t bodies = tb_scene_body_count(scene);
+    unsigned char *in = calloc(bodies + 1, 1);
+    if (in == NULL) {
+        return;
+    }
+    for (size_t k = 0; k < a->body_count; ++k) {
+        in[a->bodies[k]] = has_shape(scene, a->bodies[k]);
+    }
+    size_t common = 0, first[2] = {0, 0};
+    for (size_t k = 0; k < b->body_count; ++k) {
+        if (in[b->bodies[k]] == 1) {
+            in[b->bodies[k]] = 2; /* counted once */
+            if (common < 2) {
+                first[common] = b->bodies[k];
             }
+            common += 1;
         }
     }
-    if (pairs > 0) {
+    free(in);
+    if (common >= 2) {
+        const size_t pairs = common * (common - 1) / 2;
+        const size_t low = first[0] < first[1] ? first[0] : first[1];
+        const size_t high = first[0] < first[1] ? first[1] : first[0];
         printf("warning: effects[%zu] and effects[%zu] both act on %s-%s", a->effect, b->effect,
-               tb_scene_body_name(scene, first[0]), tb_scene_body_name(scene, first[1]));
+               tb_scene_body_name(scene, low), tb_scene_body_name(scene, high));
         if (pairs > 1) {
             printf(" and %zu more %s", pairs - 1, summary_plural(pairs - 1, "pair", "pairs"));
         }
@@ -176,8 +193,11 @@ static void print_touching(const tb_scene *scene, int *warnings)
     }
     tb_scene_contact_touching(scene, tb_scene_states_const(scene), touches, count, &count);
     printf(count == 0 ? "touching at the start: nothing\n" : "touching at the start:\n");
-    for (size_t k = 0; k < count; ++k) {
+    for (size_t k = 0; k < count && k < MAX_LISTED; ++k) {
         print_touch(scene, &touches[k], warnings);
+    }
+    if (count > MAX_LISTED) {
+        printf("  ... and %zu more\n", count - MAX_LISTED);
     }
     free(touches);
 }

@@ -59,8 +59,9 @@ typedef struct tb_contact_touch {
 
 /* The pairs touching at state y (the scene's state array, e.g. tb_scene_states_const), every
  * contact effect's then every ground plane's; the first capacity of them into out (may be
- * NULL when capacity is 0) and their number into *out_count. TB_STATUS_BUSY while an
- * integrator steps the scene (the pair finder's scratch is the derivative's). */
+ * NULL when capacity is 0) and their number into *out_count. It uses the pair finder's scratch
+ * (the derivative's): TB_STATUS_BUSY while an integrator steps the scene, and not from two
+ * threads at once on one scene. */
 TB_API tb_status tb_scene_contact_touching(const tb_scene *scene, const double *y,
                                            tb_contact_touch *out, size_t capacity,
                                            size_t *out_count);

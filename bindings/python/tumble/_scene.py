@@ -303,6 +303,7 @@ def _accuracy_row(result):
                 error=result.error if ok else None,
                 position_error=result.position_error if ok else None,
                 angle_error=result.angle_error if ok else None,
+                energy_error=result.energy_error if ok else None,
                 cpu_ms=1e3 * result.cpu_seconds, steps=result.steps,
                 derivatives=result.derivative_evals,
                 status=lib.tb_status_name(result.status).decode(),
@@ -311,9 +312,12 @@ def _accuracy_row(result):
 
 def _accuracy(self, target_error: float = 1e-3, sweep=ACCURACY_SWEEP) -> tuple:
     """Runs the scene with each integrator setting of `sweep` against cvode-bdf at rtol 1e-11
-    (the library's tb_scene_accuracy_sweep, as `tumble accuracy`) and returns (rows, best):
+    (RK4 at an eighth of the default step where BDF fails; frames up to the horizon where two
+    references agree to 1e-4 m: the library's tb_scene_accuracy_sweep, as `tumble accuracy`)
+    and returns (rows, best):
     each row a dict with method, setting, error (the largest displacement |dx| + l angle of a
     body's points at its radius of gyration l, m), position_error (m), angle_error (rad),
+    energy_error (J, at the last frame),
     cpu_ms, steps, derivatives, status and note (None, or the library's detail saying why the
     setting did not run); best is the cheapest row with error <= target_error, or None.
     Raises TumbleError when the reference run fails, with the library's reason."""
