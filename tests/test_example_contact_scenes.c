@@ -4,7 +4,7 @@
  * at its worst and not only at the file's 60 fps. One scene per invocation:
  *   test_example_contact_scenes NAME [DURATION]
  * NAME: dice, dominoes, stack, newtons_cradle. DURATION (s) cuts the run short (the sanitizer
- * builds, where a run is some 15 times slower): the checks that need the whole run (at rest at
+ * builds, where a step takes some 10 times the CPU): the checks that need the whole run (at rest at
  * the end, all fallen) are then skipped and say so; the others hold over the part run.
  *
  * Penetrations are measured from the geometry (separating axes of the two boxes), not from the
