@@ -16,9 +16,9 @@
  * default step (and a half and a quarter of it), CVODE Adams and BDF at rtol 1e-4 to 1e-8.
  * MuJoCo: its defaults (Euler, soft contact solref 0.02 s critically damped, Newton solver,
  * pyramidal cone, friction 0.5: one coefficient where tumble has mu_s and mu_k), at tumble's RK4
- * step and at its own default 2 ms. What differs is said beside the numbers in
- * docs/accuracy.md: MuJoCo solves for soft constraint forces each step, tumble integrates a
- * compliant penalty law.
+ * step and at its own default 2 ms (the drops also at 0.5 ms). What differs is said beside the
+ * numbers in docs/accuracy.md: MuJoCo solves for soft constraint forces each step, tumble
+ * integrates a compliant penalty law.
  *
  * Prints CSV: case, engine, bodies, method, setting (step s or rtol), ns per body-step, CPU
  * seconds, steps, then the case's figure: deepest penetration (m; pile, die), momentum error
