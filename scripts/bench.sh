@@ -28,7 +28,7 @@ scripts/build.sh
 out=build/bench-results
 mkdir -p "$out"
 for bench in bench_work_precision bench_torque_free_top bench_bdf_scaling bench_effects \
-    bench_throughput bench_export bench_contact_geometry bench_peer bench_limit; do
+    bench_throughput bench_export bench_contact_geometry bench_peer bench_limit bench_dice_events; do
     echo "bench: $bench" >&2
     "build/bench/$bench" "${quick[@]}" >"$out/$bench.csv"
 done
