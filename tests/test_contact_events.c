@@ -244,6 +244,38 @@ static void test_approaching_balls_meet_at_gap_over_speed_after_few_steps(void *
     }
 }
 
+/* The steps and events depend on the state alone, never on the times asked for: the balls'
+ * collision run at 24 and at 240 frames a second under Adams ends in the same state to the last
+ * bit, with the same steps and events. */
+static void test_the_frame_rate_does_not_change_the_steps_or_events(void **unused)
+{
+    (void)unused;
+    double end[2][26];
+    tb_integrator_stats stats[2];
+    tb_integrator_events events[2];
+    const int fps[2] = {24, 240};
+    for (int r = 0; r < 2; ++r) {
+        tb_scene *scene = new_scene();
+        add_sphere(scene, 1.0, 0.1, (double[]){-0.5, 0, 0}, (double[]){1, 0, 0});
+        add_sphere(scene, 3.0, 0.1, (double[]){0.5, 0.05, 0}, (double[]){-1, 0, 0});
+        const tb_contact_def contact = tb_contact_def_default();
+        assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+        tb_integrator *integrator = adaptive_integrator(scene, TB_METHOD_CVODE_ADAMS, 1e-6);
+        for (int f = 1; f <= fps[r]; ++f) {
+            assert_int_equal(tb_integrator_advance(integrator, (double)f / fps[r]), TB_STATUS_OK);
+        }
+        memcpy(end[r], tb_scene_states(scene), sizeof end[r]);
+        assert_int_equal(tb_integrator_get_stats(integrator, &stats[r]), TB_STATUS_OK);
+        events[r] = events_of(integrator);
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+    assert_memory_equal(end[0], end[1], sizeof end[0]);
+    assert_int_equal(stats[0].steps, stats[1].steps);
+    assert_int_equal(events[0].count, events[1].count);
+    assert_true(events[0].count >= 2 && events[0].last_time == events[1].last_time);
+}
+
 /* --- fixed steps and thin bodies ----------------------------------------------------------- */
 
 /* A 2 cm steel ball (33 g) at 20 m/s towards a 1 cm aluminium plate (0.2 m square, 1.08 kg)
@@ -349,6 +381,7 @@ int main(void)
         cmocka_unit_test(test_a_step_limit_bounds_every_adaptive_step),
         cmocka_unit_test(test_a_dropped_ball_touches_the_box_at_the_free_fall_time),
         cmocka_unit_test(test_approaching_balls_meet_at_gap_over_speed_after_few_steps),
+        cmocka_unit_test(test_the_frame_rate_does_not_change_the_steps_or_events),
         cmocka_unit_test(test_a_fast_ball_bounces_off_a_thin_plate_at_the_default_step),
         cmocka_unit_test(test_a_step_that_would_pass_through_the_plate_is_refused),
     };

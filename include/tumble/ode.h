@@ -208,8 +208,9 @@ typedef struct tb_integrator_def {
                             reached, y at the last good step. A fixed-step advance whose target is
                             more than max_steps steps of dt away is refused before any step */
     double initial_step; /* first step size; 0 (default) lets CVODE estimate it */
-    double max_step;     /* largest step size; 0 (default) for no limit (on a scene with contact
-                            between bodies: half the shortest push, docs/effects.md) */
+    double max_step;     /* largest step size; 0 (default) for no limit. A scene with contact
+                            also limits each step near a contact (tb_ode_system.step_limit,
+                            docs/effects.md); the tighter limit wins */
     int max_order;       /* 0 (default) for the method's largest (Adams 12, BDF 5);
                             CVODE keeps max_order + 1 history vectors, so Adams at 5
                             takes 7 state-sized vectors fewer (docs/performance.md) */
@@ -307,7 +308,9 @@ TB_API void tb_integrator_destroy(tb_integrator *integrator);
  * CV_TOO_MUCH_WORK is TB_STATUS_TOO_MANY_STEPS. */
 TB_API tb_status tb_integrator_advance(tb_integrator *integrator, double t_target);
 
-/* Takes exactly one step: of size dt (fixed-step), or one internal CVODE step. */
+/* Takes exactly one step: of size dt (fixed-step), or one internal CVODE step; with event
+ * functions (tb_ode_system.roots) it stops at an event inside that step instead, and the next
+ * call goes on to the step's end. */
 TB_API tb_status tb_integrator_step(tb_integrator *integrator);
 
 /* Current time of y. */
