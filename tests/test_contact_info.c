@@ -40,44 +40,47 @@ static void test_contact_effects_read_back_what_they_were_given(void **state)
     add_ball(scene, 0.1, 0.15, 1.0); /* centres 0.15 apart: 0.05 m of overlap */
     add_ball(scene, 0.0, 5.0, 1.0);  /* no shape */
     tb_scene_add_gravity(scene, (double[]){0, 0, -9.81});
+    /* every body so far (0, 1, 2); bodies added later are not in it */
+    tb_contact_def every = tb_contact_def_default();
+    assert_int_equal(tb_scene_add_contact(scene, &every), TB_STATUS_OK);
+    add_ball(scene, 0.0, 10.0, 1.0); /* 3: no shape */
     tb_contact_def def = tb_contact_def_default();
     def.restitution = 0.7; /* above 0.062, so the law meets it (to 1e-7) */
     def.static_friction = 0.45;
     def.kinetic_friction = 0.25;
     def.penetration = 2e-5;
-    const size_t listed[2] = {1, 2};
+    const size_t listed[2] = {2, 3}; /* shares body 2 with the first, no pair (refused if it did) */
     def.bodies = listed;
     def.body_count = 2;
     assert_int_equal(tb_scene_add_contact(scene, &def), TB_STATUS_OK);
-    tb_contact_def every = tb_contact_def_default();
-    assert_int_equal(tb_scene_add_contact(scene, &every), TB_STATUS_OK);
     assert_int_equal(tb_scene_contact_count(scene), 2);
     assert_int_equal(tb_scene_ground_count(scene), 0);
 
     tb_contact_info info;
     assert_int_equal(tb_scene_get_contact(scene, 0, &info), TB_STATUS_OK);
     assert_int_equal(info.effect, 1); /* after gravity */
+    assert_true(info.every_body);
+    assert_int_equal(info.body_count, 3);
+    assert_int_equal(tb_scene_get_contact(scene, 1, &info), TB_STATUS_OK);
+    assert_int_equal(info.effect, 2);
     assert_false(info.every_body);
     assert_int_equal(info.body_count, 2);
-    assert_int_equal(info.bodies[0], 1);
-    assert_int_equal(info.bodies[1], 2);
+    assert_int_equal(info.bodies[0], 2);
+    assert_int_equal(info.bodies[1], 3);
     assert_true(fabs(info.restitution - 0.7) < 1e-6);
     assert_true(info.static_friction == 0.45 && info.kinetic_friction == 0.25);
     assert_true(fabs(info.penetration - 2e-5) < 1e-18); /* g / (sqrt(g / p))^2 */
-    assert_int_equal(tb_scene_get_contact(scene, 1, &info), TB_STATUS_OK);
-    assert_true(info.every_body);
-    assert_int_equal(info.body_count, 3);
     assert_int_equal(tb_scene_get_contact(scene, 2, &info), TB_STATUS_OUT_OF_RANGE);
 
     /* Each effect finds the overlapping pair (0, 1) only where it covers both: the every-body
-     * effect does; the listed one (bodies 1 and 2, 2 without a shape) has no pair. */
+     * effect does; the listed one (bodies 2 and 3, without shapes) has no pair. */
     tb_contact_touch touch[4];
     size_t count = 0;
     assert_int_equal(
         tb_scene_contact_touching(scene, tb_scene_states_const(scene), touch, 4, &count),
         TB_STATUS_OK);
     assert_int_equal(count, 1);
-    assert_int_equal(touch[0].effect, 2);
+    assert_int_equal(touch[0].effect, 1);
     assert_int_equal(touch[0].body_a, 0);
     assert_int_equal(touch[0].body_b, 1);
     assert_true(fabs(touch[0].depth - 0.05) < 1e-12); /* 0.2 - 0.15 */

@@ -115,19 +115,33 @@ static int apply_contact(const tb__effect *effect, const tb_scene *scene, double
     return 0;
 }
 
-/* M |r|^2 / I at the reach of body id's shape (the farthest corner of its world bounds at y from
- * the centre of mass), plus 1: how much lighter a point of the body's surface is than the body. */
+/* M |r|^2 / I at the reach of body id's shape, plus 1: how much lighter a point of the body's
+ * surface is than the body. The reach is the farthest corner of the shape's bounds in its own
+ * frame (closed forms per type; a sphere's corner is sqrt 3 radii out, a margin the default
+ * steps of ball scenes were measured with) from the centre of mass. It is fixed in the body, so
+ * the bound does not change as the body turns: the world bounds' corner did (up to sqrt 3
+ * farther for a tumbling die, so a default step chosen at the start was refused mid-throw). */
 static double lightness(const tb_scene *scene, const double *y, size_t id)
 {
-    double low[3], high[3];
-    if (tb_scene_body_shape_bounds(scene, y, id, low, high) != TB_STATUS_OK) {
-        return 1.0;
-    }
+    const tb__collision_shape *shape = tb__scene_body_collision_shape(scene, id);
+    const double identity[TB__POSE_SIZE] = {0, 0, 0, 1, 0, 0, 0};
+    double low[3], high[3], pose[TB__POSE_SIZE];
+    tb__collision_shape_bounds(shape, identity, low, high); /* in the shape frame */
+    tb__shape_pose(scene, y, id, pose);
     const double *x = y + TB_STATE_SIZE * id;
-    double reach[3];
-    for (int k = 0; k < 3; ++k) {
-        reach[k] = fmax(fabs(low[k] - x[k]), fabs(high[k] - x[k]));
+    double reach2 = 0.0;
+    for (int corner = 0; corner < 8; ++corner) {
+        double local[3], world[3];
+        for (int k = 0; k < 3; ++k) {
+            local[k] = (corner >> k) & 1 ? high[k] : low[k];
+        }
+        tb__q_rotate(world, pose + 3, local);
+        for (int k = 0; k < 3; ++k) {
+            world[k] += pose[k] - x[k];
+        }
+        reach2 = fmax(reach2, tb__v3_dot(world, world));
     }
+    const double reach[3] = {sqrt(reach2), 0.0, 0.0};
     return scene->bodies[id].mass * tb__inverse_mass_at(&scene->bodies[id], reach);
 }
 
@@ -168,8 +182,7 @@ static void contact_rate(const tb__effect *effect, const tb_scene *scene, const 
     }
     tb__effect_rate_add_decay(out, TB__BRISTLE_RELEASE_RATE, body);
     tb__effect_rate_add_decay(
-        out, contact->static_friction * contact->gravity * a * a / TB__FRICTION_REGULARISATION,
-        body);
+        out, contact->static_friction * contact->gravity * a * a / contact->slip_velocity, body);
 }
 
 static void release_contact(tb__effect *effect)
@@ -312,6 +325,11 @@ static tb_status make_pool(tb_scene *scene, const tb_contact_def *def, tb__effec
     /* per unit of the weight M_min share a point carries, as the ground's (ground_params) */
     contact->bristle_stiffness = def->static_friction / def->presliding;
     contact->bristle_damping = sqrt(contact->bristle_stiffness / def->gravity);
+    /* The memoryless fallback's regularisation: its decay mu_s g a^2 / v_reg then stays within
+     * the friction spring's own fastest mode (about sqrt(g mu_s / presliding) a^2 at the arms,
+     * contact_rate), so a full pool costs no shorter step; 1.7 mm/s at the defaults. */
+    contact->slip_velocity = fmax(TB__FRICTION_REGULARISATION,
+                                  sqrt(def->static_friction * def->gravity * def->presliding));
     return TB_STATUS_OK;
 }
 

@@ -192,14 +192,13 @@ static double stribeck(const tb__contact_params *contact, double slip)
            (contact->static_friction - contact->kinetic_friction) * exp(-ratio * ratio);
 }
 
-/* The memoryless law: -mu(|v_t|) N v_t / sqrt(|v_t|^2 + v_reg^2). */
+/* The memoryless law: -mu(|v_t|) N v_t / sqrt(|v_t|^2 + v_reg^2), v_reg = slip_velocity. */
 static void slip_friction(const tb__contact_params *contact, double N, const double v_t[3],
                           double friction[3])
 {
     const double speed = tb__v3_norm(v_t);
-    const double scale =
-        stribeck(contact, speed) * N /
-        sqrt(speed * speed + TB__FRICTION_REGULARISATION * TB__FRICTION_REGULARISATION);
+    const double scale = stribeck(contact, speed) * N /
+                         sqrt(speed * speed + contact->slip_velocity * contact->slip_velocity);
     tb__v3_set(friction, -scale * v_t[0], -scale * v_t[1], -scale * v_t[2]);
 }
 

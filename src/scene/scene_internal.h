@@ -159,7 +159,8 @@ typedef struct tb__contact_params {
     struct tb__contact_pairs *lookahead;       /* owned: pairs within TB__EVENT_LOOKAHEAD, for the
                                                   events and step limits (effect_contact_events.c) */
     double bristle_stiffness, bristle_damping; /* friction spring per unit weight, as ground's */
-    struct tb__friction_pool *friction;        /* owned; effects/contact_friction.h */
+    double slip_velocity; /* m/s: v_reg of the memoryless law a point without a slot gets */
+    struct tb__friction_pool *friction; /* owned; effects/contact_friction.h */
 } tb__contact_params;
 
 typedef struct tb__user_params {
