@@ -12,6 +12,12 @@
 #include "near.h"
 #include "tumble/tumble.h"
 
+/* How long the holds run (s): 10, as the issue asks; the sanitizer builds, where a step costs about
+ * ten times the CPU, set 1 (tests/CMakeLists.txt) and check the same bounds over it. */
+#ifndef TB_TEST_HOLD_SECONDS
+#define TB_TEST_HOLD_SECONDS 10.0
+#endif
+
 #include <math.h>
 #include <stdbool.h>
 #include <stdlib.h>
@@ -147,9 +153,9 @@ static void test_a_box_on_a_box_on_a_slope_holds_under_every_method(void **state
     const double slopes[] = {25.0, 30.46};
     for (size_t m = 0; m < 5; ++m) {
         for (size_t k = 0; k < 2; ++k) {
-            const double moved = hold(slopes[k], methods[m], 10.0);
-            print_message("%-11s %.2f degrees: moved %.3e m in 10 s\n", tb_method_name(methods[m]),
-                          slopes[k], moved);
+            const double moved = hold(slopes[k], methods[m], TB_TEST_HOLD_SECONDS);
+            print_message("%-11s %.2f degrees: moved %.3e m in %g s\n", tb_method_name(methods[m]),
+                          slopes[k], moved, TB_TEST_HOLD_SECONDS);
             assert_true(fabs(moved) < 1e-3);
         }
     }
@@ -220,13 +226,14 @@ static void test_a_bouncing_box_keeps_the_layout_and_holds_after_recontact(void 
             touching = gap < 0.0 ? true : (gap > 1e-6 ? false : touching);
         }
         const double start = downhill(scene, degrees);
-        assert_int_equal(tb_integrator_advance(integrator, 10.0), TB_STATUS_OK);
+        assert_int_equal(tb_integrator_advance(integrator, 1.0 + 0.9 * TB_TEST_HOLD_SECONDS),
+                         TB_STATUS_OK);
         const double moved = downhill(scene, degrees) - start;
         const tb_contact_friction_stats stats = friction_stats(scene);
-        print_message("%-11s %d partings; 1 s to 10 s moved %.3e m; slots in use %zu, peak %zu, "
+        print_message("%-11s %d partings; 1 s to %g s moved %.3e m; slots in use %zu, peak %zu, "
                       "overflows %llu, state length %zu\n",
-                      tb_method_name(methods[m]), partings, moved, stats.in_use, stats.peak_in_use,
-                      stats.overflows, tb_scene_state_size(scene));
+                      tb_method_name(methods[m]), partings, 1.0 + 0.9 * TB_TEST_HOLD_SECONDS, moved,
+                      stats.in_use, stats.peak_in_use, stats.overflows, tb_scene_state_size(scene));
         assert_true(partings >= 2);
         assert_true(fabs(moved) < 1e-3);
         assert_int_equal(tb_scene_state_size(scene), length);

@@ -136,11 +136,11 @@ TB_API tb_status tb_contact_points_capsule(double radius, double length, tb_cont
  * creep. The slots are allocated here, so the state's length is fixed when the effect is
  * added; a point finds its slot again by its position in the first body's frame, a slot is
  * freed at a step boundary once its pair has parted and its spring relaxed, and a point that
- * finds no free slot gets the memoryless mu(v) N v / sqrt(v^2 + (1 mm/s)^2), which creeps
- * (counted: tb_scene_contact_friction_stats). Forces on the two bodies are equal and
- * opposite at the same world point: linear and angular momentum are conserved. bodies NULL
- * (body_count 0): every body of the scene when the effect is added; bodies added later are not
- * included. */
+ * finds no free slot gets the memoryless mu(v) N v / sqrt(v^2 + v_reg^2), v_reg = sqrt(mu_s g
+ * presliding) (1.7 mm/s at the defaults), which creeps (counted: tb_scene_contact_friction_stats).
+ * Forces on the two bodies are equal and opposite at the same world point: linear and angular
+ * momentum are conserved. bodies NULL (body_count 0): every body of the scene when the effect is
+ * added; bodies added later are not included. */
 typedef struct tb_contact_def {
     const size_t *bodies; /* ids, each at most once, copied; NULL: every body */
     size_t body_count;

@@ -177,7 +177,7 @@ TB_API int tb_method_is_adaptive(tb_method method);
 
 /* Linear solver for the Newton iteration of TB_METHOD_CVODE_BDF. */
 typedef enum tb_linear_solver {
-    TB_LINEAR_SOLVER_AUTO = 0, /* dense up to 64 unknowns (128 without blocks), Krylov above */
+    TB_LINEAR_SOLVER_AUTO = 0, /* dense up to 64 unknowns (512 without blocks), Krylov above */
     TB_LINEAR_SOLVER_DENSE,    /* dense difference-quotient Jacobian and LU: O(n^3) a setup */
     TB_LINEAR_SOLVER_KRYLOV    /* matrix-free GMRES with difference-quotient Jacobian-vector
                                   products, preconditioned block by block for a system with

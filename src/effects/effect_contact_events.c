@@ -208,12 +208,12 @@ double tb__contact_tunnel_step(const tb__effect *effect, const tb_scene *scene, 
         if (slot < 2) {
             speed[slot] = s, fast[slot] = id;
         }
-        if (t < thinnest) {
+        if (t > 0.0 && t < thinnest) { /* points of radius 0 are passed by any step: no bound */
             thinnest = t, thin = id;
         }
     }
     /* the two fastest close at most at the sum of their speeds; every other pair slower */
-    if (fast[1] == TB_ALL_BODIES || !(speed[0] + speed[1] > 0.0)) {
+    if (fast[1] == TB_ALL_BODIES || thin == TB_ALL_BODIES || !(speed[0] + speed[1] > 0.0)) {
         return INFINITY;
     }
     const int mover = thin != fast[0] ? 0 : 1;

@@ -12,6 +12,7 @@
 #include <nvector/nvector_serial.h>
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 
 /* CVODE's root function: the system's at t = t_origin + tau. */
@@ -128,6 +129,10 @@ int tb__cvode_march(tb_integrator *integrator, double tau_out, int mode, double 
             return CVodeGetDky(cvode->mem, tau_out, 0, cvode->y);
         }
         if (calls == integrator->max_steps) {
+            snprintf(cvode->message, sizeof cvode->message,
+                     "max_steps = %ld steps taken (one at a time, for the events and the step "
+                     "limit) before reaching t = %.17g",
+                     integrator->max_steps, (double)tau_out);
             return CV_TOO_MUCH_WORK;
         }
         int flag = limit_next_step(integrator, tn);

@@ -27,22 +27,29 @@ tb_run_def tb_run_def_default(void)
  * max_steps is known before the run, so it is refused before the first frame (the advance
  * would refuse it at the second), and checking a scene refuses it too. One step of slack: the
  * advance decides at the boundary. */
-static tb_status check_frame_budget(const tb_run_def *def, tb_error *error)
+static tb_status check_frame_budget(const tb_scene *scene, const tb_run_def *def, tb_error *error)
 {
     const tb_integrator_def *integrator = &def->integrator;
-    if (tb_method_is_adaptive(integrator->method) || !(integrator->dt > 0) ||
-        !isfinite(integrator->dt) || integrator->max_steps <= 0) {
+    /* dt 0: the scene's default step, which the integrator will take */
+    const double dt = integrator->dt == 0.0 && !tb_method_is_adaptive(integrator->method)
+                          ? tb__scene_default_step(scene, scene->states, integrator->method)
+                          : integrator->dt;
+    if (tb_method_is_adaptive(integrator->method) || !(dt > 0) || !isfinite(dt) ||
+        integrator->max_steps <= 0) {
         return TB_STATUS_OK; /* tb_integrator_create names what is wrong */
     }
-    const double steps = 1.0 / def->fps / integrator->dt;
+    const double steps = 1.0 / def->fps / dt;
     if (!(steps > (double)integrator->max_steps + 1.0)) {
         return TB_STATUS_OK;
     }
     return tb__set_error(error, TB_STATUS_TOO_MANY_STEPS,
-                         "integrator.dt: frames %g s apart (%g fps) are %.3g steps of dt = %g s, "
-                         "more than max_steps = %ld: use a larger dt or max_steps, or more "
-                         "frames a second",
-                         1.0 / def->fps, def->fps, steps, integrator->dt, integrator->max_steps);
+                         "integrator.dt: frames %g s apart (%g fps) are %.3g steps of dt = %g s%s, "
+                         "more than max_steps = %ld: use a larger dt (a softer contact or spring "
+                         "allows one), max_steps (tb_integrator_def; the scene file's is for "
+                         "CVODE), or more frames a second",
+                         1.0 / def->fps, def->fps, steps, dt,
+                         integrator->dt == 0.0 ? " (the scene's default step)" : "",
+                         integrator->max_steps);
 }
 
 static tb_status validate(const tb_scene *scene, const tb_run_def *def, tb_error *error)
@@ -61,7 +68,7 @@ static tb_status validate(const tb_scene *scene, const tb_run_def *def, tb_error
     }
     size_t frames;
     const tb_status status = tb_run_frame_count(def->duration, def->fps, &frames, error);
-    return status != TB_STATUS_OK || frames == 0 ? status : check_frame_budget(def, error);
+    return status != TB_STATUS_OK || frames == 0 ? status : check_frame_budget(scene, def, error);
 }
 
 tb_status tb_run_frame_count(double duration, double fps, size_t *out_frames, tb_error *out_error)
