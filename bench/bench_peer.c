@@ -22,9 +22,7 @@
 #include "torque_free_top.h"
 #include "tumble/tumble.h"
 
-#ifdef TUMBLE_BENCH_MUJOCO
-#include <mujoco/mujoco.h>
-#endif
+#include "bench_mujoco.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -121,20 +119,6 @@ static double tumble_top(const tb_integrator_def *def, const torque_free_top *ex
 /* --- MuJoCo ------------------------------------------------------------------------------ */
 
 #ifdef TUMBLE_BENCH_MUJOCO
-/* A model from XML, or NULL with the reason on stderr. */
-static mjModel *mujoco_model(const char *xml)
-{
-    char error[1000] = "";
-    mjSpec *spec = mj_parseXMLString(xml, NULL, error, sizeof error);
-    mjModel *model = spec != NULL ? mj_compile(spec, NULL) : NULL;
-    if (model == NULL) {
-        fprintf(stderr, "bench_peer: MuJoCo refused the model: %s\n",
-                spec != NULL ? mjs_getError(spec) : error);
-    }
-    mj_deleteSpec(spec);
-    return model;
-}
-
 /* N boxes as above: free joints, no contact, no constraint; qvel (v world, omega local). */
 static double mujoco_boxes_seconds(size_t bodies, long steps)
 {
@@ -157,7 +141,7 @@ static double mujoco_boxes_seconds(size_t bodies, long steps)
                                  bench_box_size[2] / 2);
     }
     snprintf(xml + used, size - used, "</worldbody></mujoco>");
-    mjModel *model = mujoco_model(xml);
+    mjModel *model = bench_mujoco_model("bench_peer", xml);
     free(xml);
     if (model == NULL) {
         return NAN;
@@ -187,7 +171,7 @@ static double mujoco_top(double steps_per_second, const torque_free_top *exact, 
              "<worldbody><body><freejoint/><inertial pos=\"0 0 0\" mass=\"1\" "
              "diaginertia=\"%g %g %g\"/></body></worldbody></mujoco>",
              1.0 / steps_per_second, top_moments[0], top_moments[1], top_moments[2]);
-    mjModel *model = mujoco_model(xml);
+    mjModel *model = bench_mujoco_model("bench_peer", xml);
     if (model == NULL) {
         return NAN;
     }

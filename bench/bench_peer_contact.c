@@ -31,9 +31,7 @@
 #include "bench_scenes.h"
 #include "tumble/tumble.h"
 
-#ifdef TUMBLE_BENCH_MUJOCO
-#include <mujoco/mujoco.h>
-#endif
+#include "bench_mujoco.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -329,20 +327,6 @@ static double tumble_default_step(case_kind kind, size_t count)
 /* --- MuJoCo ---------------------------------------------------------------------------------- */
 
 #ifdef TUMBLE_BENCH_MUJOCO
-/* A model from XML, or NULL with the reason on stderr. */
-static mjModel *mujoco_model(const char *xml)
-{
-    char error[1000] = "";
-    mjSpec *spec = mj_parseXMLString(xml, NULL, error, sizeof error);
-    mjModel *model = spec != NULL ? mj_compile(spec, NULL) : NULL;
-    if (model == NULL) {
-        fprintf(stderr, "bench_peer_contact: MuJoCo refused the model: %s\n",
-                spec != NULL ? mjs_getError(spec) : error);
-    }
-    mj_deleteSpec(spec);
-    return model;
-}
-
 /* The case's model at step dt: the same bodies, sizes, masses and start as tumble's. */
 static mjModel *mujoco_case(case_kind kind, size_t count, double dt)
 {
@@ -384,7 +368,7 @@ static mjModel *mujoco_case(case_kind kind, size_t count, double dt)
                                  BENCH_SPHERE_DENSITY);
     }
     snprintf(xml + used, size - used, "</worldbody></mujoco>");
-    mjModel *model = mujoco_model(xml);
+    mjModel *model = bench_mujoco_model("bench_peer_contact", xml);
     free(xml);
     return model;
 }
