@@ -9,6 +9,7 @@
 
 #include <cmocka.h>
 
+#include "span.h"
 #include "tumble/tumble.h"
 
 #include <math.h>
@@ -354,7 +355,9 @@ static void rest_ball_on_box(double m)
 static void test_a_ball_rests_on_a_box_at_the_predicted_sinking(void **state)
 {
     (void)state;
-    rest_ball_on_box(0.5);
+    if (!tb_test_short()) { /* under memcheck the heavier ball alone: the same code paths */
+        rest_ball_on_box(0.5);
+    }
     rest_ball_on_box(2.0);
 }
 
