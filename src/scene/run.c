@@ -45,8 +45,7 @@ static tb_status check_frame_budget(const tb_scene *scene, const tb_run_def *def
     return tb__set_error(error, TB_STATUS_TOO_MANY_STEPS,
                          "integrator.dt: frames %g s apart (%g fps) are %.3g steps of dt = %g s%s, "
                          "more than max_steps = %ld: use a larger dt (a softer contact or spring "
-                         "allows one), max_steps (tb_integrator_def; the scene file's is for "
-                         "CVODE), or more frames a second",
+                         "allows one), a larger max_steps, or more frames a second",
                          1.0 / def->fps, def->fps, steps, dt,
                          integrator->dt == 0.0 ? " (the scene's default step)" : "",
                          integrator->max_steps);
