@@ -96,6 +96,29 @@ tb_status tb_run_frame_count(double duration, double fps, size_t *out_frames, tb
     return TB_STATUS_OK;
 }
 
+tb_status tb_run_output_frames(size_t body_count, double duration, double fps, size_t *out_frames,
+                               tb_error *out_error)
+{
+    size_t last = 0;
+    const tb_status status =
+        tb_run_frame_count(duration, fps, out_frames != NULL ? &last : NULL, out_error);
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    /* in doubles: last + 1 <= 1e9 + 1 and any body count give no overflow */
+    const double body_frames = ((double)last + 1.0) * (double)body_count;
+    if (body_frames > TB_RUN_MAX_BODY_FRAMES) {
+        return tb__set_error(out_error, TB_STATUS_INVALID_ARGUMENT,
+                             "duration: %g s at %g fps is %zu frames of %zu bodies, %.3g "
+                             "body-frames, more than the %g an output holds "
+                             "(TB_RUN_MAX_BODY_FRAMES): shorten the run or lower fps",
+                             duration, fps, last + 1, body_count, body_frames,
+                             TB_RUN_MAX_BODY_FRAMES);
+    }
+    *out_frames = last + 1;
+    return TB_STATUS_OK;
+}
+
 /* After a frame: a fixed step that the state has outgrown (a spin or speed that rose) stops the
  * run before the frame is handed on. */
 static tb_status check_frame(tb_scene *scene, const tb_run_def *def, double t, tb_error *error)
