@@ -7,9 +7,6 @@
 #include <stdio.h>
 #include <string.h>
 
-/* The most frames tb_scene_run takes (src/scene/run.c). */
-#define TB__MAX_FRAMES 1e9
-
 static tb_status load_linear_solver(tb__loader *ld, const json_t *object, tb_integrator_def *def)
 {
     const char *name = NULL;
@@ -146,14 +143,13 @@ tb_status tb__load_output(tb__loader *ld, const json_t *object)
     if (status == TB_STATUS_OK) {
         status = tb__check_non_negative_at(ld, "output", "duration", ld->run.duration);
     }
-    /* tb_scene_run refuses more than 1e9 frames; refused here too, so that checking a scene
-     * refuses what running it would. */
-    if (status == TB_STATUS_OK && ld->run.duration * ld->run.fps > TB__MAX_FRAMES) {
-        status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, "output",
-                               "duration %g s at %g fps is %g frames, more than the %g a run "
-                               "allows",
-                               ld->run.duration, ld->run.fps, ld->run.duration * ld->run.fps,
-                               TB__MAX_FRAMES);
+    /* the library's frame count (tb_scene_run refuses what it refuses): checking a scene
+     * refuses what running it would */
+    size_t frames = 0;
+    tb_error error;
+    if (status == TB_STATUS_OK &&
+        tb_run_frame_count(ld->run.duration, ld->run.fps, &frames, &error) != TB_STATUS_OK) {
+        status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, "output", "%s", error.message);
     }
     return status;
 }
