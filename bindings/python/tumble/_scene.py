@@ -181,7 +181,7 @@ class Scene:
     body_names          the bodies' names, in order (body i is index i everywhere)
     masses              each body's mass, kg
     radius_of_gyration  each body's sqrt(I_max / M), m
-    run_settings        the file's method, dt (s), rtol, atol, fps and duration (s)
+    run_settings        the file's method, dt (s), rtol, atol, max_steps, fps and duration (s)
     """
 
     def __init__(self, text: "bytes | str | os.PathLike", name: Optional[str] = None,
@@ -218,7 +218,8 @@ class Scene:
                            for i in range(lib.tb_scene_body_count(handle))]
         self.run_settings = {"method": lib.tb_method_name(run.integrator.method).decode(),
                              "dt": run.integrator.dt, "rtol": run.integrator.rtol,
-                             "atol": run.integrator.atol, "fps": run.fps,
+                             "atol": run.integrator.atol,
+                             "max_steps": run.integrator.max_steps, "fps": run.fps,
                              "duration": run.duration}
         self.radius_of_gyration = []
         #: each body's mass, kg

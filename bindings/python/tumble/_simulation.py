@@ -179,7 +179,10 @@ class Simulation:
             caught, self._failure = self._failure, None
             raise caught
         if status != 0:
-            raise failure(status, lib.tb_integrator_detail(self._integrator).decode())
+            message = lib.tb_integrator_detail(self._integrator).decode()
+            if lib.tb_status_name(status) == b"TOO_MANY_STEPS":
+                message += " (Simulation(..., max_steps=N) or the scene file's max_steps)"
+            raise failure(status, message)
 
     def advance(self, t: float) -> None:
         """Advances to time t (s, not before the current time). Fixed-step methods take whole
