@@ -44,7 +44,8 @@ TB_API tb_status tb_run_frame_count(double duration, double fps, size_t *out_fra
  * more than TB_RUN_MAX_BODY_FRAMES body-frames (TB_STATUS_INVALID_ARGUMENT naming duration, fps,
  * the bodies and the bound), so that nothing is allocated or written for a run that could not be
  * kept. The CLI (run and check) and the Python bindings ask it before they allocate or open a
- * file (tests/test_scene.c, bindings/python/tests/test_errors.py). out_error may be NULL. */
+ * file (tests/test_frame_values.c, bindings/python/tests/test_front_end_contracts.py). out_error
+ * may be NULL. */
 TB_API tb_status tb_run_output_frames(size_t body_count, double duration, double fps,
                                       size_t *out_frames, tb_error *out_error);
 
