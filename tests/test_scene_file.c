@@ -155,7 +155,8 @@ static const struct {
     {"linear_solver for adams",
      "{\"bodies\": [" BODY "], \"integrator\": {\"method\": \"cvode-adams\", "
      "\"linear_solver\": \"dense\"}}",
-     TB_STATUS_BAD_SCENE, "integrator.linear_solver: applies to the methods (cvode-bdf)"},
+     TB_STATUS_BAD_SCENE,
+     "integrator.linear_solver: applies to cvode-bdf only, not to cvode-adams"},
     {"zero fps", "{\"bodies\": [" BODY "], \"output\": {\"fps\": 0}}", TB_STATUS_BAD_SCENE,
      "output.fps: must be > 0, got 0"},
     {"huge number", "{\"bodies\": [" BODY "], \"output\": {\"fps\": 1e999}}", TB_STATUS_PARSE_ERROR,

@@ -168,7 +168,8 @@ bool tb__method_reads(tb_method method, const char *setting)
 }
 
 /* The methods whose reads have group, as "fixed-step methods (euler, midpoint, rk4)" when
- * they are all the fixed-step ones, "adaptive methods (...)" when all the adaptive ones. */
+ * they are all the fixed-step ones, "adaptive methods (...)" when all the adaptive ones, else
+ * "cvode-bdf only". */
 static void readers(unsigned group, char *out, size_t size)
 {
     char names[128] = "";
@@ -184,11 +185,11 @@ static void readers(unsigned group, char *out, size_t size)
                      tb__methods[m].info.name);
         }
     }
-    snprintf(out, size, "%s (%s)",
-             all_fixed      ? "fixed-step methods"
-             : all_adaptive ? "adaptive methods"
-                            : "the methods",
-             names);
+    if (all_fixed || all_adaptive) {
+        snprintf(out, size, "%s methods (%s)", all_fixed ? "fixed-step" : "adaptive", names);
+    } else {
+        snprintf(out, size, "%s only", names);
+    }
 }
 
 void tb__setting_readers(tb_method method, const char *setting, char *out, size_t size)
