@@ -9,8 +9,8 @@ static const char program_help[] =
     "       tumble --help | --version\n"
     "\n"
     "Options may come before or after the scene, as --name VALUE or --name=VALUE; an option\n"
-    "that does not apply to the command is refused. Exit codes: 0 success, 1 the simulation\n"
-    "or writing its output failed, 2 bad input (usage, scene file, settings).\n"
+    "that does not apply to the command, or is given twice, is refused. Exit codes: 0 success,\n"
+    "1 the simulation or writing its output failed, 2 bad input (usage, scene file, settings).\n"
     "The scene format is described in docs/scene-format.md (share/tumble/docs when installed).\n";
 
 static const char run_help[] =
@@ -20,6 +20,7 @@ static const char run_help[] =
     "  --dt H            step size in seconds, for fixed-step methods\n"
     "  --rtol R          relative tolerance, for adaptive methods (e.g. 1e-6)\n"
     "  --atol A          absolute tolerance, for adaptive methods (0: derived from the bodies)\n"
+    "  --max-steps N     steps allowed from one frame to the next, every method (default 100000)\n"
     "  --fps F           frames per second written\n"
     "  --duration T      seconds simulated\n"
     "  -o, --out FILE    where the frames go (default: standard output; never the scene file)\n"
@@ -47,7 +48,8 @@ static const char check_help[] =
     "Loads the scene and checks the run it asks for (with the overrides given) as tumble run\n"
     "would, without running it: a step beyond the stability limit, too many frames, a setting\n"
     "that does not apply to the method are refused here as they would be there.\n"
-    "  --integrator M, --dt H, --rtol R, --atol A, --fps F, --duration T   as for tumble run\n"
+    "  --integrator M, --dt H, --rtol R, --atol A, --max-steps N, --fps F, --duration T\n"
+    "                    as for tumble run\n"
     "  -h, --help        this help\n"
     "On a scene with contact or ground planes it also prints what collides with what: each\n"
     "contact effect's bodies and material, the ground planes and the bodies they touch, the\n"

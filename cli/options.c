@@ -47,6 +47,7 @@ static const option_info option_table[] = {
     NUMBER("dt", RUN_OR_CHECK, dt, has_dt, false),
     NUMBER("rtol", RUN_OR_CHECK, rtol, has_rtol, false),
     NUMBER("atol", RUN_OR_CHECK, atol, has_atol, true),
+    NUMBER("max-steps", RUN_OR_CHECK, max_steps, has_max_steps, false),
     NUMBER("fps", ALL_COMMANDS, fps, has_fps, false),
     NUMBER("duration", ALL_COMMANDS, duration, has_duration, true),
     NUMBER("target-error", CLI_ACCURACY, target_error, has_target, false),
@@ -161,6 +162,7 @@ static bool parse_options(int argc, char **argv, cli_options *out, char *message
     build_getopt_table(long_options, short_options);
     optind = 1;
     opterr = 0;
+    bool seen[OPTION_COUNT] = {false};
     int c;
     while ((c = getopt_long(argc, argv, short_options, long_options, NULL)) != -1) {
         if (c == '?' || c == ':') {
@@ -176,6 +178,12 @@ static bool parse_options(int argc, char **argv, cli_options *out, char *message
         for (size_t s = 0; c < 256 && s < OPTION_COUNT; ++s) {
             o = option_table[s].short_name == c ? &option_table[s] : o;
         }
+        /* a second --out would silently replace the first: every option is given once */
+        if (seen[o - option_table]) {
+            snprintf(message, size, "--%s given twice (each option is given once)", o->name);
+            return false;
+        }
+        seen[o - option_table] = true;
         if (!store_option(o, optarg, out, message, size)) {
             return false;
         }
@@ -228,11 +236,21 @@ bool cli_apply(const cli_options *o, tb_run_def *run, char *message, size_t size
         run->integrator.dt = 0.0;
     }
     const bool adaptive = tb_method_is_adaptive(run->integrator.method);
-    if ((o->has_dt && adaptive) || ((o->has_rtol || o->has_atol) && !adaptive)) {
-        snprintf(message, size, "%s applies to %s methods, and the integrator is %s",
-                 o->has_dt && adaptive ? "--dt" : "--rtol/--atol",
-                 adaptive ? "fixed-step" : "adaptive (cvode-*)",
-                 tb_method_name(run->integrator.method));
+    /* which settings the method reads is the library's rule */
+    const struct {
+        const char *setting;
+        bool given;
+    } settings[] = {{"dt", o->has_dt}, {"rtol", o->has_rtol}, {"atol", o->has_atol}};
+    for (size_t k = 0; k < sizeof settings / sizeof settings[0]; ++k) {
+        if (settings[k].given &&
+            tb_method_check_setting(run->integrator.method, settings[k].setting, &error) != 0) {
+            snprintf(message, size, "--%s %s", settings[k].setting, error.message);
+            return false;
+        }
+    }
+    if (o->has_max_steps && !(o->max_steps == floor(o->max_steps) && o->max_steps <= 1e18)) {
+        snprintf(message, size, "--max-steps: expected a whole number from 1 to 1e18, got %g",
+                 o->max_steps);
         return false;
     }
     if (o->has_rtol && !(o->rtol >= 1e-15 && o->rtol < 1)) {
@@ -244,6 +262,7 @@ bool cli_apply(const cli_options *o, tb_run_def *run, char *message, size_t size
     run->integrator.dt = o->has_dt ? o->dt : run->integrator.dt;
     run->integrator.rtol = o->has_rtol ? o->rtol : run->integrator.rtol;
     run->integrator.atol = o->has_atol ? o->atol : run->integrator.atol;
+    run->integrator.max_steps = o->has_max_steps ? (long)o->max_steps : run->integrator.max_steps;
     run->fps = o->has_fps ? o->fps : run->fps;
     run->duration = o->has_duration ? o->duration : run->duration;
     return true;

@@ -27,8 +27,8 @@ typedef struct cli_options {
     const char *chart;    /* accuracy: an SVG chart to write, or NULL */
     double target_error;  /* accuracy: m */
     bool has_target;
-    double dt, rtol, atol, fps, duration;
-    bool has_dt, has_rtol, has_atol, has_fps, has_duration;
+    double dt, rtol, atol, fps, duration, max_steps;
+    bool has_dt, has_rtol, has_atol, has_fps, has_duration, has_max_steps;
 } cli_options;
 
 /* Parses argv (argv[1] is the command); on a mistake writes a message naming it into message

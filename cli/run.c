@@ -54,8 +54,15 @@ int cli_dry_run(const cli_options *o, tb_scene *scene, const tb_run_def *run)
         fprintf(stderr, "tumble: %s: out of memory\n", o->scene);
         return CLI_EXIT_SIMULATION;
     }
-    memcpy(saved, tb_scene_states(scene), size * sizeof(double));
     tb_error error;
+    size_t frames = 0; /* run keeps every frame of every body: the library bounds them */
+    if (tb_run_output_frames(tb_scene_body_count(scene), run->duration, run->fps, &frames,
+                             &error) != TB_STATUS_OK) {
+        fprintf(stderr, "tumble: %s: %s\n", o->scene, error.message);
+        free(saved);
+        return CLI_EXIT_INPUT;
+    }
+    memcpy(saved, tb_scene_states(scene), size * sizeof(double));
     const tb_status status = tb_scene_run(scene, run, stop_at_first_frame, NULL, NULL, &error);
     memcpy(tb_scene_states(scene), saved, size * sizeof(double));
     free(saved);
@@ -256,9 +263,10 @@ int cli_run_command(const cli_options *o)
         fprintf(stderr, "tumble: %s\n", message);
         code = CLI_EXIT_INPUT;
     }
-    size_t last_frame = 0; /* npz: known, the frames stream to the file during the run */
-    if (code == CLI_EXIT_OK && tb_run_frame_count(run.duration, run.fps, &last_frame, NULL) == 0) {
-        def.frame_count = last_frame + 1;
+    size_t frames = 0; /* npz: known, the frames stream to the file during the run */
+    if (code == CLI_EXIT_OK && tb_run_output_frames(tb_scene_body_count(scene), run.duration,
+                                                    run.fps, &frames, NULL) == TB_STATUS_OK) {
+        def.frame_count = frames;
     }
     if (code == CLI_EXIT_OK && def.format != TB_OUTPUT_CSV) {
         code = open_frames_writer(o, &def, scene, &w);

@@ -48,15 +48,15 @@ const char *summary_plural(size_t count, const char *one, const char *many)
     return count == 1 ? one : many;
 }
 
+/* hypot: a momentum of 1e200 kg m/s has a length, though its square overflows */
 static double distance(const double a[3], const double b[3])
 {
-    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
-                (a[2] - b[2]) * (a[2] - b[2]));
+    return hypot(hypot(a[0] - b[0], a[1] - b[1]), a[2] - b[2]);
 }
 
 static double length(const double a[3])
 {
-    return sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+    return hypot(hypot(a[0], a[1]), a[2]);
 }
 
 /* about: where a moment is taken, "" for none */
@@ -65,6 +65,10 @@ static void report_drift(const char *what, int conserved, double change, double 
 {
     if (!conserved) {
         fprintf(stderr, "  %-24s not conserved by this scene's effects%s\n", what, about);
+    } else if (!isfinite(scale) || !isfinite(change)) {
+        /* an energy past 1.8e308 J is infinite in doubles, and inf - inf is NaN */
+        fprintf(stderr, "  %-24s drift n/a (not finite: %g %s at the start%s)%s\n", what, scale,
+                unit, isfinite(scale) ? ", not finite at the end" : "", about);
     } else if (scale > 0) {
         fprintf(stderr, "  %-24s drift %.3g %s (%.3g relative)%s\n", what, change, unit,
                 change / scale, about);

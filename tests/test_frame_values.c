@@ -122,12 +122,43 @@ static void test_frame_values_refuse_null_and_write_nothing(void **state)
     tb_scene_destroy(scene);
 }
 
+/* The frames a front end keeps: 5 s at 60 fps is frames 0..300, 301 of them; a body-frame
+ * count is refused past TB_RUN_MAX_BODY_FRAMES (1e8) exactly, and a body count near SIZE_MAX
+ * does not wrap the product into a small one. Before, 1e9 frames passed (95 GB of CSV, and the
+ * Python bindings allocated 104 GB before anything refused). The output is untouched on
+ * refusal. */
+static void test_output_frames_are_bounded_by_body_frames(void **state)
+{
+    (void)state;
+    size_t frames = 7;
+    tb_error error;
+    assert_int_equal(tb_run_output_frames(1, 5.0, 60.0, &frames, &error), TB_STATUS_OK);
+    assert_int_equal(frames, 301);
+    /* 1000 bodies at 1 fps: 99 999 s is 100 000 frames, 1e8 body-frames; one second more is
+     * 1e8 + 1000 */
+    assert_int_equal(tb_run_output_frames(1000, 99999.0, 1.0, &frames, &error), TB_STATUS_OK);
+    assert_int_equal(frames, 100000);
+    frames = 7;
+    assert_int_equal(tb_run_output_frames(1000, 100000.0, 1.0, &frames, &error),
+                     TB_STATUS_INVALID_ARGUMENT);
+    assert_int_equal(frames, 7);
+    assert_non_null(strstr(error.message, "TB_RUN_MAX_BODY_FRAMES"));
+    assert_int_equal(tb_run_output_frames(SIZE_MAX, 1.0, 1.0, &frames, &error),
+                     TB_STATUS_INVALID_ARGUMENT);
+    assert_int_equal(tb_run_output_frames(1, 1e8, 10.0, &frames, &error),
+                     TB_STATUS_INVALID_ARGUMENT);
+    assert_int_equal(frames, 7);
+    assert_int_equal(tb_run_output_frames(1, 1.0, 1.0, NULL, &error), TB_STATUS_NULL_POINTER);
+    assert_int_equal(tb_run_output_frames(1, NAN, 1.0, &frames, &error), TB_STATUS_NOT_FINITE);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_frame_values_read_as_by_hand),
         cmocka_unit_test(test_frame_values_agree_with_the_per_body_read_outs),
         cmocka_unit_test(test_frame_values_refuse_null_and_write_nothing),
+        cmocka_unit_test(test_output_frames_are_bounded_by_body_frames),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

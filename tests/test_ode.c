@@ -594,6 +594,46 @@ static void test_a_null_argument_after_a_failure_leaves_no_stale_detail(void **s
     assert_string_equal(tb_integrator_detail(NULL), "integrator is NULL");
 }
 
+/* Which settings each method reads, as include/tumble/ode.h states it: fixed steps read dt,
+ * threads and the scene's allow_unstable; CVODE the tolerances, the step bounds and max_order;
+ * BDF alone the linear solver's; every method max_steps. The loader, the CLI and the bindings
+ * ask this one rule (before, the loader refused max_steps for rk4, which the library reads). */
+static void test_each_method_reads_the_settings_its_header_names(void **state)
+{
+    (void)state;
+    static const char *const fixed[] = {"dt", "threads", "allow_unstable"};
+    static const char *const adaptive[] = {"rtol",     "atol",      "atol_vector",
+                                           "max_step", "max_order", "initial_step"};
+    static const char *const bdf[] = {"linear_solver", "preconditioner_half_bandwidth"};
+    for (int m = 0; m < TB_METHOD_COUNT; ++m) {
+        const int is_adaptive = tb_method_is_adaptive((tb_method)m);
+        tb_error error;
+        assert_int_equal(tb_method_check_setting((tb_method)m, "max_steps", &error), TB_STATUS_OK);
+        for (size_t k = 0; k < 3; ++k) {
+            assert_int_equal(tb_method_check_setting((tb_method)m, fixed[k], &error),
+                             is_adaptive ? TB_STATUS_UNSUPPORTED : TB_STATUS_OK);
+        }
+        for (size_t k = 0; k < 6; ++k) {
+            assert_int_equal(tb_method_check_setting((tb_method)m, adaptive[k], &error),
+                             is_adaptive ? TB_STATUS_OK : TB_STATUS_UNSUPPORTED);
+        }
+        for (size_t k = 0; k < 2; ++k) {
+            assert_int_equal(tb_method_check_setting((tb_method)m, bdf[k], &error),
+                             m == TB_METHOD_CVODE_BDF ? TB_STATUS_OK : TB_STATUS_UNSUPPORTED);
+        }
+    }
+    tb_error error;
+    assert_int_equal(tb_method_check_setting(TB_METHOD_RK4, "rtol", &error), TB_STATUS_UNSUPPORTED);
+    assert_string_equal(error.message,
+                        "applies to adaptive methods (cvode-adams, cvode-bdf), not to rk4");
+    assert_int_equal(tb_method_check_setting(TB_METHOD_RK4, "step", &error),
+                     TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(strstr(error.message, "unknown setting \"step\"; settings: dt,"));
+    assert_int_equal(tb_method_check_setting(TB_METHOD_COUNT, "dt", &error),
+                     TB_STATUS_INVALID_ARGUMENT);
+    assert_int_equal(tb_method_check_setting(TB_METHOD_RK4, NULL, NULL), TB_STATUS_NULL_POINTER);
+}
+
 /* Before: rtol given to rk4 or dt to cvode-bdf was silently ignored. */
 static void test_a_field_the_method_does_not_read_is_refused_by_name(void **state)
 {
@@ -673,6 +713,7 @@ int main(void)
         cmocka_unit_test(test_a_step_that_times_near_t_cannot_resolve_is_refused),
         cmocka_unit_test(test_a_hook_failing_on_a_non_finite_state_reports_the_state),
         cmocka_unit_test(test_a_null_argument_after_a_failure_leaves_no_stale_detail),
+        cmocka_unit_test(test_each_method_reads_the_settings_its_header_names),
         cmocka_unit_test(test_a_field_the_method_does_not_read_is_refused_by_name),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

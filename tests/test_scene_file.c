@@ -146,7 +146,17 @@ static const struct {
      TB_STATUS_BAD_SCENE, "integrator.method: must be one of euler"},
     {"dt for cvode",
      "{\"bodies\": [" BODY "], \"integrator\": {\"method\": \"cvode-bdf\", \"dt\": 0.01}}",
-     TB_STATUS_BAD_SCENE, "integrator.dt: applies to fixed-step"},
+     TB_STATUS_BAD_SCENE,
+     "integrator.dt: applies to fixed-step methods (euler, midpoint, rk4), not to cvode-bdf"},
+    {"rtol for rk4",
+     "{\"bodies\": [" BODY "], \"integrator\": {\"method\": \"rk4\", \"rtol\": 1e-8}}",
+     TB_STATUS_BAD_SCENE,
+     "integrator.rtol: applies to adaptive methods (cvode-adams, cvode-bdf), not to rk4"},
+    {"linear_solver for adams",
+     "{\"bodies\": [" BODY "], \"integrator\": {\"method\": \"cvode-adams\", "
+     "\"linear_solver\": \"dense\"}}",
+     TB_STATUS_BAD_SCENE,
+     "integrator.linear_solver: applies to cvode-bdf only, not to cvode-adams"},
     {"zero fps", "{\"bodies\": [" BODY "], \"output\": {\"fps\": 0}}", TB_STATUS_BAD_SCENE,
      "output.fps: must be > 0, got 0"},
     {"huge number", "{\"bodies\": [" BODY "], \"output\": {\"fps\": 1e999}}", TB_STATUS_PARSE_ERROR,
@@ -211,7 +221,8 @@ static const struct {
      "bodies[0]: vertex_count: a closed mesh needs at least 4 vertices and 4 triangles, got 0"},
     {"more than 1e9 frames",
      "{\"bodies\": [" BODY "], \"output\": {\"fps\": 1000, \"duration\": 1.1e6}}",
-     TB_STATUS_BAD_SCENE, "output: duration 1.1e+06 s at 1000 fps is 1.1e+09 frames, more than"},
+     TB_STATUS_BAD_SCENE,
+     "output: duration: must be >= 0 and at most 1e9 frames (TB_RUN_MAX_FRAMES) at 1000 fps"},
     {"mesh file by absolute path outside",
      "{\"bodies\": [{\"name\": \"a\", \"shape\": {\"type\": \"mesh\", \"file\": "
      "\"/etc/passwd\"}, \"density\": 1}]}",
@@ -236,6 +247,33 @@ static void test_bad_scene_files_are_refused_naming_the_place(void **state)
         assert_memory_equal(&run, &before, sizeof run);
     }
     alarm(0);
+}
+
+/* max_steps is every method's step budget (the library enforces it on rk4 too): a scene file
+ * gives it to a fixed step as to CVODE. Before, the loader refused it for rk4. A frame of 1/10 s
+ * at dt = 1/1000 s is 100 steps: a budget of 99 refuses the run before its first frame, one
+ * of 100 lets it run. */
+static void test_max_steps_applies_to_a_fixed_step_too(void **state)
+{
+    (void)state;
+    const long budgets[] = {99, 100};
+    const tb_status expected[] = {TB_STATUS_TOO_MANY_STEPS, TB_STATUS_OK};
+    for (size_t k = 0; k < 2; ++k) {
+        char json[256];
+        snprintf(json, sizeof json,
+                 "{\"bodies\": [{\"name\": \"a\", \"mass\": 1, \"inertia\": [1, 1, 1]}], "
+                 "\"integrator\": {\"method\": \"rk4\", \"dt\": 0.001, \"max_steps\": %ld}, "
+                 "\"output\": {\"fps\": 10, \"duration\": 0.2}}",
+                 budgets[k]);
+        tb_scene *scene = NULL;
+        tb_run_def run = tb_run_def_default();
+        tb_error error;
+        assert_int_equal(tb_scene_load_string(json, "t.json", NULL, &scene, &run, &error),
+                         TB_STATUS_OK);
+        assert_int_equal(run.integrator.max_steps, budgets[k]);
+        assert_int_equal(tb_scene_run(scene, &run, NULL, NULL, NULL, &error), expected[k]);
+        tb_scene_destroy(scene);
+    }
 }
 
 /* Deep nesting is a syntax error from the parser's depth limit, not a crash. */
@@ -565,6 +603,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_a_scene_file_builds_what_the_api_builds),
         cmocka_unit_test(test_bad_scene_files_are_refused_naming_the_place),
+        cmocka_unit_test(test_max_steps_applies_to_a_fixed_step_too),
         cmocka_unit_test(test_deeply_nested_json_is_refused),
         cmocka_unit_test(test_mesh_files_are_read_relative_to_the_scene),
         cmocka_unit_test(test_long_obj_lines_are_one_line),

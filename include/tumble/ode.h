@@ -175,6 +175,19 @@ TB_API int tb_method_order(tb_method method);
  * rtol/atol instead of dt; 0 for an unknown method. */
 TB_API int tb_method_is_adaptive(tb_method method);
 
+/* Whether a method reads a setting: the one rule the scene loader, the CLI and the bindings
+ * ask, so that a setting meant for another method is refused everywhere alike. setting is a
+ * tb_integrator_def field's name ("dt", "threads", "rtol", "atol", "atol_vector",
+ * "initial_step", "max_step", "max_order", "linear_solver", "preconditioner_half_bandwidth",
+ * "max_steps") or "allow_unstable" (the scene's stability guard, which judges fixed steps).
+ * TB_STATUS_OK: the method reads it (max_steps: every method). TB_STATUS_UNSUPPORTED: it does
+ * not, and out_error (may be NULL) says which methods do, e.g. "applies to adaptive methods
+ * (cvode-adams, cvode-bdf), not to rk4", for the caller to prefix with its name for the
+ * setting. TB_STATUS_INVALID_ARGUMENT: an unknown method or setting name (listing the names);
+ * TB_STATUS_NULL_POINTER: setting is NULL. tests/test_ode.c checks every method's row. */
+TB_API tb_status tb_method_check_setting(tb_method method, const char *setting,
+                                         tb_error *out_error);
+
 /* Linear solver for the Newton iteration of TB_METHOD_CVODE_BDF. */
 typedef enum tb_linear_solver {
     TB_LINEAR_SOLVER_AUTO = 0, /* dense up to 64 unknowns (512 without blocks), Krylov above */

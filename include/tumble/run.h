@@ -34,6 +34,21 @@ TB_API tb_run_def tb_run_def_default(void);
 TB_API tb_status tb_run_frame_count(double duration, double fps, size_t *out_frames,
                                     tb_error *out_error);
 
+/* Most body-frames (frames, t = 0 included, times bodies) a run's kept or written output may
+ * hold: 1e8, that is 10.4 GB of frame values (13 doubles a body-frame) in memory and tens of GB
+ * of CSV. */
+#define TB_RUN_MAX_BODY_FRAMES 1e8
+
+/* The frames a run hands on, t = 0 included (tb_run_frame_count + 1), for a front end that keeps
+ * or writes every one of body_count bodies' frames: refuses what tb_run_frame_count refuses, and
+ * more than TB_RUN_MAX_BODY_FRAMES body-frames (TB_STATUS_INVALID_ARGUMENT naming duration, fps,
+ * the bodies and the bound), so that nothing is allocated or written for a run that could not be
+ * kept. The CLI (run and check) and the Python bindings ask it before they allocate or open a
+ * file (tests/test_frame_values.c, bindings/python/tests/test_front_end_contracts.py). out_error
+ * may be NULL. */
+TB_API tb_status tb_run_output_frames(size_t body_count, double duration, double fps,
+                                      size_t *out_frames, tb_error *out_error);
+
 /* Called at t = 0 and at every frame time k / fps up to the duration (frame k), with the scene
  * holding the states at that time (quaternions normalised). Return 0 to go on, non-zero to
  * stop the run (tb_scene_run then returns TB_STATUS_CANCELLED). */

@@ -7,9 +7,6 @@
 #include <stdio.h>
 #include <string.h>
 
-/* The most frames tb_scene_run takes (src/scene/run.c). */
-#define TB__MAX_FRAMES 1e9
-
 static tb_status load_linear_solver(tb__loader *ld, const json_t *object, tb_integrator_def *def)
 {
     const char *name = NULL;
@@ -28,23 +25,21 @@ static tb_status load_linear_solver(tb__loader *ld, const json_t *object, tb_int
                          "must be one of auto, dense, krylov, got \"%s\"", name);
 }
 
-/* Settings of the other kind of method are refused rather than ignored: a "dt" next to
- * "cvode-bdf" is a mistake the user should hear about. */
+/* A setting the method does not read (the method table's rule, tb_method_check_setting) is
+ * refused rather than ignored: a "dt" next to "cvode-bdf" is a mistake the user should hear
+ * about. */
 static tb_status check_settings_fit(tb__loader *ld, const json_t *object, tb_method method)
 {
-    static const char *const fixed_only[] = {"dt", "allow_unstable", NULL};
-    static const char *const adaptive_only[] = {"rtol",      "atol",          "max_steps",
-                                                "max_order", "linear_solver", NULL};
-    const bool adaptive = tb_method_is_adaptive(method);
-    const char *const *wrong = adaptive ? fixed_only : adaptive_only;
-    for (size_t k = 0; wrong[k] != NULL; ++k) {
-        if (json_object_get(object, wrong[k]) != NULL) {
+    const char *key;
+    const json_t *value;
+    json_object_foreach((json_t *)object, key, value)
+    {
+        tb_error error;
+        if (strcmp(key, "method") != 0 &&
+            tb_method_check_setting(method, key, &error) == TB_STATUS_UNSUPPORTED) {
             char where[64];
-            snprintf(where, sizeof where, "integrator.%s", wrong[k]);
-            return tb__load_fail(ld, TB_STATUS_BAD_SCENE, where, "applies to %s methods, not to %s",
-                                 adaptive ? "fixed-step (euler, midpoint, rk4)"
-                                          : "adaptive (cvode-adams, cvode-bdf)",
-                                 tb_method_name(method));
+            snprintf(where, sizeof where, "integrator.%s", key);
+            return tb__load_fail(ld, TB_STATUS_BAD_SCENE, where, "%s", error.message);
         }
     }
     return TB_STATUS_OK;
@@ -148,14 +143,13 @@ tb_status tb__load_output(tb__loader *ld, const json_t *object)
     if (status == TB_STATUS_OK) {
         status = tb__check_non_negative_at(ld, "output", "duration", ld->run.duration);
     }
-    /* tb_scene_run refuses more than 1e9 frames; refused here too, so that checking a scene
-     * refuses what running it would. */
-    if (status == TB_STATUS_OK && ld->run.duration * ld->run.fps > TB__MAX_FRAMES) {
-        status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, "output",
-                               "duration %g s at %g fps is %g frames, more than the %g a run "
-                               "allows",
-                               ld->run.duration, ld->run.fps, ld->run.duration * ld->run.fps,
-                               TB__MAX_FRAMES);
+    /* the library's frame count (tb_scene_run refuses what it refuses): checking a scene
+     * refuses what running it would */
+    size_t frames = 0;
+    tb_error error;
+    if (status == TB_STATUS_OK &&
+        tb_run_frame_count(ld->run.duration, ld->run.fps, &frames, &error) != TB_STATUS_OK) {
+        status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, "output", "%s", error.message);
     }
     return status;
 }

@@ -343,7 +343,7 @@ static tb_status check_budget(tb_integrator *integrator, double t_target)
     if (steps > (double)integrator->max_steps) {
         return tb__set_detail(integrator->detail, TB_STATUS_TOO_MANY_STEPS,
                               "t_target: %.17g is %.3g steps of dt = %g from t = %.17g, more "
-                              "than max_steps = %ld; nothing was stepped",
+                              "than max_steps = %ld (raise it to allow that); nothing was stepped",
                               t_target, ceil(steps), integrator->dt, integrator->t,
                               integrator->max_steps);
     }

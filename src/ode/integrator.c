@@ -30,39 +30,34 @@ tb_integrator_def tb_integrator_def_default(void)
     return def;
 }
 
-/* A field a method does not read, set away from its default, was meant for another method
- * (rtol given to rk4, dt to cvode-bdf): refused rather than ignored. */
+/* A field a method does not read (the method table's rule, tb__method_reads), set away from its
+ * default, was meant for another method (rtol given to rk4, dt to cvode-bdf): refused rather
+ * than ignored. */
 static tb_status validate_unread_fields(const tb_integrator_def *def, tb_error *error)
 {
     const tb_integrator_def d = tb_integrator_def_default();
     const struct {
         const char *field;
         bool set;
-        unsigned group;
     } fields[] = {
-        {"dt", !(def->dt == d.dt), TB__READS_DT},
-        {"threads", def->threads != d.threads, TB__READS_DT},
-        {"rtol", !(def->rtol == d.rtol), TB__READS_TOLERANCES},
-        {"atol", !(def->atol == d.atol), TB__READS_TOLERANCES},
-        {"atol_vector", def->atol_vector != NULL, TB__READS_TOLERANCES},
-        {"initial_step", !(def->initial_step == d.initial_step), TB__READS_TOLERANCES},
-        {"max_step", !(def->max_step == d.max_step), TB__READS_TOLERANCES},
-        {"max_order", def->max_order != d.max_order, TB__READS_TOLERANCES},
-        {"linear_solver", def->linear_solver != d.linear_solver, TB__READS_LINEAR_SOLVER},
+        {"dt", !(def->dt == d.dt)},
+        {"threads", def->threads != d.threads},
+        {"rtol", !(def->rtol == d.rtol)},
+        {"atol", !(def->atol == d.atol)},
+        {"atol_vector", def->atol_vector != NULL},
+        {"initial_step", !(def->initial_step == d.initial_step)},
+        {"max_step", !(def->max_step == d.max_step)},
+        {"max_order", def->max_order != d.max_order},
+        {"linear_solver", def->linear_solver != d.linear_solver},
     };
-    const tb__method_entry *entry = &tb__methods[def->method];
     for (size_t i = 0; i < sizeof fields / sizeof fields[0]; ++i) {
-        if (fields[i].set && !(entry->reads & fields[i].group)) {
-            return tb__set_error(
-                error, TB_STATUS_INVALID_ARGUMENT,
-                "def.%s: %s does not read it (it reads %s%s); leave it at its default, or "
-                "switch methods with tb_integrator_def_set_method",
-                fields[i].field, entry->info.name,
-                entry->reads & TB__READS_DT ? "dt, threads"
-                                            : "rtol, atol, atol_vector, initial_step, max_step, "
-                                              "max_order",
-                entry->reads & TB__READS_LINEAR_SOLVER ? ", linear_solver and max_steps"
-                                                       : " and max_steps");
+        if (fields[i].set && !tb__method_reads(def->method, fields[i].field)) {
+            char readers[160];
+            tb__setting_readers(def->method, fields[i].field, readers, sizeof readers);
+            return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                                 "def.%s: %s does not read it (it %s); leave it at its default, "
+                                 "or switch methods with tb_integrator_def_set_method",
+                                 fields[i].field, tb__methods[def->method].info.name, readers);
         }
     }
     return TB_STATUS_OK;

@@ -36,11 +36,12 @@ int tb__rk4_step(const tb_ode_system *system, double t, double h, const double *
 
 /* A row of the method table (methods.c), indexed by tb_method: the public facts and how the
  * integrator runs the method. */
-/* Groups of tb_integrator_def fields a method reads, besides method and max_steps. */
+/* Groups of settings a method reads (tb_method_check_setting names each setting's group). */
 enum {
-    TB__READS_DT = 1,            /* dt */
+    TB__READS_DT = 1,            /* dt, threads, the scene's allow_unstable */
     TB__READS_TOLERANCES = 2,    /* rtol, atol, atol_vector, initial_step, max_step, max_order */
-    TB__READS_LINEAR_SOLVER = 4, /* linear_solver */
+    TB__READS_LINEAR_SOLVER = 4, /* linear_solver, preconditioner_half_bandwidth */
+    TB__READS_MAX_STEPS = 8,     /* max_steps: every method's step budget */
 };
 
 typedef struct tb__method_entry {
@@ -51,6 +52,14 @@ typedef struct tb__method_entry {
 } tb__method_entry;
 
 extern const tb__method_entry tb__methods[TB_METHOD_COUNT];
+
+/* Whether method (a valid tb_method) reads the setting of that name; false for a name no method
+ * reads. The one rule tb_method_check_setting, integrator creation and the loader share. */
+bool tb__method_reads(tb_method method, const char *setting);
+
+/* Into out: "applies to adaptive methods (cvode-adams, cvode-bdf), not to rk4", saying which
+ * methods read the setting. */
+void tb__setting_readers(tb_method method, const char *setting, char *out, size_t size);
 extern const tb__backend tb__fixed_step_backend;
 extern const tb__backend tb__cvode_backend;
 

@@ -27,23 +27,23 @@
 
 const tb__method_entry tb__methods[TB_METHOD_COUNT] = {
     [TB_METHOD_EULER] = {{"euler", 1, 0, 0, 1, TB__EULER_IMAGINARY, TB__SLOW_GROWTH, 2.0},
-                         TB__READS_DT,
+                         TB__READS_DT | TB__READS_MAX_STEPS,
                          &tb__fixed_step_backend,
                          tb__euler_step},
     [TB_METHOD_MIDPOINT] = {{"midpoint", 2, 0, 0, 2, TB__MIDPOINT_IMAGINARY, TB__SLOW_GROWTH, 2.0},
-                            TB__READS_DT,
+                            TB__READS_DT | TB__READS_MAX_STEPS,
                             &tb__fixed_step_backend,
                             tb__midpoint_step},
     [TB_METHOD_RK4] = {{"rk4", 4, 0, 0, 4, TB__RK4_IMAGINARY, 1.0, TB__RK4_REAL},
-                       TB__READS_DT,
+                       TB__READS_DT | TB__READS_MAX_STEPS,
                        &tb__fixed_step_backend,
                        tb__rk4_step},
     [TB_METHOD_CVODE_ADAMS] = {{"cvode-adams", 12, 1, 1, 0, INFINITY, 1.0, INFINITY},
-                               TB__READS_TOLERANCES,
+                               TB__READS_TOLERANCES | TB__READS_MAX_STEPS,
                                &tb__cvode_backend,
                                NULL},
     [TB_METHOD_CVODE_BDF] = {{"cvode-bdf", 5, 1, 1, 0, INFINITY, 1.0, INFINITY},
-                             TB__READS_TOLERANCES | TB__READS_LINEAR_SOLVER,
+                             TB__READS_TOLERANCES | TB__READS_LINEAR_SOLVER | TB__READS_MAX_STEPS,
                              &tb__cvode_backend,
                              NULL},
 };
@@ -127,4 +127,108 @@ tb_status tb_method_parse(const char *name, tb_method *out_method, tb_error *out
 tb_status tb_method_from_name(const char *name, tb_method *out_method)
 {
     return tb_method_parse(name, out_method, NULL);
+}
+
+/* Every setting a method may read, by its name in tb_integrator_def (allow_unstable is the
+ * scene's: its stability guard judges a fixed step), and the group of the rows' `reads` it
+ * belongs to. The loader's, the CLI's and the bindings' keys are these names. */
+static const struct {
+    const char *name;
+    unsigned group;
+} settings[] = {
+    {"dt", TB__READS_DT},
+    {"threads", TB__READS_DT},
+    {"allow_unstable", TB__READS_DT},
+    {"rtol", TB__READS_TOLERANCES},
+    {"atol", TB__READS_TOLERANCES},
+    {"atol_vector", TB__READS_TOLERANCES},
+    {"initial_step", TB__READS_TOLERANCES},
+    {"max_step", TB__READS_TOLERANCES},
+    {"max_order", TB__READS_TOLERANCES},
+    {"linear_solver", TB__READS_LINEAR_SOLVER},
+    {"preconditioner_half_bandwidth", TB__READS_LINEAR_SOLVER},
+    {"max_steps", TB__READS_MAX_STEPS},
+};
+#define TB__SETTING_COUNT (sizeof settings / sizeof settings[0])
+
+/* The setting's group, 0 for an unknown name. */
+static unsigned setting_group(const char *setting)
+{
+    for (size_t k = 0; k < TB__SETTING_COUNT; ++k) {
+        if (strcmp(settings[k].name, setting) == 0) {
+            return settings[k].group;
+        }
+    }
+    return 0;
+}
+
+bool tb__method_reads(tb_method method, const char *setting)
+{
+    return (tb__methods[method].reads & setting_group(setting)) != 0;
+}
+
+/* The methods whose reads have group, as "fixed-step methods (euler, midpoint, rk4)" when
+ * they are all the fixed-step ones, "adaptive methods (...)" when all the adaptive ones, else
+ * "cvode-bdf only". */
+static void readers(unsigned group, char *out, size_t size)
+{
+    char names[128] = "";
+    bool all_fixed = true, all_adaptive = true;
+    for (int m = 0; m < TB_METHOD_COUNT; ++m) {
+        const bool reads = (tb__methods[m].reads & group) != 0;
+        const bool adaptive = tb__methods[m].info.adaptive != 0;
+        all_fixed = all_fixed && reads == !adaptive;
+        all_adaptive = all_adaptive && reads == adaptive;
+        if (reads) {
+            const size_t used = strlen(names);
+            snprintf(names + used, sizeof names - used, "%s%s", used > 0 ? ", " : "",
+                     tb__methods[m].info.name);
+        }
+    }
+    if (all_fixed || all_adaptive) {
+        snprintf(out, size, "%s methods (%s)", all_fixed ? "fixed-step" : "adaptive", names);
+    } else {
+        snprintf(out, size, "%s only", names);
+    }
+}
+
+void tb__setting_readers(tb_method method, const char *setting, char *out, size_t size)
+{
+    char who[160];
+    readers(setting_group(setting), who, sizeof who);
+    snprintf(out, size, "applies to %s, not to %s", who, tb__methods[method].info.name);
+}
+
+/* "dt, threads, allow_unstable, ..." */
+static void list_settings(char *out, size_t size)
+{
+    out[0] = '\0';
+    for (size_t k = 0; k < TB__SETTING_COUNT; ++k) {
+        const size_t used = strlen(out);
+        snprintf(out + used, size - used, "%s%s", k > 0 ? ", " : "", settings[k].name);
+    }
+}
+
+tb_status tb_method_check_setting(tb_method method, const char *setting, tb_error *out_error)
+{
+    tb__clear_error(out_error);
+    if (setting == NULL) {
+        return tb__set_error(out_error, TB_STATUS_NULL_POINTER, "setting is NULL");
+    }
+    if (!is_method(method)) {
+        return tb__set_error(out_error, TB_STATUS_INVALID_ARGUMENT, "method: unknown method %d",
+                             (int)method);
+    }
+    if (setting_group(setting) == 0) {
+        char names[256];
+        list_settings(names, sizeof names);
+        return tb__set_error(out_error, TB_STATUS_INVALID_ARGUMENT,
+                             "unknown setting \"%.64s\"; settings: %s", setting, names);
+    }
+    if (tb__method_reads(method, setting)) {
+        return TB_STATUS_OK;
+    }
+    char message[TB_DETAIL_SIZE];
+    tb__setting_readers(method, setting, message, sizeof message);
+    return tb__set_error(out_error, TB_STATUS_UNSUPPORTED, "%s", message);
 }

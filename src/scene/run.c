@@ -45,8 +45,7 @@ static tb_status check_frame_budget(const tb_scene *scene, const tb_run_def *def
     return tb__set_error(error, TB_STATUS_TOO_MANY_STEPS,
                          "integrator.dt: frames %g s apart (%g fps) are %.3g steps of dt = %g s%s, "
                          "more than max_steps = %ld: use a larger dt (a softer contact or spring "
-                         "allows one), max_steps (tb_integrator_def; the scene file's is for "
-                         "CVODE), or more frames a second",
+                         "allows one), a larger max_steps, or more frames a second",
                          1.0 / def->fps, def->fps, steps, dt,
                          integrator->dt == 0.0 ? " (the scene's default step)" : "",
                          integrator->max_steps);
@@ -94,6 +93,29 @@ tb_status tb_run_frame_count(double duration, double fps, size_t *out_frames, tb
                              fps, TB_RUN_MAX_FRAMES / fps, duration);
     }
     *out_frames = (size_t)frames;
+    return TB_STATUS_OK;
+}
+
+tb_status tb_run_output_frames(size_t body_count, double duration, double fps, size_t *out_frames,
+                               tb_error *out_error)
+{
+    size_t last = 0;
+    const tb_status status =
+        tb_run_frame_count(duration, fps, out_frames != NULL ? &last : NULL, out_error);
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    /* in doubles: last + 1 <= 1e9 + 1 and any body count give no overflow */
+    const double body_frames = ((double)last + 1.0) * (double)body_count;
+    if (body_frames > TB_RUN_MAX_BODY_FRAMES) {
+        return tb__set_error(out_error, TB_STATUS_INVALID_ARGUMENT,
+                             "duration: %g s at %g fps is %zu frames of %zu bodies, %.3g "
+                             "body-frames, more than the %g an output holds "
+                             "(TB_RUN_MAX_BODY_FRAMES): shorten the run or lower fps",
+                             duration, fps, last + 1, body_count, body_frames,
+                             TB_RUN_MAX_BODY_FRAMES);
+    }
+    *out_frames = last + 1;
     return TB_STATUS_OK;
 }
 

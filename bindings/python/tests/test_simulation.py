@@ -280,5 +280,5 @@ def test_threads_share_a_step_and_change_no_bit():
         scene.run(method="cvode-adams", threads=2)
     with pytest.raises(TypeError):
         scene.run(threads=1.5)
-    with pytest.raises(ValueError, match=">= 0"):
+    with pytest.raises(ValueError, match="from 0 to"):
         scene.run(threads=-1)

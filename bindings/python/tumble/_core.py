@@ -79,31 +79,48 @@ def stats_dict(stats):
     return {name: getattr(stats, name) for name, _ in _native.IntegratorStats._fields_}
 
 
+_INT_MAX = 2**(8 * ctypes.sizeof(ctypes.c_int) - 1) - 1  # tb_integrator_def.threads
+_LONG_MAX = 2**(8 * ctypes.sizeof(ctypes.c_long) - 1) - 1  # tb_integrator_def.max_steps
+
+
+def whole_number(name, value, low, high):
+    """An int from an integral value in [low, high]; TypeError for anything else, ValueError out
+    of range (a C int or long would truncate it: 2**32 + 1 threads became 1)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{name} must be an int, got {type(value).__name__} {value!r}")
+    if not low <= value <= high:
+        raise ValueError(f"{name} must be from {low} to {high}, got {value}")
+    return int(value)
+
+
+def check_setting(method, setting):
+    """ValueError if the method (a tb_method) does not read the setting: the library's method
+    table decides (tb_method_check_setting), as it does for scene files and the CLI."""
+    error = _native.Error()
+    status = lib.tb_method_check_setting(method, setting.encode(), ctypes.byref(error))
+    if status != 0:
+        raise ValueError(f"{setting} {error.message.decode()}")
+
+
 def apply_settings(run, method=None, dt=None, rtol=None, atol=None, fps=None, duration=None,
-                   threads=None):
+                   threads=None, max_steps=None):
     """A tb_run_def with the given settings instead of its own; as the CLI and scene files, an
     option that the method does not read is refused (ValueError), not ignored."""
     if method is not None:
         # the fields the new method does not read go back to their defaults
         lib.tb_integrator_def_set_method(ctypes.byref(run.integrator), method_code(method))
-    adaptive = bool(lib.tb_method_is_adaptive(run.integrator.method))
-    name = lib.tb_method_name(run.integrator.method).decode()
-    for option, value, applies in (("dt", dt, not adaptive), ("rtol", rtol, adaptive),
-                                   ("atol", atol, adaptive)):
-        if value is None:
-            continue
-        if not applies:
-            kind = "adaptive (cvode-*)" if option != "dt" else "fixed-step"
-            raise ValueError(f"{option} applies to {kind} methods, and the method is {name}")
-        setattr(run.integrator, option, number(option, value))
-    if threads is not None:
-        if isinstance(threads, bool) or not isinstance(threads, numbers.Integral):
-            raise TypeError(f"threads must be an int, got {type(threads).__name__} {threads!r}")
-        if adaptive:
-            raise ValueError(f"threads applies to fixed-step methods, and the method is {name}")
-        if threads < 0:
-            raise ValueError(f"threads must be >= 0 (0: one per processor), got {threads}")
-        run.integrator.threads = int(threads)
+    code = run.integrator.method
+    for option, value in (("dt", dt), ("rtol", rtol), ("atol", atol), ("threads", threads),
+                          ("max_steps", max_steps)):
+        if value is not None:
+            check_setting(code, option)
+    for option, value in (("dt", dt), ("rtol", rtol), ("atol", atol)):
+        if value is not None:
+            setattr(run.integrator, option, number(option, value))
+    if threads is not None:  # 0: one per processor
+        run.integrator.threads = whole_number("threads", threads, 0, _INT_MAX)
+    if max_steps is not None:
+        run.integrator.max_steps = whole_number("max_steps", max_steps, 1, _LONG_MAX)
     run.fps = number("fps", fps) if fps is not None else run.fps
     run.duration = number("duration", duration) if duration is not None else run.duration
 

@@ -7,7 +7,7 @@ from typing import Any, Callable, List, Optional, Sequence
 
 from ._scene import Frames, Scene
 
-_SETTINGS = ("method", "dt", "rtol", "atol", "fps", "duration", "threads")
+_SETTINGS = ("method", "dt", "rtol", "atol", "fps", "duration", "threads", "max_steps")
 
 
 def _task(scene, settings, errors, reduce=None):
@@ -21,37 +21,49 @@ def _task(scene, settings, errors, reduce=None):
         return caught
 
 
-def _tasks(items, defaults):
-    """(Scene, settings) for every item: a Scene, a path, a dict, or (one of those, settings)."""
+def _tasks(items, defaults, errors):
+    """(Scene, settings) for every item: a Scene, a path, a dict, or (one of those, settings).
+    With errors="return", an item that cannot be made (a scene that does not load, settings
+    that are not a dict) is its exception, to stand in the results in its place."""
     tasks = []
     for k, item in enumerate(items):
-        scene, own = item if isinstance(item, tuple) else (item, {})
-        if not isinstance(own, dict):
-            raise TypeError(f"item {k}: a (scene, settings) pair needs a dict of settings, got "
-                            f"{type(own).__name__}")
-        unknown = set(own) - set(_SETTINGS)
-        if unknown:
-            raise ValueError(f"item {k}: unknown settings {sorted(unknown)}; settings are "
-                             f"{', '.join(_SETTINGS)}")
-        base = defaults
-        if "method" in own:  # its own integrator: none of the defaults' integrator settings
-            base = {k: v for k, v in defaults.items() if k in ("fps", "duration")}
-        settings = {**base, **own}
-        tasks.append((Scene.coerce(scene), settings))
+        try:
+            tasks.append(_task_of(k, item, defaults))
+        except Exception as caught:
+            if errors == "raise":
+                raise
+            tasks.append(caught)
     return tasks
+
+
+def _task_of(k, item, defaults):
+    scene, own = item if isinstance(item, tuple) else (item, {})
+    if not isinstance(own, dict):
+        raise TypeError(f"item {k}: a (scene, settings) pair needs a dict of settings, got "
+                        f"{type(own).__name__}")
+    unknown = set(own) - set(_SETTINGS)
+    if unknown:
+        raise ValueError(f"item {k}: unknown settings {sorted(unknown)}; settings are "
+                         f"{', '.join(_SETTINGS)}")
+    base = defaults
+    if "method" in own:  # its own integrator: none of the defaults' integrator settings
+        base = {name: v for name, v in defaults.items() if name in ("fps", "duration")}
+    return Scene.coerce(scene), {**base, **own}
 
 
 def run_many(items: Sequence[Any], *, method: Optional[str] = None, dt: Optional[float] = None,
              rtol: Optional[float] = None, atol: Optional[float] = None,
              fps: Optional[float] = None, duration: Optional[float] = None,
-             threads: Optional[int] = None, workers: Optional[int] = None, client=None, errors: str = "raise",
+             threads: Optional[int] = None, max_steps: Optional[int] = None,
+             workers: Optional[int] = None, client=None, errors: str = "raise",
              reduce: Optional[Callable[[Frames], Any]] = None) -> List[Any]:
     """Runs every item as Scene.run does and returns their Frames in the items' order.
 
     An item is a Scene, a scene-file path, a dict in the scene-file format (docs/
     scene-format.md), or a pair (one of those, settings) whose settings (method, dt, rtol,
-    atol, fps, duration, threads) override the keyword arguments here, which override each scene's own
-    (an item that names its method takes none of the integrator settings given here).
+    atol, fps, duration, threads, max_steps) override the keyword arguments here, which
+    override each scene's own (an item that names its method takes none of the integrator
+    settings given here).
     Each run is independent and deterministic: the results equal serial runs bit for bit,
     however many workers run them and in whatever order they finish.
 
@@ -68,13 +80,16 @@ def run_many(items: Sequence[Any], *, method: Optional[str] = None, dt: Optional
     makes a cluster pay off for big scenes; it must be picklable, e.g. a module's function).
 
     errors: "raise" (the first failure raises, in item order) or "return" (a failed item's
-    place holds its exception). Ctrl-C cancels the runs not yet started.
+    place holds its exception, also for an item whose scene does not load). max_steps: each
+    run's step budget from frame to frame (every method). Ctrl-C cancels the runs not yet
+    started.
     """
     if errors not in ("raise", "return"):
         raise ValueError(f'errors must be "raise" or "return", got {errors!r}')
     defaults = {name: value for name, value in zip(
-        _SETTINGS, (method, dt, rtol, atol, fps, duration, threads)) if value is not None}
-    tasks = _tasks(items, defaults)
+        _SETTINGS, (method, dt, rtol, atol, fps, duration, threads, max_steps))
+        if value is not None}
+    tasks = _tasks(items, defaults, errors)
     if reduce is not None and not callable(reduce):
         raise TypeError(f"reduce must be callable, got {type(reduce).__name__}")
     if client is not None:
@@ -85,19 +100,23 @@ def run_many(items: Sequence[Any], *, method: Optional[str] = None, dt: Optional
         raise ValueError(f"workers must be >= 1, got {workers}")
     pool = ThreadPoolExecutor(max_workers=workers or os.cpu_count() or 1)
     try:
-        futures = [pool.submit(_task, scene, settings, errors, reduce)
-                   for scene, settings in tasks]
-        return [future.result() for future in futures]
+        futures = [task if isinstance(task, Exception) else
+                   pool.submit(_task, task[0], task[1], errors, reduce) for task in tasks]
+        return [future if isinstance(future, Exception) else future.result()
+                for future in futures]
     finally:
         pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _on_dask(client, tasks, errors, reduce):
-    count = len(tasks)
-    futures = client.map(_task, [scene for scene, _ in tasks], [s for _, s in tasks],
+    runs = [task for task in tasks if not isinstance(task, Exception)]
+    count = len(runs)
+    futures = client.map(_task, [scene for scene, _ in runs], [s for _, s in runs],
                          [errors] * count, [reduce] * count, pure=False)
     try:
-        return client.gather(futures)
+        results = iter(client.gather(futures))
     except BaseException:
         client.cancel(futures)
         raise
+    # the items that could not be made keep their places (errors="return")
+    return [task if isinstance(task, Exception) else next(results) for task in tasks]

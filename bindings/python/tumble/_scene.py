@@ -88,18 +88,31 @@ class Frames:
 
 
 
+def _read_scene_file(path):
+    """(text, name, base directory) of a scene file: OSError if it cannot be read."""
+    path = os.fspath(path)
+    if not isinstance(path, str):
+        path = os.fsdecode(path)
+    with open(path, "rb") as f:
+        text = f.read()
+    directory = path.rsplit("/", 1)[0] + "/" if "/" in path else ""
+    return text, path, directory
+
+
 class _Recorder:
     """Collects each frame the C run hands over into one array allocated up front for the
-    frame count the library gives (tb_run_frame_count): a frame costs one call that fills it
+    frame count the library gives (tb_run_output_frames): a frame costs one call that fills it
     (tb_scene_frame_values) and four for the totals, and no copy."""
 
     def __init__(self, handle, run, masses, on_frame=None):
+        # the library bounds the frames kept (TB_RUN_MAX_BODY_FRAMES) before anything is allocated
         count, error = ctypes.c_size_t(), _native.Error()
-        status = lib.tb_run_frame_count(run.duration, run.fps, ctypes.byref(count),
-                                        ctypes.byref(error))
+        bodies = lib.tb_scene_body_count(handle)
+        status = lib.tb_run_output_frames(bodies, run.duration, run.fps, ctypes.byref(count),
+                                          ctypes.byref(error))
         if status != 0:
             raise failure(status, error.message.decode())
-        frames, bodies = count.value + 1, lib.tb_scene_body_count(handle)
+        frames = count.value
         self.t = np.empty(frames)
         self.values = np.empty((frames, bodies, _native.FRAME_VALUES))
         # kinetic, potential, P[3], L[3] about the origin, centre of mass[3]
@@ -122,10 +135,10 @@ class _Recorder:
             if self.interrupt is not None and self.interrupt.pending:
                 raise KeyboardInterrupt
             if self.on_frame is not None:
-                view = self.values[frame]
-                view.flags.writeable = False
+                # read-only for good: a view of a read-only buffer cannot be made writable
+                view = np.frombuffer(memoryview(self.values[frame]).toreadonly(),
+                                     dtype=np.float64).reshape(self.values.shape[1:])
                 self.on_frame(frame, t, view)
-                view.flags.writeable = True
             return 0
         except BaseException as caught:  # cannot cross C: stop the run, re-raise afterwards
             self.failure = caught
@@ -168,13 +181,35 @@ class Scene:
     body_names          the bodies' names, in order (body i is index i everywhere)
     masses              each body's mass, kg
     radius_of_gyration  each body's sqrt(I_max / M), m
-    run_settings        the file's method, dt (s), rtol, atol, fps and duration (s)
+    run_settings        the file's method, dt (s), rtol, atol, max_steps, fps and duration (s)
     """
 
-    def __init__(self, text: bytes, name: str, base_directory: Optional[str] = None):
-        """A Scene from JSON text (bytes); name labels its messages, base_directory is where
-        files it names (OBJ meshes) are found. Scene.from_file and Scene.from_dict are the
-        usual ways in."""
+    def __init__(self, text: "bytes | str | os.PathLike", name: Optional[str] = None,
+                 base_directory: Optional[str] = None):
+        """A Scene from JSON text (bytes, or a str starting with "{"), or from a scene file's
+        path (any other str, or an os.PathLike: as Scene.from_file); name labels its messages,
+        base_directory is where files it names (OBJ meshes) are found. Scene.from_file and
+        Scene.from_dict are the usual ways in. TypeError for anything else."""
+        if isinstance(text, os.PathLike) or (isinstance(text, str) and
+                                             not text.lstrip().startswith("{")):
+            text, file_name, file_base = _read_scene_file(text)
+            name = file_name if name is None else name
+            base_directory = file_base if base_directory is None else base_directory
+        elif isinstance(text, str):
+            text = text.encode()
+        elif isinstance(text, (bytearray, memoryview)):
+            text = bytes(text)
+        if not isinstance(text, bytes):
+            raise TypeError(f"a Scene is made from JSON text (bytes or str) or a scene file's "
+                            f"path, got {type(text).__name__}")
+        if name is None:
+            name = "<text>"
+        if not isinstance(name, str) or not (base_directory is None or
+                                             isinstance(base_directory, str)):
+            raise TypeError("name and base_directory must be str")
+        if b"\0" in text:  # ctypes would pass the text up to the NUL: refuse, as the CLI does
+            raise TumbleError(_PARSE_ERROR, f"{name}: a NUL byte at offset {text.index(0)}: "
+                                            f"a scene file is JSON text")
         self._text = text
         self._name = name
         self._base = base_directory
@@ -183,7 +218,8 @@ class Scene:
                            for i in range(lib.tb_scene_body_count(handle))]
         self.run_settings = {"method": lib.tb_method_name(run.integrator.method).decode(),
                              "dt": run.integrator.dt, "rtol": run.integrator.rtol,
-                             "atol": run.integrator.atol, "fps": run.fps,
+                             "atol": run.integrator.atol,
+                             "max_steps": run.integrator.max_steps, "fps": run.fps,
                              "duration": run.duration}
         self.radius_of_gyration = []
         #: each body's mass, kg
@@ -217,14 +253,7 @@ class Scene:
         """The scene in a JSON scene file (meshes it names are found beside it). OSError if
         it cannot be read, TumbleError (PARSE_ERROR with line and column, BAD_SCENE naming
         the field) if the library refuses it."""
-        path = str(path)
-        with open(path, "rb") as f:
-            text = f.read()
-        if b"\0" in text:  # ctypes would pass the text up to the NUL: refuse, as the CLI does
-            raise TumbleError(_PARSE_ERROR, f"{path}: a NUL byte at offset {text.index(0)}: "
-                                            f"a scene file is JSON text")
-        directory = path.rsplit("/", 1)[0] + "/" if "/" in path else ""
-        return cls(text, path, directory)
+        return cls(*_read_scene_file(path))
 
     @classmethod
     def from_dict(cls, description: dict, name: str = "<dict>",
@@ -249,7 +278,7 @@ class Scene:
             rtol: Optional[float] = None, atol: Optional[float] = None,
             fps: Optional[float] = None, duration: Optional[float] = None,
             on_frame: Optional[Callable[[int, float, np.ndarray], None]] = None,
-            threads: Optional[int] = None) -> "Frames":
+            threads: Optional[int] = None, max_steps: Optional[int] = None) -> "Frames":
         """Simulates the scene from its initial state for `duration` seconds (the file's settings
         unless given here: method "euler", "midpoint", "rk4", "cvode-adams" or "cvode-bdf"; dt in
         s for the fixed-step methods, rtol and atol for CVODE, frames per second fps) and returns
@@ -259,12 +288,14 @@ class Scene:
         (bodies, 13) array, read-only). An option the method does not read is refused
         (ValueError). threads (fixed-step methods): how many threads share each step of a
         scene whose bodies do not interact (0: one per processor; default 1); the frames are
-        the same bits for any count. Raises TumbleError if the integrator refuses the settings or the run fails;
+        the same bits for any count. max_steps: the steps allowed from one frame to the next,
+        every method (the scene file's, default 100000). Raises TumbleError if the integrator
+        refuses the settings or the run fails;
         a KeyboardInterrupt (Ctrl-C, seen at the next frame) or an exception from on_frame stops
         the run, and the frames made so far are on the exception's `frames` attribute."""
         handle, run = self._load()
         try:
-            apply_settings(run, method, dt, rtol, atol, fps, duration, threads)
+            apply_settings(run, method, dt, rtol, atol, fps, duration, threads, max_steps)
             recorder = _Recorder(handle, run, self.masses, on_frame)
             stats, error = _native.IntegratorStats(), _native.Error()
             with deferred_interrupt() as recorder.interrupt:
@@ -322,6 +353,9 @@ def _accuracy(self, target_error: float = 1e-3, sweep=ACCURACY_SWEEP) -> tuple:
     setting did not run); best is the cheapest row with error <= target_error, or None.
     Raises TumbleError when the reference run fails, with the library's reason."""
     target_error = number("target_error", target_error)
+    if not (target_error > 0 and np.isfinite(target_error)):
+        raise ValueError(f"target_error must be a finite number of metres > 0, got "
+                         f"{target_error!r}")
     settings = (_native.AccuracySetting * max(len(sweep), 1))()
     for k, (method, setting) in enumerate(sweep):
         settings[k] = _native.AccuracySetting(method_code(method), number("setting", setting))

@@ -35,8 +35,11 @@ class Simulation:
     dt (s) for the fixed-step methods, rtol and atol for CVODE (the scene file's integrator
     unless given; an option the method does not read is a ValueError, as in the CLI); threads
     (fixed-step methods, bodies that do not interact) shares each step among threads, with the
-    same bits for any count (0: one per processor; default 1). A fixed
-    step beyond the scene's stability limit is refused (TumbleValueError, UNSTABLE_STEP).
+    same bits for any count (0: one per processor; default 1); max_steps (every method) the
+    steps one advance() or step() may take (the scene file's, default 100000: advance(5.0) at
+    a step of 1e-5 s needs max_steps=500000 or more, else TumbleError TOO_MANY_STEPS before any
+    step). A fixed step beyond the scene's stability limit is refused (TumbleValueError,
+    UNSTABLE_STEP).
 
     State (N bodies; world frame, z up, SI units). These are live views of the library's own
     state array, no copies: they change as the simulation advances, and they are read-only so
@@ -65,14 +68,14 @@ class Simulation:
     def __init__(self, scene: Union[Scene, "SceneBuilder", str, dict], method: Optional[str] = None,
                  dt: Optional[float] = None, rtol: Optional[float] = None,
                  atol: Optional[float] = None, forces: Sequence[ForceFunction] = (),
-                 threads: Optional[int] = None):
+                 threads: Optional[int] = None, max_steps: Optional[int] = None):
         self.scene = Scene.coerce(scene)
         self._handle, run = self.scene._load()
         self._integrator = ctypes.c_void_p()
         self._user_effects = []  # the ctypes callbacks, alive as long as the scene
         self._failure = None
         try:
-            apply_settings(run, method, dt, rtol, atol, threads=threads)
+            apply_settings(run, method, dt, rtol, atol, threads=threads, max_steps=max_steps)
             self._run = run
             self.bodies = lib.tb_scene_body_count(self._handle)
             self._views()
@@ -93,8 +96,9 @@ class Simulation:
         buffer.simulation = self  # a view keeps the simulation (and so the scene) alive
         self._address = address
         self._y_writable = np.frombuffer(buffer, dtype=np.float64, count=n)
-        self._y = self._y_writable.view()
-        self._y.flags.writeable = False
+        # the public views stand on a read-only buffer, so that no view of them can be made
+        # writable (flags.writeable = True raises): every change goes through the library
+        self._y = np.frombuffer(memoryview(buffer).toreadonly(), dtype=np.float64, count=n)
         self._state = self._y[:_native.STATE_SIZE * self.bodies].reshape(self.bodies,
                                                                          _native.STATE_SIZE)
         self._masses = np.array(self.scene.masses)
@@ -175,7 +179,10 @@ class Simulation:
             caught, self._failure = self._failure, None
             raise caught
         if status != 0:
-            raise failure(status, lib.tb_integrator_detail(self._integrator).decode())
+            message = lib.tb_integrator_detail(self._integrator).decode()
+            if lib.tb_status_name(status) == b"TOO_MANY_STEPS":
+                message += " (Simulation(..., max_steps=N) or the scene file's max_steps)"
+            raise failure(status, message)
 
     def advance(self, t: float) -> None:
         """Advances to time t (s, not before the current time). Fixed-step methods take whole
@@ -381,8 +388,11 @@ class Simulation:
             try:
                 if _active and _active[-1].pending:
                     raise KeyboardInterrupt
-                state = np.ctypeslib.as_array(y, shape=(bodies, _native.STATE_SIZE))
-                state.flags.writeable = False
+                # read-only for good (a read-only buffer): the force may not change the state
+                size = bodies * _native.STATE_SIZE
+                buffer = (ctypes.c_double * size).from_address(ctypes.addressof(y.contents))
+                state = np.frombuffer(memoryview(buffer).toreadonly(),
+                                      dtype=np.float64).reshape(bodies, _native.STATE_SIZE)
                 _apply_loads(handle, y, dydt, state, force(t, state), bodies)
                 return 0
             except BaseException as caught:  # cannot cross C: fail the step, raise after it
