@@ -120,6 +120,9 @@ static bound motion_bound(const tb_scene *scene, const double *y, const double *
  * distance d: the positive root of s h + a h^2 / 2 = d, INFINITY when nothing moves. */
 static double travel_time(double s, double a, double d)
 {
+    if (!(d < INFINITY)) {
+        return INFINITY; /* no thickness to pass (inf / inf would be NaN) */
+    }
     const double denominator = s + sqrt(s * s + 2.0 * a * d);
     return denominator > 0.0 ? 2.0 * d / denominator : INFINITY;
 }

@@ -74,8 +74,15 @@ static double rotation_rate(const tb__body *body, const double *s, double *out_s
     const double d_max = fmax(d[0], fmax(d[1], d[2]));
     const double d_min = fmin(d[0], fmin(d[1], d[2]));
     const double d_mid = d[0] + d[1] + d[2] - d_max - d_min;
-    const double energy_bound = sqrt(fmax(tb__v3_dot(L, omega), 0.0) * d_max);
-    const double coupling = tb__v3_hypot(L) * sqrt(d_max * d_mid);
+    /* in factors that stay finite wherever I omega and I^-1 L are (1e300 rad/s, moments of
+     * 1e-200 kg m^2): 2 E = |L| (L / |L|) . omega */
+    const double length = tb__v3_hypot(L);
+    double along = 0.0;
+    for (int k = 0; k < 3 && length > 0.0; ++k) {
+        along += L[k] / length * omega[k];
+    }
+    const double energy_bound = sqrt(length) * sqrt(fmax(along, 0.0)) * sqrt(d_max);
+    const double coupling = length * sqrt(d_max) * sqrt(d_mid);
     return fmax(*out_spin, fmax(energy_bound, coupling)); /* NaN and inf pass on to consider */
 }
 
