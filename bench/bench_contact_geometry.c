@@ -9,10 +9,15 @@
  * not run). A second pass after every body moved slightly is what a step
  * sees: the sort starts nearly sorted.
  *
- * usage: bench_contact_geometry [--quick] */
+ * With --hull: what a convex hull costs (every mesh body gets one at load), for 1e4, 1e5 and
+ * 1e6 points on a sphere (all of them vertices: the worst case) and in a ball (few vertices).
+ * Prints CSV: the point set, points, hull vertices, CPU seconds (the median of 3; 1 for 1e6).
+ *
+ * usage: bench_contact_geometry [--hull] [--quick] */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include "bench_common.h"
 #include "contact/contact_pairs.h"
+#include "contact/convex_hull.h"
 #include "tumble/tumble.h"
 
 #include <math.h>
@@ -176,9 +181,78 @@ static void measure(size_t count, int repeats)
     tb_scene_destroy(scene);
 }
 
+/* n points on the unit sphere (the Fibonacci lattice) or uniform in the unit ball. */
+static void hull_points(bool on_sphere, size_t n, double *points)
+{
+    unsigned long long rng = 11;
+    for (size_t i = 0; i < n; ++i) {
+        double *x = points + 3 * i;
+        if (on_sphere) {
+            const double z = 1.0 - (2.0 * (double)i + 1.0) / (double)n, r = sqrt(1.0 - z * z);
+            x[0] = r * cos(2.399963229728653 * (double)i);
+            x[1] = r * sin(2.399963229728653 * (double)i);
+            x[2] = z;
+            continue;
+        }
+        do {
+            for (int k = 0; k < 3; ++k) {
+                x[k] = uniform(&rng, -1, 1);
+            }
+        } while (x[0] * x[0] + x[1] * x[1] + x[2] * x[2] > 1.0);
+    }
+}
+
+static void measure_hull(bool on_sphere, size_t n, int repeats)
+{
+    double *points = malloc(3 * n * sizeof *points);
+    unsigned char *on_hull = malloc(n);
+    double seconds[3];
+    size_t vertices = 0;
+    char detail[TB_DETAIL_SIZE];
+    if (points == NULL || on_hull == NULL) {
+        fprintf(stderr, "bench_contact_geometry: out of memory for %zu points\n", n);
+        exit(1);
+    }
+    hull_points(on_sphere, n, points);
+    for (int r = 0; r < repeats; ++r) {
+        const double start = bench_cpu_seconds();
+        if (tb__convex_hull(points, n, on_hull, detail) != TB_STATUS_OK) {
+            fprintf(stderr, "bench_contact_geometry: %s\n", detail);
+            exit(1);
+        }
+        seconds[r] = bench_cpu_seconds() - start;
+    }
+    for (size_t i = 0; i < n; ++i) {
+        vertices += on_hull[i];
+    }
+    printf("%s,%zu,%zu,%.4g\n", on_sphere ? "sphere" : "ball", n, vertices,
+           bench_median(seconds, (size_t)repeats));
+    free(points);
+    free(on_hull);
+}
+
+static int hull_table(bool quick)
+{
+    printf("points_on,points,hull_vertices,cpu_seconds\n");
+    static const size_t sizes[] = {10000, 100000, 1000000};
+    for (int shape = 0; shape < 2; ++shape) {
+        for (size_t k = 0; k < (quick ? 1 : 3); ++k) {
+            measure_hull(shape == 0, sizes[k], sizes[k] < 1000000 ? 3 : 1);
+        }
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
-    const int quick = argc > 1 && strcmp(argv[1], "--quick") == 0;
+    int quick = 0, hull = 0;
+    for (int k = 1; k < argc; ++k) {
+        quick |= strcmp(argv[k], "--quick") == 0;
+        hull |= strcmp(argv[k], "--hull") == 0;
+    }
+    if (hull) {
+        return hull_table(quick);
+    }
     printf("bodies,candidates,touching,begin_ns_per_body,sweep_ns_per_body,pass_ns_per_body,"
            "brute_force_ns_per_body\n");
     static const size_t full[] = {100, 300, 1000, 3000, 10000};

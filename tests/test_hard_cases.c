@@ -529,6 +529,11 @@ test_a_light_body_on_wide_points_is_refused_and_bounded_by_energy_inside_it(void
     tb_scene_destroy(scene);
 }
 
+static double tb__test_norm(const double v[3])
+{
+    return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
+
 static int last_frame(size_t frame, double t, const tb_scene *scene, void *ctx)
 {
     (void)frame;
@@ -560,6 +565,57 @@ static void test_a_spin_growing_past_the_limit_stops_the_run(void **state)
     tb_scene_destroy(scene);
 }
 
+/* A free thin rod spinning end over end, the default step (dt = 0) under RK4 and midpoint:
+ * I = (1e-4 / 12, 1 / 12, 1 / 12) kg m^2 (a 1 m, 1 cm square rod of 1 kg), omega = (3, 100, 0)
+ * rad/s. Its orientation couples to a spin about the long axis at |L| / sqrt(I_1 I_2) = 7 100
+ * rad/s: the default step was chosen from |omega| = 100 rad/s (1/240 s), at which RK4 grew the
+ * spin to 7e4 rad/s in a frame and the run was refused at t = 1/60 s (check passed). Now the
+ * run completes under each: L to the bit (no torque) and a finite state. RK4 keeps |omega|
+ * within 1e-6 of its start (a symmetric top keeps it: omega_1 is constant and |omega_perp| =
+ * |L_perp| / I_2) and the energy within 1e-9 relative (measured 1e-13). Midpoint amplifies every
+ * oscillation by up to 1 + (h lambda)^4 / 8 a step (6e-4 at the default step's h lambda =
+ * 0.27), so its energy grows from rounding: measured 1 % over 1 s. Euler amplifies by
+ * sqrt(1 + (h lambda)^2) a step and is stopped by the guard, naming the spin, within 0.05 s. */
+static void test_a_thin_rod_spinning_end_over_end_runs_at_the_default_step(void **state)
+{
+    (void)state;
+    const double moments[3] = {1e-4 / 12.0, (1.0 + 1e-4) / 12.0, (1.0 + 1e-4) / 12.0};
+    const tb_method methods[] = {TB_METHOD_RK4, TB_METHOD_MIDPOINT};
+    for (int m = 0; m < 2; ++m) {
+        tb_scene *scene = test_scene_one_body(1.0, moments, NULL, (double[]){3.0, 100.0, 0.0});
+        double E0, E, omega0[3], omega[3];
+        tb_scene_kinetic_energy(scene, tb_scene_states(scene), &E0);
+        test_body_omega(scene, 0, omega0);
+        tb_body_state start, end;
+        tb_scene_get_state(scene, 0, &start);
+        tb_run_def run = tb_run_def_default();
+        run.integrator.method = methods[m];
+        run.integrator.dt = 0.0;
+        run.duration = 1.0;
+        double t_last = -1.0;
+        tb_error error;
+        const tb_status status = tb_scene_run(scene, &run, last_frame, &t_last, NULL, &error);
+        if (status != TB_STATUS_OK) {
+            print_message("%s\n", error.message);
+        }
+        assert_int_equal(status, TB_STATUS_OK);
+        tb_scene_get_state(scene, 0, &end);
+        tb_scene_kinetic_energy(scene, tb_scene_states(scene), &E);
+        test_body_omega(scene, 0, omega);
+        const double drift = (E - E0) / E0;
+        print_message("%s: energy %+.3e relative, |omega| %.9g rad/s\n", tb_method_name(methods[m]),
+                      drift, tb__test_norm(omega));
+        assert_memory_equal(end.L, start.L, sizeof end.L);
+        assert_true(isfinite(E));
+        if (methods[m] == TB_METHOD_RK4) {
+            assert_true(fabs(drift) < 1e-9);
+            assert_true(fabs(tb__test_norm(omega) - tb__test_norm(omega0)) <
+                        1e-6 * tb__test_norm(omega0));
+        }
+        tb_scene_destroy(scene);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -576,6 +632,7 @@ int main(void)
         cmocka_unit_test(
             test_a_light_body_on_wide_points_is_refused_and_bounded_by_energy_inside_it),
         cmocka_unit_test(test_a_spin_growing_past_the_limit_stops_the_run),
+        cmocka_unit_test(test_a_thin_rod_spinning_end_over_end_runs_at_the_default_step),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

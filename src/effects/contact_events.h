@@ -18,6 +18,12 @@ double tb__contact_step_limit(const tb__effect *effect, const tb_scene *scene, c
 double tb__contact_tunnel_step(const tb__effect *effect, const tb_scene *scene, const double *y,
                                char *which, size_t size);
 
+/* tb__effect_ops.check_impacts of contact between bodies: refuses a state in which the two
+ * fastest bodies could close by more than the thinnest body's half-thickness before the law stops
+ * them (TB_STATUS_INVALID_ARGUMENT, the detail naming both). */
+tb_status tb__contact_check_impacts(const tb__effect *effect, const tb_scene *scene,
+                                    const double *y, char *detail);
+
 /* tb__effect_ops.event_gaps of a ground plane: each body's lowest contact point's height. */
 void tb__ground_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
                            double *gap);

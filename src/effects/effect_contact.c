@@ -207,6 +207,7 @@ static const tb__effect_ops contact_ops = {
     .event_gaps = tb__contact_event_gaps,          /* effect_contact_events.c */
     .adaptive_step_limit = tb__contact_step_limit, /* at least half the shortest push */
     .tunnel_step = tb__contact_tunnel_step,
+    .check_impacts = tb__contact_check_impacts,
     .owns_states = true,
     .post_step = tb__friction_post_step,
 };

@@ -8,18 +8,32 @@
  * test sees the force). A body moves at most s h + a h^2 / 2 in a step h, with s = |v| +
  * |omega| R and a = |dP/dt| / M + (|dL/dt| / I_min + |omega|^2) R at the step's start (R the
  * reach of its shape from its centre of mass); a step covers at most half a gap at that bound.
- * Pairs farther apart than the look-ahead are bounded by the fastest body alone.
+ * Pairs farther apart than the look-ahead are bounded by the fastest body alone. The floor of
+ * half a push is itself capped where bodies are thin or fast: no step is longer than the time
+ * in which the pair (or, for pairs not found, twice the fastest body) could cover the thinner
+ * body's half-thickness, so that no step starts before a thin body and ends beyond it with no
+ * sign change of the gap in between (a 10 g ball at 100 m/s stepped over a 1 mm plate).
  *
  * Fixed-step methods: no pair may close by more than the thinner body's half-thickness in one
  * step (the pair's speeds as above), so the contact is seen before one body's centre is past
- * the other's middle, where the normal would turn and push it out of the far side. */
+ * the other's middle, where the normal would turn and push it out of the far side.
+ *
+ * Every method: the law sinks a pair closing at speed s by at most s / omega (the undamped
+ * oscillator's amplitude at the stiffness M_min omega^2 and a mass of at most M_min; the dashpot
+ * only shortens it), so where the two fastest bodies could sink into each other past where one's
+ * tip reaches the other's middle (the normal turns there and pushes it out of the far side)
+ * before the law stops them, that happens whatever the step: such a state is refused, naming
+ * the bodies (tb__contact_check_impacts). */
 #include "effects/contact_events.h"
 
 #include "contact/contact_pairs.h"
+#include "core/detail.h"
 #include "math/tb_math.h"
 
 #include <math.h>
 #include <stdio.h>
+
+static double half_thickness(const tb__collision_shape *shape);
 
 /* A step covers at most this fraction of a gap at the bodies' bounds. */
 #define TB__GAP_SAFETY 0.5
@@ -106,49 +120,72 @@ static bound motion_bound(const tb_scene *scene, const double *y, const double *
  * distance d: the positive root of s h + a h^2 / 2 = d, INFINITY when nothing moves. */
 static double travel_time(double s, double a, double d)
 {
+    if (!(d < INFINITY)) {
+        return INFINITY; /* no thickness to pass (inf / inf would be NaN) */
+    }
     const double denominator = s + sqrt(s * s + 2.0 * a * d);
     return denominator > 0.0 ? 2.0 * d / denominator : INFINITY;
 }
 
-/* The fastest body's bounds among the effect's bodies with shapes. */
+/* Half the thickness of body id's shape (m), INFINITY for a body of no thickness (points of
+ * radius 0, which any step passes: no bound) or without a shape. */
+static double body_half_thickness(const tb_scene *scene, size_t id)
+{
+    const tb__collision_shape *shape =
+        id < scene->body_count ? tb__scene_body_collision_shape(scene, id) : NULL;
+    const double half = shape != NULL ? half_thickness(shape) : 0.0;
+    return half > 0.0 ? half : INFINITY;
+}
+
+/* The fastest body's bounds among the effect's bodies with shapes, and the thinnest body's
+ * half-thickness (INFINITY: none has a thickness). */
 static bound fastest(const tb__contact_params *contact, const tb_scene *scene, const double *y,
-                     const double *dydt)
+                     const double *dydt, double *thinnest)
 {
     bound worst = {0.0, 0.0};
+    *thinnest = INFINITY;
     for (size_t k = 0; k < contact->body_count; ++k) {
         const size_t id = contact->bodies[k];
         if (id < scene->body_count && tb__scene_body_collision_shape(scene, id) != NULL) {
             const bound b = motion_bound(scene, y, dydt, id);
             worst.speed = fmax(worst.speed, b.speed);
             worst.acceleration = fmax(worst.acceleration, b.acceleration);
+            *thinnest = fmin(*thinnest, body_half_thickness(scene, id));
         }
     }
     return worst;
 }
 
 /* A pair's limit: the time to close half its gap, or (in contact) to move by half the law's
- * static sinking, gravity / omega^2; never below the floor. */
+ * static sinking, gravity / omega^2; never below the floor, unless the floor would let the pair
+ * close by the thinner body's half-thickness. */
 static double pair_limit(const tb__contact_params *contact, const tb_scene *scene, const double *y,
                          const double *dydt, const tb__pair_contact *pair, double floor)
 {
     const bound a = motion_bound(scene, y, dydt, pair->body_a);
     const bound b = motion_bound(scene, y, dydt, pair->body_b);
+    const double speed = a.speed + b.speed, acceleration = a.acceleration + b.acceleration;
+    const double thinner =
+        fmin(body_half_thickness(scene, pair->body_a), body_half_thickness(scene, pair->body_b));
+    floor = fmin(floor, travel_time(speed, acceleration, thinner));
     const double gap = pair_gap(pair);
     const double distance = gap > 0.0 ? gap : contact->gravity / (contact->omega * contact->omega);
-    return fmax(floor, travel_time(a.speed + b.speed, a.acceleration + b.acceleration,
-                                   TB__GAP_SAFETY * distance));
+    return fmax(floor, travel_time(speed, acceleration, TB__GAP_SAFETY * distance));
 }
 
 double tb__contact_step_limit(const tb__effect *effect, const tb_scene *scene, const double *y,
                               const double *dydt)
 {
     const tb__contact_params *contact = &effect->params.contact;
-    const double floor = 0.5 * contact->push_duration;
+    double floor = 0.5 * contact->push_duration, thinnest;
+    /* pairs not found are at least the look-ahead apart, closing at most twice the fastest; no
+     * floor lets two bodies close by the thinnest half-thickness (before the first step, with
+     * the speeds alone) */
+    const bound worst = fastest(contact, scene, y, dydt, &thinnest);
+    floor = fmin(floor, travel_time(2.0 * worst.speed, 2.0 * worst.acceleration, thinnest));
     if (dydt == NULL) {
-        return floor; /* before the first step: CVODE's own first step is shorter anyway */
+        return floor;
     }
-    /* pairs not found are at least the look-ahead apart, closing at most twice the fastest */
-    const bound worst = fastest(contact, scene, y, dydt);
     double limit = travel_time(2.0 * worst.speed, 2.0 * worst.acceleration,
                                TB__GAP_SAFETY * TB__EVENT_LOOKAHEAD);
     tb__pair_contact batch[TB__EVENT_BATCH];
@@ -186,43 +223,127 @@ static double half_thickness(const tb__collision_shape *shape)
     }
 }
 
+/* The two fastest of the effect's bodies with shapes and the thinnest one with a thickness. */
+typedef struct extremes {
+    double speed[2], thinnest; /* m/s (-1: none), half-thickness m (INFINITY: none) */
+    size_t fast[2], thin;      /* TB_ALL_BODIES: none */
+} extremes;
+
+static extremes find_extremes(const tb__contact_params *contact, const tb_scene *scene,
+                              const double *y)
+{
+    /* speeds start below any speed: a body at rest counts */
+    extremes e = {{-1.0, -1.0}, INFINITY, {TB_ALL_BODIES, TB_ALL_BODIES}, TB_ALL_BODIES};
+    double thin_speed = INFINITY;
+    for (size_t k = 0; k < contact->body_count; ++k) {
+        const size_t id = contact->bodies[k];
+        if (id >= scene->body_count || tb__scene_body_collision_shape(scene, id) == NULL) {
+            continue;
+        }
+        const double s = motion_bound(scene, y, NULL, id).speed;
+        const double t = body_half_thickness(scene, id);
+        const int slot = s > e.speed[0] ? 0 : s > e.speed[1] ? 1 : 2;
+        if (slot == 0) {
+            e.speed[1] = e.speed[0], e.fast[1] = e.fast[0];
+        }
+        if (slot < 2) {
+            e.speed[slot] = s, e.fast[slot] = id;
+        }
+        /* of equally thin bodies the slowest, so that the mover named is another */
+        if (t < e.thinnest || (t == e.thinnest && s < thin_speed)) {
+            e.thinnest = t, e.thin = id, thin_speed = s;
+        }
+    }
+    return e;
+}
+
+/* The faster of the two fastest that is not the thinnest body: the one that could pass it. */
+static int mover(const extremes *e)
+{
+    return e->thin != e->fast[0] ? 0 : 1;
+}
+
 double tb__contact_tunnel_step(const tb__effect *effect, const tb_scene *scene, const double *y,
                                char *which, size_t size)
 {
-    const tb__contact_params *contact = &effect->params.contact;
-    double speed[2] = {-1.0, -1.0},
-           thinnest = INFINITY; /* below any speed: a body at rest counts */
-    size_t fast[2] = {TB_ALL_BODIES, TB_ALL_BODIES}, thin = TB_ALL_BODIES;
-    for (size_t k = 0; k < contact->body_count; ++k) {
-        const size_t id = contact->bodies[k];
-        const tb__collision_shape *shape =
-            id < scene->body_count ? tb__scene_body_collision_shape(scene, id) : NULL;
-        if (shape == NULL) {
-            continue;
-        }
-        const double s = motion_bound(scene, y, NULL, id).speed, t = half_thickness(shape);
-        const int slot = s > speed[0] ? 0 : s > speed[1] ? 1 : 2;
-        if (slot == 0) {
-            speed[1] = speed[0], fast[1] = fast[0];
-        }
-        if (slot < 2) {
-            speed[slot] = s, fast[slot] = id;
-        }
-        if (t > 0.0 && t < thinnest) { /* points of radius 0 are passed by any step: no bound */
-            thinnest = t, thin = id;
-        }
-    }
+    const extremes e = find_extremes(&effect->params.contact, scene, y);
     /* the two fastest close at most at the sum of their speeds; every other pair slower */
-    if (fast[1] == TB_ALL_BODIES || thin == TB_ALL_BODIES || !(speed[0] + speed[1] > 0.0)) {
+    const double closing = e.speed[0] + e.speed[1];
+    if (e.fast[1] == TB_ALL_BODIES || e.thin == TB_ALL_BODIES || !(closing > 0.0)) {
         return INFINITY;
     }
-    const int mover = thin != fast[0] ? 0 : 1;
+    const int m = mover(&e);
     snprintf(which, size,
              "body %zu (\"%s\", %.3g m/s) could pass through body %zu (\"%s\", %.3g m thick) in "
              "one step",
-             fast[mover], scene->names[fast[mover]], speed[mover], thin, scene->names[thin],
-             2.0 * thinnest);
-    return thinnest / (speed[0] + speed[1]);
+             e.fast[m], scene->names[e.fast[m]], e.speed[m], e.thin, scene->names[e.thin],
+             2.0 * e.thinnest);
+    return e.thinnest / closing;
+}
+
+/* The radius of the round end a shape meets others with (m): a sphere's or capsule's; 0 for
+ * shapes with corners or edges, which reach as deep as their tip. */
+static double tip_radius(const tb_scene *scene, size_t id)
+{
+    const tb__collision_shape *shape = tb__scene_body_collision_shape(scene, id);
+    return shape->type == TB_SHAPE_SPHERE || shape->type == TB_SHAPE_CAPSULE ? shape->radius : 0.0;
+}
+
+/* At least how deep two of the effect's bodies sink into each other before one's tip passes the
+ * other's middle, where the normal turns (m): the least over pairs a != b of a's tip radius plus
+ * b's half-thickness (a box's corner passes a plate's middle at the plate's half-thickness, a
+ * ball's centre at its radius more). Names a in tip and b in thin; INFINITY: no such pair. */
+static double least_sinking_to_pass(const tb__contact_params *contact, const tb_scene *scene,
+                                    size_t *tip, size_t *thin)
+{
+    double h[2] = {INFINITY, INFINITY}; /* the two thinnest, of ids thinnest[] */
+    size_t thinnest[2] = {TB_ALL_BODIES, TB_ALL_BODIES};
+    for (size_t k = 0; k < contact->body_count; ++k) {
+        const size_t id = contact->bodies[k];
+        const double t = body_half_thickness(scene, id);
+        const int slot = t < h[0] ? 0 : t < h[1] ? 1 : 2;
+        if (slot == 0) {
+            h[1] = h[0], thinnest[1] = thinnest[0];
+        }
+        if (slot < 2) {
+            h[slot] = t, thinnest[slot] = id;
+        }
+    }
+    double least = INFINITY;
+    for (size_t k = 0; k < contact->body_count; ++k) {
+        const size_t id = contact->bodies[k];
+        if (id >= scene->body_count || tb__scene_body_collision_shape(scene, id) == NULL) {
+            continue;
+        }
+        const int other = thinnest[0] != id ? 0 : 1;
+        const double depth = tip_radius(scene, id) + h[other];
+        if (depth < least) {
+            least = depth, *tip = id, *thin = thinnest[other];
+        }
+    }
+    return least;
+}
+
+tb_status tb__contact_check_impacts(const tb__effect *effect, const tb_scene *scene,
+                                    const double *y, char *detail)
+{
+    const tb__contact_params *contact = &effect->params.contact;
+    const extremes e = find_extremes(contact, scene, y);
+    size_t tip = TB_ALL_BODIES, thin = TB_ALL_BODIES;
+    const double depth = least_sinking_to_pass(contact, scene, &tip, &thin);
+    const double closing = e.speed[0] + e.speed[1];
+    if (e.fast[1] == TB_ALL_BODIES || !(closing > contact->omega * depth)) {
+        return TB_STATUS_OK; /* NaN speeds are the stability guard's and the integrator's */
+    }
+    const double penetration = contact->gravity * (depth / closing) * (depth / closing);
+    return tb__set_detail(detail, TB_STATUS_INVALID_ARGUMENT,
+                          "body %zu (\"%s\") could pass through body %zu (\"%s\", %.3g m thick) at "
+                          "up to %.3g m/s under every method: the contact stops it after %.3g m "
+                          "(speed / omega), past %.3g m where the normal turns; use penetration "
+                          "<= %.3g m, or slower or thicker bodies",
+                          tip, scene->names[tip], thin, scene->names[thin],
+                          2.0 * body_half_thickness(scene, thin), closing, closing / contact->omega,
+                          depth, penetration);
 }
 
 void tb__ground_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,

@@ -4,6 +4,8 @@
  * tb__effect_ops.event_gaps, adaptive_step_limit, tunnel_step). */
 #include "scene/scene_internal.h"
 
+#include "core/detail.h"
+
 #include <math.h>
 #include <stdio.h>
 
@@ -74,4 +76,20 @@ double tb__scene_tunnel_step(const tb_scene *scene, const double *y, char *which
         }
     }
     return limit;
+}
+
+tb_status tb__scene_check_impacts(const tb_scene *scene, const double *y, char *detail)
+{
+    for (size_t k = 0; k < scene->effect_count; ++k) {
+        const tb__effect *effect = &scene->effects[k];
+        char what[TB_DETAIL_SIZE];
+        const tb_status status = effect->ops->check_impacts != NULL
+                                     ? effect->ops->check_impacts(effect, scene, y, what)
+                                     : TB_STATUS_OK;
+        if (status != TB_STATUS_OK) {
+            return tb__set_detail(detail, status, "effect %zu (a %s): %s", k, effect->ops->name,
+                                  what);
+        }
+    }
+    return TB_STATUS_OK;
 }

@@ -100,6 +100,12 @@ typedef struct tb__effect_ops {
      * (TB_DETAIL_SIZE bytes). NULL: the effect has no bodies to pass through. */
     double (*tunnel_step)(const tb__effect *effect, const tb_scene *scene, const double *y,
                           char *which, size_t size);
+    /* Refuses a state from which a body could pass through another under every method and step
+     * (faster than the effect's law can stop before the thinner body's middle), with a detail
+     * naming both in detail (TB_DETAIL_SIZE bytes); run at integrator creation and before every
+     * advance (tb__scene_check_impacts). NULL: none. */
+    tb_status (*check_impacts)(const tb__effect *effect, const tb_scene *scene, const double *y,
+                               char *detail);
     /* Called at each step boundary with the accepted state (the scene's post-step hook: after
      * every fixed step, at every CVODE output and BDF projection), never inside a derivative:
      * bookkeeping outside y that the derivative reads (the contact effect's friction slot
@@ -385,6 +391,8 @@ bool tb__scene_has_events(const tb_scene *scene);
 int tb__scene_event_gaps(double t, const double *y, double *gap, void *ctx);
 double tb__scene_step_limit(double t, const double *y, const double *dydt, void *ctx);
 double tb__scene_tunnel_step(const tb_scene *scene, const double *y, char *which);
+/* Every effect's check_impacts at y; the detail (TB_DETAIL_SIZE bytes) names the effect. */
+tb_status tb__scene_check_impacts(const tb_scene *scene, const double *y, char *detail);
 
 /* The step tb_scene_default_step describes, for the scene at state y (stability.c). */
 double tb__scene_default_step(const tb_scene *scene, const double *y, tb_method method);

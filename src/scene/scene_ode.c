@@ -73,6 +73,10 @@ static tb_status acquire(void *ctx, unsigned long long generation, char *detail)
             return status;
         }
     }
+    const tb_status status = tb__scene_check_impacts(scene, scene->states, detail);
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
     scene->busy = true;
     return TB_STATUS_OK;
 }
@@ -256,7 +260,8 @@ static tb_status check_start(tb_scene *scene)
                                   detail);
         }
     }
-    return TB_STATUS_OK;
+    const tb_status status = tb__scene_check_impacts(scene, scene->states, detail);
+    return status == TB_STATUS_OK ? status : tb__scene_fail(scene, status, "%s", detail);
 }
 
 /* def with the scene's automatic tolerances (atol_vector, allocated into *out_atol) and
