@@ -72,6 +72,15 @@ static double point_depth(const tb__ground_params *ground, const tb__contact *c,
 
 /* What a body's touching points share: the weights w_j = share_j d_j of their spring forces
  * (k_j = M share_j omega^2) and the effective masses at their centre of pressure. */
+/* Points per body whose depth and arm the first pass keeps for the second (a stack buffer); a
+ * body with more has them computed again. */
+#define TB__GROUND_KEPT_POINTS 16
+
+/* Where a point is: its depth (m, negative above the plane) and its centre's lever arm (world). */
+typedef struct tb__point_place {
+    double depth, arm[3];
+} tb__point_place;
+
 typedef struct tb__body_load {
     double total;      /* sum of w_j, m */
     double normal;     /* kg: 1 / (1/M + (r x n) . I^-1 (r x n)) at the centre of pressure r */
@@ -87,13 +96,17 @@ typedef struct tb__body_load {
  * mass (a box rocking onto an edge) would otherwise load a point with more than either, and
  * overdamp its rocking. The friction dashpot's mass is kept below M share_j, as before. */
 static void body_load(const tb__ground_params *ground, const tb_scene *scene, size_t first,
-                      size_t end, const tb__motion *motion, tb__body_load *out)
+                      size_t end, const tb__motion *motion, tb__point_place *kept,
+                      tb__body_load *out)
 {
     double moment[3] = {0.0, 0.0, 0.0}, arm[3];
     *out = (tb__body_load){0.0, 0.0, 0.0};
     for (size_t j = first; j < end; ++j) {
         const tb__contact *c = &scene->contacts[j];
         const double depth = point_depth(ground, c, motion, arm);
+        if (kept != NULL) {
+            kept[j - first] = (tb__point_place){depth, {arm[0], arm[1], arm[2]}};
+        }
         if (depth > 0.0) {
             tb__v3_axpy(arm, -c->radius, ground->normal);
             out->total += c->share * depth;
@@ -110,13 +123,17 @@ static void body_load(const tb__ground_params *ground, const tb_scene *scene, si
     out->tangential = 1.0 / tb__inverse_mass_across(body, motion, centre, ground->normal);
 }
 
+/* place: the point's depth and arm from body_load, or NULL to compute them */
 static void contact(const tb__ground_params *ground, const tb_scene *scene, const tb__contact *c,
-                    const tb__motion *motion, const tb__body_load *load, const double *z,
-                    double *dz, double *dydt)
+                    const tb__motion *motion, const tb__body_load *load,
+                    const tb__point_place *place, const double *z, double *dz, double *dydt)
 {
     const double *n = ground->normal, *t1 = ground->tangent[0], *t2 = ground->tangent[1];
     double arm[3];
-    const double depth = point_depth(ground, c, motion, arm);
+    const double depth = place != NULL ? place->depth : point_depth(ground, c, motion, arm);
+    if (place != NULL) {
+        tb__v3_copy(arm, place->arm);
+    }
     if (depth <= 0.0) {
         dz[0] = -TB__BRISTLE_RELEASE_RATE * z[0];
         dz[1] = -TB__BRISTLE_RELEASE_RATE * z[1];
@@ -129,10 +146,13 @@ static void contact(const tb__ground_params *ground, const tb_scene *scene, cons
     const double mass = body->mass * c->share;
     const double part = c->share * depth / load->total; /* of the load, in (0, 1] */
     /* never heavier than M share, the mass the law had before, unless the point alone is */
-    const double heaviest = fmax(mass, 1.0 / tb__inverse_mass_along(body, motion, arm, n));
-    const double N = tb__contact_point_force(
-        mass * ground->omega * ground->omega, fmin(load->normal * part, heaviest),
-        ground->damping_ratio, depth, -tb__v3_dot(n, velocity));
+    double dashpot = load->normal * part;
+    if (dashpot > mass) {
+        dashpot = fmin(dashpot, fmax(mass, 1.0 / tb__inverse_mass_along(body, motion, arm, n)));
+    }
+    const double N =
+        tb__contact_point_force(mass * ground->omega * ground->omega, dashpot,
+                                ground->damping_ratio, depth, -tb__v3_dot(n, velocity));
     const double v_t[2] = {tb__v3_dot(t1, velocity), tb__v3_dot(t2, velocity)};
     double friction[2];
     bristles(ground, mass, fmin(load->tangential * part, mass), N, v_t, z, dz, friction);
@@ -159,10 +179,13 @@ static int apply_ground(const tb__effect *effect, const tb_scene *scene, double 
         tb__motion motion;
         tb__body_motion(&scene->bodies[body], y + TB_STATE_SIZE * body, &motion);
         tb__body_load load;
-        body_load(ground, scene, first, end, &motion, &load);
+        tb__point_place kept[TB__GROUND_KEPT_POINTS];
+        const bool keep = end - first <= TB__GROUND_KEPT_POINTS;
+        body_load(ground, scene, first, end, &motion, keep ? kept : NULL, &load);
         for (size_t j = first; j < end; ++j) {
             const size_t k = effect->state_offset + effect->states_per_contact * j;
-            contact(ground, scene, &scene->contacts[j], &motion, &load, y + k, dydt + k, dydt);
+            contact(ground, scene, &scene->contacts[j], &motion, &load,
+                    keep ? &kept[j - first] : NULL, y + k, dydt + k, dydt);
         }
         first = end;
     }
