@@ -4,6 +4,7 @@
  * command repeats none of them. */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime, isatty, fileno */
 #include "check_contact.h"
+#include "check_steps.h"
 #include "commands.h"
 #include "output.h"
 #include "summary.h"
@@ -176,6 +177,7 @@ static int simulate(const cli_options *o, tb_scene *scene, const tb_run_def *run
     }
     tb_integrator_stats stats;
     tb_error error;
+    const double dt = summary_step(scene, run); /* at the start, where the run chooses it */
     w->started = now();
     const tb_status status = tb_scene_run(scene, run, on_frame, w, &stats, &error);
     const double seconds = now() - w->started;
@@ -193,7 +195,7 @@ static int simulate(const cli_options *o, tb_scene *scene, const tb_run_def *run
     }
     invariants last;
     summary_measure(scene, &last);
-    summary_print(o->scene, scene, run, &stats, seconds, &w->first, &last);
+    summary_print(o->scene, scene, run, dt, &stats, seconds, &w->first, &last);
     return CLI_EXIT_OK;
 }
 
@@ -296,6 +298,7 @@ int cli_check_command(const cli_options *o)
                 bodies, summary_plural(bodies, "body", "bodies"), effects,
                 summary_plural(effects, "effect", "effects"), tb_method_name(run.integrator.method),
                 run.duration, run.fps);
+        cli_check_steps(scene);
         cli_check_contact(scene);
     }
     tb_scene_destroy(scene);

@@ -77,14 +77,30 @@ static void report_drift(const char *what, int conserved, double change, double 
     }
 }
 
-static void print_work(const tb_run_def *run, const tb_integrator_stats *stats, double seconds)
+double summary_step(const tb_scene *scene, const tb_run_def *run)
+{
+    const tb_integrator_def *i = &run->integrator;
+    double dt = i->dt;
+    if (tb_method_is_adaptive(i->method)) {
+        return 0.0;
+    }
+    if (dt == 0.0 && tb_scene_default_step(scene, i->method, &dt) != TB_STATUS_OK) {
+        return 0.0; /* the run refuses it and says why */
+    }
+    return dt;
+}
+
+static void print_work(const tb_run_def *run, double dt, const tb_integrator_stats *stats,
+                       double seconds)
 {
     const tb_integrator_def *i = &run->integrator;
     if (tb_method_is_adaptive(i->method)) {
         fprintf(stderr, "  %-24s %s, rtol %g, atol %s\n", "integrator", tb_method_name(i->method),
                 i->rtol, i->atol > 0 ? "given" : "per body");
     } else {
-        fprintf(stderr, "  %-24s %s, dt %g s\n", "integrator", tb_method_name(i->method), i->dt);
+        fprintf(stderr, "  %-24s %s, dt %g s%s (%.6g steps per simulated second)\n", "integrator",
+                tb_method_name(i->method), dt, i->dt == 0.0 ? " (the scene's default step)" : "",
+                1.0 / dt);
     }
     fprintf(stderr, "  %-24s %ld (%ld failed attempts)\n", "steps", stats->steps,
             stats->failed_steps);
@@ -92,7 +108,7 @@ static void print_work(const tb_run_def *run, const tb_integrator_stats *stats, 
     fprintf(stderr, "  %-24s %.3f s\n", "wall time", seconds);
 }
 
-void summary_print(const char *path, const tb_scene *scene, const tb_run_def *run,
+void summary_print(const char *path, const tb_scene *scene, const tb_run_def *run, double dt,
                    const tb_integrator_stats *stats, double seconds, const invariants *first,
                    const invariants *last)
 {
@@ -100,7 +116,7 @@ void summary_print(const char *path, const tb_scene *scene, const tb_run_def *ru
     fprintf(stderr, "tumble: %s: %zu %s, %zu %s, %.6g s at %.6g fps\n", path, bodies,
             summary_plural(bodies, "body", "bodies"), effects,
             summary_plural(effects, "effect", "effects"), run->duration, run->fps);
-    print_work(run, stats, seconds);
+    print_work(run, dt, stats, seconds);
     tb_conserved c;
     tb_scene_conserved(scene, &c);
     report_drift("energy", c.energy, fabs(last->energy - first->energy), fabs(first->energy), "J",

@@ -16,7 +16,13 @@ void summary_measure(const tb_scene *scene, invariants *out);
 /* "1 body", "2 bodies": count and the noun in the right number. */
 const char *summary_plural(size_t count, const char *one, const char *many);
 
-void summary_print(const char *path, const tb_scene *scene, const tb_run_def *run,
+/* The fixed step run takes on the scene at its current state: its integrator's dt, or for
+ * dt 0 the scene's default step (tb_scene_default_step; ask before the run, at the start).
+ * 0 for an adaptive method. */
+double summary_step(const tb_scene *scene, const tb_run_def *run);
+
+/* dt: the fixed step the run took (summary_step before it), unused for an adaptive method. */
+void summary_print(const char *path, const tb_scene *scene, const tb_run_def *run, double dt,
                    const tb_integrator_stats *stats, double seconds, const invariants *first,
                    const invariants *last);
 

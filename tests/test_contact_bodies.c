@@ -176,8 +176,10 @@ static void test_colliding_bodies_keep_momentum_and_angular_momentum(void **stat
 }
 
 /* A scene file's {"type": "contact"}: equal balls, e = 1, one at rest: the moving one stops and
- * the other leaves at its speed (momentum and energy together say so), to 1e-4 m/s at the
- * default step (RK4's error through the contact, measured 3e-6). */
+ * the other leaves at its speed (momentum and energy together say so), to 1e-3 m/s (0.1% of the
+ * speed) at the default step: RK4's error through the contact, whose touchdown a fixed step
+ * straddles, at h omega = 0.27 (the default step since the guard bounds the balls' contact at
+ * their centres, where the normal acts, 2.3 times the old; 3e-6 at the old step). */
 static void test_a_scene_files_contact_passes_the_momentum_on(void **state)
 {
     (void)state;
@@ -198,8 +200,8 @@ static void test_a_scene_files_contact_passes_the_momentum_on(void **state)
     const double *y = tb_scene_states(scene);
     print_message("after: v_a = %.2e, v_b = %.6f m/s\n", y[TB_STATE_P],
                   y[TB_STATE_SIZE + TB_STATE_P]);
-    assert_near(y[TB_STATE_P], 0.0, 1e-4);
-    assert_near(y[TB_STATE_SIZE + TB_STATE_P], 1.0, 1e-4);
+    assert_near(y[TB_STATE_P], 0.0, 1e-3);
+    assert_near(y[TB_STATE_SIZE + TB_STATE_P], 1.0, 1e-3);
     tb_scene_destroy(scene);
 }
 

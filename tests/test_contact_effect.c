@@ -191,8 +191,11 @@ static void test_balls_separate_at_e_times_their_approach_speed(void **state)
 /* The kinetic energy after the collision is at most the energy before, beyond the integrator's
  * own error: the dashpot only takes energy and the clamp only removes force. With e = 1 and no
  * friction the law keeps energy exactly, so |after / before - 1| is RK4's error; it must shrink
- * with the step (more than 4x for half the step) and be below 1e-6 under CVODE at rtol 1e-9. For
- * every e <= 1, with friction, no gain beyond that measured error at the default step. */
+ * with the step (more than 2x for half the step: the force's kink at touchdown, which a fixed
+ * step straddles, makes the error fall as h^2 once h omega is small, and the default step, since
+ * the guard no longer counts the arms' overdamped rates for balls, has h omega about 0.27, where
+ * the fall is not yet 4x) and be below 1e-6 under CVODE at rtol 1e-9. For every e <= 1, with
+ * friction, no gain beyond that measured error at the default step. */
 static double energy_ratio(double e, tb_method method, double dt, double mu)
 {
     tb_contact_def contact = tb_contact_def_default();
@@ -219,7 +222,7 @@ static void test_energy_never_grows_through_a_collision(void **state)
                   "(CVODE Adams)\n",
                   coarse - 1.0, fine - 1.0, cvode - 1.0);
     const double error = fabs(coarse - 1.0); /* RK4's, at the default step */
-    assert_true(fabs(fine - 1.0) < error / 4.0);
+    assert_true(fabs(fine - 1.0) < error / 2.0);
     assert_true(fabs(cvode - 1.0) < 1e-6);
     const double es[] = {0.0, 0.2, 0.5, 0.8, 1.0};
     for (int k = 0; k < 5; ++k) {

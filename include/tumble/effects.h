@@ -60,17 +60,20 @@ TB_API tb_status tb_scene_add_spring(tb_scene *scene, const tb_spring_def *def);
  * a radius (0 for a corner, r for a sphere's centre). A point whose sphere dips below the
  * plane n . x = offset by delta gets a normal force N = max(0, k delta + c delta') at the
  * sphere's lowest point (delta' the rate of sinking; never pulling), with k = M g / (support
- * penetration) and c = 2 zeta sqrt(k M / support) for a body of mass M whose weight rests on
- * `support` of its points (4 of a box's 8 corners): at rest the body sinks by `penetration`,
- * whatever its mass, and the contact rings at omega = sqrt(g / penetration) rad/s; the dashpot c
- * fades in from touchdown (c omega delta / (omega delta + delta' / 2)) so that N is continuous.
- * The damping ratio zeta is chosen from `restitution` so that a point carrying its body's whole
- * weight that hits the plane at v leaves at e v whatever v (e below 0.062 gets zeta = 3,
- * e = 0.062).
+ * penetration) for a body of mass M whose weight rests on `support` of its points (4 of a box's
+ * 8 corners): at rest the body sinks by `penetration`, whatever its mass, and the contact rings
+ * at omega = sqrt(g / penetration) rad/s. The dashpot is sized where it acts, c = 2 zeta
+ * sqrt(k m) with m the point's share of the effective mass 1 / (1/M + (r x n) . I^-1 (r x n)) at
+ * the touching points' centre of pressure r (M / support for a face landing flat, the point's
+ * own for one point), and fades in from touchdown (c w delta / (w delta + delta' / 2),
+ * w = sqrt(k / m)) so that N is continuous. The damping ratio zeta is chosen from `restitution`
+ * so that a point that hits the plane alone at v, anywhere on the body, leaves at e v whatever
+ * v (e below 0.062 gets zeta = 3, e = 0.062).
  *
  * Friction is Coulomb's, static and kinetic, through a stick anchor with plastic slip: each
- * contact point carries a tangential deflection z, a spring k = m g mu_s / presliding and damper
- * sqrt(k m) (m = M / support) whose force is capped at mu N. z follows the point while it sticks;
+ * contact point carries a tangential deflection z, a spring k = m g mu_s / presliding
+ * (m = M / support) and damper sqrt(k m_t) (m_t its share of the effective mass across the
+ * normal, at most m) whose force is capped at mu N. z follows the point while it sticks;
  * beyond the static cone mu_s N / k the excess relaxes at 400 per second, which makes
  * w = 400 (excess) the slip speed, and mu = mu_k + (mu_s - mu_k) exp(-(w / stribeck_velocity)^2)
  * falls with the slip, not with the velocity: a body released at rest under a load below
@@ -127,12 +130,13 @@ TB_API tb_status tb_contact_points_capsule(double radius, double length, tb_cont
  * Bodies with collision shapes (tb_scene_set_body_shape, include/tumble/shape.h) push each other
  * apart where they overlap, with the ground's normal law (see above) at each point of a pair's
  * contact manifold (up to 4 points, src/contact/narrow_phase.h): per point k = M_min g /
- * (points penetration), the damping from `restitution` at the reduced mass, so that two free
- * bodies meeting at one point part at e times their approach speed. Friction: the ground's
- * stick anchor (above) at each touching point that holds one of the effect's friction_points
- * slots: a tangential deflection z, 3 doubles of state per slot in the first body's principal
- * frame, a spring k = M_min g mu_s / (points presliding) capped at mu N, mu falling from mu_s
- * to mu_k with the slip speed over stribeck_velocity; a load below mu_s N is held without
+ * (points penetration), the damping from `restitution` at the point's share of the effective
+ * mass at the pair's centre of pressure (both bodies' 1/M + (r x n) . I^-1 (r x n)), so that two
+ * free bodies meeting at one point, anywhere on them, part at e times their approach speed.
+ * Friction: the ground's stick anchor (above) at each touching point that holds one of the effect's
+ * friction_points slots: a tangential deflection z, 3 doubles of state per slot in the first body's
+ * principal frame, a spring k = M_min g mu_s / (points presliding) capped at mu N, mu falling from
+ * mu_s to mu_k with the slip speed over stribeck_velocity; a load below mu_s N is held without
  * creep. The slots are allocated here, so the state's length is fixed when the effect is
  * added; a point finds its slot again by its position in the first body's frame, a slot is
  * freed at a step boundary once its pair has parted and its spring relaxed, and a point that

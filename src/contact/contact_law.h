@@ -67,4 +67,25 @@ static inline double tb__contact_normal_force(double mass, double omega, double 
     return force > 0.0 ? force : 0.0;
 }
 
+/* The law at one contact point (N) of stiffness k (N/m) whose dashpot pushes an effective mass
+ * m (kg): tb__contact_normal_force at mass m and rate omega = sqrt(k / m), that is
+ *
+ *     N = max(0, k d + 2 zeta sqrt(k m) d' g),   g = d / (d + beta |d'| sqrt(m / k)),
+ *
+ * written so that m -> 0 (a point that carries no share of the load yet) is the spring alone,
+ * with no overflow. With m the mass the point's motion along the normal really has, the point
+ * is the law's oscillator and keeps its restitution (effect_ground.c, effect_contact.c). */
+static inline double tb__contact_point_force(double stiffness, double mass, double zeta,
+                                             double depth, double depth_rate)
+{
+    if (!(depth > 0.0)) {
+        return 0.0;
+    }
+    const double fade =
+        depth / (depth + TB__CONTACT_DASHPOT_ONSET * fabs(depth_rate) * sqrt(mass / stiffness));
+    const double force =
+        stiffness * depth + 2.0 * zeta * sqrt(stiffness * mass) * depth_rate * fade;
+    return force > 0.0 ? force : 0.0;
+}
+
 #endif

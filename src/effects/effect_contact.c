@@ -30,7 +30,11 @@
 /* A pair's two bodies as one point of its manifold sees them. */
 typedef struct tb__pair_motion {
     tb__motion body[2];
-    double light, reduced; /* kg: the lighter mass and the reduced mass */
+    double light;   /* kg: the lighter mass */
+    double reduced; /* kg: the reduced mass */
+    double load;    /* m: the sum of the touching points' depths (their spring forces' weights) */
+    double normal;  /* kg: the effective mass at the centre of pressure along the normal */
+    double tangential; /* kg: the same for the lightest direction across it */
 } tb__pair_motion;
 
 /* One manifold point of pair (a, b) holding friction slot `slot` (TB__NO_SLOT: none): the force
@@ -50,11 +54,13 @@ static void point_load(const tb__effect *effect, const tb__pair_contact *pair,
     tb__point_velocity(&m->body[1], arm_b, v_b);
     const double relative[3] = {v_b[0] - v_a[0], v_b[1] - v_a[1], v_b[2] - v_a[2]};
     const double approach = tb__v3_dot(relative, n);
-    /* k = M_min omega^2 share and c = 2 zeta sqrt(k m_r share): one point between free bodies
-     * is the law's oscillator at the reduced mass m_r, so its restitution is the user's */
-    const double omega = contact->omega * sqrt(m->light / m->reduced);
-    const double N = tb__contact_normal_force(m->reduced * share, omega, contact->damping_ratio,
-                                              point->depth, -approach);
+    /* k = M_min omega^2 share and c = 2 zeta sqrt(k m_j): point j's dashpot pushes its part of
+     * the effective mass at the centre of pressure (pair_masses), so an off-centre hit keeps the
+     * user's restitution */
+    const double part = point->depth > 0.0 ? point->depth / m->load : 0.0;
+    const double N =
+        tb__contact_point_force(m->light * share * contact->omega * contact->omega,
+                                m->normal * part, contact->damping_ratio, point->depth, -approach);
     if (!(N > 0.0)) {
         return; /* a slot held here relaxes (tb__friction_relax_all) */
     }
@@ -63,9 +69,10 @@ static void point_load(const tb__effect *effect, const tb__pair_contact *pair,
         tangent[k] = relative[k] - approach * n[k];
     }
     /* the spring sized as the normal one, k_t = M_min g s0 share, damped at ratio 1/2 at the
-     * reduced mass */
+     * point's part of the tangential effective mass, or at m_r share where that is lighter:
+     * the damping only keeps the spring from ringing, and is never more than it was */
     const double stiffness = m->light * share * contact->gravity * contact->bristle_stiffness;
-    const double damping = sqrt(stiffness * m->reduced * share);
+    const double damping = sqrt(stiffness * fmin(m->tangential * part, m->reduced * share));
     const size_t k = effect->state_offset + TB__FRICTION_SLOT_STATES * slot;
     const bool held = slot != TB__NO_SLOT;
     tb__friction_force(contact, stiffness, damping, N, n, tangent, m->body[0].q,
@@ -79,6 +86,43 @@ static void point_load(const tb__effect *effect, const tb__pair_contact *pair,
     tb__add_load(dydt, pair->body_a, arm_a, minus);
 }
 
+/* The dashpots are sized where they act: the touching points' centre of pressure p (their
+ * positions weighted by depth, as their spring forces are) has the effective masses
+ * 1/m = 1/M_a + 1/M_b + (r_a x u) . I_a^-1 (r_a x u) + (r_b x u) . I_b^-1 (r_b x u), r = p - x,
+ * along the normal u = n and (the lightest) across it, and point j's dashpots push its part
+ * d_j / sum d of them. One point touching: its own effective mass, so an off-centre hit is the
+ * law's oscillator and keeps the restitution; points landing together (face on face): the mass
+ * of the motion the load excites. Continuous as points come and go (a point enters at d = 0). */
+static void pair_masses(const tb_scene *scene, const tb__pair_contact *pair, tb__pair_motion *m)
+{
+    const double *n = pair->manifold.normal;
+    double centre[3] = {0.0, 0.0, 0.0};
+    m->load = 0.0;
+    for (int j = 0; j < pair->manifold.count; ++j) {
+        const tb__contact_point *point = &pair->manifold.points[j];
+        if (point->depth > 0.0) {
+            m->load += point->depth;
+            tb__v3_axpy(centre, point->depth, point->position);
+        }
+    }
+    m->normal = m->tangential = 0.0;
+    if (!(m->load > 0.0)) {
+        return;
+    }
+    double along = 0.0, across = 0.0;
+    for (int k = 0; k < 2; ++k) {
+        const tb__body *body = &scene->bodies[k == 0 ? pair->body_a : pair->body_b];
+        double arm[3];
+        for (int i = 0; i < 3; ++i) {
+            arm[i] = centre[i] / m->load - m->body[k].x[i];
+        }
+        along += tb__inverse_mass_along(body, &m->body[k], arm, n);
+        across += tb__inverse_mass_across(body, &m->body[k], arm, n);
+    }
+    m->normal = 1.0 / along;
+    m->tangential = 1.0 / across;
+}
+
 static void pair_loads(const tb__effect *effect, const tb_scene *scene, const double *y,
                        const tb__pair_contact *pair, size_t *fresh, double *dydt)
 {
@@ -88,6 +132,7 @@ static void pair_loads(const tb__effect *effect, const tb_scene *scene, const do
     tb__body_motion(b, y + TB_STATE_SIZE * pair->body_b, &m.body[1]);
     m.light = fmin(a->mass, b->mass);
     m.reduced = a->mass * b->mass / (a->mass + b->mass);
+    pair_masses(scene, pair, &m);
     size_t slots[TB__MANIFOLD_POINTS];
     tb__friction_match(effect->params.contact.friction, pair, &m.body[0], fresh, slots);
     const double share = 1.0 / (double)pair->manifold.count;
@@ -115,74 +160,134 @@ static int apply_contact(const tb__effect *effect, const tb_scene *scene, double
     return 0;
 }
 
-/* M |r|^2 / I at the reach of body id's shape, plus 1: how much lighter a point of the body's
- * surface is than the body. The reach is the farthest corner of the shape's bounds in its own
- * frame (closed forms per type; a sphere's corner is sqrt 3 radii out, a margin the default
- * steps of ball scenes were measured with) from the centre of mass. It is fixed in the body, so
- * the bound does not change as the body turns: the world bounds' corner did (up to sqrt 3
- * farther for a tumbling die, so a default step chosen at the start was refused mid-throw). */
-static double lightness(const tb_scene *scene, const double *y, size_t id)
+/* How much lighter a point of body id's surface is than the body, its lightness M w for a
+ * force at the point (w its inverse mass there): at most tb__lightness_at's at the farthest
+ * corner of the shape's bounds in its own frame (closed forms per type), since for each
+ * direction the inverse mass is a convex function of the point. The corners are fixed in the
+ * body, so the bound does not change as the body turns: the world bounds' corners did (up to
+ * sqrt 3 farther for a tumbling die, so a default step chosen at the start was refused
+ * mid-throw). A sphere's normal passes through its centre c, so along the normal its points
+ * weigh as c does (arm x n = c x n), and across it as its surface does, |c| + radius out (not
+ * the bounds' corner, sqrt 3 radii). */
+static double lightness(const tb_scene *scene, const double *y, size_t id, bool normal)
 {
     const tb__collision_shape *shape = tb__scene_body_collision_shape(scene, id);
+    const tb__body *body = &scene->bodies[id];
     const double identity[TB__POSE_SIZE] = {0, 0, 0, 1, 0, 0, 0};
-    double low[3], high[3], pose[TB__POSE_SIZE];
+    double low[3], high[3], pose[TB__POSE_SIZE], q[4];
     tb__collision_shape_bounds(shape, identity, low, high); /* in the shape frame */
     tb__shape_pose(scene, y, id, pose);
+    tb__unit_quaternion(y, id, q);
     const double *x = y + TB_STATE_SIZE * id;
-    double reach2 = 0.0;
-    for (int corner = 0; corner < 8; ++corner) {
-        double local[3], world[3];
+    const bool sphere = shape->type == TB_SHAPE_SPHERE;
+    double most = 1.0;
+    for (int corner = 0; corner < (sphere ? 1 : 8); ++corner) {
+        double local[3], world[3], principal[3];
         for (int k = 0; k < 3; ++k) {
-            local[k] = (corner >> k) & 1 ? high[k] : low[k];
+            local[k] = sphere ? 0.0 : (corner >> k) & 1 ? high[k] : low[k];
         }
         tb__q_rotate(world, pose + 3, local);
         for (int k = 0; k < 3; ++k) {
             world[k] += pose[k] - x[k];
         }
-        reach2 = fmax(reach2, tb__v3_dot(world, world));
+        tb__q_rotate_inverse(principal, q, world);
+        const double reach[3] = {tb__v3_norm(world) + shape->radius, 0.0, 0.0};
+        most = fmax(most, sphere && !normal ? body->mass * tb__inverse_mass_at(body, reach)
+                                            : tb__lightness_at(body, principal));
     }
-    const double reach[3] = {sqrt(reach2), 0.0, 0.0};
-    return scene->bodies[id].mass * tb__inverse_mass_at(&scene->bodies[id], reach);
+    return most;
 }
 
-/* The modes of the pairs the effect can form, bounded from its bodies: a point of stiffness
- * k <= M_min omega^2 between bodies whose inverse masses at the point sum to at most
- * 2 max(lightness) / M_min rings at up to omega a, a^2 = 2 max lightness, with damping ratio
- * zeta a (as the ground's rocking); the friction spring, k_t = M_min g s0 share damped at ratio
- * 1/2 at the reduced mass, at up to sqrt(g s0) a with ratio a / 2, and the anchor's slip
- * relaxes at TB__BRISTLE_MAX_RATE. A point that finds no slot has the regularised law, which
- * decays at mu_s g a^2 / v_reg under a load of the body's weight: counted too, since any point
- * may find the pool full. */
+/* Bounds over the effect's bodies: the two largest lightnesses along the normal and across it
+ * (a pair's sum is at most theirs), the largest of the bodies that can touch at several points
+ * at once (not spheres: a sphere's manifold has one point), and their count. */
+typedef struct tb__contact_bounds {
+    double normal[2], tangential[2]; /* largest first */
+    double several_normal, several_tangential;
+    size_t several, shaped, body; /* body: the lightest along the normal, to name */
+} tb__contact_bounds;
+
+static void keep_two(double top[2], double value)
+{
+    if (value > top[0]) {
+        top[1] = top[0];
+        top[0] = value;
+    } else if (value > top[1]) {
+        top[1] = value;
+    }
+}
+
+static void contact_bounds(const tb__contact_params *contact, const tb_scene *scene,
+                           const double *y, tb__contact_bounds *out)
+{
+    *out = (tb__contact_bounds){{0.0, 0.0}, {0.0, 0.0}, 1.0, 1.0, 0, 0, TB_ALL_BODIES};
+    for (size_t k = 0; k < contact->body_count; ++k) {
+        const size_t id = contact->bodies[k];
+        const tb__collision_shape *shape =
+            id < scene->body_count ? tb__scene_body_collision_shape(scene, id) : NULL;
+        if (shape == NULL) {
+            continue;
+        }
+        const double normal = lightness(scene, y, id, true);
+        const double tangential = lightness(scene, y, id, false);
+        if (normal > out->normal[0]) {
+            out->body = id;
+        }
+        out->shaped += 1;
+        keep_two(out->normal, normal);
+        keep_two(out->tangential, tangential);
+        if (shape->type != TB_SHAPE_SPHERE) {
+            out->several += 1;
+            out->several_normal = fmax(out->several_normal, normal);
+            out->several_tangential = fmax(out->several_tangential, tangential);
+        }
+    }
+}
+
+/* The modes of the pairs the effect can form, bounded from its bodies (docs/contact.md,
+ * "Stability"). A pair's point of stiffness k = M_min omega^2 share (shares summing to 1) between
+ * bodies of lightness l_a, l_b along the normal rings at up to omega a, a^2 = l_a + l_b (the
+ * inverse mass at a point is at most l_a / M_a + l_b / M_b). Its dashpot pushes its part of the
+ * effective mass at the centre of pressure (pair_masses): one point is the law's oscillator, at
+ * damping ratio zeta; several together damp the other modes up to zeta kappa,
+ * kappa^2 = max(l_a, l_b) (the real decay rates are at most 2 zeta omega a kappa, from
+ * x^T C x / x^T M x over the modes). The friction spring, k_t = M_min g s0 share damped at ratio
+ * 1/2 for its part of the tangential effective mass (or m_r share, whichever is lighter), rings
+ * at up to sqrt(g s0) a_t, with a_t^2 the sum across the normal, at ratio min(a_t, kappa_t) / 2
+ * (the first bound holds for damping at m_r share, the second for the part); the anchor's slip
+ * relaxes at
+ * TB__BRISTLE_MAX_RATE. A point that finds no slot has the regularised law, which decays at
+ * mu_s g a_t^2 / v_reg under a load of the body's weight: counted too, since any point may find
+ * the pool full, unless the pool holds every point of every pair the bodies can form (up to 4
+ * bodies at the default 6 slots per body). */
 static void contact_rate(const tb__effect *effect, const tb_scene *scene, const double *y,
                          tb__effect_rate *out)
 {
     const tb__contact_params *contact = &effect->params.contact;
     *out = (tb__effect_rate){0.0, TB_ALL_BODIES, 0.0, TB_ALL_BODIES};
-    double worst = 0.0;
-    size_t body = TB_ALL_BODIES;
-    for (size_t k = 0; k < contact->body_count; ++k) {
-        const size_t id = contact->bodies[k];
-        if (id < scene->body_count && tb__scene_body_collision_shape(scene, id) != NULL) {
-            const double l = lightness(scene, y, id);
-            if (l > worst) {
-                worst = l;
-                body = id;
-            }
-        }
-    }
-    if (body == TB_ALL_BODIES) {
+    tb__contact_bounds b;
+    contact_bounds(contact, scene, y, &b);
+    if (b.body == TB_ALL_BODIES) {
         return;
     }
-    const double a = sqrt(2.0 * worst);
-    tb__effect_rate_add_damped_mode(out, contact->omega * a, contact->damping_ratio * a, body);
+    const size_t body = b.body;
+    const double a = sqrt(b.normal[0] + b.normal[1]);
+    const double a_t2 = b.tangential[0] + b.tangential[1];
+    const double kappa = b.several >= 2 ? sqrt(b.several_normal) : 1.0;
+    const double kappa_t = b.several >= 2 ? sqrt(b.several_tangential) : 1.0;
+    tb__effect_rate_add_damped_mode(out, contact->omega * a, contact->damping_ratio * kappa, body);
     if (contact->static_friction > 0.0) {
-        tb__effect_rate_add_damped_mode(
-            out, sqrt(contact->gravity * contact->bristle_stiffness) * a, 0.5 * a, body);
+        tb__effect_rate_add_damped_mode(out,
+                                        sqrt(contact->gravity * contact->bristle_stiffness * a_t2),
+                                        0.5 * fmin(sqrt(a_t2), kappa_t), body);
         tb__effect_rate_add_decay(out, TB__BRISTLE_MAX_RATE, body);
     }
     tb__effect_rate_add_decay(out, TB__BRISTLE_RELEASE_RATE, body);
-    tb__effect_rate_add_decay(
-        out, contact->static_friction * contact->gravity * a * a / contact->slip_velocity, body);
+    const double pairs = 0.5 * (double)b.shaped * (double)(b.shaped - 1);
+    if ((double)tb__friction_pool_slots(contact->friction) < TB__MANIFOLD_POINTS * pairs) {
+        tb__effect_rate_add_decay(
+            out, contact->static_friction * contact->gravity * a_t2 / contact->slip_velocity, body);
+    }
 }
 
 static void release_contact(tb__effect *effect)
@@ -325,7 +430,6 @@ static tb_status make_pool(tb_scene *scene, const tb_contact_def *def, tb__effec
     effect->state_scale = def->presliding;
     /* per unit of the weight M_min share a point carries, as the ground's (ground_params) */
     contact->bristle_stiffness = def->static_friction / def->presliding;
-    contact->bristle_damping = sqrt(contact->bristle_stiffness / def->gravity);
     /* The memoryless fallback's regularisation: its decay mu_s g a^2 / v_reg then stays within
      * the friction spring's own fastest mode (about sqrt(g mu_s / presliding) a^2 at the arms,
      * contact_rate), so a full pool costs no shorter step; 1.7 mm/s at the defaults. */
@@ -370,7 +474,10 @@ tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def)
     if (status == TB_STATUS_OK) {
         contact->omega = sqrt(def->gravity / def->penetration);
         contact->damping_ratio = tb__contact_damping_ratio(def->restitution);
-        /* a pair rings at omega sqrt(M_light / m_reduced) <= omega sqrt(2) (apply_contact) */
+        /* a centred hit rings at omega sqrt(M_light / m_reduced) <= omega sqrt(2); a point off
+         * the centre, lighter (pair_masses), rings faster and pushes for less: this floor of the
+         * adaptive step limit is then longer than half its push, and CVODE's error control, not
+         * the limit, resolves it (test_contact_damping: e within 0.05 % under Adams) */
         contact->push_duration =
             tb__contact_push_duration(contact->damping_ratio) / (sqrt(2.0) * contact->omega);
         contact->static_friction = def->static_friction;

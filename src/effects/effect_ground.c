@@ -19,26 +19,18 @@
  * mistake, refused. */
 #define TB__START_DEPTH_PENETRATIONS 10.0
 
-/* Normal force magnitude for a point of a body of mass M carrying share of its weight: the shared
- * law (contact/contact_law.h) with effective mass M share, so that k = M share g / penetration. */
-static double normal_force(const tb__ground_params *ground, double mass, double share, double depth,
-                           double normal_speed)
-{
-    return tb__contact_normal_force(mass * share, ground->omega, ground->damping_ratio, depth,
-                                    -normal_speed);
-}
-
 /* Friction at one point: writes dz and returns the friction force (N, tangent basis). A stick
  * anchor with plastic slip (docs/effects.md, "Friction"): z is the elastic deflection of a
- * tangential spring and dashpot of stiffness k = m g s0 and damping ratio 1/2 for the mass m the
- * point carries, whose force is capped at mu N. z grows with the tangential velocity until it
+ * tangential spring of stiffness k = m g s0 for the mass m the point carries and a dashpot
+ * sqrt(k m_t), damping ratio 1/2 for the tangential effective mass m_t its dashpot pushes
+ * (masses_at), whose force is capped at mu N. z grows with the tangential velocity until it
  * passes the static cone z_s = mu_s N / k; the excess relaxes at TB__BRISTLE_MAX_RATE r, so in a
  * slide at v it settles at v / r and r excess estimates the slip speed. mu falls from mu_s to
  * mu_k with that slip speed (Stribeck), not with the velocity: a presliding transient, however
  * fast, does not lower the cap, so a load below mu_s N is held whatever the release. At rest
  * dz = 0 exactly and the spring holds the load: no creep. */
-static void bristles(const tb__ground_params *ground, double mass, double N, const double v_t[2],
-                     const double z[2], double dz[2], double friction[2])
+static void bristles(const tb__ground_params *ground, double mass, double damping_mass, double N,
+                     const double v_t[2], const double z[2], double dz[2], double friction[2])
 {
     if (!(ground->static_friction > 0.0)) { /* frictionless */
         for (int k = 0; k < 2; ++k) {
@@ -48,7 +40,7 @@ static void bristles(const tb__ground_params *ground, double mass, double N, con
         return;
     }
     const double stiffness = mass * ground->gravity * ground->bristle_stiffness;
-    const double damping = mass * ground->gravity * ground->bristle_damping;
+    const double damping = sqrt(stiffness * damping_mass);
     const double deflection = hypot(z[0], z[1]);
     const double cone = ground->static_friction * N / stiffness;
     const double excess = deflection > cone ? deflection - cone : 0.0;
@@ -78,12 +70,70 @@ static double point_depth(const tb__ground_params *ground, const tb__contact *c,
     return c->radius - height;
 }
 
+/* What a body's touching points share: the weights w_j = share_j d_j of their spring forces
+ * (k_j = M share_j omega^2) and the effective masses at their centre of pressure. */
+/* Points per body whose depth and arm the first pass keeps for the second (a stack buffer); a
+ * body with more has them computed again. */
+#define TB__GROUND_KEPT_POINTS 16
+
+/* Where a point is: its depth (m, negative above the plane) and its centre's lever arm (world). */
+typedef struct tb__point_place {
+    double depth, arm[3];
+} tb__point_place;
+
+typedef struct tb__body_load {
+    double total;      /* sum of w_j, m */
+    double normal;     /* kg: 1 / (1/M + (r x n) . I^-1 (r x n)) at the centre of pressure r */
+    double tangential; /* kg: the same for the lightest direction in the plane */
+} tb__body_load;
+
+/* The load of body's points [first, end) at motion. The dashpots are sized where they act: point
+ * j's pushes m_j = m_cp w_j / sum w, the effective mass at the centre of pressure shared by load.
+ * One point touching: its own effective mass, so an end or corner landing keeps the restitution;
+ * points landing together (a flat face, the two corners of a rod's end): the mass of the motion
+ * the load excites, which for a face under the centre of mass is M share_j as before. m_j is
+ * kept below max(M share_j, the point's own effective mass): unequal loads near the centre of
+ * mass (a box rocking onto an edge) would otherwise load a point with more than either, and
+ * overdamp its rocking. The friction dashpot's mass is kept below M share_j, as before. */
+static void body_load(const tb__ground_params *ground, const tb_scene *scene, size_t first,
+                      size_t end, const tb__motion *motion, tb__point_place *kept,
+                      tb__body_load *out)
+{
+    double moment[3] = {0.0, 0.0, 0.0}, arm[3];
+    *out = (tb__body_load){0.0, 0.0, 0.0};
+    for (size_t j = first; j < end; ++j) {
+        const tb__contact *c = &scene->contacts[j];
+        const double depth = point_depth(ground, c, motion, arm);
+        if (kept != NULL) {
+            kept[j - first] = (tb__point_place){depth, {arm[0], arm[1], arm[2]}};
+        }
+        if (depth > 0.0) {
+            tb__v3_axpy(arm, -c->radius, ground->normal);
+            out->total += c->share * depth;
+            tb__v3_axpy(moment, c->share * depth, arm);
+        }
+    }
+    if (!(out->total > 0.0)) {
+        return;
+    }
+    const double centre[3] = {moment[0] / out->total, moment[1] / out->total,
+                              moment[2] / out->total};
+    const tb__body *body = &scene->bodies[scene->contacts[first].body];
+    out->normal = 1.0 / tb__inverse_mass_along(body, motion, centre, ground->normal);
+    out->tangential = 1.0 / tb__inverse_mass_across(body, motion, centre, ground->normal);
+}
+
+/* place: the point's depth and arm from body_load, or NULL to compute them */
 static void contact(const tb__ground_params *ground, const tb_scene *scene, const tb__contact *c,
-                    const tb__motion *motion, const double *z, double *dz, double *dydt)
+                    const tb__motion *motion, const tb__body_load *load,
+                    const tb__point_place *place, const double *z, double *dz, double *dydt)
 {
     const double *n = ground->normal, *t1 = ground->tangent[0], *t2 = ground->tangent[1];
     double arm[3];
-    const double depth = point_depth(ground, c, motion, arm);
+    const double depth = place != NULL ? place->depth : point_depth(ground, c, motion, arm);
+    if (place != NULL) {
+        tb__v3_copy(arm, place->arm);
+    }
     if (depth <= 0.0) {
         dz[0] = -TB__BRISTLE_RELEASE_RATE * z[0];
         dz[1] = -TB__BRISTLE_RELEASE_RATE * z[1];
@@ -92,11 +142,20 @@ static void contact(const tb__ground_params *ground, const tb_scene *scene, cons
     tb__v3_axpy(arm, -c->radius, n); /* the sphere's lowest point touches */
     double velocity[3];
     tb__point_velocity(motion, arm, velocity);
-    const double mass = scene->bodies[c->body].mass;
-    const double N = normal_force(ground, mass, c->share, depth, tb__v3_dot(n, velocity));
+    const tb__body *body = &scene->bodies[c->body];
+    const double mass = body->mass * c->share;
+    const double part = c->share * depth / load->total; /* of the load, in (0, 1] */
+    /* never heavier than M share, the mass the law had before, unless the point alone is */
+    double dashpot = load->normal * part;
+    if (dashpot > mass) {
+        dashpot = fmin(dashpot, fmax(mass, 1.0 / tb__inverse_mass_along(body, motion, arm, n)));
+    }
+    const double N =
+        tb__contact_point_force(mass * ground->omega * ground->omega, dashpot,
+                                ground->damping_ratio, depth, -tb__v3_dot(n, velocity));
     const double v_t[2] = {tb__v3_dot(t1, velocity), tb__v3_dot(t2, velocity)};
     double friction[2];
-    bristles(ground, mass * c->share, N, v_t, z, dz, friction);
+    bristles(ground, mass, fmin(load->tangential * part, mass), N, v_t, z, dz, friction);
     double f[3];
     for (int k = 0; k < 3; ++k) {
         f[k] = N * n[k] + friction[0] * t1[k] + friction[1] * t2[k];
@@ -108,16 +167,27 @@ static int apply_ground(const tb__effect *effect, const tb_scene *scene, double 
                         double *dydt)
 {
     (void)t;
-    tb__motion motion;
-    size_t current = TB_ALL_BODIES;
-    for (size_t j = 0; j < scene->contact_count; ++j) {
-        const tb__contact *c = &scene->contacts[j];
-        if (c->body != current) { /* a body's points are contiguous: read its motion once */
-            current = c->body;
-            tb__body_motion(&scene->bodies[current], y + TB_STATE_SIZE * current, &motion);
+    const tb__ground_params *ground = &effect->params.ground;
+    size_t first = 0;
+    while (first < scene->contact_count) {
+        /* a body's points are contiguous: its motion and load are read once */
+        const size_t body = scene->contacts[first].body;
+        size_t end = first + 1;
+        while (end < scene->contact_count && scene->contacts[end].body == body) {
+            ++end;
         }
-        const size_t k = effect->state_offset + effect->states_per_contact * j;
-        contact(&effect->params.ground, scene, c, &motion, y + k, dydt + k, dydt);
+        tb__motion motion;
+        tb__body_motion(&scene->bodies[body], y + TB_STATE_SIZE * body, &motion);
+        tb__body_load load;
+        tb__point_place kept[TB__GROUND_KEPT_POINTS];
+        const bool keep = end - first <= TB__GROUND_KEPT_POINTS;
+        body_load(ground, scene, first, end, &motion, keep ? kept : NULL, &load);
+        for (size_t j = first; j < end; ++j) {
+            const size_t k = effect->state_offset + effect->states_per_contact * j;
+            contact(ground, scene, &scene->contacts[j], &motion, &load,
+                    keep ? &kept[j - first] : NULL, y + k, dydt + k, dydt);
+        }
+        first = end;
     }
     return 0;
 }
@@ -128,15 +198,19 @@ static int apply_ground(const tb__effect *effect, const tb_scene *scene, double 
  * masses k_j at the arms; against I_body its largest generalised eigenvalue, bounded by the
  * largest row sum of |I^-1/2 A I^-1/2| (Gershgorin), is a^2 omega0^2 with
  * A = M sum share_j (|r_j|^2 1 - r_j r_j^T) / sum share_j (the points carrying the body share
- * 1). Each arm reaches the point's sphere, |r_j| + radius. A box on its corners gives 3, a
- * light body on wide points ~1e2; bouncing alone gives 1. The body's points are
- * contacts[first, end). (Derived by the scene helper for the general guard, issue 11.) */
-static double rocking_factor(const tb_scene *scene, size_t first, size_t end)
+ * 1). Across the plane (normal false: friction) each arm reaches the point's sphere,
+ * |r_j| + radius; along the normal the sphere's radius lies along n and turns nothing
+ * (arm x n = r_j x n), so the arm is r_j. A box on its corners gives 3, a light body on wide
+ * points ~1e2; bouncing alone gives 1. The body's points are contacts[first, end). *kappa2:
+ * the largest lightness of a point (tb__lightness_at; with a sphere's radius across the normal
+ * M (1/M + (|r_j| + radius)^2 / I_min)), 1 for a body with one point (ground_rate). */
+static double rocking_factor(const tb_scene *scene, size_t first, size_t end, bool normal,
+                             double *kappa2)
 {
     double A[3][3] = {{0}}, shares = 0.0;
     for (size_t j = first; j < end; ++j) {
         const tb__contact *c = &scene->contacts[j];
-        const double length = tb__v3_norm(c->r), reach = length + c->radius;
+        const double length = tb__v3_norm(c->r), reach = normal ? length : length + c->radius;
         const double scale = length > 0.0 ? reach / length : 0.0;
         const double r[3] = {c->r[0] * scale, c->r[1] * scale, c->r[2] * scale};
         for (int k = 0; k < 3; ++k) {
@@ -155,15 +229,26 @@ static double rocking_factor(const tb_scene *scene, size_t first, size_t end)
         }
         a2 = fmax(a2, b->mass * row / shares);
     }
+    *kappa2 = 1.0;
+    for (size_t j = first; j < end && end - first > 1; ++j) {
+        const tb__contact *c = &scene->contacts[j];
+        const double arm[3] = {tb__v3_norm(c->r) + c->radius, 0.0, 0.0};
+        *kappa2 = fmax(*kappa2, normal || c->radius == 0.0 ? tb__lightness_at(b, c->r)
+                                                           : b->mass * tb__inverse_mass_at(b, arm));
+    }
     return a2;
 }
 
-/* Every mode of the contact scales alike: a point's stiffness is its share of M g / penetration
- * and its damping 2 zeta sqrt(k M share), so bouncing has omega0 = sqrt(g / penetration) and
- * damping ratio zeta, rocking omega0 a and zeta a. The friction spring of a point, stiffness
- * m g s0 and damping m g s1 (ratio 1/2 per point), rings at sqrt(g s0) a with ratio a / 2. The
- * relaxation of a deflection beyond the cone (TB__BRISTLE_MAX_RATE) and a lifted point's release
- * are decaying modes of their own. */
+/* The modes of a body on its points (docs/contact.md, "Stability"): a point's stiffness is its
+ * share of M g / penetration, so bouncing has omega0 = sqrt(g / penetration) and rocking
+ * omega0 a. The dashpots push their parts of the effective mass at the centre of pressure
+ * (body_load): one point is the law's oscillator at damping ratio zeta; several together damp
+ * the other modes at up to zeta kappa, kappa^2 the largest lightness of a point (the real decay
+ * rates are at most 2 zeta omega0 a kappa, from x^T C x / x^T M x). The friction spring of a
+ * point, stiffness m g s0 damped at ratio 1/2 for its part of the tangential effective mass,
+ * rings at sqrt(g s0) a_t with ratio kappa_t / 2 (a_t, kappa_t with the arms reaching the
+ * points' spheres). The relaxation of a deflection beyond the cone (TB__BRISTLE_MAX_RATE) and a
+ * lifted point's release are decaying modes of their own. */
 static void ground_rate(const tb__effect *effect, const tb_scene *scene, const double *y,
                         tb__effect_rate *out)
 {
@@ -178,9 +263,12 @@ static void ground_rate(const tb__effect *effect, const tb_scene *scene, const d
             continue;
         }
         const size_t body = scene->contacts[first].body;
-        const double a = sqrt(rocking_factor(scene, first, j));
+        double kappa2, kappa2_t;
+        const double a = sqrt(rocking_factor(scene, first, j, true, &kappa2));
+        const double a_t = sqrt(rocking_factor(scene, first, j, false, &kappa2_t));
+        (void)kappa2; /* the normal dashpots are capped at M share_j or one point's (body_load) */
         tb__effect_rate_add_damped_mode(out, omega0 * a, ground->damping_ratio * a, body);
-        tb__effect_rate_add_damped_mode(out, bristles * a, 0.5 * a, body);
+        tb__effect_rate_add_damped_mode(out, bristles * a_t, 0.5 * fmin(a_t, sqrt(kappa2_t)), body);
         const double relaxation =
             ground->static_friction > 0.0 ? TB__BRISTLE_MAX_RATE : TB__BRISTLE_RELEASE_RATE;
         if (relaxation > out->decay) {
@@ -336,12 +424,11 @@ static void ground_params(const tb_ground_def *def, tb__ground_params *ground)
     ground->kinetic_friction = def->kinetic_friction;
     ground->stribeck_velocity = def->stribeck_velocity;
     /* Per unit of the mass m a point carries, times g: the spring k = m g s0 (the breakaway
-     * deflection under the weight is presliding) and the damper m g s1 = sqrt(k m), a damping
-     * ratio of 1/2. Not 1: a flat body's yaw mode on its corners is sqrt(3) times stiffer and
-     * sqrt(3) times more damped than one point, and overdamped at 1.73 its fast eigenvalue
-     * (5.4 omega) would cost explicit methods a 2.4 times shorter step. */
+     * deflection under the weight is presliding); its damper sqrt(k m_t) is sized at the
+     * tangential effective mass m_t (body_load), a damping ratio of 1/2. Not 1: a flat body's
+     * yaw mode on its corners is stiffer and more damped than one point, and overdamped its
+     * fast eigenvalue would cost explicit methods a shorter step. */
     ground->bristle_stiffness = def->static_friction / def->presliding;
-    ground->bristle_damping = sqrt(ground->bristle_stiffness / def->gravity);
 }
 
 tb_status tb_scene_add_ground(tb_scene *scene, const tb_ground_def *def)

@@ -164,6 +164,69 @@ void tb__point_velocity(const tb__motion *motion, const double arm[3], double ve
     tb__v3_axpy(velocity, 1.0, motion->v);
 }
 
+/* arm x u in the principal frame, where I^-1 is diagonal. */
+static void principal_lever(const tb__motion *motion, const double arm[3], const double u[3],
+                            double out[3])
+{
+    double lever[3];
+    tb__v3_cross(lever, arm, u);
+    tb__q_rotate_inverse(out, motion->q, lever);
+}
+
+static double inverse_inertia_product(const tb__body *body, const double a[3], const double b[3])
+{
+    const double *inverse = body->inv_moments;
+    return inverse[0] * a[0] * b[0] + inverse[1] * a[1] * b[1] + inverse[2] * a[2] * b[2];
+}
+
+double tb__inverse_mass_along(const tb__body *body, const tb__motion *motion, const double arm[3],
+                              const double u[3])
+{
+    double lever[3];
+    principal_lever(motion, arm, u, lever);
+    return body->inv_mass + inverse_inertia_product(body, lever, lever);
+}
+
+double tb__inverse_mass_across(const tb__body *body, const tb__motion *motion, const double arm[3],
+                               const double n[3])
+{
+    /* t1, t2: a basis of the plane; the 2 x 2 form T_ab = (arm x t_a) . I^-1 (arm x t_b) has
+     * the largest eigenvalue (T11 + T22) / 2 + sqrt(((T11 - T22) / 2)^2 + T12^2) */
+    const double axis[3] = {fabs(n[0]) < 0.9 ? 1.0 : 0.0, fabs(n[0]) < 0.9 ? 0.0 : 1.0, 0.0};
+    double t1[3], t2[3], a[3], b[3];
+    tb__v3_cross(t1, n, axis);
+    const double length = tb__v3_norm(t1);
+    tb__v3_set(t1, t1[0] / length, t1[1] / length, t1[2] / length);
+    tb__v3_cross(t2, n, t1);
+    principal_lever(motion, arm, t1, a);
+    principal_lever(motion, arm, t2, b);
+    const double T11 = inverse_inertia_product(body, a, a),
+                 T22 = inverse_inertia_product(body, b, b);
+    const double T12 = inverse_inertia_product(body, a, b), half = 0.5 * (T11 - T22);
+    return body->inv_mass + 0.5 * (T11 + T22) + sqrt(half * half + T12 * T12);
+}
+
+double tb__lightness_at(const tb__body *body, const double r[3])
+{
+    /* M (1/M + max over unit n of (r x n) . I^-1 (r x n)): the largest eigenvalue of
+     * P = [r x]^T I^-1 [r x], closed form for a symmetric 3 x 3 (trigonometric) */
+    const double *i = body->inv_moments;
+    const double P00 = i[1] * r[2] * r[2] + i[2] * r[1] * r[1];
+    const double P11 = i[0] * r[2] * r[2] + i[2] * r[0] * r[0];
+    const double P22 = i[0] * r[1] * r[1] + i[1] * r[0] * r[0];
+    const double P01 = -i[2] * r[0] * r[1], P02 = -i[1] * r[0] * r[2], P12 = -i[0] * r[1] * r[2];
+    const double q = (P00 + P11 + P22) / 3.0, off = P01 * P01 + P02 * P02 + P12 * P12;
+    const double d0 = P00 - q, d1 = P11 - q, d2 = P22 - q;
+    const double p = sqrt((d0 * d0 + d1 * d1 + d2 * d2 + 2.0 * off) / 6.0);
+    if (!(p > 0.0)) {
+        return 1.0 + body->mass * q;
+    }
+    const double det =
+        d0 * (d1 * d2 - P12 * P12) - P01 * (P01 * d2 - P12 * P02) + P02 * (P01 * P12 - d1 * P02);
+    const double half = fmax(-1.0, fmin(1.0, det / (2.0 * p * p * p)));
+    return 1.0 + body->mass * (q + 2.0 * p * cos(acos(half) / 3.0));
+}
+
 void tb__add_load(double *dydt, size_t i, const double arm[3], const double f[3])
 {
     double torque[3];

@@ -149,8 +149,7 @@ typedef struct tb__ground_params {
     double omega;         /* sqrt(gravity / penetration), rad/s */
     double damping_ratio; /* from the restitution (contact/contact_law.h) */
     double static_friction, kinetic_friction, stribeck_velocity;
-    double bristle_stiffness,
-        bristle_damping; /* friction spring per unit weight: s0 (1/m), s1 (s/m) */
+    double bristle_stiffness; /* friction spring per unit weight: s0 = mu_s / presliding, 1/m */
 } tb__ground_params;
 
 /* Contact between bodies (effect_contact.c): the pair finder and the law's constants. */
@@ -162,9 +161,9 @@ typedef struct tb__contact_params {
     double omega, damping_ratio; /* rad/s, from penetration and restitution */
     double static_friction, kinetic_friction, stribeck_velocity, gravity;
     double push_duration; /* s: the shortest time an impact's force acts, over every pair */
-    struct tb__contact_pairs *lookahead;       /* owned: pairs within TB__EVENT_LOOKAHEAD, for the
-                                                  events and step limits (effect_contact_events.c) */
-    double bristle_stiffness, bristle_damping; /* friction spring per unit weight, as ground's */
+    struct tb__contact_pairs *lookahead; /* owned: pairs within TB__EVENT_LOOKAHEAD, for the
+                                            events and step limits (effect_contact_events.c) */
+    double bristle_stiffness;            /* friction spring per unit weight, as ground's, 1/m */
     double slip_velocity; /* m/s: v_reg of the memoryless law a point without a slot gets */
     struct tb__friction_pool *friction; /* owned; effects/contact_friction.h */
 } tb__contact_params;
@@ -411,6 +410,22 @@ void tb__body_motion(const tb__body *body, const double *s, tb__motion *out);
  * and the velocity v + omega x arm of the material point at arm. */
 void tb__point_arm(const tb__motion *motion, const double r[3], double arm[3]);
 void tb__point_velocity(const tb__motion *motion, const double arm[3], double velocity[3]);
+
+/* The inverse mass (1/kg) that a force along the unit vector u at lever arm `arm` (world, from
+ * the centre of mass) meets at its point: 1/M + (arm x u) . I^-1 (arm x u), with I^-1 the
+ * world-frame inverse inertia of the body turned as motion says. */
+double tb__inverse_mass_along(const tb__body *body, const tb__motion *motion, const double arm[3],
+                              const double u[3]);
+/* The largest of tb__inverse_mass_along over the unit vectors u perpendicular to the unit n: the
+ * lightest a tangential force at arm finds the body. */
+double tb__inverse_mass_across(const tb__body *body, const tb__motion *motion, const double arm[3],
+                               const double n[3]);
+
+/* M (1/M + max over unit u of (r x u) . I^-1 (r x u)) (>= 1), r in the principal frame from the
+ * centre of mass (m): how much lighter than the body a force at r finds it in the worst
+ * direction. At most tb__inverse_mass_at's M (1/M + |r|^2 / I_min), and far less for a thin
+ * body, whose smallest moment only turns it about its long axis. */
+double tb__lightness_at(const tb__body *body, const double r[3]);
 
 /* dP += f and dL += arm x f for body i. */
 void tb__add_load(double *dydt, size_t i, const double arm[3], const double f[3]);
