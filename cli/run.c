@@ -190,16 +190,31 @@ static int simulate(const cli_options *o, tb_scene *scene, const tb_run_def *run
     return CLI_EXIT_OK;
 }
 
-/* The output format: --format, else --out's extension (.csv, .npz, .glb, .gltf), else CSV;
- * binary formats need --out; --rotation applies to glTF. */
+/* Whether path's name has an extension (a dot after its last slash). */
+static bool has_extension(const char *path)
+{
+    const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
+    return dot != NULL && (slash == NULL || dot > slash);
+}
+
+/* The output format: --format, else --out's extension (.csv, .npz, .glb, .gltf, .usda; another
+ * is refused, none is CSV), else CSV; formats other than CSV need --out; --rotation applies to
+ * glTF. */
 static bool choose_format(const cli_options *o, tb_writer_def *def, char *message, size_t size)
 {
     if (o->format != NULL && tb_output_format_from_name(o->format, &def->format) != 0) {
-        snprintf(message, size, "--format: must be csv, npz, glb or gltf, got \"%s\"", o->format);
+        snprintf(message, size, "--format: must be csv, npz, glb, gltf or usda, got \"%s\"",
+                 o->format);
         return false;
     }
-    if (o->format == NULL && o->out != NULL) {
-        tb_output_format_from_path(o->out, &def->format); /* another extension: CSV */
+    if (o->format == NULL && o->out != NULL && has_extension(o->out) &&
+        !cli_output_same_file(o->out, o->scene) && /* refused as such when opened */
+        tb_output_format_from_path(o->out, &def->format) != TB_STATUS_OK) {
+        snprintf(message, size,
+                 "--out %s: no writer for this extension: the formats are .csv, .npz, .gltf, "
+                 ".glb and .usda (or give --format)",
+                 o->out);
+        return false;
     }
     const bool gltf = def->format == TB_OUTPUT_GLB || def->format == TB_OUTPUT_GLTF;
     if (o->rotation != NULL &&
@@ -221,7 +236,7 @@ static bool choose_format(const cli_options *o, tb_writer_def *def, char *messag
     return true;
 }
 
-/* npz and glTF go through the library's writer, which draws the scene file's shapes. */
+/* npz, glTF and USD go through the library's writer, which draws the scene file's shapes. */
 static int open_frames_writer(const cli_options *o, tb_writer_def *def, const tb_scene *scene,
                               writer *w)
 {
@@ -256,6 +271,7 @@ int cli_run_command(const cli_options *o)
         fprintf(stderr, "tumble: %s\n", message);
         code = CLI_EXIT_INPUT;
     }
+    def.fps = run.fps;     /* USD: its time codes are frames */
     size_t last_frame = 0; /* npz: known, the frames stream to the file during the run */
     if (code == CLI_EXIT_OK && tb_run_frame_count(run.duration, run.fps, &last_frame, NULL) == 0) {
         def.frame_count = last_frame + 1;

@@ -127,7 +127,12 @@ static void test_format_follows_the_extension_or_the_name(void **state)
     assert_int_equal(tb_output_format_from_path("a.glb/frames", &format),
                      TB_STATUS_INVALID_ARGUMENT);
     assert_int_equal(tb_output_format_from_path("frames.txt", &format), TB_STATUS_INVALID_ARGUMENT);
+    /* binary USD has no writer: tumble writes the text form only */
+    assert_int_equal(tb_output_format_from_path("stage.usd", &format), TB_STATUS_INVALID_ARGUMENT);
+    assert_int_equal(tb_output_format_from_path("stage.usdc", &format), TB_STATUS_INVALID_ARGUMENT);
     assert_int_equal(format, TB_OUTPUT_GLTF); /* unchanged by the failures */
+    assert_int_equal(tb_output_format_from_path("shot/stage.USDA", &format), TB_STATUS_OK);
+    assert_int_equal(format, TB_OUTPUT_USDA);
     assert_int_equal(tb_output_format_from_name("Csv", &format), TB_STATUS_OK);
     assert_int_equal(format, TB_OUTPUT_CSV);
     assert_int_equal(tb_output_format_from_name(NULL, &format), TB_STATUS_NULL_POINTER);
@@ -156,6 +161,20 @@ static void test_open_refuses_bad_input_and_leaves_no_file(void **state)
     assert_int_equal(tb_writer_open(path, &def, scene, &writer, &error),
                      TB_STATUS_INVALID_ARGUMENT);
     assert_non_null(strstr(error.message, "def.format"));
+    def.format = TB_OUTPUT_USDA;
+    def.fps = -24.0;
+    assert_int_equal(tb_writer_open(path, &def, scene, &writer, &error),
+                     TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(strstr(error.message, "def.fps"));
+    def.fps = 24.0;
+    const double tolerances[] = {NAN, -1e-3, 1e-7, 0.2};
+    for (size_t k = 0; k < sizeof tolerances / sizeof tolerances[0]; ++k) {
+        def.sample_tolerance = tolerances[k];
+        assert_int_equal(tb_writer_open(path, &def, scene, &writer, &error),
+                         TB_STATUS_INVALID_ARGUMENT);
+        assert_non_null(strstr(error.message, "def.sample_tolerance"));
+    }
+    def.sample_tolerance = TB_WRITER_SAMPLE_TOLERANCE;
     def.format = TB_OUTPUT_GLB;
     def.scene_file = DIRECTORY "no_such_scene.json";
     assert_int_equal(tb_writer_open(path, &def, scene, &writer, &error), TB_STATUS_IO_ERROR);
@@ -227,7 +246,7 @@ static void test_a_failed_write_is_an_error(void **state)
     }
     tb_run_def run;
     tb_scene *scene = load(&run);
-    for (int format = TB_OUTPUT_CSV; format <= TB_OUTPUT_GLTF; ++format) {
+    for (int format = TB_OUTPUT_CSV; format <= TB_OUTPUT_USDA; ++format) {
         tb_writer_def def = tb_writer_def_default();
         def.format = (tb_output_format)format;
         tb_writer *writer = NULL;

@@ -15,7 +15,8 @@
 
 #define TB__WRITER_COOKIE 0x77726974
 
-static const char *const format_names[] = {"csv", "npz", "glb", "gltf"};
+static const char *const format_names[] = {"csv", "npz", "glb", "gltf", "usda"};
+#define TB__FORMATS (sizeof format_names / sizeof format_names[0])
 
 tb_writer_def tb_writer_def_default(void)
 {
@@ -23,13 +24,14 @@ tb_writer_def tb_writer_def_default(void)
     memset(&def, 0, sizeof def);
     def.format = TB_OUTPUT_CSV;
     def.rotation_keys = TB_ROTATION_CUBICSPLINE;
+    def.sample_tolerance = TB_WRITER_SAMPLE_TOLERANCE;
     def.internal_cookie = TB__WRITER_COOKIE;
     return def;
 }
 
 const char *tb_output_format_name(tb_output_format format)
 {
-    return (unsigned)format < 4 ? format_names[format] : "unknown";
+    return (unsigned)format < TB__FORMATS ? format_names[format] : "unknown";
 }
 
 static bool same_name(const char *a, const char *b)
@@ -47,7 +49,7 @@ tb_status tb_output_format_from_name(const char *name, tb_output_format *out_for
     if (name == NULL || out_format == NULL) {
         return TB_STATUS_NULL_POINTER;
     }
-    for (unsigned k = 0; k < 4; ++k) {
+    for (unsigned k = 0; k < TB__FORMATS; ++k) {
         if (same_name(name, format_names[k])) {
             *out_format = (tb_output_format)k;
             return TB_STATUS_OK;
@@ -81,7 +83,7 @@ static tb_status check_def(const tb_writer_def *def, tb_error *error)
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
                              "def: not initialised with tb_writer_def_default");
     }
-    if ((unsigned)def->format > TB_OUTPUT_GLTF) {
+    if ((unsigned)def->format >= TB__FORMATS) {
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
                              "def.format: must be a tb_output_format, got %d", (int)def->format);
     }
@@ -94,6 +96,18 @@ static tb_status check_def(const tb_writer_def *def, tb_error *error)
         return tb__set_error(error, TB_STATUS_UNSUPPORTED,
                              "def.frame_count: %zu frames pass 4 GiB, which needs zip64",
                              def->frame_count);
+    }
+    if (!(def->fps >= 0) || !isfinite(def->fps)) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "def.fps: must be finite and >= 0 (0: from the frames), got %g",
+                             def->fps);
+    }
+    const double tolerance = def->sample_tolerance;
+    if (!(tolerance == 0 || (tolerance >= 1e-6 && tolerance <= 0.1))) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "def.sample_tolerance: must be 0 (samples at the frames only) or in "
+                             "[1e-6, 0.1] rad, got %g",
+                             tolerance);
     }
     if (def->scene_file != NULL && def->scene_text != NULL) {
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
@@ -136,7 +150,8 @@ static tb_status take_scene(tb_writer *w, const tb_writer_def *def, const tb_sce
         snprintf(w->names[id], TB_NAME_SIZE, "%s", tb_scene_body_name(scene, id));
     }
     tb__frames_init(&w->frames, w->body_count);
-    if (def->format == TB_OUTPUT_GLB || def->format == TB_OUTPUT_GLTF) {
+    if (def->format == TB_OUTPUT_GLB || def->format == TB_OUTPUT_GLTF ||
+        def->format == TB_OUTPUT_USDA) {
         w->looks.shapes = NULL;
         return tb__looks_load(&w->looks, def, scene, error);
     }
@@ -189,6 +204,8 @@ tb_status tb_writer_open(const char *path, const tb_writer_def *def, const tb_sc
     }
     w->format = def->format;
     w->rotation_keys = def->rotation_keys;
+    w->fps = def->fps;
+    w->sample_tolerance = def->sample_tolerance;
     w->last_t = -INFINITY;
     w->announced_frames = def->format == TB_OUTPUT_NPZ ? def->frame_count : 0;
     status = take_scene(w, def, scene, out_error);
@@ -391,6 +408,8 @@ tb_status tb_writer_close(tb_writer *writer, tb_error *out_error)
         status = tb__npz_stream_finish(writer);
     } else if (status == TB_STATUS_OK && writer->format == TB_OUTPUT_NPZ) {
         status = tb__npz_write(writer);
+    } else if (status == TB_STATUS_OK && writer->format == TB_OUTPUT_USDA) {
+        status = tb__usd_write(writer);
     } else if (status == TB_STATUS_OK && writer->format != TB_OUTPUT_CSV) {
         status = tb__gltf_write(writer);
     }
