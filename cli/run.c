@@ -175,7 +175,7 @@ static int simulate(const cli_options *o, tb_scene *scene, const tb_run_def *run
     if (w->progress && seconds > 1.0) {
         fprintf(stderr, "\r\033[K");
     }
-    char message[512];
+    char message[TB_DETAIL_SIZE];
     if (!close_output(w, status, message, sizeof message)) {
         fprintf(stderr, "tumble: %s: %s\n", o->scene, message);
         return CLI_EXIT_SIMULATION;
@@ -265,7 +265,7 @@ int cli_run_command(const cli_options *o)
     }
     code = cli_dry_run(o, scene, &run);
     writer w = {.duration = run.duration};
-    char message[512];
+    char message[TB_DETAIL_SIZE];
     tb_writer_def def = tb_writer_def_default();
     if (code == CLI_EXIT_OK && !choose_format(o, &def, message, sizeof message)) {
         fprintf(stderr, "tumble: %s\n", message);
