@@ -9,10 +9,11 @@
  * the velocity of the shape origin (m/s) and the angular velocity (rad/s): the pose a model of
  * the shape is placed with (tb_body_def.orientation's frame, not the principal frame).
  *
- * Files appear whole or not at all: a writer writes into "<path>.partial" and renames it to
- * path when tb_writer_close succeeds; a failed or abandoned writer removes it and leaves an
- * existing file at path as it was. (A path that names something other than a regular file,
- * such as /dev/null, is written directly.) */
+ * Files appear whole or not at all: a writer writes into a new file of its own beside path
+ * (".tumble-XXXXXXXX.partial" in path's folder, X's chosen so that no file there is taken
+ * over) and renames it to path when tb_writer_close succeeds; a failed or abandoned writer
+ * removes it and leaves an existing file at path as it was. (A path that names something
+ * other than a regular file, such as /dev/null, is written directly.) */
 #ifndef TUMBLE_WRITER_H
 #define TUMBLE_WRITER_H
 

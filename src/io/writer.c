@@ -1,5 +1,5 @@
 /* Writers: choosing a format, opening the file, taking frames, finishing the file whole. */
-#define _POSIX_C_SOURCE 200809L /* stat, lseek */
+#define _POSIX_C_SOURCE 200809L /* stat, lseek, open, fdopen, getpid, clock_gettime */
 #include "io/writer_npz_internal.h"
 
 #include "core/detail.h"
@@ -7,13 +7,16 @@
 
 #include <ctype.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #define TB__WRITER_COOKIE 0x77726974
+#define TB__PARTIAL_PATTERN ".tumble-XXXXXXXX.partial"
 
 static const char *const format_names[] = {"csv", "npz", "glb", "gltf", "usda"};
 #define TB__FORMATS (sizeof format_names / sizeof format_names[0])
@@ -116,24 +119,69 @@ static tb_status check_def(const tb_writer_def *def, tb_error *error)
     return TB_STATUS_OK;
 }
 
-/* Regular files (and paths not there yet) are written beside and renamed at the end; a
- * device or a pipe is written directly. */
+/* Regular files (and paths not there yet) are written into a new file in the same folder and
+ * renamed at the end; a device or a pipe is written directly. The new file's name is short
+ * (".tumble-XXXXXXXX.partial", so a path whose name has the system's longest still has one
+ * beside it) and made afresh, created exclusively: no file that was there is taken over. */
 static tb_status choose_paths(tb_writer *w, const char *path)
 {
     struct stat info;
     const bool direct = stat(path, &info) == 0 && !S_ISREG(info.st_mode);
     const size_t length = strlen(path);
+    const char *slash = strrchr(path, '/');
+    const size_t folder = slash != NULL ? (size_t)(slash - path) + 1 : 0;
     w->path = malloc(length + 1);
-    w->written_path = malloc(length + sizeof ".partial");
+    w->written_path = malloc((direct ? length : folder + sizeof TB__PARTIAL_PATTERN) + 1);
     if (w->path == NULL || w->written_path == NULL) {
         return TB_STATUS_OUT_OF_MEMORY;
     }
     memcpy(w->path, path, length + 1);
-    memcpy(w->written_path, path, length + 1);
+    memcpy(w->written_path, path, direct ? length + 1 : folder);
     if (!direct) {
-        memcpy(w->written_path + length, ".partial", sizeof ".partial");
+        memcpy(w->written_path + folder, TB__PARTIAL_PATTERN, sizeof TB__PARTIAL_PATTERN);
     }
     return TB_STATUS_OK;
+}
+
+/* A 32-bit mix (the finaliser of MurmurHash3) of what differs between writers and tries. */
+static uint32_t mix(uint64_t x)
+{
+    x ^= x >> 33;
+    x *= 0xff51afd7ed558ccdULL;
+    x ^= x >> 33;
+    x *= 0xc4ceb9fe1a85ec53ULL;
+    return (uint32_t)(x ^ (x >> 33));
+}
+
+/* Creates the side file: its X's replaced by hexadecimal digits until a name is free (the
+ * writer's address, the process, the clock and the try pick them; no state is kept). */
+static FILE *create_partial(tb_writer *w)
+{
+    char *x = strstr(w->written_path + strlen(w->written_path) - (sizeof TB__PARTIAL_PATTERN - 1),
+                     "XXXXXXXX");
+    struct timespec now;
+    clock_gettime(CLOCK_REALTIME, &now);
+    for (uint64_t attempt = 0; attempt < 100; ++attempt) {
+        const uint32_t bits =
+            mix((uint64_t)(uintptr_t)w ^ ((uint64_t)getpid() << 32) ^ (uint64_t)now.tv_nsec ^
+                ((uint64_t)now.tv_sec << 20) ^ (attempt * 0x9e3779b97f4a7c15ULL));
+        char digits[9];
+        snprintf(digits, sizeof digits, "%08x", (unsigned)bits);
+        memcpy(x, digits, 8);
+        const int fd = open(w->written_path, O_WRONLY | O_CREAT | O_EXCL, 0666);
+        if (fd >= 0) {
+            FILE *file = fdopen(fd, "wb");
+            if (file == NULL) {
+                close(fd);
+                remove(w->written_path);
+            }
+            return file;
+        }
+        if (errno != EEXIST) {
+            return NULL;
+        }
+    }
+    return NULL;
 }
 
 static tb_status take_scene(tb_writer *w, const tb_writer_def *def, const tb_scene *scene,
@@ -165,8 +213,10 @@ static tb_status open_file(tb_writer *w, const char *path, tb_error *error)
         return tb__set_error(error, status, "path: %zu characters", strlen(path));
     }
     errno = 0;
-    w->file = fopen(w->written_path, "wb");
+    const bool direct = strcmp(w->written_path, w->path) == 0;
+    w->file = direct ? fopen(w->written_path, "wb") : create_partial(w);
     if (w->file == NULL) {
+        w->written_path[0] = '\0'; /* nothing of ours to remove */
         return tb__set_error(error, TB_STATUS_IO_ERROR, "%s: cannot open for writing: %s", w->path,
                              strerror(errno));
     }
@@ -380,7 +430,8 @@ static void release(tb_writer *w, bool remove_file)
     if (w->file != NULL) {
         fclose(w->file);
     }
-    if (remove_file && w->written_path != NULL && strcmp(w->written_path, w->path) != 0) {
+    if (remove_file && w->written_path != NULL && w->written_path[0] != '\0' &&
+        strcmp(w->written_path, w->path) != 0) {
         remove(w->written_path);
     }
     tb__frames_free(&w->frames);
