@@ -5,12 +5,14 @@
 #define _POSIX_C_SOURCE 200809L /* clock_gettime, isatty, fileno */
 #include "check_contact.h"
 #include "commands.h"
+#include "interrupt.h"
 #include "output.h"
 #include "summary.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -115,6 +117,9 @@ static void show_progress(const writer *w, size_t frame, double t, double elapse
 static int on_frame(size_t frame, double t, const tb_scene *scene, void *ctx)
 {
     writer *w = ctx;
+    if (cli_interrupt_caught() != 0) {
+        return 1; /* stop: Ctrl-C */
+    }
     if (w->frames != NULL && tb_writer_frame(w->frames, t, scene) != TB_STATUS_OK) {
         w->frames_failed = true;
         return 1; /* stop: the frames are being lost */
@@ -160,6 +165,21 @@ static bool close_output(writer *w, tb_status status, char *message, size_t size
     return true;
 }
 
+/* After Ctrl-C: the output is gone (the library's writer removed its side file when it was
+ * destroyed; a CSV written into a regular file holds the first frames only, and is removed). */
+static int interrupted(const cli_options *o, const writer *w)
+{
+    struct stat info;
+    const bool remove_csv =
+        w->frames == NULL && o->out != NULL && stat(o->out, &info) == 0 && S_ISREG(info.st_mode);
+    if (remove_csv) {
+        remove(o->out);
+    }
+    fprintf(stderr, "tumble: %s: interrupted%s%s\n", o->scene,
+            o->out != NULL ? ", nothing written to " : "", o->out != NULL ? o->out : "");
+    return CLI_EXIT_SIMULATION;
+}
+
 /* Runs into the opened output; the exit code. */
 static int simulate(const cli_options *o, tb_scene *scene, const tb_run_def *run, writer *w)
 {
@@ -175,10 +195,15 @@ static int simulate(const cli_options *o, tb_scene *scene, const tb_run_def *run
     if (w->progress && seconds > 1.0) {
         fprintf(stderr, "\r\033[K");
     }
+    /* stopped by Ctrl-C (one that came after the last frame leaves the finished file) */
+    const bool stopped = status == TB_STATUS_CANCELLED && cli_interrupt_caught() != 0;
     char message[TB_DETAIL_SIZE];
-    if (!close_output(w, status, message, sizeof message)) {
+    if (!close_output(w, status, message, sizeof message) && !stopped) {
         fprintf(stderr, "tumble: %s: %s\n", o->scene, message);
         return CLI_EXIT_SIMULATION;
+    }
+    if (stopped) {
+        return interrupted(o, w);
     }
     if (status != TB_STATUS_OK) {
         fprintf(stderr, "tumble: %s: simulation failed: %s\n", o->scene, error.message);
@@ -264,6 +289,7 @@ int cli_run_command(const cli_options *o)
         return code;
     }
     code = cli_dry_run(o, scene, &run);
+    cli_interrupt_catch(); /* before the output is opened: from then on Ctrl-C cleans it up */
     writer w = {.duration = run.duration};
     char message[TB_DETAIL_SIZE];
     tb_writer_def def = tb_writer_def_default();
@@ -287,6 +313,7 @@ int cli_run_command(const cli_options *o)
         code = simulate(o, scene, &run, &w);
     }
     tb_scene_destroy(scene);
+    cli_interrupt_finish();
     return code;
 }
 
