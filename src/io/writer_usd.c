@@ -39,7 +39,7 @@ static void put_header(const tb_writer *w)
     const double end = f->count > 0 ? tb__usd_time_code(f->t[f->count - 1], w->fps) : 0.0;
     fprintf(w->file,
             "#usda 1.0\n(\n    defaultPrim = \"world\"\n"
-            "    doc = \"tumble %s: %zu bodies, %zu frames; tumble's world is z up, SI units\"\n"
+            "    doc = \"tumble %s: bodies %zu, frames %zu; tumble's world is z up, SI units\"\n"
             "    endTimeCode = %.17g\n    framesPerSecond = %.17g\n    metersPerUnit = 1\n"
             "    startTimeCode = %.17g\n    timeCodesPerSecond = %.17g\n    upAxis = \"Z\"\n)\n\n"
             "def Xform \"world\"\n{\n",

@@ -4,8 +4,9 @@ the simulation's frames, written as exact CSV (17 significant digits) by the sam
     check_usd.py FILE.usda FRAMES.csv --scene SCENE.json [--reference REF.csv --max-degrees D]
 
 Checks, each with its reason:
-  * the stage opens and UsdUtils.ComplianceChecker reports no error, failed check or warning
-    (what a USD pipeline's validation would say);
+  * the stage opens and UsdUtils.ComplianceChecker reports no error, failed check or warning,
+    nor do all of UsdValidation's validators where usd-core has them (what a USD pipeline's
+    validation would say);
   * the stage is z up in metres (upAxis Z, metersPerUnit 1: tumble's world), its time codes
     are frames (timeCodesPerSecond = framesPerSecond = the scene's fps; frame k is time code k)
     and startTimeCode/endTimeCode span the frames;
@@ -70,6 +71,13 @@ def check_compliance(path):
     checker.CheckCompliance(path)
     problems = checker.GetErrors() + checker.GetFailedChecks() + checker.GetWarnings()
     assert not problems, f"ComplianceChecker: {problems}"
+    try:  # the validation framework that replaces the checker (usd-core 24.11 and later)
+        from pxr import UsdValidation
+    except ImportError:
+        return
+    validators = UsdValidation.ValidationRegistry().GetOrLoadAllValidators()
+    errors = UsdValidation.ValidationContext(validators).Validate(Usd.Stage.Open(path))
+    assert not errors, f"UsdValidation: {[e.GetMessage() for e in errors]}"
 
 
 def check_stage(stage, fps, times):
