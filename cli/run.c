@@ -6,12 +6,14 @@
 #include "check_contact.h"
 #include "check_steps.h"
 #include "commands.h"
+#include "interrupt.h"
 #include "output.h"
 #include "summary.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -123,6 +125,9 @@ static void show_progress(const writer *w, size_t frame, double t, double elapse
 static int on_frame(size_t frame, double t, const tb_scene *scene, void *ctx)
 {
     writer *w = ctx;
+    if (cli_interrupt_caught() != 0) {
+        return 1; /* stop: Ctrl-C */
+    }
     if (w->frames != NULL && tb_writer_frame(w->frames, t, scene) != TB_STATUS_OK) {
         w->frames_failed = true;
         return 1; /* stop: the frames are being lost */
@@ -168,6 +173,21 @@ static bool close_output(writer *w, tb_status status, char *message, size_t size
     return true;
 }
 
+/* After Ctrl-C: the output is gone (the library's writer removed its side file when it was
+ * destroyed; a CSV written into a regular file holds the first frames only, and is removed). */
+static int interrupted(const cli_options *o, const writer *w)
+{
+    struct stat info;
+    const bool remove_csv =
+        w->frames == NULL && o->out != NULL && stat(o->out, &info) == 0 && S_ISREG(info.st_mode);
+    if (remove_csv) {
+        remove(o->out);
+    }
+    fprintf(stderr, "tumble: %s: interrupted%s%s\n", o->scene,
+            o->out != NULL ? ", nothing written to " : "", o->out != NULL ? o->out : "");
+    return CLI_EXIT_SIMULATION;
+}
+
 /* Runs into the opened output; the exit code. */
 static int simulate(const cli_options *o, tb_scene *scene, const tb_run_def *run, writer *w)
 {
@@ -184,10 +204,15 @@ static int simulate(const cli_options *o, tb_scene *scene, const tb_run_def *run
     if (w->progress && seconds > 1.0) {
         fprintf(stderr, "\r\033[K");
     }
-    char message[512];
-    if (!close_output(w, status, message, sizeof message)) {
+    /* stopped by Ctrl-C (one that came after the last frame leaves the finished file) */
+    const bool stopped = status == TB_STATUS_CANCELLED && cli_interrupt_caught() != 0;
+    char message[TB_DETAIL_SIZE];
+    if (!close_output(w, status, message, sizeof message) && !stopped) {
         fprintf(stderr, "tumble: %s: %s\n", o->scene, message);
         return CLI_EXIT_SIMULATION;
+    }
+    if (stopped) {
+        return interrupted(o, w);
     }
     if (status != TB_STATUS_OK) {
         fprintf(stderr, "tumble: %s: simulation failed: %s\n", o->scene, error.message);
@@ -199,16 +224,31 @@ static int simulate(const cli_options *o, tb_scene *scene, const tb_run_def *run
     return CLI_EXIT_OK;
 }
 
-/* The output format: --format, else --out's extension (.csv, .npz, .glb, .gltf), else CSV;
- * binary formats need --out; --rotation applies to glTF. */
+/* Whether path's name has an extension (a dot after its last slash). */
+static bool has_extension(const char *path)
+{
+    const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
+    return dot != NULL && (slash == NULL || dot > slash);
+}
+
+/* The output format: --format, else --out's extension (.csv, .npz, .glb, .gltf, .usda; another
+ * is refused, none is CSV), else CSV; formats other than CSV need --out; --rotation applies to
+ * glTF. */
 static bool choose_format(const cli_options *o, tb_writer_def *def, char *message, size_t size)
 {
     if (o->format != NULL && tb_output_format_from_name(o->format, &def->format) != 0) {
-        snprintf(message, size, "--format: must be csv, npz, glb or gltf, got \"%s\"", o->format);
+        snprintf(message, size, "--format: must be csv, npz, glb, gltf or usda, got \"%s\"",
+                 o->format);
         return false;
     }
-    if (o->format == NULL && o->out != NULL) {
-        tb_output_format_from_path(o->out, &def->format); /* another extension: CSV */
+    if (o->format == NULL && o->out != NULL && has_extension(o->out) &&
+        !cli_output_same_file(o->out, o->scene) && /* refused as such when opened */
+        tb_output_format_from_path(o->out, &def->format) != TB_STATUS_OK) {
+        snprintf(message, size,
+                 "--out %s: no writer for this extension: the formats are .csv, .npz, .gltf, "
+                 ".glb and .usda (or give --format)",
+                 o->out);
+        return false;
     }
     const bool gltf = def->format == TB_OUTPUT_GLB || def->format == TB_OUTPUT_GLTF;
     if (o->rotation != NULL &&
@@ -230,7 +270,7 @@ static bool choose_format(const cli_options *o, tb_writer_def *def, char *messag
     return true;
 }
 
-/* npz and glTF go through the library's writer, which draws the scene file's shapes. */
+/* npz, glTF and USD go through the library's writer, which draws the scene file's shapes. */
 static int open_frames_writer(const cli_options *o, tb_writer_def *def, const tb_scene *scene,
                               writer *w)
 {
@@ -258,13 +298,15 @@ int cli_run_command(const cli_options *o)
         return code;
     }
     code = cli_dry_run(o, scene, &run);
+    cli_interrupt_catch(); /* before the output is opened: from then on Ctrl-C cleans it up */
     writer w = {.duration = run.duration};
-    char message[512];
+    char message[TB_DETAIL_SIZE];
     tb_writer_def def = tb_writer_def_default();
     if (code == CLI_EXIT_OK && !choose_format(o, &def, message, sizeof message)) {
         fprintf(stderr, "tumble: %s\n", message);
         code = CLI_EXIT_INPUT;
     }
+    def.fps = run.fps; /* USD: its time codes are frames */
     size_t frames = 0; /* npz: known, the frames stream to the file during the run */
     if (code == CLI_EXIT_OK && tb_run_output_frames(tb_scene_body_count(scene), run.duration,
                                                     run.fps, &frames, NULL) == TB_STATUS_OK) {
@@ -281,6 +323,7 @@ int cli_run_command(const cli_options *o)
         code = simulate(o, scene, &run, &w);
     }
     tb_scene_destroy(scene);
+    cli_interrupt_finish();
     return code;
 }
 

@@ -1,10 +1,12 @@
-/* Runs a scene file and writes its motion with a tb_writer: CSV, NumPy .npz, or animated glTF
- * (.glb / .gltf) for Blender or a browser, the format chosen by the output's extension.
+/* Runs a scene file and writes its motion with a tb_writer: CSV, NumPy .npz, animated glTF
+ * (.glb / .gltf) for Blender or a browser, or USD (.usda), the format chosen by the output's
+ * extension.
  *
- *   export_scene SCENE.json OUT.(csv|npz|glb|gltf) [FPS] [linear]
+ *   export_scene SCENE.json OUT.(csv|npz|glb|gltf|usda) [FPS] [linear]
  *
- * FPS (absent or 0: the scene's) is the rate of the frames, and so of the glTF keys; "linear"
- * asks for LINEAR rotation keys instead of cubic-spline ones. Exit 0 when the file was
+ * FPS (absent or 0: the scene's) is the rate of the frames, and so of the glTF keys and USD
+ * time codes; "linear" asks for LINEAR glTF rotation keys instead of cubic-spline ones, and for
+ * USD orientation samples at the frames only (USD slerps between them). Exit 0 when the file was
  * written, 1 when it was not (the reason on standard error). */
 #include "tumble/tumble.h"
 
@@ -21,7 +23,8 @@ static int fail(const char *what, const char *detail)
 int main(int argc, char **argv)
 {
     if (argc < 3) {
-        fprintf(stderr, "usage: export_scene SCENE.json OUT.(csv|npz|glb|gltf) [FPS] [linear]\n");
+        fprintf(stderr,
+                "usage: export_scene SCENE.json OUT.(csv|npz|glb|gltf|usda) [FPS] [linear]\n");
         return 1;
     }
     tb_scene *scene = NULL;
@@ -35,11 +38,13 @@ int main(int argc, char **argv)
     }
     tb_writer_def def = tb_writer_def_default();
     def.scene_file = argv[1]; /* the shapes and ground planes to draw */
-    def.rotation_keys =
-        argc > 4 && strcmp(argv[4], "linear") == 0 ? TB_ROTATION_LINEAR : TB_ROTATION_CUBICSPLINE;
+    const bool linear = argc > 4 && strcmp(argv[4], "linear") == 0;
+    def.rotation_keys = linear ? TB_ROTATION_LINEAR : TB_ROTATION_CUBICSPLINE;
+    def.sample_tolerance = linear ? 0.0 : def.sample_tolerance;
+    def.fps = run.fps; /* USD: frame k is time code k */
     if (tb_output_format_from_path(argv[2], &def.format) != TB_STATUS_OK) {
         tb_scene_destroy(scene);
-        return fail(argv[2], "extension must be .csv, .npz, .glb or .gltf");
+        return fail(argv[2], "extension must be .csv, .npz, .glb, .gltf or .usda");
     }
     /* the number of frames, known before the run: the .npz writer then streams them */
     size_t last_frame = 0;

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The export checks with their independent readers: installs NumPy and pygltflib (PyPI) into
+# The export checks with their independent readers: installs NumPy, pygltflib and usd-core
+# (PyPI; usd-core before 26, whose UsdUtils still has the ComplianceChecker) into
 # build/export-venv and the Khronos glTF validator (npm: gltf-validator) into
 # build/export-node, points the build at them and runs the ctests labelled "export".
 # Needs python3 (with venv), node and npm; scripts/test.sh calls it after the main build.
@@ -10,7 +11,7 @@ if [ ! -x "$build/export-venv/bin/python" ]; then
     python3 -m venv "$build/export-venv"
     "$build/export-venv/bin/pip" install --quiet --upgrade pip
 fi
-"$build/export-venv/bin/pip" install --quiet numpy pygltflib
+"$build/export-venv/bin/pip" install --quiet numpy pygltflib "usd-core>=24.3,<26"
 if ! command -v npm >/dev/null 2>&1 || ! command -v node >/dev/null 2>&1; then
     echo "test_export: node and npm are needed for the glTF validator" >&2
     exit 1

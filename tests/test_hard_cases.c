@@ -123,6 +123,40 @@ static void test_thin_rod_at_1000_rad_per_s_keeps_its_invariants(void **state)
     }
 }
 
+/* --- the longest refusal ends intact ---------------------------------------------------------
+ * The unstable-step advice names the body (up to TB_NAME_SIZE - 1 characters) and ends with its
+ * last way out, "or allow_unstable"; with a 63-character name it is about 300 characters, which a
+ * 256-byte detail cut to "... or allow_unstab". A body spinning at 1000 rad/s under RK4 at
+ * dt = 0.01 (h omega = 10, past the 2.83 limit) is refused by the run before its first frame. */
+static void test_the_longest_refusal_ends_intact(void **state)
+{
+    (void)state;
+    char name[TB_NAME_SIZE];
+    memset(name, 'n', sizeof name - 1);
+    name[sizeof name - 1] = '\0';
+    tb_scene *scene = NULL;
+    tb_scene_def scene_def = tb_scene_def_default();
+    assert_int_equal(tb_scene_create(&scene_def, &scene, NULL), TB_STATUS_OK);
+    tb_body_def body = tb_body_def_default();
+    const double I[9] = {0.4, 0, 0, 0, 0.5, 0, 0, 0, 0.6}, origin[3] = {0, 0, 0};
+    assert_int_equal(tb_mass_from_tensor(1.0, origin, I, &body.mass, NULL), TB_STATUS_OK);
+    body.name = name;
+    body.angular_velocity[2] = 1000.0;
+    assert_int_equal(tb_scene_add_body(scene, &body, NULL), TB_STATUS_OK);
+    tb_run_def run = tb_run_def_default();
+    run.integrator.dt = 0.01;
+    tb_error error;
+    assert_int_equal(tb_scene_run(scene, &run, NULL, NULL, NULL, &error), TB_STATUS_UNSTABLE_STEP);
+    print_message("%zu characters: %s\n", strlen(error.message), error.message);
+    const char *end = "or allow_unstable";
+    const size_t length = strlen(error.message);
+    assert_true(length > strlen(end) + TB_NAME_SIZE);
+    assert_string_equal(error.message + length - strlen(end), end);
+    assert_non_null(strstr(error.message, name));
+    assert_string_equal(tb_scene_detail(scene) + strlen(tb_scene_detail(scene)) - strlen(end), end);
+    tb_scene_destroy(scene);
+}
+
 /* --- stiff springs beyond RK4's stability limit ---------------------------------------------
  * A 1 kg ball on a spring with k dt^2 / m = 9 (h omega = 3 > 2.83, RK4's limit on the
  * imaginary axis). Run anyway, RK4 does not blow up to infinity here: the spring's
@@ -621,6 +655,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_dzhanibekov_flips_every_2K_over_lambda),
         cmocka_unit_test(test_thin_rod_at_1000_rad_per_s_keeps_its_invariants),
+        cmocka_unit_test(test_the_longest_refusal_ends_intact),
         cmocka_unit_test(test_a_step_beyond_rk4s_limit_is_refused_and_bdf_takes_it),
         cmocka_unit_test(test_a_million_rk4_steps_keep_q_unit_and_L_exact),
         cmocka_unit_test(test_extreme_scales_share_a_scene),

@@ -2,6 +2,7 @@
  * at all; bad input is refused with the shared statuses and changes nothing; a failed write
  * is an error. The independent readers (NumPy, pygltflib, the Khronos validator) check the
  * .npz and glTF contents in tests/export. */
+#define _POSIX_C_SOURCE 200809L /* opendir, mkdir */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -17,7 +18,12 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <dirent.h>
+#include <sys/stat.h>
+
 #define DIRECTORY TUMBLE_TEST_BUILD_DIR "/"
+/* A folder of this test's own, where no other test's side files come and go. */
+#define SIDE_DIRECTORY DIRECTORY "writers_side/"
 
 /* A box thrown with a spin (its shape origin is its centre of mass, so the velocity written
  * is P / M exactly) and a sphere, under gravity; awkward decimals so no number is short. */
@@ -127,7 +133,12 @@ static void test_format_follows_the_extension_or_the_name(void **state)
     assert_int_equal(tb_output_format_from_path("a.glb/frames", &format),
                      TB_STATUS_INVALID_ARGUMENT);
     assert_int_equal(tb_output_format_from_path("frames.txt", &format), TB_STATUS_INVALID_ARGUMENT);
+    /* binary USD has no writer: tumble writes the text form only */
+    assert_int_equal(tb_output_format_from_path("stage.usd", &format), TB_STATUS_INVALID_ARGUMENT);
+    assert_int_equal(tb_output_format_from_path("stage.usdc", &format), TB_STATUS_INVALID_ARGUMENT);
     assert_int_equal(format, TB_OUTPUT_GLTF); /* unchanged by the failures */
+    assert_int_equal(tb_output_format_from_path("shot/stage.USDA", &format), TB_STATUS_OK);
+    assert_int_equal(format, TB_OUTPUT_USDA);
     assert_int_equal(tb_output_format_from_name("Csv", &format), TB_STATUS_OK);
     assert_int_equal(format, TB_OUTPUT_CSV);
     assert_int_equal(tb_output_format_from_name(NULL, &format), TB_STATUS_NULL_POINTER);
@@ -156,6 +167,20 @@ static void test_open_refuses_bad_input_and_leaves_no_file(void **state)
     assert_int_equal(tb_writer_open(path, &def, scene, &writer, &error),
                      TB_STATUS_INVALID_ARGUMENT);
     assert_non_null(strstr(error.message, "def.format"));
+    def.format = TB_OUTPUT_USDA;
+    def.fps = -24.0;
+    assert_int_equal(tb_writer_open(path, &def, scene, &writer, &error),
+                     TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(strstr(error.message, "def.fps"));
+    def.fps = 24.0;
+    const double tolerances[] = {NAN, -1e-3, 1e-7, 0.2};
+    for (size_t k = 0; k < sizeof tolerances / sizeof tolerances[0]; ++k) {
+        def.sample_tolerance = tolerances[k];
+        assert_int_equal(tb_writer_open(path, &def, scene, &writer, &error),
+                         TB_STATUS_INVALID_ARGUMENT);
+        assert_non_null(strstr(error.message, "def.sample_tolerance"));
+    }
+    def.sample_tolerance = TB_WRITER_SAMPLE_TOLERANCE;
     def.format = TB_OUTPUT_GLB;
     def.scene_file = DIRECTORY "no_such_scene.json";
     assert_int_equal(tb_writer_open(path, &def, scene, &writer, &error), TB_STATUS_IO_ERROR);
@@ -227,7 +252,7 @@ static void test_a_failed_write_is_an_error(void **state)
     }
     tb_run_def run;
     tb_scene *scene = load(&run);
-    for (int format = TB_OUTPUT_CSV; format <= TB_OUTPUT_GLTF; ++format) {
+    for (int format = TB_OUTPUT_CSV; format <= TB_OUTPUT_USDA; ++format) {
         tb_writer_def def = tb_writer_def_default();
         def.format = (tb_output_format)format;
         tb_writer *writer = NULL;
@@ -244,13 +269,40 @@ static void test_a_failed_write_is_an_error(void **state)
     tb_scene_destroy(scene);
 }
 
+/* Files in SIDE_DIRECTORY whose name starts with prefix. */
+static int files_named(const char *prefix)
+{
+    DIR *folder = opendir(SIDE_DIRECTORY);
+    assert_non_null(folder);
+    int count = 0;
+    for (struct dirent *entry = readdir(folder); entry != NULL; entry = readdir(folder)) {
+        count += strncmp(entry->d_name, prefix, strlen(prefix)) == 0;
+    }
+    closedir(folder);
+    return count;
+}
+
+static void empty_side_directory(void)
+{
+    mkdir(SIDE_DIRECTORY, 0777);
+    DIR *folder = opendir(SIDE_DIRECTORY);
+    assert_non_null(folder);
+    char path[512];
+    for (struct dirent *entry = readdir(folder); entry != NULL; entry = readdir(folder)) {
+        snprintf(path, sizeof path, "%s%s", SIDE_DIRECTORY, entry->d_name);
+        remove(path); /* "." and ".." stay */
+    }
+    closedir(folder);
+}
+
 /* An abandoned or failed writer leaves the file that was there, and no partial file. */
 static void test_an_unfinished_file_never_replaces_the_old_one(void **state)
 {
     (void)state;
     tb_run_def run;
     tb_scene *scene = load(&run);
-    const char *path = DIRECTORY "writers_kept.csv";
+    empty_side_directory();
+    const char *path = SIDE_DIRECTORY "writers_kept.csv";
     FILE *file = fopen(path, "w");
     fputs("old\n", file);
     fclose(file);
@@ -258,12 +310,66 @@ static void test_an_unfinished_file_never_replaces_the_old_one(void **state)
     tb_writer *writer = NULL;
     assert_int_equal(tb_writer_open(path, &def, scene, &writer, NULL), TB_STATUS_OK);
     assert_int_equal(tb_writer_frame(writer, 0.0, scene), TB_STATUS_OK);
-    assert_true(file_size(DIRECTORY "writers_kept.csv.partial") >= 0);
+    assert_int_equal(files_named(".tumble-"), 1); /* the side file it writes */
     tb_writer_destroy(writer);
     assert_int_equal(file_size(path), 4);
-    assert_int_equal(file_size(DIRECTORY "writers_kept.csv.partial"), -1);
+    assert_int_equal(files_named(".tumble-"), 0);
     tb_writer_destroy(NULL);
     assert_int_equal(tb_writer_close(NULL, NULL), TB_STATUS_NULL_POINTER);
+    tb_scene_destroy(scene);
+}
+
+/* A file named as the side file once was ("<path>.partial") is another user's: a writer to path
+ * leaves it as it was (it used to be overwritten, then renamed to path). */
+static void test_a_file_named_like_a_side_file_is_left_alone(void **state)
+{
+    (void)state;
+    tb_run_def run;
+    tb_scene *scene = load(&run);
+    empty_side_directory();
+    FILE *file = fopen(SIDE_DIRECTORY "kept.glb.partial", "w");
+    fputs("mine\n", file);
+    fclose(file);
+    tb_writer_def def = tb_writer_def_default();
+    def.format = TB_OUTPUT_GLB;
+    tb_writer *writer = NULL;
+    assert_int_equal(tb_writer_open(SIDE_DIRECTORY "kept.glb", &def, scene, &writer, NULL),
+                     TB_STATUS_OK);
+    assert_int_equal(tb_writer_frame(writer, 0.0, scene), TB_STATUS_OK);
+    assert_int_equal(tb_writer_close(writer, NULL), TB_STATUS_OK);
+    assert_int_equal(file_size(SIDE_DIRECTORY "kept.glb.partial"), 5);
+    assert_true(file_size(SIDE_DIRECTORY "kept.glb") > 5);
+    assert_int_equal(files_named(".tumble-"), 0);
+    tb_scene_destroy(scene);
+}
+
+/* Names of 248 to 255 bytes (255: the longest a Linux file system takes) are written in every
+ * format; "<name>.partial" had no room beside them. */
+static void test_the_longest_file_names_are_written(void **state)
+{
+    (void)state;
+    tb_run_def run;
+    tb_scene *scene = load(&run);
+    empty_side_directory();
+    static const char *const extensions[] = {"csv", "npz", "glb", "gltf", "usda"};
+    for (size_t length = 248; length <= 255; length += 7) {
+        for (size_t k = 0; k < sizeof extensions / sizeof extensions[0]; ++k) {
+            char path[512] = SIDE_DIRECTORY;
+            const size_t folder = strlen(path), stem = length - 1 - strlen(extensions[k]);
+            memset(path + folder, 'a', stem);
+            snprintf(path + folder + stem, sizeof path - folder - stem, ".%s", extensions[k]);
+            tb_writer_def def = tb_writer_def_default();
+            assert_int_equal(tb_output_format_from_path(path, &def.format), TB_STATUS_OK);
+            tb_writer *writer = NULL;
+            tb_error error;
+            assert_int_equal(tb_writer_open(path, &def, scene, &writer, &error), TB_STATUS_OK);
+            assert_int_equal(tb_writer_frame(writer, 0.0, scene), TB_STATUS_OK);
+            assert_int_equal(tb_writer_close(writer, &error), TB_STATUS_OK);
+            assert_true(file_size(path) > 0);
+            remove(path);
+        }
+    }
+    assert_int_equal(files_named(".tumble-"), 0);
     tb_scene_destroy(scene);
 }
 
@@ -602,6 +708,8 @@ int main(void)
         cmocka_unit_test(test_a_bad_frame_is_refused_and_changes_nothing),
         cmocka_unit_test(test_a_failed_write_is_an_error),
         cmocka_unit_test(test_an_unfinished_file_never_replaces_the_old_one),
+        cmocka_unit_test(test_a_file_named_like_a_side_file_is_left_alone),
+        cmocka_unit_test(test_the_longest_file_names_are_written),
         cmocka_unit_test(test_glb_is_one_json_chunk_and_one_binary_chunk),
         cmocka_unit_test(test_one_frame_glb_is_a_still),
         cmocka_unit_test(test_npz_streamed_is_the_npz_kept_byte_for_byte),

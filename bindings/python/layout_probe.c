@@ -121,6 +121,8 @@ int main(void)
     FIELD(tb_writer_def, scene_text);
     FIELD(tb_writer_def, base_directory);
     FIELD(tb_writer_def, frame_count);
+    FIELD(tb_writer_def, fps);
+    FIELD(tb_writer_def, sample_tolerance);
     FIELD(tb_writer_def, internal_cookie);
     printf("\"_\": 0}}\n");
     return 0;

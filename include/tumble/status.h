@@ -48,8 +48,11 @@ TB_API const char *tb_status_string(tb_status status);
 /* The status's name without prefix, e.g. "NOT_FINITE"; never NULL ("UNKNOWN" if not listed). */
 TB_API const char *tb_status_name(tb_status status);
 
-/* Size of every detail buffer, including the terminating NUL. */
-#define TB_DETAIL_SIZE 256
+/* Size of every detail buffer, including the terminating NUL: room for the longest message
+ * (the unstable-step advice naming a body of TB_NAME_SIZE - 1 characters, wrapped with the
+ * time it was found, is about 330) with room to spare; test_hard_cases checks it ends
+ * intact. */
+#define TB_DETAIL_SIZE 1024
 
 /* Detail of a failure that has no object to keep it (creation, free functions such as the
  * mass-property routines). Functions take a `tb_error *out_error` that may be NULL. On

@@ -1,17 +1,19 @@
-/* Writers: the frames of a run into a file, as CSV text, NumPy .npz arrays, or an animated
+/* Writers: the frames of a run into a file, as CSV text, NumPy .npz arrays, an animated
  * glTF 2.0 scene (.glb binary or .gltf text) that Blender, three.js and other glTF viewers
- * open. A writer is fed one frame at a time (tb_writer_on_frame is a tb_frame_fn for
- * tb_scene_run) and finished by tb_writer_close. docs/export.md describes the formats.
+ * open, or a USD ASCII layer (.usda) for usdview, Houdini and Omniverse. A writer is fed one frame
+ * at a time (tb_writer_on_frame is a tb_frame_fn for tb_scene_run) and finished by tb_writer_close.
+ * docs/export.md describes the formats.
  *
  * What a frame holds, per body, in tumble's world frame (z up) and SI units: the position of
  * the origin of the body's shape frame (m), the shape -> world unit quaternion (w, x, y, z),
  * the velocity of the shape origin (m/s) and the angular velocity (rad/s): the pose a model of
  * the shape is placed with (tb_body_def.orientation's frame, not the principal frame).
  *
- * Files appear whole or not at all: a writer writes into "<path>.partial" and renames it to
- * path when tb_writer_close succeeds; a failed or abandoned writer removes it and leaves an
- * existing file at path as it was. (A path that names something other than a regular file,
- * such as /dev/null, is written directly.) */
+ * Files appear whole or not at all: a writer writes into a new file of its own beside path
+ * (".tumble-XXXXXXXX.partial" in path's folder, X's chosen so that no file there is taken
+ * over) and renames it to path when tb_writer_close succeeds; a failed or abandoned writer
+ * removes it and leaves an existing file at path as it was. (A path that names something
+ * other than a regular file, such as /dev/null, is written directly.) */
 #ifndef TUMBLE_WRITER_H
 #define TUMBLE_WRITER_H
 
@@ -30,7 +32,8 @@ typedef enum tb_output_format {
     TB_OUTPUT_CSV = 0, /* text, a row per body per frame, numbers that read back exactly */
     TB_OUTPUT_NPZ,     /* NumPy .npz: t, position, orientation, velocity, angular_velocity */
     TB_OUTPUT_GLB,     /* binary glTF 2.0, one file */
-    TB_OUTPUT_GLTF     /* text glTF 2.0, its buffer embedded as base64 */
+    TB_OUTPUT_GLTF,    /* text glTF 2.0, its buffer embedded as base64 */
+    TB_OUTPUT_USDA     /* USD ASCII layer: an Xform a body with translate and orient samples */
 } tb_output_format;
 
 /* How glTF rotation keys are interpolated between frames. */
@@ -44,11 +47,11 @@ typedef enum tb_rotation_keys {
 typedef struct tb_writer_def {
     tb_output_format format;        /* default CSV */
     tb_rotation_keys rotation_keys; /* glTF only; default TB_ROTATION_CUBICSPLINE */
-    /* glTF only, may be NULL (default): the scene file the scene was loaded from; its bodies'
+    /* glTF and USD, may be NULL (default): the scene file the scene was loaded from; its bodies'
      * shapes and its ground planes are drawn. Without it (or for a body given by mass and
      * inertia) a body is drawn as the solid ellipsoid with its mass and inertia. */
     const char *scene_file;
-    /* glTF only, instead of scene_file (may be NULL, the default): the scene description as
+    /* glTF and USD, instead of scene_file (may be NULL, the default): the scene description as
      * JSON text (what tb_scene_load_string read), and where its mesh files are (NULL: the
      * current directory). */
     const char *scene_text;
@@ -60,16 +63,32 @@ typedef struct tb_writer_def {
      * and the file, never the scene); one frame more is refused, fewer fail tb_writer_close
      * (TB_STATUS_INVALID_ARGUMENT both). Into a file that cannot seek (a pipe) they are kept. */
     size_t frame_count;
+    /* USD only: frames per second, the layer's timeCodesPerSecond (frame k at t = k / fps is
+     * time code k); 0 (the default): 1 / the interval between the first two frames, rounded to
+     * a whole number within 1e-9 of one. Finite and >= 0. */
+    double fps;
+    /* USD only: how far (rad) USD's interpolation of the orientation samples may stray from the
+     * spline TB_ROTATION_CUBICSPLINE draws through the frames. USD slerps between samples, which
+     * cuts the corner where the spin axis moves and turns backwards past half a turn; where it
+     * would stray further, samples from the spline are added between the frames (each frame
+     * interval cut into up to 256 equal pieces). 0: samples at the frames only. Default
+     * TB_WRITER_SAMPLE_TOLERANCE; else in [1e-6, 0.1]. */
+    double sample_tolerance;
     int internal_cookie; /* set by tb_writer_def_default */
 } tb_writer_def;
 
+/* tb_writer_def.sample_tolerance's default, rad (0.05 degrees); docs/export.md measures it. */
+#define TB_WRITER_SAMPLE_TOLERANCE 8.7266462599716477e-4
+
 TB_API tb_writer_def tb_writer_def_default(void);
 
-/* The format a file name asks for by its extension (.csv, .npz, .glb, .gltf, any case);
- * TB_STATUS_INVALID_ARGUMENT for another or no extension. */
+/* The format a file name asks for by its extension (.csv, .npz, .glb, .gltf, .usda, any case);
+ * TB_STATUS_INVALID_ARGUMENT for another or no extension (.usd and .usdc too: tumble writes no
+ * binary USD). */
 TB_API tb_status tb_output_format_from_path(const char *path, tb_output_format *out_format);
 
-/* The format called name ("csv", "npz", "glb", "gltf"); TB_STATUS_INVALID_ARGUMENT else. */
+/* The format called name ("csv", "npz", "glb", "gltf", "usda"); TB_STATUS_INVALID_ARGUMENT
+ * else. */
 TB_API tb_status tb_output_format_from_name(const char *name, tb_output_format *out_format);
 
 /* Lower-case name of a format ("csv", ...), or "unknown". */
@@ -77,11 +96,12 @@ TB_API const char *tb_output_format_name(tb_output_format format);
 
 typedef struct tb_writer tb_writer;
 
-/* Opens a writer for the frames of scene (its bodies, names and, for glTF, shapes are taken
+/* Opens a writer for the frames of scene (its bodies, names and, for glTF and USD, shapes are taken
  * now; the scene must keep its bodies while the writer is fed). On failure *out_writer is
  * NULL, no file is left behind and out_error (may be NULL) names the input or the file:
  * TB_STATUS_NULL_POINTER, TB_STATUS_INVALID_ARGUMENT (a def not from tb_writer_def_default,
- * an unknown format, scene_file and scene_text both given), TB_STATUS_IO_ERROR (the file
+ * an unknown format, scene_file and scene_text both given, fps or sample_tolerance out of
+ * range), TB_STATUS_IO_ERROR (the file
  * cannot be created, the scene file cannot be read), TB_STATUS_PARSE_ERROR (scene_text is
  * not JSON), TB_STATUS_BAD_SCENE (a shape the scene description gets wrong). */
 TB_API tb_status tb_writer_open(const char *path, const tb_writer_def *def, const tb_scene *scene,
@@ -113,7 +133,7 @@ TB_API const char *tb_writer_detail(const tb_writer *writer);
 /* Number of frames added so far. */
 TB_API size_t tb_writer_frame_count(const tb_writer *writer);
 
-/* Finishes the file (glTF, and npz without a frame count, are written now from the frames kept
+/* Finishes the file (glTF, USD, and npz without a frame count, are written now from the frames kept
  * in memory; a streamed npz gets its last frames, headers and directory), puts it at its path
  * and frees the writer, also on failure (then no file is left behind and out_error, may be
  * NULL, says why). An earlier failed write makes close fail the same way; so do fewer frames

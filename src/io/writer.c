@@ -1,5 +1,5 @@
 /* Writers: choosing a format, opening the file, taking frames, finishing the file whole. */
-#define _POSIX_C_SOURCE 200809L /* stat, lseek */
+#define _POSIX_C_SOURCE 200809L /* stat, lseek, open, fdopen, getpid, clock_gettime */
 #include "io/writer_npz_internal.h"
 
 #include "core/detail.h"
@@ -7,15 +7,19 @@
 
 #include <ctype.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #define TB__WRITER_COOKIE 0x77726974
+#define TB__PARTIAL_PATTERN ".tumble-XXXXXXXX.partial"
 
-static const char *const format_names[] = {"csv", "npz", "glb", "gltf"};
+static const char *const format_names[] = {"csv", "npz", "glb", "gltf", "usda"};
+#define TB__FORMATS (sizeof format_names / sizeof format_names[0])
 
 tb_writer_def tb_writer_def_default(void)
 {
@@ -23,13 +27,14 @@ tb_writer_def tb_writer_def_default(void)
     memset(&def, 0, sizeof def);
     def.format = TB_OUTPUT_CSV;
     def.rotation_keys = TB_ROTATION_CUBICSPLINE;
+    def.sample_tolerance = TB_WRITER_SAMPLE_TOLERANCE;
     def.internal_cookie = TB__WRITER_COOKIE;
     return def;
 }
 
 const char *tb_output_format_name(tb_output_format format)
 {
-    return (unsigned)format < 4 ? format_names[format] : "unknown";
+    return (unsigned)format < TB__FORMATS ? format_names[format] : "unknown";
 }
 
 static bool same_name(const char *a, const char *b)
@@ -47,7 +52,7 @@ tb_status tb_output_format_from_name(const char *name, tb_output_format *out_for
     if (name == NULL || out_format == NULL) {
         return TB_STATUS_NULL_POINTER;
     }
-    for (unsigned k = 0; k < 4; ++k) {
+    for (unsigned k = 0; k < TB__FORMATS; ++k) {
         if (same_name(name, format_names[k])) {
             *out_format = (tb_output_format)k;
             return TB_STATUS_OK;
@@ -81,7 +86,7 @@ static tb_status check_def(const tb_writer_def *def, tb_error *error)
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
                              "def: not initialised with tb_writer_def_default");
     }
-    if ((unsigned)def->format > TB_OUTPUT_GLTF) {
+    if ((unsigned)def->format >= TB__FORMATS) {
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
                              "def.format: must be a tb_output_format, got %d", (int)def->format);
     }
@@ -95,6 +100,18 @@ static tb_status check_def(const tb_writer_def *def, tb_error *error)
                              "def.frame_count: %zu frames pass 4 GiB, which needs zip64",
                              def->frame_count);
     }
+    if (!(def->fps >= 0) || !isfinite(def->fps)) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "def.fps: must be finite and >= 0 (0: from the frames), got %g",
+                             def->fps);
+    }
+    const double tolerance = def->sample_tolerance;
+    if (!(tolerance == 0 || (tolerance >= 1e-6 && tolerance <= 0.1))) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "def.sample_tolerance: must be 0 (samples at the frames only) or in "
+                             "[1e-6, 0.1] rad, got %g",
+                             tolerance);
+    }
     if (def->scene_file != NULL && def->scene_text != NULL) {
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
                              "def.scene_file and def.scene_text: give one or neither");
@@ -102,24 +119,69 @@ static tb_status check_def(const tb_writer_def *def, tb_error *error)
     return TB_STATUS_OK;
 }
 
-/* Regular files (and paths not there yet) are written beside and renamed at the end; a
- * device or a pipe is written directly. */
+/* Regular files (and paths not there yet) are written into a new file in the same folder and
+ * renamed at the end; a device or a pipe is written directly. The new file's name is short
+ * (".tumble-XXXXXXXX.partial", so a path whose name has the system's longest still has one
+ * beside it) and made afresh, created exclusively: no file that was there is taken over. */
 static tb_status choose_paths(tb_writer *w, const char *path)
 {
     struct stat info;
     const bool direct = stat(path, &info) == 0 && !S_ISREG(info.st_mode);
     const size_t length = strlen(path);
+    const char *slash = strrchr(path, '/');
+    const size_t folder = slash != NULL ? (size_t)(slash - path) + 1 : 0;
     w->path = malloc(length + 1);
-    w->written_path = malloc(length + sizeof ".partial");
+    w->written_path = malloc((direct ? length : folder + sizeof TB__PARTIAL_PATTERN) + 1);
     if (w->path == NULL || w->written_path == NULL) {
         return TB_STATUS_OUT_OF_MEMORY;
     }
     memcpy(w->path, path, length + 1);
-    memcpy(w->written_path, path, length + 1);
+    memcpy(w->written_path, path, direct ? length + 1 : folder);
     if (!direct) {
-        memcpy(w->written_path + length, ".partial", sizeof ".partial");
+        memcpy(w->written_path + folder, TB__PARTIAL_PATTERN, sizeof TB__PARTIAL_PATTERN);
     }
     return TB_STATUS_OK;
+}
+
+/* A 32-bit mix (the finaliser of MurmurHash3) of what differs between writers and tries. */
+static uint32_t mix(uint64_t x)
+{
+    x ^= x >> 33;
+    x *= 0xff51afd7ed558ccdULL;
+    x ^= x >> 33;
+    x *= 0xc4ceb9fe1a85ec53ULL;
+    return (uint32_t)(x ^ (x >> 33));
+}
+
+/* Creates the side file: its X's replaced by hexadecimal digits until a name is free (the
+ * writer's address, the process, the clock and the try pick them; no state is kept). */
+static FILE *create_partial(tb_writer *w)
+{
+    char *x = strstr(w->written_path + strlen(w->written_path) - (sizeof TB__PARTIAL_PATTERN - 1),
+                     "XXXXXXXX");
+    struct timespec now;
+    clock_gettime(CLOCK_REALTIME, &now);
+    for (uint64_t attempt = 0; attempt < 100; ++attempt) {
+        const uint32_t bits =
+            mix((uint64_t)(uintptr_t)w ^ ((uint64_t)getpid() << 32) ^ (uint64_t)now.tv_nsec ^
+                ((uint64_t)now.tv_sec << 20) ^ (attempt * 0x9e3779b97f4a7c15ULL));
+        char digits[9];
+        snprintf(digits, sizeof digits, "%08x", (unsigned)bits);
+        memcpy(x, digits, 8);
+        const int fd = open(w->written_path, O_WRONLY | O_CREAT | O_EXCL, 0666);
+        if (fd >= 0) {
+            FILE *file = fdopen(fd, "wb");
+            if (file == NULL) {
+                close(fd);
+                remove(w->written_path);
+            }
+            return file;
+        }
+        if (errno != EEXIST) {
+            return NULL;
+        }
+    }
+    return NULL;
 }
 
 static tb_status take_scene(tb_writer *w, const tb_writer_def *def, const tb_scene *scene,
@@ -136,7 +198,8 @@ static tb_status take_scene(tb_writer *w, const tb_writer_def *def, const tb_sce
         snprintf(w->names[id], TB_NAME_SIZE, "%s", tb_scene_body_name(scene, id));
     }
     tb__frames_init(&w->frames, w->body_count);
-    if (def->format == TB_OUTPUT_GLB || def->format == TB_OUTPUT_GLTF) {
+    if (def->format == TB_OUTPUT_GLB || def->format == TB_OUTPUT_GLTF ||
+        def->format == TB_OUTPUT_USDA) {
         w->looks.shapes = NULL;
         return tb__looks_load(&w->looks, def, scene, error);
     }
@@ -150,8 +213,10 @@ static tb_status open_file(tb_writer *w, const char *path, tb_error *error)
         return tb__set_error(error, status, "path: %zu characters", strlen(path));
     }
     errno = 0;
-    w->file = fopen(w->written_path, "wb");
+    const bool direct = strcmp(w->written_path, w->path) == 0;
+    w->file = direct ? fopen(w->written_path, "wb") : create_partial(w);
     if (w->file == NULL) {
+        w->written_path[0] = '\0'; /* nothing of ours to remove */
         return tb__set_error(error, TB_STATUS_IO_ERROR, "%s: cannot open for writing: %s", w->path,
                              strerror(errno));
     }
@@ -189,6 +254,8 @@ tb_status tb_writer_open(const char *path, const tb_writer_def *def, const tb_sc
     }
     w->format = def->format;
     w->rotation_keys = def->rotation_keys;
+    w->fps = def->fps;
+    w->sample_tolerance = def->sample_tolerance;
     w->last_t = -INFINITY;
     w->announced_frames = def->format == TB_OUTPUT_NPZ ? def->frame_count : 0;
     status = take_scene(w, def, scene, out_error);
@@ -363,7 +430,8 @@ static void release(tb_writer *w, bool remove_file)
     if (w->file != NULL) {
         fclose(w->file);
     }
-    if (remove_file && w->written_path != NULL && strcmp(w->written_path, w->path) != 0) {
+    if (remove_file && w->written_path != NULL && w->written_path[0] != '\0' &&
+        strcmp(w->written_path, w->path) != 0) {
         remove(w->written_path);
     }
     tb__frames_free(&w->frames);
@@ -391,6 +459,8 @@ tb_status tb_writer_close(tb_writer *writer, tb_error *out_error)
         status = tb__npz_stream_finish(writer);
     } else if (status == TB_STATUS_OK && writer->format == TB_OUTPUT_NPZ) {
         status = tb__npz_write(writer);
+    } else if (status == TB_STATUS_OK && writer->format == TB_OUTPUT_USDA) {
+        status = tb__usd_write(writer);
     } else if (status == TB_STATUS_OK && writer->format != TB_OUTPUT_CSV) {
         status = tb__gltf_write(writer);
     }

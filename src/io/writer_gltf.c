@@ -80,25 +80,6 @@ static long add_mesh(tb__gltf *g, const tb__mesh *m, const char *name, size_t ma
     return (long)json_array_size(g->meshes) - 1;
 }
 
-/* Where the ground squares go and how big: around the bodies' mean first position, at least
- * 10 m across their spread in every direction. */
-static void ground_extent(const tb_writer *w, double center[3], double *half_size)
-{
-    const tb__frames *f = &w->frames;
-    tb__v3_set(center, 0, 0, 0);
-    const size_t n = f->count > 0 ? f->body_count : 0;
-    for (size_t id = 0; id < n; ++id) {
-        tb__v3_axpy(center, 1.0 / (double)n, f->position + 3 * id);
-    }
-    double spread = 0;
-    for (size_t k = 0; k < f->count * n; ++k) {
-        const double *p = f->position + 3 * k;
-        double d[3] = {p[0] - center[0], p[1] - center[1], p[2] - center[2]};
-        spread = fmax(spread, tb__v3_norm(d));
-    }
-    *half_size = fmax(10.0, 2.0 * spread);
-}
-
 static json_t *body_node(tb__gltf *g, const tb_writer *w, size_t id)
 {
     tb__mesh mesh = {0};
@@ -127,7 +108,7 @@ static json_t *body_node(tb__gltf *g, const tb_writer *w, size_t id)
 static json_t *ground_node(tb__gltf *g, const tb_writer *w, size_t k)
 {
     double center[3], half_size;
-    ground_extent(w, center, &half_size);
+    tb__ground_extent(&w->frames, center, &half_size);
     tb__mesh mesh = {0};
     tb__mesh_of_ground(&mesh, &w->looks.grounds[k], center, half_size);
     char name[32];

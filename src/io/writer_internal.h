@@ -22,7 +22,7 @@ typedef struct tb__frames {
 /* npz frames streamed to the file as they come (writer_npz_stream.c). */
 typedef struct tb__npz_stream tb__npz_stream;
 
-/* What each body looks like (glTF). Sizes in the shape frame, m. */
+/* What each body looks like (glTF, USD). Sizes in the shape frame, m. */
 typedef enum tb__shape_kind {
     TB__SHAPE_INERTIA = 0, /* no shape given: the ellipsoid of equal mass and inertia */
     TB__SHAPE_BOX,
@@ -66,8 +66,10 @@ struct tb_writer {
     tb__frames frames;       /* npz, glTF: kept in memory until close */
     tb__npz_stream *stream;  /* npz with a known frame count, into a file that can seek */
     size_t announced_frames; /* npz: def.frame_count, 0 if not known */
+    double fps;              /* USD: time codes per second (0 until known) */
+    double sample_tolerance; /* USD: rad, 0 for samples at the frames only */
     double *values;          /* [13 * body_count]: one frame's read-outs from the scene */
-    tb__looks looks;         /* glTF */
+    tb__looks looks;         /* glTF, USD */
     double last_t;
     size_t frame_count;
     tb_status failed; /* a write failed: every later call reports it */
@@ -88,8 +90,19 @@ tb_status tb__csv_header(tb_writer *writer);
 tb_status tb__csv_frame(tb_writer *writer, double t, const double *values);
 tb_status tb__npz_write(tb_writer *writer);
 tb_status tb__gltf_write(tb_writer *writer);
+tb_status tb__usd_write(tb_writer *writer);
 
-/* Shapes and ground planes for glTF, from the scene file or text the def names (neither:
+/* USD: a prim name's room (a body name, a leading '_' and a suffix). */
+#define TB__USD_NAME_SIZE (TB_NAME_SIZE + 24)
+/* USD prim names for count names: identifiers, unique (writer_usd_names.c);
+ * TB_STATUS_OUT_OF_MEMORY. */
+tb_status tb__usd_names(const char *const *sources, size_t count, char (*out)[TB__USD_NAME_SIZE]);
+/* The time code of t: t fps, a whole number when within 1e-9 of one. */
+double tb__usd_time_code(double t, double fps);
+/* Body id's xformOp:translate and xformOp:orient time samples into the writer's file. */
+void tb__usd_put_pose_samples(const tb_writer *w, size_t id);
+
+/* Shapes and ground planes for glTF and USD, from the scene file or text the def names (neither:
  * every body as its inertia ellipsoid, no ground) and the scene. */
 tb_status tb__looks_load(tb__looks *looks, const tb_writer_def *def, const tb_scene *scene,
                          tb_error *error);
@@ -111,5 +124,8 @@ void tb__mesh_of_shape(tb__mesh *mesh, const tb__shape *shape);
 void tb__mesh_of_ground(tb__mesh *mesh, const tb__ground *ground, const double center[3],
                         double half_size);
 void tb__mesh_free(tb__mesh *mesh);
+/* Where the ground squares go and how big: around the bodies' mean first position, at least
+ * 10 m across their spread in every direction. */
+void tb__ground_extent(const tb__frames *frames, double center[3], double *half_size);
 
 #endif

@@ -281,6 +281,22 @@ void tb__mesh_of_ground(tb__mesh *m, const tb__ground *g, const double center[3]
     triangle(m, first, first + 2, first + 3);
 }
 
+void tb__ground_extent(const tb__frames *f, double center[3], double *half_size)
+{
+    tb__v3_set(center, 0, 0, 0);
+    const size_t n = f->count > 0 ? f->body_count : 0;
+    for (size_t id = 0; id < n; ++id) {
+        tb__v3_axpy(center, 1.0 / (double)n, f->position + 3 * id);
+    }
+    double spread = 0;
+    for (size_t k = 0; k < f->count * n; ++k) {
+        const double *p = f->position + 3 * k;
+        double d[3] = {p[0] - center[0], p[1] - center[1], p[2] - center[2]};
+        spread = fmax(spread, tb__v3_norm(d));
+    }
+    *half_size = fmax(10.0, 2.0 * spread);
+}
+
 void tb__mesh_free(tb__mesh *m)
 {
     free(m->positions);

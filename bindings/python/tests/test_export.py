@@ -52,6 +52,18 @@ def test_gltf_is_a_glb_with_a_node_per_body(frames, tmp_path):
     assert text["animations"][0]["samplers"][1]["interpolation"] == "LINEAR"
 
 
+def test_usd_is_a_layer_with_a_body_xform_per_body_at_the_frames_rate(frames, tmp_path):
+    # usd-core reads it in tests/export/check_usd.py; here the text says what the run was
+    frames.to_usd(tmp_path / "chain.usda")
+    text = (tmp_path / "chain.usda").read_text()
+    assert text.startswith("#usda 1.0\n")
+    fps = round(1.0 / (frames.t[1] - frames.t[0]))
+    assert f"    timeCodesPerSecond = {fps}\n" in text and '    upAxis = "Z"\n' in text
+    for name in frames.names:
+        assert f"string tumbleBody = \"{name}\"" in text
+    assert f"    endTimeCode = {len(frames.t) - 1}\n" in text
+
+
 def test_bad_arguments_are_refused_and_leave_no_file(frames, tmp_path):
     with pytest.raises(ValueError, match="format must be one of"):
         frames.to_file(tmp_path / "x.glb", format="gif")

@@ -1,13 +1,13 @@
 """Writing a run's frames to a file through the C library's writer (include/tumble/writer.h):
 CSV with numbers that read back exactly, NumPy .npz, animated glTF 2.0 (.glb/.gltf) with the
-scene's shapes. The frames written are the ones in memory, bit for bit (tb_writer_frame_values);
+scene's shapes, USD text (.usda). The frames written are the ones in memory, bit for bit (tb_writer_frame_values);
 the scene is loaded again only for its body names and shapes. docs/export.md has the formats."""
 
 import ctypes
 
 import numpy as np
 
-FORMATS = ("csv", "npz", "glb", "gltf")
+FORMATS = ("csv", "npz", "glb", "gltf", "usda")
 ROTATIONS = ("cubic", "linear")
 
 
@@ -19,6 +19,8 @@ class WriterDef(ctypes.Structure):
         ("scene_text", ctypes.c_char_p),
         ("base_directory", ctypes.c_char_p),
         ("frame_count", ctypes.c_size_t),
+        ("fps", ctypes.c_double),
+        ("sample_tolerance", ctypes.c_double),
         ("internal_cookie", ctypes.c_int),
     ]
 
@@ -71,6 +73,7 @@ def write(lib, error_type, fail, frames, scene_handle, scene_text, base_director
     definition.scene_text = scene_text
     definition.base_directory = base_directory.encode() if base_directory else None
     definition.frame_count = len(frames.t)  # npz: streamed to the file as the frames are given
+    definition.fps = 0.0  # USD: time codes per second from the frames' interval
     writer, error = ctypes.c_void_p(), error_type()
     status = lib.tb_writer_open(str(path).encode(), ctypes.byref(definition), scene_handle,
                                 ctypes.byref(writer), ctypes.byref(error))

@@ -10,7 +10,7 @@ import pathlib
 from ._export import WriterDef
 from ._version import LAYOUT_FILE, __version__
 
-DETAIL_SIZE = 256
+DETAIL_SIZE = 1024  # TB_DETAIL_SIZE
 STATE_SIZE = 13
 FRAME_VALUES = 13  # TB_FRAME_VALUES: doubles a body takes in tb_scene_frame_values
 

@@ -57,8 +57,8 @@ class Frames:
 
     def to_file(self, path, format: Optional[str] = None, rotation: str = "cubic") -> None:
         """Writes the frames as they are in memory to path through the library's writer:
-        format "csv", "npz", "glb" or "gltf" (default: from the extension); rotation "cubic"
-        or "linear" glTF keys. docs/export.md describes the files (tumble's world is z up;
+        format "csv", "npz", "glb", "gltf" or "usda" (default: from the extension); rotation
+        "cubic" or "linear" glTF keys. docs/export.md describes the files (tumble's world is z up;
         glTF's root node turns it to y up). Raises TumbleError when the file cannot be
         written (none is left behind), ValueError for a format or rotation it does not know."""
         if self.source is None:
@@ -76,6 +76,11 @@ class Frames:
         ends in .gltf; rotation keys "cubic" (following the spin) or "linear"."""
         gltf = str(path).lower().endswith(".gltf")
         self.to_file(path, "gltf" if gltf else "glb", rotation)
+
+    def to_usd(self, path) -> None:
+        """USD text (.usda) for usdview, Houdini and Omniverse: an Xform a body with its shape,
+        translate and orient samples at every frame (time code k is frame k), z up, metres."""
+        self.to_file(path, "usda")
 
     def to_npz(self, path) -> None:
         """NumPy .npz: t, position, orientation, velocity, angular_velocity, names, units."""
