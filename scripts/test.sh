@@ -26,6 +26,9 @@ rm -rf build-shared/venv build-shared/wheel
 python3 -m venv build-shared/venv
 build-shared/venv/bin/pip install --quiet --upgrade pip
 build-shared/venv/bin/pip wheel --quiet --no-deps ./bindings/python -w build-shared/wheel
+# That wheel repaired by auditwheel (its libraries bundled, tagged manylinux), installed into a
+# fresh venv and run with the system's copies of those libraries hidden (about 30 s).
+scripts/test_wheel.sh build-shared
 build-shared/venv/bin/pip install --quiet build-shared/wheel/tumble-*.whl pytest matplotlib \
     "dask[distributed]"
 (cd build-shared && env -u TUMBLE_LIBRARY venv/bin/python -c "import tumble; print(tumble.__version__)")
