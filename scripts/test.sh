@@ -30,7 +30,10 @@ build-shared/venv/bin/pip wheel --quiet --no-deps ./bindings/python -w build-sha
 # fresh venv and run with the system's copies of those libraries hidden (about 30 s).
 scripts/test_wheel.sh build-shared
 build-shared/venv/bin/pip install --quiet build-shared/wheel/tumble-*.whl pytest matplotlib \
-    "dask[distributed]"
+    "dask[distributed]" jsonschema
+# The scene format's JSON Schema against the loader (the scene_schema ctest, here with PyPI's
+# jsonschema for certain: ctest skips it when python3 lacks the package).
+build-shared/venv/bin/python tests/scene_schema.py --tumble build-shared/cli/tumble
 (cd build-shared && env -u TUMBLE_LIBRARY venv/bin/python -c "import tumble; print(tumble.__version__)")
 # And exactly what the README tells a user, in another fresh venv.
 rm -rf build-shared/venv-user && python3 -m venv build-shared/venv-user

@@ -17,7 +17,8 @@ run(${CMAKE_COMMAND} --install ${BUILD} --prefix ${prefix})
 # The installed command runs as installed (no LD_LIBRARY_PATH: a shared libtumble is found
 # through its run path, relative to the prefix) on an installed example scene, and the docs,
 # scenes and licence are where the install promises.
-foreach(file share/tumble/docs/scene-format.md share/tumble/scenes/tumbling_box.json
+foreach(file share/tumble/docs/scene-format.md share/tumble/docs/scene-format.schema.json
+             share/tumble/scenes/tumbling_box.json
              share/doc/tumble/LICENSE share/doc/tumble/README.md)
   if(NOT EXISTS ${prefix}/${file})
     message(FATAL_ERROR "the install has no ${file}")
