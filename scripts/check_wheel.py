@@ -2,14 +2,15 @@
 it in a fresh venv, outside the source tree, with the system's copies of those libraries made
 unreachable where it can).
 
-    python check_wheel.py LIBRARY_NAME...   (e.g. libgsl libsundials_cvode: what the repaired
-                                             wheel must bring itself, from `ldd` on the raw one)
+    python check_wheel.py NAME=PACKAGE...   (e.g. libgsl=libgsl27: the libraries the repaired
+                                             wheel must bring itself, from `ldd` on the raw one,
+                                             and the packages whose licences come with them)
 
 Fails unless: the package imported is the installed one, with py.typed; two small runs give
 the exact motion (a ball thrown under uniform gravity, whose path is the quadratic
 z0 + vz t - g t^2 / 2); every named library is mapped into this process from the wheel's own
 tumble.libs folder (/proc/self/maps), none from anywhere else; and `ldd` on the installed
-libtumble.so resolves each of them inside tumble.libs."""
+libtumble.so resolves each of them inside tumble.libs, whose licences/ has each package's copyright file."""
 
 import os
 import pathlib
@@ -64,8 +65,11 @@ def mapped_files():
         return {line.split(None, 5)[5].strip() for line in maps if len(line.split(None, 5)) == 6}
 
 
-def check_libraries(package, bundled, names):
-    wanted = set(names)
+def check_libraries(package, bundled, pairs):
+    wanted = {pair.split("=")[0] for pair in pairs}
+    for pair in pairs:
+        licence = bundled / "licenses" / f"{pair.split('=')[1]}.copyright"
+        assert licence.is_file() and licence.stat().st_size > 0, f"no licence {licence}"
     paths = [pathlib.Path(p) for p in mapped_files() if p.startswith("/")]
     found = {}
     for path in paths:

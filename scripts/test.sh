@@ -26,8 +26,9 @@ rm -rf build-shared/venv build-shared/wheel
 python3 -m venv build-shared/venv
 build-shared/venv/bin/pip install --quiet --upgrade pip
 build-shared/venv/bin/pip wheel --quiet --no-deps ./bindings/python -w build-shared/wheel
-# That wheel repaired by auditwheel (its libraries bundled, tagged manylinux), installed into a
-# fresh venv and run with the system's copies of those libraries hidden (about 30 s).
+# That wheel made one to publish (scripts/repair_wheel.sh: auditwheel bundles its libraries and
+# tags it manylinux), installed into a fresh venv and run with the system's copies of those
+# libraries hidden (about 30 s).
 scripts/test_wheel.sh build-shared
 build-shared/venv/bin/pip install --quiet build-shared/wheel/tumble-*.whl pytest matplotlib \
     "dask[distributed]" jsonschema
