@@ -25,7 +25,10 @@ ctest --test-dir build-shared --output-on-failure -R "install_consumers|example_
 rm -rf build-shared/venv build-shared/wheel
 python3 -m venv build-shared/venv
 build-shared/venv/bin/pip install --quiet --upgrade pip
-build-shared/venv/bin/pip wheel --quiet --no-deps ./bindings/python -w build-shared/wheel
+# The wheel is built from the sdist (scripts/make_sdist.sh), as a package index's users would.
+scripts/make_sdist.sh build-shared
+build-shared/venv/bin/pip wheel --quiet --no-deps build-shared/sdist/tumble-*.tar.gz \
+    -w build-shared/wheel
 # That wheel made one to publish (scripts/repair_wheel.sh: auditwheel bundles its libraries and
 # tags it manylinux), installed into a fresh venv and run with the system's copies of those
 # libraries hidden (about 30 s).
