@@ -35,11 +35,18 @@ install(FILES ${PROJECT_BINARY_DIR}/tumbleConfig.cmake
   ${PROJECT_BINARY_DIR}/tumbleConfigVersion.cmake DESTINATION ${TUMBLE_CMAKE_DIR})
 
 # pkg-config: a static library needs its dependencies on the link line (pkg-config --static).
-set(TUMBLE_PC_PRIVATE_LIBS "-lsundials_cvode -lsundials_nvecserial ${CMAKE_THREAD_LIBS_INIT}")
+# GSL, jansson, libccd and libdeflate come through their own .pc files (Requires.private in
+# tumble.pc.in); SUNDIALS ships none, so it and the compiler's OpenMP runtime are named by -l
+# only: never the absolute paths CMake found them at (/usr/lib/gcc/x86_64-linux-gnu/12/...),
+# which name one toolchain's private directory. The install_consumers test checks no path is left.
+set(TUMBLE_PC_PRIVATE_LIBS "-lsundials_cvode -lsundials_nvecserial")
 if(TUMBLE_OPENMP)
-  foreach(library IN LISTS OpenMP_C_LIBRARIES)
-    string(APPEND TUMBLE_PC_PRIVATE_LIBS " ${library}")
+  foreach(library IN LISTS OpenMP_C_LIB_NAMES)
+    string(APPEND TUMBLE_PC_PRIVATE_LIBS " -l${library}")
   endforeach()
+endif()
+if(CMAKE_THREAD_LIBS_INIT) # empty with glibc >= 2.34, where threads are in libc
+  string(APPEND TUMBLE_PC_PRIVATE_LIBS " ${CMAKE_THREAD_LIBS_INIT}")
 endif()
 # Relocatable: the prefix is found from the .pc file's own place.
 file(RELATIVE_PATH TUMBLE_PC_TO_PREFIX /root/${CMAKE_INSTALL_LIBDIR}/pkgconfig /root)

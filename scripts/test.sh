@@ -25,9 +25,19 @@ ctest --test-dir build-shared --output-on-failure -R "install_consumers|example_
 rm -rf build-shared/venv build-shared/wheel
 python3 -m venv build-shared/venv
 build-shared/venv/bin/pip install --quiet --upgrade pip
-build-shared/venv/bin/pip wheel --quiet --no-deps ./bindings/python -w build-shared/wheel
+# The wheel is built from the sdist (scripts/make_sdist.sh), as a package index's users would.
+scripts/make_sdist.sh build-shared
+build-shared/venv/bin/pip wheel --quiet --no-deps build-shared/sdist/tumble-*.tar.gz \
+    -w build-shared/wheel
+# That wheel made one to publish (scripts/repair_wheel.sh: auditwheel bundles its libraries and
+# tags it manylinux), installed into a fresh venv and run with the system's copies of those
+# libraries hidden (about 30 s).
+scripts/test_wheel.sh build-shared
 build-shared/venv/bin/pip install --quiet build-shared/wheel/tumble-*.whl pytest matplotlib \
-    "dask[distributed]"
+    "dask[distributed]" jsonschema
+# The scene format's JSON Schema against the loader (the scene_schema ctest, here with PyPI's
+# jsonschema for certain: ctest skips it when python3 lacks the package).
+build-shared/venv/bin/python tests/scene_schema.py --tumble build-shared/cli/tumble
 (cd build-shared && env -u TUMBLE_LIBRARY venv/bin/python -c "import tumble; print(tumble.__version__)")
 # And exactly what the README tells a user, in another fresh venv.
 rm -rf build-shared/venv-user && python3 -m venv build-shared/venv-user
