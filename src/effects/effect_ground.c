@@ -117,6 +117,10 @@ static int apply_ground(const tb__effect *effect, const tb_scene *scene, double 
             tb__body_motion(&scene->bodies[current], y + TB_STATE_SIZE * current, &motion);
         }
         const size_t k = effect->state_offset + effect->states_per_contact * j;
+        if (tb__body_asleep(scene, c->body)) { /* its anchors stay frozen */
+            memset(dydt + k, 0, effect->states_per_contact * sizeof(double));
+            continue;
+        }
         contact(&effect->params.ground, scene, c, &motion, y + k, dydt + k, dydt);
     }
     return 0;

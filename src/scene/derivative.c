@@ -123,6 +123,7 @@ int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
         const tb__effect *effect = &scene->effects[scene->effect_order[k]];
         rc = effect->ops->apply(effect, scene, t, y, dydt);
     }
+    tb__scene_sleep_zero(scene, dydt);
     return rc;
 }
 
@@ -193,6 +194,9 @@ static int normalize(tb_scene *scene, double *y, size_t count)
     double drift = 0.0;
     int rc = 0;
     for (size_t i = 0; i < count && rc == 0; ++i) {
+        if (tb__body_asleep(scene, i)) {
+            continue; /* its state stays the one it fell asleep with, bit for bit */
+        }
         double *q = y + TB_STATE_SIZE * i + TB_STATE_Q;
         const double norm = tb__q_norm(q);
         if (!(norm > 0) || !isfinite(norm)) {
