@@ -17,12 +17,12 @@
 
 #include <math.h>
 
-#define EDGE 0.1     /* m */
-#define GAP 5e-4     /* m between side-by-side boxes: inside the contact's 1 mm margin */
-#define AWAKE 0.1    /* s measured awake */
-#define ASLEEP 0.5   /* s measured asleep */
-#define FRAME 0.01   /* s between the run's outputs */
-#define GIVE_UP 3.0  /* s: a pile that is not asleep by then is reported as such */
+#define EDGE 0.1    /* m */
+#define GAP 5e-4    /* m between side-by-side boxes: inside the contact's 1 mm margin */
+#define AWAKE 0.1   /* s measured awake */
+#define ASLEEP 0.5  /* s measured asleep */
+#define FRAME 0.01  /* s between the run's outputs */
+#define GIVE_UP 3.0 /* s: a pile that is not asleep by then is reported as such */
 
 static int fail(const char *what, tb_status status, const tb_scene *scene)
 {

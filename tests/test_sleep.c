@@ -290,12 +290,53 @@ static void test_sleeping_under_cvode_bdf(void **state)
     check_woken_column(TB_METHOD_CVODE_BDF, NUDGE_BOTTOM, 0.01, 0.3);
 }
 
+/* The switch and the read-outs: refusals name their input and change nothing; the scene
+ * file's top-level "sleeping" sets the switch, and anything but a boolean is refused. */
+static void test_the_sleeping_switch_and_read_outs(void **state)
+{
+    (void)state;
+    assert_int_equal(tb_scene_set_sleeping(NULL, false), TB_STATUS_NULL_POINTER);
+    assert_false(tb_scene_sleeping(NULL));
+    tb_scene *scene = column(true);
+    assert_true(tb_scene_sleeping(scene));
+    bool flag = true;
+    assert_int_equal(tb_scene_body_asleep(scene, HEIGHT + 1, &flag), TB_STATUS_OUT_OF_RANGE);
+    assert_true(flag);
+    assert_int_equal(tb_scene_body_asleep(scene, 0, NULL), TB_STATUS_NULL_POINTER);
+    assert_int_equal(tb_scene_asleep_count(scene, NULL), TB_STATUS_NULL_POINTER);
+    assert_int_equal(tb_scene_set_sleeping(scene, false), TB_STATUS_OK);
+    assert_false(tb_scene_sleeping(scene));
+    tb_scene_destroy(scene);
+    tb_scene_def def = tb_scene_def_default();
+    assert_true(def.sleeping);
+    const char *off =
+        "{\"bodies\": [{\"name\": \"b\", \"shape\": {\"type\": \"sphere\", \"radius\": 1}, "
+        "\"mass\": 1}], \"sleeping\": false}";
+    tb_error error;
+    const tb_status loaded = tb_scene_load_string(off, "off", NULL, &scene, NULL, &error);
+    if (loaded != TB_STATUS_OK) {
+        print_message("%s\n", error.message);
+    }
+    assert_int_equal(loaded, TB_STATUS_OK);
+    assert_false(tb_scene_sleeping(scene));
+    tb_scene_destroy(scene);
+    const char *bad =
+        "{\"bodies\": [{\"name\": \"b\", \"shape\": {\"type\": \"sphere\", \"radius\": 1}, "
+        "\"mass\": 1}], \"sleeping\": 0}";
+    scene = NULL;
+    assert_int_equal(tb_scene_load_string(bad, "bad", NULL, &scene, NULL, &error),
+                     TB_STATUS_BAD_SCENE);
+    assert_null(scene);
+    assert_non_null(strstr(error.message, "sleeping"));
+}
+
 int main(int argc, char **argv)
 {
     if (argc > 1) { /* a pattern of test names to run (cmocka's filter) */
         cmocka_set_test_filter(argv[1]);
     }
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_the_sleeping_switch_and_read_outs),
         cmocka_unit_test(test_a_woken_column_continues_as_an_unslept_one_under_rk4),
         cmocka_unit_test(test_asleep_bodies_keep_their_states_bit_for_bit_under_rk4),
         cmocka_unit_test(test_a_sliding_ball_wakes_a_box_and_keeps_momentum_under_rk4),

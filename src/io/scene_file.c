@@ -260,7 +260,7 @@ static tb_status load_sleeping(tb__loader *ld, const json_t *root)
 
 static tb_status load_document(tb__loader *ld, const json_t *root)
 {
-    static const char *const keys[] = {"description", "bodies", "effects", "integrator",
+    static const char *const keys[] = {"description", "bodies",   "effects", "integrator",
                                        "output",      "sleeping", NULL};
     tb_status status = tb__json_object(ld, root, "", keys);
     const char *description = NULL;

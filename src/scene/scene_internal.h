@@ -275,23 +275,25 @@ struct tb_scene {
  * change only at step boundaries (tb__scene_post_step), so the derivative is a pure function
  * of (t, y) between them. */
 typedef struct tb__sleep {
-    size_t capacity;         /* bodies the arrays hold */
-    unsigned char *asleep;   /* per body */
-    size_t asleep_count;     /* bodies asleep */
-    size_t *parent;          /* union-find of the boundary's islands */
-    size_t *island;          /* an asleep body's island (a body id) */
-    double *still;           /* s each body has been slow */
-    unsigned char *decision; /* the last boundary's: 1 asleep, 0 awake */
-    double *snapshot;        /* TB_STATE_SIZE per body: the state it fell asleep with */
-    double last_t;           /* the last boundary's time (NAN: none yet) */
-    bool pending;            /* a decision waits for the next acquire (adaptive methods) */
+    size_t capacity;               /* bodies the arrays hold */
+    unsigned char *asleep;         /* per body */
+    size_t asleep_count;           /* bodies asleep */
+    size_t *parent;                /* union-find of the boundary's islands */
+    size_t *island;                /* an asleep body's island (a body id) */
+    double *still;                 /* s each body has been slow */
+    unsigned char *decision;       /* the last boundary's: 1 asleep, 0 awake */
+    double *snapshot;              /* TB_STATE_SIZE per body: the state it fell asleep with */
+    double last_t;                 /* the last boundary's time (NAN: none yet) */
+    bool pending;                  /* a decision waits for the next acquire (adaptive methods) */
     unsigned long long generation; /* counts changes of the asleep set */
 } tb__sleep;
 
-/* Whether body id is asleep: its derivative is 0 and pairs of two asleep bodies are skipped. */
+/* Whether body id is asleep: its derivative is 0 and pairs of two asleep bodies are skipped.
+ * Bodies added since the flags were made (capacity) are awake. */
 static inline bool tb__body_asleep(const tb_scene *scene, size_t id)
 {
-    return scene->sleep != NULL && scene->sleep->asleep_count > 0 && scene->sleep->asleep[id];
+    const tb__sleep *sleep = scene->sleep;
+    return sleep != NULL && sleep->asleep_count > 0 && id < sleep->capacity && sleep->asleep[id];
 }
 
 /* Whether both bodies of a pair are asleep (the narrow phase skips it). */
