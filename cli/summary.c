@@ -117,6 +117,11 @@ void summary_print(const char *path, const tb_scene *scene, const tb_run_def *ru
             summary_plural(bodies, "body", "bodies"), effects,
             summary_plural(effects, "effect", "effects"), run->duration, run->fps);
     print_work(run, dt, stats, seconds);
+    size_t asleep = 0;
+    if (tb_scene_sleeping(scene) && tb_scene_asleep_count(scene, &asleep) == TB_STATUS_OK) {
+        fprintf(stderr, "  %-24s %zu of %zu %s at the end\n", "asleep", asleep, bodies,
+                summary_plural(bodies, "body", "bodies"));
+    }
     tb_conserved c;
     tb_scene_conserved(scene, &c);
     report_drift("energy", c.energy, fabs(last->energy - first->energy), fabs(first->energy), "J",

@@ -22,6 +22,8 @@ typedef struct tb_scene_def {
     size_t body_capacity;         /* bodies to allocate room for up front; default 16 */
     size_t effect_capacity;       /* effects to allocate room for up front; default 8 */
     bool renormalize_quaternions; /* post-step hook q <- q/|q|; default true */
+    bool sleeping;                /* islands of resting bodies sleep (tb_scene_set_sleeping);
+                                     default true */
     int internal_cookie;          /* set by tb_scene_def_default */
 } tb_scene_def;
 
@@ -275,6 +277,33 @@ TB_API tb_status tb_scene_default_step(const tb_scene *scene, tb_method method, 
  * integrator.allow_unstable sets it. */
 TB_API void tb_scene_set_allow_unstable(tb_scene *scene, bool allow);
 TB_API bool tb_scene_allow_unstable(const tb_scene *scene);
+
+/* --- Sleeping ---------------------------------------------------------------------------- */
+
+/* A body is slow while its centre and the points at its radius of gyration about its softest
+ * axis (sqrt(I_max / M)) move slower than TB_SLEEP_SPEED (m/s). */
+#define TB_SLEEP_SPEED 1e-4
+/* How long (s) every body of an island must have been slow for the island to fall asleep. */
+#define TB_SLEEP_TIME 0.5
+
+/* Sleeping islands (default on; docs/effects.md "Sleeping"). In a scene whose bodies interact,
+ * bodies linked at a step boundary (a pair the contact effect finds, a spring between them)
+ * form islands; a body on a ground plane alone is its own island. An island whose bodies have
+ * all been slow for TB_SLEEP_TIME falls asleep: its bodies' derivatives are 0 (their states,
+ * and the friction anchors between them and on the ground, stay frozen, bit for bit) and the
+ * contact effect skips the narrow phase between two of them. It wakes when a moving body comes
+ * within the contact's margin of it, when tb_scene_set_state or tb_scene_set_velocity changes
+ * one of its bodies (or a write into tb_scene_states is seen at the next boundary), or when an
+ * effect is added. Decisions happen at step boundaries: after every step of a fixed-step
+ * integrator made by tb_scene_integrator_create, at every output of the others (CVODE restarts
+ * there). A scene holding a user effect never sleeps. set refuses with TB_STATUS_BUSY while the
+ * scene is being stepped; false wakes every body. */
+TB_API tb_status tb_scene_set_sleeping(tb_scene *scene, bool sleeping);
+TB_API bool tb_scene_sleeping(const tb_scene *scene);
+/* How many bodies are asleep now. */
+TB_API tb_status tb_scene_asleep_count(const tb_scene *scene, size_t *out_count);
+/* Whether body id is asleep now. */
+TB_API tb_status tb_scene_body_asleep(const tb_scene *scene, size_t id, bool *out_asleep);
 
 /* Creates an integrator over the scene's own state array at time t0.
  * A fixed-step def with dt 0 takes tb_scene_default_step.

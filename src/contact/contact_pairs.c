@@ -21,6 +21,7 @@ struct tb__contact_pairs {
     tb__broad_phase broad;
     tb__index_pair batch[PAIR_BATCH];
     size_t batch_count, batch_next; /* fetched candidates and the next to test */
+    bool skip_asleep;               /* pairs of two asleep bodies are not tested */
 };
 
 static tb_status check_bodies(const tb_scene *scene, const size_t *bodies, size_t count,
@@ -94,10 +95,18 @@ void tb__contact_pairs_destroy(tb__contact_pairs *pairs)
     }
 }
 
+void tb__contact_pairs_skip_asleep(tb__contact_pairs *pairs, bool skip)
+{
+    pairs->skip_asleep = skip;
+}
+
 void tb__contact_pairs_begin(tb__contact_pairs *pairs, const tb_scene *scene, const double *y)
 {
     size_t boxes = 0;
-    for (size_t k = 0; k < pairs->count; ++k) {
+    /* every body asleep: no pair to find (the broad phase would list only asleep ones) */
+    const bool all_asleep = pairs->skip_asleep && scene->sleep != NULL &&
+                            scene->sleep->asleep_count == scene->body_count;
+    for (size_t k = 0; k < pairs->count && !all_asleep; ++k) {
         const size_t id = pairs->ids[k];
         const tb__collision_shape *shape = tb__scene_body_collision_shape(scene, id);
         if (shape == NULL) {
@@ -124,6 +133,9 @@ static bool test_pair(const tb__contact_pairs *pairs, const tb_scene *scene,
 {
     const size_t a = pairs->ids[pairs->local[c->first]];
     const size_t b = pairs->ids[pairs->local[c->second]];
+    if (pairs->skip_asleep && tb__pair_asleep(scene, a, b)) {
+        return false; /* a sleeping island: no narrow phase inside it */
+    }
     const bool in_order = a < b;
     const size_t first = in_order ? c->first : c->second, second = in_order ? c->second : c->first;
     out->body_a = in_order ? a : b;

@@ -47,9 +47,11 @@ void tb__friction_match(const tb__friction_pool *pool, const tb__pair_contact *p
                         const tb__motion *motion_a, size_t *fresh,
                         size_t slots[TB__MANIFOLD_POINTS]);
 
-/* dz = -release z for every slot (states: the pool's first state in y and dydt); the
- * derivative then overwrites the slots points hold. */
-void tb__friction_relax_all(const tb__friction_pool *pool, const double *z, double *dz);
+/* dz = -release z for every slot (states: the pool's first state in y and dydt), 0 for the
+ * slots of a pair of two asleep bodies (frozen); the derivative then overwrites the slots
+ * points hold. */
+void tb__friction_relax_all(const tb__friction_pool *pool, const tb_scene *scene, const double *z,
+                            double *dz);
 
 /* Friction on B at a touching point with normal force N > 0, normal n (A to B), relative
  * tangential velocity v_t of B against A (world), at a point whose spring has stiffness and

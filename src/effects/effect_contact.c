@@ -146,7 +146,7 @@ static int apply_contact(const tb__effect *effect, const tb_scene *scene, double
 {
     (void)t;
     const tb__contact_params *contact = &effect->params.contact;
-    tb__friction_relax_all(contact->friction, y + effect->state_offset,
+    tb__friction_relax_all(contact->friction, scene, y + effect->state_offset,
                            dydt + effect->state_offset);
     tb__pair_contact batch[TB__CONTACT_BATCH];
     tb__contact_pairs_begin(contact->pairs, scene, y);
@@ -467,6 +467,10 @@ tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def)
     }
     if (status == TB_STATUS_OK) {
         status = tb__contact_events_create(scene, contact);
+    }
+    if (status == TB_STATUS_OK) { /* no narrow phase inside a sleeping island */
+        tb__contact_pairs_skip_asleep(contact->pairs, true);
+        tb__contact_pairs_skip_asleep(contact->lookahead, true);
     }
     if (status == TB_STATUS_OK) {
         status = make_pool(scene, def, &effect);

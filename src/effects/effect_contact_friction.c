@@ -176,11 +176,20 @@ void tb__friction_match(const tb__friction_pool *pool, const tb__pair_contact *p
     }
 }
 
-void tb__friction_relax_all(const tb__friction_pool *pool, const double *z, double *dz)
+/* A claimed slot between two asleep bodies: frozen, kept claimed. */
+static bool slot_asleep(const tb__friction_slot *slot, const tb_scene *scene)
 {
-    const size_t n = TB__FRICTION_SLOT_STATES * pool->capacity;
-    for (size_t k = 0; k < n; ++k) {
-        dz[k] = -TB__BRISTLE_RELEASE_RATE * z[k];
+    return slot->body_a != TB__NO_SLOT && tb__pair_asleep(scene, slot->body_a, slot->body_b);
+}
+
+void tb__friction_relax_all(const tb__friction_pool *pool, const tb_scene *scene, const double *z,
+                            double *dz)
+{
+    for (size_t s = 0; s < pool->capacity; ++s) {
+        const double rate = slot_asleep(&pool->slots[s], scene) ? 0.0 : TB__BRISTLE_RELEASE_RATE;
+        for (size_t k = TB__FRICTION_SLOT_STATES * s; k < TB__FRICTION_SLOT_STATES * (s + 1); ++k) {
+            dz[k] = -rate * z[k];
+        }
     }
 }
 
@@ -256,6 +265,7 @@ static void hold_pair(tb__friction_pool *pool, const tb_scene *scene, const doub
     double keys[TB__MANIFOLD_POINTS][3];
     bool touching[TB__MANIFOLD_POINTS];
     size_t slots[TB__MANIFOLD_POINTS];
+    tb__scene_sleep_link(scene, pair->body_a, pair->body_b);
     point_keys(pair, &motion, keys, touching);
     tb__friction_match(pool, pair, &motion, fresh, slots);
     for (int j = 0; j < pair->manifold.count; ++j) {
@@ -274,13 +284,14 @@ static void hold_pair(tb__friction_pool *pool, const tb_scene *scene, const doub
  * frees the claimed slots no pair holds whose deflection has relaxed. A slot's place in the
  * index only changes when it is claimed or freed, so the index stays nearly sorted and one
  * insertion per claim keeps it so. */
-static void update_index(tb__friction_pool *pool, const double *z)
+static void update_index(tb__friction_pool *pool, const tb_scene *scene, const double *z)
 {
     size_t kept = 0;
     for (size_t k = 0; k < pool->index_count; ++k) {
         const size_t s = pool->index[k];
         const double *zs = z + TB__FRICTION_SLOT_STATES * s;
-        if (!pool->held[s] && tb__v3_norm(zs) < pool->free_deflection) {
+        if (!pool->held[s] && tb__v3_norm(zs) < pool->free_deflection &&
+            !slot_asleep(&pool->slots[s], scene)) {
             pool->slots[s].body_a = TB__NO_SLOT;
             pool->queue[(pool->head + pool->free_count++) % pool->capacity] = s;
         } else {
@@ -324,7 +335,7 @@ void tb__friction_post_step(const tb__effect *effect, const tb_scene *scene, con
     const size_t claimed = fresh < pool->free_count ? fresh : pool->free_count;
     pool->head = (pool->head + claimed) % pool->capacity;
     pool->free_count -= claimed;
-    update_index(pool, y + effect->state_offset);
+    update_index(pool, scene, y + effect->state_offset);
     tb_contact_friction_stats *stats = &pool->stats;
     stats->boundaries++;
     stats->overflows += fresh - claimed;

@@ -176,6 +176,12 @@ static int apply_ground(const tb__effect *effect, const tb_scene *scene, double 
         while (end < scene->contact_count && scene->contacts[end].body == body) {
             ++end;
         }
+        if (tb__body_asleep(scene, body)) { /* its anchors stay frozen */
+            memset(dydt + effect->state_offset + effect->states_per_contact * first, 0,
+                   (end - first) * effect->states_per_contact * sizeof(double));
+            first = end;
+            continue;
+        }
         tb__motion motion;
         tb__body_motion(&scene->bodies[body], y + TB_STATE_SIZE * body, &motion);
         tb__body_load load;

@@ -104,6 +104,7 @@ tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect)
         scene->single_body_effect_count++;
     }
     scene->effects_generation++;
+    tb__scene_wake_all(scene); /* a load added: the bodies at rest may move */
     return TB_STATUS_OK;
 }
 
@@ -151,16 +152,20 @@ bool tb__scene_has_post_step_effects(const tb_scene *scene)
 
 int tb__scene_post_step(double t, double *y, void *ctx)
 {
-    const tb_scene *scene = ctx;
+    tb_scene *scene = ctx;
     if (scene == NULL || y == NULL) {
         return -1;
     }
     const int rc = scene->renormalize ? tb_scene_normalize_quaternions(t, y, ctx) : 0;
+    tb__scene_sleep_begin(scene);
     for (size_t e = 0; e < scene->effect_count && rc == 0; ++e) {
         const tb__effect *effect = &scene->effects[e];
         if (effect->ops->post_step != NULL) {
-            effect->ops->post_step(effect, scene, y);
+            effect->ops->post_step(effect, scene, y); /* links the pairs it finds */
         }
+    }
+    if (rc == 0) {
+        tb__scene_sleep_end(scene, t, y);
     }
     return rc;
 }

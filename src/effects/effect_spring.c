@@ -141,6 +141,12 @@ static const tb__effect_ops anchored_spring_ops = {
     .rate = spring_rate,
 };
 
+/* Two bodies joined by a spring sleep and wake together. */
+static size_t spring_partner(const tb__effect *effect)
+{
+    return effect->params.spring.other == TB_WORLD ? TB_ALL_BODIES : effect->params.spring.other;
+}
+
 static const tb__effect_ops spring_ops = {
     .name = "spring",
     .apply = apply_spring,
@@ -149,6 +155,7 @@ static const tb__effect_ops spring_ops = {
     .potential_energy = spring_potential_energy,
     .conserves_energy = spring_conserves_energy,
     .rate = spring_rate,
+    .sleep_partner = spring_partner,
 };
 
 tb_spring_def tb_spring_def_default(void)

@@ -21,6 +21,7 @@ static const tb__effect_ops user_ops = {
     .name = "user effect",
     .apply = apply_user,
     .couples_bodies = true,
+    .keeps_awake = true, /* its loads may change with t while the bodies rest */
 };
 
 tb_status tb_scene_add_user_effect(tb_scene *scene, tb_user_effect_fn fn, void *ctx)

@@ -247,10 +247,21 @@ tb_status tb__check_non_negative_at(tb__loader *ld, const char *path, const char
 
 /* --- top level ---------------------------------------------------------------------------- */
 
+/* "sleeping": true (the default) or false: whether islands of resting bodies sleep. */
+static tb_status load_sleeping(tb__loader *ld, const json_t *root)
+{
+    const json_t *sleeping = json_object_get(root, "sleeping");
+    if (sleeping != NULL && !json_is_boolean(sleeping)) {
+        return tb__load_fail(ld, TB_STATUS_BAD_SCENE, "sleeping", "must be true or false, got %s",
+                             tb__json_kind(sleeping));
+    }
+    return tb_scene_set_sleeping(ld->scene, sleeping == NULL || json_is_true(sleeping));
+}
+
 static tb_status load_document(tb__loader *ld, const json_t *root)
 {
-    static const char *const keys[] = {"description", "bodies", "effects",
-                                       "integrator",  "output", NULL};
+    static const char *const keys[] = {"description", "bodies",   "effects", "integrator",
+                                       "output",      "sleeping", NULL};
     tb_status status = tb__json_object(ld, root, "", keys);
     const char *description = NULL;
     if (status == TB_STATUS_OK) {
@@ -281,7 +292,7 @@ static tb_status load_document(tb__loader *ld, const json_t *root)
     if (status == TB_STATUS_OK && section != NULL) {
         status = tb__load_output(ld, section);
     }
-    return status;
+    return status == TB_STATUS_OK ? load_sleeping(ld, root) : status;
 }
 
 static tb_status load_json(tb__loader *ld, json_t *root, tb_scene **out_scene, tb_run_def *out_run)

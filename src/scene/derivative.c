@@ -123,6 +123,7 @@ int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
         const tb__effect *effect = &scene->effects[scene->effect_order[k]];
         rc = effect->ops->apply(effect, scene, t, y, dydt);
     }
+    tb__scene_sleep_zero(scene, dydt);
     return rc;
 }
 
@@ -249,13 +250,17 @@ void tb__scene_note_drift(tb_scene *scene, double drift)
 #endif
 }
 
-/* q <- q / |q| for `count` bodies from y; the largest | |q| - 1 | found (up to a failure) goes
- * into the scene's drift. */
-static int normalize(tb_scene *scene, double *y, size_t count)
+/* q <- q / |q| for the bodies [first, first + count), y at body first, asleep ones left as
+ * they are (their state stays the one they fell asleep with, bit for bit); the largest
+ * | |q| - 1 | found (up to a failure) goes into the scene's drift. */
+static int normalize(tb_scene *scene, double *y, size_t first, size_t count)
 {
     double drift = 0.0;
     int rc = 0;
     for (size_t i = 0; i < count && rc == 0; ++i) {
+        if (tb__body_asleep(scene, first + i)) {
+            continue;
+        }
         double *q = y + TB_STATE_SIZE * i + TB_STATE_Q;
         const double norm = tb__q_norm(q);
         if (!(norm > 0) || !isfinite(norm)) {
@@ -276,13 +281,12 @@ int tb_scene_normalize_quaternions(double t, double *y, void *ctx)
 {
     (void)t;
     tb_scene *scene = ctx;
-    return scene == NULL || y == NULL ? -1 : normalize(scene, y, scene->body_count);
+    return scene == NULL || y == NULL ? -1 : normalize(scene, y, 0, scene->body_count);
 }
 
 int tb__scene_block_normalize(double t, double *y, size_t first, size_t count, void *ctx)
 {
     (void)t;
-    (void)first;
     tb_scene *scene = ctx;
-    return scene == NULL ? -1 : normalize(scene, y, count);
+    return scene == NULL ? -1 : normalize(scene, y, first, count);
 }

@@ -28,6 +28,7 @@ tb_scene_def tb_scene_def_default(void)
     def.body_capacity = 16;
     def.effect_capacity = 8;
     def.renormalize_quaternions = true;
+    def.sleeping = true;
     def.internal_cookie = TB__SCENE_COOKIE;
     return def;
 }
@@ -159,6 +160,7 @@ tb_status tb_scene_create(const tb_scene_def *def, tb_scene **out_scene, tb_erro
         return tb__set_error(out_error, TB_STATUS_OUT_OF_MEMORY, "scene");
     }
     scene->renormalize = def->renormalize_quaternions;
+    scene->sleeping = def->sleeping;
     const size_t capacity = def->body_capacity > 0 ? def->body_capacity : 1;
     tb_status status = reserve_bodies(scene, capacity);
     if (status == TB_STATUS_OK) {
@@ -197,6 +199,7 @@ void tb_scene_destroy(tb_scene *scene)
         }
         free(scene->shapes);
         free(scene->name_slots);
+        tb__scene_sleep_free(scene);
         free(scene);
     }
 }
@@ -514,6 +517,7 @@ tb_status tb_scene_set_state(tb_scene *scene, size_t id, const tb_body_state *st
     for (int k = 0; k < 4; ++k) {
         s[TB_STATE_Q + k] = state->q[k] / norm;
     }
+    tb__scene_wake_body(scene, id);
     return TB_STATUS_OK;
 }
 
@@ -536,6 +540,7 @@ tb_status tb_scene_set_velocity(tb_scene *scene, size_t id, const double velocit
         double *s = scene->states + TB_STATE_SIZE * id;
         tb__v3_copy(s + TB_STATE_P, P);
         tb__v3_copy(s + TB_STATE_L, L);
+        tb__scene_wake_body(scene, id);
     }
     return status;
 }

@@ -111,6 +111,12 @@ typedef struct tb__effect_ops {
      * bookkeeping outside y that the derivative reads (the contact effect's friction slot
      * map). It must not change y, and must leave the derivative at y as it was. NULL: none. */
     void (*post_step)(const tb__effect *effect, const tb_scene *scene, const double *y);
+    /* Sleeping islands (sleep.c): the body the effect ties effect->body to, so that the two
+     * sleep and wake together (a spring's second body), or TB_ALL_BODIES; NULL: none. */
+    size_t (*sleep_partner)(const tb__effect *effect);
+    /* The effect's loads may change while the bodies rest (a user callback of t): while the
+     * scene holds it, no body sleeps. */
+    bool keeps_awake;
 } tb__effect_ops;
 
 /* The gap (m) the event functions start from: a body farther than this from everything it can
@@ -258,7 +264,69 @@ struct tb_scene {
      * against the scene's rates at every advance; guard_dt 0 for none. */
     tb_method guard_method;
     double guard_dt;
+    /* Sleeping islands (sleep.c): on unless tb_scene_set_sleeping(false); the flags and
+     * islands, allocated by tb_scene_ode_system for a scene whose bodies interact (NULL
+     * before). */
+    bool sleeping;
+    struct tb__sleep *sleep;
 };
+
+/* Sleeping islands (sleep.c). Bodies linked at a step boundary (a pair the contact effect
+ * finds within its margin, a spring between them, a sleeping body's island) form islands; an
+ * island whose bodies have all been slower than TB_SLEEP_SPEED for TB_SLEEP_TIME falls asleep,
+ * and wakes when one of its bodies is linked to a moving one or changed from outside. Asleep
+ * bodies' derivative is 0 (their 13 states, their ground anchors, the friction slots between
+ * two of them) and the contact effect skips the narrow phase between two of them. The flags
+ * change only at step boundaries (tb__scene_post_step), so the derivative is a pure function
+ * of (t, y) between them. */
+typedef struct tb__sleep {
+    size_t capacity;               /* bodies the arrays hold */
+    unsigned char *asleep;         /* per body */
+    size_t asleep_count;           /* bodies asleep */
+    size_t *parent;                /* union-find of the boundary's islands */
+    size_t *island;                /* an asleep body's island (a body id) */
+    double *still;                 /* s each body has been slow */
+    unsigned char *decision;       /* the last boundary's: 1 asleep, 0 awake */
+    double *snapshot;              /* TB_STATE_SIZE per body: the state it fell asleep with */
+    double last_t;                 /* the last boundary's time (NAN: none yet) */
+    bool pending;                  /* a decision waits for the next acquire (adaptive methods) */
+    unsigned long long generation; /* counts changes of the asleep set */
+} tb__sleep;
+
+/* Whether body id is asleep: its derivative is 0 and pairs of two asleep bodies are skipped.
+ * Bodies added since the flags were made (capacity) are awake. */
+static inline bool tb__body_asleep(const tb_scene *scene, size_t id)
+{
+    const tb__sleep *sleep = scene->sleep;
+    return sleep != NULL && sleep->asleep_count > 0 && id < sleep->capacity && sleep->asleep[id];
+}
+
+/* Whether both bodies of a pair are asleep (the narrow phase skips it). */
+static inline bool tb__pair_asleep(const tb_scene *scene, size_t a, size_t b)
+{
+    return tb__body_asleep(scene, a) && tb__body_asleep(scene, b);
+}
+
+/* Allocates the sleep arrays for the scene's bodies (tb_scene_ode_system of a scene whose
+ * bodies interact); every body awake. Nothing changes on failure. */
+tb_status tb__scene_sleep_prepare(tb_scene *scene);
+void tb__scene_sleep_free(tb_scene *scene);
+/* The boundary: begin resets the islands, the effects' post_step ops link the pairs they find
+ * (tb__scene_sleep_link, through the const scene like the friction map), end decides from y
+ * at time t. A fixed-step integrator made by tb_scene_integrator_create applies the decision
+ * at once; otherwise (CVODE, whose history the flags would change under it) it waits for the
+ * next acquire, where the integrator's rhs_generation check restarts it. */
+void tb__scene_sleep_begin(const tb_scene *scene);
+void tb__scene_sleep_link(const tb_scene *scene, size_t a, size_t b);
+void tb__scene_sleep_end(tb_scene *scene, double t, const double *y);
+void tb__scene_sleep_apply_pending(tb_scene *scene);
+/* Wakes body id's island (a user change of its state), or every body. */
+void tb__scene_wake_body(tb_scene *scene, size_t id);
+void tb__scene_wake_all(tb_scene *scene);
+/* dydt of asleep bodies set to 0. */
+void tb__scene_sleep_zero(const tb_scene *scene, double *dydt);
+/* Counts changes of the asleep set, for the scene's rhs_generation. */
+unsigned long long tb__scene_sleep_generation(const tb_scene *scene);
 
 /* Writes scene->detail and returns status. */
 tb_status tb__scene_fail(tb_scene *scene, tb_status status, const char *format, ...)

@@ -77,6 +77,7 @@ static tb_status acquire(void *ctx, unsigned long long generation, char *detail)
     if (status != TB_STATUS_OK) {
         return status;
     }
+    tb__scene_sleep_apply_pending(scene); /* CVODE restarts on it (rhs_generation) */
     scene->busy = true;
     return TB_STATUS_OK;
 }
@@ -86,7 +87,7 @@ static tb_status acquire(void *ctx, unsigned long long generation, char *detail)
 static unsigned long long rhs_generation(void *ctx)
 {
     const tb_scene *scene = ctx;
-    return scene->effects_generation;
+    return scene->effects_generation + tb__scene_sleep_generation(scene);
 }
 
 static void release(void *ctx)
@@ -113,7 +114,7 @@ tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
     *out_system = (tb_ode_system){
         .n = tb_scene_state_size(scene),
         .derivative = tb_scene_derivative,
-        .post_step = tb__scene_has_post_step_effects(scene)
+        .post_step = tb__scene_has_post_step_effects(scene) || !tb__scene_separable(scene)
                          ? tb__scene_post_step
                          : (scene->renormalize ? tb_scene_normalize_quaternions : NULL),
         .ctx = scene,
@@ -122,6 +123,9 @@ tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
         .release = release,
         .rhs_generation = rhs_generation,
     };
+    if (!tb__scene_separable(scene) && tb__scene_sleep_prepare(scene) != TB_STATUS_OK) {
+        return TB_STATUS_OUT_OF_MEMORY;
+    }
     /* Contact: a gap per body for CVODE's root finding, and steps kept short near contacts
      * (scene_events.c). */
     if (tb__scene_has_events(scene)) {

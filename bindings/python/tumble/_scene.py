@@ -283,7 +283,8 @@ class Scene:
             rtol: Optional[float] = None, atol: Optional[float] = None,
             fps: Optional[float] = None, duration: Optional[float] = None,
             on_frame: Optional[Callable[[int, float, np.ndarray], None]] = None,
-            threads: Optional[int] = None, max_steps: Optional[int] = None) -> "Frames":
+            threads: Optional[int] = None, max_steps: Optional[int] = None,
+            sleeping: Optional[bool] = None) -> "Frames":
         """Simulates the scene from its initial state for `duration` seconds (the file's settings
         unless given here: method "euler", "midpoint", "rk4", "cvode-adams" or "cvode-bdf"; dt in
         s for the fixed-step methods, rtol and atol for CVODE, frames per second fps) and returns
@@ -294,21 +295,28 @@ class Scene:
         (ValueError). threads (fixed-step methods): how many threads share each step of a
         scene whose bodies do not interact (0: one per processor; default 1); the frames are
         the same bits for any count. max_steps: the steps allowed from one frame to the next,
-        every method (the scene file's, default 100000). Raises TumbleError if the integrator
-        refuses the settings or the run fails;
+        every method (the scene file's, default 100000). sleeping: whether islands of resting
+        bodies sleep (default: the file's "sleeping", itself true by default;
+        tb_scene_set_sleeping); stats["asleep"] says how many bodies were asleep at the end.
+        Raises TumbleError if the integrator refuses the settings or the run fails;
         a KeyboardInterrupt (Ctrl-C, seen at the next frame) or an exception from on_frame stops
         the run, and the frames made so far are on the exception's `frames` attribute."""
         handle, run = self._load()
+        asleep = ctypes.c_size_t()
         try:
             apply_settings(run, method, dt, rtol, atol, fps, duration, threads, max_steps)
+            if sleeping is not None:
+                lib.tb_scene_set_sleeping(handle, bool(sleeping))
             recorder = _Recorder(handle, run, self.masses, on_frame)
             stats, error = _native.IntegratorStats(), _native.Error()
             with deferred_interrupt() as recorder.interrupt:
                 status = lib.tb_scene_run(handle, ctypes.byref(run), recorder.callback, None,
                                           ctypes.byref(stats), ctypes.byref(error))
+            lib.tb_scene_asleep_count(handle, ctypes.byref(asleep))
         finally:
             lib.tb_scene_destroy(handle)
         frames = recorder.frames(self, stats)
+        frames.stats["asleep"] = asleep.value
         if recorder.failure is None and recorder.interrupt.pending and status == 0:
             recorder.failure = KeyboardInterrupt()  # came after the last frame
         if recorder.failure is not None:
@@ -411,10 +419,13 @@ class SceneBuilder:
         return self
 
     def build(self, fps: Optional[float] = None, duration: Optional[float] = None,
-              **integrator) -> "Scene":
+              sleeping: Optional[bool] = None, **integrator) -> "Scene":
         """The Scene, checked by the library; fps (frames/s) and duration (s) are its output
-        settings, integrator its method and dt/rtol/atol (scene format's "integrator")."""
+        settings, sleeping the file's "sleeping" (whether islands of resting bodies sleep;
+        default true), integrator its method and dt/rtol/atol (scene format's "integrator")."""
         description = copy.deepcopy(self._description)
+        if sleeping is not None:
+            description["sleeping"] = bool(sleeping)
         if integrator:
             description["integrator"] = integrator
         output = {k: v for k, v in (("fps", fps), ("duration", duration)) if v is not None}

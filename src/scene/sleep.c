@@ -1,0 +1,322 @@
+/* Sleeping islands: bodies at rest stop costing derivative work until something touches them.
+ * At each step boundary the bodies linked by the effects (a pair the contact effect finds
+ * within its margin, a spring between two bodies) and the islands of asleep bodies are joined
+ * by union-find; an island all of whose bodies have been slower than TB_SLEEP_SPEED for
+ * TB_SLEEP_TIME falls asleep, and an island holding an asleep body and a moving one (or an
+ * asleep body whose state was changed from outside) wakes. Box2D's islands work the same way
+ * (b2_timeToSleep 0.5 s) at a game's 5 cm/s; tumble's speed is 500 times smaller, so a body
+ * asleep for a time T is at most TB_SLEEP_SPEED T from where it would be (docs/effects.md). */
+#include "scene/scene_internal.h"
+
+#include "core/detail.h"
+#include "math/tb_math.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void tb__scene_sleep_free(tb_scene *scene)
+{
+    tb__sleep *sleep = scene->sleep;
+    if (sleep != NULL) {
+        free(sleep->asleep);
+        free(sleep->parent);
+        free(sleep->island);
+        free(sleep->still);
+        free(sleep->decision);
+        free(sleep->snapshot);
+        free(sleep);
+        scene->sleep = NULL;
+    }
+}
+
+tb_status tb__scene_sleep_prepare(tb_scene *scene)
+{
+    const size_t n = scene->body_count;
+    if (scene->sleep != NULL && scene->sleep->capacity == n) {
+        return TB_STATUS_OK;
+    }
+    tb__sleep *sleep = calloc(1, sizeof *sleep);
+    /* n bodies' states were allocated, so 13 n doubles do not overflow */
+    if (sleep != NULL) {
+        sleep->asleep = calloc(n, 1);
+        sleep->parent = malloc(n * sizeof(size_t));
+        sleep->island = malloc(n * sizeof(size_t));
+        sleep->still = calloc(n, sizeof(double));
+        sleep->decision = calloc(n, 1);
+        sleep->snapshot = malloc(n * TB_STATE_SIZE * sizeof(double));
+    }
+    if (sleep == NULL || sleep->asleep == NULL || sleep->parent == NULL || sleep->island == NULL ||
+        sleep->still == NULL || sleep->decision == NULL || sleep->snapshot == NULL) {
+        tb_scene keep = {.sleep = sleep};
+        tb__scene_sleep_free(&keep);
+        return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "sleep flags for %zu bodies", n);
+    }
+    const unsigned long long generation = scene->sleep != NULL ? scene->sleep->generation + 1 : 0;
+    tb__scene_sleep_free(scene);
+    sleep->capacity = n;
+    for (size_t i = 0; i < n; ++i) {
+        sleep->island[i] = i;
+    }
+    sleep->last_t = NAN;
+    sleep->generation = generation;
+    scene->sleep = sleep;
+    return TB_STATUS_OK;
+}
+
+static size_t find(size_t *parent, size_t i)
+{
+    while (parent[i] != i) {
+        parent[i] = parent[parent[i]]; /* path halving */
+        i = parent[i];
+    }
+    return i;
+}
+
+void tb__scene_sleep_begin(const tb_scene *scene)
+{
+    tb__sleep *sleep = scene->sleep;
+    if (sleep == NULL) {
+        return;
+    }
+    for (size_t i = 0; i < sleep->capacity; ++i) {
+        sleep->parent[i] = i;
+    }
+}
+
+void tb__scene_sleep_link(const tb_scene *scene, size_t a, size_t b)
+{
+    tb__sleep *sleep = scene->sleep;
+    if (sleep == NULL || a >= sleep->capacity || b >= sleep->capacity) {
+        return;
+    }
+    const size_t root_a = find(sleep->parent, a), root_b = find(sleep->parent, b);
+    /* the smaller id is the root, so islands are named the same whatever the link order */
+    if (root_a < root_b) {
+        sleep->parent[root_b] = root_a;
+    } else {
+        sleep->parent[root_a] = root_b;
+    }
+}
+
+/* Whether body i at state s moves slower than TB_SLEEP_SPEED, its centre and the points at its
+ * radius of gyration about its softest axis, sqrt(I_max / M). */
+static bool slow(const tb_scene *scene, size_t i, const double *s)
+{
+    const tb__body *body = &scene->bodies[i];
+    const double *moments = scene->mass_props[i].moments;
+    const double largest = fmax(moments[0], fmax(moments[1], moments[2]));
+    double omega[3];
+    tb__angular_velocity(body, s, omega);
+    const double speed = tb__v3_norm(s + TB_STATE_P) * body->inv_mass;
+    const double spin = tb__v3_norm(omega) * sqrt(largest * body->inv_mass);
+    return speed < TB_SLEEP_SPEED && spin < TB_SLEEP_SPEED;
+}
+
+/* Each body's still time after dt more seconds at y; an asleep body changed from outside
+ * (its state no longer the one it fell asleep with) counts as moving. */
+static void update_still(tb_scene *scene, const double *y, double dt)
+{
+    tb__sleep *sleep = scene->sleep;
+    for (size_t i = 0; i < sleep->capacity; ++i) {
+        const double *s = y + TB_STATE_SIZE * i;
+        if (sleep->asleep[i]) {
+            const double *kept = sleep->snapshot + TB_STATE_SIZE * i;
+            for (int k = 0; k < TB_STATE_SIZE; ++k) {
+                if (s[k] != kept[k]) {
+                    sleep->still[i] = 0.0;
+                }
+            }
+        } else {
+            sleep->still[i] = slow(scene, i, s) ? sleep->still[i] + dt : 0.0;
+        }
+    }
+}
+
+/* Links from the effects' rows (springs between two bodies) and the asleep bodies' islands;
+ * true when some effect keeps every body awake. */
+static bool link_effects(tb_scene *scene)
+{
+    tb__sleep *sleep = scene->sleep;
+    bool awake = false;
+    for (size_t e = 0; e < scene->effect_count; ++e) {
+        const tb__effect *effect = &scene->effects[e];
+        awake = awake || effect->ops->keeps_awake;
+        const size_t partner =
+            effect->ops->sleep_partner != NULL ? effect->ops->sleep_partner(effect) : TB_ALL_BODIES;
+        if (partner != TB_ALL_BODIES && effect->body != TB_ALL_BODIES) {
+            tb__scene_sleep_link(scene, effect->body, partner);
+        }
+    }
+    for (size_t i = 0; i < sleep->capacity; ++i) {
+        if (sleep->asleep[i]) {
+            tb__scene_sleep_link(scene, i, sleep->island[i]);
+        }
+    }
+    return awake;
+}
+
+/* Applies the last decision: bodies fall asleep with y as their frozen state, or wake. */
+static void apply(tb_scene *scene, const double *y)
+{
+    tb__sleep *sleep = scene->sleep;
+    bool changed = false;
+    for (size_t i = 0; i < sleep->capacity; ++i) {
+        if (sleep->decision[i] == sleep->asleep[i]) {
+            continue;
+        }
+        changed = true;
+        sleep->asleep[i] = sleep->decision[i];
+        if (sleep->asleep[i]) {
+            memcpy(sleep->snapshot + TB_STATE_SIZE * i, y + TB_STATE_SIZE * i,
+                   TB_STATE_SIZE * sizeof(double));
+            sleep->asleep_count++;
+        } else {
+            sleep->still[i] = 0.0;
+            sleep->asleep_count--;
+        }
+    }
+    sleep->generation += changed;
+    sleep->pending = false;
+}
+
+void tb__scene_sleep_end(tb_scene *scene, double t, const double *y)
+{
+    tb__sleep *sleep = scene->sleep;
+    if (sleep == NULL || sleep->capacity != scene->body_count) {
+        return;
+    }
+    /* CVODE hands out interpolated outputs behind its last step: time only counts forward */
+    const double dt = isfinite(sleep->last_t) && t > sleep->last_t ? t - sleep->last_t : 0.0;
+    sleep->last_t = isfinite(sleep->last_t) ? fmax(sleep->last_t, t) : t;
+    update_still(scene, y, dt);
+    const bool awake = link_effects(scene) || !scene->sleeping;
+    /* decision[root] first holds whether the island is quiet, then each body takes its root's */
+    for (size_t i = 0; i < sleep->capacity; ++i) {
+        sleep->decision[i] = !awake;
+    }
+    for (size_t i = 0; i < sleep->capacity; ++i) {
+        if (sleep->still[i] < TB_SLEEP_TIME) {
+            sleep->decision[find(sleep->parent, i)] = 0;
+        }
+    }
+    for (size_t i = 0; i < sleep->capacity; ++i) {
+        const size_t root = find(sleep->parent, i);
+        sleep->decision[i] = sleep->decision[root];
+        sleep->island[i] = root;
+    }
+    sleep->pending = true;
+    if (scene->guard_dt > 0.0) { /* a fixed step: no history to restart */
+        apply(scene, y);
+    }
+}
+
+void tb__scene_sleep_apply_pending(tb_scene *scene)
+{
+    if (scene->sleep != NULL && scene->sleep->pending &&
+        scene->sleep->capacity == scene->body_count) {
+        apply(scene, scene->states);
+    }
+}
+
+static void wake_where(tb_scene *scene, size_t island, bool every)
+{
+    tb__sleep *sleep = scene->sleep;
+    if (sleep == NULL) {
+        return;
+    }
+    for (size_t i = 0; i < sleep->capacity; ++i) {
+        if (every || sleep->island[i] == island) {
+            sleep->decision[i] = 0;
+            sleep->still[i] = 0.0;
+        }
+    }
+    const bool pending = sleep->pending;
+    apply(scene, scene->states);
+    sleep->pending = pending; /* a fall asleep decided before still waits, now without them */
+}
+
+void tb__scene_wake_body(tb_scene *scene, size_t id)
+{
+    /* island[] holds every body's island of the last boundary: a decision to put the body's
+     * island to sleep that waits for the next acquire is cancelled too */
+    if (scene->sleep != NULL && id < scene->sleep->capacity) {
+        wake_where(scene, scene->sleep->island[id], false);
+    }
+}
+
+void tb__scene_wake_all(tb_scene *scene)
+{
+    wake_where(scene, 0, true);
+}
+
+void tb__scene_sleep_zero(const tb_scene *scene, double *dydt)
+{
+    const tb__sleep *sleep = scene->sleep;
+    if (sleep == NULL || sleep->asleep_count == 0) {
+        return;
+    }
+    for (size_t i = 0; i < sleep->capacity; ++i) {
+        if (sleep->asleep[i]) {
+            memset(dydt + TB_STATE_SIZE * i, 0, TB_STATE_SIZE * sizeof(double));
+        }
+    }
+}
+
+unsigned long long tb__scene_sleep_generation(const tb_scene *scene)
+{
+    return scene->sleep != NULL ? scene->sleep->generation : 0;
+}
+
+/* --- public ------------------------------------------------------------------------------ */
+
+tb_status tb_scene_set_sleeping(tb_scene *scene, bool sleeping)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    const tb_status status = tb__scene_check_idle(scene, "tb_scene_set_sleeping");
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    scene->sleeping = sleeping;
+    if (!sleeping) {
+        tb__scene_wake_all(scene);
+    }
+    return TB_STATUS_OK;
+}
+
+bool tb_scene_sleeping(const tb_scene *scene)
+{
+    return scene != NULL && scene->sleeping;
+}
+
+tb_status tb_scene_asleep_count(const tb_scene *scene, size_t *out_count)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    if (out_count == NULL) {
+        return tb__scene_fail((tb_scene *)scene, TB_STATUS_NULL_POINTER, "out_count is NULL");
+    }
+    *out_count = scene->sleep != NULL ? scene->sleep->asleep_count : 0;
+    return TB_STATUS_OK;
+}
+
+tb_status tb_scene_body_asleep(const tb_scene *scene, size_t id, bool *out_asleep)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    if (out_asleep == NULL) {
+        return tb__scene_fail((tb_scene *)scene, TB_STATUS_NULL_POINTER, "out_asleep is NULL");
+    }
+    const tb_status status = tb__scene_check_id(scene, id, "id");
+    if (status == TB_STATUS_OK) {
+        *out_asleep = tb__body_asleep(scene, id);
+    }
+    return status;
+}
