@@ -4,7 +4,6 @@
  * pose and size), so swapping A and B gives exactly the negated normal and the same points. */
 #include "contact/narrow_internal.h"
 
-#include "contact/ccd_wrap.h"
 #include "math/tb_math.h"
 
 #include <string.h>
@@ -295,11 +294,7 @@ static int ordered(const tb__collision_shape *a, const double pose_a[TB__POSE_SI
     if (ta == TB_SHAPE_BOX && tb == TB_SHAPE_BOX) {
         return tb__box_box(a, pose_a, b, pose_b, margin, out);
     }
-    if (ta == TB_SHAPE_BOX) { /* b has no closed form: its base on the box's face */
-        return tb__box_general(a, pose_a, b, pose_b, margin, out);
-    }
-    const int count = tb__ccd_collide(a, pose_a, b, pose_b, margin, TB__CCD_MPR, out);
-    return count > 0 ? count : (out->count = 0);
+    return tb__general_collide(a, pose_a, b, pose_b, margin, out);
 }
 
 int tb__collide(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
