@@ -87,20 +87,161 @@ static int clip_half(double poly[][3], int count, const double o[3], const doubl
     return kept;
 }
 
-/* The incident feature clipped to the reference face, each point a candidate of depth measured
- * from the face's plane; ref_is_a says which shape the face is A's. */
-static void clip_to_face(const tb__feature *ref, const tb__feature *inc, bool ref_is_a,
-                         double margin, tb__candidates *out, double n[3])
+/* Two unit vectors spanning the reference face, fixed in its body (shape x projected on the
+ * face, or shape y where x is within 45 degrees of the face's normal m), so that the rule's
+ * points below turn with the body and not with the normal's round-off. */
+static void face_basis(const double q[4], const double m[3], double u[3], double v[3])
 {
-    double face[TB__FEATURE_MAX][3], poly[CLIP_MAX][3];
-    const int sides = ordered_hull(ref, ref->normal, face);
-    int count = inc->count;
-    if (inc->face) {
-        count = ordered_hull(inc, inc->normal, poly);
-    } else {
-        for (int k = 0; k < count; ++k) {
-            tb__v3_copy(poly[k], inc->points[k]);
+    double axis[3];
+    tb__q_rotate(axis, q, (const double[]){1.0, 0.0, 0.0});
+    if (fabs(tb__v3_dot(axis, m)) > 0.7) {
+        tb__q_rotate(axis, q, (const double[]){0.0, 1.0, 0.0});
+    }
+    tb__v3_copy(u, axis);
+    tb__v3_axpy(u, -tb__v3_dot(axis, m), m);
+    const double length = tb__v3_norm(u);
+    tb__v3_set(u, u[0] / length, u[1] / length, u[2] / length);
+    tb__v3_cross(v, m, u);
+}
+
+/* The region's points in the face's coordinates (x, y) and their depths. */
+typedef struct region {
+    int count;
+    double x[CLIP_MAX], y[CLIP_MAX], depth[CLIP_MAX];
+} region;
+
+/* Centroid (cx, cy) and central second moments per area m[3] = (xx, xy, yy) of the region: a
+ * polygon's exact ones; a segment's (uniform along it) when it has 2 points or no area. */
+static void region_moments(const region *r, double c[2], double m[3])
+{
+    double area = 0.0, sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0, syy = 0.0, extent = 0.0;
+    int i0 = 0, i1 = 0;
+    for (int i = 0; i < r->count; ++i) {
+        const int j = (i + 1) % r->count;
+        const double xi = r->x[i], yi = r->y[i], xj = r->x[j], yj = r->y[j];
+        const double w = xi * yj - xj * yi;
+        area += 0.5 * w;
+        sx += (xi + xj) * w / 6.0;
+        sy += (yi + yj) * w / 6.0;
+        sxx += (xi * xi + xi * xj + xj * xj) * w / 12.0;
+        syy += (yi * yi + yi * yj + yj * yj) * w / 12.0;
+        sxy += (xi * yj + 2.0 * xi * yi + 2.0 * xj * yj + xj * yi) * w / 24.0;
+        for (int k = 0; k < r->count; ++k) {
+            const double d2 = (r->x[k] - xi) * (r->x[k] - xi) + (r->y[k] - yi) * (r->y[k] - yi);
+            if (d2 > extent) {
+                extent = d2, i0 = i, i1 = k;
+            }
         }
+    }
+    if (r->count >= 3 && fabs(area) > 1e-9 * extent) {
+        c[0] = sx / area, c[1] = sy / area;
+        m[0] = sxx / area - c[0] * c[0];
+        m[1] = sxy / area - c[0] * c[1];
+        m[2] = syy / area - c[1] * c[1];
+        return;
+    }
+    const double dx = r->x[i1] - r->x[i0], dy = r->y[i1] - r->y[i0];
+    c[0] = 0.5 * (r->x[i0] + r->x[i1]), c[1] = 0.5 * (r->y[i0] + r->y[i1]);
+    m[0] = dx * dx / 12.0, m[1] = dx * dy / 12.0, m[2] = dy * dy / 12.0;
+}
+
+/* The depth field a + g . (p - c) fitted to the region's points by least squares (exact for the
+ * plane of an incident face or the line of an edge); along a segment, g across it is 0. */
+static void depth_field(const region *r, const double c[2], double *a, double g[2])
+{
+    double s[3][4] = {{0}};
+    for (int k = 0; k < r->count; ++k) {
+        const double row[3] = {1.0, r->x[k] - c[0], r->y[k] - c[1]};
+        for (int i = 0; i < 3; ++i) {
+            for (int j = 0; j < 3; ++j) {
+                s[i][j] += row[i] * row[j];
+            }
+            s[i][3] += row[i] * r->depth[k];
+        }
+    }
+    for (int i = 0; i < 3; ++i) { /* a small ridge keeps a segment's cross direction at 0 */
+        s[i][i] += 1e-12 * (s[0][0] + s[1][1] + s[2][2]);
+    }
+    for (int i = 0; i < 3; ++i) { /* Gauss-Jordan on the positive definite 3 x 3 */
+        for (int k = 0; k < 3; ++k) {
+            const double f = k == i ? 0.0 : s[k][i] / s[i][i];
+            for (int j = 0; j < 4; ++j) {
+                s[k][j] -= k == i ? 0.0 : f * s[i][j];
+            }
+        }
+    }
+    *a = s[0][3] / s[0][0];
+    g[0] = s[1][3] / s[1][1];
+    g[1] = s[2][3] / s[2][2];
+}
+
+/* Keeps the part of the region pressed in (depth >= 0) when some of it is: the face pushes
+ * only there. The depth is linear along every edge, so the cut is where it crosses 0. */
+static void pressed_part(region *r)
+{
+    double deepest = -INFINITY, shallowest = INFINITY;
+    for (int k = 0; k < r->count; ++k) {
+        deepest = fmax(deepest, r->depth[k]);
+        shallowest = fmin(shallowest, r->depth[k]);
+    }
+    if (!(deepest > 0.0) || shallowest >= 0.0) {
+        return;
+    }
+    region kept = {0};
+    const int edges = r->count == 2 ? 1 : r->count;
+    for (int i = 0; i < edges; ++i) {
+        const int j = (i + 1) % r->count;
+        const double di = r->depth[i], dj = r->depth[j];
+        if (di >= 0.0 && kept.count < CLIP_MAX) {
+            kept.x[kept.count] = r->x[i], kept.y[kept.count] = r->y[i];
+            kept.depth[kept.count++] = di;
+        }
+        if (((di < 0.0 && dj > 0.0) || (di > 0.0 && dj < 0.0)) && kept.count < CLIP_MAX) {
+            const double s = di / (di - dj);
+            kept.x[kept.count] = r->x[i] + s * (r->x[j] - r->x[i]);
+            kept.y[kept.count] = r->y[i] + s * (r->y[j] - r->y[i]);
+            kept.depth[kept.count++] = 0.0;
+        }
+        if (r->count == 2 && dj >= 0.0 && kept.count < CLIP_MAX) {
+            kept.x[kept.count] = r->x[j], kept.y[kept.count] = r->y[j];
+            kept.depth[kept.count++] = dj;
+        }
+    }
+    *r = kept;
+}
+
+/* The 4-point rule of the region: its centroid c plus and minus the columns of sqrt(2 M) (M the
+ * second moments per area), each of weight 1/4, which integrates a linear depth field and its
+ * first moments exactly: the force and torque of a face pressed by its depth. Its points move
+ * continuously with the region (sqrt is continuous on positive semidefinite 2 x 2 matrices). */
+static void four_point_rule(region *r, double out_xy[4][2], double out_depth[4])
+{
+    double c[2], m[3], a, g[2];
+    pressed_part(r);
+    region_moments(r, c, m);
+    depth_field(r, c, &a, g);
+    const double root_det = sqrt(fmax(m[0] * m[2] - m[1] * m[1], 0.0));
+    const double scale = sqrt(2.0) / sqrt(fmax(m[0] + m[2] + 2.0 * root_det, 1e-300));
+    const double s[3] = {scale * (m[0] + root_det), scale * m[1], scale * (m[2] + root_det)};
+    const double columns[2][2] = {{s[0], s[1]}, {s[1], s[2]}};
+    for (int k = 0; k < 4; ++k) {
+        const double sign = k < 2 ? 1.0 : -1.0;
+        out_xy[k][0] = c[0] + sign * columns[k % 2][0];
+        out_xy[k][1] = c[1] + sign * columns[k % 2][1];
+        out_depth[k] = a + g[0] * (out_xy[k][0] - c[0]) + g[1] * (out_xy[k][1] - c[1]);
+    }
+}
+
+/* The incident feature clipped to the reference face; its points' depths from the face's plane,
+ * with the face's normal n (from A to B). One point: it alone; more: the 4-point rule. */
+static int clip_to_face(const tb__feature *ref, const double ref_q[4], const tb__feature *inc,
+                        bool ref_is_a, double margin, tb__contact_manifold *out)
+{
+    double face[TB__FEATURE_MAX][3], poly[CLIP_MAX][3], u[3], v[3];
+    const int sides = ordered_hull(ref, ref->normal, face);
+    int count = inc->face ? ordered_hull(inc, inc->normal, poly) : inc->count;
+    for (int k = 0; !inc->face && k < count; ++k) {
+        tb__v3_copy(poly[k], inc->points[k]);
     }
     for (int i = 0; i < sides && count > 0; ++i) {
         const double *p = face[i], *q = face[(i + 1) % sides];
@@ -109,17 +250,62 @@ static void clip_to_face(const tb__feature *ref, const tb__feature *inc, bool re
         tb__v3_cross(inward, ref->normal, edge);
         count = clip_half(poly, count, p, inward);
     }
-    const double sign = ref_is_a ? 1.0 : -1.0;
-    tb__v3_set(n, sign * ref->normal[0], sign * ref->normal[1], sign * ref->normal[2]);
+    const double *m = ref->normal, sign = ref_is_a ? 1.0 : -1.0;
+    const double n[3] = {sign * m[0], sign * m[1], sign * m[2]};
+    face_basis(ref_q, m, u, v);
+    region r = {.count = count};
     for (int k = 0; k < count; ++k) {
-        const double depth = ref->offset - tb__v3_dot(ref->normal, poly[k]);
-        double p_a[3];
-        tb__v3_copy(p_a, poly[k]);
-        if (ref_is_a) {
-            tb__v3_axpy(p_a, depth, n); /* B's point lifted onto A's face */
-        }
-        tb__candidate_add(out, n, p_a, depth, margin);
+        r.x[k] = tb__v3_dot(poly[k], u) - tb__v3_dot(face[0], u);
+        r.y[k] = tb__v3_dot(poly[k], v) - tb__v3_dot(face[0], v);
+        r.depth[k] = ref->offset - tb__v3_dot(m, poly[k]);
     }
+    double xy[4][2], depth[4];
+    if (count > 1) {
+        four_point_rule(&r, xy, depth);
+    } else {
+        xy[0][0] = r.x[0], xy[0][1] = r.y[0], depth[0] = r.depth[0];
+    }
+    const int points = count > 1 ? 4 : count;
+    double deepest = -INFINITY;
+    for (int k = 0; k < points; ++k) { /* on the face's plane, then halfway along n */
+        tb__contact_point *p = &out->points[k];
+        tb__v3_copy(p->position, face[0]);
+        tb__v3_axpy(p->position, xy[k][0], u);
+        tb__v3_axpy(p->position, xy[k][1], v);
+        tb__v3_axpy(p->position, -0.5 * sign * depth[k], n);
+        p->depth = depth[k];
+        deepest = fmax(deepest, depth[k]);
+    }
+    if (!(deepest > -margin)) {
+        return 0;
+    }
+    out->count = points;
+    tb__v3_copy(out->normal, n);
+    return points;
+}
+
+/* Overlap of a and b along unit n (from A to B), m: (s_A(n) - s_B(-n)) . n. */
+static double overlap_along(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                            const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE],
+                            const double n[3])
+{
+    const double minus_n[3] = {-n[0], -n[1], -n[2]};
+    double p_a[3], p_b[3];
+    tb__collision_shape_support(a, pose_a, n, p_a);
+    tb__collision_shape_support(b, pose_b, minus_n, p_b);
+    return tb__v3_dot(p_a, n) - tb__v3_dot(p_b, n);
+}
+
+/* Both features along n (overlap `overlap` there); whether either is a face. */
+static bool features_along(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                           const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE],
+                           const double n[3], double overlap, double margin, tb__feature *fa,
+                           tb__feature *fb)
+{
+    const double minus_n[3] = {-n[0], -n[1], -n[2]};
+    tb__support_feature(a, pose_a, n, overlap + margin, fa);
+    tb__support_feature(b, pose_b, minus_n, overlap + margin, fb);
+    return fa->face || fb->face;
 }
 
 int tb__general_collide(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
@@ -130,22 +316,33 @@ int tb__general_collide(const tb__collision_shape *a, const double pose_a[TB__PO
         out->count = 0;
         return 0;
     }
-    const double *n = out->normal, minus_n[3] = {-n[0], -n[1], -n[2]};
-    const double band = out->points[0].depth + margin; /* > 0: the depth exceeds -margin */
+    double n[3];
+    tb__v3_copy(n, out->normal);
     tb__feature fa, fb;
-    tb__support_feature(a, pose_a, n, band, &fa);
-    tb__support_feature(b, pose_b, minus_n, band, &fb);
-    if (!fa.face && !fb.face) {
+    if (!features_along(a, pose_a, b, pose_b, n, out->points[0].depth, margin, &fa, &fb)) {
         return out->count; /* MPR's point */
+    }
+    /* MPR's normal bounds the least overlap from above and sometimes stops on a wrong face of
+     * the Minkowski difference (4 degrees off for a can on a box): a face's own normal that
+     * overlaps less is the better one, and its features are taken again along it */
+    const double m[3] = {fa.face ? fa.normal[0] : -fb.normal[0],
+                         fa.face ? fa.normal[1] : -fb.normal[1],
+                         fa.face ? fa.normal[2] : -fb.normal[2]};
+    const double overlap = overlap_along(a, pose_a, b, pose_b, m);
+    if (overlap < out->points[0].depth && overlap > -margin) {
+        tb__v3_copy(n, m);
+        if (!features_along(a, pose_a, b, pose_b, n, overlap, margin, &fa, &fb)) {
+            return out->count;
+        }
     }
     /* the reference: the face nearer to facing along the normal */
     const bool ref_is_a =
-        fa.face && (!fb.face || tb__v3_dot(fa.normal, n) >= tb__v3_dot(fb.normal, minus_n));
-    tb__candidates c = {0};
-    double normal[3];
-    clip_to_face(ref_is_a ? &fa : &fb, ref_is_a ? &fb : &fa, ref_is_a, margin, &c, normal);
-    if (c.count == 0) {
+        fa.face && (!fb.face || tb__v3_dot(fa.normal, n) >= -tb__v3_dot(fb.normal, n));
+    tb__contact_manifold clipped;
+    if (clip_to_face(ref_is_a ? &fa : &fb, (ref_is_a ? pose_a : pose_b) + 3, ref_is_a ? &fb : &fa,
+                     ref_is_a, margin, &clipped) == 0) {
         return out->count; /* the features do not overlap across the normal: MPR's point */
     }
-    return tb__reduce_candidates(&c, normal, out);
+    *out = clipped;
+    return out->count;
 }
