@@ -8,9 +8,10 @@
  * poses along the path, the upper body's force and torque change from one sample to the next by
  * about 2 pi / 4 000 of their swing (measured: 2.4e-4 of the mean force, 1.5e-3 on the rim); a
  * jump is a change of more than 2 % of the mean force F0, or of F0 times the base's reach in the
- * torque: ten times that. None may jump. Before the general pairs' 4-point rule, MPR's single
- * point jumped, and so did the choice of 4 out of a clipped face's 8 or more points (can on can
- * 13 jumps of up to 10 %, mesh cube on mesh cube 6 of up to 21 %). */
+ * torque: ten times that. None may jump. Before the general pairs' manifolds (MPR's single
+ * point) the can on a can jumped 140 times, by up to 311 times the mean force, the can on its rim
+ * 112 times and the mesh cubes 8 times (by up to 1.35); with clipped faces cut to 4 of their
+ * points by depth, 13 and 6 times (by up to 21 %). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
