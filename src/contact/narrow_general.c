@@ -250,38 +250,44 @@ static int clip_to_face(const tb__feature *ref, const double ref_q[4], const tb_
         tb__v3_cross(inward, ref->normal, edge);
         count = clip_half(poly, count, p, inward);
     }
-    const double *m = ref->normal, sign = ref_is_a ? 1.0 : -1.0;
+    face_basis(ref_q, ref->normal, u, v);
+    return tb__pressed_face(poly, count, face[0], ref->normal, ref->offset, u, v, ref_is_a, margin,
+                            out);
+}
+
+int tb__pressed_face(double poly[][3], int count, const double origin[3], const double m[3],
+                     double offset, const double u[3], const double v[3], bool ref_is_a,
+                     double margin, tb__contact_manifold *out)
+{
+    const double sign = ref_is_a ? 1.0 : -1.0;
     const double n[3] = {sign * m[0], sign * m[1], sign * m[2]};
-    face_basis(ref_q, m, u, v);
-    region r = {.count = count};
-    for (int k = 0; k < count; ++k) {
-        r.x[k] = tb__v3_dot(poly[k], u) - tb__v3_dot(face[0], u);
-        r.y[k] = tb__v3_dot(poly[k], v) - tb__v3_dot(face[0], v);
-        r.depth[k] = ref->offset - tb__v3_dot(m, poly[k]);
+    region r = {.count = count < CLIP_MAX ? count : CLIP_MAX};
+    for (int k = 0; k < r.count; ++k) {
+        r.x[k] = tb__v3_dot(poly[k], u) - tb__v3_dot(origin, u);
+        r.y[k] = tb__v3_dot(poly[k], v) - tb__v3_dot(origin, v);
+        r.depth[k] = offset - tb__v3_dot(m, poly[k]);
     }
     double xy[4][2], depth[4];
-    if (count > 1) {
+    if (r.count > 1) {
         four_point_rule(&r, xy, depth);
-    } else {
+    } else if (r.count == 1) {
         xy[0][0] = r.x[0], xy[0][1] = r.y[0], depth[0] = r.depth[0];
     }
-    const int points = count > 1 ? 4 : count;
+    const int points = r.count > 1 ? 4 : r.count;
     double deepest = -INFINITY;
     for (int k = 0; k < points; ++k) { /* on the face's plane, then halfway along n */
         tb__contact_point *p = &out->points[k];
-        tb__v3_copy(p->position, face[0]);
+        tb__v3_copy(p->position, origin);
+        tb__v3_axpy(p->position, offset - tb__v3_dot(m, origin), m);
         tb__v3_axpy(p->position, xy[k][0], u);
         tb__v3_axpy(p->position, xy[k][1], v);
         tb__v3_axpy(p->position, -0.5 * sign * depth[k], n);
         p->depth = depth[k];
         deepest = fmax(deepest, depth[k]);
     }
-    if (!(deepest > -margin)) {
-        return 0;
-    }
-    out->count = points;
     tb__v3_copy(out->normal, n);
-    return points;
+    out->count = deepest > -margin ? points : 0;
+    return out->count;
 }
 
 /* Overlap of a and b along unit n (from A to B), m: (s_A(n) - s_B(-n)) . n. */

@@ -74,6 +74,16 @@ int tb__general_collide(const tb__collision_shape *a, const double pose_a[TB__PO
                         const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE],
                         double margin, tb__contact_manifold *out);
 
+/* The pressed part of a clipped face (narrow_general.c): poly (count points of the incident
+ * feature, in order around the face when 3 or more) below the reference face's plane
+ * m . x = offset (m its unit normal towards the other body; origin on it; u, v unit, spanning it,
+ * fixed in the reference body), as 4 points of the rule that integrates a linear depth over
+ * the part that presses and its first moments (1 point for 1). Normal from A to B (m when the
+ * face is A's). Returns out->count: 0 when no point is deeper than -margin. */
+int tb__pressed_face(double poly[][3], int count, const double origin[3], const double m[3],
+                     double offset, const double u[3], const double v[3], bool ref_is_a,
+                     double margin, tb__contact_manifold *out);
+
 /* Box pairs (narrow_box.c); A is the box. */
 int tb__box_sphere(const tb__collision_shape *box, const double pose_box[TB__POSE_SIZE],
                    const double center[3], double radius, double margin, tb__contact_manifold *out);
