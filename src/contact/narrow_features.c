@@ -106,7 +106,7 @@ static void gather(const tb__collision_shape *s, const double pose[TB__POSE_SIZE
     }
 }
 
-/* Whether the points span a plane facing d: its unit normal (towards d) and offset. */
+/* Whether the points span a plane: its unit normal (towards d) and offset. */
 static bool plane_of(tb__feature *f, const double d[3])
 {
     const double *p0 = f->points[0];
@@ -144,7 +144,7 @@ static bool plane_of(tb__feature *f, const double d[3])
             return false;
         }
     }
-    return tb__v3_dot(f->normal, d) >= FACE_ALIGNMENT;
+    return true;
 }
 
 void tb__support_feature(const tb__collision_shape *s, const double pose[TB__POSE_SIZE],
@@ -154,7 +154,8 @@ void tb__support_feature(const tb__collision_shape *s, const double pose[TB__POS
     tb__collision_shape_support(s, pose, d, top);
     out->count = 0;
     gather(s, pose, d, tb__v3_dot(top, d) - band, out);
-    out->face = out->count >= 3 && plane_of(out, d);
+    out->planar = out->count >= 3 && plane_of(out, d);
+    out->face = out->planar && tb__v3_dot(out->normal, d) >= FACE_ALIGNMENT;
     if (!out->face && out->count > 2) {
         out->count = 0; /* neither a face nor a segment: the support point alone */
         tb__v3_copy(out->points[0], top);

@@ -220,8 +220,12 @@ static void four_point_rule(region *r, double out_xy[4][2], double out_depth[4])
     pressed_part(r);
     region_moments(r, c, m);
     depth_field(r, c, &a, g);
+    /* round-off can leave a sliver's moments slightly indefinite: make them semidefinite */
+    m[0] = fmax(m[0], 0.0), m[2] = fmax(m[2], 0.0);
+    m[1] = fmin(fmax(m[1], -sqrt(m[0] * m[2])), sqrt(m[0] * m[2]));
     const double root_det = sqrt(fmax(m[0] * m[2] - m[1] * m[1], 0.0));
-    const double scale = sqrt(2.0) / sqrt(fmax(m[0] + m[2] + 2.0 * root_det, 1e-300));
+    const double trace = m[0] + m[2] + 2.0 * root_det;
+    const double scale = trace > 0.0 ? sqrt(2.0 / trace) : 0.0;
     const double s[3] = {scale * (m[0] + root_det), scale * m[1], scale * (m[2] + root_det)};
     const double columns[2][2] = {{s[0], s[1]}, {s[1], s[2]}};
     for (int k = 0; k < 4; ++k) {
@@ -314,6 +318,65 @@ static bool features_along(const tb__collision_shape *a, const double pose_a[TB_
     return fa->face || fb->face;
 }
 
+/* A plane among the features (a face, else a plane within 25 degrees of facing along n) whose
+ * normal, from A to B, is a candidate for the contact's: m. */
+static bool candidate_normal(const tb__feature *fa, const tb__feature *fb, const double n[3],
+                             double m[3])
+{
+    const double along_a = fa->planar ? tb__v3_dot(fa->normal, n) : -1.0;
+    const double along_b = fb->planar ? -tb__v3_dot(fb->normal, n) : -1.0;
+    if (fmax(along_a, along_b) < 0.9) {
+        return false;
+    }
+    const double sign = along_a >= along_b ? 1.0 : -1.0;
+    const double *normal = along_a >= along_b ? fa->normal : fb->normal;
+    tb__v3_set(m, sign * normal[0], sign * normal[1], sign * normal[2]);
+    return true;
+}
+
+/* MPR's normal bounds the least overlap from above and sometimes stops on a wrong face of the
+ * Minkowski difference (4 to 10 degrees off for a can on a box or a hull on a hull): a face's own
+ * normal that overlaps less is the better one, and the features are taken again along it (at
+ * most 3 times). Returns the overlap along the normal n finally chosen. */
+static double refine_normal(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                            const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE],
+                            double margin, double n[3], double overlap, tb__feature *fa,
+                            tb__feature *fb)
+{
+    features_along(a, pose_a, b, pose_b, n, overlap, margin, fa, fb);
+    for (int k = 0; k < 3; ++k) {
+        double m[3];
+        if (!candidate_normal(fa, fb, n, m) || (m[0] == n[0] && m[1] == n[1] && m[2] == n[2])) {
+            break;
+        }
+        const double along = overlap_along(a, pose_a, b, pose_b, m);
+        if (!(along < overlap && along > -margin)) {
+            break;
+        }
+        overlap = along;
+        tb__v3_copy(n, m);
+        features_along(a, pose_a, b, pose_b, n, overlap, margin, fa, fb);
+    }
+    return overlap;
+}
+
+/* The support points along n as the one point of the manifold. */
+static int support_point(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                         const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE],
+                         const double n[3], double margin, tb__contact_manifold *out)
+{
+    const double minus_n[3] = {-n[0], -n[1], -n[2]};
+    double p_a[3], p_b[3];
+    tb__collision_shape_support(a, pose_a, n, p_a);
+    tb__collision_shape_support(b, pose_b, minus_n, p_b);
+    tb__v3_copy(out->normal, n);
+    out->points[0].depth = tb__v3_dot(p_a, n) - tb__v3_dot(p_b, n);
+    tb__v3_set(out->points[0].position, 0.5 * (p_a[0] + p_b[0]), 0.5 * (p_a[1] + p_b[1]),
+               0.5 * (p_a[2] + p_b[2]));
+    out->count = out->points[0].depth > -margin ? 1 : 0;
+    return out->count;
+}
+
 int tb__general_collide(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
                         const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE],
                         double margin, tb__contact_manifold *out)
@@ -325,30 +388,19 @@ int tb__general_collide(const tb__collision_shape *a, const double pose_a[TB__PO
     double n[3];
     tb__v3_copy(n, out->normal);
     tb__feature fa, fb;
-    if (!features_along(a, pose_a, b, pose_b, n, out->points[0].depth, margin, &fa, &fb)) {
-        return out->count; /* MPR's point */
-    }
-    /* MPR's normal bounds the least overlap from above and sometimes stops on a wrong face of
-     * the Minkowski difference (4 degrees off for a can on a box): a face's own normal that
-     * overlaps less is the better one, and its features are taken again along it */
-    const double m[3] = {fa.face ? fa.normal[0] : -fb.normal[0],
-                         fa.face ? fa.normal[1] : -fb.normal[1],
-                         fa.face ? fa.normal[2] : -fb.normal[2]};
-    const double overlap = overlap_along(a, pose_a, b, pose_b, m);
-    if (overlap < out->points[0].depth && overlap > -margin) {
-        tb__v3_copy(n, m);
-        if (!features_along(a, pose_a, b, pose_b, n, overlap, margin, &fa, &fb)) {
-            return out->count;
-        }
-    }
+    refine_normal(a, pose_a, b, pose_b, margin, n, out->points[0].depth, &fa, &fb);
+    const bool refined = n[0] != out->normal[0] || n[1] != out->normal[1] || n[2] != out->normal[2];
+    tb__contact_manifold clipped;
     /* the reference: the face nearer to facing along the normal */
     const bool ref_is_a =
         fa.face && (!fb.face || tb__v3_dot(fa.normal, n) >= -tb__v3_dot(fb.normal, n));
-    tb__contact_manifold clipped;
-    if (clip_to_face(ref_is_a ? &fa : &fb, (ref_is_a ? pose_a : pose_b) + 3, ref_is_a ? &fb : &fa,
-                     ref_is_a, margin, &clipped) == 0) {
-        return out->count; /* the features do not overlap across the normal: MPR's point */
+    if ((fa.face || fb.face) &&
+        clip_to_face(ref_is_a ? &fa : &fb, (ref_is_a ? pose_a : pose_b) + 3, ref_is_a ? &fb : &fa,
+                     ref_is_a, margin, &clipped) > 0) {
+        *out = clipped;
+        return out->count;
     }
-    *out = clipped;
-    return out->count;
+    /* no face, or the features do not overlap across it: one point, MPR's unless a face's
+     * normal replaced its own */
+    return refined ? support_point(a, pose_a, b, pose_b, n, margin, out) : out->count;
 }

@@ -60,7 +60,8 @@ void tb__box_sphere_candidate(const tb__collision_shape *box, const double pose[
 typedef struct tb__feature {
     int count;
     double points[TB__FEATURE_MAX][3];
-    bool face;        /* points lie in one plane facing d */
+    bool planar;      /* 3 or more points lie in one plane (normal, offset; facing d or not) */
+    bool face;        /* ... and it faces d within about 8 degrees: a face */
     double normal[3]; /* face: its unit normal, towards d */
     double offset;    /* face: normal . x on the plane, m */
 } tb__feature;
