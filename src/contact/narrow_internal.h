@@ -44,16 +44,46 @@ void tb__capsule_ends(const tb__collision_shape *capsule, const double pose[TB__
 void tb__cylinder_rim_points(const tb__collision_shape *cylinder, const double pose[TB__POSE_SIZE],
                              const double d[3], double out[8][3]);
 
-/* A box against a shape without a closed form (narrow_box_convex.c): libccd's normal, then
- * the shape's vertices, rim points or spheres that rest on the box face it gives. */
-int tb__box_general(const tb__collision_shape *box, const double pose_box[TB__POSE_SIZE],
-                    const tb__collision_shape *other, const double pose_other[TB__POSE_SIZE],
-                    double margin, tb__contact_manifold *out);
-
 /* Sphere (c, r) against the box as a candidate, and that candidate's normal. */
 void tb__box_sphere_candidate(const tb__collision_shape *box, const double pose[TB__POSE_SIZE],
                               const double c[3], double r, double margin, tb__candidates *out,
                               double n[3]);
+
+/* A shape's support feature along unit d (narrow_features.c): its points within band (m) of
+ * its farthest point along d, fixed in the body where the shape has corners, vertices, spheres
+ * or rim points (a cylinder: 8 on each end circle, at fixed angles; when fewer than 3 are in the
+ * band, the farthest point of each end circle), world. A face when 3 or more lie in one plane
+ * whose normal is within about 8 degrees of d; else at most 2 (a segment), else the support
+ * point alone. */
+#define TB__FEATURE_MAX 16
+
+typedef struct tb__feature {
+    int count;
+    double points[TB__FEATURE_MAX][3];
+    bool planar;      /* 3 or more points lie in one plane (normal, offset; facing d or not) */
+    bool face;        /* ... and it faces d within about 8 degrees: a face */
+    double normal[3]; /* face: its unit normal, towards d */
+    double offset;    /* face: normal . x on the plane, m */
+} tb__feature;
+
+void tb__support_feature(const tb__collision_shape *s, const double pose[TB__POSE_SIZE],
+                         const double d[3], double band, tb__feature *out);
+
+/* Shapes without a closed form against each other, capsules and boxes (narrow_general.c):
+ * MPR's normal, then a face's clipped points, or MPR's point. */
+int tb__general_collide(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                        const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE],
+                        double margin, tb__contact_manifold *out);
+
+/* The pressed part of a clipped face (narrow_general.c): poly (count points of the incident
+ * feature, in order around the face when 3 or more) below the reference face's plane
+ * m . x = offset (m its unit normal towards the other body; origin on it; u, v unit, spanning it,
+ * fixed in the reference body), as 4 points of the rule that integrates a linear depth over
+ * the part that presses and its first moments (1 point for 1). Normal from A to B (m when the
+ * face is A's). Returns out->count: 0 when no point is deeper than -margin. */
+int tb__pressed_face(double poly[][3], int count, const double origin[3], const double m[3],
+                     double offset, const double u[3], const double v[3], bool ref_is_a,
+                     double margin, tb__contact_manifold *out);
 
 /* Box pairs (narrow_box.c); A is the box. */
 int tb__box_sphere(const tb__collision_shape *box, const double pose_box[TB__POSE_SIZE],

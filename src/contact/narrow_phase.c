@@ -4,7 +4,6 @@
  * pose and size), so swapping A and B gives exactly the negated normal and the same points. */
 #include "contact/narrow_internal.h"
 
-#include "contact/ccd_wrap.h"
 #include "math/tb_math.h"
 
 #include <string.h>
@@ -271,35 +270,95 @@ static bool solve_swapped(const tb__collision_shape *a, const double pose_a[TB__
     return false; /* the same shape at the same pose: either order */
 }
 
+/* The pair routines, each for A ranked before B (rank()): normal from A to B. */
+typedef int (*pair_function)(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                             const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE],
+                             double margin, tb__contact_manifold *out);
+
+static int sphere_sphere(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                         const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE],
+                         double margin, tb__contact_manifold *out)
+{
+    return tb__spheres(pose_a, a->radius, pose_b, b->radius, world_up, margin, out);
+}
+
+static int sphere_capsule_pair(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                               const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE],
+                               double margin, tb__contact_manifold *out)
+{
+    return sphere_capsule(pose_a, a->radius, b, pose_b, margin, out);
+}
+
+static void flip(tb__contact_manifold *out)
+{
+    tb__v3_set(out->normal, -out->normal[0], -out->normal[1], -out->normal[2]);
+}
+
+/* The box routines take the box as A: solved so, then the normal turned round. */
+static int sphere_box(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                      const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE],
+                      double margin, tb__contact_manifold *out)
+{
+    const int count = tb__box_sphere(b, pose_b, pose_a, a->radius, margin, out);
+    flip(out);
+    return count;
+}
+
+static int capsule_box(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                       const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE],
+                       double margin, tb__contact_manifold *out)
+{
+    const int count = tb__box_capsule(b, pose_b, a, pose_a, margin, out);
+    flip(out);
+    return count;
+}
+
+#define GENERAL tb__general_collide
+/* Every pair of shape types, as MuJoCo's mjCOLLISIONFUNC: row A, column B, A ranked before B
+ * (the other half is never read). Closed forms for spheres, capsules and boxes among
+ * themselves; libccd's normal with clipped support features for the rest (narrow_general.c). */
+static const pair_function pair_table[TB_SHAPE_POINTS + 1][TB_SHAPE_POINTS + 1] = {
+    [TB_SHAPE_SPHERE] = {[TB_SHAPE_SPHERE] = sphere_sphere,
+                         [TB_SHAPE_BOX] = sphere_box,
+                         [TB_SHAPE_CAPSULE] = sphere_capsule_pair,
+                         [TB_SHAPE_CYLINDER] = GENERAL,
+                         [TB_SHAPE_ELLIPSOID] = GENERAL,
+                         [TB_SHAPE_CONVEX] = GENERAL,
+                         [TB_SHAPE_POINTS] = GENERAL},
+    [TB_SHAPE_CAPSULE] = {[TB_SHAPE_BOX] = capsule_box,
+                          [TB_SHAPE_CAPSULE] = capsule_capsule,
+                          [TB_SHAPE_CYLINDER] = GENERAL,
+                          [TB_SHAPE_ELLIPSOID] = GENERAL,
+                          [TB_SHAPE_CONVEX] = GENERAL,
+                          [TB_SHAPE_POINTS] = GENERAL},
+    [TB_SHAPE_BOX] = {[TB_SHAPE_BOX] = tb__box_box,
+                      [TB_SHAPE_CYLINDER] = GENERAL,
+                      [TB_SHAPE_ELLIPSOID] = GENERAL,
+                      [TB_SHAPE_CONVEX] = GENERAL,
+                      [TB_SHAPE_POINTS] = GENERAL},
+    [TB_SHAPE_CYLINDER] = {[TB_SHAPE_CYLINDER] = GENERAL,
+                           [TB_SHAPE_ELLIPSOID] = GENERAL,
+                           [TB_SHAPE_CONVEX] = GENERAL,
+                           [TB_SHAPE_POINTS] = GENERAL},
+    [TB_SHAPE_ELLIPSOID] =
+        {[TB_SHAPE_ELLIPSOID] = GENERAL, [TB_SHAPE_CONVEX] = GENERAL, [TB_SHAPE_POINTS] = GENERAL},
+    [TB_SHAPE_CONVEX] = {[TB_SHAPE_CONVEX] = GENERAL, [TB_SHAPE_POINTS] = GENERAL},
+    [TB_SHAPE_POINTS] = {[TB_SHAPE_POINTS] = GENERAL},
+};
+#undef GENERAL
+
 static int ordered(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
                    const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE], double margin,
                    tb__contact_manifold *out)
 {
-    const tb_shape_type ta = a->type, tb = b->type;
-    if (ta == TB_SHAPE_SPHERE && tb == TB_SHAPE_SPHERE) {
-        return tb__spheres(pose_a, a->radius, pose_b, b->radius, world_up, margin, out);
+    const bool known = a->type > TB_SHAPE_NONE && a->type <= TB_SHAPE_POINTS &&
+                       b->type > TB_SHAPE_NONE && b->type <= TB_SHAPE_POINTS;
+    const pair_function solve = known ? pair_table[a->type][b->type] : NULL;
+    if (solve == NULL) {
+        out->count = 0; /* no shape: nothing touches */
+        return 0;
     }
-    if (ta == TB_SHAPE_SPHERE && tb == TB_SHAPE_CAPSULE) {
-        return sphere_capsule(pose_a, a->radius, b, pose_b, margin, out);
-    }
-    if (ta == TB_SHAPE_CAPSULE && tb == TB_SHAPE_CAPSULE) {
-        return capsule_capsule(a, pose_a, b, pose_b, margin, out);
-    }
-    if (tb == TB_SHAPE_BOX && (ta == TB_SHAPE_SPHERE || ta == TB_SHAPE_CAPSULE)) {
-        const int count = ta == TB_SHAPE_SPHERE
-                              ? tb__box_sphere(b, pose_b, pose_a, a->radius, margin, out)
-                              : tb__box_capsule(b, pose_b, a, pose_a, margin, out);
-        tb__v3_set(out->normal, -out->normal[0], -out->normal[1], -out->normal[2]);
-        return count;
-    }
-    if (ta == TB_SHAPE_BOX && tb == TB_SHAPE_BOX) {
-        return tb__box_box(a, pose_a, b, pose_b, margin, out);
-    }
-    if (ta == TB_SHAPE_BOX) { /* b has no closed form: its base on the box's face */
-        return tb__box_general(a, pose_a, b, pose_b, margin, out);
-    }
-    const int count = tb__ccd_collide(a, pose_a, b, pose_b, margin, TB__CCD_MPR, out);
-    return count > 0 ? count : (out->count = 0);
+    return solve(a, pose_a, b, pose_b, margin, out);
 }
 
 int tb__collide(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],

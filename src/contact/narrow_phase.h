@@ -12,8 +12,10 @@
  * is continuous in the poses (except where the normal itself jumps: concentric spheres, a
  * box's centre crossing into another's); a box resting flat on a box gets the 4 corners of
  * their overlap. Other pairs (cylinder, ellipsoid, convex, points) take their normal from
- * libccd's MPR (ccd_wrap.c); against a box their vertices, spheres or rim points on the box's
- * face give up to 4 points, otherwise MPR's one. Swapping A and B negates the normal and keeps
+ * libccd's MPR (ccd_wrap.c) for the normal and the overlap; where either shape's support
+ * feature along the normal is a face (a box's, a hull's, a cylinder's end, a point set's), the
+ * other's feature is clipped to it and gives up to 4 points, fixed in the bodies and entering at
+ * the margin (narrow_general.c), otherwise MPR's one. Swapping A and B negates the normal and keeps
  * the depths exactly. docs/contact.md has each pair's method. Nothing here allocates. */
 #ifndef TUMBLE_NARROW_PHASE_H
 #define TUMBLE_NARROW_PHASE_H
