@@ -3,6 +3,7 @@
 #include "io/scene_file_internal.h"
 
 #include "core/detail.h"
+#include "core/validate.h"
 #include "math/tb_math.h"
 
 #include <stdio.h>
@@ -292,7 +293,7 @@ static tb_status load_contact(tb__loader *ld, const json_t *e, const char *path)
         status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, where, "must be an array of body names");
     }
     if (status == TB_STATUS_OK && names != NULL) {
-        ids = malloc((json_array_size(names) + 1) * sizeof *ids);
+        ids = tb__malloc_array(json_array_size(names) + 1, sizeof *ids);
         status = ids == NULL ? tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, path, "body list")
                              : contact_bodies(ld, names, path, ids, &def.body_count);
         def.bodies = ids;
