@@ -27,6 +27,12 @@ tb_status tb__contact_pairs_create(const tb_scene *scene, const size_t *bodies, 
                                    double margin, tb__contact_pairs **out, char *detail);
 void tb__contact_pairs_destroy(tb__contact_pairs *pairs);
 
+/* The ids a pair finder accepts: each below the scene's body count, none twice; detail names
+ * the first that is not. It stops there, so it reads at most body count + 1 of them: a count
+ * beyond the scene's (2^61 + 1) is refused by the pigeonhole without reading on. */
+tb_status tb__contact_pairs_check_ids(const tb_scene *scene, const size_t *bodies, size_t count,
+                                      char *detail);
+
 /* Starts a pass at state y (the scene's state array): bounds, sort. */
 void tb__contact_pairs_begin(tb__contact_pairs *pairs, const tb_scene *scene, const double *y);
 
