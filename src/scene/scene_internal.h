@@ -253,6 +253,12 @@ struct tb_scene {
      * against the scene's rates at every advance; guard_dt 0 for none. */
     tb_method guard_method;
     double guard_dt;
+    /* The state the newest integrator last left (states_left_size doubles, 0 for none; room
+     * for states_left_capacity, made by tb_scene_ode_system), kept when an effect checks
+     * starts: a state that differs at the next advance, step or reset was changed from outside
+     * (tb_scene_set_state, a write through tb_scene_states) and is checked as a start is. */
+    double *states_left;
+    size_t states_left_size, states_left_capacity;
 };
 
 /* Writes scene->detail and returns status. */
