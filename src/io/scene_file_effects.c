@@ -209,11 +209,7 @@ static tb_status load_ground(tb__loader *ld, const json_t *e, const char *path)
     if (status == TB_STATUS_OK) {
         status = tb__json_vector(ld, e, path, "normal", 3, false, def.normal);
     }
-    const double length = tb__v3_norm(def.normal);
-    if (status == TB_STATUS_OK && length > 0) { /* a direction: any length will do */
-        tb__v3_set(def.normal, def.normal[0] / length, def.normal[1] / length,
-                   def.normal[2] / length);
-    }
+    /* a direction: any length will do (tb_scene_add_ground normalises it) */
     if (status == TB_STATUS_OK) {
         status = tb__json_number(ld, e, path, "offset", false, &def.offset);
     }
