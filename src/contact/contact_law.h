@@ -13,8 +13,9 @@
  *     continuous: the plain max(0, k d + c d') jumps to c v at touchdown, which a fixed step
  *     straddles with an error of first order in h omega (22 % in e at h omega = 0.4 for e = 0.2;
  *     with the fade 3 %, falling as h^2).
- * e(zeta) is computed at set-up from the dimensionless impact and inverted by bisection, so
- * the user's restitution is met. */
+ * e(zeta) is the dimensionless impact's, simulated (tb__contact_restitution); its inverse and
+ * the push duration are read from constant tables of it (contact_law_table.h) at set-up, so
+ * the user's restitution is met (to 1e-9, test_contact_law) without simulating an impact. */
 #ifndef TUMBLE_CONTACT_LAW_H
 #define TUMBLE_CONTACT_LAW_H
 
@@ -51,8 +52,12 @@ double tb__contact_restitution(double zeta);
 double tb__contact_push_duration(double zeta);
 
 /* The damping ratio whose restitution is e, for e in [0, 1]: 0 for e = 1,
- * TB__CONTACT_MAX_DAMPING_RATIO for e at or below that ratio's restitution. */
+ * TB__CONTACT_MAX_DAMPING_RATIO for e at or below that ratio's restitution; interpolated in a
+ * constant table of the simulated law (no impact simulated). */
 double tb__contact_damping_ratio(double restitution);
+
+/* tb__contact_push_duration at tb__contact_damping_ratio(restitution), from the same table. */
+double tb__contact_push_duration_for(double restitution);
 
 /* The normal force magnitude (N) of the law: 0 for depth <= 0 or when the dashpot would pull. */
 static inline double tb__contact_normal_force(double mass, double omega, double zeta, double depth,

@@ -390,7 +390,7 @@ tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def)
         contact->damping_ratio = tb__contact_damping_ratio(def->restitution);
         /* a pair rings at omega sqrt(M_light / m_reduced) <= omega sqrt(2) (apply_contact) */
         contact->push_duration =
-            tb__contact_push_duration(contact->damping_ratio) / (sqrt(2.0) * contact->omega);
+            tb__contact_push_duration_for(def->restitution) / (sqrt(2.0) * contact->omega);
         contact->static_friction = def->static_friction;
         contact->kinetic_friction = def->kinetic_friction;
         contact->stribeck_velocity = def->stribeck_velocity;
