@@ -1,10 +1,13 @@
+// clang-format off
 /* Prints the constant tables of src/contact/contact_law_table.h: the damping ratio zeta whose
  * simulated restitution e(zeta) (contact_law.c) is each e of a grid uniform in ln e from
  * e(TB__CONTACT_MAX_DAMPING_RATIO) to 1, found by bisection to 1e-15 in zeta, and the push
- * duration at that zeta. Rerun when the law or its simulation changes (test_contact_law checks
- * the tables against the simulation and fails when they are stale):
- *   cc -O2 -Isrc -Iinclude -Ibuild/include scripts/contact_law_table.c -lm -o /tmp/table &&
- *   /tmp/table > src/contact/contact_law_table.h */
+ * duration at that zeta. Rerun when the law or its simulation changes (test_contact_law_table
+ * checks the tables against the simulation and fails when they are stale), from the top:
+ *   cc -O2 -Isrc -Iinclude -Ibuild/include scripts/contact_law_table.c -lm -o /tmp/table
+ *   /tmp/table > src/contact/contact_law_table.h
+ */
+// clang-format on
 #define TB__LAW_TABLE_GENERATOR
 #include "contact/contact_law.c"
 
