@@ -37,6 +37,9 @@ typedef struct fixture {
     tb_contact_point far_point;
     tb_shape nan_sphere, far_hull, flat_hull;
     tb_contact_def bad_contact, null_bodies;
+    tb_contact_def huge_body_count, huge_friction_points, shapeless, huge_gravity;
+    tb_scene_def huge_body_capacity;
+    size_t first_body[2];
     double far_vertices[12], flat_vertices[12];
     size_t id, count;
     char name[100];
@@ -88,6 +91,25 @@ static void set_up_extremes(fixture *f)
     f->long_name.name = f->name;
 }
 
+/* Counts near the wrap of size_t, and contact inputs the library took and the run did not
+ * (issue 19): each size computed from a caller's count goes through one checked multiply. */
+static void set_up_counts(fixture *f)
+{
+    f->first_body[0] = f->first_body[1] = 0; /* the second: a repeat, so the check stops */
+    f->huge_body_count = tb_contact_def_default();
+    f->huge_body_count.bodies = f->first_body;
+    f->huge_body_count.body_count = ((size_t)1 << 61) + 1; /* 8 bytes each wrapped to 8 */
+    f->huge_friction_points = tb_contact_def_default();
+    f->huge_friction_points.friction_points = (size_t)1 << 61;
+    f->shapeless = tb_contact_def_default();
+    f->shapeless.bodies = f->first_body; /* the ball has no shape */
+    f->shapeless.body_count = 1;
+    f->huge_gravity = tb_contact_def_default();
+    f->huge_gravity.gravity = 1e300; /* omega 1e153 rad/s: the run failed */
+    f->huge_body_capacity = tb_scene_def_default();
+    f->huge_body_capacity.body_capacity = (size_t)1 << 61;
+}
+
 /* Shapes and contact effects (issue 12). */
 static void set_up_contact(fixture *f)
 {
@@ -108,6 +130,7 @@ static void set_up_contact(fixture *f)
     f->bad_contact.restitution = 2.0;
     f->null_bodies = tb_contact_def_default();
     f->null_bodies.body_count = 2;
+    set_up_counts(f);
 }
 
 static void set_up(fixture *f)
@@ -327,7 +350,24 @@ static void set_up(fixture *f)
       tb_scene_add_contact(f->scene, &f->bad_contact))                                             \
     X("add_contact: NULL def", NULL_POINTER, tb_scene_add_contact(f->scene, NULL))                 \
     X("add_contact: NULL bodies, count 2", NULL_POINTER,                                           \
-      tb_scene_add_contact(f->scene, &f->null_bodies))
+      tb_scene_add_contact(f->scene, &f->null_bodies))                                             \
+    COUNT_INPUTS(X)
+
+/* Issue 19: counts near the wrap of size_t and contact inputs that failed the run. */
+#define COUNT_INPUTS(X)                                                                            \
+    X("add_contact: body_count 2^61 + 1", INVALID_ARGUMENT,                                        \
+      tb_scene_add_contact(f->scene, &f->huge_body_count))                                         \
+    X("add_contact: friction_points 2^61", OUT_OF_MEMORY,                                          \
+      tb_scene_add_contact(f->scene, &f->huge_friction_points))                                    \
+    X("add_contact: a listed body without a shape", INVALID_ARGUMENT,                              \
+      tb_scene_add_contact(f->scene, &f->shapeless))                                               \
+    X("add_contact: gravity 1e300", INVALID_ARGUMENT,                                              \
+      tb_scene_add_contact(f->scene, &f->huge_gravity))                                            \
+    X("scene_create: body_capacity 2^61", OUT_OF_MEMORY,                                           \
+      tb_scene_create(&f->huge_body_capacity, &f->other_scene, NULL))                              \
+    X("mesh: 2^62 triangles", BAD_MESH,                                                            \
+      tb_mass_from_mesh(TB_MASS_GIVEN, 1, f->vertices, 4, f->triangles, (size_t)1 << 62, &f->mass, \
+                        NULL))
 
 static tb_status attempt(size_t index, fixture *f)
 {

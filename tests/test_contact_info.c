@@ -38,12 +38,12 @@ static void test_contact_effects_read_back_what_they_were_given(void **state)
     assert_int_equal(tb_scene_create(&scene_def, &scene, NULL), TB_STATUS_OK);
     add_ball(scene, 0.1, 0.0, 1.0);
     add_ball(scene, 0.1, 0.15, 1.0); /* centres 0.15 apart: 0.05 m of overlap */
-    add_ball(scene, 0.0, 5.0, 1.0);  /* no shape */
+    add_ball(scene, 0.1, 5.0, 1.0);  /* far from the others */
     tb_scene_add_gravity(scene, (double[]){0, 0, -9.81});
     /* every body so far (0, 1, 2); bodies added later are not in it */
     tb_contact_def every = tb_contact_def_default();
     assert_int_equal(tb_scene_add_contact(scene, &every), TB_STATUS_OK);
-    add_ball(scene, 0.0, 10.0, 1.0); /* 3: no shape */
+    add_ball(scene, 0.1, 10.0, 1.0); /* 3: far from 2 (a listed body needs a shape) */
     tb_contact_def def = tb_contact_def_default();
     def.restitution = 0.7; /* above 0.062, so the law meets it (to 1e-7) */
     def.static_friction = 0.45;
@@ -73,7 +73,7 @@ static void test_contact_effects_read_back_what_they_were_given(void **state)
     assert_int_equal(tb_scene_get_contact(scene, 2, &info), TB_STATUS_OUT_OF_RANGE);
 
     /* Each effect finds the overlapping pair (0, 1) only where it covers both: the every-body
-     * effect does; the listed one (bodies 2 and 3, without shapes) has no pair. */
+     * effect does; the listed one (bodies 2 and 3, 5 m apart) has no pair. */
     tb_contact_touch touch[4];
     size_t count = 0;
     assert_int_equal(

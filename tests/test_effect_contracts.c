@@ -205,6 +205,23 @@ static tb_status null_callback(tb_scene *s)
 {
     return tb_scene_add_user_effect(s, NULL, NULL);
 }
+static tb_status null_conserved(tb_scene *s)
+{
+    return tb_scene_conserved(s, NULL);
+}
+static tb_status null_contact_info(tb_scene *s)
+{
+    return tb_scene_get_contact(s, 0, NULL);
+}
+static tb_status null_touching_count(tb_scene *s)
+{
+    return tb_scene_contact_touching(s, tb_scene_states_const(s), NULL, 0, NULL);
+}
+static tb_status null_touching_out(tb_scene *s)
+{
+    size_t count = 0;
+    return tb_scene_contact_touching(s, tb_scene_states_const(s), NULL, 4, &count);
+}
 
 /* After an earlier failure left its detail, a NULL argument gets its own: each function clears
  * the detail first and names the argument (issue 11, class 5). */
@@ -215,10 +232,19 @@ static void test_a_null_argument_is_named_not_the_previous_failure(void **state)
         tb_status (*attempt)(tb_scene *);
         const char *named;
     } cases[] = {
-        {null_gravity, "g is NULL"},     {null_force, "force is NULL"},
-        {null_torque, "torque is NULL"}, {null_drag, "def is NULL"},
-        {null_spring, "def is NULL"},    {null_ground, "def is NULL"},
-        {null_points, "points is NULL"}, {null_callback, "fn is NULL"},
+        {null_gravity, "g is NULL"},
+        {null_force, "force is NULL"},
+        {null_torque, "torque is NULL"},
+        {null_drag, "def is NULL"},
+        {null_spring, "def is NULL"},
+        {null_ground, "def is NULL"},
+        {null_points, "points is NULL"},
+        {null_callback, "fn is NULL"},
+        /* issue 19: these returned the status and left the earlier failure's detail */
+        {null_conserved, "out_conserved is NULL"},
+        {null_contact_info, "out is NULL"},
+        {null_touching_count, "out_count is NULL"},
+        {null_touching_out, "out is NULL"},
     };
     tb_scene *scene = empty_scene();
     add_sphere(scene, 1.0, 0.1, (double[]){0, 0, 0});

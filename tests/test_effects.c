@@ -13,6 +13,7 @@
 #include "span.h"
 #include "tumble/tumble.h"
 
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -318,7 +319,7 @@ static tb_status spring_negative_rest(tb_scene *s)
 static tb_status ground_bad_normal(tb_scene *s)
 {
     tb_ground_def d = tb_ground_def_default();
-    d.normal[2] = 2.0;
+    d.normal[2] = 0.0; /* (0, 0, 0): no direction */
     return tb_scene_add_ground(s, &d);
 }
 static tb_status ground_mu_order(tb_scene *s)
@@ -357,7 +358,7 @@ static void test_bad_effect_definitions_are_refused_and_change_nothing(void **st
         {"spring to itself", spring_self, TB_STATUS_INVALID_ARGUMENT, "body_b"},
         {"spring NaN point", spring_nan_point, TB_STATUS_NOT_FINITE, "point_b"},
         {"negative rest length", spring_negative_rest, TB_STATUS_INVALID_ARGUMENT, "rest_length"},
-        {"ground normal length 2", ground_bad_normal, TB_STATUS_INVALID_ARGUMENT, "normal"},
+        {"ground normal zero", ground_bad_normal, TB_STATUS_INVALID_ARGUMENT, "normal"},
         {"mu_s < mu_k", ground_mu_order, TB_STATUS_INVALID_ARGUMENT, "static_friction"},
         {"zero penetration", ground_zero_penetration, TB_STATUS_INVALID_ARGUMENT, "penetration"},
         {"negative contact radius", contact_negative_radius, TB_STATUS_INVALID_ARGUMENT,
@@ -379,6 +380,51 @@ static void test_bad_effect_definitions_are_refused_and_change_nothing(void **st
     }
 }
 
+/* F31: a ground normal is a direction. (0, 0, 1e-300) and (1e300, 1e300, 1e300) were refused as
+ * "|normal| = 0" or not unit, because |n|^2 under- or overflows; scaled by the largest component
+ * first, each is the plane it points at: (0, 0, 1) exactly (one nonzero component, divided by
+ * itself), and (1, 1, 1) / sqrt 3 within 2 ulps (one division and one square root). The scene
+ * file's loader takes the same directions. */
+static void test_a_ground_normal_of_any_length_is_its_direction(void **state)
+{
+    (void)state;
+    const double third = 1.0 / sqrt(3.0);
+    static const struct {
+        double normal[3], expected[3], tolerance;
+    } cases[] = {
+        {{0, 0, 1e-300}, {0, 0, 1}, 0.0},
+        {{0, 0, 5e-324}, {0, 0, 1}, 0.0},
+        {{0, 0, 2}, {0, 0, 1}, 0.0},
+        {{1e300, 1e300, 1e300}, {0, 0, 0}, 4.4e-16},
+        {{DBL_MAX, DBL_MAX, DBL_MAX}, {0, 0, 0}, 4.4e-16},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        tb_scene *scene = test_scene_one_body(1.0, (double[]){1, 1, 1}, NULL, (double[]){0, 0, 0});
+        tb_ground_def ground = tb_ground_def_default();
+        memcpy(ground.normal, cases[i].normal, sizeof ground.normal);
+        assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+        tb_ground_info info;
+        assert_int_equal(tb_scene_get_ground(scene, 0, &info), TB_STATUS_OK);
+        for (int k = 0; k < 3; ++k) {
+            const double expected = cases[i].tolerance > 0.0 ? third : cases[i].expected[k];
+            assert_near(info.normal[k], expected, cases[i].tolerance);
+        }
+        tb_scene_destroy(scene);
+    }
+    const char *json = "{\"bodies\": [{\"name\": \"b\", \"mass\": 1, \"shape\": {\"type\": "
+                       "\"sphere\", \"radius\": 0.1}, \"position\": [0, 0, 1]}], \"effects\": "
+                       "[{\"type\": \"ground\", \"normal\": [0, 0, 1e-300]}]}";
+    tb_scene *loaded = NULL;
+    tb_run_def run;
+    tb_error error;
+    assert_int_equal(tb_scene_load_string(json, "t.json", NULL, &loaded, &run, &error),
+                     TB_STATUS_OK);
+    tb_ground_info info;
+    assert_int_equal(tb_scene_get_ground(loaded, 0, &info), TB_STATUS_OK);
+    assert_true(info.normal[0] == 0.0 && info.normal[1] == 0.0 && info.normal[2] == 1.0);
+    tb_scene_destroy(loaded);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -390,6 +436,7 @@ int main(void)
         cmocka_unit_test(test_static_friction_holds_a_box_on_a_slope_without_creep),
         cmocka_unit_test(test_user_effect_acts_like_the_force_it_computes),
         cmocka_unit_test(test_bad_effect_definitions_are_refused_and_change_nothing),
+        cmocka_unit_test(test_a_ground_normal_of_any_length_is_its_direction),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

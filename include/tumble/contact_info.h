@@ -20,7 +20,7 @@ extern "C" {
 typedef struct tb_contact_info {
     size_t effect;        /* its index among the scene's effects, in the order added */
     bool every_body;      /* added without a list: every body the scene had then */
-    size_t body_count;    /* bodies it acts on (with or without a shape) */
+    size_t body_count;    /* bodies it acts on (listed ones have shapes; every body: any) */
     const size_t *bodies; /* body_count ids: the scene's copy, valid until the scene changes */
     double restitution;   /* the e its law meets (the one asked; 0.062 for any e at or below) */
     double static_friction, kinetic_friction; /* mu_s, mu_k */

@@ -36,7 +36,9 @@ TB_API tb_status tb_scene_create(const tb_scene_def *def, tb_scene **out_scene,
 /* Frees the scene and everything it owns; accepts NULL. */
 TB_API void tb_scene_destroy(tb_scene *scene);
 
-/* Detail of the scene's last failure ("" if none); owned by the scene. */
+/* Detail of the scene's last failure ("" if none); owned by the scene. Every function taking
+ * the scene clears it first, so after a failure it names that call's wrong input (a NULL
+ * output included), never an earlier call's. */
 TB_API const char *tb_scene_detail(const tb_scene *scene);
 
 /* --- Bodies ------------------------------------------------------------------------------ */
@@ -316,11 +318,19 @@ TB_API tb_status tb_scene_body_asleep(const tb_scene *scene, size_t id, bool *ou
  * For adaptive methods a def with atol = 0 and no atol_vector gets
  * tb_scene_absolute_tolerances(scene, rtol / 100), and a negative
  * preconditioner_half_bandwidth gets 12 (each body's 13 x 13 Jacobian block).
+ * State: the integrator steps the scene's one state array, starting from it as it is (where
+ * an earlier integrator left it, at the t0 given here). Every effect's start check (a body
+ * deeper than 10 penetrations in a ground plane, a pair of bodies deep inside each other) runs
+ * here, and again at the next advance, step or reset whenever the state was changed since the
+ * integrator last left it (tb_scene_set_state, tb_scene_set_velocity, a write through
+ * tb_scene_states): the call then returns that check's status (TB_STATUS_INVALID_ARGUMENT,
+ * naming the bodies), changing neither the state nor the time.
  * Lifetimes: the integrator steps the scene only while the scene's layout is the one it was
  * made on. Adding a body, a ground plane, contact points, an effect that couples independent
  * bodies, or making another integrator on the scene (tb_scene_integrator_create or
  * tb_integrator_create on tb_scene_ode_system) makes it refuse with
- * TB_STATUS_LAYOUT_CHANGED (its detail says what changed): it never steps a moved state array.
+ * TB_STATUS_LAYOUT_CHANGED (its detail says what changed): it never steps a moved state array,
+ * and two integrators never step one scene in turns (the newer owns the state).
  * While it steps, the scene is busy: another integrator's advance (from inside a callback)
  * returns TB_STATUS_BUSY, and so do calls that would change the layout. */
 TB_API tb_status tb_scene_integrator_create(tb_scene *scene, const tb_integrator_def *def,

@@ -1,6 +1,7 @@
 /* The scene's collision shapes: one per body, set, read and placed at a state. */
 #include "contact/contact_pairs.h"
 
+#include "core/validate.h"
 #include "math/tb_math.h"
 #include "scene/scene_internal.h"
 
@@ -22,7 +23,7 @@ static tb_status reserve_shapes(tb_scene *scene)
     if (count <= scene->shape_capacity) {
         return TB_STATUS_OK;
     }
-    tb__collision_shape **shapes = realloc(scene->shapes, count * sizeof *shapes);
+    tb__collision_shape **shapes = tb__realloc_array(scene->shapes, count, sizeof *shapes);
     if (shapes == NULL) {
         return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "shapes for %zu bodies", count);
     }

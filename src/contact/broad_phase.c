@@ -3,6 +3,8 @@
  * meets only the boxes of its strip and the two beside it that start before it ends. */
 #include "contact/broad_phase.h"
 
+#include "core/validate.h"
+
 #include <math.h>
 #include <stdbool.h>
 #include <stdlib.h>
@@ -12,14 +14,14 @@ tb_status tb__broad_phase_init(tb__broad_phase *bp, size_t capacity)
 {
     memset(bp, 0, sizeof *bp);
     const size_t n = capacity > 0 ? capacity : 1;
-    if (n > ((size_t)-1) / sizeof(tb__aabb) - 1) {
-        return TB_STATUS_OUT_OF_MEMORY;
+    if (n == (size_t)-1) {
+        return TB_STATUS_OUT_OF_MEMORY; /* n + 1 strip starts */
     }
-    bp->boxes = malloc(n * sizeof *bp->boxes);
-    bp->order = malloc(n * sizeof *bp->order);
-    bp->scratch = malloc(n * sizeof *bp->scratch);
-    bp->strip = malloc(n * sizeof *bp->strip);
-    bp->strip_start = malloc((n + 1) * sizeof *bp->strip_start);
+    bp->boxes = tb__malloc_array(n, sizeof *bp->boxes);
+    bp->order = tb__malloc_array(n, sizeof *bp->order);
+    bp->scratch = tb__malloc_array(n, sizeof *bp->scratch);
+    bp->strip = tb__malloc_array(n, sizeof *bp->strip);
+    bp->strip_start = tb__malloc_array(n + 1, sizeof *bp->strip_start);
     if (bp->boxes == NULL || bp->order == NULL || bp->scratch == NULL || bp->strip == NULL ||
         bp->strip_start == NULL) {
         tb__broad_phase_free(bp);

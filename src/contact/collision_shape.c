@@ -5,6 +5,7 @@
 
 #include "contact/convex_hull.h"
 #include "core/detail.h"
+#include "core/validate.h"
 #include "math/tb_math.h"
 
 #include <stdio.h>
@@ -126,7 +127,11 @@ static tb__collision_shape *with_vertices(const tb_shape *shape, char *detail, t
     const bool points = shape->type == TB_SHAPE_POINTS;
     tb__collision_shape *c = NULL;
     if (*status == TB_STATUS_OK) {
-        c = calloc(1, sizeof *c + (points ? 4 : 3) * kept * sizeof(double));
+        size_t bytes = 0;
+        c = tb__size_product(kept, (points ? 4 : 3) * sizeof(double), &bytes) &&
+                    bytes <= (size_t)-1 - sizeof *c
+                ? calloc(1, sizeof *c + bytes)
+                : NULL;
         *status = c != NULL ? TB_STATUS_OK
                             : tb__set_detail(detail, TB_STATUS_OUT_OF_MEMORY, "%zu vertices", n);
     }

@@ -3,6 +3,7 @@
 #include "contact/contact_pairs.h"
 
 #include "core/detail.h"
+#include "core/validate.h"
 #include "scene/scene_internal.h"
 
 #include <math.h>
@@ -24,14 +25,9 @@ struct tb__contact_pairs {
     bool skip_asleep;               /* pairs of two asleep bodies are not tested */
 };
 
-static tb_status check_bodies(const tb_scene *scene, const size_t *bodies, size_t count,
-                              double margin, char *detail)
+tb_status tb__contact_pairs_check_ids(const tb_scene *scene, const size_t *bodies, size_t count,
+                                      char *detail)
 {
-    if (!isfinite(margin) || margin < 0.0) {
-        return tb__set_detail(detail,
-                              isfinite(margin) ? TB_STATUS_INVALID_ARGUMENT : TB_STATUS_NOT_FINITE,
-                              "margin: must be finite and >= 0, got %g", margin);
-    }
     for (size_t k = 0; bodies != NULL && k < count; ++k) {
         if (bodies[k] >= scene->body_count) {
             return tb__set_detail(detail, TB_STATUS_OUT_OF_RANGE,
@@ -49,6 +45,17 @@ static tb_status check_bodies(const tb_scene *scene, const size_t *bodies, size_
     return TB_STATUS_OK;
 }
 
+static tb_status check_bodies(const tb_scene *scene, const size_t *bodies, size_t count,
+                              double margin, char *detail)
+{
+    if (!isfinite(margin) || margin < 0.0) {
+        return tb__set_detail(detail,
+                              isfinite(margin) ? TB_STATUS_INVALID_ARGUMENT : TB_STATUS_NOT_FINITE,
+                              "margin: must be finite and >= 0, got %g", margin);
+    }
+    return tb__contact_pairs_check_ids(scene, bodies, count, detail);
+}
+
 tb_status tb__contact_pairs_create(const tb_scene *scene, const size_t *bodies, size_t count,
                                    double margin, tb__contact_pairs **out, char *detail)
 {
@@ -63,11 +70,9 @@ tb_status tb__contact_pairs_create(const tb_scene *scene, const size_t *bodies, 
     tb__contact_pairs *p = calloc(1, sizeof *p);
     const size_t n = count > 0 ? count : 1;
     if (p != NULL) {
-        p->ids = malloc(n * sizeof *p->ids);
-        p->local = malloc(n * sizeof *p->local);
-        p->poses = n <= ((size_t)-1) / (TB__POSE_SIZE * sizeof(double))
-                       ? malloc(n * TB__POSE_SIZE * sizeof(double))
-                       : NULL;
+        p->ids = tb__malloc_array(n, sizeof *p->ids);
+        p->local = tb__malloc_array(n, sizeof *p->local);
+        p->poses = tb__malloc_array(n, TB__POSE_SIZE * sizeof(double));
     }
     if (p == NULL || p->ids == NULL || p->local == NULL || p->poses == NULL ||
         tb__broad_phase_init(&p->broad, count) != TB_STATUS_OK) {

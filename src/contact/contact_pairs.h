@@ -31,6 +31,11 @@ void tb__contact_pairs_destroy(tb__contact_pairs *pairs);
  * the narrow phase: the contact effect's do; a read-out's (tb_contact_info) do not. Default
  * false. */
 void tb__contact_pairs_skip_asleep(tb__contact_pairs *pairs, bool skip);
+/* The ids a pair finder accepts: each below the scene's body count, none twice; detail names
+ * the first that is not. It stops there, so it reads at most body count + 1 of them: a count
+ * beyond the scene's (2^61 + 1) is refused by the pigeonhole without reading on. */
+tb_status tb__contact_pairs_check_ids(const tb_scene *scene, const size_t *bodies, size_t count,
+                                      char *detail);
 
 /* Starts a pass at state y (the scene's state array): bounds, sort. */
 void tb__contact_pairs_begin(tb__contact_pairs *pairs, const tb_scene *scene, const double *y);

@@ -6,6 +6,7 @@
 
 #include <math.h>
 #include <stdint.h>
+#include <stdlib.h>
 
 tb_status tb__validate_pointer(char *detail, const void *pointer, const char *what)
 {
@@ -72,12 +73,32 @@ tb_status tb__validate_index(char *detail, size_t index, size_t count, const cha
     return TB_STATUS_OK;
 }
 
-tb_status tb__validate_size_product(char *detail, size_t a, size_t b, const char *what, size_t *out)
+bool tb__size_product(size_t a, size_t b, size_t *out)
 {
     if (b != 0 && a > SIZE_MAX / b) {
+        return false;
+    }
+    *out = a * b;
+    return true;
+}
+
+tb_status tb__validate_size_product(char *detail, size_t a, size_t b, const char *what, size_t *out)
+{
+    if (!tb__size_product(a, b, out)) {
         return tb__set_detail(detail, TB_STATUS_OUT_OF_MEMORY,
                               "%s: %zu x %zu bytes is more than the address space", what, a, b);
     }
-    *out = a * b;
     return TB_STATUS_OK;
+}
+
+void *tb__malloc_array(size_t count, size_t size)
+{
+    size_t bytes;
+    return tb__size_product(count, size, &bytes) ? malloc(bytes) : NULL;
+}
+
+void *tb__realloc_array(void *p, size_t count, size_t size)
+{
+    size_t bytes;
+    return tb__size_product(count, size, &bytes) ? realloc(p, bytes) : NULL;
 }

@@ -8,6 +8,7 @@
 
 #include "tumble/status.h"
 
+#include <stdbool.h>
 #include <stddef.h>
 
 tb_status tb__validate_pointer(char *detail, const void *pointer, const char *what);
@@ -21,8 +22,18 @@ tb_status tb__validate_vector(char *detail, const double *v, const char *what);
 /* index < count; `counted` names what count counts ("bodies") */
 tb_status tb__validate_index(char *detail, size_t index, size_t count, const char *what,
                              const char *counted);
-/* a * b without overflowing size_t, into *out */
+/* The one checked multiply: every size computed from a caller's count (a byte count for an
+ * allocation, a number of doubles) goes through it or through the wrappers below. a * b into
+ * *out, or false (and *out untouched) when the product does not fit in size_t. */
+bool tb__size_product(size_t a, size_t b, size_t *out);
+/* tb__size_product for an entry point: TB_STATUS_OUT_OF_MEMORY with a detail naming `what`
+ * when a * b does not fit */
 tb_status tb__validate_size_product(char *detail, size_t a, size_t b, const char *what,
                                     size_t *out);
+/* malloc and realloc of count items of size bytes each: NULL (and, for realloc, p untouched)
+ * when count * size does not fit in size_t, as when the memory is not there. (calloc checks
+ * its own product.) */
+void *tb__malloc_array(size_t count, size_t size);
+void *tb__realloc_array(void *p, size_t count, size_t size);
 
 #endif

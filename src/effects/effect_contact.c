@@ -332,6 +332,15 @@ tb_contact_def tb_contact_def_default(void)
     return def;
 }
 
+/* Whether def's gravity is further from its default than its penetration (by their ratios):
+ * the field a refused contact rate names. */
+static bool far_from_default(const tb_contact_def *def)
+{
+    const tb_contact_def usual = tb_contact_def_default();
+    return fabs(log(def->gravity / usual.gravity)) >=
+           fabs(log(def->penetration / usual.penetration));
+}
+
 static tb_status validate_contact(tb_scene *scene, const tb_contact_def *def)
 {
     if (def->internal_cookie != TB__CONTACT_COOKIE) {
@@ -361,15 +370,22 @@ static tb_status validate_contact(tb_scene *scene, const tb_contact_def *def)
                                 def->kinetic_friction, def->static_friction);
     }
     const double omega = status == TB_STATUS_OK ? sqrt(def->gravity / def->penetration) : 1.0;
-    if (!(isfinite(omega) && omega > 0.0)) {
+    if (!(isfinite(omega) && omega > 0.0 && omega <= TB__CONTACT_RATE_MAX)) {
         status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
-                                "penetration: %g m with gravity %g m/s^2 makes the contact's rate "
-                                "sqrt(gravity / penetration) overflow or vanish",
-                                def->penetration, def->gravity);
+                                "%s: penetration %g m with gravity %g m/s^2 makes the contact's "
+                                "rate sqrt(gravity / penetration) %g rad/s (at most %g: an impact "
+                                "of pi / rate no shorter than 3 ns)",
+                                far_from_default(def) ? "gravity" : "penetration", def->penetration,
+                                def->gravity, omega, TB__CONTACT_RATE_MAX);
     }
     if (status == TB_STATUS_OK && def->bodies == NULL && def->body_count > 0) {
         status = tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "bodies is NULL (body_count %zu)",
                                 def->body_count);
+    }
+    /* before copy_bodies sizes its copy by body_count: the ids, checked in order, show a count
+     * past the scene's by a repeat or an id out of range among the first body_count + 1 */
+    if (status == TB_STATUS_OK && def->bodies != NULL) {
+        status = tb__contact_pairs_check_ids(scene, def->bodies, def->body_count, detail);
     }
     return status;
 }
@@ -380,7 +396,7 @@ static tb_status copy_bodies(tb_scene *scene, const tb_contact_def *def, tb__con
     const bool all = def->bodies == NULL;
     out->body_count = all ? scene->body_count : def->body_count;
     out->every_body = all;
-    out->bodies = malloc((out->body_count > 0 ? out->body_count : 1) * sizeof(size_t));
+    out->bodies = tb__malloc_array(out->body_count > 0 ? out->body_count : 1, sizeof(size_t));
     if (out->bodies == NULL) {
         return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "%zu contact bodies",
                               out->body_count);
@@ -461,6 +477,9 @@ tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def)
                                           TB__CONTACT_MARGIN, &contact->pairs, scene->detail);
     }
     /* after the pair finder, which checked the ids */
+    if (status == TB_STATUS_OK && !contact->every_body) {
+        status = tb__contact_check_shapes(scene, contact->bodies, contact->body_count);
+    }
     if (status == TB_STATUS_OK) {
         status = tb__contact_check_shared_pairs(scene, &contact_ops, contact->bodies,
                                                 contact->body_count);
@@ -483,7 +502,7 @@ tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def)
          * adaptive step limit is then longer than half its push, and CVODE's error control, not
          * the limit, resolves it (test_contact_damping: e within 0.05 % under Adams) */
         contact->push_duration =
-            tb__contact_push_duration(contact->damping_ratio) / (sqrt(2.0) * contact->omega);
+            tb__contact_push_duration_for(def->restitution) / (sqrt(2.0) * contact->omega);
         contact->static_friction = def->static_friction;
         contact->kinetic_friction = def->kinetic_friction;
         contact->stribeck_velocity = def->stribeck_velocity;

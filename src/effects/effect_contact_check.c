@@ -24,6 +24,20 @@ static bool two_marked(const unsigned char *in, const size_t *bodies, size_t cou
     return found == 2;
 }
 
+tb_status tb__contact_check_shapes(tb_scene *scene, const size_t *bodies, size_t count)
+{
+    for (size_t k = 0; k < count; ++k) {
+        const size_t id = bodies[k];
+        if (tb__scene_body_collision_shape(scene, id) == NULL) {
+            return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                                  "bodies[%zu]: body %zu (\"%s\") has no collision shape "
+                                  "(tb_scene_set_body_shape): it could touch nothing",
+                                  k, id, scene->names[id]);
+        }
+    }
+    return TB_STATUS_OK;
+}
+
 tb_status tb__contact_check_shared_pairs(tb_scene *scene, const tb__effect_ops *ops,
                                          const size_t *bodies, size_t count)
 {

@@ -9,6 +9,17 @@
  * contact carries the heavier body's weight (the ground's rule: 10 penetrations). */
 #define TB__CONTACT_START_DEPTH_WEIGHTS 10.0
 
+/* The fastest contact rate omega = sqrt(gravity / penetration) a contact effect accepts, rad/s:
+ * its impact lasts pi / omega, 3 ns here, and a faster one needs more than 1e8 steps per
+ * simulated second under any method (CVODE's budget of steps runs out; a fixed step is refused
+ * for max_steps). Gravity 1e300 m/s^2 passed every check before and failed the run. */
+#define TB__CONTACT_RATE_MAX 1e9
+
+/* Refuses a listed body without a collision shape (TB_STATUS_INVALID_ARGUMENT, the scene's
+ * detail naming it): the effect would never see it touch anything (the scene file's loader
+ * refuses the same). bodies[0 .. count) are ids checked already. */
+tb_status tb__contact_check_shapes(tb_scene *scene, const size_t *bodies, size_t count);
+
 /* Refuses a new contact effect over bodies[0 .. count) (ids, each once) when two of them are
  * also both in an effect of the scene whose row is ops: that pair would be pushed by both, with
  * twice the stiffness and neither effect's restitution. The scene's detail names the pair and

@@ -4,6 +4,7 @@
 #include "effects/contact_friction.h"
 
 #include "contact/contact_law.h"
+#include "core/validate.h"
 #include "math/tb_math.h"
 
 #include <stdbool.h>
@@ -35,15 +36,14 @@ struct tb__friction_pool {
 
 tb__friction_pool *tb__friction_pool_create(size_t slots, double presliding)
 {
-    tb__friction_pool *pool =
-        slots <= ((size_t)-1) / sizeof(tb__friction_slot) ? calloc(1, sizeof *pool) : NULL;
+    tb__friction_pool *pool = calloc(1, sizeof *pool);
     if (pool == NULL) {
         return NULL;
     }
-    pool->slots = malloc(slots * sizeof *pool->slots);
-    pool->queue = malloc(slots * sizeof *pool->queue);
-    pool->index = malloc(slots * sizeof *pool->index);
-    pool->held = malloc(slots * sizeof *pool->held);
+    pool->slots = tb__malloc_array(slots, sizeof *pool->slots);
+    pool->queue = tb__malloc_array(slots, sizeof *pool->queue);
+    pool->index = tb__malloc_array(slots, sizeof *pool->index);
+    pool->held = tb__malloc_array(slots, sizeof *pool->held);
     if (pool->slots == NULL || pool->queue == NULL || pool->index == NULL || pool->held == NULL) {
         tb__friction_pool_destroy(pool);
         return NULL;

@@ -45,10 +45,13 @@ size_t tb_scene_ground_count(const tb_scene *scene)
 static tb_status find(const tb_scene *scene, const char *kind, size_t k, const void *out,
                       const tb__effect **effect, size_t *index)
 {
-    if (scene == NULL || out == NULL) {
+    if (scene == NULL) {
         return TB_STATUS_NULL_POINTER;
     }
     tb__scene_clear_detail(scene);
+    if (out == NULL) {
+        return tb__scene_fail((tb_scene *)scene, TB_STATUS_NULL_POINTER, "out is NULL");
+    }
     *effect = kth_effect(scene, kind, k, index);
     if (*effect == NULL) {
         return tb__scene_fail((tb_scene *)scene, TB_STATUS_OUT_OF_RANGE,
@@ -187,10 +190,17 @@ static void ground_touching(const tb_scene *scene, size_t index, const double *y
 tb_status tb_scene_contact_touching(const tb_scene *scene, const double *y, tb_contact_touch *out,
                                     size_t capacity, size_t *out_count)
 {
-    if (scene == NULL || y == NULL || out_count == NULL || (out == NULL && capacity > 0)) {
+    if (scene == NULL) {
         return TB_STATUS_NULL_POINTER;
     }
     tb__scene_clear_detail(scene);
+    if (y == NULL || out_count == NULL || (out == NULL && capacity > 0)) {
+        return tb__scene_fail((tb_scene *)scene, TB_STATUS_NULL_POINTER, "%s is NULL%s",
+                              y == NULL           ? "y"
+                              : out_count == NULL ? "out_count"
+                                                  : "out",
+                              y != NULL && out_count != NULL ? " (capacity > 0)" : "");
+    }
     if (scene->busy) {
         return tb__scene_fail((tb_scene *)scene, TB_STATUS_BUSY,
                               "tb_scene_contact_touching: an integrator is stepping the scene");

@@ -366,10 +366,12 @@ static tb_status validate_ground(tb_scene *scene, const tb_ground_def *def)
     }
     char *detail = scene->detail;
     tb_status status = tb__validate_vector(detail, def->normal, "normal");
-    const double length = tb__v3_norm(def->normal);
-    if (status == TB_STATUS_OK && !(fabs(length - 1.0) <= 1e-6)) {
-        status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
-                                "normal: must be a unit vector, got |normal| = %.17g", length);
+    double direction[3];
+    if (status == TB_STATUS_OK && !tb__v3_direction(def->normal, direction)) {
+        status =
+            tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                           "normal: must be a direction (any nonzero length), got (%g, %g, %g)",
+                           def->normal[0], def->normal[1], def->normal[2]);
     }
     if (status == TB_STATUS_OK) {
         status = tb__validate_finite(detail, def->offset, "offset");
@@ -417,9 +419,7 @@ static void tangent_basis(const double n[3], double t1[3], double t2[3])
 /* The typed parameters of a validated def. */
 static void ground_params(const tb_ground_def *def, tb__ground_params *ground)
 {
-    const double length = tb__v3_norm(def->normal);
-    tb__v3_set(ground->normal, def->normal[0] / length, def->normal[1] / length,
-               def->normal[2] / length);
+    tb__v3_direction(def->normal, ground->normal); /* validated: nonzero */
     tangent_basis(ground->normal, ground->tangent[0], ground->tangent[1]);
     ground->offset = def->offset;
     ground->gravity = def->gravity;

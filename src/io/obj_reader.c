@@ -6,6 +6,7 @@
 #include "io/obj_reader.h"
 
 #include "core/detail.h"
+#include "core/validate.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -35,10 +36,7 @@ static bool grow(void **data, size_t *capacity, size_t needed, size_t item)
         return true;
     }
     const size_t next = needed > 2 * *capacity ? needed : 2 * *capacity;
-    if (next > SIZE_MAX / item) {
-        return false;
-    }
-    void *grown = realloc(*data, next * item);
+    void *grown = tb__realloc_array(*data, next, item);
     if (grown == NULL) {
         return false;
     }

@@ -4,6 +4,7 @@
 #include "io/scene_file_internal.h"
 
 #include "core/detail.h"
+#include "core/validate.h"
 #include "math/tb_math.h"
 
 #include <math.h>
@@ -80,7 +81,7 @@ static tb_status load_contact(tb__loader *ld, const json_t *body, const char *pa
     }
     const size_t n = status == TB_STATUS_OK ? json_array_size(list) : 0;
     free(b->contacts.many);
-    b->contacts.many = malloc((n > 0 ? n : 1) * sizeof *b->contacts.many);
+    b->contacts.many = tb__malloc_array(n > 0 ? n : 1, sizeof *b->contacts.many);
     if (b->contacts.many == NULL) {
         return tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, where, "%zu contact points", n);
     }

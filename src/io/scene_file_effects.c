@@ -3,6 +3,7 @@
 #include "io/scene_file_internal.h"
 
 #include "core/detail.h"
+#include "core/validate.h"
 #include "math/tb_math.h"
 
 #include <stdio.h>
@@ -208,11 +209,7 @@ static tb_status load_ground(tb__loader *ld, const json_t *e, const char *path)
     if (status == TB_STATUS_OK) {
         status = tb__json_vector(ld, e, path, "normal", 3, false, def.normal);
     }
-    const double length = tb__v3_norm(def.normal);
-    if (status == TB_STATUS_OK && length > 0) { /* a direction: any length will do */
-        tb__v3_set(def.normal, def.normal[0] / length, def.normal[1] / length,
-                   def.normal[2] / length);
-    }
+    /* a direction: any length will do (tb_scene_add_ground normalises it) */
     if (status == TB_STATUS_OK) {
         status = tb__json_number(ld, e, path, "offset", false, &def.offset);
     }
@@ -292,7 +289,7 @@ static tb_status load_contact(tb__loader *ld, const json_t *e, const char *path)
         status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, where, "must be an array of body names");
     }
     if (status == TB_STATUS_OK && names != NULL) {
-        ids = malloc((json_array_size(names) + 1) * sizeof *ids);
+        ids = tb__malloc_array(json_array_size(names) + 1, sizeof *ids);
         status = ids == NULL ? tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, path, "body list")
                              : contact_bodies(ld, names, path, ids, &def.body_count);
         def.bodies = ids;

@@ -4,6 +4,7 @@
 #include "io/scene_file_internal.h"
 
 #include "core/detail.h"
+#include "core/validate.h"
 #include "math/tb_math.h"
 
 #include <math.h>
@@ -160,7 +161,7 @@ static tb_status load_round(tb__loader *ld, const json_t *shape, const char *pat
 static tb_status vertex_contacts(tb__loader *ld, const double *vertices, size_t count,
                                  const char *path, tb__shape_contacts *c)
 {
-    c->many = malloc((count > 0 ? count : 1) * sizeof *c->many);
+    c->many = tb__malloc_array(count > 0 ? count : 1, sizeof *c->many);
     if (c->many == NULL) {
         return tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, path, "%zu contact points", count);
     }
@@ -199,7 +200,8 @@ static tb_status load_points(tb__loader *ld, const json_t *shape, const char *pa
                              "points: must be a non-empty array of {position, mass}");
     }
     const size_t n = json_array_size(list);
-    double *positions = malloc(3 * n * sizeof(double)), *masses = malloc(n * sizeof(double));
+    double *positions = tb__malloc_array(n, 3 * sizeof(double));
+    double *masses = tb__malloc_array(n, sizeof(double));
     tb_status status = positions != NULL && masses != NULL ? TB_STATUS_OK : TB_STATUS_OUT_OF_MEMORY;
     static const char *const keys[] = {"position", "mass", NULL};
     for (size_t k = 0; k < n && status == TB_STATUS_OK; ++k) {

@@ -3,6 +3,7 @@
 #include "io/writer_npz_internal.h"
 
 #include "core/detail.h"
+#include "core/validate.h"
 #include "math/tb_math.h"
 
 #include <ctype.h>
@@ -189,7 +190,7 @@ static tb_status take_scene(tb_writer *w, const tb_writer_def *def, const tb_sce
 {
     w->body_count = tb_scene_body_count(scene);
     w->names = calloc(w->body_count > 0 ? w->body_count : 1, sizeof *w->names);
-    w->values = malloc((w->body_count > 0 ? w->body_count : 1) * 13 * sizeof(double));
+    w->values = tb__malloc_array(w->body_count > 0 ? w->body_count : 1, 13 * sizeof(double));
     if (w->names == NULL || w->values == NULL) {
         return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "writer: %zu body names",
                              w->body_count);

@@ -1,6 +1,7 @@
 /* Writers: what a frame holds per body, and the frames kept for the formats written at close. */
 #include "io/writer_internal.h"
 
+#include "core/validate.h"
 #include "math/tb_math.h"
 
 #include <stdlib.h>
@@ -15,7 +16,10 @@ tb_status tb__frames_init(tb__frames *frames, size_t body_count)
 
 static bool grow(double **array, size_t per_frame, size_t capacity)
 {
-    double *grown = realloc(*array, capacity * per_frame * sizeof(double));
+    size_t doubles = 0;
+    double *grown = tb__size_product(capacity, per_frame, &doubles)
+                        ? tb__realloc_array(*array, doubles, sizeof(double))
+                        : NULL;
     if (grown != NULL) {
         *array = grown;
     }

@@ -5,6 +5,7 @@
  * way round). */
 #include "io/writer_gltf_internal.h"
 
+#include "core/validate.h"
 #include "math/tb_math.h"
 
 #include <stdlib.h>
@@ -104,7 +105,8 @@ void tb__gltf_add_animation(tb__gltf *g, const tb_writer *w)
     if (f->count < 2 || w->body_count == 0) {
         return; /* one frame is a still: the nodes hold it (glTF wants 2 keys a spline) */
     }
-    float *scratch = malloc(12 * f->count * sizeof *scratch); /* the largest: cubic rotation */
+    float *scratch =
+        tb__malloc_array(f->count, 12 * sizeof *scratch); /* the largest: cubic rotation */
     if (scratch == NULL) {
         g->failed = true;
         return;

@@ -2,6 +2,7 @@
  * normals and counter-clockwise triangles seen from outside (glTF's front faces). */
 #include "io/writer_internal.h"
 
+#include "core/validate.h"
 #include "math/tb_math.h"
 
 #include <math.h>
@@ -18,7 +19,7 @@ static bool grow(void **data, size_t *capacity, size_t needed, size_t item)
         return true;
     }
     const size_t next = needed > 2 * *capacity ? needed : 2 * *capacity;
-    void *grown = realloc(*data, next * item);
+    void *grown = tb__realloc_array(*data, next, item);
     if (grown == NULL) {
         return false;
     }

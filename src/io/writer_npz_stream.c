@@ -11,6 +11,7 @@
 #include "io/writer_npz_internal.h"
 
 #include "core/detail.h"
+#include "core/validate.h"
 
 #include <errno.h>
 #include <pthread.h>
@@ -208,7 +209,7 @@ static bool make_blocks(tb__npz_stream *s)
     capacity = capacity < 1 ? 1 : capacity > s->frame_count ? s->frame_count : capacity;
     s->block_capacity = capacity;
     for (int b = 0; b < 2; ++b) {
-        double *memory = malloc(capacity * frame_doubles * sizeof(double));
+        double *memory = tb__malloc_array(capacity, frame_doubles * sizeof(double));
         if (memory == NULL) {
             return false;
         }

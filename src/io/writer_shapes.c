@@ -6,6 +6,7 @@
 #include "io/writer_internal.h"
 
 #include "core/detail.h"
+#include "core/validate.h"
 #include "math/tb_math.h"
 
 #include <stdlib.h>
@@ -32,7 +33,7 @@ static tb_status points_shape(tb__loader *ld, const json_t *shape, const char *p
     const json_t *points = json_object_get(shape, "points");
     s->kind = TB__SHAPE_POINTS;
     s->vertex_count = json_array_size(points);
-    s->vertices = malloc((s->vertex_count + 1) * 3 * sizeof(double));
+    s->vertices = tb__malloc_array(s->vertex_count + 1, 3 * sizeof(double));
     if (s->vertices == NULL) {
         return tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, path, "%zu points", s->vertex_count);
     }
@@ -101,7 +102,7 @@ static tb_status body_shape(tb__loader *ld, const json_t *body, const char *path
 
 static tb_status load_grounds(tb__loader *ld, const json_t *effects, tb__looks *looks)
 {
-    looks->grounds = malloc((json_array_size(effects) + 1) * sizeof *looks->grounds);
+    looks->grounds = tb__malloc_array(json_array_size(effects) + 1, sizeof *looks->grounds);
     if (looks->grounds == NULL) {
         return tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, "effects", "ground planes");
     }

@@ -8,6 +8,7 @@
 #include "tumble/mass.h"
 
 #include "core/detail.h"
+#include "core/validate.h"
 #include "mass/mass_internal.h"
 #include "math/tb_math.h"
 
@@ -87,7 +88,7 @@ static tb_status check_triangles(const mesh_view *mesh, tb_error *error)
 static tb_status check_closed(const mesh_view *mesh, tb_error *error)
 {
     const size_t edge_count = 3 * mesh->triangle_count;
-    uint64_t *edges = malloc(edge_count * sizeof *edges);
+    uint64_t *edges = tb__malloc_array(edge_count, sizeof *edges);
     if (edges == NULL) {
         return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "edge list of %zu entries",
                              edge_count);

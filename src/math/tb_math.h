@@ -28,6 +28,21 @@ static inline double tb__v3_norm(const double a[3])
     return sqrt(tb__v3_dot(a, a));
 }
 
+/* a / |a| for any finite nonzero a, scaled by its largest component first so that |a|^2
+ * neither underflows nor overflows ((0, 0, 1e-300) and (1e300, 1e300, 1e300) are directions
+ * too); false, out untouched, for a zero or non-finite a. */
+static inline bool tb__v3_direction(const double a[3], double out[3])
+{
+    const double scale = fmax(fabs(a[0]), fmax(fabs(a[1]), fabs(a[2])));
+    if (!(scale > 0.0 && isfinite(scale))) {
+        return false;
+    }
+    const double s[3] = {a[0] / scale, a[1] / scale, a[2] / scale};
+    const double length = sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
+    tb__v3_set(out, s[0] / length, s[1] / length, s[2] / length);
+    return true;
+}
+
 /* |a| without the overflow of its squares (|a| = 1e300 is a number; tb__v3_norm gives inf):
  * slower, for checks and estimates outside the hot loop. */
 static inline double tb__v3_hypot(const double a[3])

@@ -2,6 +2,8 @@
  * partial pivoting by SUNDIALS' small dense routines. */
 #include "ode/cvode_block_preconditioner.h"
 
+#include "core/validate.h"
+
 #include <sundials/sundials_dense.h>
 
 #include <stdlib.h>
@@ -26,11 +28,14 @@ tb__block_preconditioner *tb__block_preconditioner_create(size_t n, size_t block
     p->n = n;
     p->size = block_size;
     p->blocks = n / block_size;
-    p->matrix = malloc(n * block_size * sizeof(double));
-    p->pivots = malloc(n * sizeof(sunindextype));
-    p->shifted = malloc(n * sizeof(double));
-    p->saved = malloc(2 * p->blocks * sizeof(double));
-    p->columns = malloc(block_size * sizeof(sunrealtype *));
+    size_t matrix_doubles = 0;
+    p->matrix = tb__size_product(n, block_size, &matrix_doubles)
+                    ? tb__malloc_array(matrix_doubles, sizeof(double))
+                    : NULL;
+    p->pivots = tb__malloc_array(n, sizeof(sunindextype));
+    p->shifted = tb__malloc_array(n, sizeof(double));
+    p->saved = tb__malloc_array(p->blocks, 2 * sizeof(double));
+    p->columns = tb__malloc_array(block_size, sizeof(sunrealtype *));
     if (p->matrix == NULL || p->pivots == NULL || p->shifted == NULL || p->saved == NULL ||
         p->columns == NULL) {
         tb__block_preconditioner_destroy(p);

@@ -7,6 +7,7 @@
 #include "ode/cvode_internal.h"
 
 #include "core/detail.h"
+#include "core/validate.h"
 
 #include <cvode/cvode.h>
 #include <nvector/nvector_serial.h>
@@ -28,7 +29,7 @@ tb_status tb__cvode_events_init(tb_integrator *integrator, tb_error *error)
     tb__cvode *cvode = integrator->cvode;
     const tb_ode_system *system = &integrator->system;
     if (system->root_count > 0) {
-        cvode->roots_found = malloc(system->root_count * sizeof(int));
+        cvode->roots_found = tb__malloc_array(system->root_count, sizeof(int));
         if (cvode->roots_found == NULL) {
             return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "%zu root flags",
                                  system->root_count);

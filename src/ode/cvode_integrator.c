@@ -5,6 +5,7 @@
 #include "ode/cvode_internal.h"
 
 #include "core/detail.h"
+#include "core/validate.h"
 
 #include <cvode/cvode.h>
 #include <cvode/cvode_bandpre.h>
@@ -276,7 +277,7 @@ static tb_status create_memory(tb_integrator *integrator, const tb_integrator_de
     cvode->y = N_VMake_Serial((sunindextype)n, integrator->y, cvode->context);
     cvode->mem =
         CVodeCreate(integrator->method == TB_METHOD_CVODE_BDF ? CV_BDF : CV_ADAMS, cvode->context);
-    cvode->y_seen = malloc(n * sizeof(double));
+    cvode->y_seen = tb__malloc_array(n, sizeof(double));
     if (cvode->y == NULL || cvode->mem == NULL || cvode->y_seen == NULL) {
         return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "CVODE memory for n = %zu", n);
     }

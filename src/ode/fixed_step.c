@@ -4,6 +4,7 @@
 #include "ode/integrator.h"
 
 #include "core/detail.h"
+#include "core/validate.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -153,7 +154,11 @@ static tb_status fixed_create(tb_integrator *integrator, const tb_integrator_def
     }
     /* from a cache line (chunk buffers first, each a whole number of lines), so that the vector
      * unit's loads do not straddle lines */
-    integrator->workspace = malloc(size * sizeof(double) + TB__LINE);
+    size_t bytes = 0;
+    integrator->workspace =
+        tb__size_product(size, sizeof(double), &bytes) && bytes <= (size_t)-1 - TB__LINE
+            ? malloc(bytes + TB__LINE)
+            : NULL;
     if (integrator->workspace == NULL) {
         return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "integrator workspace of %zu doubles",
                              size);

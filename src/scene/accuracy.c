@@ -4,6 +4,7 @@
 #include "tumble/accuracy.h"
 
 #include "core/detail.h"
+#include "core/validate.h"
 #include "scene/scene_internal.h"
 
 #include <math.h>
@@ -108,10 +109,11 @@ static int record(comparison *c, const double *y)
     if (c->frames == c->capacity) {
         const size_t per_frame = c->bodies * TB__POSE;
         const size_t capacity = c->capacity == 0 ? 64 : 2 * c->capacity;
-        if (per_frame != 0 && capacity > SIZE_MAX / sizeof(double) / per_frame) {
+        size_t doubles;
+        if (!tb__size_product(capacity, per_frame, &doubles)) {
             return 1;
         }
-        double *grown = realloc(c->reference, capacity * per_frame * sizeof(double));
+        double *grown = tb__realloc_array(c->reference, doubles, sizeof(double));
         if (grown == NULL) {
             return 1;
         }
@@ -423,8 +425,8 @@ tb_status tb_scene_accuracy_sweep(tb_scene *scene, const tb_run_def *run,
         return status;
     }
     const size_t bodies = tb_scene_body_count(scene), size = tb_scene_state_size(scene);
-    double *start = malloc(size * sizeof(double) + 1);
-    double *length = malloc(bodies * sizeof(double) + 1);
+    double *start = tb__malloc_array(size > 0 ? size : 1, sizeof(double));
+    double *length = tb__malloc_array(bodies > 0 ? bodies : 1, sizeof(double));
     if (start == NULL || length == NULL) {
         free(start);
         free(length);

@@ -229,8 +229,12 @@ tb_status tb_scene_potential_energy(const tb_scene *scene, const double *y, doub
 
 tb_status tb_scene_conserved(const tb_scene *scene, tb_conserved *out_conserved)
 {
-    if (scene == NULL || out_conserved == NULL) {
+    if (scene == NULL) {
         return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    if (out_conserved == NULL) {
+        return tb__scene_fail((tb_scene *)scene, TB_STATUS_NULL_POINTER, "out_conserved is NULL");
     }
     tb_conserved c = {1, 1, 1, 1};
     for (size_t e = 0; e < scene->effect_count; ++e) {

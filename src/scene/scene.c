@@ -2,6 +2,7 @@
 #include "scene/scene_internal.h"
 
 #include "core/detail.h"
+#include "core/validate.h"
 #include "mass/mass_internal.h"
 #include "math/tb_math.h"
 
@@ -72,15 +73,16 @@ static tb_status reserve_bodies(tb_scene *scene, size_t capacity)
     if (capacity > SIZE_MAX / (TB_STATE_SIZE * sizeof(double) + sizeof(tb_mass_properties))) {
         return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "%zu bodies", capacity);
     }
-    tb__body *bodies = realloc(scene->bodies, capacity * sizeof(tb__body));
+    tb__body *bodies = tb__realloc_array(scene->bodies, capacity, sizeof(tb__body));
     if (bodies != NULL) {
         scene->bodies = bodies;
     }
-    tb_mass_properties *props = realloc(scene->mass_props, capacity * sizeof(tb_mass_properties));
+    tb_mass_properties *props =
+        tb__realloc_array(scene->mass_props, capacity, sizeof(tb_mass_properties));
     if (props != NULL) {
         scene->mass_props = props;
     }
-    char(*names)[TB_NAME_SIZE] = realloc(scene->names, capacity * sizeof *names);
+    char(*names)[TB_NAME_SIZE] = tb__realloc_array(scene->names, capacity, sizeof *names);
     if (names != NULL) {
         scene->names = names;
     }
@@ -98,7 +100,7 @@ static tb_status reserve_states(tb_scene *scene, size_t size)
         return TB_STATUS_OK;
     }
     const size_t capacity = size > 2 * scene->state_capacity ? size : 2 * scene->state_capacity;
-    double *states = realloc(scene->states, capacity * sizeof(double));
+    double *states = tb__realloc_array(scene->states, capacity, sizeof(double));
     if (states == NULL) {
         return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "state array of %zu doubles",
                               capacity);
@@ -189,6 +191,7 @@ void tb_scene_destroy(tb_scene *scene)
         free(scene->states);
         free(scene->bodies);
         free(scene->lane_constants);
+        free(scene->states_left);
         free(scene->mass_props);
         free(scene->names);
         free(scene->effects);

@@ -269,6 +269,12 @@ struct tb_scene {
      * before). */
     bool sleeping;
     struct tb__sleep *sleep;
+    /* The state the newest integrator last left (states_left_size doubles, 0 for none; room
+     * for states_left_capacity, made by tb_scene_ode_system), kept when an effect checks
+     * starts: a state that differs at the next advance, step or reset was changed from outside
+     * (tb_scene_set_state, a write through tb_scene_states) and is checked as a start is. */
+    double *states_left;
+    size_t states_left_size, states_left_capacity;
 };
 
 /* Sleeping islands (sleep.c). Bodies linked at a step boundary (a pair the contact effect

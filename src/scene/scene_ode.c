@@ -6,12 +6,15 @@
 #include "scene/scene_internal.h"
 
 #include "core/detail.h"
+#include "core/validate.h"
 #include "math/tb_math.h"
+#include "core/validate.h"
 
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 /* --- lifetimes --------------------------------------------------------------------------- */
 
@@ -35,6 +38,84 @@ void tb__scene_layout_changed(tb_scene *scene, const char *format, ...)
     va_end(args);
 }
 
+/* Whether an effect checks the state an integrator starts from (a ground plane, contact). */
+static bool has_start_checks(const tb_scene *scene)
+{
+    for (size_t k = 0; k < scene->effect_count; ++k) {
+        if (scene->effects[k].ops->check_start != NULL) {
+            return true;
+        }
+    }
+    return false;
+}
+
+/* Every effect's check of y as a state to start from (a body moved deep into a ground plane
+ * or into another body); detail (TB_DETAIL_SIZE bytes) names the effect and what it found. */
+static tb_status check_start(const tb_scene *scene, const double *y, char *detail)
+{
+    char found[TB_DETAIL_SIZE];
+    for (size_t k = 0; k < scene->effect_count; ++k) {
+        const tb__effect *effect = &scene->effects[k];
+        if (effect->ops->check_start == NULL) {
+            continue;
+        }
+        const tb_status status = effect->ops->check_start(effect, scene, y, found);
+        if (status != TB_STATUS_OK) {
+            return tb__set_detail(detail, status, "effect %zu (a %s): %.*s", k, effect->ops->name,
+                                  TB_DETAIL_SIZE - 64, found);
+        }
+    }
+    return tb__scene_check_impacts(scene, y, detail); /* bodies too fast for a thin one */
+}
+
+/* Remembers the state as the newest integrator leaves it (room made by tb_scene_ode_system;
+ * without room, or without effects that check starts, nothing is remembered). */
+static void remember_state(tb_scene *scene)
+{
+    const size_t n = tb_scene_state_size(scene);
+    scene->states_left_size = 0;
+    if (n <= scene->states_left_capacity && has_start_checks(scene)) {
+        memcpy(scene->states_left, scene->states, n * sizeof(double));
+        scene->states_left_size = n;
+    }
+}
+
+/* Whether a body's position or orientation differs from the state the newest integrator left.
+ * Only a pose can move a body into another: momenta (tb_scene_set_velocity) and the effects'
+ * own states cannot, so changing them alone is never refused here, even in a settled stack
+ * whose lowest pair, carrying every weight above it, is deeper than a start may be. */
+static bool poses_changed(const tb_scene *scene)
+{
+    for (size_t id = 0; id < scene->body_count; ++id) {
+        const size_t k = TB_STATE_SIZE * id + TB_STATE_X;
+        if (memcmp(scene->states_left + k, scene->states + k,
+                   (TB_STATE_P - TB_STATE_X) * sizeof(double)) != 0) {
+            return true;
+        }
+    }
+    return false;
+}
+
+/* A state changed since the newest integrator left it gets the checks of a start: every path
+ * that changes it (tb_scene_set_state, tb_scene_set_velocity, writes through tb_scene_states,
+ * the bindings' assignments) meets here, at the next advance, step or reset of every method. */
+static tb_status check_changed_state(const tb_scene *scene, char *detail)
+{
+    const size_t n = scene->states_left_size;
+    if (n == 0 || n != tb_scene_state_size(scene) || !poses_changed(scene)) {
+        return TB_STATUS_OK;
+    }
+    char found[TB_DETAIL_SIZE];
+    const tb_status status = check_start(scene, scene->states, found);
+    if (status == TB_STATUS_OK) {
+        return status;
+    }
+    return tb__set_detail(detail, status,
+                          "the state was changed since the last step, and is refused as a start "
+                          "would be: %.*s",
+                          TB_DETAIL_SIZE - 96, found);
+}
+
 /* tb_ode_system.layout_generation: an integrator is being made on the scene. It claims the
  * scene: the generation moves on, so integrators made before refuse to step (two integrators
  * stepping one scene would each take the other's steps as changes from outside). */
@@ -44,6 +125,7 @@ static unsigned long long claim(void *ctx)
     tb__scene_layout_changed(scene, "a newer integrator was made on the scene");
     scene->separable_at_claim = tb__scene_separable(scene);
     scene->guard_dt = 0.0;
+    remember_state(scene);
     return scene->layout_generation;
 }
 
@@ -65,6 +147,10 @@ static tb_status acquire(void *ctx, unsigned long long generation, char *detail)
         return tb__set_detail(detail, TB_STATUS_LAYOUT_CHANGED,
                               "an effect coupling bodies was added after this integrator was "
                               "made for independent bodies: make a new integrator");
+    }
+    const tb_status changed = check_changed_state(scene, detail);
+    if (changed != TB_STATUS_OK) {
+        return changed;
     }
     if (scene->guard_dt > 0.0) {
         const tb_status status = tb__scene_check_step(scene, scene->states, scene->guard_method,
@@ -94,6 +180,7 @@ static void release(void *ctx)
 {
     tb_scene *scene = ctx;
     scene->busy = false;
+    remember_state(scene);
 }
 
 /* --- the ODE system ---------------------------------------------------------------------- */
@@ -125,6 +212,16 @@ tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
     };
     if (!tb__scene_separable(scene) && tb__scene_sleep_prepare(scene) != TB_STATUS_OK) {
         return TB_STATUS_OUT_OF_MEMORY;
+    }
+    /* room to remember the state the integrator leaves (check_changed_state) */
+    const size_t n = out_system->n;
+    if (n > scene->states_left_capacity && has_start_checks(scene)) {
+        double *grown = tb__realloc_array(scene->states_left, n, sizeof(double));
+        if (grown == NULL) {
+            return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "a copy of %zu states", n);
+        }
+        scene->states_left = grown;
+        scene->states_left_capacity = n;
     }
     /* Contact: a gap per body for CVODE's root finding, and steps kept short near contacts
      * (scene_events.c). */
@@ -248,26 +345,6 @@ static tb_status check_fixed_step(tb_scene *scene, const tb_integrator_def *def,
     return status == TB_STATUS_OK ? status : tb__scene_fail(scene, status, "def.%s", detail);
 }
 
-/* Every effect's check of the starting state (a body moved deep into a ground plane by
- * tb_scene_set_state after the plane was added). */
-static tb_status check_start(tb_scene *scene)
-{
-    char detail[TB_DETAIL_SIZE];
-    for (size_t k = 0; k < scene->effect_count; ++k) {
-        const tb__effect *effect = &scene->effects[k];
-        if (effect->ops->check_start == NULL) {
-            continue;
-        }
-        const tb_status status = effect->ops->check_start(effect, scene, scene->states, detail);
-        if (status != TB_STATUS_OK) {
-            return tb__scene_fail(scene, status, "effect %zu (a %s): %s", k, effect->ops->name,
-                                  detail);
-        }
-    }
-    const tb_status status = tb__scene_check_impacts(scene, scene->states, detail);
-    return status == TB_STATUS_OK ? status : tb__scene_fail(scene, status, "%s", detail);
-}
-
 /* def with the scene's automatic tolerances (atol_vector, allocated into *out_atol) and
  * preconditioner bandwidth filled in. */
 static tb_status scene_integrator_def(tb_scene *scene, const tb_integrator_def *def,
@@ -277,7 +354,7 @@ static tb_status scene_integrator_def(tb_scene *scene, const tb_integrator_def *
     *out_atol = NULL;
     if (tb_method_is_adaptive(def->method) && def->atol == 0.0 && def->atol_vector == NULL &&
         def->rtol > 0 && isfinite(def->rtol)) {
-        double *atol = malloc(tb_scene_state_size(scene) * sizeof(double));
+        double *atol = tb__malloc_array(tb_scene_state_size(scene), sizeof(double));
         if (atol == NULL) {
             return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "tolerance vector");
         }
@@ -313,7 +390,11 @@ tb_status tb_scene_integrator_create(tb_scene *scene, const tb_integrator_def *d
         status = check_fixed_step(scene, def, t0);
     }
     if (status == TB_STATUS_OK) {
-        status = check_start(scene);
+        char detail[TB_DETAIL_SIZE];
+        status = check_start(scene, scene->states, detail);
+        if (status != TB_STATUS_OK) {
+            tb__scene_fail(scene, status, "%s", detail);
+        }
     }
     tb_integrator_def scene_def;
     double *atol = NULL;

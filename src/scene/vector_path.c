@@ -4,6 +4,7 @@
 #include "scene/lanes.h"
 
 #include "core/detail.h"
+#include "core/validate.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -106,7 +107,7 @@ tb_status tb__scene_prepare_lanes(tb_scene *scene)
     const size_t groups = (scene->body_count + lanes - 1) / lanes;
     const size_t size = groups * lanes * TB__LANE_CONSTANTS;
     if (size > scene->lane_constants_size) {
-        double *grown = realloc(scene->lane_constants, size * sizeof(double));
+        double *grown = tb__realloc_array(scene->lane_constants, size, sizeof(double));
         if (grown == NULL) {
             return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY,
                                   "the lane layout of %zu bodies' constants", scene->body_count);

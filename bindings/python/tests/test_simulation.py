@@ -20,6 +20,26 @@ def thrown_ball(z=1.0, vz=5.0):
         "effects": [{"type": "gravity"}]})
 
 
+def test_a_body_moved_into_another_is_refused_and_put_back():
+    # F26: the position assigned after the integrator exists is checked as a start is: 0.15 m
+    # inside the other ball (10 penetrations allow 8 micrometres) is refused, naming both
+    # bodies, and the state stays as it was, bit for bit; apart again they stay at rest.
+    ball = {"shape": {"type": "sphere", "radius": 0.1}, "mass": 1.0}
+    scene = {"bodies": [dict(ball, name="a", position=[-0.5, 0, 0]),
+                        dict(ball, name="b", position=[0.5, 0, 0])],
+             "effects": [{"type": "contact"}]}
+    for method, setting in (("rk4", {"dt": 0}), ("cvode-bdf", {"rtol": 1e-8})):  # dt 0: default
+        sim = tumble.Simulation(tumble.Scene.from_dict(scene), method=method, **setting)
+        sim.advance(0.01)
+        before = sim.state.copy()
+        with pytest.raises(tumble.TumbleValueError) as caught:
+            sim.position = [[-0.5, 0, 0], [-0.45, 0, 0]]
+        assert '0 ("a") and 1 ("b")' in caught.value.message
+        assert np.array_equal(sim.state, before)
+        sim.advance(0.02)
+        assert np.array_equal(sim.velocity, np.zeros((2, 3)))
+
+
 def free_ball():
     return {"bodies": [{"name": "ball", "shape": {"type": "sphere", "radius": 0.1},
                         "mass": 2.0}]}

@@ -357,7 +357,9 @@ class Simulation:
 
     def _set_states(self, states):
         """Each body's new state through tb_scene_set_state; all or nothing: on a refusal the
-        bodies already set are put back bit for bit, and the error names the body."""
+        bodies already set are put back bit for bit, and the error names the body. The restart
+        checks the new state as a start (two bodies deep inside each other, a body deep in a
+        ground plane: refused, naming them, and the state put back)."""
         saved = self._y_writable.copy()
         for i, values in states.items():
             s = _native.BodyState.from_buffer_copy(np.ascontiguousarray(values).tobytes())
@@ -366,7 +368,11 @@ class Simulation:
                 message = lib.tb_scene_detail(self._handle).decode()
                 self._y_writable[:] = saved
                 raise failure(status, f"body {i} ({self.scene.body_names[i]}): {message}")
-        self._restart(self.t)
+        try:
+            self._restart(self.t)
+        except Exception:
+            self._y_writable[:] = saved
+            raise
 
     # --- user forces ----------------------------------------------------------------------
 
