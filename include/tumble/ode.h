@@ -106,6 +106,13 @@ typedef struct tb_ode_system {
      * tb_integrator_def.max_step (the tighter wins). The scene uses it to step long in free
      * flight and short near a contact. NULL (default): none. */
     double (*step_limit)(double t, const double *y, const double *dydt, void *ctx);
+    /* Optional, with roots: called where a call stops at an event (CVODE's root, inside an
+     * advance as well as at its end), with the state there, which it must not change. The
+     * system may change its right-hand side there (a scene wakes the sleeping bodies an awake
+     * one came near); when rhs_generation then moved, the integrator restarts from (t, y) at
+     * once, so that the new right-hand side holds from the event on (an event past the output
+     * time: from the output). NULL (default): none. */
+    void (*at_event)(double t, const double *y, void *ctx);
 } tb_ode_system;
 
 /* How to integrate, chosen as data. */
