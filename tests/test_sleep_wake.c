@@ -248,6 +248,16 @@ static void check_throw(size_t boxes, tb_method method)
         for (size_t b = 0; b < boxes; ++b) { /* woken between the outputs */
             assert_false(body_asleep(scene, b));
         }
+        /* by a wake gap's root (functions bodies .. 2 bodies - 1), 0.5 mm before the touch at
+         * SETTLED + FRAME / 2; without sleeping there is none (every body touches the floor,
+         * so no contact gap changes sign) */
+        tb_integrator_events events;
+        assert_int_equal(tb_integrator_get_events(integrator, &events), TB_STATUS_OK);
+        assert_int_equal(events.count, sleeping ? 1 : 0);
+        if (sleeping) {
+            assert_true(events.last_root >= (long)bodies);
+            assert_true(fabs(events.last_time - (SETTLED + 0.5 * FRAME - 5e-4 / v)) < 1e-6);
+        }
         advance_frames(integrator, SETTLED + FRAME, 5);
         P_after[run] = momentum_x(scene);
         motion_of(scene, bodies, sleeping ? slept : unslept, &ignored);
@@ -291,6 +301,37 @@ static void test_a_ball_wakes_a_sleeping_box_between_outputs_under_cvode_bdf(voi
     (void)state;
     check_throw(1, TB_METHOD_CVODE_BDF);
     check_throw(2, TB_METHOD_CVODE_BDF);
+}
+
+/* One CVODE step at a time (tb_integrator_step), every step is an output: the steps near the
+ * asleep box close at most half the gap, so one ends within the 1 mm margin before the 0.5 mm
+ * wake event, and the island wakes there. No evaluation pushes the asleep box, the box is awake
+ * before the frame after the throw, and the x momentum is kept as in check_throw. */
+static void test_one_cvode_step_at_a_time_wakes_the_box_before_the_touch(void **state)
+{
+    (void)state;
+    const double v = 0.5, gap = 0.5 * v * FRAME;
+    tb_scene *scene = settled_and_thrown(1, TB_METHOD_CVODE_BDF, true, v, gap);
+    const double P0 = momentum_x(scene);
+    tb_integrator *integrator = watched_cvode(scene, 1, TB_METHOD_CVODE_BDF, 1e-8, SETTLED);
+    tb_integrator_events events;
+    long steps = 0;
+    for (; tb_integrator_time(integrator) < SETTLED + FRAME && steps < 1000000; ++steps) {
+        assert_int_equal(tb_integrator_step(integrator), TB_STATUS_OK);
+    }
+    assert_int_equal(tb_integrator_get_events(integrator, &events), TB_STATUS_OK);
+    tb_body_state box;
+    assert_int_equal(tb_scene_get_state(scene, 0, &box), TB_STATUS_OK);
+    print_message("cvode-bdf one step at a time: %ld steps, %ld events, %ld of %ld evaluations "
+                  "pushed an asleep box; P_x %.17g -> %.17g, box at %.4g m/s\n",
+                  steps, events.count, watch.pushed_asleep, watch.evaluations, P0,
+                  momentum_x(scene), box.P[0] / BOX_MASS);
+    assert_int_equal(watch.pushed_asleep, 0);
+    assert_false(body_asleep(scene, 0));
+    assert_true(fabs(momentum_x(scene) - P0) <= 1e-9 * BALL_MASS * v);
+    assert_true(box.P[0] / BOX_MASS > 0.1 * v);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
 }
 
 /* RK4 at the scene's default step h, the ball fast enough to close 2.5 mm (2.5 margins) in a
@@ -345,6 +386,7 @@ int main(int argc, char **argv)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_a_ball_wakes_a_sleeping_box_between_outputs_under_cvode_adams),
         cmocka_unit_test(test_a_ball_wakes_a_sleeping_box_between_outputs_under_cvode_bdf),
+        cmocka_unit_test(test_one_cvode_step_at_a_time_wakes_the_box_before_the_touch),
         cmocka_unit_test(test_a_fast_ball_wakes_a_sleeping_box_a_step_ahead_under_rk4),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

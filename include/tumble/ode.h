@@ -346,7 +346,9 @@ typedef struct tb_integrator_events {
                            changing sign at one time count once) */
     double last_time;   /* time of the last one, in the system's time unit; NAN before the first */
     long last_root;     /* the lowest index of the functions that changed sign at last_time, -1
-                           before the first (for a scene: the body whose gap did) */
+                           before the first (for a scene: the body whose gap did; n + i, n the
+                           body count: body i came within 0.5 mm of a body of the other sleep
+                           state, awake or asleep, and the island woke there) */
     int last_direction; /* +1: that function rose through zero (a scene: separation), -1: it
                            fell (a scene: contact onset); 0 before the first */
 } tb_integrator_events;
