@@ -7,9 +7,9 @@
  * links the pairs that could come within the margin during the next step, and under CVODE the
  * pairs of an awake and an asleep body are root functions (TB__WAKE_DISTANCE) at whose stop
  * the islands are decided and CVODE restarts (tb__scene_sleep_at_event, effect_contact_events.c).
- * Box2D's islands work the same way
- * (b2_timeToSleep 0.5 s) at a game's 5 cm/s; tumble's speed is 500 times smaller, so a body
- * asleep for a time T is at most TB_SLEEP_SPEED T from where it would be (docs/effects.md). */
+ * Box2D's islands work the same way (b2_timeToSleep 0.5 s) at a game's 5 cm/s; tumble's speed
+ * is 500 times smaller, so a body asleep for a time T is at most TB_SLEEP_SPEED T from where it
+ * would be (docs/effects.md). */
 #include "scene/scene_internal.h"
 
 #include "core/detail.h"
