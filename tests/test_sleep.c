@@ -274,10 +274,10 @@ static void test_a_sliding_ball_wakes_a_box_and_keeps_momentum_under_rk4(void **
     check_ball_wakes_box(TB_METHOD_RK4, 0.01);
 }
 
-/* Under CVODE the decisions happen at outputs (here every millisecond, so that the pair of
- * the ball and the box, found 1 mm before they touch at 0.5 m/s, is seen at an output before
- * they touch), where CVODE restarts; between outputs its steps add exactly 0 to the asleep
- * bodies' states as the fixed steps do. */
+/* Under CVODE the decisions happen at outputs, where CVODE restarts, and at the event 0.5 mm
+ * before an awake body touches an asleep one (here the outputs are every millisecond; at 24 fps
+ * see test_sleep_wake.c); between them its steps add exactly 0 to the asleep bodies' states as
+ * the fixed steps do. */
 static void test_sleeping_under_cvode_adams(void **state)
 {
     (void)state;

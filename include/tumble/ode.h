@@ -106,6 +106,13 @@ typedef struct tb_ode_system {
      * tb_integrator_def.max_step (the tighter wins). The scene uses it to step long in free
      * flight and short near a contact. NULL (default): none. */
     double (*step_limit)(double t, const double *y, const double *dydt, void *ctx);
+    /* Optional, with roots: called where a call stops at an event (CVODE's root, inside an
+     * advance as well as at its end), with the state there, which it must not change. The
+     * system may change its right-hand side there (a scene wakes the sleeping bodies an awake
+     * one came near); when rhs_generation then moved, the integrator restarts from (t, y) at
+     * once, so that the new right-hand side holds from the event on (an event past the output
+     * time: from the output). NULL (default): none. */
+    void (*at_event)(double t, const double *y, void *ctx);
 } tb_ode_system;
 
 /* How to integrate, chosen as data. */
@@ -339,7 +346,9 @@ typedef struct tb_integrator_events {
                            changing sign at one time count once) */
     double last_time;   /* time of the last one, in the system's time unit; NAN before the first */
     long last_root;     /* the lowest index of the functions that changed sign at last_time, -1
-                           before the first (for a scene: the body whose gap did) */
+                           before the first (for a scene: the body whose gap did; n + i, n the
+                           body count: body i came within 0.5 mm of a body of the other sleep
+                           state, awake or asleep, and the island woke there) */
     int last_direction; /* +1: that function rose through zero (a scene: separation), -1: it
                            fell (a scene: contact onset); 0 before the first */
 } tb_integrator_events;

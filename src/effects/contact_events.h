@@ -5,6 +5,10 @@
 
 #include "scene/scene_internal.h"
 
+/* Pairs are found this far apart (m), so points appear before they touch, at zero force, and
+ * pairs this close link their bodies' islands (sleep.c). */
+#define TB__CONTACT_MARGIN 1e-3
+
 /* Makes contact->lookahead for contact->bodies (pairs within TB__EVENT_LOOKAHEAD); the detail
  * names what failed. release frees it (NULL is fine). */
 tb_status tb__contact_events_create(tb_scene *scene, tb__contact_params *contact);
@@ -13,6 +17,11 @@ void tb__contact_events_release(tb__contact_params *contact);
 /* tb__effect_ops.event_gaps, adaptive_step_limit and tunnel_step of contact between bodies. */
 void tb__contact_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
                             double *gap);
+/* tb__effect_ops.wake_gaps and wake_links of contact between bodies (sleeping islands). */
+void tb__contact_wake_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
+                           double *wake);
+void tb__contact_wake_links(const tb__effect *effect, const tb_scene *scene, const double *y,
+                            double dt);
 double tb__contact_step_limit(const tb__effect *effect, const tb_scene *scene, const double *y,
                               const double *dydt);
 double tb__contact_tunnel_step(const tb__effect *effect, const tb_scene *scene, const double *y,

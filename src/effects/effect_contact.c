@@ -20,8 +20,6 @@
 #include <string.h>
 
 #define TB__CONTACT_COOKIE 0xc0c7
-/* Pairs are found this far apart (m), so points appear before they touch, at zero force. */
-#define TB__CONTACT_MARGIN 1e-3
 /* Pairs handled per batch of the pass (a stack buffer). */
 #define TB__CONTACT_BATCH 16
 /* Friction slots per body of the effect when the def leaves friction_points at 0. */
@@ -309,7 +307,9 @@ static const tb__effect_ops contact_ops = {
     .rate = contact_rate,
     .release = release_contact,
     .check_start = tb__contact_check_start,
-    .event_gaps = tb__contact_event_gaps,          /* effect_contact_events.c */
+    .event_gaps = tb__contact_event_gaps, /* effect_contact_events.c */
+    .wake_gaps = tb__contact_wake_gaps,
+    .wake_links = tb__contact_wake_links,
     .adaptive_step_limit = tb__contact_step_limit, /* at least half the shortest push */
     .tunnel_step = tb__contact_tunnel_step,
     .check_impacts = tb__contact_check_impacts,

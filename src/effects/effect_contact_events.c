@@ -78,6 +78,62 @@ void tb__contact_event_gaps(const tb__effect *effect, const tb_scene *scene, con
     }
 }
 
+/* Whether one body of the pair is asleep and the other awake: the asleep one would meet the
+ * other as a fixed body, so the pair must not touch before its island wakes. */
+static bool mixed(const tb_scene *scene, const tb__pair_contact *pair)
+{
+    return tb__body_asleep(scene, pair->body_a) != tb__body_asleep(scene, pair->body_b);
+}
+
+static bool any_asleep(const tb_scene *scene)
+{
+    return scene->sleep != NULL && scene->sleep->asleep_count > 0;
+}
+
+void tb__contact_wake_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
+                           double *wake)
+{
+    if (!any_asleep(scene)) {
+        return;
+    }
+    tb__contact_pairs *pairs = effect->params.contact.lookahead;
+    tb__pair_contact batch[TB__EVENT_BATCH];
+    tb__contact_pairs_begin(pairs, scene, y);
+    size_t count;
+    while ((count = tb__contact_pairs_next(pairs, scene, y, batch, TB__EVENT_BATCH)) > 0) {
+        for (size_t k = 0; k < count; ++k) {
+            if (mixed(scene, &batch[k])) {
+                const double g = pair_gap(&batch[k]) - TB__WAKE_DISTANCE;
+                wake[batch[k].body_a] = fmin(wake[batch[k].body_a], g);
+                wake[batch[k].body_b] = fmin(wake[batch[k].body_b], g);
+            }
+        }
+    }
+}
+
+static double motion_speed(const tb_scene *scene, const double *y, size_t id);
+
+void tb__contact_wake_links(const tb__effect *effect, const tb_scene *scene, const double *y,
+                            double dt)
+{
+    tb__contact_pairs *pairs = effect->params.contact.lookahead;
+    tb__pair_contact batch[TB__EVENT_BATCH];
+    tb__contact_pairs_begin(pairs, scene, y);
+    size_t count;
+    while ((count = tb__contact_pairs_next(pairs, scene, y, batch, TB__EVENT_BATCH)) > 0) {
+        for (size_t k = 0; k < count; ++k) {
+            const tb__pair_contact *pair = &batch[k];
+            /* a step's stages reach dt ahead; twice the pair's speed bound leaves room for the
+             * speeds' change over the step (the margin for the rest) */
+            const double closing =
+                motion_speed(scene, y, pair->body_a) + motion_speed(scene, y, pair->body_b);
+            if (pair_gap(pair) < TB__CONTACT_MARGIN + 2.0 * closing * dt) {
+                tb__scene_sleep_link(scene, pair->body_a, pair->body_b);
+            }
+        }
+    }
+}
+
 /* How far body id's shape reaches from its centre of mass at y (m). */
 static double reach(const tb_scene *scene, const double *y, size_t id)
 {
@@ -114,6 +170,11 @@ static bound motion_bound(const tb_scene *scene, const double *y, const double *
                            (tb__v3_norm(d + TB_STATE_L) * softest + spin * spin) * r;
     }
     return out;
+}
+
+static double motion_speed(const tb_scene *scene, const double *y, size_t id)
+{
+    return motion_bound(scene, y, NULL, id).speed;
 }
 
 /* The longest time in which bodies closing at speed s with acceleration a (bounds) cover
@@ -164,7 +225,10 @@ static double pair_limit(const tb__contact_params *contact, const tb_scene *scen
 {
     const bound a = motion_bound(scene, y, dydt, pair->body_a);
     const bound b = motion_bound(scene, y, dydt, pair->body_b);
-    const double speed = a.speed + b.speed, acceleration = a.acceleration + b.acceleration;
+    /* before the first step (no dydt) each body is given the law's gravity */
+    const double speed = a.speed + b.speed,
+                 acceleration = a.acceleration + b.acceleration +
+                                (dydt == NULL ? 2.0 * contact->gravity : 0.0);
     const double thinner =
         fmin(body_half_thickness(scene, pair->body_a), body_half_thickness(scene, pair->body_b));
     floor = fmin(floor, travel_time(speed, acceleration, thinner));
@@ -183,21 +247,34 @@ double tb__contact_step_limit(const tb__effect *effect, const tb_scene *scene, c
      * the speeds alone) */
     const bound worst = fastest(contact, scene, y, dydt, &thinnest);
     floor = fmin(floor, travel_time(2.0 * worst.speed, 2.0 * worst.acceleration, thinnest));
-    if (dydt == NULL) {
+    if (dydt == NULL && !any_asleep(scene)) {
         return floor;
     }
-    double limit = travel_time(2.0 * worst.speed, 2.0 * worst.acceleration,
-                               TB__GAP_SAFETY * TB__EVENT_LOOKAHEAD);
+    /* A pair of an awake and an asleep body gets no floor: no step closes more than half its
+     * gap, so it never touches before its wake gap (TB__WAKE_DISTANCE, tb__contact_wake_gaps)
+     * stops CVODE and the island wakes; pairs not found are farther than the look-ahead. */
+    const double start = dydt == NULL ? 2.0 * contact->gravity : 0.0;
+    double limit = dydt != NULL ? travel_time(2.0 * worst.speed, 2.0 * worst.acceleration,
+                                              TB__GAP_SAFETY * TB__EVENT_LOOKAHEAD)
+                                : INFINITY;
+    double waking = any_asleep(scene)
+                        ? travel_time(2.0 * worst.speed, 2.0 * worst.acceleration + start,
+                                      TB__GAP_SAFETY * TB__EVENT_LOOKAHEAD)
+                        : INFINITY;
     tb__pair_contact batch[TB__EVENT_BATCH];
     tb__contact_pairs_begin(contact->lookahead, scene, y);
     size_t count;
     while ((count = tb__contact_pairs_next(contact->lookahead, scene, y, batch, TB__EVENT_BATCH)) >
            0) {
         for (size_t k = 0; k < count; ++k) {
-            limit = fmin(limit, pair_limit(contact, scene, y, dydt, &batch[k], floor));
+            if (mixed(scene, &batch[k])) {
+                waking = fmin(waking, pair_limit(contact, scene, y, dydt, &batch[k], 0.0));
+            } else if (dydt != NULL) {
+                limit = fmin(limit, pair_limit(contact, scene, y, dydt, &batch[k], floor));
+            }
         }
     }
-    return fmax(limit, floor);
+    return fmin(dydt != NULL ? fmax(limit, floor) : floor, waking);
 }
 
 /* Half the thickness of body id's shape across its thinnest direction (m): what a body must

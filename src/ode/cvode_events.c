@@ -117,6 +117,21 @@ static int limit_next_step(tb_integrator *integrator, sunrealtype tn)
     return CVodeSetStopTime(cvode->mem, stop);
 }
 
+/* The system's at_event at the event CVODE stopped at (y there): whether it changed the
+ * right-hand side. */
+static bool changed_at_event(tb_integrator *integrator, double tau)
+{
+    const tb_ode_system *system = &integrator->system;
+    if (system->at_event == NULL) {
+        return false;
+    }
+    const unsigned long long before =
+        system->rhs_generation != NULL ? system->rhs_generation(system->ctx) : 0;
+    system->at_event(integrator->cvode->t_origin + tau, N_VGetArrayPointer(integrator->cvode->y),
+                     system->ctx);
+    return system->rhs_generation != NULL && system->rhs_generation(system->ctx) != before;
+}
+
 int tb__cvode_march(tb_integrator *integrator, double tau_out, int mode, double horizon,
                     sunrealtype *tau_reached)
 {
@@ -145,6 +160,12 @@ int tb__cvode_march(tb_integrator *integrator, double tau_out, int mode, double 
         flag = CVode(cvode->mem, horizon, cvode->y, tau_reached, CV_ONE_STEP);
         if (flag == CV_ROOT_RETURN) {
             note_event(integrator, *tau_reached);
+            /* an event past tau_out: the output is interpolated before it, and the changed
+             * right-hand side restarts the next call from there */
+            if (changed_at_event(integrator, *tau_reached) &&
+                (mode == CV_ONE_STEP || *tau_reached < tau_out)) {
+                return TB__CV_EVENT_RESTART;
+            }
         }
         if (flag < 0 || mode == CV_ONE_STEP) {
             return flag;

@@ -560,17 +560,25 @@ static tb_status run(tb_integrator *integrator, double t_out, int mode)
     cvode->derivative_status = 0;
     cvode->non_finite_index = integrator->system.n;
     cvode->message[0] = '\0';
-    /* CVODE's times are tau = t - t_origin */
-    const double tau_now = integrator->t - cvode->t_origin, tau_out = t_out - cvode->t_origin;
-    const double horizon = tau_now + TB__FIRST_STEP_HORIZON;
-    sunrealtype tau_reached = tau_now;
-    const int flag = tb__cvode_marches(integrator)
-                         ? tb__cvode_march(integrator, tau_out, mode, horizon, &tau_reached)
-                         : step_freely(cvode, tau_out, mode, horizon, &tau_reached);
-    if (flag < 0) {
-        return fail(integrator, flag, tau_reached, t_out);
+    for (;;) { /* CVODE's times are tau = t - t_origin */
+        const double tau_now = integrator->t - cvode->t_origin, tau_out = t_out - cvode->t_origin;
+        const double horizon = tau_now + TB__FIRST_STEP_HORIZON;
+        sunrealtype tau_reached = tau_now;
+        const int flag = tb__cvode_marches(integrator)
+                             ? tb__cvode_march(integrator, tau_out, mode, horizon, &tau_reached)
+                             : step_freely(cvode, tau_out, mode, horizon, &tau_reached);
+        /* the right-hand side changed at an event on the way: restart there and go on (one
+         * step: the next call restarts) */
+        const bool go_on = flag == TB__CV_EVENT_RESTART && mode == CV_NORMAL;
+        status = flag < 0 ? fail(integrator, flag, tau_reached, t_out)
+                 : go_on  ? restart(integrator, cvode->t_origin + tau_reached)
+                          : hand_out(integrator,
+                                    mode == CV_NORMAL ? t_out : cvode->t_origin + tau_reached);
+        cvode->stale = cvode->stale || (flag == TB__CV_EVENT_RESTART && !go_on);
+        if (!go_on || status != TB_STATUS_OK) {
+            return status;
+        }
     }
-    return hand_out(integrator, mode == CV_NORMAL ? t_out : cvode->t_origin + tau_reached);
 }
 
 static tb_status cvode_advance(tb_integrator *integrator, double t_target)

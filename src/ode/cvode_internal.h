@@ -69,7 +69,11 @@ int tb__cvode_block_solve(sunrealtype t, N_Vector y, N_Vector fy, N_Vector r, N_
  * and makes what the step limit needs, at creation; events_free frees it. marches: the system
  * has roots or a step limit, so run() steps with tb__cvode_march, one CVODE step at a time, each
  * within the limit, counting events; to tau_out (CV_NORMAL: y then interpolated there) or for
- * one step or event (CV_ONE_STEP). Returns CVODE's flag; *tau_reached as CVode's tret. */
+ * one step or event (CV_ONE_STEP). Returns CVODE's flag; *tau_reached as CVode's tret; or
+ * TB__CV_EVENT_RESTART: it stopped at an event at *tau_reached (y there) before tau_out (or in
+ * CV_ONE_STEP), where the system's at_event changed its right-hand side, so CVODE must restart
+ * from there. */
+#define TB__CV_EVENT_RESTART 1000
 tb_status tb__cvode_events_init(tb_integrator *integrator, tb_error *error);
 void tb__cvode_events_free(tb__cvode *cvode);
 bool tb__cvode_marches(const tb_integrator *integrator);

@@ -47,6 +47,27 @@ int tb__scene_event_gaps(double t, const double *y, double *gap, void *ctx)
     return 0;
 }
 
+int tb__scene_event_and_wake_gaps(double t, const double *y, double *g, void *ctx)
+{
+    const tb_scene *scene = ctx;
+    double *wake = g + scene->body_count;
+    for (size_t i = 0; i < scene->body_count; ++i) {
+        wake[i] = TB__EVENT_LOOKAHEAD;
+    }
+    /* nothing asleep: no pair of an awake and an asleep body, every wake gap the look-ahead */
+    const bool any_asleep = scene->sleep != NULL && scene->sleep->asleep_count > 0;
+    for (size_t k = 0; k < scene->effect_count && any_asleep; ++k) {
+        const tb__effect *effect = &scene->effects[k];
+        if (effect->ops->wake_gaps != NULL) {
+            effect->ops->wake_gaps(effect, scene, y, wake);
+        }
+    }
+    for (size_t i = 0; i < scene->body_count; ++i) { /* as the gaps: no plateau at 0 */
+        wake[i] = wake[i] == 0.0 ? TB__GAP_FOR_ZERO : wake[i];
+    }
+    return tb__scene_event_gaps(t, y, g, ctx);
+}
+
 double tb__scene_step_limit(double t, const double *y, const double *dydt, void *ctx)
 {
     (void)t;

@@ -88,6 +88,18 @@ typedef struct tb__effect_ops {
      * adaptive step ends where a body's contact begins or ends. NULL: no events. */
     void (*event_gaps)(const tb__effect *effect, const tb_scene *scene, const double *y,
                        double *gap);
+    /* Waking under adaptive methods (sleep.c): lowers wake[i] (filled with
+     * TB__EVENT_LOOKAHEAD) to the distance beyond TB__WAKE_DISTANCE of the nearest pair the
+     * effect finds between body i and a body of the other sleep state (one asleep, one
+     * awake), continuous in y while the flags stay. The scene's second set of root functions,
+     * so that CVODE stops before such a pair can touch and wakes the island there. NULL: the
+     * effect brings no body to a sleeping one (but through sleep_partner). */
+    void (*wake_gaps)(const tb__effect *effect, const tb_scene *scene, const double *y,
+                      double *wake);
+    /* Links (tb__scene_sleep_link) every pair of its bodies that could come within its margin
+     * in a step of dt from y (dt 0: within the margin now), so that a fixed step never starts
+     * with a sleeping body that it would bring into contact. NULL: none. */
+    void (*wake_links)(const tb__effect *effect, const tb_scene *scene, const double *y, double dt);
     /* The longest adaptive step from y (with dydt its derivative there, NULL before the first
      * step) that cannot step over one of the effect's pushes whole (s, INFINITY for none): a
      * collision between bodies of finite thickness is a push with nothing before or after it,
@@ -122,6 +134,11 @@ typedef struct tb__effect_ops {
 /* The gap (m) the event functions start from: a body farther than this from everything it can
  * touch has this gap, and the adaptive step limit sees the pairs closer than it. */
 #define TB__EVENT_LOOKAHEAD 0.05
+
+/* m: a pair of an awake and an asleep body this close wakes the asleep one's island at an
+ * adaptive method's event stop (half the contact's 1 mm margin, so that the pair the stop
+ * finds is surely within the margin that links it). */
+#define TB__WAKE_DISTANCE 5e-4
 
 /* Each kind's parameters, typed: the effect's own file reads them, nobody else. Points fixed in
  * a body are offsets from its centre of mass in its principal frame (m). */
@@ -320,8 +337,10 @@ void tb__scene_sleep_free(tb_scene *scene);
 /* The boundary: begin resets the islands, the effects' post_step ops link the pairs they find
  * (tb__scene_sleep_link, through the const scene like the friction map), end decides from y
  * at time t. A fixed-step integrator made by tb_scene_integrator_create applies the decision
- * at once; otherwise (CVODE, whose history the flags would change under it) it waits for the
- * next acquire, where the integrator's rhs_generation check restarts it. */
+ * at once (having linked the pairs that could close the margin in its step); otherwise (CVODE,
+ * whose history the flags would change under it) it waits for the next acquire, where the
+ * integrator's rhs_generation check restarts it, or for an event stop while a body sleeps
+ * (tb__scene_sleep_at_event). */
 void tb__scene_sleep_begin(const tb_scene *scene);
 void tb__scene_sleep_link(const tb_scene *scene, size_t a, size_t b);
 void tb__scene_sleep_end(tb_scene *scene, double t, const double *y);
@@ -329,6 +348,11 @@ void tb__scene_sleep_apply_pending(tb_scene *scene);
 /* Wakes body id's island (a user change of its state), or every body. */
 void tb__scene_wake_body(tb_scene *scene, size_t id);
 void tb__scene_wake_all(tb_scene *scene);
+/* The adaptive methods' event stop (tb_ode_system.at_event, ctx the scene): while a body
+ * sleeps, the islands are decided from y at t (pairs within the margin, tb__effect_ops
+ * wake_links) and the decision applied at once, so that the integrator restarts there with
+ * an island woken before the pair that stopped it touches. */
+void tb__scene_sleep_at_event(double t, const double *y, void *ctx);
 /* dydt of asleep bodies set to 0. */
 void tb__scene_sleep_zero(const tb_scene *scene, double *dydt);
 /* Counts changes of the asleep set, for the scene's rhs_generation. */
@@ -462,6 +486,9 @@ tb_status tb__scene_check_step(const tb_scene *scene, const double *y, tb_method
  * what sets it written into which (TB_DETAIL_SIZE bytes). */
 bool tb__scene_has_events(const tb_scene *scene);
 int tb__scene_event_gaps(double t, const double *y, double *gap, void *ctx);
+/* The same gaps in g[0 .. n), then each body's wake gap (tb__effect_ops.wake_gaps) in
+ * g[n .. 2n): the root functions of a scene whose bodies can sleep. */
+int tb__scene_event_and_wake_gaps(double t, const double *y, double *g, void *ctx);
 double tb__scene_step_limit(double t, const double *y, const double *dydt, void *ctx);
 double tb__scene_tunnel_step(const tb_scene *scene, const double *y, char *which);
 /* Every effect's check_impacts at y; the detail (TB_DETAIL_SIZE bytes) names the effect. */

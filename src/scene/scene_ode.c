@@ -230,6 +230,14 @@ tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
         out_system->roots = tb__scene_event_gaps;
         out_system->step_limit = tb__scene_step_limit;
     }
+    /* Bodies that can sleep: a second gap per body, to the nearest body of the other sleep
+     * state, so that CVODE stops before an awake body touches an asleep one, and wakes it
+     * there (sleep.c). */
+    if (tb__scene_has_events(scene) && scene->sleep != NULL) {
+        out_system->root_count = 2 * scene->body_count;
+        out_system->roots = tb__scene_event_and_wake_gaps;
+        out_system->at_event = tb__scene_sleep_at_event;
+    }
     /* Bodies that do not interact are the system's blocks. */
     if (tb__scene_separable(scene)) {
         out_system->block_size = TB_STATE_SIZE;

@@ -3,9 +3,13 @@
  * within its margin, a spring between two bodies) and the islands of asleep bodies are joined
  * by union-find; an island all of whose bodies have been slower than TB_SLEEP_SPEED for
  * TB_SLEEP_TIME falls asleep, and an island holding an asleep body and a moving one (or an
- * asleep body whose state was changed from outside) wakes. Box2D's islands work the same way
- * (b2_timeToSleep 0.5 s) at a game's 5 cm/s; tumble's speed is 500 times smaller, so a body
- * asleep for a time T is at most TB_SLEEP_SPEED T from where it would be (docs/effects.md). */
+ * asleep body whose state was changed from outside) wakes. Waking is never late: a fixed step
+ * links the pairs that could come within the margin during the next step, and under CVODE the
+ * pairs of an awake and an asleep body are root functions (TB__WAKE_DISTANCE) at whose stop
+ * the islands are decided and CVODE restarts (tb__scene_sleep_at_event, effect_contact_events.c).
+ * Box2D's islands work the same way (b2_timeToSleep 0.5 s) at a game's 5 cm/s; tumble's speed
+ * is 500 times smaller, so a body asleep for a time T is at most TB_SLEEP_SPEED T from where it
+ * would be (docs/effects.md). */
 #include "scene/scene_internal.h"
 
 #include "core/detail.h"
@@ -180,11 +184,28 @@ static void apply(tb_scene *scene, const double *y)
     sleep->pending = false;
 }
 
+/* Links the pairs the effects find that could come within their margin in a step of dt. */
+static void link_near(const tb_scene *scene, const double *y, double dt)
+{
+    for (size_t e = 0; e < scene->effect_count; ++e) {
+        const tb__effect *effect = &scene->effects[e];
+        if (effect->ops->wake_links != NULL) {
+            effect->ops->wake_links(effect, scene, y, dt);
+        }
+    }
+}
+
 void tb__scene_sleep_end(tb_scene *scene, double t, const double *y)
 {
     tb__sleep *sleep = scene->sleep;
     if (sleep == NULL || sleep->capacity != scene->body_count) {
         return;
+    }
+    /* A fixed step of h moves a pair apart by more than the margin into contact when it closes
+     * faster than margin / h: such a pair wakes now, before the step whose stages would push
+     * an asleep body (the post_step ops linked only the pairs within the margin). */
+    if (scene->guard_dt > 0.0 && sleep->asleep_count > 0) {
+        link_near(scene, y, scene->guard_dt);
     }
     /* CVODE hands out interpolated outputs behind its last step: time only counts forward */
     const double dt = isfinite(sleep->last_t) && t > sleep->last_t ? t - sleep->last_t : 0.0;
@@ -209,6 +230,19 @@ void tb__scene_sleep_end(tb_scene *scene, double t, const double *y)
     if (scene->guard_dt > 0.0) { /* a fixed step: no history to restart */
         apply(scene, y);
     }
+}
+
+void tb__scene_sleep_at_event(double t, const double *y, void *ctx)
+{
+    tb_scene *scene = ctx;
+    tb__sleep *sleep = scene->sleep;
+    if (sleep == NULL || sleep->capacity != scene->body_count || sleep->asleep_count == 0) {
+        return; /* nothing to wake: falling asleep waits for the next output */
+    }
+    tb__scene_sleep_begin(scene);
+    link_near(scene, y, 0.0);
+    tb__scene_sleep_end(scene, t, y);
+    apply(scene, y); /* the integrator restarts from y when the asleep set changed */
 }
 
 void tb__scene_sleep_apply_pending(tb_scene *scene)

@@ -1,0 +1,393 @@
+/* Waking is exact (src/scene/sleep.c, docs/effects.md "Sleeping islands"): a ball sent at a
+ * sleeping box (or a sleeping stack of two) between two 24 fps outputs wakes it before the two
+ * touch, under every method. Under CVODE the pair of an awake and an asleep body has a root
+ * function (its gap less TB__WAKE_DISTANCE) and steps that close at most half its gap, so CVODE
+ * stops before the touch and restarts with the island awake; a fixed step wakes the island one
+ * step ahead, when the pair could close the margin within the step. The runs are compared with
+ * the same runs without sleeping, and no derivative may ever push a ball into an asleep box. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "tumble/tumble.h"
+
+#include <math.h>
+#include <string.h>
+
+#define EDGE 0.1         /* m */
+#define BOX_MASS 0.5     /* kg */
+#define BALL_RADIUS 0.05 /* m */
+#define BALL_MASS 0.3    /* kg */
+#define FRAME (1.0 / 24.0)
+#define SETTLED 1.0 /* s, 24 frames: the boxes ring out in 0.1 s, then TB_SLEEP_TIME still */
+#define MAX_BOXES 2
+
+static void add_box(tb_scene *scene, const double position[3])
+{
+    const double size[3] = {EDGE, EDGE, EDGE};
+    tb_shape shape = tb_shape_default();
+    shape.type = TB_SHAPE_BOX;
+    shape.size[0] = shape.size[1] = shape.size[2] = EDGE;
+    tb_contact_point corners[8];
+    size_t count = 0;
+    assert_int_equal(tb_contact_points_box(size, corners, 8, &count), TB_STATUS_OK);
+    tb_body_def body = tb_body_def_default();
+    assert_int_equal(tb_mass_from_box(TB_MASS_GIVEN, BOX_MASS, size, &body.mass, NULL),
+                     TB_STATUS_OK);
+    memcpy(body.position, position, sizeof body.position);
+    size_t id = 0;
+    assert_int_equal(tb_scene_add_body(scene, &body, &id), TB_STATUS_OK);
+    assert_int_equal(tb_scene_set_body_shape(scene, id, &shape), TB_STATUS_OK);
+    assert_int_equal(tb_scene_set_contact_points(scene, id, corners, count, 4), TB_STATUS_OK);
+}
+
+/* `boxes` boxes stacked at the origin (bodies 0 ..), and a ball resting on the floor 1 m away
+ * (body `boxes`); a frictionless floor, so that no outside force acts along x. */
+static tb_scene *scene_with(size_t boxes)
+{
+    tb_scene_def def = tb_scene_def_default();
+    tb_scene *scene = NULL;
+    assert_int_equal(tb_scene_create(&def, &scene, NULL), TB_STATUS_OK);
+    for (size_t i = 0; i < boxes; ++i) {
+        add_box(scene, (double[]){0.0, 0.0, EDGE * (0.5 + (double)i)});
+    }
+    tb_body_def ball = tb_body_def_default();
+    assert_int_equal(tb_mass_from_sphere(TB_MASS_GIVEN, BALL_MASS, BALL_RADIUS, &ball.mass, NULL),
+                     TB_STATUS_OK);
+    ball.position[0] = -1.0;
+    ball.position[2] = BALL_RADIUS;
+    tb_shape sphere = tb_shape_default();
+    sphere.type = TB_SHAPE_SPHERE;
+    sphere.radius = BALL_RADIUS;
+    assert_int_equal(tb_scene_add_body(scene, &ball, NULL), TB_STATUS_OK);
+    assert_int_equal(tb_scene_set_body_shape(scene, boxes, &sphere), TB_STATUS_OK);
+    const tb_contact_point bottom = {{0, 0, 0}, BALL_RADIUS};
+    assert_int_equal(tb_scene_set_contact_points(scene, boxes, &bottom, 1, 1), TB_STATUS_OK);
+    assert_int_equal(tb_scene_add_gravity(scene, (double[]){0, 0, -9.81}), TB_STATUS_OK);
+    tb_ground_def ground = tb_ground_def_default();
+    ground.static_friction = ground.kinetic_friction = 0.0;
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+    tb_contact_def contact = tb_contact_def_default();
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    return scene;
+}
+
+/* --- the derivative watched: an asleep box pushed by the ball is the error ------------------ */
+
+static struct watch {
+    tb_ode_derivative derivative; /* the scene's */
+    tb_scene *scene;
+    size_t boxes;
+    long pushed_asleep; /* evaluations at which the ball overlapped an asleep box */
+    long evaluations;
+} watch;
+
+/* Whether the ball overlaps box b at y: the distance from its centre to the box (axis-aligned
+ * to within the micro-radians its rest tilts it) is below its radius. The ball is kept at least
+ * TB__WAKE_DISTANCE / 2 = 0.25 mm from an asleep box, far beyond that tilt's 1e-7 m. */
+static bool overlaps(const double *y, size_t b)
+{
+    const double *ball = y + 13 * watch.boxes, *box = y + 13 * b;
+    double squared = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        const double d = fmax(fabs(ball[k] - box[k]) - 0.5 * EDGE, 0.0);
+        squared += d * d;
+    }
+    return squared < BALL_RADIUS * BALL_RADIUS;
+}
+
+static int watched_derivative(double t, const double *y, double *dydt, void *ctx)
+{
+    const int rc = watch.derivative(t, y, dydt, ctx);
+    watch.evaluations++;
+    for (size_t b = 0; b < watch.boxes; ++b) {
+        bool asleep = false;
+        assert_int_equal(tb_scene_body_asleep(watch.scene, b, &asleep), TB_STATUS_OK);
+        watch.pushed_asleep += asleep && overlaps(y, b);
+    }
+    return rc;
+}
+
+/* A CVODE integrator on the scene from t0 whose derivative is watched (what
+ * tb_scene_integrator_create makes, with the scene's absolute tolerances). */
+static tb_integrator *watched_cvode(tb_scene *scene, size_t boxes, tb_method method, double rtol,
+                                    double t0)
+{
+    tb_ode_system system;
+    assert_int_equal(tb_scene_ode_system(scene, &system), TB_STATUS_OK);
+    watch = (struct watch){system.derivative, scene, boxes, 0, 0};
+    system.derivative = watched_derivative;
+    static double atol[13 * 8 + 4096];
+    assert_true(system.n <= sizeof atol / sizeof atol[0]);
+    assert_int_equal(tb_scene_absolute_tolerances(scene, 1e-2 * rtol, atol), TB_STATUS_OK);
+    tb_integrator_def def = tb_integrator_def_default();
+    assert_int_equal(tb_integrator_def_set_method(&def, method), TB_STATUS_OK);
+    def.rtol = rtol;
+    def.atol_vector = atol;
+    def.max_steps = 10000000;
+    tb_integrator *integrator = NULL;
+    assert_int_equal(
+        tb_integrator_create(&system, &def, t0, tb_scene_states(scene), &integrator, NULL),
+        TB_STATUS_OK);
+    return integrator;
+}
+
+static tb_integrator *scene_integrator(tb_scene *scene, tb_method method)
+{
+    tb_integrator_def def = tb_integrator_def_default();
+    assert_int_equal(tb_integrator_def_set_method(&def, method), TB_STATUS_OK);
+    def.max_steps = 10000000;
+    if (tb_method_is_adaptive(method)) {
+        def.rtol = 1e-6;
+    } else {
+        def.dt = 0.0; /* the scene's default step */
+    }
+    tb_integrator *integrator = NULL;
+    const tb_status status = tb_scene_integrator_create(scene, &def, 0.0, &integrator);
+    if (status != TB_STATUS_OK) {
+        print_message("%s\n", tb_scene_detail(scene));
+    }
+    assert_int_equal(status, TB_STATUS_OK);
+    return integrator;
+}
+
+static void advance_frames(tb_integrator *integrator, double from, int frames)
+{
+    for (int k = 1; k <= frames; ++k) {
+        assert_int_equal(tb_integrator_advance(integrator, from + k * FRAME), TB_STATUS_OK);
+    }
+}
+
+static bool body_asleep(const tb_scene *scene, size_t id)
+{
+    bool asleep = false;
+    assert_int_equal(tb_scene_body_asleep(scene, id, &asleep), TB_STATUS_OK);
+    return asleep;
+}
+
+/* The scene settled for SETTLED under method with sleeping on (every body asleep), then with
+ * sleeping as asked; the ball sent along x at speed v from `gap` before the first box. */
+static tb_scene *settled_and_thrown(size_t boxes, tb_method method, bool sleeping, double v,
+                                    double gap)
+{
+    tb_scene *scene = scene_with(boxes);
+    tb_integrator *integrator = scene_integrator(scene, method);
+    advance_frames(integrator, 0.0, 24);
+    tb_integrator_destroy(integrator);
+    size_t count = 0;
+    assert_int_equal(tb_scene_asleep_count(scene, &count), TB_STATUS_OK);
+    assert_int_equal(count, boxes + 1);
+    assert_int_equal(tb_scene_set_sleeping(scene, sleeping), TB_STATUS_OK);
+    tb_body_state s;
+    assert_int_equal(tb_scene_get_state(scene, boxes, &s), TB_STATUS_OK);
+    s.x[0] = -0.5 * EDGE - BALL_RADIUS - gap;
+    s.P[0] = BALL_MASS * v;
+    assert_int_equal(tb_scene_set_state(scene, boxes, &s), TB_STATUS_OK);
+    for (size_t b = 0; b < boxes; ++b) {
+        assert_true(body_asleep(scene, b) == sleeping);
+    }
+    return scene;
+}
+
+/* Every body's x and v (6 per body) into out; the largest box speed into *box_speed. */
+static void motion_of(const tb_scene *scene, size_t bodies, double *out, double *box_speed)
+{
+    *box_speed = 0.0;
+    for (size_t i = 0; i < bodies; ++i) {
+        tb_body_state s;
+        assert_int_equal(tb_scene_get_state(scene, i, &s), TB_STATUS_OK);
+        const double mass = i + 1 < bodies ? BOX_MASS : BALL_MASS;
+        for (int k = 0; k < 3; ++k) {
+            out[6 * i + k] = s.x[k];
+            out[6 * i + 3 + k] = s.P[k] / mass;
+        }
+        if (i + 1 < bodies) {
+            *box_speed = fmax(*box_speed,
+                              sqrt(s.P[0] * s.P[0] + s.P[1] * s.P[1] + s.P[2] * s.P[2]) / BOX_MASS);
+        }
+    }
+}
+
+static double momentum_x(const tb_scene *scene)
+{
+    double P[3];
+    assert_int_equal(tb_scene_linear_momentum(scene, tb_scene_states_const(scene), P),
+                     TB_STATUS_OK);
+    return P[0];
+}
+
+/* The ball at 0.5 m/s from half a frame's travel away: it touches the first box half-way
+ * between the outputs at SETTLED and SETTLED + FRAME. Six frames later every body's position
+ * and velocity agree with the run without sleeping, from the same states, within
+ *   position: 1e3 rtol m (the two runs take different steps through the hit, each held within
+ *   rtol of the 1 m scale, over some 1e3 steps) plus the distance the boxes would have moved
+ *   awake at their frozen speed until the wake (below 1e-4 m/s, TB_SLEEP_SPEED, measured),
+ *   velocity: 1e3 rtol m/s times the hit's 3500 rad/s / 1e3 (a velocity error is a position
+ *   error times the contact's rate).
+ * The horizontal momentum, on which no outside force acts, is kept through the hit to the
+ * round-off of 1e2 N forces over some 1e4 evaluations (1e-9 of it). */
+static void check_throw(size_t boxes, tb_method method)
+{
+    const double rtol = 1e-8, v = 0.5, gap = 0.5 * v * FRAME;
+    const size_t bodies = boxes + 1;
+    double slept[6 * (MAX_BOXES + 1)], unslept[6 * (MAX_BOXES + 1)], frozen_speed, ignored;
+    double P_before[2], P_after[2];
+    long pushed[2], evaluations[2];
+    for (int run = 0; run < 2; ++run) {
+        const bool sleeping = run == 0;
+        tb_scene *scene = settled_and_thrown(boxes, method, sleeping, v, gap);
+        if (sleeping) {
+            motion_of(scene, bodies, slept, &frozen_speed);
+        }
+        P_before[run] = momentum_x(scene);
+        tb_integrator *integrator = watched_cvode(scene, boxes, method, rtol, SETTLED);
+        advance_frames(integrator, SETTLED, 1);
+        for (size_t b = 0; b < boxes; ++b) { /* woken between the outputs */
+            assert_false(body_asleep(scene, b));
+        }
+        /* by a wake gap's root (functions bodies .. 2 bodies - 1), 0.5 mm before the touch at
+         * SETTLED + FRAME / 2; without sleeping there is none (every body touches the floor,
+         * so no contact gap changes sign) */
+        tb_integrator_events events;
+        assert_int_equal(tb_integrator_get_events(integrator, &events), TB_STATUS_OK);
+        assert_int_equal(events.count, sleeping ? 1 : 0);
+        if (sleeping) {
+            assert_true(events.last_root >= (long)bodies);
+            assert_true(fabs(events.last_time - (SETTLED + 0.5 * FRAME - 5e-4 / v)) < 1e-6);
+        }
+        advance_frames(integrator, SETTLED + FRAME, 5);
+        P_after[run] = momentum_x(scene);
+        motion_of(scene, bodies, sleeping ? slept : unslept, &ignored);
+        pushed[run] = watch.pushed_asleep;
+        evaluations[run] = watch.evaluations;
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+    double dx = 0.0, dv = 0.0;
+    for (size_t i = 0; i < bodies; ++i) {
+        for (int k = 0; k < 3; ++k) {
+            dx = fmax(dx, fabs(slept[6 * i + k] - unslept[6 * i + k]));
+            dv = fmax(dv, fabs(slept[6 * i + 3 + k] - unslept[6 * i + 3 + k]));
+        }
+    }
+    const double x_bound = 1e3 * rtol + frozen_speed * FRAME, v_bound = 3.5e3 * rtol;
+    print_message("%s, %zu box(es): slept and unslept runs differ by %.3g m (bound %.3g), %.3g m/s "
+                  "(bound %.3g); P_x %.17g -> %.17g; %ld of %ld evaluations pushed an asleep box; "
+                  "first box leaves at %.4g m/s\n",
+                  tb_method_name(method), boxes, dx, x_bound, dv, v_bound, P_before[0], P_after[0],
+                  pushed[0], evaluations[0], slept[3]);
+    assert_int_equal(pushed[0], 0);
+    assert_true(frozen_speed < 1e-4); /* TB_SLEEP_SPEED */
+    assert_true(dx <= x_bound);
+    assert_true(dv <= v_bound);
+    for (int run = 0; run < 2; ++run) {
+        assert_true(fabs(P_after[run] - P_before[run]) <= 1e-9 * BALL_MASS * v);
+    }
+    assert_true(slept[3] > 0.1 * v); /* the box was hit and moves */
+}
+
+static void test_a_ball_wakes_a_sleeping_box_between_outputs_under_cvode_adams(void **state)
+{
+    (void)state;
+    check_throw(1, TB_METHOD_CVODE_ADAMS);
+    check_throw(2, TB_METHOD_CVODE_ADAMS);
+}
+
+static void test_a_ball_wakes_a_sleeping_box_between_outputs_under_cvode_bdf(void **state)
+{
+    (void)state;
+    check_throw(1, TB_METHOD_CVODE_BDF);
+    check_throw(2, TB_METHOD_CVODE_BDF);
+}
+
+/* One CVODE step at a time (tb_integrator_step), every step is an output: the steps near the
+ * asleep box close at most half the gap, so one ends within the 1 mm margin before the 0.5 mm
+ * wake event, and the island wakes there. No evaluation pushes the asleep box, the box is awake
+ * before the frame after the throw, and the x momentum is kept as in check_throw. */
+static void test_one_cvode_step_at_a_time_wakes_the_box_before_the_touch(void **state)
+{
+    (void)state;
+    const double v = 0.5, gap = 0.5 * v * FRAME;
+    tb_scene *scene = settled_and_thrown(1, TB_METHOD_CVODE_BDF, true, v, gap);
+    const double P0 = momentum_x(scene);
+    tb_integrator *integrator = watched_cvode(scene, 1, TB_METHOD_CVODE_BDF, 1e-8, SETTLED);
+    tb_integrator_events events;
+    long steps = 0;
+    for (; tb_integrator_time(integrator) < SETTLED + FRAME && steps < 1000000; ++steps) {
+        assert_int_equal(tb_integrator_step(integrator), TB_STATUS_OK);
+    }
+    assert_int_equal(tb_integrator_get_events(integrator, &events), TB_STATUS_OK);
+    tb_body_state box;
+    assert_int_equal(tb_scene_get_state(scene, 0, &box), TB_STATUS_OK);
+    print_message("cvode-bdf one step at a time: %ld steps, %ld events, %ld of %ld evaluations "
+                  "pushed an asleep box; P_x %.17g -> %.17g, box at %.4g m/s\n",
+                  steps, events.count, watch.pushed_asleep, watch.evaluations, P0,
+                  momentum_x(scene), box.P[0] / BOX_MASS);
+    assert_int_equal(watch.pushed_asleep, 0);
+    assert_false(body_asleep(scene, 0));
+    assert_true(fabs(momentum_x(scene) - P0) <= 1e-9 * BALL_MASS * v);
+    assert_true(box.P[0] / BOX_MASS > 0.1 * v);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
+/* RK4 at the scene's default step h, the ball fast enough to close 2.5 mm (2.5 margins) in a
+ * step, sent from 40.6 steps' travel away: at the last boundary before the touch the pair is
+ * 1.5 mm apart, outside the margin, and the next step's stages would reach into the box. The
+ * island wakes a step ahead: while the box is asleep at a step's start the ball's x momentum
+ * comes through the step bit for bit (nothing along x acts on it but the box), and once awake
+ * the hit keeps the total x momentum to round-off. */
+static void test_a_fast_ball_wakes_a_sleeping_box_a_step_ahead_under_rk4(void **state)
+{
+    (void)state;
+    tb_scene *probe = scene_with(1);
+    double h = 0.0;
+    assert_int_equal(tb_scene_default_step(probe, TB_METHOD_RK4, &h), TB_STATUS_OK);
+    tb_scene_destroy(probe);
+    const double v = 2.5e-3 / h, gap = 40.6 * v * h;
+    tb_scene *scene = settled_and_thrown(1, TB_METHOD_RK4, true, v, gap);
+    tb_integrator_def def = tb_integrator_def_default();
+    assert_int_equal(tb_integrator_def_set_method(&def, TB_METHOD_RK4), TB_STATUS_OK);
+    def.dt = h;
+    tb_integrator *integrator = NULL;
+    assert_int_equal(tb_scene_integrator_create(scene, &def, SETTLED, &integrator), TB_STATUS_OK);
+    const double P0 = momentum_x(scene);
+    long asleep_steps = 0, touched_asleep = 0;
+    for (int k = 0; k < 100; ++k) {
+        const bool asleep = body_asleep(scene, 0);
+        tb_body_state before, after;
+        assert_int_equal(tb_scene_get_state(scene, 1, &before), TB_STATUS_OK);
+        assert_int_equal(tb_integrator_step(integrator), TB_STATUS_OK);
+        assert_int_equal(tb_scene_get_state(scene, 1, &after), TB_STATUS_OK);
+        asleep_steps += asleep;
+        touched_asleep += asleep && after.P[0] != before.P[0];
+    }
+    tb_body_state box;
+    assert_int_equal(tb_scene_get_state(scene, 0, &box), TB_STATUS_OK);
+    print_message("rk4 h = %.3g s, ball at %.3g m/s: %ld steps with the box asleep, %ld of them "
+                  "pushed the ball; P_x %.17g -> %.17g, box at %.4g m/s\n",
+                  h, v, asleep_steps, touched_asleep, P0, momentum_x(scene), box.P[0] / BOX_MASS);
+    assert_int_equal(touched_asleep, 0);
+    assert_true(asleep_steps >= 30); /* it slept until the ball came near */
+    assert_true(fabs(momentum_x(scene) - P0) <= 1e-9 * P0);
+    assert_true(box.P[0] / BOX_MASS > 0.1 * v); /* the hit happened */
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc > 1) { /* a pattern of test names to run (cmocka's filter) */
+        cmocka_set_test_filter(argv[1]);
+    }
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_a_ball_wakes_a_sleeping_box_between_outputs_under_cvode_adams),
+        cmocka_unit_test(test_a_ball_wakes_a_sleeping_box_between_outputs_under_cvode_bdf),
+        cmocka_unit_test(test_one_cvode_step_at_a_time_wakes_the_box_before_the_touch),
+        cmocka_unit_test(test_a_fast_ball_wakes_a_sleeping_box_a_step_ahead_under_rk4),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
