@@ -183,7 +183,11 @@ static void test_every_shape_pair_parts_at_e_keeping_momentum(void **state)
     const tb_method method = method_under_test;
     const bool adaptive = tb_method_is_adaptive(method);
     const double momentum_tolerance = method == TB_METHOD_CVODE_BDF ? 1e-6 : 1e-9;
-    const double restitution_tolerance = adaptive ? 0.02 : 0.05;
+    /* Euler is first order: its error in e at its default step is of order h omega, larger
+     * since the dashpot's sizing at the effective mass lengthened that step (5.0 % on two
+     * spheres here, 13 % at e = 0.5 in docs/effects.md); 10 % for it */
+    const double restitution_tolerance =
+        adaptive ? 0.02 : (method == TB_METHOD_EULER ? 0.10 : 0.05);
     int failures = 0;
     for (int a = 0; a < SHAPE_KINDS; ++a) {
         for (int b = a; b < SHAPE_KINDS; ++b) {
