@@ -567,8 +567,7 @@ static tb_status run(tb_integrator *integrator, double t_out, int mode)
         const int flag = tb__cvode_marches(integrator)
                              ? tb__cvode_march(integrator, tau_out, mode, horizon, &tau_reached)
                              : step_freely(cvode, tau_out, mode, horizon, &tau_reached);
-        /* the right-hand side changed at an event on the way: restart there and go on (one
-         * step: the next call restarts) */
+        /* the rhs changed at an event: restart there, go on (one step: the next call does) */
         const bool go_on = flag == TB__CV_EVENT_RESTART && mode == CV_NORMAL;
         status = flag < 0 ? fail(integrator, flag, tau_reached, t_out)
                  : go_on  ? restart(integrator, cvode->t_origin + tau_reached)

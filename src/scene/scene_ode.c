@@ -185,6 +185,24 @@ static void release(void *ctx)
 
 /* --- the ODE system ---------------------------------------------------------------------- */
 
+/* The rooms an integrator's runs need, made before it exists: the sleeping flags of a scene
+ * whose bodies interact, and the copy of the n states it leaves (check_changed_state). */
+static tb_status prepare_rooms(tb_scene *scene, size_t n)
+{
+    if (!tb__scene_separable(scene) && tb__scene_sleep_prepare(scene) != TB_STATUS_OK) {
+        return TB_STATUS_OUT_OF_MEMORY;
+    }
+    if (n > scene->states_left_capacity && has_start_checks(scene)) {
+        double *grown = tb__realloc_array(scene->states_left, n, sizeof(double));
+        if (grown == NULL) {
+            return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "a copy of %zu states", n);
+        }
+        scene->states_left = grown;
+        scene->states_left_capacity = n;
+    }
+    return TB_STATUS_OK;
+}
+
 tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
 {
     if (scene == NULL) {
@@ -210,33 +228,20 @@ tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
         .release = release,
         .rhs_generation = rhs_generation,
     };
-    if (!tb__scene_separable(scene) && tb__scene_sleep_prepare(scene) != TB_STATUS_OK) {
-        return TB_STATUS_OUT_OF_MEMORY;
-    }
-    /* room to remember the state the integrator leaves (check_changed_state) */
-    const size_t n = out_system->n;
-    if (n > scene->states_left_capacity && has_start_checks(scene)) {
-        double *grown = tb__realloc_array(scene->states_left, n, sizeof(double));
-        if (grown == NULL) {
-            return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "a copy of %zu states", n);
-        }
-        scene->states_left = grown;
-        scene->states_left_capacity = n;
+    const tb_status rooms = prepare_rooms(scene, out_system->n);
+    if (rooms != TB_STATUS_OK) {
+        return rooms;
     }
     /* Contact: a gap per body for CVODE's root finding, and steps kept short near contacts
-     * (scene_events.c). */
+     * (scene_events.c); bodies that can sleep add a second gap per body, to the nearest body
+     * of the other sleep state, so that CVODE stops before an awake body touches an asleep
+     * one and wakes it there (sleep.c). */
     if (tb__scene_has_events(scene)) {
-        out_system->root_count = scene->body_count;
-        out_system->roots = tb__scene_event_gaps;
+        const bool wake = scene->sleep != NULL;
+        out_system->root_count = (wake ? 2 : 1) * scene->body_count;
+        out_system->roots = wake ? tb__scene_event_and_wake_gaps : tb__scene_event_gaps;
         out_system->step_limit = tb__scene_step_limit;
-    }
-    /* Bodies that can sleep: a second gap per body, to the nearest body of the other sleep
-     * state, so that CVODE stops before an awake body touches an asleep one, and wakes it
-     * there (sleep.c). */
-    if (tb__scene_has_events(scene) && scene->sleep != NULL) {
-        out_system->root_count = 2 * scene->body_count;
-        out_system->roots = tb__scene_event_and_wake_gaps;
-        out_system->at_event = tb__scene_sleep_at_event;
+        out_system->at_event = wake ? tb__scene_sleep_at_event : NULL;
     }
     /* Bodies that do not interact are the system's blocks. */
     if (tb__scene_separable(scene)) {
