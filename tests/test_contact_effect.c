@@ -9,6 +9,7 @@
 
 #include <cmocka.h>
 
+#include "fixtures.h"
 #include "span.h"
 #include "tumble/tumble.h"
 
@@ -49,22 +50,16 @@ static tb_scene *two_balls(double ma, double va, double mb, double vb, double of
  * default step divided by -dt. */
 static tb_integrator *integrator_for(tb_scene *scene, tb_method method, double dt)
 {
-    tb_integrator_def def = tb_integrator_def_default();
-    assert_int_equal(tb_integrator_def_set_method(&def, method), TB_STATUS_OK);
     if (dt < 0.0 && !tb_method_is_adaptive(method)) {
         double step = 0.0;
         assert_int_equal(tb_scene_default_step(scene, method, &step), TB_STATUS_OK);
         dt = step / -dt;
     }
+    tb_integrator_def def = test_integrator_def(method, dt, 1e-9);
     if (tb_method_is_adaptive(method)) {
-        def.rtol = 1e-9;
         def.atol = 1e-12;
-    } else {
-        def.dt = dt;
     }
-    tb_integrator *integrator = NULL;
-    assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator), TB_STATUS_OK);
-    return integrator;
+    return test_integrator(scene, &def);
 }
 
 /* Advances to t frame by frame (1/60 s): an integrator's max_steps is a budget per advance, and

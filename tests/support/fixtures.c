@@ -1,0 +1,45 @@
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "fixtures.h"
+
+tb_scene *test_empty_scene(void)
+{
+    tb_scene_def def = tb_scene_def_default();
+    tb_scene *scene = NULL;
+    assert_int_equal(tb_scene_create(&def, &scene, NULL), TB_STATUS_OK);
+    return scene;
+}
+
+tb_integrator_def test_integrator_def(tb_method method, double dt, double rtol)
+{
+    tb_integrator_def def = tb_integrator_def_default();
+    assert_int_equal(tb_integrator_def_set_method(&def, method), TB_STATUS_OK);
+    if (tb_method_is_adaptive(method)) {
+        def.rtol = rtol;
+    } else {
+        def.dt = dt;
+    }
+    return def;
+}
+
+tb_integrator *test_integrator(tb_scene *scene, const tb_integrator_def *def)
+{
+    tb_integrator *integrator = NULL;
+    const tb_status status = tb_scene_integrator_create(scene, def, 0.0, &integrator);
+    if (status != TB_STATUS_OK) {
+        print_message("%s\n", tb_scene_detail(scene));
+    }
+    assert_int_equal(status, TB_STATUS_OK);
+    return integrator;
+}
+
+tb_integrator *test_integrator_for(tb_scene *scene, tb_method method, double dt, double rtol)
+{
+    const tb_integrator_def def = test_integrator_def(method, dt, rtol);
+    return test_integrator(scene, &def);
+}
