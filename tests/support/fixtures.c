@@ -6,6 +6,9 @@
 #include <cmocka.h>
 
 #include "fixtures.h"
+#include "math/tb_math.h"
+
+#include <math.h>
 
 tb_scene *test_empty_scene(void)
 {
@@ -13,6 +16,18 @@ tb_scene *test_empty_scene(void)
     tb_scene *scene = NULL;
     assert_int_equal(tb_scene_create(&def, &scene, NULL), TB_STATUS_OK);
     return scene;
+}
+
+tb_mass_properties test_tilted_mass(void)
+{
+    const double q[4] = {cos(0.6), 0.0, sin(0.6), 0.0};
+    double R[9], I[9];
+    tb__q_to_matrix(R, q);
+    tb__m3_rotate_diagonal(I, R, (double[]){2.0, 3.0, 4.0});
+    tb_mass_properties mass;
+    assert_int_equal(tb_mass_from_tensor(5.0, (double[]){0.1, 0.2, 0.3}, I, &mass, NULL),
+                     TB_STATUS_OK);
+    return mass;
 }
 
 tb_integrator_def test_integrator_def(tb_method method, double dt, double rtol)

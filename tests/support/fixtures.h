@@ -8,6 +8,12 @@
 /* A scene with the default definition and nothing in it. */
 tb_scene *test_empty_scene(void);
 
+/* Mass properties of 5 kg with principal moments 2, 3, 4 kg m^2 about axes turned 1.2 rad
+ * about y against the shape frame (the quaternion (cos 0.6, 0, sin 0.6, 0)) and the centre of
+ * mass at (0.1, 0.2, 0.3) m in the shape frame: a full tensor with products of inertia and an
+ * off-origin centre. */
+tb_mass_properties test_tilted_mass(void);
+
 /* The default integrator definition for method, with dt set for a fixed-step method (0: the
  * scene's default step) or rtol for an adaptive one; the other fields keep their defaults. */
 tb_integrator_def test_integrator_def(tb_method method, double dt, double rtol);
