@@ -19,17 +19,7 @@
 /* A ball of mass m and radius r at (x, y0, 0) moving along x at v; its shape a sphere. */
 static void add_ball(tb_scene *scene, double m, double r, double x, double y0, double v)
 {
-    tb_body_def def = tb_body_def_default();
-    assert_int_equal(tb_mass_from_sphere(TB_MASS_GIVEN, m, r, &def.mass, NULL), TB_STATUS_OK);
-    def.position[0] = x;
-    def.position[1] = y0;
-    def.velocity[0] = v;
-    size_t id = 0;
-    assert_int_equal(tb_scene_add_body(scene, &def, &id), TB_STATUS_OK);
-    tb_shape shape = tb_shape_default();
-    shape.type = TB_SHAPE_SPHERE;
-    shape.radius = r;
-    assert_int_equal(tb_scene_set_body_shape(scene, id, &shape), TB_STATUS_OK);
+    test_add_ball(scene, NULL, m, r, (double[]){x, y0, 0.0}, (double[]){v, 0.0, 0.0});
 }
 
 /* Ball 0 (mass ma, 0.1 m) from x = -0.15 at va towards ball 1 (mass mb, 0.1 m) at x = 0.15

@@ -20,17 +20,7 @@
 /* A ball of mass m, radius r, at x on the x axis, named; its shape a sphere of radius r. */
 static size_t add_ball(tb_scene *scene, const char *name, double m, double r, double x)
 {
-    tb_body_def def = tb_body_def_default();
-    assert_int_equal(tb_mass_from_sphere(TB_MASS_GIVEN, m, r, &def.mass, NULL), TB_STATUS_OK);
-    def.name = name;
-    def.position[0] = x;
-    size_t id = 0;
-    assert_int_equal(tb_scene_add_body(scene, &def, &id), TB_STATUS_OK);
-    tb_shape shape = tb_shape_default();
-    shape.type = TB_SHAPE_SPHERE;
-    shape.radius = r;
-    assert_int_equal(tb_scene_set_body_shape(scene, id, &shape), TB_STATUS_OK);
-    return id;
+    return test_add_ball(scene, name, m, r, (double[]){x, 0.0, 0.0}, NULL);
 }
 
 static void assert_detail_has(const char *detail, const char *words)

@@ -9,6 +9,7 @@
 #include "math/tb_math.h"
 
 #include <math.h>
+#include <string.h>
 
 tb_scene *test_empty_scene(void)
 {
@@ -28,6 +29,27 @@ tb_mass_properties test_tilted_mass(void)
     assert_int_equal(tb_mass_from_tensor(5.0, (double[]){0.1, 0.2, 0.3}, I, &mass, NULL),
                      TB_STATUS_OK);
     return mass;
+}
+
+size_t test_add_ball(tb_scene *scene, const char *name, double m, double r, const double x[3],
+                     const double v[3])
+{
+    tb_body_def def = tb_body_def_default();
+    assert_int_equal(tb_mass_from_sphere(TB_MASS_GIVEN, m, r, &def.mass, NULL), TB_STATUS_OK);
+    if (name != NULL) {
+        def.name = name;
+    }
+    memcpy(def.position, x, sizeof def.position);
+    if (v != NULL) {
+        memcpy(def.velocity, v, sizeof def.velocity);
+    }
+    size_t id = 0;
+    assert_int_equal(tb_scene_add_body(scene, &def, &id), TB_STATUS_OK);
+    tb_shape shape = tb_shape_default();
+    shape.type = TB_SHAPE_SPHERE;
+    shape.radius = r;
+    assert_int_equal(tb_scene_set_body_shape(scene, id, &shape), TB_STATUS_OK);
+    return id;
 }
 
 tb_integrator_def test_integrator_def(tb_method method, double dt, double rtol)

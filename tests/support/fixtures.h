@@ -14,6 +14,11 @@ tb_scene *test_empty_scene(void);
  * off-origin centre. */
 tb_mass_properties test_tilted_mass(void);
 
+/* Adds a body of mass m (kg) whose shape is a sphere of radius r (m), centred at x moving at v
+ * (world frame; v NULL: at rest), named name (NULL: unnamed). Returns its id. */
+size_t test_add_ball(tb_scene *scene, const char *name, double m, double r, const double x[3],
+                     const double v[3]);
+
 /* The default integrator definition for method, with dt set for a fixed-step method (0: the
  * scene's default step) or rtol for an adaptive one; the other fields keep their defaults. */
 tb_integrator_def test_integrator_def(tb_method method, double dt, double rtol);
