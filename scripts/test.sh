@@ -39,7 +39,7 @@ build-shared/venv/bin/pip install --quiet build-shared/wheel/tumble-*.whl pytest
 # jsonschema for certain: ctest skips it when python3 lacks the package).
 build-shared/venv/bin/python tests/scene_schema.py --tumble build-shared/cli/tumble
 (cd build-shared && env -u TUMBLE_LIBRARY venv/bin/python -c "import tumble; print(tumble.__version__)")
-# And exactly what the README tells a user, in another fresh venv.
+# And exactly what README.md and docs/python.md tell a user, in another fresh venv.
 rm -rf build-shared/venv-user && python3 -m venv build-shared/venv-user
 build-shared/venv-user/bin/pip install --quiet ./bindings/python
 (cd build-shared && env -u TUMBLE_LIBRARY venv-user/bin/python -c "import tumble; print(tumble.__version__)")

@@ -8,20 +8,13 @@
 
 #include <cmocka.h>
 
+#include "fixtures.h"
 #include "near.h"
 #include "tumble/tumble.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-static tb_scene *empty_scene(void)
-{
-    tb_scene_def def = tb_scene_def_default();
-    tb_scene *scene = NULL;
-    assert_int_equal(tb_scene_create(&def, &scene, NULL), TB_STATUS_OK);
-    return scene;
-}
 
 static size_t add_ball(tb_scene *scene, double mass, double radius, const double x[3],
                        const double v[3])
@@ -40,31 +33,17 @@ static size_t add_ball(tb_scene *scene, double mass, double radius, const double
     return id;
 }
 
-static tb_integrator *integrator_for(tb_scene *scene, tb_method method)
-{
-    tb_integrator_def def = tb_integrator_def_default();
-    assert_int_equal(tb_integrator_def_set_method(&def, method), TB_STATUS_OK);
-    if (tb_method_is_adaptive(method)) {
-        def.rtol = 1e-8;
-    } else {
-        def.dt = 0.0; /* the scene's default step */
-    }
-    tb_integrator *integrator = NULL;
-    assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator), TB_STATUS_OK);
-    return integrator;
-}
-
 /* Balls of 1 kg and 3 kg (radius 0.1 m) 1 cm apart, closing at `speed` along x, no gravity:
  * the separation speed after the contact over the approach speed. */
 static double head_on(double e, double speed, tb_method method)
 {
-    tb_scene *scene = empty_scene();
+    tb_scene *scene = test_empty_scene();
     add_ball(scene, 1.0, 0.1, (double[]){-0.105, 0, 0}, (double[]){0.75 * speed, 0, 0});
     add_ball(scene, 3.0, 0.1, (double[]){0.105, 0, 0}, (double[]){-0.25 * speed, 0, 0});
     tb_contact_def contact = tb_contact_def_default();
     contact.restitution = e;
     assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
-    tb_integrator *integrator = integrator_for(scene, method);
+    tb_integrator *integrator = test_integrator_for(scene, method, 0.0, 1e-8);
     assert_int_equal(tb_integrator_advance(integrator, 0.01 / speed + 0.05), TB_STATUS_OK);
     const double *y = tb_scene_states(scene);
     const double v0 = y[TB_STATE_P] / 1.0, v1 = y[TB_STATE_SIZE + TB_STATE_P] / 3.0;
@@ -108,7 +87,7 @@ static void test_balls_meeting_head_on_part_at_e_times_their_approach_speed(void
 static void test_colliding_bodies_keep_momentum_and_angular_momentum(void **state)
 {
     (void)state;
-    tb_scene *scene = empty_scene();
+    tb_scene *scene = test_empty_scene();
     for (int k = 0; k < 8; ++k) {
         const double a = 0.785398 * k;
         const double x[3] = {0.4 * cos(a), 0.4 * sin(a), 0.05 * (k % 3)};
@@ -127,7 +106,7 @@ static void test_colliding_bodies_keep_momentum_and_angular_momentum(void **stat
     assert_int_equal(tb_scene_angular_momentum(scene, tb_scene_states(scene), origin, L0),
                      TB_STATUS_OK);
     assert_int_equal(tb_scene_kinetic_energy(scene, tb_scene_states(scene), &E0), TB_STATUS_OK);
-    tb_integrator *integrator = integrator_for(scene, TB_METHOD_RK4);
+    tb_integrator *integrator = test_integrator_for(scene, TB_METHOD_RK4, 0.0, 1e-8);
     double worst_torque = 0.0; /* |sum x_i x dP_i + dL_i| / sum |x_i| |dP_i| over the frames */
     int touching = 0;
     /* the bodies' states, then the contact's friction slots */
@@ -213,7 +192,7 @@ static void test_a_scene_files_contact_passes_the_momentum_on(void **state)
 static void test_a_box_resting_on_a_box_sinks_by_the_penetration(void **state)
 {
     (void)state;
-    tb_scene *scene = empty_scene();
+    tb_scene *scene = test_empty_scene();
     const double size[3] = {0.2, 0.2, 0.1};
     tb_contact_point corners[8];
     size_t count;
@@ -235,7 +214,7 @@ static void test_a_box_resting_on_a_box_sinks_by_the_penetration(void **state)
     assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
     tb_contact_def contact = tb_contact_def_default();
     assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
-    tb_integrator *integrator = integrator_for(scene, TB_METHOD_RK4);
+    tb_integrator *integrator = test_integrator_for(scene, TB_METHOD_RK4, 0.0, 1e-8);
     assert_int_equal(tb_integrator_advance(integrator, 1.0), TB_STATUS_OK);
     const double *y = tb_scene_states(scene);
     const double pen = contact.penetration;
@@ -251,7 +230,7 @@ static void test_a_box_resting_on_a_box_sinks_by_the_penetration(void **state)
 static void test_bad_contact_definitions_are_refused_and_change_nothing(void **state)
 {
     (void)state;
-    tb_scene *scene = empty_scene();
+    tb_scene *scene = test_empty_scene();
     add_ball(scene, 1.0, 0.1, (double[]){0, 0, 0}, (double[]){0, 0, 0});
     const size_t missing[1] = {7}, twice[2] = {0, 0};
     for (int k = 0; k < 6; ++k) {

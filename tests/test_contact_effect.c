@@ -9,6 +9,7 @@
 
 #include <cmocka.h>
 
+#include "fixtures.h"
 #include "span.h"
 #include "tumble/tumble.h"
 
@@ -18,17 +19,7 @@
 /* A ball of mass m and radius r at (x, y0, 0) moving along x at v; its shape a sphere. */
 static void add_ball(tb_scene *scene, double m, double r, double x, double y0, double v)
 {
-    tb_body_def def = tb_body_def_default();
-    assert_int_equal(tb_mass_from_sphere(TB_MASS_GIVEN, m, r, &def.mass, NULL), TB_STATUS_OK);
-    def.position[0] = x;
-    def.position[1] = y0;
-    def.velocity[0] = v;
-    size_t id = 0;
-    assert_int_equal(tb_scene_add_body(scene, &def, &id), TB_STATUS_OK);
-    tb_shape shape = tb_shape_default();
-    shape.type = TB_SHAPE_SPHERE;
-    shape.radius = r;
-    assert_int_equal(tb_scene_set_body_shape(scene, id, &shape), TB_STATUS_OK);
+    test_add_ball(scene, NULL, m, r, (double[]){x, y0, 0.0}, (double[]){v, 0.0, 0.0});
 }
 
 /* Ball 0 (mass ma, 0.1 m) from x = -0.15 at va towards ball 1 (mass mb, 0.1 m) at x = 0.15
@@ -49,22 +40,16 @@ static tb_scene *two_balls(double ma, double va, double mb, double vb, double of
  * default step divided by -dt. */
 static tb_integrator *integrator_for(tb_scene *scene, tb_method method, double dt)
 {
-    tb_integrator_def def = tb_integrator_def_default();
-    assert_int_equal(tb_integrator_def_set_method(&def, method), TB_STATUS_OK);
     if (dt < 0.0 && !tb_method_is_adaptive(method)) {
         double step = 0.0;
         assert_int_equal(tb_scene_default_step(scene, method, &step), TB_STATUS_OK);
         dt = step / -dt;
     }
+    tb_integrator_def def = test_integrator_def(method, dt, 1e-9);
     if (tb_method_is_adaptive(method)) {
-        def.rtol = 1e-9;
         def.atol = 1e-12;
-    } else {
-        def.dt = dt;
     }
-    tb_integrator *integrator = NULL;
-    assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator), TB_STATUS_OK);
-    return integrator;
+    return test_integrator(scene, &def);
 }
 
 /* Advances to t frame by frame (1/60 s): an integrator's max_steps is a budget per advance, and

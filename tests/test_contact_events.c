@@ -11,6 +11,7 @@
 
 #include <cmocka.h>
 
+#include "fixtures.h"
 #include "tumble/tumble.h"
 
 #include <math.h>
@@ -112,21 +113,6 @@ static void test_a_step_limit_bounds_every_adaptive_step(void **unused)
 
 /* --- scenes ------------------------------------------------------------------------------ */
 
-static size_t add_sphere(tb_scene *scene, double m, double r, const double x[3], const double v[3])
-{
-    tb_body_def def = tb_body_def_default();
-    assert_int_equal(tb_mass_from_sphere(TB_MASS_GIVEN, m, r, &def.mass, NULL), TB_STATUS_OK);
-    memcpy(def.position, x, sizeof def.position);
-    memcpy(def.velocity, v, sizeof def.velocity);
-    size_t id = 0;
-    assert_int_equal(tb_scene_add_body(scene, &def, &id), TB_STATUS_OK);
-    tb_shape shape = tb_shape_default();
-    shape.type = TB_SHAPE_SPHERE;
-    shape.radius = r;
-    assert_int_equal(tb_scene_set_body_shape(scene, id, &shape), TB_STATUS_OK);
-    return id;
-}
-
 static size_t add_box(tb_scene *scene, double m, const double size[3], const double x[3])
 {
     tb_body_def def = tb_body_def_default();
@@ -181,7 +167,7 @@ static void test_a_dropped_ball_touches_the_box_at_the_free_fall_time(void **unu
     for (int m = 0; m < 2; ++m) {
         tb_scene *scene = new_scene();
         const size_t ball =
-            add_sphere(scene, 0.1, r, (double[]){0, 0, 0.05 + h + r}, (double[]){0, 0, 0});
+            test_add_ball(scene, NULL, 0.1, r, (double[]){0, 0, 0.05 + h + r}, (double[]){0, 0, 0});
         add_box(scene, 10.0, (double[]){0.4, 0.4, 0.1}, (double[]){0, 0, 0});
         assert_int_equal(tb_scene_add_force(scene, ball, (double[]){0, 0, -0.1 * G},
                                             (double[]){0, 0, 0}, TB_FRAME_WORLD),
@@ -218,8 +204,8 @@ static void test_approaching_balls_meet_at_gap_over_speed_after_few_steps(void *
     (void)unused;
     for (int m = 0; m < 2; ++m) {
         tb_scene *scene = new_scene();
-        add_sphere(scene, 1.0, 0.1, (double[]){-0.5, 0, 0}, (double[]){1, 0, 0});
-        add_sphere(scene, 1.0, 0.1, (double[]){0.5, 0, 0}, (double[]){-1, 0, 0});
+        test_add_ball(scene, NULL, 1.0, 0.1, (double[]){-0.5, 0, 0}, (double[]){1, 0, 0});
+        test_add_ball(scene, NULL, 1.0, 0.1, (double[]){0.5, 0, 0}, (double[]){-1, 0, 0});
         const tb_contact_def contact = tb_contact_def_default();
         assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
         tb_integrator *integrator = adaptive_integrator(scene, adaptive[m], 1e-6);
@@ -256,8 +242,8 @@ static void test_the_frame_rate_does_not_change_the_steps_or_events(void **unuse
     const int fps[2] = {24, 240};
     for (int r = 0; r < 2; ++r) {
         tb_scene *scene = new_scene();
-        add_sphere(scene, 1.0, 0.1, (double[]){-0.5, 0, 0}, (double[]){1, 0, 0});
-        add_sphere(scene, 3.0, 0.1, (double[]){0.5, 0.05, 0}, (double[]){-1, 0, 0});
+        test_add_ball(scene, NULL, 1.0, 0.1, (double[]){-0.5, 0, 0}, (double[]){1, 0, 0});
+        test_add_ball(scene, NULL, 3.0, 0.1, (double[]){0.5, 0.05, 0}, (double[]){-1, 0, 0});
         const tb_contact_def contact = tb_contact_def_default();
         assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
         tb_integrator *integrator = adaptive_integrator(scene, TB_METHOD_CVODE_ADAMS, 1e-6);
@@ -283,8 +269,8 @@ static void test_the_frame_rate_does_not_change_the_steps_or_events(void **unuse
 static tb_scene *ball_and_plate(double plate_thickness, const tb_contact_def *contact)
 {
     tb_scene *scene = new_scene();
-    add_sphere(scene, 0.0329, 0.01, (double[]){-0.057 - 0.5 * plate_thickness, 0, 0},
-               (double[]){20, 0, 0});
+    test_add_ball(scene, NULL, 0.0329, 0.01, (double[]){-0.057 - 0.5 * plate_thickness, 0, 0},
+                  (double[]){20, 0, 0});
     add_box(scene, 2700.0 * plate_thickness * 0.04, (double[]){plate_thickness, 0.2, 0.2},
             (double[]){0, 0, 0});
     assert_int_equal(tb_scene_add_contact(scene, contact), TB_STATUS_OK);
@@ -381,8 +367,8 @@ static void test_a_step_that_would_pass_through_the_plate_is_refused(void **unus
 static tb_scene *ball_and_heavy_plate(double speed, double thickness, double penetration)
 {
     tb_scene *scene = new_scene();
-    add_sphere(scene, 0.01, 0.005, (double[]){-0.05 - 0.5 * thickness, 0, 0},
-               (double[]){speed, 0, 0});
+    test_add_ball(scene, NULL, 0.01, 0.005, (double[]){-0.05 - 0.5 * thickness, 0, 0},
+                  (double[]){speed, 0, 0});
     add_box(scene, 100.0, (double[]){thickness, 0.2, 0.2}, (double[]){0, 0, 0});
     tb_contact_def contact = tb_contact_def_default();
     contact.restitution = 0.5;

@@ -9,6 +9,7 @@
 
 #include <cmocka.h>
 
+#include "fixtures.h"
 #include "near.h"
 #include "tumble/tumble.h"
 
@@ -106,13 +107,9 @@ static double downhill(const tb_scene *scene, double degrees)
 /* Fixed steps at the scene's default step, CVODE at its default tolerances. */
 static tb_integrator *integrator_for(tb_scene *scene, tb_method method)
 {
-    tb_integrator_def def = tb_integrator_def_default();
-    assert_int_equal(tb_integrator_def_set_method(&def, method), TB_STATUS_OK);
-    def.dt = tb_method_is_adaptive(method) ? def.dt : 0.0;
+    tb_integrator_def def = test_integrator_def(method, 0.0, tb_integrator_def_default().rtol);
     def.max_steps = 100000000;
-    tb_integrator *integrator = NULL;
-    assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator), TB_STATUS_OK);
-    return integrator;
+    return test_integrator(scene, &def);
 }
 
 static tb_contact_friction_stats friction_stats(const tb_scene *scene)

@@ -9,6 +9,7 @@
 #include <cmocka.h>
 
 #include "bodies.h"
+#include "fixtures.h"
 #include "near.h"
 #include "tumble/tumble.h"
 
@@ -42,20 +43,6 @@ static tb_scene *ball_scene(const tb_ground_def *ground, double gap, double spee
 #define DEFAULT_PENETRATION (tb_ground_def_default().penetration)
 
 /* def.dt 0: the scene's default step (tb_scene_default_step). */
-static tb_integrator *integrator_for(tb_scene *scene, tb_method method)
-{
-    tb_integrator_def def = tb_integrator_def_default();
-    assert_int_equal(tb_integrator_def_set_method(&def, method), TB_STATUS_OK);
-    if (tb_method_is_adaptive(method)) {
-        def.rtol = 1e-8;
-    } else {
-        def.dt = 0.0;
-    }
-    tb_integrator *integrator = NULL;
-    assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator), TB_STATUS_OK);
-    return integrator;
-}
-
 /* Without gravity the ball meets the plane at `speed` and, once the contact has let go, flies
  * off at a constant speed: the restitution it met. */
 static double measured_restitution(double e, double speed, tb_method method, double penetration)
@@ -64,7 +51,7 @@ static double measured_restitution(double e, double speed, tb_method method, dou
     ground.restitution = e;
     ground.penetration = penetration;
     tb_scene *scene = ball_scene(&ground, 0.01, speed, false);
-    tb_integrator *integrator = integrator_for(scene, method);
+    tb_integrator *integrator = test_integrator_for(scene, method, 0.0, 1e-8);
     /* 1 cm to fall, a contact of at most pi / omega (0.03 s at the softest setting), then free */
     assert_int_equal(tb_integrator_advance(integrator, 0.01 / speed + 0.25), TB_STATUS_OK);
     const double *y = tb_scene_states(scene);
@@ -193,7 +180,7 @@ static double deepest_corner(const double q[4])
     assert_int_equal(tb_scene_add_gravity(scene, (double[]){0, 0, -9.81}), TB_STATUS_OK);
     tb_ground_def ground = tb_ground_def_default();
     assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
-    tb_integrator *integrator = integrator_for(scene, TB_METHOD_RK4);
+    tb_integrator *integrator = test_integrator_for(scene, TB_METHOD_RK4, 0.0, 1e-8);
     double deepest = 0.0;
     for (int frame = 1; frame <= 3000; ++frame) { /* 0.6 s: the fall and the first bounce */
         assert_int_equal(tb_integrator_advance(integrator, 0.6 * frame / 3000.0), TB_STATUS_OK);

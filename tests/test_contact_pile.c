@@ -12,6 +12,7 @@
 
 #include <cmocka.h>
 
+#include "fixtures.h"
 #include "tumble/tumble.h"
 
 #include <math.h>
@@ -59,16 +60,9 @@ static tb_scene *column(void)
 static void check_column(tb_method method)
 {
     tb_scene *scene = column();
-    tb_integrator_def def = tb_integrator_def_default();
-    assert_int_equal(tb_integrator_def_set_method(&def, method), TB_STATUS_OK);
+    tb_integrator_def def = test_integrator_def(method, 0.0, 1e-6); /* dt 0: the default step */
     def.max_steps = 1000000;
-    if (tb_method_is_adaptive(method)) {
-        def.rtol = 1e-6;
-    } else {
-        def.dt = 0.0; /* the scene's default step */
-    }
-    tb_integrator *integrator = NULL;
-    assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator), TB_STATUS_OK);
+    tb_integrator *integrator = test_integrator(scene, &def);
     assert_int_equal(tb_integrator_advance(integrator, SETTLE_SECONDS), TB_STATUS_OK);
     double below_top = 0.0; /* the floor */
     for (size_t i = 0; i < HEIGHT; ++i) {

@@ -8,6 +8,7 @@
 
 #include <cmocka.h>
 
+#include "fixtures.h"
 #include "tumble/tumble.h"
 
 #include <math.h>
@@ -16,28 +17,10 @@
 #include <string.h>
 #include <unistd.h>
 
-static tb_scene *empty_scene(void)
-{
-    tb_scene_def def = tb_scene_def_default();
-    tb_scene *scene = NULL;
-    assert_int_equal(tb_scene_create(&def, &scene, NULL), TB_STATUS_OK);
-    return scene;
-}
-
 /* A ball of mass m, radius r, at x on the x axis, named; its shape a sphere of radius r. */
 static size_t add_ball(tb_scene *scene, const char *name, double m, double r, double x)
 {
-    tb_body_def def = tb_body_def_default();
-    assert_int_equal(tb_mass_from_sphere(TB_MASS_GIVEN, m, r, &def.mass, NULL), TB_STATUS_OK);
-    def.name = name;
-    def.position[0] = x;
-    size_t id = 0;
-    assert_int_equal(tb_scene_add_body(scene, &def, &id), TB_STATUS_OK);
-    tb_shape shape = tb_shape_default();
-    shape.type = TB_SHAPE_SPHERE;
-    shape.radius = r;
-    assert_int_equal(tb_scene_set_body_shape(scene, id, &shape), TB_STATUS_OK);
-    return id;
+    return test_add_ball(scene, name, m, r, (double[]){x, 0.0, 0.0}, NULL);
 }
 
 static void assert_detail_has(const char *detail, const char *words)
@@ -57,7 +40,7 @@ static void test_convex_hulls_of_every_allowed_size_keep_their_corners(void **st
     (void)state;
     const double sides[] = {1e-150, 1e-40, 1.0, 1e90, 2e100};
     for (size_t s = 0; s < sizeof sides / sizeof sides[0]; ++s) {
-        tb_scene *scene = empty_scene();
+        tb_scene *scene = test_empty_scene();
         add_ball(scene, "cube", 1.0, 0.1, 0.0);
         double corners[27];
         for (int i = 0; i < 8; ++i) {
@@ -118,7 +101,7 @@ static void assert_unchanged(tb_scene *scene, const snapshot *before)
 static tb_status start_overlapping(double m_a, double m_b, double overlap, tb_method method,
                                    char *detail)
 {
-    tb_scene *scene = empty_scene();
+    tb_scene *scene = test_empty_scene();
     add_ball(scene, "left", m_a, 0.1, -0.1);
     add_ball(scene, "right", m_b, 0.1, 0.1 - overlap);
     tb_contact_def contact = tb_contact_def_default();
@@ -178,7 +161,7 @@ static void test_bodies_starting_deep_inside_each_other_are_refused(void **state
 static void test_a_body_moved_into_another_is_refused_at_the_start(void **state)
 {
     (void)state;
-    tb_scene *scene = empty_scene();
+    tb_scene *scene = test_empty_scene();
     add_ball(scene, "a", 1.0, 0.1, -0.5);
     add_ball(scene, "b", 1.0, 0.1, 0.5);
     add_ball(scene, "ghost", 1.0, 0.1, -0.5); /* inside a, but not in the effect */
@@ -211,7 +194,7 @@ static void test_a_body_moved_into_another_is_refused_at_the_start(void **state)
 static void test_a_pair_in_two_contact_effects_is_refused(void **state)
 {
     (void)state;
-    tb_scene *scene = empty_scene();
+    tb_scene *scene = test_empty_scene();
     const char *names[] = {"die1", "die2", "table", "die3", "die4"};
     for (int k = 0; k < 5; ++k) {
         add_ball(scene, names[k], 1.0, 0.1, (double)k);
@@ -246,7 +229,7 @@ static void test_a_pair_in_two_contact_effects_is_refused(void **state)
 static void test_a_contact_rate_that_vanishes_is_refused(void **state)
 {
     (void)state;
-    tb_scene *scene = empty_scene();
+    tb_scene *scene = test_empty_scene();
     add_ball(scene, "a", 1.0, 0.1, 0.0);
     const double gravity[] = {1e-300, 1e300}, penetration[] = {1e300, 1e-300};
     for (int k = 0; k < 2; ++k) {
@@ -268,7 +251,7 @@ static void test_a_contact_rate_that_vanishes_is_refused(void **state)
 static void test_a_far_hull_point_does_not_hang_the_derivative(void **state)
 {
     (void)state;
-    tb_scene *scene = empty_scene();
+    tb_scene *scene = test_empty_scene();
     add_ball(scene, "ball", 1.0, 0x1.3333333333334p-3, 0.0);
     add_ball(scene, "points", 1.0, 0.1, 1.0);
     const double points[] = {-0x0.0000000000001p-1022,
@@ -336,7 +319,7 @@ static void test_a_far_hull_point_does_not_hang_the_derivative(void **state)
 static void test_no_default_step_is_given_when_no_step_is_stable(void **state)
 {
     (void)state;
-    tb_scene *scene = empty_scene();
+    tb_scene *scene = test_empty_scene();
     for (int b = 0; b < 2; ++b) {
         tb_body_def def = tb_body_def_default();
         const double inertia[9] = {1e-200, 0, 0, 0, 1e-200, 0, 0, 0, 1e-200};

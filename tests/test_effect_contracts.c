@@ -9,18 +9,11 @@
 
 #include <cmocka.h>
 
+#include "fixtures.h"
 #include "tumble/tumble.h"
 
 #include <math.h>
 #include <string.h>
-
-static tb_scene *empty_scene(void)
-{
-    tb_scene_def def = tb_scene_def_default();
-    tb_scene *scene = NULL;
-    assert_int_equal(tb_scene_create(&def, &scene, NULL), TB_STATUS_OK);
-    return scene;
-}
 
 static size_t add_sphere(tb_scene *scene, double mass, double radius, const double position[3])
 {
@@ -70,7 +63,7 @@ static const double inf3[3] = {INFINITY, 0.0, 0.0};
 static void test_user_loads_refuse_bad_arguments_and_add_nothing(void **state)
 {
     (void)state;
-    tb_scene *scene = empty_scene();
+    tb_scene *scene = test_empty_scene();
     add_sphere(scene, 1.0, 0.1, (double[]){0, 0, 0});
     const double *y = tb_scene_states_const(scene);
     double dydt[TB_STATE_SIZE] = {0}, before[TB_STATE_SIZE];
@@ -141,7 +134,7 @@ static int push_missing_body(double t, const tb_scene *scene, const double *y, d
 static void test_a_refused_load_fails_the_derivative(void **state)
 {
     (void)state;
-    tb_scene *scene = empty_scene();
+    tb_scene *scene = test_empty_scene();
     add_sphere(scene, 1.0, 0.1, (double[]){0, 0, 0});
     assert_int_equal(tb_scene_add_user_effect(scene, push_missing_body, NULL), TB_STATUS_OK);
     double dydt[TB_STATE_SIZE];
@@ -246,7 +239,7 @@ static void test_a_null_argument_is_named_not_the_previous_failure(void **state)
         {null_touching_count, "out_count is NULL"},
         {null_touching_out, "out is NULL"},
     };
-    tb_scene *scene = empty_scene();
+    tb_scene *scene = test_empty_scene();
     add_sphere(scene, 1.0, 0.1, (double[]){0, 0, 0});
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         assert_int_equal(tb_scene_add_gravity(scene, nan3), TB_STATUS_NOT_FINITE);
@@ -263,7 +256,7 @@ static void test_a_null_argument_is_named_not_the_previous_failure(void **state)
  * omega (rad/s) under drag alone. */
 static double drag_limit(const tb_drag_def *drag, double v, double omega, tb_scene **out)
 {
-    tb_scene *scene = empty_scene();
+    tb_scene *scene = test_empty_scene();
     const size_t ball = add_sphere(scene, 1.0, 0.1, (double[]){0, 0, 0}); /* I = 0.004 kg m^2 */
     assert_int_equal(
         tb_scene_set_velocity(scene, ball, (double[]){v, 0, 0}, (double[]){0, 0, omega}),
@@ -343,7 +336,7 @@ static void test_the_guard_reads_quadratic_and_angular_drag_at_the_state(void **
 static void test_a_light_body_on_wide_contact_points_sets_a_short_step(void **state)
 {
     (void)state;
-    tb_scene *scene = empty_scene();
+    tb_scene *scene = test_empty_scene();
     const size_t ball = add_sphere(scene, 0.01, 0.01, (double[]){0, 0, 0.01});
     const tb_contact_point points[4] = {{{0.5, 0.5, -0.01}, 0.0},
                                         {{-0.5, 0.5, -0.01}, 0.0},
@@ -384,7 +377,7 @@ static void test_a_body_starting_deep_in_the_ground_is_refused(void **state)
     (void)state;
     const tb_contact_point point = {{0, 0, 0}, 0.1};
     tb_ground_def ground = tb_ground_def_default();
-    tb_scene *scene = empty_scene();
+    tb_scene *scene = test_empty_scene();
     const size_t ball = add_sphere(scene, 1.0, 0.1, (double[]){0, 0, -10.0});
     assert_int_equal(tb_scene_set_contact_points(scene, ball, &point, 1, 1), TB_STATUS_OK);
     size_t size = tb_scene_state_size(scene);
@@ -395,7 +388,7 @@ static void test_a_body_starting_deep_in_the_ground_is_refused(void **state)
     assert_int_equal(tb_scene_state_size(scene), size);
     tb_scene_destroy(scene);
 
-    scene = empty_scene();
+    scene = test_empty_scene();
     add_sphere(scene, 1.0, 0.1, (double[]){0, 0, -10.0});
     assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
     size = tb_scene_state_size(scene);
@@ -406,7 +399,7 @@ static void test_a_body_starting_deep_in_the_ground_is_refused(void **state)
     tb_scene_destroy(scene);
 
     /* moved there after both: the integrator is refused, naming the body */
-    scene = empty_scene();
+    scene = test_empty_scene();
     add_sphere(scene, 1.0, 0.1, (double[]){0, 0, 0.1});
     assert_int_equal(tb_scene_set_contact_points(scene, ball, &point, 1, 1), TB_STATUS_OK);
     assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
@@ -421,7 +414,7 @@ static void test_a_body_starting_deep_in_the_ground_is_refused(void **state)
     assert_non_null(strstr(tb_scene_detail(scene), "body 0 (\"body0\"): starts 10.1 m inside"));
     tb_scene_destroy(scene);
 
-    scene = empty_scene();
+    scene = test_empty_scene();
     add_sphere(scene, 1.0, 0.1, (double[]){0, 0, 0.1 - 5.0 * ground.penetration});
     assert_int_equal(tb_scene_set_contact_points(scene, ball, &point, 1, 1), TB_STATUS_OK);
     assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
@@ -434,7 +427,7 @@ static void test_a_body_starting_deep_in_the_ground_is_refused(void **state)
  * integrator of `method` made on it. */
 static tb_scene *ball_with_integrator(tb_method method, tb_integrator **out)
 {
-    tb_scene *scene = empty_scene();
+    tb_scene *scene = test_empty_scene();
     const size_t ball = add_sphere(scene, 1.0, 0.1, (double[]){0, 0, 0.1});
     const tb_contact_point point = {{0, 0, 0}, 0.1};
     assert_int_equal(tb_scene_set_contact_points(scene, ball, &point, 1, 1), TB_STATUS_OK);
@@ -493,7 +486,7 @@ static void test_a_layout_change_after_the_integrator_is_refused_by_it(void **st
 static void test_contact_points_come_and_go_with_their_states(void **state)
 {
     (void)state;
-    tb_scene *scene = empty_scene();
+    tb_scene *scene = test_empty_scene();
     add_sphere(scene, 1.0, 0.1, (double[]){0, 0, 1});
     assert_int_equal(tb_scene_set_contact_points(scene, 0, NULL, 0, 0), TB_STATUS_OK);
     tb_ground_def ground = tb_ground_def_default();
@@ -513,7 +506,7 @@ static void test_contact_points_come_and_go_with_their_states(void **state)
 static void test_a_spring_whose_rate_overflows_is_refused(void **state)
 {
     (void)state;
-    tb_scene *scene = empty_scene();
+    tb_scene *scene = test_empty_scene();
     add_sphere(scene, 1.0, 0.1, (double[]){0, 0, 0});
     tb_spring_def spring = tb_spring_def_default();
     spring.point_a[1] = 6.3498042097568784e246;
@@ -543,7 +536,7 @@ static void test_the_guard_answers_a_step_for_fast_states_it_accepted(void **sta
     (void)state;
     tb_method_info info;
     assert_int_equal(tb_method_get_info(TB_METHOD_RK4, &info), TB_STATUS_OK);
-    tb_scene *scene = empty_scene();
+    tb_scene *scene = test_empty_scene();
     tb_body_def def = tb_body_def_default();
     assert_int_equal(tb_mass_from_sphere(TB_MASS_GIVEN, 1.0, 0.5, &def.mass, NULL), TB_STATUS_OK);
     def.angular_velocity[2] = 1e300;
@@ -555,7 +548,7 @@ static void test_the_guard_answers_a_step_for_fast_states_it_accepted(void **sta
     assert_true(dt <= spin_limit * (1 + 1e-12) && dt >= 0.999 * spin_limit);
     tb_scene_destroy(scene);
 
-    scene = empty_scene();
+    scene = test_empty_scene();
     def.angular_velocity[2] = 0.0;
     def.velocity[0] = 1e200;
     assert_int_equal(tb_scene_add_body(scene, &def, NULL), TB_STATUS_OK);
@@ -576,7 +569,7 @@ static void test_the_guard_answers_a_step_for_fast_states_it_accepted(void **sta
 static void test_rates_that_are_not_numbers_are_refused(void **state)
 {
     (void)state;
-    tb_scene *scene = empty_scene();
+    tb_scene *scene = test_empty_scene();
     add_sphere(scene, 1.0, 0.1, (double[]){0, 0, 1});
     tb_ground_def ground = tb_ground_def_default();
     ground.presliding = 1e-310;
@@ -589,7 +582,7 @@ static void test_rates_that_are_not_numbers_are_refused(void **state)
     assert_int_equal(tb_scene_effect_count(scene), 0);
     tb_scene_destroy(scene);
 
-    scene = empty_scene();
+    scene = test_empty_scene();
     add_sphere(scene, 1e-100, 1e-30, (double[]){0, 0, 1});
     tb_drag_def drag = tb_drag_def_default();
     drag.linear = 1e300;
@@ -615,7 +608,7 @@ static void test_a_force_added_mid_run_acts_under_every_method(void **state)
     (void)state;
     const tb_method methods[3] = {TB_METHOD_RK4, TB_METHOD_CVODE_ADAMS, TB_METHOD_CVODE_BDF};
     for (int m = 0; m < 3; ++m) {
-        tb_scene *scene = empty_scene();
+        tb_scene *scene = test_empty_scene();
         const size_t body = add_sphere(scene, 2.0, 0.1, (double[]){0, 0, 0});
         tb_integrator *integrator = NULL;
         assert_int_equal(make_integrator(scene, methods[m], 1e-2, &integrator), TB_STATUS_OK);

@@ -9,6 +9,7 @@
 #include <cmocka.h>
 
 #include "bodies.h"
+#include "fixtures.h"
 #include "near.h"
 #include "span.h"
 #include "tumble/tumble.h"
@@ -18,14 +19,6 @@
 #include <string.h>
 
 #define PI 3.14159265358979323846
-
-static tb_scene *empty_scene(void)
-{
-    tb_scene_def def = tb_scene_def_default();
-    tb_scene *scene = NULL;
-    assert_int_equal(tb_scene_create(&def, &scene, NULL), TB_STATUS_OK);
-    return scene;
-}
 
 static size_t add_sphere(tb_scene *scene, double mass, double radius, const double position[3])
 {
@@ -53,7 +46,7 @@ static tb_integrator *rk4(tb_scene *scene, double dt)
 static void test_spring_to_anchor_oscillates_at_sqrt_k_over_m(void **state)
 {
     (void)state;
-    tb_scene *scene = empty_scene();
+    tb_scene *scene = test_empty_scene();
     const size_t ball = add_sphere(scene, 2.0, 0.1, (double[]){1.1, 0, 0});
     tb_spring_def spring = tb_spring_def_default();
     spring.body_a = ball;
@@ -81,7 +74,7 @@ static void test_spring_to_anchor_oscillates_at_sqrt_k_over_m(void **state)
 static void test_two_body_spring_uses_the_reduced_mass_and_decays(void **state)
 {
     (void)state;
-    tb_scene *scene = empty_scene();
+    tb_scene *scene = test_empty_scene();
     const size_t a = add_sphere(scene, 1.0, 0.1, (double[]){0, 0, 0});
     const size_t b = add_sphere(scene, 3.0, 0.1, (double[]){1.5, 0, 0});
     tb_spring_def spring = tb_spring_def_default();
@@ -122,7 +115,7 @@ static void test_drag_gives_the_exact_terminal_velocity_curves(void **state)
     (void)state;
     const double m = 2.0, g = 9.81;
     for (int kind = 0; kind < 3; ++kind) {
-        tb_scene *scene = empty_scene();
+        tb_scene *scene = test_empty_scene();
         const size_t ball = add_sphere(scene, m, 0.5, (double[]){0, 0, 0}); /* I = 0.2 */
         tb_scene_set_velocity(scene, ball, (double[]){0, 0, 0}, (double[]){0, 0, 4.0});
         assert_int_equal(tb_scene_add_gravity(scene, (double[]){0, 0, -g}), TB_STATUS_OK);
@@ -267,7 +260,7 @@ static int pull_to_origin(double t, const tb_scene *scene, const double *y, doub
 static void test_user_effect_acts_like_the_force_it_computes(void **state)
 {
     (void)state;
-    tb_scene *scene = empty_scene();
+    tb_scene *scene = test_empty_scene();
     add_sphere(scene, 0.5, 0.1, (double[]){0.2, 0, 0});
     user_spring s = {50.0, 0, 0}; /* omega = 10 rad/s */
     assert_int_equal(tb_scene_add_user_effect(scene, pull_to_origin, &s), TB_STATUS_OK);
@@ -366,7 +359,7 @@ static void test_bad_effect_definitions_are_refused_and_change_nothing(void **st
         {"NULL user callback", user_null, TB_STATUS_NULL_POINTER, "fn"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
-        tb_scene *scene = empty_scene();
+        tb_scene *scene = test_empty_scene();
         add_sphere(scene, 1.0, 0.1, (double[]){0, 0, 1});
         const size_t size = tb_scene_state_size(scene);
         const tb_status status = cases[i].attempt(scene);

@@ -10,6 +10,7 @@
  * Penetrations are measured from the geometry (separating axes of the two boxes), not from the
  * contact effect's own manifold, so a narrow phase that reported too little depth would not
  * hide an overlap. */
+#include "examples.h"
 #include "tumble/tumble.h"
 
 #include <math.h>
@@ -20,14 +21,7 @@
 #define PI 3.14159265358979323846
 #define MAX_BODIES 32
 
-static int failures;
 static double cut_duration; /* > 0: the run was cut to this many seconds */
-
-static void check(int ok, const char *what, double value, double limit)
-{
-    printf("  %-62s %12.4g  (limit %.3g)  %s\n", what, value, limit, ok ? "ok" : "FAILED");
-    failures += !ok;
-}
 
 static int whole_run(const char *what)
 {
@@ -42,17 +36,10 @@ static int whole_run(const char *what)
  * default step (1/(240 n) s), so the frame callback sees every step. */
 static tb_scene *load(const char *name, tb_run_def *run)
 {
-    char path[512];
-    snprintf(path, sizeof path, "%s/%s.json", TUMBLE_SCENES_DIR, name);
-    tb_scene *scene = NULL;
-    tb_error error;
-    if (tb_scene_load_file(path, &scene, run, &error) != TB_STATUS_OK) {
-        printf("%s\n", error.message);
-        exit(1);
-    }
+    tb_scene *scene = test_example_load(TUMBLE_SCENES_DIR, name, run);
     double dt = run->integrator.dt;
     if (dt == 0.0 && tb_scene_default_step(scene, run->integrator.method, &dt) != TB_STATUS_OK) {
-        printf("%s: %s\n", path, tb_scene_detail(scene));
+        printf("%s/%s.json: %s\n", TUMBLE_SCENES_DIR, name, tb_scene_detail(scene));
         exit(1);
     }
     run->fps = 240.0 * round(1.0 / (240.0 * dt));
@@ -191,12 +178,12 @@ static void depth_measure_is_right(void)
     const double corner_depth = box_depth(&slab, &corner), face_depth = box_depth(&a, &b);
     b.c[0] = 2 * h + 1e-3;
     const double apart = box_depth(&a, &b);
-    check(fabs(corner_depth - 1e-3) < 1e-12, "depth measure: corner 1 mm into a slab, minus 1 mm",
-          corner_depth - 1e-3, 1e-12);
-    check(fabs(face_depth - 1e-3) < 1e-12, "depth measure: faces 1 mm into each other, minus 1 mm",
-          face_depth - 1e-3, 1e-12);
-    check(fabs(apart + 1e-3) < 1e-12, "depth measure: faces 1 mm apart, plus 1 mm", apart + 1e-3,
-          1e-12);
+    test_check(fabs(corner_depth - 1e-3) < 1e-12,
+               "depth measure: corner 1 mm into a slab, minus 1 mm", corner_depth - 1e-3, 1e-12);
+    test_check(fabs(face_depth - 1e-3) < 1e-12,
+               "depth measure: faces 1 mm into each other, minus 1 mm", face_depth - 1e-3, 1e-12);
+    test_check(fabs(apart + 1e-3) < 1e-12, "depth measure: faces 1 mm apart, plus 1 mm",
+               apart + 1e-3, 1e-12);
 }
 
 /* --- A dozen dice on a table --------------------------------------------------------------- */
@@ -282,11 +269,12 @@ static void dice_at_rest(const tb_scene *scene, size_t bodies)
         off_table =
             fmax(off_table, fmax(fabs(local[0]) - table.half[0], fabs(local[1]) - table.half[1]));
     }
-    check(fastest < 1e-3, "fastest die at the end (m/s)", fastest, 1e-3);
-    check(fastest_spin < 0.04, "fastest spin of a die at the end (rad/s)", fastest_spin, 0.04);
-    check(off_top < 2e-3, "largest height of a die's lowest point over the top (m)", off_top, 2e-3);
-    check(off_table < 0.0, "largest distance of a die's centre past the table's edge (m, < 0)",
-          off_table, 0.0);
+    test_check(fastest < 1e-3, "fastest die at the end (m/s)", fastest, 1e-3);
+    test_check(fastest_spin < 0.04, "fastest spin of a die at the end (rad/s)", fastest_spin, 0.04);
+    test_check(off_top < 2e-3, "largest height of a die's lowest point over the top (m)", off_top,
+               2e-3);
+    test_check(off_table < 0.0, "largest distance of a die's centre past the table's edge (m, < 0)",
+               off_table, 0.0);
 }
 
 /* The issue's target: no die deeper than 2 mm into the table or another die at any step, none
@@ -311,13 +299,14 @@ static void dice(void)
             pairs += w.touched[i][j];
         }
     }
-    check(w.deepest_table < 2e-3, "deepest die into the table, any step (m)", w.deepest_table,
-          2e-3);
-    check(w.deepest_die < 2e-3, "deepest die into another die, any step (m)", w.deepest_die, 2e-3);
-    check(w.through == 0, "steps with a die's centre inside the table", (double)w.through, 0);
-    check(w.table_moved < 1e-4, "largest movement of the table (m)", w.table_moved, 1e-4);
+    test_check(w.deepest_table < 2e-3, "deepest die into the table, any step (m)", w.deepest_table,
+               2e-3);
+    test_check(w.deepest_die < 2e-3, "deepest die into another die, any step (m)", w.deepest_die,
+               2e-3);
+    test_check(w.through == 0, "steps with a die's centre inside the table", (double)w.through, 0);
+    test_check(w.table_moved < 1e-4, "largest movement of the table (m)", w.table_moved, 1e-4);
     if (whole_run("pairs of dice that touched (must be >= 1)")) {
-        check(pairs >= 1, "pairs of dice that touched (must be >= 1)", pairs, 1);
+        test_check(pairs >= 1, "pairs of dice that touched (must be >= 1)", pairs, 1);
     }
     if (whole_run("at rest on the table at the end")) {
         dice_at_rest(scene, w.bodies);
@@ -389,24 +378,24 @@ static void dominoes(void)
                w.fallen[i]);
     }
     const double margin = 0.5 * PI / 180;
-    check(least_pusher > DOMINO_CONTACT_TILT - margin,
-          "least tilt of the one before when a domino moves (degrees)", least_pusher * 180 / PI,
-          (DOMINO_CONTACT_TILT - margin) * 180 / PI);
+    test_check(least_pusher > DOMINO_CONTACT_TILT - margin,
+               "least tilt of the one before when a domino moves (degrees)",
+               least_pusher * 180 / PI, (DOMINO_CONTACT_TILT - margin) * 180 / PI);
     if (fell > 1) {
-        check(shortest_gap > 0.0, "shortest time between two passing 30 degrees (s, > 0)",
-              shortest_gap, 0.0);
+        test_check(shortest_gap > 0.0, "shortest time between two passing 30 degrees (s, > 0)",
+                   shortest_gap, 0.0);
     }
     if (whole_run("all fallen and lying at the end")) {
-        check(fell == DOMINOES, "dominoes that passed 30 degrees", (double)fell, DOMINOES);
+        test_check(fell == DOMINOES, "dominoes that passed 30 degrees", (double)fell, DOMINOES);
         const double *y = tb_scene_states_const(scene);
         double least = INFINITY;
         for (size_t i = 0; i < DOMINOES; ++i) {
             least = fmin(least, tilt(scene, y, i));
         }
         const double last = tilt(scene, y, DOMINOES - 1);
-        check(least > 60 * PI / 180, "least tilt at the end (degrees)", least * 180 / PI, 60);
-        check(fabs(last - PI / 2) < PI / 180, "last domino's tilt minus 90 degrees",
-              (last - PI / 2) * 180 / PI, 1);
+        test_check(least > 60 * PI / 180, "least tilt at the end (degrees)", least * 180 / PI, 60);
+        test_check(fabs(last - PI / 2) < PI / 180, "last domino's tilt minus 90 degrees",
+                   (last - PI / 2) * 180 / PI, 1);
     }
     tb_scene_destroy(scene);
 }
@@ -473,10 +462,11 @@ static void stack(void)
         printf("    box %zu sank %.4g m, expected %.4g m\n", i + 1, sink, expected);
         worst = fmax(worst, fabs(sink / expected - 1));
     }
-    check(worst < 0.05, "largest relative error of a box's sinking", worst, 0.05);
-    check(w.tilt < 0.05 * PI / 180, "largest tilt of a box (degrees)", w.tilt * 180 / PI, 0.05);
+    test_check(worst < 0.05, "largest relative error of a box's sinking", worst, 0.05);
+    test_check(w.tilt < 0.05 * PI / 180, "largest tilt of a box (degrees)", w.tilt * 180 / PI,
+               0.05);
     if (whole_run("largest movement of a box after 1 s (m)")) {
-        check(w.drift < 1e-9, "largest movement of a box after 1 s (m)", w.drift, 1e-9);
+        test_check(w.drift < 1e-9, "largest movement of a box after 1 s (m)", w.drift, 1e-9);
     }
     tb_scene_destroy(scene);
 }
@@ -550,7 +540,7 @@ static void newtons_cradle(void)
     }
     run_scene(scene, &run, watch_cradle, &w);
     if (!w.measured) {
-        check(0, "ball 1 hit ball 2 and 30 ms went by (s)", w.hit, 0);
+        test_check(0, "ball 1 hit ball 2 and 30 ms went by (s)", w.hit, 0);
         tb_scene_destroy(scene);
         return;
     }
@@ -566,35 +556,24 @@ static void newtons_cradle(void)
            w.hit, w.impact_speed, w.started[1], w.started[2], w.started[3], w.started[4]);
     printf("    30 ms later: %.5f %.5f %.5f %.5f %.5f m/s; the last left at %.5f m/s\n", w.after[0],
            w.after[1], w.after[2], w.after[3], w.after[4], w.last_leaves);
-    check(fabs(w.last_leaves / w.impact_speed / expected - 1) < 0.02,
-          "last ball's speed / impact speed / ((1 + e)/2)^4 - 1",
-          w.last_leaves / w.impact_speed / expected - 1, 0.02);
-    check(fastest_other < 0.05, "fastest other ball / impact speed", fastest_other, 0.05);
-    check(out_of_order < 0.0, "balls 2-5 start in order (largest start minus the next's, s)",
-          out_of_order, 0.0);
+    test_check(fabs(w.last_leaves / w.impact_speed / expected - 1) < 0.02,
+               "last ball's speed / impact speed / ((1 + e)/2)^4 - 1",
+               w.last_leaves / w.impact_speed / expected - 1, 0.02);
+    test_check(fastest_other < 0.05, "fastest other ball / impact speed", fastest_other, 0.05);
+    test_check(out_of_order < 0.0, "balls 2-5 start in order (largest start minus the next's, s)",
+               out_of_order, 0.0);
     tb_scene_destroy(scene);
 }
 
 int main(int argc, char **argv)
 {
-    static const struct {
-        const char *name;
-        void (*check)(void);
-    } scenes[] = {{"dice", dice},
-                  {"dominoes", dominoes},
-                  {"stack", stack},
-                  {"newtons_cradle", newtons_cradle}};
+    static const test_example scenes[] = {{"dice", dice},
+                                          {"dominoes", dominoes},
+                                          {"stack", stack},
+                                          {"newtons_cradle", newtons_cradle}};
     if (argc == 3) {
         cut_duration = atof(argv[2]);
     }
-    for (size_t k = 0; k < sizeof scenes / sizeof scenes[0]; ++k) {
-        if ((argc == 2 || argc == 3) && strcmp(argv[1], scenes[k].name) == 0) {
-            printf("%s:\n", scenes[k].name);
-            scenes[k].check();
-            printf("%d passed, %d failed\n", failures == 0, failures != 0);
-            return failures == 0 ? 0 : 1;
-        }
-    }
-    fprintf(stderr, "usage: test_example_contact_scenes SCENE [DURATION]\n");
-    return 2;
+    return test_example_main(argc, argv, scenes, sizeof scenes / sizeof scenes[0], 1,
+                             "usage: test_example_contact_scenes SCENE [DURATION]");
 }

@@ -3,6 +3,7 @@
  *   test_example_scenes NAME      (NAME: tumbling_box, dzhanibekov, spring_chain,
  *                                  sliding_block, box_on_slope, spinning_top,
  *                                  head_on_balls, head_on_pairs) */
+#include "examples.h"
 #include "tumble/tumble.h"
 
 #include <math.h>
@@ -41,26 +42,12 @@ static int record(size_t frame, double t, const tb_scene *scene, void *ctx)
     return 0;
 }
 
-static int failures;
-
-static void check(int ok, const char *what, double value, double limit)
-{
-    printf("  %-58s %12.4g  (limit %.3g)  %s\n", what, value, limit, ok ? "ok" : "FAILED");
-    failures += !ok;
-}
-
 static tb_scene *run_scene(const char *name, tb_run_def *run)
 {
-    char path[512];
-    snprintf(path, sizeof path, "%s/%s.json", TUMBLE_SCENES_DIR, name);
-    tb_scene *scene = NULL;
+    tb_scene *scene = test_example_load(TUMBLE_SCENES_DIR, name, run);
     tb_error error;
-    if (tb_scene_load_file(path, &scene, run, &error) != TB_STATUS_OK) {
-        printf("%s\n", error.message);
-        exit(1);
-    }
     if (tb_scene_run(scene, run, record, NULL, NULL, &error) != TB_STATUS_OK) {
-        printf("%s: %s\n", path, error.message);
+        printf("%s/%s.json: %s\n", TUMBLE_SCENES_DIR, name, error.message);
         exit(1);
     }
     return scene;
@@ -92,8 +79,9 @@ static void tumbling_box(void)
             L_change = fmax(L_change, fabs(s[10 + i] - rec.state[0][10 + i]));
         }
     }
-    check(worst < 1e-9, "centre of mass off x0 + v0 t + g t^2/2 (m)", worst, 1e-9);
-    check(L_change == 0.0, "change of angular momentum about the centre (kg m^2/s)", L_change, 0);
+    test_check(worst < 1e-9, "centre of mass off x0 + v0 t + g t^2/2 (m)", worst, 1e-9);
+    test_check(L_change == 0.0, "change of angular momentum about the centre (kg m^2/s)", L_change,
+               0);
     tb_scene_destroy(scene);
 }
 
@@ -118,9 +106,9 @@ static void dzhanibekov(void)
         E_change = fmax(E_change, fabs(rec.energy[f] - rec.energy[0]) / rec.energy[0]);
     }
     const double L0 = 2.70e-5 * 20.0;
-    check(flips >= 3, "flips about the intermediate axis in 12 s", flips, 3);
-    check(E_change < 1e-6, "relative change of energy", E_change, 1e-6);
-    check(L_change / L0 < 1e-12, "relative change of angular momentum", L_change / L0, 1e-12);
+    test_check(flips >= 3, "flips about the intermediate axis in 12 s", flips, 3);
+    test_check(E_change < 1e-6, "relative change of energy", E_change, 1e-6);
+    test_check(L_change / L0 < 1e-12, "relative change of angular momentum", L_change / L0, 1e-12);
     tb_scene_destroy(scene);
 }
 
@@ -139,7 +127,7 @@ static void spring_chain(void)
         /* the last ball started 5 cm aside: its spring hangs vertically once at rest */
         worst = fmax(worst, fabs(s[TB_STATE_SIZE * i + 2] - z));
     }
-    check(worst < 1e-6, "largest distance from the static equilibrium (m)", worst, 1e-6);
+    test_check(worst < 1e-6, "largest distance from the static equilibrium (m)", worst, 1e-6);
     tb_scene_destroy(scene);
 }
 
@@ -152,9 +140,9 @@ static void sliding_block(void)
     tb_scene *scene = run_scene("sliding_block", &run);
     const double *s = rec.state[rec.frames - 1];
     const double expected = 9.0 / (2 * 0.4 * 9.81);
-    check(fabs(s[0] - expected) < 1e-3, "stopping distance minus v^2/(2 mu_k g) (m)",
-          s[0] - expected, 1e-3);
-    check(fabs(s[7]) / 2.0 < 1e-3, "speed at the end (m/s)", fabs(s[7]) / 2.0, 1e-3);
+    test_check(fabs(s[0] - expected) < 1e-3, "stopping distance minus v^2/(2 mu_k g) (m)",
+               s[0] - expected, 1e-3);
+    test_check(fabs(s[7]) / 2.0 < 1e-3, "speed at the end (m/s)", fabs(s[7]) / 2.0, 1e-3);
     tb_scene_destroy(scene);
 }
 
@@ -170,7 +158,7 @@ static void box_on_slope(void)
             worst = fmax(worst, fabs(rec.state[f][i] - rec.state[settled][i]));
         }
     }
-    check(worst < 1e-7, "movement after settling, 2 s to 10 s (m)", worst, 1e-7);
+    test_check(worst < 1e-7, "movement after settling, 2 s to 10 s (m)", worst, 1e-7);
     tb_scene_destroy(scene);
 }
 
@@ -202,9 +190,9 @@ static void spinning_top(void)
     }
     const double rate = turned / rec.t[rec.frames - 1];
     const double expected = 0.5 * 9.81 * 0.05 / (5e-4 * 100.0);
-    check(worst_tilt < 0.4, "largest tilt of the spinning top (rad)", worst_tilt, 0.4);
-    check(fabs(rate / expected - 1) < 0.25, "precession rate / (m g l / I3 omega3) - 1",
-          rate / expected - 1, 0.25);
+    test_check(worst_tilt < 0.4, "largest tilt of the spinning top (rad)", worst_tilt, 0.4);
+    test_check(fabs(rate / expected - 1) < 0.25, "precession rate / (m g l / I3 omega3) - 1",
+               rate / expected - 1, 0.25);
     tb_scene_destroy(scene);
 
     tb_error error;
@@ -215,7 +203,8 @@ static void spinning_top(void)
     run.duration = 2.0;
     tb_scene_run(scene, &run, record, NULL, NULL, &error);
     axis(scene, rec.frames - 1, &tilt, &azimuth);
-    check(tilt > 1.0, "tilt of the same top without spin after 2 s (rad, must exceed)", tilt, 1.0);
+    test_check(tilt > 1.0, "tilt of the same top without spin after 2 s (rad, must exceed)", tilt,
+               1.0);
     tb_scene_destroy(scene);
 }
 
@@ -242,7 +231,7 @@ static void head_on(const char *name, const double *restitution)
     for (size_t f = 0; f < rec.frames; ++f) {
         worst_energy = fmax(worst_energy, rec.energy[f] - rec.energy[0]);
     }
-    check(worst_energy < 1e-12, "largest gain of kinetic energy (J)", worst_energy, 1e-12);
+    test_check(worst_energy < 1e-12, "largest gain of kinetic energy (J)", worst_energy, 1e-12);
     for (size_t k = 0; k < pairs; ++k) {
         const double e = restitution[k];
         const size_t a = TB_STATE_SIZE * 2 * k, b = a + TB_STATE_SIZE;
@@ -261,13 +250,13 @@ static void head_on(const char *name, const double *restitution)
         snprintf(what[2], 64, "e = %.1f: heavy ball's velocity minus %.2f m/s", e, heavy_exact);
         snprintf(what[3], 64, "e = %.1f: separation / approach speed minus e", e);
         snprintf(what[4], 64, "e = %.1f: kinetic energy after minus before (J)", e);
-        check(worst_momentum < 1e-12, what[0], worst_momentum, 1e-12);
+        test_check(worst_momentum < 1e-12, what[0], worst_momentum, 1e-12);
         const double gain = e < 1.0 ? 1e-12 : (1.01 * 1.01 - 1.0) * 0.5 * 0.75 * 2.0 * 2.0;
-        check(kinetic - 2.0 < gain, what[4], kinetic - 2.0, gain);
-        check(fabs(light - light_exact) < 0.05 * 2.0, what[1], light - light_exact, 0.1);
-        check(fabs(heavy - heavy_exact) < 0.05 * 2.0, what[2], heavy - heavy_exact, 0.1);
-        check(fabs((heavy - light) / 2.0 - e) < 0.05 * e, what[3], (heavy - light) / 2.0 - e,
-              0.05 * e);
+        test_check(kinetic - 2.0 < gain, what[4], kinetic - 2.0, gain);
+        test_check(fabs(light - light_exact) < 0.05 * 2.0, what[1], light - light_exact, 0.1);
+        test_check(fabs(heavy - heavy_exact) < 0.05 * 2.0, what[2], heavy - heavy_exact, 0.1);
+        test_check(fabs((heavy - light) / 2.0 - e) < 0.05 * e, what[3], (heavy - light) / 2.0 - e,
+                   0.05 * e);
     }
     tb_scene_destroy(scene);
 }
@@ -284,21 +273,11 @@ static void head_on_pairs(void)
 
 int main(int argc, char **argv)
 {
-    static const struct {
-        const char *name;
-        void (*check)(void);
-    } scenes[] = {{"tumbling_box", tumbling_box},   {"dzhanibekov", dzhanibekov},
-                  {"spring_chain", spring_chain},   {"sliding_block", sliding_block},
-                  {"box_on_slope", box_on_slope},   {"spinning_top", spinning_top},
-                  {"head_on_balls", head_on_balls}, {"head_on_pairs", head_on_pairs}};
-    for (size_t k = 0; k < sizeof scenes / sizeof scenes[0]; ++k) {
-        if (argc == 2 && strcmp(argv[1], scenes[k].name) == 0) {
-            printf("%s:\n", scenes[k].name);
-            scenes[k].check();
-            printf("%d passed, %d failed\n", failures == 0, failures != 0);
-            return failures == 0 ? 0 : 1;
-        }
-    }
-    fprintf(stderr, "usage: test_example_scenes SCENE (one of the examples/scenes names)\n");
-    return 2;
+    static const test_example scenes[] = {
+        {"tumbling_box", tumbling_box},   {"dzhanibekov", dzhanibekov},
+        {"spring_chain", spring_chain},   {"sliding_block", sliding_block},
+        {"box_on_slope", box_on_slope},   {"spinning_top", spinning_top},
+        {"head_on_balls", head_on_balls}, {"head_on_pairs", head_on_pairs}};
+    return test_example_main(argc, argv, scenes, sizeof scenes / sizeof scenes[0], 0,
+                             "usage: test_example_scenes SCENE (one of the examples/scenes names)");
 }

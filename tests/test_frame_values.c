@@ -7,6 +7,7 @@
 
 #include <cmocka.h>
 
+#include "fixtures.h"
 #include "near.h"
 #include "math/tb_math.h"
 #include "tumble/tumble.h"
@@ -14,32 +15,19 @@
 #include <math.h>
 #include <string.h>
 
-/* Centre of mass at c = (0.1, 0.2, 0.3) in the shape frame, principal axes turned against it. */
-static tb_mass_properties tilted_mass(void)
-{
-    const double q[4] = {cos(0.6), 0.0, sin(0.6), 0.0};
-    double R[9], I[9];
-    tb__q_to_matrix(R, q);
-    tb__m3_rotate_diagonal(I, R, (double[]){2.0, 3.0, 4.0});
-    tb_mass_properties mass;
-    assert_int_equal(tb_mass_from_tensor(5.0, (double[]){0.1, 0.2, 0.3}, I, &mass, NULL),
-                     TB_STATUS_OK);
-    return mass;
-}
-
 static tb_scene *two_bodies(void)
 {
     tb_scene_def scene_def = tb_scene_def_default();
     tb_scene *scene = NULL;
     assert_int_equal(tb_scene_create(&scene_def, &scene, NULL), TB_STATUS_OK);
     tb_body_def a = tb_body_def_default();
-    a.mass = tilted_mass();
+    a.mass = test_tilted_mass();
     a.position[0] = 1, a.position[1] = 2, a.position[2] = 3;
     a.velocity[0] = 0.5;
     a.angular_velocity[2] = 2.0;
     assert_int_equal(tb_scene_add_body(scene, &a, NULL), TB_STATUS_OK);
     tb_body_def b = tb_body_def_default();
-    b.mass = tilted_mass();
+    b.mass = test_tilted_mass();
     b.orientation[0] = sqrt(0.5), b.orientation[3] = sqrt(0.5); /* 90 degrees about z */
     b.angular_velocity[0] = 1.0;
     assert_int_equal(tb_scene_add_body(scene, &b, NULL), TB_STATUS_OK);

@@ -9,26 +9,13 @@
 #include <cmocka.h>
 
 #include "bodies.h"
+#include "fixtures.h"
 #include "near.h"
 #include "torque_free_top.h"
 #include "tumble/tumble.h"
 
 #include <math.h>
 #include <string.h>
-
-static tb_integrator *integrator_for(tb_scene *scene, tb_method method, double dt, double rtol)
-{
-    tb_integrator_def def = tb_integrator_def_default();
-    def.method = method;
-    if (tb_method_is_adaptive(method)) {
-        def.rtol = rtol;
-    } else {
-        def.dt = dt;
-    }
-    tb_integrator *integrator = NULL;
-    assert_int_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator), TB_STATUS_OK);
-    return integrator;
-}
 
 /* --- the intermediate-axis flip near the separatrix ----------------------------------------
  * I = (1, 2, 3), omega_body(0) = (1, 0, c) with k^2 = I1 (I2 - I1) / (I3 (I3 - I2) c^2) =
@@ -50,7 +37,7 @@ static void test_dzhanibekov_flips_every_2K_over_lambda(void **state)
     const tb_method methods[2] = {TB_METHOD_RK4, TB_METHOD_CVODE_ADAMS};
     for (int m = 0; m < 2; ++m) {
         tb_scene *scene = test_scene_one_body(1.0, moments, NULL, (double[]){1.0, 0.0, c});
-        tb_integrator *integrator = integrator_for(scene, methods[m], 1e-3, 1e-10);
+        tb_integrator *integrator = test_integrator_for(scene, methods[m], 1e-3, 1e-10);
         double flips[8], previous_w = 0.0, previous_t = 0.0;
         int count = 0;
         for (int k = 1; count < 4 && k < 200000; ++k) {
@@ -91,7 +78,7 @@ static void test_thin_rod_at_1000_rad_per_s_keeps_its_invariants(void **state)
         tb_scene *scene =
             test_scene_one_body(1.0, (double[]){1e-3, 1, 1}, NULL, (double[]){1000.0, 0.5, 0.0});
         const double rtol = 1e-8;
-        tb_integrator *integrator = integrator_for(scene, methods[m], 1e-4, rtol);
+        tb_integrator *integrator = test_integrator_for(scene, methods[m], 1e-4, rtol);
         double E0, E;
         tb_scene_kinetic_energy(scene, tb_scene_states(scene), &E0);
         tb_body_state start, end;
@@ -242,7 +229,7 @@ static void test_a_million_rk4_steps_keep_q_unit_and_L_exact(void **state)
 {
     (void)state;
     tb_scene *scene = test_scene_one_body(1.0, test_top_moments, test_top_q0, test_top_omega);
-    tb_integrator *integrator = integrator_for(scene, TB_METHOD_RK4, 1e-3, 0);
+    tb_integrator *integrator = test_integrator_for(scene, TB_METHOD_RK4, 1e-3, 0);
     double E0, E, worst = 0.0;
     tb_scene_kinetic_energy(scene, tb_scene_states(scene), &E0);
     tb_body_state start, end;
@@ -304,7 +291,7 @@ static void test_extreme_scales_share_a_scene(void **state)
             memcpy(L0[i], tb_scene_states(scene) + TB_STATE_SIZE * i + 10, sizeof L0[i]);
         }
         tb_integrator *integrator =
-            integrator_for(scene, m == 0 ? TB_METHOD_RK4 : TB_METHOD_CVODE_ADAMS, 1e-3, 1e-10);
+            test_integrator_for(scene, m == 0 ? TB_METHOD_RK4 : TB_METHOD_CVODE_ADAMS, 1e-3, 1e-10);
         assert_int_equal(tb_integrator_advance(integrator, 2.0), TB_STATUS_OK);
         for (size_t i = 0; i < count; ++i) {
             const double *s = tb_scene_states(scene) + TB_STATE_SIZE * i;
@@ -361,7 +348,8 @@ static void test_a_dropped_box_comes_to_rest_without_jitter(void **state)
     tb_scene_get_state(scene, 0, &s);
     s.x[2] = 0.35;
     tb_scene_set_state(scene, 0, &s);
-    tb_integrator *integrator = integrator_for(scene, TB_METHOD_RK4, 0.0, 0); /* default step */
+    tb_integrator *integrator =
+        test_integrator_for(scene, TB_METHOD_RK4, 0.0, 0); /* default step */
     double worst_late = 0.0;
     for (int frame = 1; frame <= 600; ++frame) {
         assert_int_equal(tb_integrator_advance(integrator, frame / 60.0), TB_STATUS_OK);
@@ -399,7 +387,8 @@ static void test_a_fast_ball_does_not_tunnel_through_the_ground(void **state)
     tb_scene_add_gravity(scene, (double[]){0, 0, -9.81});
     tb_ground_def ground = tb_ground_def_default();
     tb_scene_add_ground(scene, &ground);
-    tb_integrator *integrator = integrator_for(scene, TB_METHOD_RK4, 0.0, 0); /* default step */
+    tb_integrator *integrator =
+        test_integrator_for(scene, TB_METHOD_RK4, 0.0, 0); /* default step */
     double dt;
     assert_int_equal(tb_scene_default_step(scene, TB_METHOD_RK4, &dt), TB_STATUS_OK);
     double deepest = 0.0;

@@ -8,6 +8,7 @@
 #include <cmocka.h>
 
 #include "bodies.h"
+#include "fixtures.h"
 #include "near.h"
 #include "math/tb_math.h"
 #include "tumble/tumble.h"
@@ -15,20 +16,6 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-
-/* A body whose principal frame is turned against its shape frame: a full tensor with
- * products of inertia and an off-origin centre of mass. */
-static tb_mass_properties tilted_mass(void)
-{
-    const double q[4] = {cos(0.6), 0.0, sin(0.6), 0.0};
-    double R[9], I[9];
-    tb__q_to_matrix(R, q);
-    tb__m3_rotate_diagonal(I, R, (double[]){2.0, 3.0, 4.0});
-    tb_mass_properties mass;
-    assert_int_equal(tb_mass_from_tensor(5.0, (double[]){0.1, 0.2, 0.3}, I, &mass, NULL),
-                     TB_STATUS_OK);
-    return mass;
-}
 
 static tb_scene *new_scene(size_t capacity)
 {
@@ -47,7 +34,7 @@ static void test_velocities_round_trip_through_momenta(void **state)
     (void)state;
     tb_scene *scene = new_scene(4);
     tb_body_def def = tb_body_def_default();
-    def.mass = tilted_mass();
+    def.mass = test_tilted_mass();
     const double s = sqrt(0.5);
     const double orientation[4] = {s, s, 0.0, 0.0};
     memcpy(def.orientation, orientation, sizeof orientation);
@@ -87,7 +74,7 @@ static void test_shape_pose_round_trips(void **state)
     (void)state;
     tb_scene *scene = new_scene(1);
     tb_body_def def = tb_body_def_default();
-    def.mass = tilted_mass();
+    def.mass = test_tilted_mass();
     const double orientation[4] = {0.5, 0.5, 0.5, 0.5}; /* 120 degrees about (1,1,1) */
     memcpy(def.orientation, orientation, sizeof orientation);
     tb__v3_set(def.position, 10.0, 20.0, 30.0);
@@ -520,7 +507,7 @@ static void test_every_name_is_found_and_duplicates_are_refused(void **state)
     tb_scene_destroy(scene);
 }
 
-/* Read-outs by hand: a body of tilted_mass (centre of mass at c = (0.1, 0.2, 0.3) in its shape
+/* Read-outs by hand: a body of test_tilted_mass (centre of mass at c = (0.1, 0.2, 0.3) in its shape
  * frame) with orientation identity at x = (1, 2, 3), v = (0.5, 0, 0), omega = (0, 0, 2). A
  * point p of the shape frame is at x + (p - c) and moves at v + omega x (p - c); the shape
  * origin is p = 0. Turned 90 degrees about z, the shape frame sees omega_world = (1, 0, 2) as
@@ -530,7 +517,7 @@ static void test_body_points_and_body_frame_omega_read_as_by_hand(void **state)
     (void)state;
     tb_scene *scene = new_scene(1);
     tb_body_def def = tb_body_def_default();
-    def.mass = tilted_mass();
+    def.mass = test_tilted_mass();
     def.position[0] = 1, def.position[1] = 2, def.position[2] = 3;
     def.velocity[0] = 0.5;
     def.angular_velocity[2] = 2.0;
@@ -555,7 +542,7 @@ static void test_body_points_and_body_frame_omega_read_as_by_hand(void **state)
 
     const double half = sqrt(0.5);
     tb_body_def turned = tb_body_def_default();
-    turned.mass = tilted_mass();
+    turned.mass = test_tilted_mass();
     turned.orientation[0] = half, turned.orientation[3] = half;
     turned.angular_velocity[0] = 1.0, turned.angular_velocity[2] = 2.0;
     assert_int_equal(tb_scene_add_body(scene, &turned, NULL), TB_STATUS_OK);

@@ -79,7 +79,7 @@ pkg_flags(libdir --variable=libdir)
 # dependencies out, as pkg-config means it to). Nothing in tumble.pc adds a run path, as in
 # the distributions' .pc files: a shared libtumble in a prefix the dynamic loader does not
 # search is found through LD_LIBRARY_PATH, or through a run path the program is linked with
-# (README.md, "Embedding"), both tried below; the installed tumble command needs neither.
+# (docs/install.md, "Installing and embedding"), both tried below; the installed tumble command needs neither.
 if(EXISTS ${libdir}/libtumble.so)
   set(link_kinds plain static)
 else()

@@ -1,11 +1,12 @@
-"""The README's demo table is what the demo prints today, apart from the times.
+"""The demo's table in the docs is what the demo prints today, apart from the times.
 
-    python3 readme_demo_table.py TUMBLE_DEMO README.md [--write]
+    python3 demo_table.py TUMBLE_DEMO docs/integrators.md [--write]
 
 Runs the demo and compares each row of its table (integrator, setting, steps, derivative
-evaluations, flips, energy drift, L drift, orientation error) with the README's, word for word;
-only the last column, the wall time of one run, may differ. Exits 1 naming the first row that
-differs. --write puts the demo's table into the README instead, each time the median of 5 runs."""
+evaluations, flips, energy drift, L drift, orientation error) with the document's, word for
+word; only the last column, the wall time of one run, may differ. Exits 1 naming the first row
+that differs. --write puts the demo's table into the document instead, each time the median of
+5 runs."""
 
 import subprocess
 import sys
@@ -19,8 +20,8 @@ def table(text):
     return [words[:-1] for words in lines if words and words[0] in METHODS]
 
 
-def write(readme, text, outputs):
-    """Replaces the README's table block (header and rows) with the demo's, each row's time the
+def write(document, text, outputs):
+    """Replaces the document's table block (header and rows) with the demo's, each row's time the
     median of the runs' (the machine is shared: one run's times are noise)."""
     runs = [[line.rstrip() for line in output.splitlines() if line.startswith("integrator ") or
              (line.split() or [""])[0] in METHODS] for output in outputs]
@@ -38,21 +39,21 @@ def write(readme, text, outputs):
     last = first + 1
     while last < len(lines) and (lines[last].split() or [""])[0] in METHODS:
         last += 1
-    with open(readme, "w", encoding="utf-8") as f:
+    with open(document, "w", encoding="utf-8") as f:
         f.write("".join(lines[:first]) + "".join(row + "\n" for row in rows) +
                 "".join(lines[last:]))
 
 
 def main():
-    demo, readme = sys.argv[1:3]
+    demo, document = sys.argv[1:3]
     output = subprocess.run([demo], check=True, capture_output=True, text=True).stdout
     printed = table(output)
-    with open(readme, encoding="utf-8") as f:
+    with open(document, encoding="utf-8") as f:
         text = f.read()
     if sys.argv[3:] == ["--write"]:
         more = [subprocess.run([demo], check=True, capture_output=True, text=True).stdout
                 for _ in range(4)]
-        write(readme, text, [output] + more)
+        write(document, text, [output] + more)
         return 0
     documented = table(text)
     if not printed:
@@ -60,11 +61,11 @@ def main():
         return 1
     for number, (mine, theirs) in enumerate(zip(documented, printed), start=1):
         if mine != theirs:
-            print(f"README row {number}: {' '.join(mine)}\n   demo prints: {' '.join(theirs)}",
+            print(f"{document} row {number}: {' '.join(mine)}\n   demo prints: {' '.join(theirs)}",
                   file=sys.stderr)
             return 1
     if len(documented) != len(printed):
-        print(f"README has {len(documented)} rows, the demo prints {len(printed)}",
+        print(f"{document} has {len(documented)} rows, the demo prints {len(printed)}",
               file=sys.stderr)
         return 1
     print(f"{len(printed)} rows agree")
