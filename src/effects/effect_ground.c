@@ -182,15 +182,14 @@ static int apply_ground(const tb__effect *effect, const tb_scene *scene, double 
             first = end;
             continue;
         }
-        tb__motion motion;
-        tb__body_motion(&scene->bodies[body], y + TB_STATE_SIZE * body, &motion);
+        const tb__motion *motion = tb__derivative_motion(scene, body);
         tb__body_load load;
         tb__point_place kept[TB__GROUND_KEPT_POINTS];
         const bool keep = end - first <= TB__GROUND_KEPT_POINTS;
-        body_load(ground, scene, first, end, &motion, keep ? kept : NULL, &load);
+        body_load(ground, scene, first, end, motion, keep ? kept : NULL, &load);
         for (size_t j = first; j < end; ++j) {
             const size_t k = effect->state_offset + effect->states_per_contact * j;
-            contact(ground, scene, &scene->contacts[j], &motion, &load,
+            contact(ground, scene, &scene->contacts[j], motion, &load,
                     keep ? &kept[j - first] : NULL, y + k, dydt + k, dydt);
         }
         first = end;
