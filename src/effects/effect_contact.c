@@ -422,7 +422,11 @@ static tb_status make_pool(tb_scene *scene, const tb_contact_def *def, tb__effec
     const size_t bodies = contact->body_count > 0 ? contact->body_count : 1;
     const size_t slots =
         def->friction_points > 0 ? def->friction_points : TB__FRICTION_POINTS_PER_BODY * bodies;
-    contact->friction = tb__friction_pool_create(slots, def->presliding);
+    size_t ids = 0; /* 1 + the largest id: the pairs' bodies */
+    for (size_t k = 0; k < contact->body_count; ++k) {
+        ids = contact->bodies[k] >= ids ? contact->bodies[k] + 1 : ids;
+    }
+    contact->friction = tb__friction_pool_create(slots, ids, def->presliding);
     if (contact->friction == NULL) {
         return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "friction_points: %zu slots", slots);
     }
