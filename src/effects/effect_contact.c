@@ -29,7 +29,8 @@
 
 /* A pair's two bodies as one point of its manifold sees them. */
 typedef struct tb__pair_motion {
-    const tb__motion *body[2]; /* the derivative's (tb__derivative_motion) */
+    /* the derivative's (tb__derivative_motion) */
+    const tb__motion *body[2];
     double light;   /* kg: the lighter mass */
     double reduced; /* kg: the reduced mass */
     double load;    /* m: the sum of the touching points' depths (their spring forces' weights) */

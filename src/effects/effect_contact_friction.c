@@ -40,10 +40,10 @@ struct tb__friction_pool {
 
 tb__friction_pool *tb__friction_pool_create(size_t slots, size_t bodies, double presliding)
 {
-    tb__friction_pool *pool = slots <= ((size_t)-1) / sizeof(tb__friction_slot) &&
-                                      bodies < ((size_t)-1) / sizeof(size_t)
-                                  ? calloc(1, sizeof *pool)
-                                  : NULL;
+    tb__friction_pool *pool =
+        slots <= ((size_t)-1) / sizeof(tb__friction_slot) && bodies < ((size_t)-1) / sizeof(size_t)
+            ? calloc(1, sizeof *pool)
+            : NULL;
     if (pool == NULL) {
         return NULL;
     }

@@ -212,7 +212,7 @@ struct tb_scene {
     double *states;        /* 13 * body_count body states, then extra_count effect states */
     size_t state_capacity; /* doubles allocated in states */
     size_t extra_count;
-    tb__body *bodies;               /* body_capacity */
+    tb__body *bodies; /* body_capacity */
     /* Scratch of tb_scene_derivative, body_capacity entries: each body's motion at the y being
      * evaluated (tb__body_motion), filled by its kinematics stage once per evaluation and read by
      * the coupled effects (tb__derivative_motion), so that no effect recomputes a body's
