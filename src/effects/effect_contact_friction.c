@@ -41,9 +41,7 @@ struct tb__friction_pool {
 tb__friction_pool *tb__friction_pool_create(size_t slots, size_t bodies, double presliding)
 {
     tb__friction_pool *pool =
-        slots <= ((size_t)-1) / sizeof(tb__friction_slot) && bodies < ((size_t)-1) / sizeof(size_t)
-            ? calloc(1, sizeof *pool)
-            : NULL;
+        slots <= ((size_t)-1) / sizeof(tb__friction_slot) ? calloc(1, sizeof *pool) : NULL;
     if (pool == NULL) {
         return NULL;
     }
@@ -51,9 +49,12 @@ tb__friction_pool *tb__friction_pool_create(size_t slots, size_t bodies, double 
     pool->queue = malloc(slots * sizeof *pool->queue);
     pool->index = malloc(slots * sizeof *pool->index);
     pool->held = malloc(slots * sizeof *pool->held);
+    if (pool->slots == NULL || pool->queue == NULL || pool->index == NULL || pool->held == NULL) {
+        tb__friction_pool_destroy(pool);
+        return NULL;
+    }
     pool->body_first = calloc(bodies + 1, sizeof *pool->body_first);
-    if (pool->slots == NULL || pool->queue == NULL || pool->index == NULL || pool->held == NULL ||
-        pool->body_first == NULL) {
+    if (pool->body_first == NULL) {
         tb__friction_pool_destroy(pool);
         return NULL;
     }
