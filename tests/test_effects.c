@@ -208,7 +208,9 @@ static void test_ground_force_starts_at_the_lowest_point_in_any_orientation(void
         }
         for (int r = 0; r < 2; ++r) {
             for (int g = 0; g < 2; ++g) {
-                tb_scene *scene = empty_scene();
+                tb_scene_def scene_def = tb_scene_def_default();
+                tb_scene *scene = NULL;
+                assert_int_equal(tb_scene_create(&scene_def, &scene, NULL), TB_STATUS_OK);
                 tb_body_def def = tb_body_def_default();
                 assert_int_equal(tb_mass_from_box(TB_MASS_GIVEN, 1.0, size, &def.mass, NULL),
                                  TB_STATUS_OK);
