@@ -178,6 +178,79 @@ static void test_a_resting_box_sinks_by_the_configured_penetration(void **state)
     tb_scene_destroy(scene);
 }
 
+/* A body's ground force starts exactly when its lowest point dips below the plane, however it is
+ * turned (the ground skips bodies whose every point is clear by more than |r| + radius, and must
+ * never skip one that touches). A 0.1 x 0.2 x 0.3 m box on its 8 corners (radius 0 and 2 cm) in
+ * 20 orientations, placed from its shape pose so that its lowest corner's sphere is 1 nm above
+ * or below the plane: 1e-8 of the box's size, far beyond the rounding of a depth (1e-16 of it)
+ * and far inside the skip's room (the centre is then nearer than |r| + radius). Below: an upward
+ * push; above: none, force and torque exactly 0. */
+static void test_ground_force_starts_at_the_lowest_point_in_any_orientation(void **state)
+{
+    (void)state;
+    const double size[3] = {0.1, 0.2, 0.3}, radii[2] = {0.0, 0.02}, gaps[2] = {1e-9, -1e-9};
+    tb_contact_point corners[8];
+    size_t count = 0;
+    assert_int_equal(tb_contact_points_box(size, corners, 8, &count), TB_STATUS_OK);
+    unsigned seed = 12345u;
+    for (int turn = 0; turn < 20; ++turn) {
+        double q[4], norm = 0.0;
+        for (int k = 0; k < 4; ++k) {
+            seed = seed * 1103515245u + 12345u;
+            q[k] = (double)(seed >> 8) / 16777216.0 - 0.5;
+            norm += q[k] * q[k];
+        }
+        for (int r = 0; r < 2; ++r) {
+            for (int g = 0; g < 2; ++g) {
+                tb_scene_def scene_def = tb_scene_def_default();
+                tb_scene *scene = NULL;
+                assert_int_equal(tb_scene_create(&scene_def, &scene, NULL), TB_STATUS_OK);
+                tb_body_def def = tb_body_def_default();
+                assert_int_equal(tb_mass_from_box(TB_MASS_GIVEN, 1.0, size, &def.mass, NULL),
+                                 TB_STATUS_OK);
+                for (int k = 0; k < 4; ++k) {
+                    def.orientation[k] = q[k] / sqrt(norm);
+                }
+                def.position[2] = 1.0;
+                size_t id;
+                assert_int_equal(tb_scene_add_body(scene, &def, &id), TB_STATUS_OK);
+                tb_contact_point points[8];
+                for (size_t c = 0; c < count; ++c) {
+                    points[c] = corners[c];
+                    points[c].radius = radii[r];
+                }
+                assert_int_equal(tb_scene_set_contact_points(scene, id, points, count, 4),
+                                 TB_STATUS_OK);
+                tb_ground_def ground = tb_ground_def_default();
+                assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+                double *y = tb_scene_states(scene), origin[3], p[4];
+                assert_int_equal(tb_scene_body_shape_pose(scene, y, id, origin, p), TB_STATUS_OK);
+                double lowest = INFINITY; /* z of R c + origin, R from the shape pose */
+                for (size_t c = 0; c < count; ++c) {
+                    const double *v = points[c].position;
+                    const double z = 2.0 * (p[1] * p[3] - p[0] * p[2]) * v[0] +
+                                     2.0 * (p[2] * p[3] + p[0] * p[1]) * v[1] +
+                                     (1.0 - 2.0 * (p[1] * p[1] + p[2] * p[2])) * v[2];
+                    lowest = fmin(lowest, origin[2] + z - radii[r]);
+                }
+                y[2] += gaps[g] - lowest;
+                const size_t n = tb_scene_state_size(scene);
+                double dydt[64];
+                assert_true(n <= 64);
+                assert_int_equal(tb_scene_derivative(0.0, y, dydt, scene), 0);
+                if (gaps[g] < 0.0) {
+                    assert_true(dydt[9] > 0.0);
+                } else {
+                    for (int k = 7; k < 13; ++k) {
+                        assert_true(dydt[k] == 0.0);
+                    }
+                }
+                tb_scene_destroy(scene);
+            }
+        }
+    }
+}
+
 /* Sliding at 2 m/s on level ground with mu_k = 0.5, a block stops after v^2 / (2 mu_k g) =
  * 0.4077 m under Coulomb friction. The stick-anchor law caps the force at mu N from the first
  * 0.1 mm of deflection, so the slide is Coulomb's (the LuGre law before it lost v / 400 s of
@@ -425,6 +498,7 @@ int main(void)
         cmocka_unit_test(test_two_body_spring_uses_the_reduced_mass_and_decays),
         cmocka_unit_test(test_drag_gives_the_exact_terminal_velocity_curves),
         cmocka_unit_test(test_a_resting_box_sinks_by_the_configured_penetration),
+        cmocka_unit_test(test_ground_force_starts_at_the_lowest_point_in_any_orientation),
         cmocka_unit_test(test_kinetic_friction_stops_a_slide_at_v2_over_2_mu_g),
         cmocka_unit_test(test_static_friction_holds_a_box_on_a_slope_without_creep),
         cmocka_unit_test(test_user_effect_acts_like_the_force_it_computes),

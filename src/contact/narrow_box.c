@@ -288,7 +288,12 @@ static void consider(best_axis *best, double separation, int kind, int index, co
     }
 }
 
-static best_axis find_axis(const box_pose *a, const box_pose *b, const double T[3])
+/* Stops after the face axes when one of them already parts the boxes by more than margin plus
+ * twice the largest preference (each axis considered later is taken only beyond best + bias, so
+ * best never falls): the pair is apart whatever the edge axes say, and only its normal, which
+ * tb__collide leaves unspecified for a pair apart, could differ. Most candidate pairs of a pile
+ * are apart along a face. */
+static best_axis find_axis(const box_pose *a, const box_pose *b, const double T[3], double margin)
 {
     const double size = a->half[0] + a->half[1] + a->half[2] + b->half[0] + b->half[1] + b->half[2];
     best_axis best = {.separation = -INFINITY};
@@ -297,6 +302,9 @@ static best_axis find_axis(const box_pose *a, const box_pose *b, const double T[
             const double *L = (kind == 0 ? a : b)->axis[i];
             consider(&best, separation(a, b, T, L), kind, i, L, kind == 0 ? 0.0 : 1e-9 * size);
         }
+    }
+    if (best.separation > margin + 2e-6 * size) {
+        return best;
     }
     for (int i = 0; i < 3; ++i) {
         for (int j = 0; j < 3; ++j) {
@@ -320,7 +328,7 @@ int tb__box_box(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE]
     box_axes(pose_a, A.axis);
     box_axes(pose_b, B.axis);
     const double T[3] = {pose_b[0] - pose_a[0], pose_b[1] - pose_a[1], pose_b[2] - pose_a[2]};
-    best_axis best = find_axis(&A, &B, T);
+    best_axis best = find_axis(&A, &B, T, margin);
     tb__candidates c = {0};
     double n[3];
     tb__v3_copy(n, best.L);

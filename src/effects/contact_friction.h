@@ -35,9 +35,9 @@
 
 typedef struct tb__friction_pool tb__friction_pool;
 
-/* A pool of `slots` >= 1 slots, all free; presliding (m) scales the freeing threshold. On
- * failure NULL (out of memory). */
-tb__friction_pool *tb__friction_pool_create(size_t slots, double presliding);
+/* A pool of `slots` >= 1 slots, all free, for pairs of bodies with ids below `bodies`;
+ * presliding (m) scales the freeing threshold. On failure NULL (out of memory). */
+tb__friction_pool *tb__friction_pool_create(size_t slots, size_t bodies, double presliding);
 void tb__friction_pool_destroy(tb__friction_pool *pool);
 size_t tb__friction_pool_slots(const tb__friction_pool *pool);
 

@@ -27,7 +27,8 @@
 
 /* A pair's two bodies as one point of its manifold sees them. */
 typedef struct tb__pair_motion {
-    tb__motion body[2];
+    /* the derivative's (tb__derivative_motion) */
+    const tb__motion *body[2];
     double light;   /* kg: the lighter mass */
     double reduced; /* kg: the reduced mass */
     double load;    /* m: the sum of the touching points' depths (their spring forces' weights) */
@@ -45,11 +46,11 @@ static void point_load(const tb__effect *effect, const tb__pair_contact *pair,
     const double *n = pair->manifold.normal;
     double arm_a[3], arm_b[3], v_a[3], v_b[3];
     for (int k = 0; k < 3; ++k) {
-        arm_a[k] = point->position[k] - m->body[0].x[k];
-        arm_b[k] = point->position[k] - m->body[1].x[k];
+        arm_a[k] = point->position[k] - m->body[0]->x[k];
+        arm_b[k] = point->position[k] - m->body[1]->x[k];
     }
-    tb__point_velocity(&m->body[0], arm_a, v_a);
-    tb__point_velocity(&m->body[1], arm_b, v_b);
+    tb__point_velocity(m->body[0], arm_a, v_a);
+    tb__point_velocity(m->body[1], arm_b, v_b);
     const double relative[3] = {v_b[0] - v_a[0], v_b[1] - v_a[1], v_b[2] - v_a[2]};
     const double approach = tb__v3_dot(relative, n);
     /* k = M_min omega^2 share and c = 2 zeta sqrt(k m_j): point j's dashpot pushes its part of
@@ -73,7 +74,7 @@ static void point_load(const tb__effect *effect, const tb__pair_contact *pair,
     const double damping = sqrt(stiffness * fmin(m->tangential * part, m->reduced * share));
     const size_t k = effect->state_offset + TB__FRICTION_SLOT_STATES * slot;
     const bool held = slot != TB__NO_SLOT;
-    tb__friction_force(contact, stiffness, damping, N, n, tangent, m->body[0].q,
+    tb__friction_force(contact, stiffness, damping, N, n, tangent, m->body[0]->q,
                        held ? y + k : NULL, held ? dydt + k : NULL, friction);
     double f[3], minus[3];
     for (int i = 0; i < 3; ++i) {
@@ -112,10 +113,10 @@ static void pair_masses(const tb_scene *scene, const tb__pair_contact *pair, tb_
         const tb__body *body = &scene->bodies[k == 0 ? pair->body_a : pair->body_b];
         double arm[3];
         for (int i = 0; i < 3; ++i) {
-            arm[i] = centre[i] / m->load - m->body[k].x[i];
+            arm[i] = centre[i] / m->load - m->body[k]->x[i];
         }
-        along += tb__inverse_mass_along(body, &m->body[k], arm, n);
-        across += tb__inverse_mass_across(body, &m->body[k], arm, n);
+        along += tb__inverse_mass_along(body, m->body[k], arm, n);
+        across += tb__inverse_mass_across(body, m->body[k], arm, n);
     }
     m->normal = 1.0 / along;
     m->tangential = 1.0 / across;
@@ -126,13 +127,13 @@ static void pair_loads(const tb__effect *effect, const tb_scene *scene, const do
 {
     const tb__body *a = &scene->bodies[pair->body_a], *b = &scene->bodies[pair->body_b];
     tb__pair_motion m;
-    tb__body_motion(a, y + TB_STATE_SIZE * pair->body_a, &m.body[0]);
-    tb__body_motion(b, y + TB_STATE_SIZE * pair->body_b, &m.body[1]);
+    m.body[0] = tb__derivative_motion(scene, pair->body_a);
+    m.body[1] = tb__derivative_motion(scene, pair->body_b);
     m.light = fmin(a->mass, b->mass);
     m.reduced = a->mass * b->mass / (a->mass + b->mass);
     pair_masses(scene, pair, &m);
     size_t slots[TB__MANIFOLD_POINTS];
-    tb__friction_match(effect->params.contact.friction, pair, &m.body[0], fresh, slots);
+    tb__friction_match(effect->params.contact.friction, pair, m.body[0], fresh, slots);
     const double share = 1.0 / (double)pair->manifold.count;
     for (int j = 0; j < pair->manifold.count; ++j) {
         point_load(effect, pair, &m, &pair->manifold.points[j], share, slots[j], y, dydt);
@@ -438,7 +439,11 @@ static tb_status make_pool(tb_scene *scene, const tb_contact_def *def, tb__effec
     const size_t bodies = contact->body_count > 0 ? contact->body_count : 1;
     const size_t slots =
         def->friction_points > 0 ? def->friction_points : TB__FRICTION_POINTS_PER_BODY * bodies;
-    contact->friction = tb__friction_pool_create(slots, def->presliding);
+    size_t ids = 0; /* 1 + the largest id: the pairs' bodies */
+    for (size_t k = 0; k < contact->body_count; ++k) {
+        ids = contact->bodies[k] >= ids ? contact->bodies[k] + 1 : ids;
+    }
+    contact->friction = tb__friction_pool_create(slots, ids, def->presliding);
     if (contact->friction == NULL) {
         return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "friction_points: %zu slots", slots);
     }

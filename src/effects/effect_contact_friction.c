@@ -29,12 +29,17 @@ struct tb__friction_pool {
     size_t head, free_count;
     size_t *index; /* the claimed slots sorted by (body_a, body_b) */
     size_t index_count;
+    /* bodies + 1 entries, rebuilt with the index: the index entries of the pairs with body_a ==
+     * a are [body_first[a], body_first[a + 1]), so that a pair's run is found without a search
+     * over the whole index at every derivative */
+    size_t bodies;
+    size_t *body_first;
     bool *held; /* scratch of the boundary's pass: capacity flags */
     double free_deflection;
     tb_contact_friction_stats stats;
 };
 
-tb__friction_pool *tb__friction_pool_create(size_t slots, double presliding)
+tb__friction_pool *tb__friction_pool_create(size_t slots, size_t bodies, double presliding)
 {
     tb__friction_pool *pool = calloc(1, sizeof *pool);
     if (pool == NULL) {
@@ -48,7 +53,13 @@ tb__friction_pool *tb__friction_pool_create(size_t slots, double presliding)
         tb__friction_pool_destroy(pool);
         return NULL;
     }
+    pool->body_first = calloc(bodies + 1, sizeof *pool->body_first);
+    if (pool->body_first == NULL) {
+        tb__friction_pool_destroy(pool);
+        return NULL;
+    }
     pool->capacity = slots;
+    pool->bodies = bodies;
     for (size_t s = 0; s < slots; ++s) {
         pool->slots[s].body_a = TB__NO_SLOT;
         pool->queue[s] = s;
@@ -66,6 +77,7 @@ void tb__friction_pool_destroy(tb__friction_pool *pool)
         free(pool->queue);
         free(pool->index);
         free(pool->held);
+        free(pool->body_first);
         free(pool);
     }
 }
@@ -80,24 +92,35 @@ static bool pair_before(const tb__friction_slot *s, size_t a, size_t b)
     return s->body_a < a || (s->body_a == a && s->body_b < b);
 }
 
-/* The index entries [*first, *end) of pair (a, b). */
+/* The index entries [*first, *end) of pair (a, b): among body a's (a short run), those of b. */
 static void pair_run(const tb__friction_pool *pool, size_t a, size_t b, size_t *first, size_t *end)
 {
-    size_t low = 0, high = pool->index_count;
-    while (low < high) {
-        const size_t middle = low + (high - low) / 2;
-        if (pair_before(&pool->slots[pool->index[middle]], a, b)) {
-            low = middle + 1;
-        } else {
-            high = middle;
-        }
+    if (a >= pool->bodies) { /* not a body of the effect: it holds no slot */
+        *first = *end = 0;
+        return;
+    }
+    size_t low = pool->body_first[a];
+    const size_t high = pool->body_first[a + 1];
+    while (low < high && pool->slots[pool->index[low]].body_b < b) {
+        ++low;
     }
     *first = low;
-    while (low < pool->index_count && pool->slots[pool->index[low]].body_a == a &&
-           pool->slots[pool->index[low]].body_b == b) {
+    while (low < high && pool->slots[pool->index[low]].body_b == b) {
         ++low;
     }
     *end = low;
+}
+
+/* body_first from the sorted index. */
+static void index_bodies(tb__friction_pool *pool)
+{
+    size_t k = 0;
+    for (size_t a = 0; a <= pool->bodies; ++a) {
+        pool->body_first[a] = k;
+        while (k < pool->index_count && pool->slots[pool->index[k]].body_a == a) {
+            ++k;
+        }
+    }
 }
 
 static double distance2(const double p[3], const double q[3])
@@ -128,15 +151,20 @@ static void match_claimed(const tb__friction_pool *pool, size_t first, size_t en
 {
     bool used[TB__MANIFOLD_POINTS] = {false};
     const size_t run = end - first < TB__MANIFOLD_POINTS ? end - first : TB__MANIFOLD_POINTS;
+    /* every distance once; the rounds then only compare them */
+    double distance[TB__MANIFOLD_POINTS][TB__MANIFOLD_POINTS];
+    for (int j = 0; j < count; ++j) {
+        for (size_t r = 0; r < run && touching[j]; ++r) {
+            distance[j][r] = distance2(keys[j], pool->slots[pool->index[first + r]].key);
+        }
+    }
     for (size_t round = 0; round < run; ++round) {
         double best = INFINITY;
         int point = -1;
         size_t entry = 0;
         for (int j = 0; j < count; ++j) {
             for (size_t r = 0; r < run && touching[j] && slots[j] == TB__NO_SLOT; ++r) {
-                const double d = used[r]
-                                     ? INFINITY
-                                     : distance2(keys[j], pool->slots[pool->index[first + r]].key);
+                const double d = used[r] ? INFINITY : distance[j][r];
                 if (d < best) {
                     best = d;
                     point = j;
@@ -314,6 +342,7 @@ static void update_index(tb__friction_pool *pool, const tb_scene *scene, const d
         }
         pool->index[k] = s;
     }
+    index_bodies(pool);
 }
 
 void tb__friction_post_step(const tb__effect *effect, const tb_scene *scene, const double *y)

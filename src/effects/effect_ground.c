@@ -163,6 +163,28 @@ static void contact(const tb__ground_params *ground, const tb_scene *scene, cons
     tb__add_load(dydt, c->body, arm, f);
 }
 
+/* True when every point of the body's [first, end) is surely above the plane at motion, with
+ * room for the rounding of point_depth: each point's centre is |r| from the centre of mass
+ * whichever way the body is turned, so the depths need no rotation to be known negative (a
+ * tumbling body above the floor, a die lying on a table). Their point_depth would be < 0: the
+ * answer is contact()'s for depth <= 0 to the bit. */
+static bool body_clear(const tb__ground_params *ground, const tb_scene *scene, size_t first,
+                       size_t end, const tb__motion *motion)
+{
+    const double centre = tb__v3_dot(ground->normal, motion->x);
+    const double height = centre - ground->offset;
+    for (size_t j = first; j < end; ++j) {
+        const tb__contact *c = &scene->contacts[j];
+        const double r2 = tb__v3_dot(c->r, c->r);
+        const double room = height - c->radius -
+                            1e-12 * (fabs(centre) + fabs(ground->offset) + c->radius + sqrt(r2));
+        if (!(room > 0.0 && room * room > r2 * (1.0 + 1e-12))) {
+            return false;
+        }
+    }
+    return true;
+}
+
 static int apply_ground(const tb__effect *effect, const tb_scene *scene, double t, const double *y,
                         double *dydt)
 {
@@ -182,15 +204,22 @@ static int apply_ground(const tb__effect *effect, const tb_scene *scene, double 
             first = end;
             continue;
         }
-        tb__motion motion;
-        tb__body_motion(&scene->bodies[body], y + TB_STATE_SIZE * body, &motion);
+        const tb__motion *motion = tb__derivative_motion(scene, body);
+        if (body_clear(ground, scene, first, end, motion)) { /* every z relaxes (contact()) */
+            for (size_t k = effect->state_offset + effect->states_per_contact * first;
+                 k < effect->state_offset + effect->states_per_contact * end; ++k) {
+                dydt[k] = -TB__BRISTLE_RELEASE_RATE * y[k];
+            }
+            first = end;
+            continue;
+        }
         tb__body_load load;
         tb__point_place kept[TB__GROUND_KEPT_POINTS];
         const bool keep = end - first <= TB__GROUND_KEPT_POINTS;
-        body_load(ground, scene, first, end, &motion, keep ? kept : NULL, &load);
+        body_load(ground, scene, first, end, motion, keep ? kept : NULL, &load);
         for (size_t j = first; j < end; ++j) {
             const size_t k = effect->state_offset + effect->states_per_contact * j;
-            contact(ground, scene, &scene->contacts[j], &motion, &load,
+            contact(ground, scene, &scene->contacts[j], motion, &load,
                     keep ? &kept[j - first] : NULL, y + k, dydt + k, dydt);
         }
         first = end;

@@ -34,8 +34,10 @@ void tb__angular_velocity(const tb__body *body, const double *s, double omega[3]
 }
 
 /* dx = P/M and dq = 1/2 (0, omega) (x) q for `count` bodies, with dP and dL zeroed for the
- * effects to add into; y and dydt point at the first body's state, bodies at its data. */
-static void kinematics(const tb__body *bodies, const double *y, double *dydt, size_t count)
+ * effects to add into; y and dydt point at the first body's state, bodies at its data. With
+ * motions (count entries) each body's tb__body_motion too, from the same omega and v. */
+static void kinematics(const tb__body *bodies, const double *y, double *dydt, size_t count,
+                       tb__motion *motions)
 {
     for (size_t i = 0; i < count; ++i) {
         const double *s = y + TB_STATE_SIZE * i;
@@ -43,11 +45,18 @@ static void kinematics(const tb__body *bodies, const double *y, double *dydt, si
         const tb__body *body = &bodies[i];
         /* dq uses q itself, for which 1/2 (0, omega) (x) q is tangent to the sphere
          * |q| = const. */
-        double omega[3];
+        tb__motion own;
+        tb__motion *motion = motions != NULL ? &motions[i] : &own;
+        double *omega = motion->omega;
         angular_velocity(body, s, omega);
         const double *qr = s + TB_STATE_Q;
         for (int k = 0; k < 3; ++k) {
             d[TB_STATE_X + k] = s[TB_STATE_P + k] * body->inv_mass;
+        }
+        if (motions != NULL) {
+            motion->x = s;
+            tb__unit_quaternion(s, 0, motion->q);
+            tb__v3_copy(motion->v, d + TB_STATE_X);
         }
         d[3] = 0.5 * (-omega[0] * qr[1] - omega[1] * qr[2] - omega[2] * qr[3]);
         d[4] = 0.5 * (omega[0] * qr[0] + omega[1] * qr[3] - omega[2] * qr[2]);
@@ -115,7 +124,7 @@ int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
         return -1;
     }
     const size_t n = scene->body_count;
-    kinematics(scene->bodies, y, dydt, n);
+    kinematics(scene->bodies, y, dydt, n, scene->motions);
     int rc = apply_per_body_effects(scene, t, y, dydt, 0, n);
     /* then the coupled effects, last in effect_order */
     const size_t first_coupled = scene->effect_count - scene->coupled_effect_count;
@@ -141,7 +150,7 @@ int tb__scene_block_derivative(double t, const double *y, double *dydt, size_t f
     if (scene == NULL || !tb__scene_separable(scene)) {
         return -1;
     }
-    kinematics(scene->bodies + first, y, dydt, count);
+    kinematics(scene->bodies + first, y, dydt, count, NULL);
     return apply_per_body_effects(scene, t, y, dydt, first, count);
 }
 

@@ -70,7 +70,8 @@ static tb_status reserve_bodies(tb_scene *scene, size_t capacity)
     if (capacity <= scene->body_capacity) {
         return TB_STATUS_OK;
     }
-    if (capacity > SIZE_MAX / (TB_STATE_SIZE * sizeof(double) + sizeof(tb_mass_properties))) {
+    if (capacity > SIZE_MAX / (TB_STATE_SIZE * sizeof(double) + sizeof(tb_mass_properties) +
+                               sizeof(tb__motion))) {
         return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "%zu bodies", capacity);
     }
     tb__body *bodies = tb__realloc_array(scene->bodies, capacity, sizeof(tb__body));
@@ -86,7 +87,11 @@ static tb_status reserve_bodies(tb_scene *scene, size_t capacity)
     if (names != NULL) {
         scene->names = names;
     }
-    if (bodies == NULL || props == NULL || names == NULL) {
+    tb__motion *motions = realloc(scene->motions, capacity * sizeof(tb__motion));
+    if (motions != NULL) {
+        scene->motions = motions;
+    }
+    if (bodies == NULL || props == NULL || names == NULL || motions == NULL) {
         return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "room for %zu bodies", capacity);
     }
     scene->body_capacity = capacity;
@@ -190,6 +195,7 @@ void tb_scene_destroy(tb_scene *scene)
         }
         free(scene->states);
         free(scene->bodies);
+        free(scene->motions);
         free(scene->lane_constants);
         free(scene->states_left);
         free(scene->mass_props);

@@ -229,7 +229,13 @@ struct tb_scene {
     double *states;        /* 13 * body_count body states, then extra_count effect states */
     size_t state_capacity; /* doubles allocated in states */
     size_t extra_count;
-    tb__body *bodies;               /* body_capacity */
+    tb__body *bodies; /* body_capacity */
+    /* Scratch of tb_scene_derivative, body_capacity entries: each body's motion at the y being
+     * evaluated (tb__body_motion), filled by its kinematics stage once per evaluation and read by
+     * the coupled effects (tb__derivative_motion), so that no effect recomputes a body's
+     * rotation and angular velocity per point or per pair. Written through the const scene,
+     * like the contact pair finder's scratch. */
+    struct tb__motion *motions;
     tb_mass_properties *mass_props; /* body_capacity, as given */
     char (*names)[TB_NAME_SIZE];    /* body_capacity */
     tb__effect *effects;
@@ -506,6 +512,14 @@ typedef struct tb__motion {
 } tb__motion;
 
 void tb__body_motion(const tb__body *body, const double *s, tb__motion *out);
+
+/* Body id's motion at the y of the evaluation of tb_scene_derivative running now: for the
+ * coupled effects' apply only (the derivative's kinematics filled it from that y), bit for bit
+ * tb__body_motion's. */
+static inline const tb__motion *tb__derivative_motion(const tb_scene *scene, size_t id)
+{
+    return &scene->motions[id];
+}
 
 /* A body point r (principal frame, from the centre of mass): its lever arm R r (world),
  * and the velocity v + omega x arm of the material point at arm. */
