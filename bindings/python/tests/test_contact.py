@@ -20,14 +20,15 @@ def two_balls(restitution, method=None, speed=2.0, m1=1.0, m2=3.0):
 def test_balls_meeting_head_on_part_as_newtons_impact_law_says(e):
     # Newton's law of restitution with momentum conservation, u = 2 m/s on a ball at rest:
     # v1 = (m1 - e m2) u / (m1 + m2), v2 = (1 + e) m1 u / (m1 + m2). The issue asks for 5 %;
-    # RK4 at the default step measures 3e-5 of u in the C suite, so 1e-3 of u here leaves room
-    # for nothing but a wrong law. Total momentum: every contact force has its opposite at the
-    # same point, so RK4 keeps P to round-off (1e-12 of it).
+    # RK4 at the default step (longer since the dashpot is sized at the effective mass) is off by
+    # at most 1.3e-3 of u, at e = 1 (measured), so 5e-3 of u: since dv1/de = -0.75 u, a law off
+    # by 0.7 % in e fails. Total momentum: every contact force has its opposite at the same
+    # point, so RK4 keeps P to round-off (1e-12 of it).
     frames = two_balls(e).run(method="rk4")
     u, m1, m2 = 2.0, 1.0, 3.0
     v = frames.velocity[-1, :, 0]
-    assert v[0] == pytest.approx((m1 - e * m2) * u / (m1 + m2), abs=1e-3 * u)
-    assert v[1] == pytest.approx((1 + e) * m1 * u / (m1 + m2), abs=1e-3 * u)
+    assert v[0] == pytest.approx((m1 - e * m2) * u / (m1 + m2), abs=5e-3 * u)
+    assert v[1] == pytest.approx((1 + e) * m1 * u / (m1 + m2), abs=5e-3 * u)
     p = frames.linear_momentum  # (F, 3), total
     np.testing.assert_allclose(p[:, 0], m1 * u, atol=1e-12 * m1 * u)
     np.testing.assert_allclose(p[:, 1:], 0.0, atol=1e-12 * m1 * u)
