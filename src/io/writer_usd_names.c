@@ -57,6 +57,22 @@ static void identifier(char *out, const char *source)
     out[n] = '\0';
 }
 
+/* out = base "_" suffix. identifier() leaves base at most TB_NAME_SIZE bytes, and the suffix
+ * takes at most 21 of the 24 bytes kept for it; were base longer, its end would give way, never
+ * the suffix (whose loss would make every candidate the same name). Written without snprintf,
+ * whose truncation gcc cannot rule out here (-Wformat-truncation in the Debug build). */
+static void suffixed(char *out, const char *base, size_t suffix)
+{
+    char tail[24];
+    const size_t tail_length = (size_t)snprintf(tail, sizeof tail, "_%zu", suffix);
+    size_t keep = strlen(base);
+    if (keep > TB__USD_NAME_SIZE - 1 - tail_length) {
+        keep = TB__USD_NAME_SIZE - 1 - tail_length;
+    }
+    memmove(out, base, keep);
+    memcpy(out + keep, tail, tail_length + 1);
+}
+
 tb_status tb__usd_names(const char *const *sources, size_t count, char (*out)[TB__USD_NAME_SIZE])
 {
     name_set set = {.names = (const char(*)[TB__USD_NAME_SIZE])out, .slot_count = 16};
@@ -76,7 +92,7 @@ tb_status tb__usd_names(const char *const *sources, size_t count, char (*out)[TB
         snprintf(out[k], TB__USD_NAME_SIZE, "%s", base);
         /* count names are taken, so one of the suffixes up to count + 1 is free */
         for (size_t suffix = 2; taken(&set, out[k], k, true); ++suffix) {
-            snprintf(out[k], TB__USD_NAME_SIZE, "%s_%zu", base, suffix);
+            suffixed(out[k], base, suffix);
         }
     }
     free(set.slots);
