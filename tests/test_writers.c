@@ -20,10 +20,10 @@
 
 #include <dirent.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #define DIRECTORY TUMBLE_TEST_BUILD_DIR "/"
 /* A folder of this test's own, where no other test's side files come and go. */
-#define SIDE_DIRECTORY DIRECTORY "writers_side/"
 
 /* A box thrown with a spin (its shape origin is its centre of mass, so the velocity written
  * is P / M exactly) and a sphere, under gravity; awkward decimals so no number is short. */
@@ -269,10 +269,22 @@ static void test_a_failed_write_is_an_error(void **state)
     tb_scene_destroy(scene);
 }
 
-/* Files in SIDE_DIRECTORY whose name starts with prefix. */
+/* A path in this process's own side directory, writers_side_<pid>/ (name "" for the directory):
+ * the ctests writers, memcheck_writers and helgrind_writers run this program at the same time,
+ * and each empties its side directory. Four buffers in turn, for two paths in one call. */
+static const char *side_path(const char *name)
+{
+    static char paths[4][512];
+    static int next;
+    char *out = paths[next++ % 4];
+    snprintf(out, sizeof paths[0], "%swriters_side_%ld/%s", DIRECTORY, (long)getpid(), name);
+    return out;
+}
+
+/* Files in the side directory whose name starts with prefix. */
 static int files_named(const char *prefix)
 {
-    DIR *folder = opendir(SIDE_DIRECTORY);
+    DIR *folder = opendir(side_path(""));
     assert_non_null(folder);
     int count = 0;
     for (struct dirent *entry = readdir(folder); entry != NULL; entry = readdir(folder)) {
@@ -284,12 +296,12 @@ static int files_named(const char *prefix)
 
 static void empty_side_directory(void)
 {
-    mkdir(SIDE_DIRECTORY, 0777);
-    DIR *folder = opendir(SIDE_DIRECTORY);
+    mkdir(side_path(""), 0777);
+    DIR *folder = opendir(side_path(""));
     assert_non_null(folder);
     char path[512];
     for (struct dirent *entry = readdir(folder); entry != NULL; entry = readdir(folder)) {
-        snprintf(path, sizeof path, "%s%s", SIDE_DIRECTORY, entry->d_name);
+        snprintf(path, sizeof path, "%s", side_path(entry->d_name));
         remove(path); /* "." and ".." stay */
     }
     closedir(folder);
@@ -302,7 +314,7 @@ static void test_an_unfinished_file_never_replaces_the_old_one(void **state)
     tb_run_def run;
     tb_scene *scene = load(&run);
     empty_side_directory();
-    const char *path = SIDE_DIRECTORY "writers_kept.csv";
+    const char *path = side_path("writers_kept.csv");
     FILE *file = fopen(path, "w");
     fputs("old\n", file);
     fclose(file);
@@ -327,18 +339,18 @@ static void test_a_file_named_like_a_side_file_is_left_alone(void **state)
     tb_run_def run;
     tb_scene *scene = load(&run);
     empty_side_directory();
-    FILE *file = fopen(SIDE_DIRECTORY "kept.glb.partial", "w");
+    FILE *file = fopen(side_path("kept.glb.partial"), "w");
     fputs("mine\n", file);
     fclose(file);
     tb_writer_def def = tb_writer_def_default();
     def.format = TB_OUTPUT_GLB;
     tb_writer *writer = NULL;
-    assert_int_equal(tb_writer_open(SIDE_DIRECTORY "kept.glb", &def, scene, &writer, NULL),
+    assert_int_equal(tb_writer_open(side_path("kept.glb"), &def, scene, &writer, NULL),
                      TB_STATUS_OK);
     assert_int_equal(tb_writer_frame(writer, 0.0, scene), TB_STATUS_OK);
     assert_int_equal(tb_writer_close(writer, NULL), TB_STATUS_OK);
-    assert_int_equal(file_size(SIDE_DIRECTORY "kept.glb.partial"), 5);
-    assert_true(file_size(SIDE_DIRECTORY "kept.glb") > 5);
+    assert_int_equal(file_size(side_path("kept.glb.partial")), 5);
+    assert_true(file_size(side_path("kept.glb")) > 5);
     assert_int_equal(files_named(".tumble-"), 0);
     tb_scene_destroy(scene);
 }
@@ -354,7 +366,8 @@ static void test_the_longest_file_names_are_written(void **state)
     static const char *const extensions[] = {"csv", "npz", "glb", "gltf", "usda"};
     for (size_t length = 248; length <= 255; length += 7) {
         for (size_t k = 0; k < sizeof extensions / sizeof extensions[0]; ++k) {
-            char path[512] = SIDE_DIRECTORY;
+            char path[512];
+            snprintf(path, sizeof path, "%s", side_path(""));
             const size_t folder = strlen(path), stem = length - 1 - strlen(extensions[k]);
             memset(path + folder, 'a', stem);
             snprintf(path + folder + stem, sizeof path - folder - stem, ".%s", extensions[k]);
