@@ -12,6 +12,7 @@
 
 #include <cmocka.h>
 
+#include "fixtures.h"
 #include "tumble/tumble.h"
 
 #include <math.h>
@@ -137,21 +138,9 @@ static tb_integrator *watched_cvode(tb_scene *scene, size_t boxes, tb_method met
 
 static tb_integrator *scene_integrator(tb_scene *scene, tb_method method)
 {
-    tb_integrator_def def = tb_integrator_def_default();
-    assert_int_equal(tb_integrator_def_set_method(&def, method), TB_STATUS_OK);
+    tb_integrator_def def = test_integrator_def(method, 0.0, 1e-6); /* dt 0: the default step */
     def.max_steps = 10000000;
-    if (tb_method_is_adaptive(method)) {
-        def.rtol = 1e-6;
-    } else {
-        def.dt = 0.0; /* the scene's default step */
-    }
-    tb_integrator *integrator = NULL;
-    const tb_status status = tb_scene_integrator_create(scene, &def, 0.0, &integrator);
-    if (status != TB_STATUS_OK) {
-        print_message("%s\n", tb_scene_detail(scene));
-    }
-    assert_int_equal(status, TB_STATUS_OK);
-    return integrator;
+    return test_integrator(scene, &def);
 }
 
 static void advance_frames(tb_integrator *integrator, double from, int frames)
