@@ -9,6 +9,7 @@
 
 #include <cmocka.h>
 
+#include "fixtures.h"
 #include "tumble/tumble.h"
 
 #include <math.h>
@@ -18,14 +19,6 @@
 static const tb_method every_method[] = {TB_METHOD_EULER, TB_METHOD_MIDPOINT, TB_METHOD_RK4,
                                          TB_METHOD_CVODE_ADAMS, TB_METHOD_CVODE_BDF};
 enum { METHOD_COUNT = sizeof every_method / sizeof every_method[0] };
-
-static tb_scene *empty_scene(void)
-{
-    tb_scene_def def = tb_scene_def_default();
-    tb_scene *scene = NULL;
-    assert_int_equal(tb_scene_create(&def, &scene, NULL), TB_STATUS_OK);
-    return scene;
-}
 
 /* A 1 kg ball of radius 0.1 m at (x, 0, z), named, with a sphere shape. */
 static void add_ball(tb_scene *scene, const char *name, double x, double z)
@@ -107,7 +100,7 @@ static void test_a_body_moved_into_another_after_the_start_is_refused(void **sta
 {
     (void)state;
     for (int m = 0; m < METHOD_COUNT; ++m) {
-        tb_scene *scene = empty_scene();
+        tb_scene *scene = test_empty_scene();
         add_ball(scene, "a", -0.5, 0.0);
         add_ball(scene, "b", 0.5, 0.0);
         tb_contact_def contact = tb_contact_def_default();
@@ -139,7 +132,7 @@ static void test_a_body_moved_into_the_ground_after_the_start_is_refused(void **
 {
     (void)state;
     for (int m = 0; m < METHOD_COUNT; ++m) {
-        tb_scene *scene = empty_scene();
+        tb_scene *scene = test_empty_scene();
         add_ball(scene, "ball", 0.0, 1.0);
         tb_ground_def ground = tb_ground_def_default();
         assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
@@ -159,7 +152,7 @@ static void test_a_body_moved_into_the_ground_after_the_start_is_refused(void **
 /* A ball thrown under gravity, stepped by RK4 at 1/240 s. */
 static tb_scene *thrown_ball(void)
 {
-    tb_scene *scene = empty_scene();
+    tb_scene *scene = test_empty_scene();
     tb_body_def def = tb_body_def_default();
     assert_int_equal(tb_mass_from_sphere(TB_MASS_GIVEN, 1.0, 0.1, &def.mass, NULL), TB_STATUS_OK);
     def.velocity[0] = 3.0;
