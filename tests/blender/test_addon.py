@@ -28,7 +28,13 @@ import zipfile
 
 import bpy
 import mathutils
-import numpy as np
+
+try:
+    import numpy as np
+except ImportError:  # tumble's Python package needs it too: Debian's python3-numpy
+    print("test_addon: skipped: Blender's Python has no NumPy (apt-get install python3-numpy)")
+    sys.stdout.flush()
+    os._exit(77)
 
 FPS = 24
 METRES = 1e-6
@@ -121,6 +127,48 @@ def dice(scene):
         restitution=0.5, mass=0.1)
 
 
+def solid(add, name, shape, **options):
+    add(**options)
+    obj = bpy.context.object
+    obj.name = name
+    bpy.ops.rigidbody.object_add(type="ACTIVE")
+    obj.rigid_body.collision_shape = shape
+    return obj
+
+
+def shapes(scene):
+    """One body of each other shape, dropped on the floor: sphere, capsule, cylinder, cone and
+    convex hull (Suzanne, whose hull's centre of mass is not her origin)."""
+    clear(scene, 10)
+    box("Floor", (4, 4, 0.2), (0, 0, -0.1), kind="PASSIVE")
+    mesh = bpy.ops.mesh
+    solid(mesh.primitive_uv_sphere_add, "Ball", "SPHERE", radius=0.1, location=(-0.6, 0, 0.3))
+    solid(mesh.primitive_cylinder_add, "Pill", "CAPSULE", radius=0.05, depth=0.3,
+          location=(-0.3, 0, 0.3), rotation=(0.4, 0, 0))
+    solid(mesh.primitive_cylinder_add, "Can", "CYLINDER", radius=0.05, depth=0.2,
+          location=(0, 0, 0.3))
+    solid(mesh.primitive_cone_add, "Cone", "CONE", radius1=0.08, depth=0.2, location=(0.3, 0, 0.3))
+    solid(mesh.primitive_monkey_add, "Suzanne", "CONVEX_HULL", size=0.3, location=(0.6, 0, 0.4),
+          rotation=(0.2, 0.3, 0))
+
+
+def shape_sizes(scene, path):
+    """Blender sizes its shapes from the object's bounding box (rigidbody.c): a sphere's radius
+    half the largest side, a capsule, cylinder or cone the largest of x and y for the diameter
+    and z for the whole length; the file must say the same."""
+    with open(path) as file:
+        bodies = {b["name"]: b["shape"] for b in json.load(file)["bodies"]}
+    size = {name: sorted(scene.objects[name].dimensions) for name in ("Ball", "Pill", "Can")}
+    dx, dy, dz = scene.objects["Pill"].dimensions
+    expected = [(bodies["Ball"]["radius"], size["Ball"][2] / 2),
+                (bodies["Pill"]["radius"], max(dx, dy) / 2),
+                (bodies["Pill"]["length"] + 2 * bodies["Pill"]["radius"], dz),
+                (bodies["Can"]["radius"], 0.05), (bodies["Can"]["length"], 0.2)]
+    check(all(abs(a - b) <= 1e-6 for a, b in expected), f"shapes: sizes as Blender's {expected}")
+    check(bodies["Suzanne"]["type"] == "mesh" and bodies["Cone"]["type"] == "mesh",
+          "shapes: the hull and the cone are meshes")
+
+
 def read_csv(path):
     rows = {}
     with open(path, newline="") as file:
@@ -182,27 +230,27 @@ def moved(obj, rows):
     return math.dist([float(first[c]) for c in "xyz"], [float(last[c]) for c in "xyz"])
 
 
-def initial_poses(scene, path, name):
-    """The file's bodies stand where Blender's own world matrices put the objects (boxes: the
-    centre of mass is the origin)."""
-    with open(path) as file:
-        bodies = json.load(file)["bodies"]
+def initial_poses(matrices, rows, name):
+    """The CSV's first frame (the shape frames tumble started from) is where Blender's own world
+    matrices put the objects: their origins and rotations, also for a hull or cone, whose centre
+    of mass is not the origin."""
     worst_m = worst_deg = 0.0
-    for body in bodies:
-        matrix = scene.objects[body["name"]].matrix_world
-        worst_m = max(worst_m, math.dist(body["position"], matrix.translation))
-        worst_deg = max(worst_deg, angle_between(np.array(body["orientation"]),
-                                                 np.array(matrix.to_quaternion())))
+    for body, matrix in matrices.items():
+        first = rows[body][0]
+        worst_m = max(worst_m, math.dist([float(first[c]) for c in "xyz"], matrix.translation))
+        q = np.array([float(first[c]) for c in ("qw", "qx", "qy", "qz")])
+        worst_deg = max(worst_deg, angle_between(q, np.array(matrix.to_quaternion())))
     check(worst_m <= METRES and worst_deg <= DEGREES,
-          f"{name}: the file's poses are Blender's: {worst_m:.1e} m, {worst_deg:.1e} degrees")
+          f"{name}: tumble starts where Blender has the objects: {worst_m:.1e} m, "
+          f"{worst_deg:.1e} degrees")
 
 
 def bake_and_compare(scene, args, name):
     path = os.path.join(args.out, f"{name}.json")
     check(bpy.ops.tumble.export_scene(filepath=path) == {"FINISHED"}, f"{name}: export_scene")
-    initial_poses(scene, path, name)
     active = [o for o in scene.objects if o.rigid_body and o.rigid_body.type == "ACTIVE"]
     before = {o.name: (tuple(o.location), o.rotation_mode) for o in active}
+    matrices = {o.name: o.matrix_world.copy() for o in active}
     keep = active[0]  # a key of the user's own, which the bake must leave alone
     keep.keyframe_insert("scale", frame=3)
     check(bpy.ops.tumble.bake() == {"FINISHED"}, f"{name}: bake")
@@ -210,6 +258,7 @@ def bake_and_compare(scene, args, name):
     subprocess.run([args.cli, "run", path, "--out", csv_path], check=True,
                    stderr=subprocess.DEVNULL)
     rows = read_csv(csv_path)
+    initial_poses(matrices, rows, name)
     compare_keys(scene, active, rows, name)
     print(f"test_addon: {name}: bodies moved " +
           ", ".join(f"{o.name} {moved(o, rows):.3f} m" for o in active))
@@ -287,8 +336,24 @@ def round_trip(scene, path, name):
     check(same(first, second), f"{name}: the scene file round-trips through Blender")
 
 
+def refused(message, *names):
+    try:
+        bpy.ops.tumble.bake()
+        check(False, f"{message}: refused")
+    except RuntimeError as error:
+        text = str(error).strip()
+        check(all(name in text for name in names), f"{message}: refused naming {names}: {text}")
+
+
 def refusals(scene):
-    """A scene tumble refuses is reported naming the object and the value."""
+    """A scene tumble refuses is reported naming the object and the value: by the add-on (a
+    shape with no counterpart) and by the library (two bodies that start inside each other)."""
+    clear(scene, 5)
+    box("Floor", (4, 4, 0.2), (0, 0, -0.1), kind="PASSIVE")
+    box("Crate", (0.2, 0.2, 0.2), (0, 0, 0.5))
+    box("Crate.001", (0.2, 0.2, 0.2), (0.05, 0, 0.5))
+    refused("bodies inside each other", '"Crate"', '"Crate.001"', "0.15 m inside")
+    check(not any(o.animation_data for o in scene.objects), "a refused bake writes no key")
     clear(scene, 5)
     box("Floor", (4, 4, 0.2), (0, 0, -0.1), kind="PASSIVE")
     box("Crate", (0.2, 0.2, 0.2), (0, 0, 0.5))
@@ -296,12 +361,60 @@ def refusals(scene):
     bpy.context.object.name = "Lump"
     bpy.ops.rigidbody.object_add(type="ACTIVE")
     bpy.context.object.rigid_body.collision_shape = "COMPOUND"
-    try:
-        bpy.ops.tumble.bake()
-        check(False, "a compound shape is refused")
-    except RuntimeError as refused:
-        check("'Lump'" in str(refused) and "COMPOUND" in str(refused),
-              f"a compound shape is refused naming the object: {str(refused).strip()}")
+    refused("a compound shape", "'Lump'", "COMPOUND")
+
+
+def passive_bodies(scene, args):
+    """Passive bodies: static bodies where the installed tumble has them (then the dominoes again
+    with their floor a static box), else a level box under the bodies becomes a ground plane
+    and any other passive body (a ramp) is refused, naming it."""
+    import tumble
+    from tumble_blender import locate
+
+    if locate.supports(tumble, "static"):
+        dominoes(scene)
+        scene.tumble.passive = "STATIC"
+        bake_and_compare(scene, args, "dominoes-static")
+        scene.tumble.passive = "AUTO"
+        return
+    clear(scene, 5)
+    box("Ramp", (2, 2, 0.2), (0, 0, -0.1), kind="PASSIVE", rotation=(0.3, 0, 0))
+    box("Crate", (0.2, 0.2, 0.2), (0, 0, 0.5))
+    refused("a ramp without static bodies", "'Ramp'", "no static bodies")
+    scene.tumble.passive = "STATIC"
+    refused("static bodies asked of a tumble without them", "no static")
+    scene.tumble.passive = "AUTO"
+
+
+def animated_keys(scene):
+    """An Animated passive box becomes a keyframed body whose keys are its animation sampled at
+    every frame (read through the add-on's reader: the scene format's keyframed bodies, whatever
+    the installed tumble takes). The paddle moves linearly from x = -1 at frame 1 to x = 1 at
+    frame 5 and turns 90 degrees about z: key k at t = k / 24 s, x = -1 + k / 2."""
+    from tumble_blender.scene_export import read_scene
+
+    clear(scene, 5)
+    box("Crate", (0.2, 0.2, 0.2), (0, 0, 0.5))
+    paddle = box("Paddle", (0.4, 0.05, 0.3), (-1, 0, 0.15), kind="PASSIVE")
+    paddle.rigid_body.kinematic = True
+    for frame, x, turn in ((1, -1.0, 0.0), (5, 1.0, math.pi / 2)):
+        paddle.location.x, paddle.rotation_euler.z = x, turn
+        paddle.keyframe_insert("location", frame=frame)
+        paddle.keyframe_insert("rotation_euler", frame=frame)
+    for curve in paddle.animation_data.action.fcurves:
+        for point in curve.keyframe_points:
+            point.interpolation = "LINEAR"
+    plan = read_scene(scene, bpy.context.evaluated_depsgraph_get(), static_supported=True)
+    body = next(b for b in plan.scene["bodies"] if b["name"] == "Paddle")
+    keys = body["keys"]
+    ok = body["motion"] == "keyframed" and len(keys) == 5 and "mass" not in body
+    for k, key in enumerate(keys):
+        angle = math.pi / 8 * k
+        expected = [math.cos(angle / 2), 0, 0, math.sin(angle / 2)]
+        ok = ok and abs(key["t"] - k / FPS) < 1e-12 and abs(key["position"][0] - (-1 + k / 2)) < 1e-6
+        ok = ok and angle_between(np.array(key["orientation"]), np.array(expected)) < DEGREES
+    check(ok, f"an animated passive body is keyframed at every frame: {json.dumps(keys)[:200]}")
+    paddle.animation_data_clear()
 
 
 def main():
@@ -319,7 +432,11 @@ def main():
         build(scene)
         path = bake_and_compare(scene, args, name)
         round_trip(scene, path, name)
+    shapes(scene)
+    shape_sizes(scene, bake_and_compare(scene, args, "shapes"))
     refusals(scene)
+    passive_bodies(scene, args)
+    animated_keys(scene)
     print(f"test_addon: {len(failures)} failures")
     sys.stdout.flush()
     os._exit(1 if failures else 0)

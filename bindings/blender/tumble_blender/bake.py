@@ -56,7 +56,11 @@ def simulate(tumble, plan, progress=None):
     """Each active object's (frames, 3) origins and (frames, 4) quaternions of its shape frame
     (its origin and rotation), frame by frame through tumble.Simulation, at t = k / fps as
     `tumble run` makes its frames (Simulation.run's times, which equal Scene.run's bit for bit)."""
-    sim = tumble.Simulation(load(tumble, plan))
+    scene = load(tumble, plan)
+    try:
+        sim = tumble.Simulation(scene)
+    except tumble.TumbleError as refused:  # e.g. bodies that start inside each other
+        raise BakeError(f"tumble refused the scene: {name_objects(str(refused), plan)}") from None
     fps = sim.scene.run_settings["fps"]
     frames = plan.frame_end - plan.frame_start + 1
     index = [sim.body(obj.name) for obj in plan.active]

@@ -103,8 +103,8 @@ def hull(obj, depsgraph):
         for co in local:
             bm.verts.new(co)
         made = bmesh.ops.convex_hull(bm, input=list(bm.verts), use_existing_faces=False)
-        unused = [v for v in made["geom_interior"] + made["geom_unused"]
-                  if isinstance(v, bmesh.types.BMVert)]
+        unused = list({v for v in made["geom_interior"] + made["geom_unused"]
+                       if isinstance(v, bmesh.types.BMVert)})
         bmesh.ops.delete(bm, geom=unused, context="VERTS")
         bmesh.ops.triangulate(bm, faces=list(bm.faces))
         bm.verts.index_update()
