@@ -7,11 +7,11 @@ import os
 import sys
 
 HOW_TO_INSTALL = (
-    "the tumble Python package was not found. Install it into Blender's Python "
-    "(`{python} -m pip install tumble`, or `pip install ./bindings/python` from tumble's "
-    "sources), or point the add-on at a Python environment that has it: Edit > Preferences > "
-    "Add-ons > tumble for Blender > tumble Python path (its site-packages folder), or the "
-    "environment variable TUMBLE_PYTHON_PATH")
+    "the tumble Python package was not found by Blender's Python {version}. Install it into a "
+    "venv of that Python version (`python{version} -m venv DIR && DIR/bin/pip install "
+    "./bindings/python` from tumble's sources) and set Edit > Preferences > Add-ons > tumble for "
+    "Blender > tumble Python path to DIR/lib/python{version}/site-packages (or the environment "
+    "variable TUMBLE_PYTHON_PATH), or install it into Blender's own Python; docs/blender.md")
 
 
 class TumbleMissing(ImportError):
@@ -35,8 +35,9 @@ def import_tumble(preference=""):
     except ModuleNotFoundError as missing:
         if missing.name not in ("tumble", None):
             raise TumbleMissing(f"tumble needs the Python package {missing.name} in Blender's "
-                                f"Python ({sys.executable}): {missing}") from missing
-        raise TumbleMissing(HOW_TO_INSTALL.format(python=sys.executable)) from missing
+                                f"Python {sys.version.split()[0]}: {missing}") from missing
+        version = "%d.%d" % sys.version_info[:2]
+        raise TumbleMissing(HOW_TO_INSTALL.format(version=version)) from missing
     except ImportError as broken:
         raise TumbleMissing(f"the tumble package was found but does not load: {broken}") from broken
 

@@ -174,7 +174,7 @@ def gravity_of(scene):
     return [f32(g) * weight for g in scene.gravity]
 
 
-def damping(obj, mass, per_kg, plan):
+def damping(obj, mass, per_kg):
     """Bullet multiplies the velocities by (1 - d)^dt each step, an exponential decay at the rate
     -ln(1 - d) per second: a drag of M times that rate (linear) gives the same decay exactly,
     and the mean moment times it (angular) gives it exactly for spheres and cubes."""
@@ -189,7 +189,6 @@ def damping(obj, mass, per_kg, plan):
             drag[key] = -math.log1p(-d) * scale
     if not drag:
         return None
-    plan.notes.append(f"'{obj.name}': damping as drag {drag}")
     return dict({"type": "drag", "body": obj.name}, **drag)
 
 
@@ -268,6 +267,11 @@ def read_scene(scene, depsgraph, method="rk4", passive="AUTO", static_supported=
                          f"after the start")
     world = scene.rigidbody_world
     objects = rigid_objects(scene)
+    joints = world.constraints.objects if world.constraints is not None else []
+    for joint in joints:
+        if joint.rigid_body_constraint is not None:
+            raise ShapeError(f"'{joint.name}': a rigid body constraint "
+                             f"({joint.rigid_body_constraint.type}); tumble has no joints yet")
     if not objects:
         raise ShapeError("the rigid body world holds no rigid bodies")
     use_ground = passive == "GROUND" or (passive == "AUTO" and not static_supported)
@@ -310,7 +314,7 @@ def fill(plan, scene, depsgraph, objects, method, use_ground, world):
         plan.objects[obj.name] = obj
         colliders.append(obj)
         if motion == "dynamic":
-            drag = damping(obj, body["mass"], per_kg, plan)
+            drag = damping(obj, body["mass"], per_kg)
             if drag is not None:
                 effects.append(drag)
     if not plan.active:
