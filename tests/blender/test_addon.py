@@ -139,9 +139,12 @@ def solid(add, name, shape, **options):
 
 def shapes(scene):
     """One body of each other shape, dropped on the floor: sphere, capsule, cylinder, cone and
-    convex hull (Suzanne, whose hull's centre of mass is not her origin)."""
+    convex hull (Suzanne, whose hull's centre of mass is not her origin). The floor is Blender's
+    Plane with its default shape (a flat object: always a ground plane)."""
     clear(scene, 10)
-    box("Floor", (4, 4, 0.2), (0, 0, -0.1), kind="PASSIVE")
+    bpy.ops.mesh.primitive_plane_add(size=4, location=(0, 0, 0))
+    bpy.context.object.name = "Floor"
+    bpy.ops.rigidbody.object_add(type="PASSIVE")
     mesh = bpy.ops.mesh
     solid(mesh.primitive_uv_sphere_add, "Ball", "SPHERE", radius=0.1, location=(-0.6, 0, 0.3))
     solid(mesh.primitive_cylinder_add, "Pill", "CAPSULE", radius=0.05, depth=0.3,
@@ -438,6 +441,22 @@ def missing_package(scene):
             os.environ["TUMBLE_PYTHON_PATH"] = saved
 
 
+def default_shape_floor(scene):
+    """Without static bodies, a passive box mesh with Blender's default shape (Convex Hull) is a
+    box too, and becomes the ground plane at its top face."""
+    from tumble_blender.scene_export import read_scene
+
+    clear(scene, 5)
+    floor = box("Floor", (3, 3, 0.5), (0, 0, -0.25), kind="PASSIVE")
+    floor.rigid_body.collision_shape = "CONVEX_HULL"
+    box("Crate", (0.2, 0.2, 0.2), (0, 0, 0.5))
+    plan = read_scene(scene, bpy.context.evaluated_depsgraph_get(), static_supported=False)
+    grounds = [e for e in plan.scene["effects"] if e["type"] == "ground"]
+    check(len(grounds) == 1 and abs(grounds[0]["offset"]) < 1e-6 and
+          [b["name"] for b in plan.scene["bodies"]] == ["Crate"],
+          f"a hull-shaped passive box is the ground plane at its top: {grounds}")
+
+
 def main():
     args = arguments()
     os.makedirs(args.out, exist_ok=True)
@@ -459,6 +478,7 @@ def main():
     refusals(scene)
     passive_bodies(scene, args)
     animated_keys(scene)
+    default_shape_floor(scene)
     print(f"test_addon: {len(failures)} failures")
     sys.stdout.flush()
     os._exit(1 if failures else 0)

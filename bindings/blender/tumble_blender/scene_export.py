@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from .shapes import ShapeError, dimensions, f32, shape_of, vec
+from .shapes import ShapeError, dimensions, f32, hull, shape_of, vec, volume_moments
 
 METHODS = ("rk4", "midpoint", "euler", "cvode-adams", "cvode-bdf")
 FLAT = 1e-6  # a ground plane's normal must be within this of the world's z (radians)
@@ -219,23 +219,48 @@ def contacts(colliders, g):
     return [contact([a.name, b.name], material(a, b), g) for a, b in pairs]
 
 
+def is_flat(obj):
+    """An object with no thickness (Blender's Plane): it cannot be a solid body."""
+    return min(dimensions(obj)) == 0
+
+
+def fills_its_box(obj, depsgraph):
+    """Whether a Convex Hull or Mesh shape is its bounding box (a box mesh with Blender's default
+    shape): the hull's volume is the box's, to 1e-6."""
+    if obj.rigid_body.collision_shape not in ("CONVEX_HULL", "MESH"):
+        return False
+    dx, dy, dz = dimensions(obj)
+    try:
+        volume = volume_moments(*hull(obj, depsgraph))[0]
+    except ShapeError:
+        return False
+    return abs(volume - dx * dy * dz) <= 1e-6 * dx * dy * dz
+
+
 def plane_like(obj, active, depsgraph):
-    """A ground plane for a passive box that does not move, stands level (its z axis up) and
-    lies under every active body's origin: its top face."""
-    rb = obj.rigid_body
-    if rb.collision_shape != "BOX" or motion_of(obj) != "static":
+    """The height of a ground plane for a passive body that does not move, stands level (its z
+    axis up), lies under every active body's origin and is a box (its top face: Blender centres
+    the Box shape on the origin; a hull that fills its bounding box), or is flat (a Plane, or a
+    slab a tenth as thick as it is wide, of any shape: the top of its mesh's bounding box); None
+    for any other."""
+    dx, dy, dz = dimensions(obj)
+    box = obj.rigid_body.collision_shape == "BOX"
+    if motion_of(obj) != "static" or not (box or dz <= 0.1 * min(dx, dy) or
+                                          fills_its_box(obj, depsgraph)):
         return None
     origin, q = world_pose(obj)
     up = rotate(q, np.array([0.0, 0.0, 1.0]))
     if not up[2] > math.cos(FLAT):
         return None
-    dx, dy, dz = dimensions(obj)
-    top = origin[2] + dz / 2
+    top = dz / 2
+    if not box:
+        corners = [c[2] for c in obj.bound_box]
+        top = max(corners) * abs(f32(obj.scale[2])) if obj.parent is None else top
     for body in active:
         local = rotate(q * [1, -1, -1, -1], world_pose(body)[0] - origin)
-        if not (local[2] > dz / 2 and abs(local[0]) <= dx / 2 and abs(local[1]) <= dy / 2):
+        if not (local[2] > top and abs(local[0]) <= dx / 2 and abs(local[1]) <= dy / 2):
             return None
-    return top
+    return origin[2] + top
 
 
 def ground_for(obj, active, g):
@@ -296,13 +321,18 @@ def fill(plan, scene, depsgraph, objects, method, use_ground, world):
     bodies, effects, colliders, grounds = [], [], [], []
     for obj in objects:
         motion = motion_of(obj)
-        if use_ground and motion != "dynamic":
+        if motion != "dynamic" and (use_ground or is_flat(obj)):
             top = plane_like(obj, plan.active, depsgraph)
+            if top is None and is_flat(obj):
+                raise ShapeError(f"'{obj.name}': a flat passive object (no thickness) becomes a "
+                                 f"ground plane only when level, still and under every active "
+                                 f"body; give it a thickness to make it a static body")
             if top is None:
                 raise ShapeError(
                     f"'{obj.name}': a {'passive' if motion == 'static' else 'animated'} body, "
                     f"and the installed tumble has no {motion} bodies: only a level passive "
-                    f"box under every active body can become a ground plane (update tumble)")
+                    f"box, or a flat passive object, under every active body can become a "
+                    f"ground plane (update tumble)")
             ground, mixed = ground_for(obj, plan.active, g)
             ground["offset"] = top
             grounds.append(ground)
