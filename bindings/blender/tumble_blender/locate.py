@@ -52,7 +52,8 @@ def supports(tumble, motion):
         probe = {"type": "box", "size": [1, 1, 1]}
         other = {"name": "b", "motion": motion, "shape": probe}
         if motion == "keyframed":
-            other["keys"] = [{"t": 0, "position": [0, 0, -2], "orientation": [1, 0, 0, 0]}]
+            other["keys"] = [{"t": t, "position": [0, 0, -2], "orientation": [1, 0, 0, 0]}
+                             for t in (0, 1)]
         else:
             other.update(position=[0, 0, -2])
         try:
