@@ -83,8 +83,8 @@ class TUMBLE_OT_bake(bpy.types.Operator):
             world.enabled = False  # else Blender's own simulation overrides the keys
             scene[bake.WORLD_MARK] = True
         scene.frame_set(scene.frame_current)
-        for note in plan.notes:
-            self.report({"INFO"}, note)
+        for note in plan.notes:  # what has no counterpart is a warning, a mapping a note
+            self.report({"WARNING"} if "ignore" in note else {"INFO"}, note)
         self.report({"INFO"}, f"tumble baked {len(plan.active)} bodies, frames "
                               f"{plan.frame_start} to {plan.frame_end}")
         return {"FINISHED"}

@@ -316,6 +316,9 @@ def fill(plan, scene, depsgraph, objects, method, use_ground, world):
     plan.active = [o for o in objects if motion_of(o) == "dynamic"]
     for obj in plan.active:
         check_active(obj)
+        if any(obj.lock_location) or any(obj.lock_rotation):
+            plan.notes.append(f"'{obj.name}': its transform locks hold Bullet's body to axes; "
+                              f"tumble has no counterpart and ignores them")
     keyframed = [o for o in objects if motion_of(o) == "keyframed"]
     keys = sample_keys(scene, keyframed, plan.frame_start, plan.frame_end, plan.fps)
     bodies, effects, colliders, grounds = [], [], [], []
