@@ -14,11 +14,12 @@ else
     scripts/test_blender.sh build
 fi
 
-# A shared libtumble: the install consumers against it, and the Python bindings' tests.
+# A shared libtumble: the install consumers against it, tumble for Blender (blender_addon: the
+# add-on's keys against `tumble run`, needs Blender), and the Python bindings' tests.
 cmake -S . -B build-shared -G Ninja -DTUMBLE_WARNINGS_AS_ERRORS=ON -DBUILD_SHARED_LIBS=ON \
     >/dev/null
 cmake --build build-shared
-ctest --test-dir build-shared --output-on-failure -R "install_consumers|example_embed_loop"
+ctest --test-dir build-shared --output-on-failure -R "install_consumers|example_embed_loop|blender_addon"
 # The Python package as a user gets it: a wheel that pip builds (scikit-build-core running this
 # CMake project: bindings/python/pyproject.toml), installed into a fresh venv and tested from
 # outside the source tree with no TUMBLE_LIBRARY (tests/test_install.py checks which copy runs).
