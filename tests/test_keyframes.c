@@ -564,8 +564,12 @@ static const refusal refusals[] = {
      "keys[1].t: the interval"},
     {"chord overflows", 4, TB_INTERPOLATION_LINEAR, TB_STATUS_INVALID_ARGUMENT,
      "keys[0]: the curve overflows"},
-    {"count SIZE_MAX", SIZE_MAX, TB_INTERPOLATION_CUBIC, TB_STATUS_OUT_OF_MEMORY, "count"},
-    {"count 2^60", (size_t)1 << 60, TB_INTERPOLATION_CUBIC, TB_STATUS_OUT_OF_MEMORY, "count"},
+    {"count SIZE_MAX", SIZE_MAX, TB_INTERPOLATION_CUBIC, TB_STATUS_OUT_OF_MEMORY,
+     "more than the address space"},
+    {"count 2^60", (size_t)1 << 60, TB_INTERPOLATION_CUBIC, TB_STATUS_OUT_OF_MEMORY,
+     "more than the address space"},
+    {"count 2^56 (bytes fit size_t)", (size_t)1 << 56, TB_INTERPOLATION_CUBIC,
+     TB_STATUS_OUT_OF_MEMORY, "more than the address space"},
 };
 
 /* The counts past memory are refused before a key is read (the array holds 4): valgrind and

@@ -9,6 +9,7 @@
 #include "math/tb_math.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -211,6 +212,7 @@ static void fill_rotations(tb_keyframes *kf)
         double turn[4];
         tb__q_mul(turn, kf->nodes[k + 1].orientation, conjugate);
         tb__rotation_log(kf->segments[k].rotation, turn);
+        tb__v3_set(kf->segments[k].end_rate, 0.0, 0.0, 0.0); /* cubic fills it */
     }
 }
 
@@ -279,6 +281,13 @@ void tb_keyframes_destroy(tb_keyframes *keyframes)
 static tb_status allocate(size_t count, tb_interpolation interpolation, tb_keyframes **out,
                           tb_error *error)
 {
+    const size_t per_key = sizeof(double) + sizeof(tb__key_node) + sizeof(tb__key_segment);
+    size_t bytes = 0;
+    if (!tb__size_product(count, per_key, &bytes) || bytes > PTRDIFF_MAX) {
+        return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY,
+                             "count: %zu keys of %zu bytes each are more than the address space",
+                             count, per_key);
+    }
     tb_keyframes *kf = calloc(1, sizeof *kf);
     if (kf != NULL) {
         kf->interpolation = interpolation;
@@ -290,8 +299,7 @@ static tb_status allocate(size_t count, tb_interpolation interpolation, tb_keyfr
     if (kf == NULL || kf->times == NULL || kf->nodes == NULL || kf->segments == NULL) {
         tb_keyframes_destroy(kf);
         return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY,
-                             "count: no memory for %zu keys (%zu bytes each)", count,
-                             sizeof(double) + sizeof(tb__key_node) + sizeof(tb__key_segment));
+                             "count: no memory for %zu keys (%zu bytes each)", count, per_key);
     }
     *out = kf;
     return TB_STATUS_OK;
