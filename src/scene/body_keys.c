@@ -243,22 +243,28 @@ static void fill_tangents(tb_keyframes *kf, const tb_body_key *keys)
     }
 }
 
-/* Tangents from positions or times far apart can overflow: refused, naming the key. */
-static tb_status check_tangents(const tb_keyframes *kf, tb_error *error)
+static bool sample_finite(const tb_body_motion_sample *s)
 {
-    for (size_t k = 0; k < kf->count; ++k) {
-        const tb__key_node *node = &kf->nodes[k];
-        bool segment_ok = true;
-        for (int i = 0; i < 3 && k + 1 < kf->count; ++i) {
-            segment_ok = segment_ok && isfinite(kf->nodes[k + 1].position[i] - node->position[i]) &&
-                         isfinite(kf->segments[k].end_rate[i]);
-        }
-        if (!tb__all_finite(node->velocity, 3) || !tb__all_finite(node->angular_velocity, 3) ||
-            !segment_ok) {
+    return tb__all_finite(s->position, 3) && tb__all_finite(s->orientation, 4) &&
+           tb__all_finite(s->velocity, 3) && tb__all_finite(s->angular_velocity, 3) &&
+           tb__all_finite(s->acceleration, 3) && tb__all_finite(s->angular_acceleration, 3);
+}
+
+/* Keys far apart for the time between them (or tangents that large) make a curve that
+ * overflows: refused, naming the key. Each segment's ends are checked; the acceleration is
+ * linear in t on a segment, so its largest magnitudes are there. */
+static tb_status check_segments(const tb_keyframes *kf, tb_error *error)
+{
+    for (size_t k = 0; k + 1 < kf->count; ++k) {
+        tb_body_motion_sample start, end;
+        tb__keys_segment_sample(kf, k, kf->times[k], &start);
+        tb__keys_segment_sample(kf, k, kf->times[k + 1], &end);
+        const bool start_ok = sample_finite(&start);
+        if (!start_ok || !sample_finite(&end)) {
             return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
-                                 "keys[%zu]: the curve overflows there (positions too "
-                                 "far apart for the times between them)",
-                                 k);
+                                 "keys[%zu]: the curve overflows there (keys too far apart for "
+                                 "the time between them)",
+                                 start_ok ? k + 1 : k);
         }
     }
     return TB_STATUS_OK;
@@ -345,7 +351,7 @@ tb_status tb_keyframes_create(const tb_body_key *keys, size_t count, tb_interpol
         if (interpolation == TB_INTERPOLATION_CUBIC) {
             fill_tangents(kf, keys);
         }
-        status = check_tangents(kf, out_error);
+        status = check_segments(kf, out_error);
     }
     if (status != TB_STATUS_OK) {
         tb_keyframes_destroy(kf);
@@ -371,13 +377,6 @@ static void hold(const tb_keyframes *kf, size_t k, tb_body_motion_sample *out)
     memset(out, 0, sizeof *out);
     tb__v3_copy(out->position, kf->nodes[k].position);
     memcpy(out->orientation, kf->nodes[k].orientation, sizeof out->orientation);
-}
-
-static bool sample_finite(const tb_body_motion_sample *s)
-{
-    return tb__all_finite(s->position, 3) && tb__all_finite(s->orientation, 4) &&
-           tb__all_finite(s->velocity, 3) && tb__all_finite(s->angular_velocity, 3) &&
-           tb__all_finite(s->acceleration, 3) && tb__all_finite(s->angular_acceleration, 3);
 }
 
 /* The segment k with times[k] <= t < times[k + 1] (from the left: times[k] < t <=

@@ -53,7 +53,8 @@ static void hermite(const basis *b, double h, const double x0[3], const double d
     for (int i = 0; i < 3; ++i) {
         value[i] = x0[i] + b->h01 * delta[i] + h * (b->h10 * m0[i] + b->h11 * m1[i]);
         rate[i] = b->d01 * delta[i] / h + b->d10 * m0[i] + b->d11 * m1[i];
-        acceleration[i] = b->dd01 * delta[i] / (h * h) + (b->dd10 * m0[i] + b->dd11 * m1[i]) / h;
+        /* divided by h twice, so a linear curve's 0 stays 0 however short h is */
+        acceleration[i] = (b->dd01 * delta[i] / h + b->dd10 * m0[i] + b->dd11 * m1[i]) / h;
     }
 }
 
@@ -191,5 +192,10 @@ void tb__keys_segment_sample(const tb_keyframes *keyframes, size_t k, double t,
             ddphi);
     tb__rotation_exp(turn, phi);
     tb__q_mul(out->orientation, turn, from->orientation);
-    rotation_rates(phi, dphi, ddphi, out->angular_velocity, out->angular_acceleration);
+    if (keyframes->interpolation == TB_INTERPOLATION_CUBIC) {
+        rotation_rates(phi, dphi, ddphi, out->angular_velocity, out->angular_acceleration);
+    } else { /* slerp: phi parallel to dphi, J_l(phi) dphi = dphi, and no acceleration */
+        tb__v3_copy(out->angular_velocity, dphi);
+        tb__v3_set(out->angular_acceleration, 0.0, 0.0, 0.0);
+    }
 }
