@@ -68,8 +68,9 @@ typedef struct tb_keyframes tb_keyframes;
  *   TB_STATUS_NULL_POINTER     keys or out_keyframes NULL
  *   TB_STATUS_INVALID_ARGUMENT count 0; an unknown interpolation; times not strictly
  *                              increasing (or an interval between them that overflows); a zero
- *                              quaternion; a velocity given to linear or step keys; a tangent
- *                              that overflows
+ *                              quaternion; a velocity given to linear or step keys; keys too
+ *                              far apart for the time between them (the curve overflows at a
+ *                              segment's end)
  *   TB_STATUS_NOT_FINITE       NaN or infinity in a time, position, orientation or velocity
  *   TB_STATUS_OUT_OF_MEMORY    count too large to hold (checked before any key is read) */
 TB_API tb_status tb_keyframes_create(const tb_body_key *keys, size_t count,
