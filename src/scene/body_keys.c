@@ -29,21 +29,6 @@ const char *tb_interpolation_name(tb_interpolation interpolation)
     return is_interpolation(interpolation) ? interpolation_names[interpolation] : NULL;
 }
 
-/* Equal ignoring ASCII case (strcasecmp is POSIX, not C11, and follows the locale). */
-static bool same_name(const char *a, const char *b)
-{
-    for (;; ++a, ++b) {
-        const int ca = *a >= 'A' && *a <= 'Z' ? *a - 'A' + 'a' : *a;
-        const int cb = *b >= 'A' && *b <= 'Z' ? *b - 'A' + 'a' : *b;
-        if (ca != cb) {
-            return false;
-        }
-        if (ca == '\0') {
-            return true;
-        }
-    }
-}
-
 tb_status tb_interpolation_parse(const char *name, tb_interpolation *out_interpolation,
                                  tb_error *out_error)
 {
@@ -53,7 +38,7 @@ tb_status tb_interpolation_parse(const char *name, tb_interpolation *out_interpo
                              name == NULL ? "name" : "out_interpolation");
     }
     for (int k = 0; k < TB_INTERPOLATION_COUNT; ++k) {
-        if (same_name(name, interpolation_names[k])) {
+        if (tb__same_name(name, interpolation_names[k])) {
             *out_interpolation = (tb_interpolation)k;
             return TB_STATUS_OK;
         }
