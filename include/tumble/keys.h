@@ -46,7 +46,9 @@ typedef struct tb_body_key {
     double t;                   /* s; keys' times strictly increase */
     double position[3];         /* m, world (what tb_body_motion_sample.position means) */
     double orientation[4];      /* (w, x, y, z), shape -> world: any finite nonzero quaternion,
-                                   normalised when the keyframes are made; default identity */
+                                   normalised when the keyframes are made, its sign chosen so
+                                   the curve turns the shorter way from the key before (samples
+                                   may give -q, the same rotation); default identity */
     bool has_velocity;          /* cubic only: velocity is the curve's tangent here */
     double velocity[3];         /* m/s, world; read when has_velocity */
     bool has_angular_velocity;  /* cubic only: angular_velocity is the curve's here */
