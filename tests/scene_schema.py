@@ -56,9 +56,10 @@ KEY_LISTS = {
     ("scene_file_effects.c", "load_contact", "keys"): ["effect_contact"],
     ("scene_file_run.c", "tb__load_integrator", "keys"): ["integrator"],
     ("scene_file_run.c", "tb__load_output", "keys"): ["output"],
+    ("scene_file_keys.c", "load_key", "allowed"): ["body_key"],
 }
 # Keys the schema has before this branch's loader reads them (added on other branches).
-PENDING = {("", "sleeping")}
+PENDING = {("", "sleeping"), ("body", "keys"), ("body", "interpolation")}
 
 BALL = {"name": "ball", "shape": {"type": "sphere", "radius": 0.1}, "mass": 1,
         "position": [0, 0, 1]}

@@ -8,6 +8,7 @@
 #include "tumble/ode.h"
 #include "tumble/mass.h"
 #include "tumble/body.h"
+#include "tumble/keys.h"
 #include "tumble/scene.h"
 #include "tumble/effects.h"
 #include "tumble/shape.h"

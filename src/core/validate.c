@@ -102,3 +102,17 @@ void *tb__realloc_array(void *p, size_t count, size_t size)
     size_t bytes;
     return tb__size_product(count, size, &bytes) ? realloc(p, bytes) : NULL;
 }
+
+bool tb__same_name(const char *a, const char *b)
+{
+    for (;; ++a, ++b) {
+        const int ca = *a >= 'A' && *a <= 'Z' ? *a - 'A' + 'a' : *a;
+        const int cb = *b >= 'A' && *b <= 'Z' ? *b - 'A' + 'a' : *b;
+        if (ca != cb) {
+            return false;
+        }
+        if (ca == '\0') {
+            return true;
+        }
+    }
+}

@@ -5,6 +5,7 @@
 
 #include "io/obj_reader.h"
 #include "tumble/effects.h"
+#include "tumble/keys.h"
 #include "tumble/scene_file.h"
 #include "tumble/shape.h"
 
@@ -88,6 +89,15 @@ tb_status tb__load_bodies(tb__loader *ld, const json_t *bodies);
 tb_status tb__load_effects(tb__loader *ld, const json_t *effects);
 tb_status tb__load_integrator(tb__loader *ld, const json_t *integrator);
 tb_status tb__load_output(tb__loader *ld, const json_t *output);
+
+/* A keyframed body's "keys" (required, a non-empty array of {t, position, orientation,
+ * velocity, angular_velocity}) and "interpolation" ("linear", "cubic" (default) or "step"),
+ * checked as tb_keyframes_create checks them; a refusal names path.keys[k].field. On success
+ * *out_keys is malloc'd (the caller frees it) with *out_count keys; on failure the outputs are
+ * untouched. (scene_file_keys.c) */
+tb_status tb__load_keys(tb__loader *ld, const json_t *body, const char *path,
+                        tb_body_key **out_keys, size_t *out_count,
+                        tb_interpolation *out_interpolation);
 
 /* The folder part of path, up to and including its last '/' ("" if none); malloc'd, as long
  * as the path is. NULL when memory runs out. */

@@ -4,6 +4,7 @@
 #include "ode/integrator.h"
 
 #include "core/detail.h"
+#include "core/validate.h"
 
 #include <math.h>
 #include <stdbool.h>
@@ -80,21 +81,6 @@ int tb_method_is_adaptive(tb_method method)
     return is_method(method) ? tb__methods[method].info.adaptive : 0;
 }
 
-/* Equal ignoring ASCII case (strcasecmp is POSIX, not C11, and follows the locale). */
-static bool same_name(const char *a, const char *b)
-{
-    for (;; ++a, ++b) {
-        const int ca = *a >= 'A' && *a <= 'Z' ? *a - 'A' + 'a' : *a;
-        const int cb = *b >= 'A' && *b <= 'Z' ? *b - 'A' + 'a' : *b;
-        if (ca != cb) {
-            return false;
-        }
-        if (ca == '\0') {
-            return true;
-        }
-    }
-}
-
 /* "euler, midpoint, rk4, cvode-adams, cvode-bdf" from the table. */
 static void list_methods(char *out, size_t size)
 {
@@ -113,7 +99,7 @@ tb_status tb_method_parse(const char *name, tb_method *out_method, tb_error *out
                              name == NULL ? "name" : "out_method");
     }
     for (int m = 0; m < TB_METHOD_COUNT; ++m) {
-        if (same_name(name, tb__methods[m].info.name)) {
+        if (tb__same_name(name, tb__methods[m].info.name)) {
             *out_method = (tb_method)m;
             return TB_STATUS_OK;
         }
