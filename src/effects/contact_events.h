@@ -3,7 +3,8 @@
 #ifndef TUMBLE_CONTACT_EVENTS_H
 #define TUMBLE_CONTACT_EVENTS_H
 
-#include "scene/scene_internal.h"
+#include "effects/effect_contact.h"
+#include "effects/effect_ground.h"
 
 /* Pairs are found this far apart (m), so points appear before they touch, at zero force, and
  * pairs this close link their bodies' islands (sleep.c). */

@@ -26,7 +26,7 @@
 #define TUMBLE_CONTACT_FRICTION_H
 
 #include "contact/contact_pairs.h"
-#include "scene/scene_internal.h"
+#include "effects/effect_contact.h"
 
 /* Doubles of y per slot: z in body A's principal frame, m. */
 #define TB__FRICTION_SLOT_STATES 3

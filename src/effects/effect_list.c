@@ -70,7 +70,7 @@ static tb_status grow(tb_scene *scene)
     return tb__scene_reserve_effects(scene, capacity);
 }
 
-tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect)
+tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect, size_t params_size)
 {
     /* a per-body row applies to ranges of bodies; every other row to the whole state */
     assert((effect->ops->apply == NULL) ==
@@ -83,12 +83,19 @@ tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect)
     if (status != TB_STATUS_OK) {
         return status;
     }
+    void *params = malloc(params_size > 0 ? params_size : 1);
+    if (params == NULL) {
+        return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "an effect's parameters");
+    }
+    memcpy(params, effect->params, params_size);
     const size_t index = scene->effect_count;
     scene->effects[scene->effect_count++] = *effect;
+    scene->effects[index].params = params;
     if (effect->states_per_contact > 0 || effect->fixed_states > 0) {
         status = tb__scene_layout_states(scene, scene->body_count);
         if (status != TB_STATUS_OK) {
             scene->effect_count--;
+            free(params);
             return status;
         }
     }

@@ -140,63 +140,9 @@ typedef struct tb__effect_ops {
  * finds is surely within the margin that links it). */
 #define TB__WAKE_DISTANCE 5e-4
 
-/* Each kind's parameters, typed: the effect's own file reads them, nobody else. Points fixed in
- * a body are offsets from its centre of mass in its principal frame (m). */
-typedef struct tb__gravity_params {
-    double g[3]; /* m/s^2, world */
-} tb__gravity_params;
-
-typedef struct tb__load_params {
-    double
-        vector[3];   /* force (N) or torque (N m): world, or principal frame for body-frame loads */
-    double point[3]; /* where a force acts, principal frame */
-} tb__load_params;
-
-typedef struct tb__drag_params {
-    double linear, quadratic, angular, angular_quadratic; /* see tb_drag_def */
-} tb__drag_params;
-
-typedef struct tb__spring_params {
-    size_t other;       /* the second body, or TB_WORLD */
-    double point[3];    /* on the first body, principal frame */
-    double anchor[3];   /* on the second body (principal frame) or in the world */
-    double stiffness;   /* N/m */
-    double damping;     /* N s/m */
-    double rest_length; /* m */
-} tb__spring_params;
-
-typedef struct tb__ground_params {
-    double normal[3], tangent[2][3]; /* orthonormal, right-handed, world */
-    double offset;                   /* the plane normal . x = offset, m */
-    double gravity, penetration;
-    double omega;         /* sqrt(gravity / penetration), rad/s */
-    double damping_ratio; /* from the restitution (contact/contact_law.h) */
-    double static_friction, kinetic_friction, stribeck_velocity;
-    double bristle_stiffness; /* friction spring per unit weight: s0 = mu_s / presliding, 1/m */
-} tb__ground_params;
-
-/* Contact between bodies (effect_contact.c): the pair finder and the law's constants. */
-typedef struct tb__contact_params {
-    struct tb__contact_pairs *pairs; /* owned; contact/contact_pairs.h */
-    size_t *bodies;                  /* owned: the ids it acts on */
-    size_t body_count;
-    bool every_body;             /* made without a list (tb_contact_info) */
-    double omega, damping_ratio; /* rad/s, from penetration and restitution */
-    double static_friction, kinetic_friction, stribeck_velocity, gravity;
-    double push_duration; /* s: the shortest time an impact's force acts, over every pair */
-    struct tb__contact_pairs *lookahead; /* owned: pairs within TB__EVENT_LOOKAHEAD, for the
-                                            events and step limits (effect_contact_events.c) */
-    double bristle_stiffness;            /* friction spring per unit weight, as ground's, 1/m */
-    double slip_velocity; /* m/s: v_reg of the memoryless law a point without a slot gets */
-    struct tb__friction_pool *friction; /* owned; effects/contact_friction.h */
-} tb__contact_params;
-
-typedef struct tb__user_params {
-    tb_user_effect_fn fn;
-    void *ctx;
-} tb__user_params;
-
-/* One entry of the compiled effect list: its row and its typed parameters. */
+/* One entry of the compiled effect list: its row and its parameters. The scene sees no kind:
+ * each kind's parameter struct is its effect file's (or its kind header's in src/effects/), and
+ * only that file reads it, through params. */
 struct tb__effect {
     const tb__effect_ops *ops;
     size_t body;               /* the body acted on, or TB_ALL_BODIES (the derivative's order) */
@@ -204,15 +150,9 @@ struct tb__effect {
     size_t fixed_states;       /* states owned whatever the points (contact's friction slots) */
     size_t state_offset;       /* where in y those states start */
     double state_scale;        /* natural size of those states, for absolute tolerances */
-    union {                    /* the member ops names */
-        tb__gravity_params gravity;
-        tb__load_params load;
-        tb__drag_params drag;
-        tb__spring_params spring;
-        tb__ground_params ground;
-        tb__contact_params contact;
-        tb__user_params user;
-    } params;
+    /* The kind's parameters: one allocation the scene owns (tb__scene_push_effect copies
+     * them), freed after the row's release has freed what they own. */
+    void *params;
 };
 
 /* A contact point of a body, for ground planes. Points of one body are contiguous. */
@@ -392,8 +332,10 @@ tb_status tb__scene_reserve_effects(tb_scene *scene, size_t capacity);
 
 /* Appends an effect, growing the list if needed, and records the change (effects_generation,
  * and the layout's when the effect owns states); nothing changes on failure. TB_STATUS_BUSY
- * while the scene is being stepped. */
-tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect);
+ * while the scene is being stepped. The entry's parameters are a copy of the params_size bytes
+ * at effect->params, which the scene owns from then on (what they point to too: the row's
+ * release frees it); on failure the caller still owns what they point to. */
+tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect, size_t params_size);
 
 /* Whether an effect has a post_step op, and the scene's post-step hook for such scenes
  * (tb_ode_hook, ctx the scene): the quaternions renormalised if the scene asks for it, then
