@@ -6,7 +6,7 @@
  * fixed then and never changes behind an integrator.
  *
  * Which slot a point holds is a function of y and of a slot map that changes only at step
- * boundaries (tb__effect_ops.post_step), so that between two boundaries the derivative is a
+ * boundaries (tb__effect_stepping.post_step), so that between two boundaries the derivative is a
  * pure function of y:
  *   - a claimed slot is keyed by its pair (a, b) and the point's position in A's principal
  *     frame at the last boundary; the touching points of a pair (depth > 0) take the pair's

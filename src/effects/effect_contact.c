@@ -300,6 +300,16 @@ static void release_contact(tb__effect *effect)
     tb__contact_of(effect)->bodies = NULL;
 }
 
+static const tb__effect_stepping contact_stepping = {
+    .event_gaps = tb__contact_event_gaps, /* effect_contact_events.c */
+    .wake_gaps = tb__contact_wake_gaps,
+    .wake_links = tb__contact_wake_links,
+    .adaptive_step_limit = tb__contact_step_limit, /* at least half the shortest push */
+    .tunnel_step = tb__contact_tunnel_step,
+    .check_impacts = tb__contact_check_impacts,
+    .post_step = tb__friction_post_step,
+};
+
 static const tb__effect_ops contact_ops = {
     .name = "contact",
     .apply = apply_contact,
@@ -308,14 +318,8 @@ static const tb__effect_ops contact_ops = {
     .rate = contact_rate,
     .release = release_contact,
     .check_start = tb__contact_check_start,
-    .event_gaps = tb__contact_event_gaps, /* effect_contact_events.c */
-    .wake_gaps = tb__contact_wake_gaps,
-    .wake_links = tb__contact_wake_links,
-    .adaptive_step_limit = tb__contact_step_limit, /* at least half the shortest push */
-    .tunnel_step = tb__contact_tunnel_step,
-    .check_impacts = tb__contact_check_impacts,
     .owns_states = true,
-    .post_step = tb__friction_post_step,
+    .stepping = &contact_stepping,
 };
 
 tb_contact_def tb_contact_def_default(void)

@@ -340,6 +340,10 @@ static tb_status ground_check_start(const tb__effect *effect, const tb_scene *sc
     return TB_STATUS_OK;
 }
 
+static const tb__effect_stepping ground_stepping = {
+    .event_gaps = tb__ground_event_gaps, /* effect_contact_events.c */
+};
+
 static const tb__effect_ops ground_ops = {
     .name = "ground",
     .apply = apply_ground,
@@ -347,7 +351,7 @@ static const tb__effect_ops ground_ops = {
     .owns_states = true,
     .rate = ground_rate,
     .check_start = ground_check_start,
-    .event_gaps = tb__ground_event_gaps, /* effect_contact_events.c */
+    .stepping = &ground_stepping,
 };
 
 tb_ground_def tb_ground_def_default(void)

@@ -129,6 +129,8 @@ tb_status tb__scene_check_effects_start(tb_scene *scene, const double *y)
     return TB_STATUS_OK;
 }
 
+const tb__effect_stepping tb__effect_no_stepping = {.post_step = NULL};
+
 void tb__effect_rate_add_decay(tb__effect_rate *out, double rate, size_t body)
 {
     if (rate > out->decay) {
@@ -150,7 +152,7 @@ void tb__effect_rate_add_damped_mode(tb__effect_rate *out, double omega, double 
 bool tb__scene_has_post_step_effects(const tb_scene *scene)
 {
     for (size_t e = 0; e < scene->effect_count; ++e) {
-        if (scene->effects[e].ops->post_step != NULL) {
+        if (tb__stepping_of(&scene->effects[e])->post_step != NULL) {
             return true;
         }
     }
@@ -167,8 +169,8 @@ int tb__scene_post_step(double t, double *y, void *ctx)
     tb__scene_sleep_begin(scene);
     for (size_t e = 0; e < scene->effect_count && rc == 0; ++e) {
         const tb__effect *effect = &scene->effects[e];
-        if (effect->ops->post_step != NULL) {
-            effect->ops->post_step(effect, scene, y); /* links the pairs it finds */
+        if (tb__stepping_of(effect)->post_step != NULL) {
+            tb__stepping_of(effect)->post_step(effect, scene, y); /* links the pairs it finds */
         }
     }
     if (rc == 0) {

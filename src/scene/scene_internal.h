@@ -45,9 +45,6 @@ typedef struct tb__effect_rate {
 void tb__effect_rate_add_damped_mode(tb__effect_rate *out, double omega, double zeta, size_t body);
 void tb__effect_rate_add_decay(tb__effect_rate *out, double rate, size_t body);
 
-/* One constant row per effect kind: every fact about the kind, asked by the derivative, the
- * read-outs and the stability guard; nothing outside the effect's own file reads its
- * parameters. */
 /* Which lane form a per-body effect on every body has (tb__effect_ops.lanes_kind, lanes.h);
  * the others are applied lane by lane through apply_bodies, with the same arithmetic. */
 typedef enum tb__lanes_kind {
@@ -56,6 +53,13 @@ typedef enum tb__lanes_kind {
     TB__LANES_DRAG,
 } tb__lanes_kind;
 
+typedef struct tb__effect_stepping tb__effect_stepping;
+
+/* One constant row per effect kind (the core row), defined in the kind's file in src/effects/:
+ * every fact about the kind that the derivative, the read-outs, the stability guard and the
+ * sleeping islands ask; nothing outside the effect's own files reads its parameters. An effect
+ * that also shapes the steps (contact, ground) points to a second row, tb__effect_stepping;
+ * a simple effect is its file and this one row. */
 typedef struct tb__effect_ops {
     const char *name;                     /* "gravity", "drag", "spring", "ground", ... */
     tb__lanes_kind lanes_kind;            /* per-body effects: its lane form, if any */
@@ -82,6 +86,21 @@ typedef struct tb__effect_ops {
     /* Frees what the effect's parameters own (the contact effect's pair finder) when the scene
      * is destroyed; NULL: they own nothing. */
     void (*release)(tb__effect *effect);
+    /* Sleeping islands (sleep.c): the body the effect ties effect->body to, so that the two
+     * sleep and wake together (a spring's second body), or TB_ALL_BODIES; NULL: none. */
+    size_t (*sleep_partner)(const tb__effect *effect);
+    /* The effect's loads may change while the bodies rest (a user callback of t): while the
+     * scene holds it, no body sleeps. */
+    bool keeps_awake;
+    /* The hooks of an effect that shapes the steps (events, step limits, impacts, step
+     * boundaries, waking); NULL for an effect with none. */
+    const tb__effect_stepping *stepping;
+} tb__effect_ops;
+
+/* The optional second row of an effect kind: what the events, the adaptive step limit, the
+ * tunnelling and impact checks, the step boundaries and the waking of sleeping islands ask of
+ * an effect that makes bodies touch (contact, ground). Each hook NULL: none. */
+struct tb__effect_stepping {
     /* Events (effect_contact_events.c): lowers gap[i] (m, filled with TB__EVENT_LOOKAHEAD) to
      * body i's gap to what the effect makes it touch, where that is smaller: negative in
      * contact, continuous in y. The scene's root functions are these gaps, one per body, so an
@@ -123,13 +142,7 @@ typedef struct tb__effect_ops {
      * bookkeeping outside y that the derivative reads (the contact effect's friction slot
      * map). It must not change y, and must leave the derivative at y as it was. NULL: none. */
     void (*post_step)(const tb__effect *effect, const tb_scene *scene, const double *y);
-    /* Sleeping islands (sleep.c): the body the effect ties effect->body to, so that the two
-     * sleep and wake together (a spring's second body), or TB_ALL_BODIES; NULL: none. */
-    size_t (*sleep_partner)(const tb__effect *effect);
-    /* The effect's loads may change while the bodies rest (a user callback of t): while the
-     * scene holds it, no body sleeps. */
-    bool keeps_awake;
-} tb__effect_ops;
+};
 
 /* The gap (m) the event functions start from: a body farther than this from everything it can
  * touch has this gap, and the adaptive step limit sees the pairs closer than it. */
@@ -154,6 +167,15 @@ struct tb__effect {
      * them), freed after the row's release has freed what they own. */
     void *params;
 };
+
+/* The row of an effect without stepping hooks: every hook NULL. */
+extern const tb__effect_stepping tb__effect_no_stepping;
+
+/* The effect's stepping row, or tb__effect_no_stepping. */
+static inline const tb__effect_stepping *tb__stepping_of(const tb__effect *effect)
+{
+    return effect->ops->stepping != NULL ? effect->ops->stepping : &tb__effect_no_stepping;
+}
 
 /* A contact point of a body, for ground planes. Points of one body are contiguous. */
 typedef struct tb__contact {
@@ -295,7 +317,7 @@ void tb__scene_sleep_apply_pending(tb_scene *scene);
 void tb__scene_wake_body(tb_scene *scene, size_t id);
 void tb__scene_wake_all(tb_scene *scene);
 /* The adaptive methods' event stop (tb_ode_system.at_event, ctx the scene): while a body
- * sleeps, the islands are decided from y at t (pairs within the margin, tb__effect_ops
+ * sleeps, the islands are decided from y at t (pairs within the margin, tb__effect_stepping
  * wake_links) and the decision applied at once, so that the integrator restarts there with
  * an island woken before the pair that stopped it touches. */
 void tb__scene_sleep_at_event(double t, const double *y, void *ctx);
@@ -429,12 +451,12 @@ tb_status tb__scene_check_step(const tb_scene *scene, const double *y, tb_method
                                char *detail);
 
 /* Events (scene_events.c): whether some effect has them; the scene's root functions (one
- * gap per body, tb__effect_ops.event_gaps) and adaptive step limit, for tb_ode_system; the
+ * gap per body, tb__effect_stepping.event_gaps) and adaptive step limit, for tb_ode_system; the
  * longest fixed step at state y in which no body can pass through another (INFINITY: none),
  * what sets it written into which (TB_DETAIL_SIZE bytes). */
 bool tb__scene_has_events(const tb_scene *scene);
 int tb__scene_event_gaps(double t, const double *y, double *gap, void *ctx);
-/* The same gaps in g[0 .. n), then each body's wake gap (tb__effect_ops.wake_gaps) in
+/* The same gaps in g[0 .. n), then each body's wake gap (tb__effect_stepping.wake_gaps) in
  * g[n .. 2n): the root functions of a scene whose bodies can sleep. */
 int tb__scene_event_and_wake_gaps(double t, const double *y, double *g, void *ctx);
 double tb__scene_step_limit(double t, const double *y, const double *dydt, void *ctx);
