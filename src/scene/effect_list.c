@@ -1,6 +1,7 @@
-/* The scene's effect list: each effect added compiles to one entry (its row of operations and
- * its typed parameters), kept in the order the derivative applies them. Also the conversions
- * every effect uses to store a body point or direction in the body's principal frame. */
+/* The scene's effect list: each effect added compiles to one entry (its rows of operations and
+ * its parameters, which only the effect's own files in src/effects/ read), kept in the order the
+ * derivative applies them. Also the conversions every effect uses to store a body point or
+ * direction in the body's principal frame. */
 #include "scene/scene_internal.h"
 
 #include "core/detail.h"
