@@ -3,6 +3,7 @@
 
 #include "core/detail.h"
 #include "core/validate.h"
+#include "effects/effect_lanes.h"
 #include "math/tb_math.h"
 
 #include <string.h>
@@ -76,9 +77,11 @@ static void drag_rate(const tb__effect *effect, const tb_scene *scene, const dou
     }
 }
 
+static const tb__effect_lanes drag_lanes = {TB__EFFECT_LANES(tb__drag_lanes)}; /* effect_lanes.c */
+
 static const tb__effect_ops drag_ops = {
     .name = "drag",
-    .lanes_kind = TB__LANES_DRAG, /* effect_lanes.c, for drag on every body */
+    .lanes = &drag_lanes, /* for drag on every body */
     .apply_bodies = apply_drag,
     .rate = drag_rate,
 };

@@ -1,7 +1,7 @@
 /* The lane forms (lanes.h) of the per-body effects that act on every body, compiled once per
  * vector path with TB_LANES_TARGET naming it: gravity and drag. Each lane's operations are those
  * of apply_gravity() (effect_loads.c) and drag_body() (effect_drag.c), in the same order. */
-#include "scene/lanes.h"
+#include "effects/effect_lanes.h"
 
 #include "effects/effect_drag.h"
 #include "effects/effect_loads.h"

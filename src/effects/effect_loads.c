@@ -3,6 +3,7 @@
 #include "effects/effect_loads.h"
 
 #include "core/detail.h"
+#include "effects/effect_lanes.h"
 #include "math/tb_math.h"
 
 /* --- gravity: F_i += M_i g for every body ------------------------------------------------ */
@@ -38,9 +39,11 @@ static bool always(const tb__effect *effect)
     return true;
 }
 
+static const tb__effect_lanes gravity_lanes = {TB__EFFECT_LANES(tb__gravity_lanes)};
+
 static const tb__effect_ops gravity_ops = {
     .name = "gravity",
-    .lanes_kind = TB__LANES_GRAVITY, /* effect_lanes.c */
+    .lanes = &gravity_lanes, /* effect_lanes.c */
     .apply_bodies = apply_gravity,
     .potential_energy = gravity_potential_energy,
     .conserves_energy = always,

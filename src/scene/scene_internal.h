@@ -45,13 +45,9 @@ typedef struct tb__effect_rate {
 void tb__effect_rate_add_damped_mode(tb__effect_rate *out, double omega, double zeta, size_t body);
 void tb__effect_rate_add_decay(tb__effect_rate *out, double rate, size_t body);
 
-/* Which lane form a per-body effect on every body has (tb__effect_ops.lanes_kind, lanes.h);
- * the others are applied lane by lane through apply_bodies, with the same arithmetic. */
-typedef enum tb__lanes_kind {
-    TB__LANES_BY_BODY = 0,
-    TB__LANES_GRAVITY,
-    TB__LANES_DRAG,
-} tb__lanes_kind;
+/* A per-body effect's lane forms on every body, one per vector path (lanes.h); an effect
+ * without them is applied lane by lane through apply_bodies, with the same arithmetic. */
+typedef struct tb__effect_lanes tb__effect_lanes;
 
 typedef struct tb__effect_stepping tb__effect_stepping;
 
@@ -62,7 +58,7 @@ typedef struct tb__effect_stepping tb__effect_stepping;
  * a simple effect is its file and this one row. */
 typedef struct tb__effect_ops {
     const char *name;                     /* "gravity", "drag", "spring", "ground", ... */
-    tb__lanes_kind lanes_kind;            /* per-body effects: its lane form, if any */
+    const tb__effect_lanes *lanes;        /* per-body effects: its lane forms, or NULL */
     tb__effect_apply apply;               /* effects that couple bodies or own states */
     tb__effect_apply_bodies apply_bodies; /* per-body effects: exactly one of the two is set */
     bool couples_bodies;                  /* its loads on one body depend on another's state */
