@@ -1,9 +1,11 @@
-/* Private: the events and step limits of contact (effect_contact_events.c), named by the rows of
- * the contact effect (effect_contact.c) and the ground (effect_ground.c). See tb__effect_ops. */
+/* Private: the events and step limits of contact (effect_contact_events.c), named by the stepping
+ * rows (tb__effect_stepping) of the contact effect (effect_contact.c) and the ground
+ * (effect_ground.c). */
 #ifndef TUMBLE_CONTACT_EVENTS_H
 #define TUMBLE_CONTACT_EVENTS_H
 
-#include "scene/scene_internal.h"
+#include "effects/effect_contact.h"
+#include "effects/effect_ground.h"
 
 /* Pairs are found this far apart (m), so points appear before they touch, at zero force, and
  * pairs this close link their bodies' islands (sleep.c). */
@@ -14,10 +16,10 @@
 tb_status tb__contact_events_create(tb_scene *scene, tb__contact_params *contact);
 void tb__contact_events_release(tb__contact_params *contact);
 
-/* tb__effect_ops.event_gaps, adaptive_step_limit and tunnel_step of contact between bodies. */
+/* tb__effect_stepping.event_gaps, adaptive_step_limit and tunnel_step of contact between bodies. */
 void tb__contact_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
                             double *gap);
-/* tb__effect_ops.wake_gaps and wake_links of contact between bodies (sleeping islands). */
+/* tb__effect_stepping.wake_gaps and wake_links of contact between bodies (sleeping islands). */
 void tb__contact_wake_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
                            double *wake);
 void tb__contact_wake_links(const tb__effect *effect, const tb_scene *scene, const double *y,
@@ -27,13 +29,13 @@ double tb__contact_step_limit(const tb__effect *effect, const tb_scene *scene, c
 double tb__contact_tunnel_step(const tb__effect *effect, const tb_scene *scene, const double *y,
                                char *which, size_t size);
 
-/* tb__effect_ops.check_impacts of contact between bodies: refuses a state in which the two
+/* tb__effect_stepping.check_impacts of contact between bodies: refuses a state in which the two
  * fastest bodies could close by more than the thinnest body's half-thickness before the law stops
  * them (TB_STATUS_INVALID_ARGUMENT, the detail naming both). */
 tb_status tb__contact_check_impacts(const tb__effect *effect, const tb_scene *scene,
                                     const double *y, char *detail);
 
-/* tb__effect_ops.event_gaps of a ground plane: each body's lowest contact point's height. */
+/* tb__effect_stepping.event_gaps of a ground plane: each body's lowest contact point's height. */
 void tb__ground_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
                            double *gap);
 

@@ -6,7 +6,7 @@
  * fixed then and never changes behind an integrator.
  *
  * Which slot a point holds is a function of y and of a slot map that changes only at step
- * boundaries (tb__effect_ops.post_step), so that between two boundaries the derivative is a
+ * boundaries (tb__effect_stepping.post_step), so that between two boundaries the derivative is a
  * pure function of y:
  *   - a claimed slot is keyed by its pair (a, b) and the point's position in A's principal
  *     frame at the last boundary; the touching points of a pair (depth > 0) take the pair's
@@ -26,7 +26,7 @@
 #define TUMBLE_CONTACT_FRICTION_H
 
 #include "contact/contact_pairs.h"
-#include "scene/scene_internal.h"
+#include "effects/effect_contact.h"
 
 /* Doubles of y per slot: z in body A's principal frame, m. */
 #define TB__FRICTION_SLOT_STATES 3

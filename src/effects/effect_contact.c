@@ -5,7 +5,7 @@
  * angular momentum to round-off. Friction is the ground's stick anchor at the points that hold
  * a slot of the effect's friction pool (effects/contact_friction.h), the memoryless law at the
  * others. */
-#include "scene/scene_internal.h"
+#include "effects/effect_contact.h"
 
 #include "contact/contact_law.h"
 #include "contact/contact_pairs.h"
@@ -42,7 +42,7 @@ static void point_load(const tb__effect *effect, const tb__pair_contact *pair,
                        const tb__pair_motion *m, const tb__contact_point *point, double share,
                        size_t slot, const double *y, double *dydt)
 {
-    const tb__contact_params *contact = &effect->params.contact;
+    const tb__contact_params *contact = tb__contact_of(effect);
     const double *n = pair->manifold.normal;
     double arm_a[3], arm_b[3], v_a[3], v_b[3];
     for (int k = 0; k < 3; ++k) {
@@ -133,7 +133,7 @@ static void pair_loads(const tb__effect *effect, const tb_scene *scene, const do
     m.reduced = a->mass * b->mass / (a->mass + b->mass);
     pair_masses(scene, pair, &m);
     size_t slots[TB__MANIFOLD_POINTS];
-    tb__friction_match(effect->params.contact.friction, pair, m.body[0], fresh, slots);
+    tb__friction_match(tb__contact_of(effect)->friction, pair, m.body[0], fresh, slots);
     const double share = 1.0 / (double)pair->manifold.count;
     for (int j = 0; j < pair->manifold.count; ++j) {
         point_load(effect, pair, &m, &pair->manifold.points[j], share, slots[j], y, dydt);
@@ -144,7 +144,7 @@ static int apply_contact(const tb__effect *effect, const tb_scene *scene, double
                          double *dydt)
 {
     (void)t;
-    const tb__contact_params *contact = &effect->params.contact;
+    const tb__contact_params *contact = tb__contact_of(effect);
     tb__friction_relax_all(contact->friction, scene, y + effect->state_offset,
                            dydt + effect->state_offset);
     tb__pair_contact batch[TB__CONTACT_BATCH];
@@ -262,7 +262,7 @@ static void contact_bounds(const tb__contact_params *contact, const tb_scene *sc
 static void contact_rate(const tb__effect *effect, const tb_scene *scene, const double *y,
                          tb__effect_rate *out)
 {
-    const tb__contact_params *contact = &effect->params.contact;
+    const tb__contact_params *contact = tb__contact_of(effect);
     *out = (tb__effect_rate){0.0, TB_ALL_BODIES, 0.0, TB_ALL_BODIES};
     tb__contact_bounds b;
     contact_bounds(contact, scene, y, &b);
@@ -291,14 +291,24 @@ static void contact_rate(const tb__effect *effect, const tb_scene *scene, const 
 
 static void release_contact(tb__effect *effect)
 {
-    tb__contact_events_release(&effect->params.contact);
-    tb__contact_pairs_destroy(effect->params.contact.pairs);
-    tb__friction_pool_destroy(effect->params.contact.friction);
-    effect->params.contact.friction = NULL;
-    free(effect->params.contact.bodies);
-    effect->params.contact.pairs = NULL;
-    effect->params.contact.bodies = NULL;
+    tb__contact_events_release(tb__contact_of(effect));
+    tb__contact_pairs_destroy(tb__contact_of(effect)->pairs);
+    tb__friction_pool_destroy(tb__contact_of(effect)->friction);
+    tb__contact_of(effect)->friction = NULL;
+    free(tb__contact_of(effect)->bodies);
+    tb__contact_of(effect)->pairs = NULL;
+    tb__contact_of(effect)->bodies = NULL;
 }
+
+static const tb__effect_stepping contact_stepping = {
+    .event_gaps = tb__contact_event_gaps, /* effect_contact_events.c */
+    .wake_gaps = tb__contact_wake_gaps,
+    .wake_links = tb__contact_wake_links,
+    .adaptive_step_limit = tb__contact_step_limit, /* at least half the shortest push */
+    .tunnel_step = tb__contact_tunnel_step,
+    .check_impacts = tb__contact_check_impacts,
+    .post_step = tb__friction_post_step,
+};
 
 static const tb__effect_ops contact_ops = {
     .name = "contact",
@@ -308,14 +318,8 @@ static const tb__effect_ops contact_ops = {
     .rate = contact_rate,
     .release = release_contact,
     .check_start = tb__contact_check_start,
-    .event_gaps = tb__contact_event_gaps, /* effect_contact_events.c */
-    .wake_gaps = tb__contact_wake_gaps,
-    .wake_links = tb__contact_wake_links,
-    .adaptive_step_limit = tb__contact_step_limit, /* at least half the shortest push */
-    .tunnel_step = tb__contact_tunnel_step,
-    .check_impacts = tb__contact_check_impacts,
     .owns_states = true,
-    .post_step = tb__friction_post_step,
+    .stepping = &contact_stepping,
 };
 
 tb_contact_def tb_contact_def_default(void)
@@ -434,7 +438,7 @@ static tb_status validate_friction(tb_scene *scene, const tb_contact_def *def)
 /* The friction pool: def's points, or TB__FRICTION_POINTS_PER_BODY per body, at least 1. */
 static tb_status make_pool(tb_scene *scene, const tb_contact_def *def, tb__effect *effect)
 {
-    tb__contact_params *contact = &effect->params.contact;
+    tb__contact_params *contact = tb__contact_of(effect);
     /* body_count ids were allocated, so 6 body_count does not overflow */
     const size_t bodies = contact->body_count > 0 ? contact->body_count : 1;
     const size_t slots =
@@ -472,8 +476,8 @@ tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def)
     if (status == TB_STATUS_OK) {
         status = validate_friction(scene, def);
     }
-    tb__effect effect = {.ops = &contact_ops, .body = TB_ALL_BODIES};
-    tb__contact_params *contact = &effect.params.contact;
+    tb__contact_params params = {.pairs = NULL}, *contact = &params;
+    tb__effect effect = {.ops = &contact_ops, .body = TB_ALL_BODIES, .params = &params};
     if (status == TB_STATUS_OK) {
         status = copy_bodies(scene, def, contact);
     }
@@ -512,7 +516,7 @@ tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def)
         contact->kinetic_friction = def->kinetic_friction;
         contact->stribeck_velocity = def->stribeck_velocity;
         contact->gravity = def->gravity;
-        status = tb__scene_push_effect(scene, &effect);
+        status = tb__scene_push_effect(scene, &effect, sizeof params);
     }
     if (status != TB_STATUS_OK && def->internal_cookie == TB__CONTACT_COOKIE) {
         release_contact(&effect);
@@ -536,6 +540,6 @@ tb_status tb_scene_contact_friction_stats(const tb_scene *scene, size_t effect,
                               "effect: %zu is not a contact effect (the scene has %zu effects)",
                               effect, scene->effect_count);
     }
-    *out_stats = *tb__friction_stats(scene->effects[effect].params.contact.friction);
+    *out_stats = *tb__friction_stats(tb__contact_of(&scene->effects[effect])->friction);
     return TB_STATUS_OK;
 }

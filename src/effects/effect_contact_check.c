@@ -50,7 +50,7 @@ tb_status tb__contact_check_shared_pairs(tb_scene *scene, const tb__effect_ops *
         if (in == NULL && (in = calloc(scene->body_count > 0 ? scene->body_count : 1, 1)) == NULL) {
             return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "contact pair check");
         }
-        const tb__contact_params *contact = &other->params.contact;
+        const tb__contact_params *contact = tb__contact_of(other);
         for (size_t k = 0; k < contact->body_count; ++k) {
             in[contact->bodies[k]] = 1;
         }
@@ -111,7 +111,7 @@ static tb_status check_pair(const tb__contact_params *contact, const tb_scene *s
 tb_status tb__contact_check_start(const tb__effect *effect, const tb_scene *scene, const double *y,
                                   char *detail)
 {
-    const tb__contact_params *contact = &effect->params.contact;
+    const tb__contact_params *contact = tb__contact_of(effect);
     tb__pair_contact batch[START_BATCH];
     tb__contact_pairs_begin(contact->pairs, scene, y);
     size_t count;

@@ -3,7 +3,7 @@
 #ifndef TUMBLE_EFFECT_CONTACT_CHECK_H
 #define TUMBLE_EFFECT_CONTACT_CHECK_H
 
-#include "scene/scene_internal.h"
+#include "effects/effect_contact.h"
 
 /* How deep a pair may start inside each other, in units of the depth at which the pair's
  * contact carries the heavier body's weight (the ground's rule: 10 penetrations). */

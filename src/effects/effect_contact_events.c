@@ -65,7 +65,7 @@ static double pair_gap(const tb__pair_contact *pair)
 void tb__contact_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
                             double *gap)
 {
-    tb__contact_pairs *pairs = effect->params.contact.lookahead;
+    tb__contact_pairs *pairs = tb__contact_of(effect)->lookahead;
     tb__pair_contact batch[TB__EVENT_BATCH];
     tb__contact_pairs_begin(pairs, scene, y);
     size_t count;
@@ -96,7 +96,7 @@ void tb__contact_wake_gaps(const tb__effect *effect, const tb_scene *scene, cons
     if (!any_asleep(scene)) {
         return;
     }
-    tb__contact_pairs *pairs = effect->params.contact.lookahead;
+    tb__contact_pairs *pairs = tb__contact_of(effect)->lookahead;
     tb__pair_contact batch[TB__EVENT_BATCH];
     tb__contact_pairs_begin(pairs, scene, y);
     size_t count;
@@ -116,7 +116,7 @@ static double motion_speed(const tb_scene *scene, const double *y, size_t id);
 void tb__contact_wake_links(const tb__effect *effect, const tb_scene *scene, const double *y,
                             double dt)
 {
-    tb__contact_pairs *pairs = effect->params.contact.lookahead;
+    tb__contact_pairs *pairs = tb__contact_of(effect)->lookahead;
     tb__pair_contact batch[TB__EVENT_BATCH];
     tb__contact_pairs_begin(pairs, scene, y);
     size_t count;
@@ -240,7 +240,7 @@ static double pair_limit(const tb__contact_params *contact, const tb_scene *scen
 double tb__contact_step_limit(const tb__effect *effect, const tb_scene *scene, const double *y,
                               const double *dydt)
 {
-    const tb__contact_params *contact = &effect->params.contact;
+    const tb__contact_params *contact = tb__contact_of(effect);
     double floor = 0.5 * contact->push_duration, thinnest;
     /* pairs not found are at least the look-ahead apart, closing at most twice the fastest; no
      * floor lets two bodies close by the thinnest half-thickness (before the first step, with
@@ -343,7 +343,7 @@ static int mover(const extremes *e)
 double tb__contact_tunnel_step(const tb__effect *effect, const tb_scene *scene, const double *y,
                                char *which, size_t size)
 {
-    const extremes e = find_extremes(&effect->params.contact, scene, y);
+    const extremes e = find_extremes(tb__contact_of(effect), scene, y);
     /* the two fastest close at most at the sum of their speeds; every other pair slower */
     const double closing = e.speed[0] + e.speed[1];
     if (e.fast[1] == TB_ALL_BODIES || e.thin == TB_ALL_BODIES || !(closing > 0.0)) {
@@ -404,7 +404,7 @@ static double least_sinking_to_pass(const tb__contact_params *contact, const tb_
 tb_status tb__contact_check_impacts(const tb__effect *effect, const tb_scene *scene,
                                     const double *y, char *detail)
 {
-    const tb__contact_params *contact = &effect->params.contact;
+    const tb__contact_params *contact = tb__contact_of(effect);
     const extremes e = find_extremes(contact, scene, y);
     size_t tip = TB_ALL_BODIES, thin = TB_ALL_BODIES;
     const double depth = least_sinking_to_pass(contact, scene, &tip, &thin);
@@ -426,7 +426,7 @@ tb_status tb__contact_check_impacts(const tb__effect *effect, const tb_scene *sc
 void tb__ground_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
                            double *gap)
 {
-    const tb__ground_params *ground = &effect->params.ground;
+    const tb__ground_params *ground = tb__ground_of(effect);
     tb__motion motion;
     size_t current = TB_ALL_BODIES;
     for (size_t j = 0; j < scene->contact_count; ++j) {

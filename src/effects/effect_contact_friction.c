@@ -347,7 +347,7 @@ static void update_index(tb__friction_pool *pool, const tb_scene *scene, const d
 
 void tb__friction_post_step(const tb__effect *effect, const tb_scene *scene, const double *y)
 {
-    const tb__contact_params *contact = &effect->params.contact;
+    const tb__contact_params *contact = tb__contact_of(effect);
     tb__friction_pool *pool = contact->friction;
     for (size_t s = 0; s < pool->capacity; ++s) {
         pool->held[s] = false;

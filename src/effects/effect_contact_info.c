@@ -5,7 +5,8 @@
 
 #include "contact/contact_law.h"
 #include "contact/contact_pairs.h"
-#include "scene/scene_internal.h"
+#include "effects/effect_contact.h"
+#include "effects/effect_ground.h"
 
 #include <math.h>
 #include <string.h>
@@ -69,7 +70,7 @@ tb_status tb_scene_get_contact(const tb_scene *scene, size_t k, tb_contact_info 
     if (status != TB_STATUS_OK) {
         return status;
     }
-    const tb__contact_params *c = &effect->params.contact;
+    const tb__contact_params *c = tb__contact_of(effect);
     *out = (tb_contact_info){
         .effect = index,
         .every_body = c->every_body,
@@ -93,7 +94,7 @@ tb_status tb_scene_get_ground(const tb_scene *scene, size_t k, tb_ground_info *o
     if (status != TB_STATUS_OK) {
         return status;
     }
-    const tb__ground_params *g = &effect->params.ground;
+    const tb__ground_params *g = tb__ground_of(effect);
     *out = (tb_ground_info){
         .effect = index,
         .normal = {g->normal[0], g->normal[1], g->normal[2]},
@@ -138,7 +139,7 @@ static void note(const tb_contact_touch *touch, tb_contact_touch *out, size_t ca
 static void pairs_touching(const tb_scene *scene, size_t index, const double *y,
                            tb_contact_touch *out, size_t capacity, size_t *count)
 {
-    tb__contact_pairs *pairs = scene->effects[index].params.contact.pairs;
+    tb__contact_pairs *pairs = tb__contact_of(&scene->effects[index])->pairs;
     tb__pair_contact batch[16];
     size_t found;
     tb__contact_pairs_begin(pairs, scene, y);
@@ -158,7 +159,7 @@ static void pairs_touching(const tb_scene *scene, size_t index, const double *y,
 static void ground_touching(const tb_scene *scene, size_t index, const double *y,
                             tb_contact_touch *out, size_t capacity, size_t *count)
 {
-    const tb__ground_params *g = &scene->effects[index].params.ground;
+    const tb__ground_params *g = tb__ground_of(&scene->effects[index]);
     tb_contact_touch touch = {index, TB_ALL_BODIES, TB_WORLD, -INFINITY, 0};
     for (size_t k = 0; k <= scene->contact_count; ++k) {
         const tb__contact *c = k < scene->contact_count ? &scene->contacts[k] : NULL;

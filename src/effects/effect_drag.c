@@ -1,8 +1,9 @@
 /* Drag: F = -(b + c |v|) v on the centre-of-mass velocity, tau = -(b_w + c_w |omega|) omega. */
-#include "scene/scene_internal.h"
+#include "effects/effect_drag.h"
 
 #include "core/detail.h"
 #include "core/validate.h"
+#include "effects/effect_lanes.h"
 #include "math/tb_math.h"
 
 #include <string.h>
@@ -27,7 +28,7 @@ static int apply_drag(const tb__effect *effect, const tb_scene *scene, double t,
                       double *dydt, size_t first, size_t count)
 {
     (void)t;
-    const tb__drag_params *drag = &effect->params.drag;
+    const tb__drag_params *drag = effect->params;
     const tb__body *bodies = scene->bodies + first;
     size_t i;
     if (effect->body != TB_ALL_BODIES) {
@@ -68,7 +69,7 @@ static void drag_rate(const tb__effect *effect, const tb_scene *scene, const dou
     const bool all = effect->body == TB_ALL_BODIES;
     for (size_t i = all ? 0 : effect->body; i < (all ? scene->body_count : effect->body + 1); ++i) {
         const double rate =
-            drag_body_rate(&effect->params.drag, &scene->bodies[i], y + TB_STATE_SIZE * i);
+            drag_body_rate(effect->params, &scene->bodies[i], y + TB_STATE_SIZE * i);
         if (rate > out->decay) {
             out->decay = rate;
             out->decay_body = i;
@@ -76,9 +77,11 @@ static void drag_rate(const tb__effect *effect, const tb_scene *scene, const dou
     }
 }
 
+static const tb__effect_lanes drag_lanes = {TB__EFFECT_LANES(tb__drag_lanes)}; /* effect_lanes.c */
+
 static const tb__effect_ops drag_ops = {
     .name = "drag",
-    .lanes_kind = TB__LANES_DRAG, /* effect_lanes.c, for drag on every body */
+    .lanes = &drag_lanes, /* for drag on every body */
     .apply_bodies = apply_drag,
     .rate = drag_rate,
 };
@@ -115,8 +118,7 @@ tb_status tb_scene_add_drag(tb_scene *scene, const tb_drag_def *def)
     if (status != TB_STATUS_OK) {
         return status;
     }
-    tb__effect effect = {.ops = &drag_ops, .body = def->body};
-    effect.params.drag =
-        (tb__drag_params){def->linear, def->quadratic, def->angular, def->angular_quadratic};
-    return tb__scene_push_effect(scene, &effect);
+    tb__drag_params drag = {def->linear, def->quadratic, def->angular, def->angular_quadratic};
+    const tb__effect effect = {.ops = &drag_ops, .body = def->body, .params = &drag};
+    return tb__scene_push_effect(scene, &effect, sizeof drag);
 }

@@ -1,7 +1,7 @@
 /* Contact with a ground plane: the compliant normal law (contact/contact_law.h) and stick-anchor
  * friction at the bodies' contact points. Each point keeps a tangential deflection z, two
  * components in the plane, in the state after the bodies' (bristles() and docs/effects.md). */
-#include "scene/scene_internal.h"
+#include "effects/effect_ground.h"
 
 #include "contact/contact_law.h"
 #include "core/detail.h"
@@ -189,7 +189,7 @@ static int apply_ground(const tb__effect *effect, const tb_scene *scene, double 
                         double *dydt)
 {
     (void)t;
-    const tb__ground_params *ground = &effect->params.ground;
+    const tb__ground_params *ground = tb__ground_of(effect);
     size_t first = 0;
     while (first < scene->contact_count) {
         /* a body's points are contiguous: its motion and load are read once */
@@ -288,7 +288,7 @@ static void ground_rate(const tb__effect *effect, const tb_scene *scene, const d
                         tb__effect_rate *out)
 {
     (void)y;
-    const tb__ground_params *ground = &effect->params.ground;
+    const tb__ground_params *ground = tb__ground_of(effect);
     *out = (tb__effect_rate){0.0, TB_ALL_BODIES, 0.0, TB_ALL_BODIES};
     const double omega0 = ground->omega;
     const double bristles = sqrt(ground->gravity * ground->bristle_stiffness);
@@ -319,7 +319,7 @@ static void ground_rate(const tb__effect *effect, const tb_scene *scene, const d
 static tb_status ground_check_start(const tb__effect *effect, const tb_scene *scene,
                                     const double *y, char *detail)
 {
-    const tb__ground_params *ground = &effect->params.ground;
+    const tb__ground_params *ground = tb__ground_of(effect);
     const double limit = TB__START_DEPTH_PENETRATIONS * ground->penetration;
     for (size_t j = 0; j < scene->contact_count; ++j) {
         const tb__contact *c = &scene->contacts[j];
@@ -340,6 +340,10 @@ static tb_status ground_check_start(const tb__effect *effect, const tb_scene *sc
     return TB_STATUS_OK;
 }
 
+static const tb__effect_stepping ground_stepping = {
+    .event_gaps = tb__ground_event_gaps, /* effect_contact_events.c */
+};
+
 static const tb__effect_ops ground_ops = {
     .name = "ground",
     .apply = apply_ground,
@@ -347,7 +351,7 @@ static const tb__effect_ops ground_ops = {
     .owns_states = true,
     .rate = ground_rate,
     .check_start = ground_check_start,
-    .event_gaps = tb__ground_event_gaps, /* effect_contact_events.c */
+    .stepping = &ground_stepping,
 };
 
 tb_ground_def tb_ground_def_default(void)
@@ -479,14 +483,16 @@ tb_status tb_scene_add_ground(tb_scene *scene, const tb_ground_def *def)
     if (status != TB_STATUS_OK) {
         return status;
     }
-    tb__effect effect = {.ops = &ground_ops,
-                         .body = TB_ALL_BODIES,
-                         .states_per_contact = 2,
-                         .state_scale = def->presliding};
-    ground_params(def, &effect.params.ground);
+    tb__ground_params ground;
+    const tb__effect effect = {.ops = &ground_ops,
+                               .body = TB_ALL_BODIES,
+                               .states_per_contact = 2,
+                               .state_scale = def->presliding,
+                               .params = &ground};
+    ground_params(def, &ground);
     status = ground_check_start(&effect, scene, scene->states, scene->detail);
     if (status != TB_STATUS_OK) {
         return status;
     }
-    return tb__scene_push_effect(scene, &effect);
+    return tb__scene_push_effect(scene, &effect, sizeof ground);
 }

@@ -1,7 +1,10 @@
 /* The lane forms (lanes.h) of the per-body effects that act on every body, compiled once per
  * vector path with TB_LANES_TARGET naming it: gravity and drag. Each lane's operations are those
  * of apply_gravity() (effect_loads.c) and drag_body() (effect_drag.c), in the same order. */
-#include "scene/lanes.h"
+#include "effects/effect_lanes.h"
+
+#include "effects/effect_drag.h"
+#include "effects/effect_loads.h"
 
 #include "math/tb_math.h"
 
@@ -13,7 +16,7 @@
 void TB__LANES_NAME(tb__gravity_lanes)(const tb__effect *effect, const tb__lanes *lanes)
 {
     const size_t n = lanes->lanes;
-    const double *g = effect->params.gravity.g;
+    const double *g = tb__gravity_of(effect)->g;
     const double *restrict mass = lanes->constants + TB__LANE_MASS * n;
     for (size_t k = 0; k < 3; ++k) {
         double *restrict dP = lanes->dydt + (TB_STATE_P + k) * n;
@@ -42,7 +45,7 @@ static void add_drag(double *restrict a, const double *restrict v, size_t stride
 /* F = -(b + c |v|) v, v = P/M (the kinematics' dx/dt); tau = -(b_w + c_w |omega|) omega */
 void TB__LANES_NAME(tb__drag_lanes)(const tb__effect *effect, const tb__lanes *lanes)
 {
-    const tb__drag_params *drag = &effect->params.drag;
+    const tb__drag_params *drag = effect->params;
     const size_t n = lanes->lanes;
     add_drag(lanes->dydt + TB_STATE_P * n, lanes->dydt + TB_STATE_X * n, n, n, drag->linear,
              drag->quadratic);

@@ -1,8 +1,9 @@
 /* Loads that do not depend on the motion: gravity on every body, a constant force at a body
  * point, a constant torque (each fixed in the world or turning with the body). */
-#include "scene/scene_internal.h"
+#include "effects/effect_loads.h"
 
 #include "core/detail.h"
+#include "effects/effect_lanes.h"
 #include "math/tb_math.h"
 
 /* --- gravity: F_i += M_i g for every body ------------------------------------------------ */
@@ -13,7 +14,7 @@ static int apply_gravity(const tb__effect *effect, const tb_scene *scene, double
     (void)t;
     (void)y;
     const tb__body *bodies = scene->bodies + first;
-    const double *g = effect->params.gravity.g;
+    const double *g = tb__gravity_of(effect)->g;
     for (size_t i = 0; i < count; ++i) {
         tb__v3_axpy(dydt + TB_STATE_SIZE * i + TB_STATE_P, bodies[i].mass, g);
     }
@@ -27,7 +28,7 @@ static double gravity_potential_energy(const tb__effect *effect, const tb_scene 
     double energy = 0.0;
     for (size_t i = 0; i < scene->body_count; ++i) {
         const double *x = y + TB_STATE_SIZE * i + TB_STATE_X;
-        energy -= scene->bodies[i].mass * tb__v3_dot(effect->params.gravity.g, x);
+        energy -= scene->bodies[i].mass * tb__v3_dot(tb__gravity_of(effect)->g, x);
     }
     return energy;
 }
@@ -38,9 +39,11 @@ static bool always(const tb__effect *effect)
     return true;
 }
 
+static const tb__effect_lanes gravity_lanes = {TB__EFFECT_LANES(tb__gravity_lanes)};
+
 static const tb__effect_ops gravity_ops = {
     .name = "gravity",
-    .lanes_kind = TB__LANES_GRAVITY, /* effect_lanes.c */
+    .lanes = &gravity_lanes, /* effect_lanes.c */
     .apply_bodies = apply_gravity,
     .potential_energy = gravity_potential_energy,
     .conserves_energy = always,
@@ -57,12 +60,25 @@ tb_status tb_scene_add_gravity(tb_scene *scene, const double g[3])
     if (status != TB_STATUS_OK) {
         return status;
     }
-    tb__effect effect = {.ops = &gravity_ops, .body = TB_ALL_BODIES};
-    tb__v3_copy(effect.params.gravity.g, g);
-    return tb__scene_push_effect(scene, &effect);
+    tb__gravity_params gravity;
+    tb__v3_copy(gravity.g, g);
+    const tb__effect effect = {.ops = &gravity_ops, .body = TB_ALL_BODIES, .params = &gravity};
+    return tb__scene_push_effect(scene, &effect, sizeof gravity);
 }
 
 /* --- constant force at a body point, constant torque ------------------------------------ */
+
+/* Points fixed in a body are offsets from its centre of mass in its principal frame (m). */
+typedef struct tb__load_params {
+    double
+        vector[3];   /* force (N) or torque (N m): world, or principal frame for body-frame loads */
+    double point[3]; /* where a force acts, principal frame */
+} tb__load_params;
+
+static const tb__load_params *load_of(const tb__effect *effect)
+{
+    return effect->params;
+}
 
 /* F += f, tau += (p - x) x f with the lever arm p - x = R r (r in the principal frame). */
 static int apply_world_force(const tb__effect *effect, const tb_scene *scene, double t,
@@ -74,8 +90,8 @@ static int apply_world_force(const tb__effect *effect, const tb_scene *scene, do
     if (tb__local_body(effect->body, first, count, &i)) {
         double q[4], arm[3];
         tb__unit_quaternion(y, i, q);
-        tb__q_rotate(arm, q, effect->params.load.point);
-        tb__add_load(dydt, i, arm, effect->params.load.vector);
+        tb__q_rotate(arm, q, load_of(effect)->point);
+        tb__add_load(dydt, i, arm, load_of(effect)->vector);
     }
     return 0;
 }
@@ -89,8 +105,8 @@ static int apply_body_force(const tb__effect *effect, const tb_scene *scene, dou
     if (tb__local_body(effect->body, first, count, &i)) {
         double q[4], arm[3], force[3];
         tb__unit_quaternion(y, i, q);
-        tb__q_rotate(arm, q, effect->params.load.point);
-        tb__q_rotate(force, q, effect->params.load.vector);
+        tb__q_rotate(arm, q, load_of(effect)->point);
+        tb__q_rotate(force, q, load_of(effect)->vector);
         tb__add_load(dydt, i, arm, force);
     }
     return 0;
@@ -104,7 +120,7 @@ static int apply_world_torque(const tb__effect *effect, const tb_scene *scene, d
     (void)y;
     size_t i;
     if (tb__local_body(effect->body, first, count, &i)) {
-        tb__v3_axpy(dydt + TB_STATE_SIZE * i + TB_STATE_L, 1.0, effect->params.load.vector);
+        tb__v3_axpy(dydt + TB_STATE_SIZE * i + TB_STATE_L, 1.0, load_of(effect)->vector);
     }
     return 0;
 }
@@ -118,7 +134,7 @@ static int apply_body_torque(const tb__effect *effect, const tb_scene *scene, do
     if (tb__local_body(effect->body, first, count, &i)) {
         double q[4], torque[3];
         tb__unit_quaternion(y, i, q);
-        tb__q_rotate(torque, q, effect->params.load.vector);
+        tb__q_rotate(torque, q, load_of(effect)->vector);
         tb__v3_axpy(dydt + TB_STATE_SIZE * i + TB_STATE_L, 1.0, torque);
     }
     return 0;
@@ -161,15 +177,17 @@ tb_status tb_scene_add_force(tb_scene *scene, size_t id, const double force[3],
         return status;
     }
     const tb_mass_properties *props = &scene->mass_props[id];
-    tb__effect effect = {.ops = frame == TB_FRAME_WORLD ? &world_force_ops : &body_force_ops,
-                         .body = id};
-    tb__shape_point_to_principal(props, point, effect.params.load.point);
+    tb__load_params load;
+    const tb__effect effect = {.ops = frame == TB_FRAME_WORLD ? &world_force_ops : &body_force_ops,
+                               .body = id,
+                               .params = &load};
+    tb__shape_point_to_principal(props, point, load.point);
     if (frame == TB_FRAME_WORLD) {
-        tb__v3_copy(effect.params.load.vector, force);
+        tb__v3_copy(load.vector, force);
     } else {
-        tb__shape_vector_to_principal(props, force, effect.params.load.vector);
+        tb__shape_vector_to_principal(props, force, load.vector);
     }
-    return tb__scene_push_effect(scene, &effect);
+    return tb__scene_push_effect(scene, &effect, sizeof load);
 }
 
 tb_status tb_scene_add_torque(tb_scene *scene, size_t id, const double torque[3], tb_frame frame)
@@ -188,12 +206,15 @@ tb_status tb_scene_add_torque(tb_scene *scene, size_t id, const double torque[3]
     if (status != TB_STATUS_OK) {
         return status;
     }
-    tb__effect effect = {.ops = frame == TB_FRAME_WORLD ? &world_torque_ops : &body_torque_ops,
-                         .body = id};
+    tb__load_params load = {.point = {0.0, 0.0, 0.0}};
+    const tb__effect effect = {.ops =
+                                   frame == TB_FRAME_WORLD ? &world_torque_ops : &body_torque_ops,
+                               .body = id,
+                               .params = &load};
     if (frame == TB_FRAME_WORLD) {
-        tb__v3_copy(effect.params.load.vector, torque);
+        tb__v3_copy(load.vector, torque);
     } else {
-        tb__shape_vector_to_principal(&scene->mass_props[id], torque, effect.params.load.vector);
+        tb__shape_vector_to_principal(&scene->mass_props[id], torque, load.vector);
     }
-    return tb__scene_push_effect(scene, &effect);
+    return tb__scene_push_effect(scene, &effect, sizeof load);
 }

@@ -9,6 +9,21 @@
 
 #define TB__SPRING_COOKIE 0x5921
 
+/* Points fixed in a body are offsets from its centre of mass in its principal frame (m). */
+typedef struct tb__spring_params {
+    size_t other;       /* the second body, or TB_WORLD */
+    double point[3];    /* on the first body, principal frame */
+    double anchor[3];   /* on the second body (principal frame) or in the world */
+    double stiffness;   /* N/m */
+    double damping;     /* N s/m */
+    double rest_length; /* m */
+} tb__spring_params;
+
+static const tb__spring_params *spring_of(const tb__effect *effect)
+{
+    return effect->params;
+}
+
 /* An end of a spring: the point's lever arm from the centre of mass, its position and its
  * velocity (world). */
 typedef struct spring_end {
@@ -49,7 +64,7 @@ static int apply_anchored_spring(const tb__effect *effect, const tb_scene *scene
                                  const double *y, double *dydt, size_t first, size_t count)
 {
     (void)t;
-    const tb__spring_params *spring = &effect->params.spring;
+    const tb__spring_params *spring = spring_of(effect);
     size_t i;
     if (!tb__local_body(effect->body, first, count, &i)) {
         return 0;
@@ -69,7 +84,7 @@ static int apply_spring(const tb__effect *effect, const tb_scene *scene, double 
                         double *dydt)
 {
     (void)t;
-    const tb__spring_params *spring = &effect->params.spring;
+    const tb__spring_params *spring = spring_of(effect);
     spring_end a, b;
     body_end(&scene->bodies[effect->body], y + TB_STATE_SIZE * effect->body, spring->point, &a);
     body_end(&scene->bodies[spring->other], y + TB_STATE_SIZE * spring->other, spring->anchor, &b);
@@ -101,7 +116,7 @@ static double spring_potential_energy(const tb__effect *effect, const tb_scene *
                                       const double *y)
 {
     (void)scene;
-    const tb__spring_params *spring = &effect->params.spring;
+    const tb__spring_params *spring = spring_of(effect);
     double a[3], b[3];
     end_position(y, effect->body, spring->point, a);
     end_position(y, spring->other, spring->anchor, b);
@@ -112,7 +127,7 @@ static double spring_potential_energy(const tb__effect *effect, const tb_scene *
 
 static bool spring_conserves_energy(const tb__effect *effect)
 {
-    return effect->params.spring.damping == 0.0;
+    return spring_of(effect)->damping == 0.0;
 }
 
 /* Along the spring the ends move as one mass of inverse w (the sum of the inverse masses at the
@@ -122,7 +137,7 @@ static void spring_rate(const tb__effect *effect, const tb_scene *scene, const d
                         tb__effect_rate *out)
 {
     (void)y;
-    const tb__spring_params *spring = &effect->params.spring;
+    const tb__spring_params *spring = spring_of(effect);
     double w = tb__inverse_mass_at(&scene->bodies[effect->body], spring->point);
     if (spring->other != TB_WORLD) {
         w += tb__inverse_mass_at(&scene->bodies[spring->other], spring->anchor);
@@ -144,7 +159,7 @@ static const tb__effect_ops anchored_spring_ops = {
 /* Two bodies joined by a spring sleep and wake together. */
 static size_t spring_partner(const tb__effect *effect)
 {
-    return effect->params.spring.other == TB_WORLD ? TB_ALL_BODIES : effect->params.spring.other;
+    return spring_of(effect)->other == TB_WORLD ? TB_ALL_BODIES : spring_of(effect)->other;
 }
 
 static const tb__effect_ops spring_ops = {
@@ -209,7 +224,7 @@ static tb_status check_rate(tb_scene *scene, const tb__effect *effect, const tb_
     if (isfinite(rate.oscillation) && isfinite(rate.decay)) {
         return TB_STATUS_OK;
     }
-    const tb__spring_params *spring = &effect->params.spring;
+    const tb__spring_params *spring = spring_of(effect);
     const bool a_far = !isfinite(tb__inverse_mass_at(&scene->bodies[effect->body], spring->point));
     const bool b_far =
         spring->other != TB_WORLD &&
@@ -241,8 +256,11 @@ tb_status tb_scene_add_spring(tb_scene *scene, const tb_spring_def *def)
         return status;
     }
     const bool anchored = def->body_b == TB_WORLD;
-    tb__effect effect = {.ops = anchored ? &anchored_spring_ops : &spring_ops, .body = def->body_a};
-    tb__spring_params *spring = &effect.params.spring;
+    tb__spring_params params;
+    const tb__effect effect = {.ops = anchored ? &anchored_spring_ops : &spring_ops,
+                               .body = def->body_a,
+                               .params = &params};
+    tb__spring_params *spring = &params;
     spring->other = def->body_b;
     tb__shape_point_to_principal(&scene->mass_props[def->body_a], def->point_a, spring->point);
     if (anchored) {
@@ -257,5 +275,5 @@ tb_status tb_scene_add_spring(tb_scene *scene, const tb_spring_def *def)
     if (status != TB_STATUS_OK) {
         return status;
     }
-    return tb__scene_push_effect(scene, &effect);
+    return tb__scene_push_effect(scene, &effect, sizeof params);
 }

@@ -5,12 +5,18 @@
 #include "core/validate.h"
 #include "math/tb_math.h"
 
+typedef struct tb__user_params {
+    tb_user_effect_fn fn;
+    void *ctx;
+} tb__user_params;
+
 static int apply_user(const tb__effect *effect, const tb_scene *scene, double t, const double *y,
                       double *dydt)
 {
     tb_scene *writable = (tb_scene *)scene; /* the load status, like the detail, is writable */
     writable->user_load_status = TB_STATUS_OK;
-    const int rc = effect->params.user.fn(t, scene, y, dydt, effect->params.user.ctx);
+    const tb__user_params *user = effect->params;
+    const int rc = user->fn(t, scene, y, dydt, user->ctx);
     /* A refused load the callback did not act on would be a silently missing force: fail. */
     return rc == 0 && scene->user_load_status != TB_STATUS_OK ? -1 : rc;
 }
@@ -33,10 +39,9 @@ tb_status tb_scene_add_user_effect(tb_scene *scene, tb_user_effect_fn fn, void *
     if (fn == NULL) {
         return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "fn is NULL");
     }
-    tb__effect effect = {.ops = &user_ops, .body = TB_ALL_BODIES};
-    effect.params.user.fn = fn;
-    effect.params.user.ctx = ctx;
-    return tb__scene_push_effect(scene, &effect);
+    tb__user_params user = {.fn = fn, .ctx = ctx};
+    const tb__effect effect = {.ops = &user_ops, .body = TB_ALL_BODIES, .params = &user};
+    return tb__scene_push_effect(scene, &effect, sizeof user);
 }
 
 /* The checks of both load functions; the failure is kept for apply_user. */

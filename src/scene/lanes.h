@@ -78,10 +78,14 @@ const tb__lanes_kernels *tb__scene_lanes_kernels(const tb_scene *scene);
 #define TB__LANES_CAT(a, b) TB__LANES_CAT2(a, b)
 #define TB__LANES_NAME(x) TB__LANES_CAT(x, TB_LANES_TARGET)
 
-/* The effects' lane forms (effect_lanes.c), per target. */
-#ifdef TB_LANES_TARGET
-void TB__LANES_NAME(tb__gravity_lanes)(const tb__effect *effect, const tb__lanes *lanes);
-void TB__LANES_NAME(tb__drag_lanes)(const tb__effect *effect, const tb__lanes *lanes);
-#endif
+/* An effect's lane form: its apply_bodies on every body of a lane group, operation for
+ * operation. A kind's row (tb__effect_ops.lanes) holds one per vector path, the kernels of path
+ * TB_LANES_TARGET call the member of that name (the effects' forms: src/effects/effect_lanes.h). */
+typedef void (*tb__effect_lanes_form)(const tb__effect *effect, const tb__lanes *lanes);
+struct tb__effect_lanes {
+    tb__effect_lanes_form baseline;
+    tb__effect_lanes_form avx2;   /* x86-64 only (TB__LANES_X86) */
+    tb__effect_lanes_form avx512; /* x86-64 only */
+};
 
 #endif

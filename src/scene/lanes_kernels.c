@@ -99,22 +99,17 @@ static int apply_on_lane(const tb__effect *effect, double t, const tb__lanes *la
 /* An effect on every body: its lane form, or lane by lane. */
 static int apply_on_all(const tb__effect *effect, double t, const tb__lanes *lanes)
 {
-    switch (effect->ops->lanes_kind) {
-    case TB__LANES_GRAVITY:
-        TB__LANES_NAME(tb__gravity_lanes)(effect, lanes);
-        return 0;
-    case TB__LANES_DRAG:
-        TB__LANES_NAME(tb__drag_lanes)(effect, lanes);
-        return 0;
-    default:
-        for (size_t j = 0; j < lanes->count; ++j) {
-            const int rc = apply_on_lane(effect, t, lanes, j);
-            if (rc != 0) {
-                return rc;
-            }
-        }
+    if (effect->ops->lanes != NULL) {
+        effect->ops->lanes->TB_LANES_TARGET(effect, lanes);
         return 0;
     }
+    for (size_t j = 0; j < lanes->count; ++j) {
+        const int rc = apply_on_lane(effect, t, lanes, j);
+        if (rc != 0) {
+            return rc;
+        }
+    }
+    return 0;
 }
 
 /* The per-body effects in the order apply_per_body_effects() in derivative.c applies them. */

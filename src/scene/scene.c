@@ -192,6 +192,7 @@ void tb_scene_destroy(tb_scene *scene)
             if (scene->effects[k].ops->release != NULL) {
                 scene->effects[k].ops->release(&scene->effects[k]);
             }
+            free(scene->effects[k].params);
         }
         free(scene->states);
         free(scene->bodies);

@@ -1,7 +1,7 @@
 /* The scene's events for the generic integrators: one root function per body (its gap to what
  * it can touch, from every effect with events), the adaptive step limit near contacts and the
  * fixed-step limit that keeps bodies from passing through each other (effect rows:
- * tb__effect_ops.event_gaps, adaptive_step_limit, tunnel_step). */
+ * tb__effect_stepping.event_gaps, adaptive_step_limit, tunnel_step). */
 #include "scene/scene_internal.h"
 
 #include "core/detail.h"
@@ -15,7 +15,7 @@
 bool tb__scene_has_events(const tb_scene *scene)
 {
     for (size_t k = 0; k < scene->effect_count; ++k) {
-        if (scene->effects[k].ops->event_gaps != NULL) {
+        if (tb__stepping_of(&scene->effects[k])->event_gaps != NULL) {
             return true;
         }
     }
@@ -31,8 +31,8 @@ int tb__scene_event_gaps(double t, const double *y, double *gap, void *ctx)
     }
     for (size_t k = 0; k < scene->effect_count; ++k) {
         const tb__effect *effect = &scene->effects[k];
-        if (effect->ops->event_gaps != NULL) {
-            effect->ops->event_gaps(effect, scene, y, gap);
+        if (tb__stepping_of(effect)->event_gaps != NULL) {
+            tb__stepping_of(effect)->event_gaps(effect, scene, y, gap);
         }
     }
     /* A gap is a difference of positions (z ~ 0.2 m: doubles 3e-17 m apart), so a slow crossing
@@ -58,8 +58,8 @@ int tb__scene_event_and_wake_gaps(double t, const double *y, double *g, void *ct
     const bool any_asleep = scene->sleep != NULL && scene->sleep->asleep_count > 0;
     for (size_t k = 0; k < scene->effect_count && any_asleep; ++k) {
         const tb__effect *effect = &scene->effects[k];
-        if (effect->ops->wake_gaps != NULL) {
-            effect->ops->wake_gaps(effect, scene, y, wake);
+        if (tb__stepping_of(effect)->wake_gaps != NULL) {
+            tb__stepping_of(effect)->wake_gaps(effect, scene, y, wake);
         }
     }
     for (size_t i = 0; i < scene->body_count; ++i) { /* as the gaps: no plateau at 0 */
@@ -75,8 +75,9 @@ double tb__scene_step_limit(double t, const double *y, const double *dydt, void 
     double limit = INFINITY;
     for (size_t k = 0; k < scene->effect_count; ++k) {
         const tb__effect *effect = &scene->effects[k];
-        if (effect->ops->adaptive_step_limit != NULL) {
-            limit = fmin(limit, effect->ops->adaptive_step_limit(effect, scene, y, dydt));
+        if (tb__stepping_of(effect)->adaptive_step_limit != NULL) {
+            limit =
+                fmin(limit, tb__stepping_of(effect)->adaptive_step_limit(effect, scene, y, dydt));
         }
     }
     return limit;
@@ -88,9 +89,10 @@ double tb__scene_tunnel_step(const tb_scene *scene, const double *y, char *which
     for (size_t k = 0; k < scene->effect_count; ++k) {
         const tb__effect *effect = &scene->effects[k];
         char what[TB_DETAIL_SIZE / 2];
-        const double step = effect->ops->tunnel_step != NULL
-                                ? effect->ops->tunnel_step(effect, scene, y, what, sizeof what)
-                                : INFINITY;
+        const double step =
+            tb__stepping_of(effect)->tunnel_step != NULL
+                ? tb__stepping_of(effect)->tunnel_step(effect, scene, y, what, sizeof what)
+                : INFINITY;
         if (step < limit) {
             limit = step;
             snprintf(which, TB_DETAIL_SIZE, "effect %zu (a %s): %s", k, effect->ops->name, what);
@@ -104,9 +106,10 @@ tb_status tb__scene_check_impacts(const tb_scene *scene, const double *y, char *
     for (size_t k = 0; k < scene->effect_count; ++k) {
         const tb__effect *effect = &scene->effects[k];
         char what[TB_DETAIL_SIZE];
-        const tb_status status = effect->ops->check_impacts != NULL
-                                     ? effect->ops->check_impacts(effect, scene, y, what)
-                                     : TB_STATUS_OK;
+        const tb_status status =
+            tb__stepping_of(effect)->check_impacts != NULL
+                ? tb__stepping_of(effect)->check_impacts(effect, scene, y, what)
+                : TB_STATUS_OK;
         if (status != TB_STATUS_OK) {
             return tb__set_detail(detail, status, "effect %zu (a %s): %s", k, effect->ops->name,
                                   what);

@@ -45,20 +45,20 @@ typedef struct tb__effect_rate {
 void tb__effect_rate_add_damped_mode(tb__effect_rate *out, double omega, double zeta, size_t body);
 void tb__effect_rate_add_decay(tb__effect_rate *out, double rate, size_t body);
 
-/* One constant row per effect kind: every fact about the kind, asked by the derivative, the
- * read-outs and the stability guard; nothing outside the effect's own file reads its
- * parameters. */
-/* Which lane form a per-body effect on every body has (tb__effect_ops.lanes_kind, lanes.h);
- * the others are applied lane by lane through apply_bodies, with the same arithmetic. */
-typedef enum tb__lanes_kind {
-    TB__LANES_BY_BODY = 0,
-    TB__LANES_GRAVITY,
-    TB__LANES_DRAG,
-} tb__lanes_kind;
+/* A per-body effect's lane forms on every body, one per vector path (lanes.h); an effect
+ * without them is applied lane by lane through apply_bodies, with the same arithmetic. */
+typedef struct tb__effect_lanes tb__effect_lanes;
 
+typedef struct tb__effect_stepping tb__effect_stepping;
+
+/* One constant row per effect kind (the core row), defined in the kind's file in src/effects/:
+ * every fact about the kind that the derivative, the read-outs, the stability guard and the
+ * sleeping islands ask; nothing outside the effect's own files reads its parameters. An effect
+ * that also shapes the steps (contact, ground) points to a second row, tb__effect_stepping;
+ * a simple effect is its file and this one row. */
 typedef struct tb__effect_ops {
     const char *name;                     /* "gravity", "drag", "spring", "ground", ... */
-    tb__lanes_kind lanes_kind;            /* per-body effects: its lane form, if any */
+    const tb__effect_lanes *lanes;        /* per-body effects: its lane forms, or NULL */
     tb__effect_apply apply;               /* effects that couple bodies or own states */
     tb__effect_apply_bodies apply_bodies; /* per-body effects: exactly one of the two is set */
     bool couples_bodies;                  /* its loads on one body depend on another's state */
@@ -82,6 +82,21 @@ typedef struct tb__effect_ops {
     /* Frees what the effect's parameters own (the contact effect's pair finder) when the scene
      * is destroyed; NULL: they own nothing. */
     void (*release)(tb__effect *effect);
+    /* Sleeping islands (sleep.c): the body the effect ties effect->body to, so that the two
+     * sleep and wake together (a spring's second body), or TB_ALL_BODIES; NULL: none. */
+    size_t (*sleep_partner)(const tb__effect *effect);
+    /* The effect's loads may change while the bodies rest (a user callback of t): while the
+     * scene holds it, no body sleeps. */
+    bool keeps_awake;
+    /* The hooks of an effect that shapes the steps (events, step limits, impacts, step
+     * boundaries, waking); NULL for an effect with none. */
+    const tb__effect_stepping *stepping;
+} tb__effect_ops;
+
+/* The optional second row of an effect kind: what the events, the adaptive step limit, the
+ * tunnelling and impact checks, the step boundaries and the waking of sleeping islands ask of
+ * an effect that makes bodies touch (contact, ground). Each hook NULL: none. */
+struct tb__effect_stepping {
     /* Events (effect_contact_events.c): lowers gap[i] (m, filled with TB__EVENT_LOOKAHEAD) to
      * body i's gap to what the effect makes it touch, where that is smaller: negative in
      * contact, continuous in y. The scene's root functions are these gaps, one per body, so an
@@ -123,13 +138,7 @@ typedef struct tb__effect_ops {
      * bookkeeping outside y that the derivative reads (the contact effect's friction slot
      * map). It must not change y, and must leave the derivative at y as it was. NULL: none. */
     void (*post_step)(const tb__effect *effect, const tb_scene *scene, const double *y);
-    /* Sleeping islands (sleep.c): the body the effect ties effect->body to, so that the two
-     * sleep and wake together (a spring's second body), or TB_ALL_BODIES; NULL: none. */
-    size_t (*sleep_partner)(const tb__effect *effect);
-    /* The effect's loads may change while the bodies rest (a user callback of t): while the
-     * scene holds it, no body sleeps. */
-    bool keeps_awake;
-} tb__effect_ops;
+};
 
 /* The gap (m) the event functions start from: a body farther than this from everything it can
  * touch has this gap, and the adaptive step limit sees the pairs closer than it. */
@@ -140,63 +149,9 @@ typedef struct tb__effect_ops {
  * finds is surely within the margin that links it). */
 #define TB__WAKE_DISTANCE 5e-4
 
-/* Each kind's parameters, typed: the effect's own file reads them, nobody else. Points fixed in
- * a body are offsets from its centre of mass in its principal frame (m). */
-typedef struct tb__gravity_params {
-    double g[3]; /* m/s^2, world */
-} tb__gravity_params;
-
-typedef struct tb__load_params {
-    double
-        vector[3];   /* force (N) or torque (N m): world, or principal frame for body-frame loads */
-    double point[3]; /* where a force acts, principal frame */
-} tb__load_params;
-
-typedef struct tb__drag_params {
-    double linear, quadratic, angular, angular_quadratic; /* see tb_drag_def */
-} tb__drag_params;
-
-typedef struct tb__spring_params {
-    size_t other;       /* the second body, or TB_WORLD */
-    double point[3];    /* on the first body, principal frame */
-    double anchor[3];   /* on the second body (principal frame) or in the world */
-    double stiffness;   /* N/m */
-    double damping;     /* N s/m */
-    double rest_length; /* m */
-} tb__spring_params;
-
-typedef struct tb__ground_params {
-    double normal[3], tangent[2][3]; /* orthonormal, right-handed, world */
-    double offset;                   /* the plane normal . x = offset, m */
-    double gravity, penetration;
-    double omega;         /* sqrt(gravity / penetration), rad/s */
-    double damping_ratio; /* from the restitution (contact/contact_law.h) */
-    double static_friction, kinetic_friction, stribeck_velocity;
-    double bristle_stiffness; /* friction spring per unit weight: s0 = mu_s / presliding, 1/m */
-} tb__ground_params;
-
-/* Contact between bodies (effect_contact.c): the pair finder and the law's constants. */
-typedef struct tb__contact_params {
-    struct tb__contact_pairs *pairs; /* owned; contact/contact_pairs.h */
-    size_t *bodies;                  /* owned: the ids it acts on */
-    size_t body_count;
-    bool every_body;             /* made without a list (tb_contact_info) */
-    double omega, damping_ratio; /* rad/s, from penetration and restitution */
-    double static_friction, kinetic_friction, stribeck_velocity, gravity;
-    double push_duration; /* s: the shortest time an impact's force acts, over every pair */
-    struct tb__contact_pairs *lookahead; /* owned: pairs within TB__EVENT_LOOKAHEAD, for the
-                                            events and step limits (effect_contact_events.c) */
-    double bristle_stiffness;            /* friction spring per unit weight, as ground's, 1/m */
-    double slip_velocity; /* m/s: v_reg of the memoryless law a point without a slot gets */
-    struct tb__friction_pool *friction; /* owned; effects/contact_friction.h */
-} tb__contact_params;
-
-typedef struct tb__user_params {
-    tb_user_effect_fn fn;
-    void *ctx;
-} tb__user_params;
-
-/* One entry of the compiled effect list: its row and its typed parameters. */
+/* One entry of the compiled effect list: its row and its parameters. The scene sees no kind:
+ * each kind's parameter struct is its effect file's (or its kind header's in src/effects/), and
+ * only that file reads it, through params. */
 struct tb__effect {
     const tb__effect_ops *ops;
     size_t body;               /* the body acted on, or TB_ALL_BODIES (the derivative's order) */
@@ -204,16 +159,19 @@ struct tb__effect {
     size_t fixed_states;       /* states owned whatever the points (contact's friction slots) */
     size_t state_offset;       /* where in y those states start */
     double state_scale;        /* natural size of those states, for absolute tolerances */
-    union {                    /* the member ops names */
-        tb__gravity_params gravity;
-        tb__load_params load;
-        tb__drag_params drag;
-        tb__spring_params spring;
-        tb__ground_params ground;
-        tb__contact_params contact;
-        tb__user_params user;
-    } params;
+    /* The kind's parameters: one allocation the scene owns (tb__scene_push_effect copies
+     * them), freed after the row's release has freed what they own. */
+    void *params;
 };
+
+/* The row of an effect without stepping hooks: every hook NULL. */
+extern const tb__effect_stepping tb__effect_no_stepping;
+
+/* The effect's stepping row, or tb__effect_no_stepping. */
+static inline const tb__effect_stepping *tb__stepping_of(const tb__effect *effect)
+{
+    return effect->ops->stepping != NULL ? effect->ops->stepping : &tb__effect_no_stepping;
+}
 
 /* A contact point of a body, for ground planes. Points of one body are contiguous. */
 typedef struct tb__contact {
@@ -355,7 +313,7 @@ void tb__scene_sleep_apply_pending(tb_scene *scene);
 void tb__scene_wake_body(tb_scene *scene, size_t id);
 void tb__scene_wake_all(tb_scene *scene);
 /* The adaptive methods' event stop (tb_ode_system.at_event, ctx the scene): while a body
- * sleeps, the islands are decided from y at t (pairs within the margin, tb__effect_ops
+ * sleeps, the islands are decided from y at t (pairs within the margin, tb__effect_stepping
  * wake_links) and the decision applied at once, so that the integrator restarts there with
  * an island woken before the pair that stopped it touches. */
 void tb__scene_sleep_at_event(double t, const double *y, void *ctx);
@@ -392,8 +350,10 @@ tb_status tb__scene_reserve_effects(tb_scene *scene, size_t capacity);
 
 /* Appends an effect, growing the list if needed, and records the change (effects_generation,
  * and the layout's when the effect owns states); nothing changes on failure. TB_STATUS_BUSY
- * while the scene is being stepped. */
-tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect);
+ * while the scene is being stepped. The entry's parameters are a copy of the params_size bytes
+ * at effect->params, which the scene owns from then on (what they point to too: the row's
+ * release frees it); on failure the caller still owns what they point to. */
+tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect, size_t params_size);
 
 /* Whether an effect has a post_step op, and the scene's post-step hook for such scenes
  * (tb_ode_hook, ctx the scene): the quaternions renormalised if the scene asks for it, then
@@ -487,12 +447,12 @@ tb_status tb__scene_check_step(const tb_scene *scene, const double *y, tb_method
                                char *detail);
 
 /* Events (scene_events.c): whether some effect has them; the scene's root functions (one
- * gap per body, tb__effect_ops.event_gaps) and adaptive step limit, for tb_ode_system; the
+ * gap per body, tb__effect_stepping.event_gaps) and adaptive step limit, for tb_ode_system; the
  * longest fixed step at state y in which no body can pass through another (INFINITY: none),
  * what sets it written into which (TB_DETAIL_SIZE bytes). */
 bool tb__scene_has_events(const tb_scene *scene);
 int tb__scene_event_gaps(double t, const double *y, double *gap, void *ctx);
-/* The same gaps in g[0 .. n), then each body's wake gap (tb__effect_ops.wake_gaps) in
+/* The same gaps in g[0 .. n), then each body's wake gap (tb__effect_stepping.wake_gaps) in
  * g[n .. 2n): the root functions of a scene whose bodies can sleep. */
 int tb__scene_event_and_wake_gaps(double t, const double *y, double *g, void *ctx);
 double tb__scene_step_limit(double t, const double *y, const double *dydt, void *ctx);

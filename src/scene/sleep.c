@@ -189,8 +189,8 @@ static void link_near(const tb_scene *scene, const double *y, double dt)
 {
     for (size_t e = 0; e < scene->effect_count; ++e) {
         const tb__effect *effect = &scene->effects[e];
-        if (effect->ops->wake_links != NULL) {
-            effect->ops->wake_links(effect, scene, y, dt);
+        if (tb__stepping_of(effect)->wake_links != NULL) {
+            tb__stepping_of(effect)->wake_links(effect, scene, y, dt);
         }
     }
 }

@@ -1,6 +1,7 @@
-/* The scene's effect list: each effect added compiles to one entry (its row of operations and
- * its typed parameters), kept in the order the derivative applies them. Also the conversions
- * every effect uses to store a body point or direction in the body's principal frame. */
+/* The scene's effect list: each effect added compiles to one entry (its rows of operations and
+ * its parameters, which only the effect's own files in src/effects/ read), kept in the order the
+ * derivative applies them. Also the conversions every effect uses to store a body point or
+ * direction in the body's principal frame. */
 #include "scene/scene_internal.h"
 
 #include "core/detail.h"
@@ -70,7 +71,7 @@ static tb_status grow(tb_scene *scene)
     return tb__scene_reserve_effects(scene, capacity);
 }
 
-tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect)
+tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect, size_t params_size)
 {
     /* a per-body row applies to ranges of bodies; every other row to the whole state */
     assert((effect->ops->apply == NULL) ==
@@ -83,12 +84,19 @@ tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect)
     if (status != TB_STATUS_OK) {
         return status;
     }
+    void *params = malloc(params_size > 0 ? params_size : 1);
+    if (params == NULL) {
+        return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "an effect's parameters");
+    }
+    memcpy(params, effect->params, params_size);
     const size_t index = scene->effect_count;
     scene->effects[scene->effect_count++] = *effect;
+    scene->effects[index].params = params;
     if (effect->states_per_contact > 0 || effect->fixed_states > 0) {
         status = tb__scene_layout_states(scene, scene->body_count);
         if (status != TB_STATUS_OK) {
             scene->effect_count--;
+            free(params);
             return status;
         }
     }
@@ -122,6 +130,8 @@ tb_status tb__scene_check_effects_start(tb_scene *scene, const double *y)
     return TB_STATUS_OK;
 }
 
+const tb__effect_stepping tb__effect_no_stepping = {.post_step = NULL};
+
 void tb__effect_rate_add_decay(tb__effect_rate *out, double rate, size_t body)
 {
     if (rate > out->decay) {
@@ -143,7 +153,7 @@ void tb__effect_rate_add_damped_mode(tb__effect_rate *out, double omega, double 
 bool tb__scene_has_post_step_effects(const tb_scene *scene)
 {
     for (size_t e = 0; e < scene->effect_count; ++e) {
-        if (scene->effects[e].ops->post_step != NULL) {
+        if (tb__stepping_of(&scene->effects[e])->post_step != NULL) {
             return true;
         }
     }
@@ -160,8 +170,8 @@ int tb__scene_post_step(double t, double *y, void *ctx)
     tb__scene_sleep_begin(scene);
     for (size_t e = 0; e < scene->effect_count && rc == 0; ++e) {
         const tb__effect *effect = &scene->effects[e];
-        if (effect->ops->post_step != NULL) {
-            effect->ops->post_step(effect, scene, y); /* links the pairs it finds */
+        if (tb__stepping_of(effect)->post_step != NULL) {
+            tb__stepping_of(effect)->post_step(effect, scene, y); /* links the pairs it finds */
         }
     }
     if (rc == 0) {

@@ -1,0 +1,30 @@
+/* Private: the contact effect's parameters (effect_contact.c), read by its own files only
+ * (effect_contact_*.c, contact_events.h, contact_friction.h). */
+#ifndef TUMBLE_EFFECT_CONTACT_H
+#define TUMBLE_EFFECT_CONTACT_H
+
+#include "scene/scene_internal.h"
+
+/* Contact between bodies (effect_contact.c): the pair finder and the law's constants. */
+typedef struct tb__contact_params {
+    struct tb__contact_pairs *pairs; /* owned; contact/contact_pairs.h */
+    size_t *bodies;                  /* owned: the ids it acts on */
+    size_t body_count;
+    bool every_body;             /* made without a list (tb_contact_info) */
+    double omega, damping_ratio; /* rad/s, from penetration and restitution */
+    double static_friction, kinetic_friction, stribeck_velocity, gravity;
+    double push_duration; /* s: the shortest time an impact's force acts, over every pair */
+    struct tb__contact_pairs *lookahead; /* owned: pairs within TB__EVENT_LOOKAHEAD, for the
+                                            events and step limits (effect_contact_events.c) */
+    double bristle_stiffness;            /* friction spring per unit weight, as ground's, 1/m */
+    double slip_velocity; /* m/s: v_reg of the memoryless law a point without a slot gets */
+    struct tb__friction_pool *friction; /* owned; effects/contact_friction.h */
+} tb__contact_params;
+
+/* A contact effect's parameters. */
+static inline tb__contact_params *tb__contact_of(const tb__effect *effect)
+{
+    return effect->params;
+}
+
+#endif
