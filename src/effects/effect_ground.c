@@ -368,6 +368,7 @@ static const tb__effect_ops ground_ops = {
      * and the list and pool the ground owns */
     .post_step = tb__ground_shapes_post_step,
     .release = tb__ground_shapes_release,
+    .shapes_changed = tb__ground_shapes_changed,
 };
 
 tb_ground_def tb_ground_def_default(void)

@@ -23,8 +23,11 @@ typedef struct tb__ground_shapes {
     /* the law's and friction's constants (pairs, bodies and lookahead unused); friction: the
      * slot pool, NULL for none */
     tb__contact_params law;
-    size_t pool_bodies;  /* ids below this may hold slots (the body count at creation) */
-    size_t slots_wanted; /* TB__GROUND_SLOTS_PER_SHAPE per body it met at the last refresh */
+    size_t pool_bodies; /* ids below this may hold slots */
+    double presliding;  /* m, the pool's scale */
+    /* at the last refresh: TB__GROUND_SLOTS_PER_SHAPE per body met through its shape, and
+     * 1 + the largest such body's id */
+    size_t slots_wanted, ids_wanted;
     /* has_points[i]: body i has contact points, for i below capacity (the body count at the
      * last refresh); bodies added since have none: points are only set through
      * tb_scene_set_contact_points, whose start check refreshes the flags */
@@ -291,33 +294,69 @@ tb_status tb__ground_shapes_refresh(const tb__effect *effect, const tb_scene *sc
         shapes->has_points[scene->contacts[j].body] = 1;
     }
     size_t met = 0;
+    shapes->ids_wanted = 0;
     for (size_t id = 0; id < n; ++id) {
-        met += meets_shape(shapes, scene, id);
+        if (meets_shape(shapes, scene, id)) {
+            met += 1;
+            shapes->ids_wanted = id + 1;
+        }
     }
     shapes->slots_wanted = TB__GROUND_SLOTS_PER_SHAPE * met; /* met <= n, allocated above */
     return TB_STATUS_OK;
 }
 
-/* The friction pool for the bodies listed now; none for none. */
-static tb_status make_pool(tb_scene *scene, const tb_ground_def *def, tb__effect *effect)
+/* A new, empty pool of `slots` slots for ids below `bodies` in place of the ground's, whose old
+ * one (NULL for none) goes into *old with its body bound and states; nothing changes on failure. */
+static tb_status swap_pool(tb_scene *scene, tb__effect *effect, size_t slots, size_t bodies,
+                           tb__friction_pool **old, size_t *old_bodies)
 {
     tb__ground_shapes *shapes = effect->params.ground.shapes;
-    shapes->pool_bodies = scene->body_count;
-    const size_t slots = shapes->slots_wanted;
-    if (slots == 0) {
-        return TB_STATUS_OK;
-    }
     size_t bytes;
     tb_status status = tb__validate_size_product(
         scene->detail, slots, TB__FRICTION_SLOT_STATES * sizeof(double), "bodies", &bytes);
-    if (status == TB_STATUS_OK) {
-        shapes->law.friction = tb__friction_pool_create(slots, scene->body_count, def->presliding);
-        status = shapes->law.friction != NULL
-                     ? TB_STATUS_OK
-                     : tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY,
-                                      "the ground's friction pool: %zu slots", slots);
+    tb__friction_pool *pool =
+        status == TB_STATUS_OK ? tb__friction_pool_create(slots, bodies, shapes->presliding) : NULL;
+    if (pool == NULL) {
+        return status != TB_STATUS_OK
+                   ? status
+                   : tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY,
+                                    "the ground's friction pool: %zu slots", slots);
     }
-    effect->fixed_states = status == TB_STATUS_OK ? TB__FRICTION_SLOT_STATES * slots : 0;
+    *old = shapes->law.friction;
+    *old_bodies = shapes->pool_bodies;
+    shapes->law.friction = pool;
+    shapes->pool_bodies = bodies;
+    effect->fixed_states = TB__FRICTION_SLOT_STATES * slots;
+    return TB_STATUS_OK;
+}
+
+tb_status tb__ground_shapes_changed(tb__effect *effect, tb_scene *scene)
+{
+    tb__ground_shapes *shapes = effect->params.ground.shapes;
+    tb_status status = tb__ground_shapes_refresh(effect, scene, scene->detail);
+    const size_t have = effect->fixed_states / TB__FRICTION_SLOT_STATES;
+    if (status != TB_STATUS_OK ||
+        (shapes->slots_wanted <= have && shapes->ids_wanted <= shapes->pool_bodies)) {
+        return status;
+    }
+    /* doubling: n bodies given shapes one by one grow it log n times, not n */
+    const size_t slots = shapes->slots_wanted > 2 * have ? shapes->slots_wanted : 2 * have;
+    const size_t bodies =
+        scene->body_count > 2 * shapes->pool_bodies ? scene->body_count : 2 * shapes->pool_bodies;
+    tb__friction_pool *old = NULL;
+    size_t old_bodies = 0;
+    status = swap_pool(scene, effect, slots, bodies, &old, &old_bodies);
+    if (status == TB_STATUS_OK) {
+        status = tb__scene_layout_states(scene, scene->body_count);
+        if (status != TB_STATUS_OK) { /* the old pool back: the layout did not change */
+            tb__friction_pool_destroy(shapes->law.friction);
+            shapes->law.friction = old;
+            shapes->pool_bodies = old_bodies;
+            effect->fixed_states = TB__FRICTION_SLOT_STATES * have;
+            return status;
+        }
+        tb__friction_pool_destroy(old);
+    }
     return status;
 }
 
@@ -338,9 +377,14 @@ tb_status tb__ground_shapes_create(tb_scene *scene, const tb_ground_def *def, tb
     law->bristle_stiffness = ground->bristle_stiffness;
     law->slip_velocity =
         tb__contact_slip_velocity(def->static_friction, def->gravity, def->presliding);
+    ground->shapes->presliding = def->presliding;
+    ground->shapes->pool_bodies = scene->body_count;
     tb_status status = tb__ground_shapes_refresh(effect, scene, scene->detail);
-    if (status == TB_STATUS_OK) {
-        status = make_pool(scene, def, effect);
+    if (status == TB_STATUS_OK && ground->shapes->slots_wanted > 0) { /* none for none */
+        tb__friction_pool *none;
+        size_t bodies;
+        status = swap_pool(scene, effect, ground->shapes->slots_wanted, scene->body_count, &none,
+                           &bodies);
     }
     return status;
 }

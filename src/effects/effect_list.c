@@ -122,6 +122,20 @@ tb_status tb__scene_check_effects_start(tb_scene *scene, const double *y)
     return TB_STATUS_OK;
 }
 
+tb_status tb__scene_shapes_changed(tb_scene *scene)
+{
+    for (size_t e = 0; e < scene->effect_count; ++e) {
+        tb__effect *effect = &scene->effects[e];
+        if (effect->ops->shapes_changed != NULL) {
+            const tb_status status = effect->ops->shapes_changed(effect, scene);
+            if (status != TB_STATUS_OK) {
+                return status;
+            }
+        }
+    }
+    return TB_STATUS_OK;
+}
+
 void tb__effect_rate_add_decay(tb__effect_rate *out, double rate, size_t body)
 {
     if (rate > out->decay) {

@@ -16,10 +16,18 @@
 /* Makes ground->shapes for def (the law's constants from ground, already filled) and the scene
  * now: which bodies have points, and a friction pool of TB__GROUND_SLOTS_PER_SHAPE slots for
  * each body with a shape and no points now (none when there are none, so that a scene of points
- * keeps its layout: effect->fixed_states). Bodies given a shape later share the pool's free
- * slots; a point without one has the memoryless law. The scene's detail names what failed. */
+ * keeps its layout: effect->fixed_states); shapes set later grow it (tb__ground_shapes_changed).
+ * A point that finds every slot held has the memoryless law. The scene's detail names what
+ * failed. */
 tb_status tb__ground_shapes_create(tb_scene *scene, const tb_ground_def *def, tb__effect *effect);
 void tb__ground_shapes_release(tb__effect *effect);
+
+/* The ground's shapes_changed op: a pool with room for TB__GROUND_SLOTS_PER_SHAPE slots per body
+ * it meets through its shape now and for their ids, grown by doubling when short, laid out in
+ * the scene's states (which zeroes every effect's states, as any change of layout does: the
+ * anchors start unloaded). A pool with room already changes nothing. On failure nothing
+ * changes, the scene's detail naming what failed. */
+tb_status tb__ground_shapes_changed(tb__effect *effect, tb_scene *scene);
 
 /* Which bodies have contact points, noted again for the scene now: at every start check, so at
  * every change of points (tb_scene_set_contact_points checks), every integrator's creation and
