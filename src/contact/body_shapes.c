@@ -57,7 +57,7 @@ tb_status tb_scene_set_body_shape(tb_scene *scene, size_t id, const tb_shape *sh
     }
     tb__collision_shape *old = scene->shapes[id];
     scene->shapes[id] = made;
-    status = tb__scene_shapes_changed(scene); /* a ground plane's friction slots for it */
+    status = tb__scene_shapes_changed(scene, id); /* a ground plane's friction slots for it */
     if (status != TB_STATUS_OK) {
         scene->shapes[id] = old; /* the effects keep room for the shape: no harm */
         free(made);

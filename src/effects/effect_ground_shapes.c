@@ -28,6 +28,7 @@ typedef struct tb__ground_shapes {
     /* at the last refresh: TB__GROUND_SLOTS_PER_SHAPE per body met through its shape, and
      * 1 + the largest such body's id */
     size_t slots_wanted, ids_wanted;
+    size_t met_bound; /* at least the bodies met through their shapes now */
     /* has_points[i]: body i has contact points, for i below capacity (the body count at the
      * last refresh); bodies added since have none: points are only set through
      * tb_scene_set_contact_points, whose start check refreshes the flags */
@@ -302,6 +303,7 @@ tb_status tb__ground_shapes_refresh(const tb__effect *effect, const tb_scene *sc
         }
     }
     shapes->slots_wanted = TB__GROUND_SLOTS_PER_SHAPE * met; /* met <= n, allocated above */
+    shapes->met_bound = met;
     return TB_STATUS_OK;
 }
 
@@ -330,11 +332,18 @@ static tb_status swap_pool(tb_scene *scene, tb__effect *effect, size_t slots, si
     return TB_STATUS_OK;
 }
 
-tb_status tb__ground_shapes_changed(tb__effect *effect, tb_scene *scene)
+tb_status tb__ground_shapes_changed(tb__effect *effect, tb_scene *scene, size_t id)
 {
     tb__ground_shapes *shapes = effect->params.ground.shapes;
-    tb_status status = tb__ground_shapes_refresh(effect, scene, scene->detail);
     const size_t have = effect->fixed_states / TB__FRICTION_SLOT_STATES;
+    if (!meets_shape(shapes, scene, id)) { /* points, or no shape: nothing more to hold */
+        return TB_STATUS_OK;
+    }
+    shapes->met_bound += 1;
+    if (TB__GROUND_SLOTS_PER_SHAPE * shapes->met_bound <= have && id < shapes->pool_bodies) {
+        return TB_STATUS_OK;
+    }
+    tb_status status = tb__ground_shapes_refresh(effect, scene, scene->detail);
     if (status != TB_STATUS_OK ||
         (shapes->slots_wanted <= have && shapes->ids_wanted <= shapes->pool_bodies)) {
         return status;

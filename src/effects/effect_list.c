@@ -122,12 +122,12 @@ tb_status tb__scene_check_effects_start(tb_scene *scene, const double *y)
     return TB_STATUS_OK;
 }
 
-tb_status tb__scene_shapes_changed(tb_scene *scene)
+tb_status tb__scene_shapes_changed(tb_scene *scene, size_t id)
 {
     for (size_t e = 0; e < scene->effect_count; ++e) {
         tb__effect *effect = &scene->effects[e];
         if (effect->ops->shapes_changed != NULL) {
-            const tb_status status = effect->ops->shapes_changed(effect, scene);
+            const tb_status status = effect->ops->shapes_changed(effect, scene, id);
             if (status != TB_STATUS_OK) {
                 return status;
             }

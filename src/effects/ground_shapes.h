@@ -22,12 +22,14 @@
 tb_status tb__ground_shapes_create(tb_scene *scene, const tb_ground_def *def, tb__effect *effect);
 void tb__ground_shapes_release(tb__effect *effect);
 
-/* The ground's shapes_changed op: a pool with room for TB__GROUND_SLOTS_PER_SHAPE slots per body
- * it meets through its shape now and for their ids, grown by doubling when short, laid out in
- * the scene's states (which zeroes every effect's states, as any change of layout does: the
- * anchors start unloaded). A pool with room already changes nothing. On failure nothing
- * changes, the scene's detail naming what failed. */
-tb_status tb__ground_shapes_changed(tb__effect *effect, tb_scene *scene);
+/* The ground's shapes_changed op for body id: a pool with room for TB__GROUND_SLOTS_PER_SHAPE
+ * slots per body it meets through its shape now and for their ids, grown by doubling when short,
+ * laid out in the scene's states (which zeroes every effect's states, as any change of layout
+ * does: the anchors start unloaded). A pool with room already changes nothing; the bodies are
+ * counted again (O(bodies + points)) only when an upper bound of their number, raised by each
+ * body given a shape, passes the pool's room, so that n shapes set one by one cost O(n log n).
+ * On failure nothing changes, the scene's detail naming what failed. */
+tb_status tb__ground_shapes_changed(tb__effect *effect, tb_scene *scene, size_t id);
 
 /* Which bodies have contact points, noted again for the scene now: at every start check, so at
  * every change of points (tb_scene_set_contact_points checks), every integrator's creation and
