@@ -55,8 +55,15 @@ tb_status tb_scene_set_body_shape(tb_scene *scene, size_t id, const tb_shape *sh
     if (status != TB_STATUS_OK) {
         return status;
     }
-    free(scene->shapes[id]);
+    tb__collision_shape *old = scene->shapes[id];
     scene->shapes[id] = made;
+    status = tb__scene_shapes_changed(scene, id); /* a ground plane's friction slots for it */
+    if (status != TB_STATUS_OK) {
+        scene->shapes[id] = old; /* the effects keep room for the shape: no harm */
+        free(made);
+        return status;
+    }
+    free(old);
     ++scene->effects_generation; /* contact effects' right-hand side changed */
     return TB_STATUS_OK;
 }

@@ -25,6 +25,7 @@
 #ifndef TUMBLE_CONTACT_FRICTION_H
 #define TUMBLE_CONTACT_FRICTION_H
 
+#include "contact/contact_law.h"
 #include "contact/contact_pairs.h"
 #include "effects/effect_contact.h"
 
@@ -61,10 +62,30 @@ void tb__friction_force(const tb__contact_params *contact, double stiffness, dou
                         double N, const double n[3], const double v_t[3], const double q_a[4],
                         const double *z, double *dz, double friction[3]);
 
+/* The memoryless law's regularisation v_reg (m/s) for friction mu_s, gravity g (m/s^2) and
+ * presliding (m): its decay mu_s g a^2 / v_reg then stays within the friction spring's own
+ * fastest mode (about sqrt(g mu_s / presliding) a^2 at the arms, contact_rate), so a full pool
+ * costs no shorter step; 1.7 mm/s at the defaults. */
+static inline double tb__contact_slip_velocity(double static_friction, double gravity,
+                                               double presliding)
+{
+    return fmax(TB__FRICTION_REGULARISATION, sqrt(static_friction * gravity * presliding));
+}
+
 /* What the pool did (include/tumble/effects.h). */
 const tb_contact_friction_stats *tb__friction_stats(const tb__friction_pool *pool);
 
 /* The contact effect's post_step op: the slot map's update at a step boundary. */
 void tb__friction_post_step(const tb__effect *effect, const tb_scene *scene, const double *y);
+
+/* The boundary's pass for another owner of a pool (a ground plane, effect_ground_shapes.c):
+ * begin, hold each pair's touching points (motion_a: A's motion at the boundary, the frame of
+ * the keys; *fresh counts the provisional claims from 0, as tb__friction_match's), then end with
+ * the pool's states z (its first state in y) and the count. */
+void tb__friction_boundary_begin(tb__friction_pool *pool);
+void tb__friction_hold(tb__friction_pool *pool, const tb__pair_contact *pair,
+                       const tb__motion *motion_a, size_t *fresh);
+void tb__friction_boundary_end(tb__friction_pool *pool, const tb_scene *scene, const double *z,
+                               size_t fresh);
 
 #endif

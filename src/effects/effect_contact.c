@@ -455,11 +455,9 @@ static tb_status make_pool(tb_scene *scene, const tb_contact_def *def, tb__effec
     effect->state_scale = def->presliding;
     /* per unit of the weight M_min share a point carries, as the ground's (ground_params) */
     contact->bristle_stiffness = def->static_friction / def->presliding;
-    /* The memoryless fallback's regularisation: its decay mu_s g a^2 / v_reg then stays within
-     * the friction spring's own fastest mode (about sqrt(g mu_s / presliding) a^2 at the arms,
-     * contact_rate), so a full pool costs no shorter step; 1.7 mm/s at the defaults. */
-    contact->slip_velocity = fmax(TB__FRICTION_REGULARISATION,
-                                  sqrt(def->static_friction * def->gravity * def->presliding));
+    /* the memoryless fallback's regularisation (contact_friction.h) */
+    contact->slip_velocity =
+        tb__contact_slip_velocity(def->static_friction, def->gravity, def->presliding);
     return TB_STATUS_OK;
 }
 
@@ -542,4 +540,9 @@ tb_status tb_scene_contact_friction_stats(const tb_scene *scene, size_t effect,
     }
     *out_stats = *tb__friction_stats(tb__contact_of(&scene->effects[effect])->friction);
     return TB_STATUS_OK;
+}
+
+double tb__contact_lightness(const tb_scene *scene, const double *y, size_t id, bool normal)
+{
+    return lightness(scene, y, id, normal);
 }

@@ -34,4 +34,9 @@ tb_status tb__contact_check_shared_pairs(tb_scene *scene, const tb__effect_ops *
 tb_status tb__contact_check_start(const tb__effect *effect, const tb_scene *scene, const double *y,
                                   char *detail);
 
+/* How much lighter than body id a point of its shape's surface can be, along the normal
+ * (normal true) or across it, at y (>= 1; effect_contact.c): the lightness the contact's rate
+ * bounds use, for a body's shape meeting a ground plane too (effect_ground_shapes.c). */
+double tb__contact_lightness(const tb_scene *scene, const double *y, size_t id, bool normal);
+
 #endif

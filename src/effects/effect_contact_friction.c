@@ -290,12 +290,18 @@ static void hold_pair(tb__friction_pool *pool, const tb_scene *scene, const doub
 {
     tb__motion motion;
     tb__body_motion(&scene->bodies[pair->body_a], y + TB_STATE_SIZE * pair->body_a, &motion);
+    tb__scene_sleep_link(scene, pair->body_a, pair->body_b);
+    tb__friction_hold(pool, pair, &motion, fresh);
+}
+
+void tb__friction_hold(tb__friction_pool *pool, const tb__pair_contact *pair,
+                       const tb__motion *motion_a, size_t *fresh)
+{
     double keys[TB__MANIFOLD_POINTS][3];
     bool touching[TB__MANIFOLD_POINTS];
     size_t slots[TB__MANIFOLD_POINTS];
-    tb__scene_sleep_link(scene, pair->body_a, pair->body_b);
-    point_keys(pair, &motion, keys, touching);
-    tb__friction_match(pool, pair, &motion, fresh, slots);
+    point_keys(pair, motion_a, keys, touching);
+    tb__friction_match(pool, pair, motion_a, fresh, slots);
     for (int j = 0; j < pair->manifold.count; ++j) {
         if (slots[j] == TB__NO_SLOT) {
             continue;
@@ -349,9 +355,7 @@ void tb__friction_post_step(const tb__effect *effect, const tb_scene *scene, con
 {
     const tb__contact_params *contact = tb__contact_of(effect);
     tb__friction_pool *pool = contact->friction;
-    for (size_t s = 0; s < pool->capacity; ++s) {
-        pool->held[s] = false;
-    }
+    tb__friction_boundary_begin(pool);
     tb__pair_contact batch[TB__FRICTION_BATCH];
     tb__contact_pairs_begin(contact->pairs, scene, y);
     size_t count, fresh = 0;
@@ -361,10 +365,23 @@ void tb__friction_post_step(const tb__effect *effect, const tb_scene *scene, con
             hold_pair(pool, scene, y, &batch[k], &fresh);
         }
     }
+    tb__friction_boundary_end(pool, scene, y + effect->state_offset, fresh);
+}
+
+void tb__friction_boundary_begin(tb__friction_pool *pool)
+{
+    for (size_t s = 0; s < pool->capacity; ++s) {
+        pool->held[s] = false;
+    }
+}
+
+void tb__friction_boundary_end(tb__friction_pool *pool, const tb_scene *scene, const double *z,
+                               size_t fresh)
+{
     const size_t claimed = fresh < pool->free_count ? fresh : pool->free_count;
     pool->head = (pool->head + claimed) % pool->capacity;
     pool->free_count -= claimed;
-    update_index(pool, scene, y + effect->state_offset);
+    update_index(pool, scene, z);
     tb_contact_friction_stats *stats = &pool->stats;
     stats->boundaries++;
     stats->overflows += fresh - claimed;

@@ -7,6 +7,7 @@
 #include "contact/contact_pairs.h"
 #include "effects/effect_contact.h"
 #include "effects/effect_ground.h"
+#include "effects/ground_shapes.h"
 
 #include <math.h>
 #include <string.h>
@@ -188,6 +189,20 @@ static void ground_touching(const tb_scene *scene, size_t index, const double *y
     }
 }
 
+/* Each body that ground plane index meets through its shape and whose shape dips into it. */
+static void ground_shapes_touching(const tb_scene *scene, size_t index, const double *y,
+                                   tb_contact_touch *out, size_t capacity, size_t *count)
+{
+    for (size_t id = 0; id < scene->body_count; ++id) {
+        tb_contact_touch touch = {index, id, TB_WORLD, -INFINITY, 0};
+        if (tb__ground_shape_touch(&scene->effects[index], scene, y, id, &touch.depth,
+                                   &touch.points) &&
+            touch.points > 0) {
+            note(&touch, out, capacity, count);
+        }
+    }
+}
+
 tb_status tb_scene_contact_touching(const tb_scene *scene, const double *y, tb_contact_touch *out,
                                     size_t capacity, size_t *out_count)
 {
@@ -215,6 +230,7 @@ tb_status tb_scene_contact_touching(const tb_scene *scene, const double *y, tb_c
     for (size_t i = 0; i < scene->effect_count; ++i) {
         if (strcmp(scene->effects[i].ops->name, "ground") == 0) {
             ground_touching(scene, i, y, out, capacity, &count);
+            ground_shapes_touching(scene, i, y, out, capacity, &count);
         }
     }
     *out_count = count;

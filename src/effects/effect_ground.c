@@ -7,6 +7,7 @@
 #include "core/detail.h"
 #include "core/validate.h"
 #include "effects/contact_events.h"
+#include "effects/ground_shapes.h"
 #include "math/tb_math.h"
 
 #include <string.h>
@@ -224,6 +225,7 @@ static int apply_ground(const tb__effect *effect, const tb_scene *scene, double 
         }
         first = end;
     }
+    tb__ground_shapes_apply(effect, scene, y, dydt); /* bodies without points, by their shapes */
     return 0;
 }
 
@@ -312,6 +314,7 @@ static void ground_rate(const tb__effect *effect, const tb_scene *scene, const d
         }
         first = j;
     }
+    tb__ground_shapes_rate(effect, scene, y, out);
 }
 
 /* Refuses a state in which a contact point starts deeper than TB__START_DEPTH_PENETRATIONS
@@ -321,6 +324,10 @@ static tb_status ground_check_start(const tb__effect *effect, const tb_scene *sc
 {
     const tb__ground_params *ground = tb__ground_of(effect);
     const double limit = TB__START_DEPTH_PENETRATIONS * ground->penetration;
+    const tb_status listed = tb__ground_shapes_refresh(effect, scene, detail);
+    if (listed != TB_STATUS_OK) {
+        return listed;
+    }
     for (size_t j = 0; j < scene->contact_count; ++j) {
         const tb__contact *c = &scene->contacts[j];
         tb__motion motion;
@@ -337,11 +344,23 @@ static tb_status ground_check_start(const tb__effect *effect, const tb_scene *sc
                                   TB__START_DEPTH_PENETRATIONS, limit);
         }
     }
-    return TB_STATUS_OK;
+    return tb__ground_shapes_check_start(effect, scene, y, limit, detail);
+}
+
+/* The gaps of the bodies' points (effect_contact_events.c), then of the shapes of the bodies
+ * without points. */
+static void ground_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
+                              double *gap)
+{
+    tb__ground_event_gaps(effect, scene, y, gap);
+    tb__ground_shapes_event_gaps(effect, scene, y, gap);
 }
 
 static const tb__effect_stepping ground_stepping = {
-    .event_gaps = tb__ground_event_gaps, /* effect_contact_events.c */
+    .event_gaps = ground_event_gaps,
+    /* the shapes of bodies without points (effect_ground_shapes.c): their friction slots' map */
+    .post_step = tb__ground_shapes_post_step,
+    .shapes_changed = tb__ground_shapes_changed,
 };
 
 static const tb__effect_ops ground_ops = {
@@ -352,6 +371,8 @@ static const tb__effect_ops ground_ops = {
     .rate = ground_rate,
     .check_start = ground_check_start,
     .stepping = &ground_stepping,
+    /* the list and pool of the shapes of bodies without points (effect_ground_shapes.c) */
+    .release = tb__ground_shapes_release,
 };
 
 tb_ground_def tb_ground_def_default(void)
@@ -484,15 +505,21 @@ tb_status tb_scene_add_ground(tb_scene *scene, const tb_ground_def *def)
         return status;
     }
     tb__ground_params ground;
-    const tb__effect effect = {.ops = &ground_ops,
-                               .body = TB_ALL_BODIES,
-                               .states_per_contact = 2,
-                               .state_scale = def->presliding,
-                               .params = &ground};
+    tb__effect effect = {.ops = &ground_ops,
+                         .body = TB_ALL_BODIES,
+                         .states_per_contact = 2,
+                         .state_scale = def->presliding,
+                         .params = &ground};
     ground_params(def, &ground);
-    status = ground_check_start(&effect, scene, scene->states, scene->detail);
-    if (status != TB_STATUS_OK) {
-        return status;
+    status = tb__ground_shapes_create(scene, def, &effect);
+    if (status == TB_STATUS_OK) {
+        status = ground_check_start(&effect, scene, scene->states, scene->detail);
     }
-    return tb__scene_push_effect(scene, &effect, sizeof ground);
+    if (status == TB_STATUS_OK) {
+        status = tb__scene_push_effect(scene, &effect, sizeof ground);
+    }
+    if (status != TB_STATUS_OK) {
+        tb__ground_shapes_release(&effect);
+    }
+    return status;
 }

@@ -14,6 +14,9 @@ typedef struct tb__ground_params {
     double damping_ratio; /* from the restitution (contact/contact_law.h) */
     double static_friction, kinetic_friction, stribeck_velocity;
     double bristle_stiffness; /* friction spring per unit weight: s0 = mu_s / presliding, 1/m */
+    /* The bodies it meets through their shapes (no contact points), their friction pool:
+     * owned, effects/ground_shapes.h */
+    struct tb__ground_shapes *shapes;
 } tb__ground_params;
 
 /* A ground plane's parameters. */

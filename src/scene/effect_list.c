@@ -132,6 +132,20 @@ tb_status tb__scene_check_effects_start(tb_scene *scene, const double *y)
 
 const tb__effect_stepping tb__effect_no_stepping = {.post_step = NULL};
 
+tb_status tb__scene_shapes_changed(tb_scene *scene, size_t id)
+{
+    for (size_t e = 0; e < scene->effect_count; ++e) {
+        tb__effect *effect = &scene->effects[e];
+        if (tb__stepping_of(effect)->shapes_changed != NULL) {
+            const tb_status status = tb__stepping_of(effect)->shapes_changed(effect, scene, id);
+            if (status != TB_STATUS_OK) {
+                return status;
+            }
+        }
+    }
+    return TB_STATUS_OK;
+}
+
 void tb__effect_rate_add_decay(tb__effect_rate *out, double rate, size_t body)
 {
     if (rate > out->decay) {

@@ -138,6 +138,10 @@ struct tb__effect_stepping {
      * bookkeeping outside y that the derivative reads (the contact effect's friction slot
      * map). It must not change y, and must leave the derivative at y as it was. NULL: none. */
     void (*post_step)(const tb__effect *effect, const tb_scene *scene, const double *y);
+    /* Body id's shape was set or removed (tb_scene_set_body_shape, the scene idle): the effect
+     * may change how many states it owns and lay the scene's states out again
+     * (tb__scene_layout_states), or fail with nothing changed. NULL: shapes change nothing. */
+    tb_status (*shapes_changed)(tb__effect *effect, tb_scene *scene, size_t id);
 };
 
 /* The gap (m) the event functions start from: a body farther than this from everything it can
@@ -364,6 +368,10 @@ int tb__scene_post_step(double t, double *y, void *ctx);
 /* Asks every effect's row whether the scene can start from y (tb__effect_ops.check_start: no
  * body deep inside a ground plane); the first refusal's status, with its detail. */
 tb_status tb__scene_check_effects_start(tb_scene *scene, const double *y);
+
+/* Every effect's shapes_changed op, after body id's shape was set or removed; the first failure's
+ * status (the scene's detail names it), the effects before it keeping their change. */
+tb_status tb__scene_shapes_changed(tb_scene *scene, size_t id);
 
 /* TB_STATUS_BUSY (detail naming `what`) while an integrator is stepping the scene: a call from
  * inside a derivative, hook or user effect must not change what the step is reading. */

@@ -1,0 +1,409 @@
+/* A ground plane against the shapes of bodies without contact points (ground_shapes.h): the
+ * plane is body A of a pair, infinitely heavy and at rest, so a pair's law (effect_contact.c) with
+ * M_min = m_r = M, the body's mass: point j of the plane's manifold pushes with stiffness
+ * M omega^2 / count and a dashpot at its part d_j / sum d of the effective mass at the points'
+ * centre of pressure, and its friction is the contact's (the stick anchor of a pool slot, z in
+ * the plane's frame, which is the world's). At rest on its points the body sinks by
+ * M g / (M omega^2) = penetration, as on contact points. */
+#include "effects/ground_shapes.h"
+
+#include "contact/contact_law.h"
+#include "contact/contact_pairs.h"
+#include "core/detail.h"
+#include "core/validate.h"
+#include "effects/contact_events.h"
+#include "effects/contact_friction.h"
+#include "effects/effect_contact_check.h"
+#include "math/tb_math.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct tb__ground_shapes {
+    /* the law's and friction's constants (pairs, bodies and lookahead unused); friction: the
+     * slot pool, NULL for none */
+    tb__contact_params law;
+    size_t pool_bodies; /* ids below this may hold slots */
+    double presliding;  /* m, the pool's scale */
+    /* at the last refresh: TB__GROUND_SLOTS_PER_SHAPE per body met through its shape, and
+     * 1 + the largest such body's id */
+    size_t slots_wanted, ids_wanted;
+    size_t met_bound; /* at least the bodies met through their shapes now */
+    /* has_points[i]: body i has contact points, for i below capacity (the body count at the
+     * last refresh); bodies added since have none: points are only set through
+     * tb_scene_set_contact_points, whose start check refreshes the flags */
+    unsigned char *has_points;
+    size_t capacity;
+} tb__ground_shapes;
+
+/* The plane as body A: at rest at the origin, unturned (friction keys and z in the world). */
+static const double plane_origin[3] = {0.0, 0.0, 0.0};
+static const tb__motion plane_motion = {plane_origin, {1.0, 0.0, 0.0, 0.0}, {0, 0, 0}, {0, 0, 0}};
+
+/* The body's load on its touching points: the sum of depths and the effective masses at their
+ * centre of pressure (as effect_contact.c's pair_masses with an immovable A). */
+typedef struct tb__plane_load {
+    const tb__motion *motion;
+    double mass, load, normal, tangential; /* kg, m, kg, kg */
+} tb__plane_load;
+
+static void plane_load(const tb__ground_params *ground, const tb__body *body,
+                       const tb__contact_manifold *m, tb__plane_load *out)
+{
+    double centre[3] = {0.0, 0.0, 0.0};
+    out->mass = body->mass;
+    out->load = out->normal = out->tangential = 0.0;
+    for (int j = 0; j < m->count; ++j) {
+        if (m->points[j].depth > 0.0) {
+            out->load += m->points[j].depth;
+            tb__v3_axpy(centre, m->points[j].depth, m->points[j].position);
+        }
+    }
+    if (!(out->load > 0.0)) {
+        return;
+    }
+    double arm[3];
+    for (int k = 0; k < 3; ++k) {
+        arm[k] = centre[k] / out->load - out->motion->x[k];
+    }
+    out->normal = 1.0 / tb__inverse_mass_along(body, out->motion, arm, ground->normal);
+    out->tangential = 1.0 / tb__inverse_mass_across(body, out->motion, arm, ground->normal);
+}
+
+/* One manifold point's force on body id (z, dz: its slot's states, NULL for none). */
+static void point_force(const tb__contact_params *law, const tb__ground_params *ground,
+                        const tb__plane_load *m, const tb__contact_point *point, double share,
+                        const double *z, double *dz, size_t id, double *dydt)
+{
+    const double *n = ground->normal;
+    double arm[3], velocity[3], tangent[3], friction[3], f[3];
+    for (int k = 0; k < 3; ++k) {
+        arm[k] = point->position[k] - m->motion->x[k];
+    }
+    tb__point_velocity(m->motion, arm, velocity);
+    const double away = tb__v3_dot(velocity, n);
+    const double part = point->depth > 0.0 ? point->depth / m->load : 0.0;
+    const double N =
+        tb__contact_point_force(m->mass * share * law->omega * law->omega, m->normal * part,
+                                law->damping_ratio, point->depth, -away);
+    if (!(N > 0.0)) {
+        return; /* a slot held here relaxes (tb__friction_relax_all) */
+    }
+    for (int k = 0; k < 3; ++k) {
+        tangent[k] = velocity[k] - away * n[k];
+    }
+    const double stiffness = m->mass * share * law->gravity * law->bristle_stiffness;
+    const double damping = sqrt(stiffness * fmin(m->tangential * part, m->mass * share));
+    tb__friction_force(law, stiffness, damping, N, n, tangent, plane_motion.q, z, dz, friction);
+    for (int k = 0; k < 3; ++k) {
+        f[k] = N * n[k] + friction[k];
+    }
+    tb__add_load(dydt, id, arm, f);
+}
+
+/* Body id's manifold against the plane at y within margin (0 points: apart, or no shape). */
+static int plane_manifold(const tb__ground_params *ground, const tb_scene *scene, const double *y,
+                          size_t id, double margin, tb__pair_contact *out)
+{
+    const tb__collision_shape *shape = tb__scene_body_collision_shape(scene, id);
+    out->body_a = out->body_b = id; /* the pool's key: the pair (body, body) is asleep with it */
+    out->manifold.count = 0;
+    if (shape == NULL) { /* removed since the list was made */
+        return 0;
+    }
+    double pose[TB__POSE_SIZE];
+    tb__shape_pose(scene, y, id, pose);
+    return tb__collide_plane(ground->normal, ground->offset, shape, pose, margin, &out->manifold);
+}
+
+/* Whether the ground meets body id through its shape: it has one and no contact points. */
+static bool meets_shape(const tb__ground_shapes *shapes, const tb_scene *scene, size_t id)
+{
+    return !(id < shapes->capacity && shapes->has_points[id]) &&
+           tb__scene_body_collision_shape(scene, id) != NULL;
+}
+
+static size_t pool_first_state(const tb__effect *effect, const tb_scene *scene)
+{
+    return effect->state_offset + effect->states_per_contact * scene->contact_count;
+}
+
+void tb__ground_shapes_apply(const tb__effect *effect, const tb_scene *scene, const double *y,
+                             double *dydt)
+{
+    const tb__ground_params *ground = tb__ground_of(effect);
+    const tb__ground_shapes *shapes = ground->shapes;
+    const tb__friction_pool *pool = shapes->law.friction;
+    const size_t first = pool_first_state(effect, scene);
+    if (pool != NULL) {
+        tb__friction_relax_all(pool, scene, y + first, dydt + first);
+    }
+    size_t fresh = 0;
+    for (size_t id = 0; id < scene->body_count; ++id) {
+        if (!meets_shape(shapes, scene, id)) {
+            continue;
+        }
+        tb__pair_contact pair;
+        if (tb__body_asleep(scene, id) ||
+            plane_manifold(ground, scene, y, id, TB__CONTACT_MARGIN, &pair) == 0) {
+            continue; /* an asleep body's slots stay frozen (relax_all) */
+        }
+        tb__plane_load m = {.motion = tb__derivative_motion(scene, id)};
+        plane_load(ground, &scene->bodies[id], &pair.manifold, &m);
+        size_t slots[TB__MANIFOLD_POINTS] = {TB__NO_SLOT, TB__NO_SLOT, TB__NO_SLOT, TB__NO_SLOT};
+        if (pool != NULL && id < shapes->pool_bodies) {
+            tb__friction_match(pool, &pair, &plane_motion, &fresh, slots);
+        }
+        const double share = 1.0 / (double)pair.manifold.count;
+        for (int j = 0; j < pair.manifold.count; ++j) {
+            const bool held = slots[j] != TB__NO_SLOT;
+            const size_t s = first + TB__FRICTION_SLOT_STATES * (held ? slots[j] : 0);
+            point_force(&shapes->law, ground, &m, &pair.manifold.points[j], share,
+                        held ? y + s : NULL, held ? dydt + s : NULL, id, dydt);
+        }
+    }
+}
+
+void tb__ground_shapes_post_step(const tb__effect *effect, const tb_scene *scene, const double *y)
+{
+    const tb__ground_params *ground = tb__ground_of(effect);
+    const tb__ground_shapes *shapes = ground->shapes;
+    tb__friction_pool *pool = shapes->law.friction;
+    if (pool == NULL) {
+        return;
+    }
+    tb__friction_boundary_begin(pool);
+    size_t fresh = 0;
+    for (size_t id = 0; id < scene->body_count; ++id) {
+        if (!meets_shape(shapes, scene, id)) {
+            continue;
+        }
+        tb__pair_contact pair;
+        if (id < shapes->pool_bodies && !tb__body_asleep(scene, id) &&
+            plane_manifold(ground, scene, y, id, TB__CONTACT_MARGIN, &pair) > 0) {
+            tb__friction_hold(pool, &pair, &plane_motion, &fresh);
+        }
+    }
+    tb__friction_boundary_end(pool, scene, y + pool_first_state(effect, scene), fresh);
+}
+
+/* The modes of a body on the plane, contact_rate's (effect_contact.c) for a pair whose A weighs
+ * nothing in the bounds (lightness 0): the normal points ring at omega sqrt(l), l the body's
+ * lightness along the normal, damped at zeta kappa with kappa = sqrt(l) for a shape that touches
+ * at several points at once (every shape but a sphere); the friction spring rings at
+ * sqrt(g s0 l_t) damped at min(sqrt(l_t), kappa_t) / 2; the anchors relax at the slip and release
+ * rates; a point without a slot has the memoryless law's decay mu_s g l_t / v_reg. */
+void tb__ground_shapes_rate(const tb__effect *effect, const tb_scene *scene, const double *y,
+                            tb__effect_rate *out)
+{
+    const tb__ground_shapes *shapes = tb__ground_of(effect)->shapes;
+    const tb__contact_params *law = &shapes->law;
+    for (size_t id = 0; id < scene->body_count; ++id) {
+        if (!meets_shape(shapes, scene, id)) {
+            continue;
+        }
+        const tb__collision_shape *shape = tb__scene_body_collision_shape(scene, id);
+        const double l = tb__contact_lightness(scene, y, id, true);
+        const double l_t = tb__contact_lightness(scene, y, id, false);
+        const bool several = shape->type != TB_SHAPE_SPHERE;
+        const double kappa = several ? sqrt(l) : 1.0, kappa_t = several ? sqrt(l_t) : 1.0;
+        tb__effect_rate_add_damped_mode(out, law->omega * sqrt(l), law->damping_ratio * kappa, id);
+        if (law->static_friction > 0.0) {
+            tb__effect_rate_add_damped_mode(out, sqrt(law->gravity * law->bristle_stiffness * l_t),
+                                            0.5 * fmin(sqrt(l_t), kappa_t), id);
+            tb__effect_rate_add_decay(out, TB__BRISTLE_MAX_RATE, id);
+        }
+        tb__effect_rate_add_decay(out, TB__BRISTLE_RELEASE_RATE, id);
+        if (law->friction == NULL || id >= shapes->pool_bodies ||
+            tb__friction_pool_slots(law->friction) < shapes->slots_wanted) {
+            tb__effect_rate_add_decay(
+                out, law->static_friction * law->gravity * l_t / law->slip_velocity, id);
+        }
+    }
+}
+
+/* Whether the ground meets body id through its shape; if so the deepest of its manifold's
+ * points at y within margin (m, -INFINITY for none) and how many touch (depth > 0). */
+static bool deepest(const tb__ground_params *ground, const tb_scene *scene, const double *y,
+                    size_t id, double margin, double *depth, int *touching)
+{
+    if (!meets_shape(ground->shapes, scene, id)) {
+        return false;
+    }
+    tb__pair_contact pair;
+    plane_manifold(ground, scene, y, id, margin, &pair);
+    *depth = -INFINITY;
+    *touching = 0;
+    for (int j = 0; j < pair.manifold.count; ++j) {
+        *depth = fmax(*depth, pair.manifold.points[j].depth);
+        *touching += pair.manifold.points[j].depth > 0.0;
+    }
+    return true;
+}
+
+tb_status tb__ground_shapes_check_start(const tb__effect *effect, const tb_scene *scene,
+                                        const double *y, double limit, char *detail)
+{
+    for (size_t id = 0; id < scene->body_count; ++id) {
+        double depth;
+        int touching;
+        if (deepest(tb__ground_of(effect), scene, y, id, 0.0, &depth, &touching) && depth > limit) {
+            return tb__set_detail(detail, TB_STATUS_INVALID_ARGUMENT,
+                                  "body %zu (\"%s\"): its shape starts %.3g m inside the ground "
+                                  "plane, deeper than %.3g m (10 penetrations), from which the "
+                                  "contact would launch it: start it above the plane",
+                                  id, scene->names[id], depth, limit);
+        }
+    }
+    return TB_STATUS_OK;
+}
+
+void tb__ground_shapes_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
+                                  double *gap)
+{
+    for (size_t id = 0; id < scene->body_count; ++id) {
+        double depth;
+        int touching;
+        if (deepest(tb__ground_of(effect), scene, y, id, TB__EVENT_LOOKAHEAD, &depth, &touching)) {
+            gap[id] = fmin(gap[id], -depth); /* the gap of the deepest point, continuous in y */
+        }
+    }
+}
+
+bool tb__ground_shape_touch(const tb__effect *effect, const tb_scene *scene, const double *y,
+                            size_t id, double *depth, int *points)
+{
+    return deepest(tb__ground_of(effect), scene, y, id, 0.0, depth, points);
+}
+
+tb_status tb__ground_shapes_refresh(const tb__effect *effect, const tb_scene *scene, char *detail)
+{
+    tb__ground_shapes *shapes = tb__ground_of(effect)->shapes;
+    const size_t n = scene->body_count;
+    if (n > shapes->capacity) {
+        unsigned char *flags = realloc(shapes->has_points, n);
+        if (flags == NULL) {
+            return tb__set_detail(detail, TB_STATUS_OUT_OF_MEMORY,
+                                  "the ground's flags of bodies with points: %zu bodies", n);
+        }
+        shapes->has_points = flags;
+        shapes->capacity = n;
+    }
+    memset(shapes->has_points, 0, shapes->capacity);
+    for (size_t j = 0; j < scene->contact_count; ++j) {
+        shapes->has_points[scene->contacts[j].body] = 1;
+    }
+    size_t met = 0;
+    shapes->ids_wanted = 0;
+    for (size_t id = 0; id < n; ++id) {
+        if (meets_shape(shapes, scene, id)) {
+            met += 1;
+            shapes->ids_wanted = id + 1;
+        }
+    }
+    shapes->slots_wanted = TB__GROUND_SLOTS_PER_SHAPE * met; /* met <= n, allocated above */
+    shapes->met_bound = met;
+    return TB_STATUS_OK;
+}
+
+/* A new, empty pool of `slots` slots for ids below `bodies` in place of the ground's, whose old
+ * one (NULL for none) goes into *old with its body bound and states; nothing changes on failure. */
+static tb_status swap_pool(tb_scene *scene, tb__effect *effect, size_t slots, size_t bodies,
+                           tb__friction_pool **old, size_t *old_bodies)
+{
+    tb__ground_shapes *shapes = tb__ground_of(effect)->shapes;
+    size_t bytes;
+    tb_status status = tb__validate_size_product(
+        scene->detail, slots, TB__FRICTION_SLOT_STATES * sizeof(double), "bodies", &bytes);
+    tb__friction_pool *pool =
+        status == TB_STATUS_OK ? tb__friction_pool_create(slots, bodies, shapes->presliding) : NULL;
+    if (pool == NULL) {
+        return status != TB_STATUS_OK
+                   ? status
+                   : tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY,
+                                    "the ground's friction pool: %zu slots", slots);
+    }
+    *old = shapes->law.friction;
+    *old_bodies = shapes->pool_bodies;
+    shapes->law.friction = pool;
+    shapes->pool_bodies = bodies;
+    effect->fixed_states = TB__FRICTION_SLOT_STATES * slots;
+    return TB_STATUS_OK;
+}
+
+tb_status tb__ground_shapes_changed(tb__effect *effect, tb_scene *scene, size_t id)
+{
+    tb__ground_shapes *shapes = tb__ground_of(effect)->shapes;
+    const size_t have = effect->fixed_states / TB__FRICTION_SLOT_STATES;
+    if (!meets_shape(shapes, scene, id)) { /* points, or no shape: nothing more to hold */
+        return TB_STATUS_OK;
+    }
+    shapes->met_bound += 1;
+    if (TB__GROUND_SLOTS_PER_SHAPE * shapes->met_bound <= have && id < shapes->pool_bodies) {
+        return TB_STATUS_OK;
+    }
+    tb_status status = tb__ground_shapes_refresh(effect, scene, scene->detail);
+    if (status != TB_STATUS_OK ||
+        (shapes->slots_wanted <= have && shapes->ids_wanted <= shapes->pool_bodies)) {
+        return status;
+    }
+    /* doubling: n bodies given shapes one by one grow it log n times, not n */
+    const size_t slots = shapes->slots_wanted > 2 * have ? shapes->slots_wanted : 2 * have;
+    const size_t bodies =
+        scene->body_count > 2 * shapes->pool_bodies ? scene->body_count : 2 * shapes->pool_bodies;
+    tb__friction_pool *old = NULL;
+    size_t old_bodies = 0;
+    status = swap_pool(scene, effect, slots, bodies, &old, &old_bodies);
+    if (status == TB_STATUS_OK) {
+        status = tb__scene_layout_states(scene, scene->body_count);
+        if (status != TB_STATUS_OK) { /* the old pool back: the layout did not change */
+            tb__friction_pool_destroy(shapes->law.friction);
+            shapes->law.friction = old;
+            shapes->pool_bodies = old_bodies;
+            effect->fixed_states = TB__FRICTION_SLOT_STATES * have;
+            return status;
+        }
+        tb__friction_pool_destroy(old);
+    }
+    return status;
+}
+
+tb_status tb__ground_shapes_create(tb_scene *scene, const tb_ground_def *def, tb__effect *effect)
+{
+    tb__ground_params *ground = tb__ground_of(effect);
+    ground->shapes = calloc(1, sizeof *ground->shapes);
+    if (ground->shapes == NULL) {
+        return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "the ground's shaped bodies");
+    }
+    tb__contact_params *law = &ground->shapes->law;
+    law->omega = ground->omega;
+    law->damping_ratio = ground->damping_ratio;
+    law->static_friction = ground->static_friction;
+    law->kinetic_friction = ground->kinetic_friction;
+    law->stribeck_velocity = ground->stribeck_velocity;
+    law->gravity = ground->gravity;
+    law->bristle_stiffness = ground->bristle_stiffness;
+    law->slip_velocity =
+        tb__contact_slip_velocity(def->static_friction, def->gravity, def->presliding);
+    ground->shapes->presliding = def->presliding;
+    ground->shapes->pool_bodies = scene->body_count;
+    tb_status status = tb__ground_shapes_refresh(effect, scene, scene->detail);
+    if (status == TB_STATUS_OK && ground->shapes->slots_wanted > 0) { /* none for none */
+        tb__friction_pool *none;
+        size_t bodies;
+        status = swap_pool(scene, effect, ground->shapes->slots_wanted, scene->body_count, &none,
+                           &bodies);
+    }
+    return status;
+}
+
+void tb__ground_shapes_release(tb__effect *effect)
+{
+    tb__ground_shapes *shapes = tb__ground_of(effect)->shapes;
+    if (shapes != NULL) {
+        tb__friction_pool_destroy(shapes->law.friction);
+        free(shapes->has_points);
+        free(shapes);
+        tb__ground_of(effect)->shapes = NULL;
+    }
+}
