@@ -2,6 +2,8 @@
  * parallel-axis theorem, resting and bouncing on their pieces, never touching themselves, one
  * piece at the identity pose equal to the plain shape bit for bit, and refusals that change
  * nothing. */
+#define _POSIX_C_SOURCE 200809L /* mkdtemp */
+
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -14,8 +16,10 @@
 #include "tumble/tumble.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #define RADIUS 0.05   /* m: the dumbbell's spheres */
 #define HALF_BAR 0.2  /* m: each sphere's centre from the dumbbell's middle */
@@ -321,6 +325,67 @@ static void test_refused_pieces_change_nothing(void **state)
     tb_scene_destroy(scene);
 }
 
+/* An OBJ file of two objects ("o"), two 10 cm cubes 10 cm apart along x, is a body of two
+ * pieces: each piece has its cube's 8 vertices, and the mass is the two cubes' (2 x 1 kg at
+ * 1000 kg/m^3, 1e-12 relative). A 2 cm ball shot down through the gap between them at 1 m/s
+ * passes without touching (the body's momentum stays exactly 0): one hull of both cubes would
+ * have stopped it. */
+static void test_an_obj_of_two_objects_is_a_body_of_two_pieces(void **state)
+{
+    (void)state;
+    char folder[] = "/tmp/tumble_compound_XXXXXX", path[64];
+    assert_non_null(mkdtemp(folder));
+    snprintf(path, sizeof path, "%s/two_cubes.obj", folder);
+    FILE *file = fopen(path, "w");
+    assert_non_null(file);
+    for (int cube = 0; cube < 2; ++cube) {
+        const double x = cube ? 0.1 : -0.1;
+        fprintf(file, "o cube%d\n", cube);
+        for (int v = 0; v < 8; ++v) {
+            fprintf(file, "v %.17g %g %g\n", x + (v & 1 ? 0.05 : -0.05), v & 2 ? 0.05 : -0.05,
+                    v & 4 ? 0.05 : -0.05);
+        }
+        static const int faces[6][4] = {{1, 3, 4, 2}, {5, 6, 8, 7}, {1, 2, 6, 5},
+                                        {3, 7, 8, 4}, {1, 5, 7, 3}, {2, 4, 8, 6}};
+        for (int f = 0; f < 6; ++f) {
+            fprintf(file, "f %d %d %d %d\n", faces[f][0] + 8 * cube, faces[f][1] + 8 * cube,
+                    faces[f][2] + 8 * cube, faces[f][3] + 8 * cube);
+        }
+    }
+    assert_int_equal(fclose(file), 0);
+    const char *json =
+        "{\"bodies\": [{\"name\": \"cubes\", \"density\": 1000,"
+        " \"shape\": {\"type\": \"mesh\", \"file\": \"two_cubes.obj\"}},"
+        " {\"name\": \"ball\", \"mass\": 0.01, \"shape\": {\"type\": \"sphere\", \"radius\": 0.02},"
+        "  \"position\": [0, 0, 0.1], \"velocity\": [0, 0, -1]}],"
+        " \"effects\": [{\"type\": \"contact\"}]}";
+    tb_scene *scene = NULL;
+    tb_error error;
+    assert_int_equal(tb_scene_load_string(json, "cubes", folder, &scene, NULL, &error),
+                     TB_STATUS_OK);
+    size_t count = 0;
+    assert_int_equal(tb_scene_body_piece_count(scene, 0, &count), TB_STATUS_OK);
+    assert_int_equal(count, 2);
+    for (size_t k = 0; k < 2; ++k) {
+        tb_shape_piece piece;
+        assert_int_equal(tb_scene_body_piece(scene, 0, k, &piece), TB_STATUS_OK);
+        assert_int_equal(piece.shape.type, TB_SHAPE_CONVEX);
+        assert_int_equal(piece.shape.vertex_count, 8);
+    }
+    tb_mass_properties mass;
+    assert_int_equal(tb_scene_get_mass(scene, 0, &mass), TB_STATUS_OK);
+    assert_near(mass.mass, 2.0, 2e-12);
+    advance(scene, 0.25);
+    const double *y = tb_scene_states_const(scene);
+    assert_true(y[TB_STATE_SIZE + 2] < -0.1); /* the ball went through */
+    for (int i = 0; i < 3; ++i) {
+        assert_true(y[TB_STATE_P + i] == 0.0);
+    }
+    tb_scene_destroy(scene);
+    remove(path);
+    rmdir(folder);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -330,6 +395,7 @@ int main(void)
         cmocka_unit_test(test_pieces_of_one_body_never_touch_each_other),
         cmocka_unit_test(test_one_piece_at_the_origin_is_the_plain_shape_bit_for_bit),
         cmocka_unit_test(test_refused_pieces_change_nothing),
+        cmocka_unit_test(test_an_obj_of_two_objects_is_a_body_of_two_pieces),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -78,6 +78,7 @@ typedef struct tb__body_build {
     tb_shape_piece *pieces;
     double **piece_vertices;
     size_t piece_count;
+    bool piece; /* this is one piece of a list: a mesh file's groups are not split again */
 } tb__body_build;
 
 /* A mass-property refusal from the library (its message names the mass, density or inertia)
@@ -119,9 +120,11 @@ char *tb__folder_of(const char *path);
 tb_status tb__load_mesh_buffers(tb__loader *ld, const json_t *shape, const char *path,
                                 tb__mesh_buffers *m);
 
-/* A "mesh" shape: mass properties, and its vertices (malloc'd, for contact points). */
+/* A "mesh" shape: mass properties (into b->def.mass), and its vertices (malloc'd, for contact
+ * points). An OBJ file of two or more objects or groups also gives b one convex piece per
+ * group (b->pieces, at the identity pose), unless b->piece. */
 tb_status tb__load_mesh_shape(tb__loader *ld, const json_t *shape, const char *path,
-                              tb_mass_mode mode, double value, tb_mass_properties *mass,
+                              tb_mass_mode mode, double value, tb__body_build *b,
                               double **vertices, size_t *vertex_count, tb_error *error);
 
 #endif

@@ -84,6 +84,7 @@ static tb_status load_piece(tb__loader *ld, const json_t *piece, const char *ite
     tb__body_build one;
     memset(&one, 0, sizeof one);
     one.shape = tb_shape_default();
+    one.piece = true;
     if (status == TB_STATUS_OK) {
         status = tb__load_shape_mass(ld, piece, item, item, type, TB_MASS_DENSITY, density, &one);
     }

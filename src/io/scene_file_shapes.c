@@ -180,7 +180,7 @@ static tb_status load_mesh(tb__loader *ld, const json_t *shape, const char *path
     double *vertices = NULL;
     size_t count = 0;
     tb_status status =
-        tb__load_mesh_shape(ld, shape, path, mode, value, &b->def.mass, &vertices, &count, error);
+        tb__load_mesh_shape(ld, shape, path, mode, value, b, &vertices, &count, error);
     if (status == TB_STATUS_OK) {
         status = vertex_contacts(ld, vertices, count, path, &b->contacts);
     }
