@@ -386,6 +386,32 @@ static void test_an_obj_of_two_objects_is_a_body_of_two_pieces(void **state)
     rmdir(folder);
 }
 
+/* A ball sunk 0.1 mm into a corner of three pieces (a floor and two walls) touches each: the
+ * read-out lists the body pair once, with the three pieces' points (one each, a sphere's
+ * manifold) and the depth 0.1 mm (1e-12 m: the closed form's round-off). */
+static void test_a_corner_of_three_pieces_is_one_touch_of_three_points(void **state)
+{
+    (void)state;
+    tb_scene *scene = test_empty_scene();
+    const tb_shape_piece corner[3] = {piece_at(box(0.2, 0.2, 0.02), 0, 0, -0.01),
+                                      piece_at(box(0.02, 0.2, 0.2), -0.11, 0, 0.1),
+                                      piece_at(box(0.2, 0.02, 0.2), 0, -0.11, 0.1)};
+    add_compound(scene, corner, 3, 1.0, (double[3]){0, 0, 0});
+    const double r = 0.05 + 1e-4; /* 0.1 mm into the floor and each wall's inner face */
+    test_add_ball(scene, "ball", 0.1, r, (double[3]){-0.1 + 0.05, -0.1 + 0.05, 0.05}, NULL);
+    tb_contact_def contact = tb_contact_def_default();
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    tb_contact_touch touches[4];
+    size_t count = 0;
+    assert_int_equal(
+        tb_scene_contact_touching(scene, tb_scene_states_const(scene), touches, 4, &count),
+        TB_STATUS_OK);
+    assert_int_equal(count, 1);
+    assert_int_equal(touches[0].points, 3);
+    assert_near(touches[0].depth, 1e-4, 1e-12);
+    tb_scene_destroy(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -396,6 +422,7 @@ int main(void)
         cmocka_unit_test(test_one_piece_at_the_origin_is_the_plain_shape_bit_for_bit),
         cmocka_unit_test(test_refused_pieces_change_nothing),
         cmocka_unit_test(test_an_obj_of_two_objects_is_a_body_of_two_pieces),
+        cmocka_unit_test(test_a_corner_of_three_pieces_is_one_touch_of_three_points),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
