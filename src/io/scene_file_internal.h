@@ -124,7 +124,7 @@ tb_status tb__load_mesh_buffers(tb__loader *ld, const json_t *shape, const char 
  * points). An OBJ file of two or more objects or groups also gives b one convex piece per
  * group (b->pieces, at the identity pose), unless b->piece. */
 tb_status tb__load_mesh_shape(tb__loader *ld, const json_t *shape, const char *path,
-                              tb_mass_mode mode, double value, tb__body_build *b,
-                              double **vertices, size_t *vertex_count, tb_error *error);
+                              tb_mass_mode mode, double value, tb__body_build *b, double **vertices,
+                              size_t *vertex_count, tb_error *error);
 
 #endif
