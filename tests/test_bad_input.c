@@ -36,6 +36,7 @@ typedef struct fixture {
     unsigned triangles[12], past_the_vertices[12];
     tb_contact_point far_point;
     tb_shape nan_sphere, far_hull, flat_hull;
+    tb_shape_piece nan_piece, piece_out;
     tb_contact_def bad_contact, null_bodies;
     tb_contact_def huge_body_count, huge_friction_points, shapeless, huge_gravity;
     tb_scene_def huge_body_capacity;
@@ -116,6 +117,8 @@ static void set_up_contact(fixture *f)
     f->nan_sphere = tb_shape_default();
     f->nan_sphere.type = TB_SHAPE_SPHERE;
     f->nan_sphere.radius = NAN;
+    f->nan_piece = tb_shape_piece_default();
+    f->nan_piece.shape = f->nan_sphere;
     for (int k = 0; k < 12; ++k) {
         f->far_vertices[k] = k % 3 == k / 3 ? 1e101 : 0.0; /* a tetrahedron past 1e100 m */
         f->flat_vertices[k] = k % 3 == 2 ? 0.0 : (double)(k % 4);
@@ -344,6 +347,18 @@ static void set_up(fixture *f)
     X("set_body_shape: a flat hull", INVALID_ARGUMENT,                                             \
       tb_scene_set_body_shape(f->scene, 0, &f->flat_hull))                                         \
     X("set_body_shape: NULL scene", NULL_POINTER, tb_scene_set_body_shape(NULL, 0, &f->far_hull))  \
+    X("set_body_pieces: NULL pieces", NULL_POINTER,                                                \
+      tb_scene_set_body_pieces(f->scene, 0, NULL, 1))                                              \
+    X("set_body_pieces: count 0", INVALID_ARGUMENT,                                                \
+      tb_scene_set_body_pieces(f->scene, 0, &f->nan_piece, 0))                                     \
+    X("set_body_pieces: NaN radius", NOT_FINITE,                                                   \
+      tb_scene_set_body_pieces(f->scene, 0, &f->nan_piece, 1))                                     \
+    X("set_body_pieces: id 9", OUT_OF_RANGE,                                                       \
+      tb_scene_set_body_pieces(f->scene, 9, &f->nan_piece, 1))                                     \
+    X("set_body_pieces: NULL scene", NULL_POINTER, tb_scene_set_body_pieces(NULL, 0, NULL, 1))     \
+    X("body_piece_count: NULL out", NULL_POINTER, tb_scene_body_piece_count(f->scene, 0, NULL))    \
+    X("body_piece: no shape", OUT_OF_RANGE, tb_scene_body_piece(f->scene, 0, 0, &f->piece_out))    \
+    X("body_piece: NULL out", NULL_POINTER, tb_scene_body_piece(f->scene, 0, 0, NULL))             \
     X("body_shape_bounds: no shape", INVALID_ARGUMENT,                                             \
       tb_scene_body_shape_bounds(f->scene, tb_scene_states_const(f->scene), 0, f->v, f->v))        \
     X("add_contact: restitution 2", INVALID_ARGUMENT,                                              \

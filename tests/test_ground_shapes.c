@@ -121,6 +121,39 @@ static void test_shapes_without_points_rest_at_the_static_deflection(void **stat
     rest_at_static_deflection(TB_METHOD_CVODE_ADAMS, 1e-8);
 }
 
+/* A body of two pieces (a dumbbell: two 5 cm spheres 0.4 m apart, set through the C API with no
+ * contact points) meets the plane through both pieces and rests at the static deflection, as a
+ * single shape does (same law, same tolerance as above); before bodies of several pieces met
+ * the plane it fell through it. */
+static void test_a_body_of_several_pieces_rests_on_the_plane(void **state)
+{
+    (void)state;
+    tb_ground_def ground = tb_ground_def_default();
+    ground.penetration = 1e-4;
+    tb_scene *scene = scene_on_plane(0.0, &ground);
+    tb_body_def def = tb_body_def_default();
+    assert_int_equal(
+        tb_mass_from_box(TB_MASS_GIVEN, 2.0, (double[]){0.5, 0.1, 0.1}, &def.mass, NULL),
+        TB_STATUS_OK);
+    def.position[2] = 0.05;
+    size_t id = 0;
+    assert_int_equal(tb_scene_add_body(scene, &def, &id), TB_STATUS_OK);
+    tb_shape_piece pieces[2] = {tb_shape_piece_default(), tb_shape_piece_default()};
+    for (int k = 0; k < 2; ++k) {
+        pieces[k].shape.type = TB_SHAPE_SPHERE;
+        pieces[k].shape.radius = 0.05;
+        pieces[k].position[0] = k == 0 ? -0.2 : 0.2;
+    }
+    assert_int_equal(tb_scene_set_body_pieces(scene, id, pieces, 2), TB_STATUS_OK);
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+    tb_integrator *integrator = test_integrator_for(scene, TB_METHOD_RK4, 0.0, 0.0);
+    assert_int_equal(tb_integrator_advance(integrator, 1.0), TB_STATUS_OK);
+    const double sunk = 0.05 - height_of(scene, id);
+    assert_true(fabs(sunk - ground.penetration) <= 1e-3 * ground.penetration);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
 /* Along the slope's downhill direction (-cos a, 0, -sin a), the velocity of body 0. */
 static double downhill_speed(const tb_scene *scene, double a)
 {
@@ -381,6 +414,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_shapes_without_points_rest_at_the_static_deflection),
+        cmocka_unit_test(test_a_body_of_several_pieces_rests_on_the_plane),
         cmocka_unit_test(test_sphere_rolls_at_five_sevenths_or_slides),
         cmocka_unit_test(test_block_holds_below_mu_s_and_slides_above),
         cmocka_unit_test(test_box_dropped_flat_bounces_with_the_restitution),

@@ -500,11 +500,15 @@ static void test_glb_is_one_json_chunk_and_one_binary_chunk(void **state)
         tb_writer_def def = tb_writer_def_default();
         def.format = TB_OUTPUT_GLB;
         def.rotation_keys = linear ? TB_ROTATION_LINEAR : TB_ROTATION_CUBICSPLINE;
-        /* shapes and a ground from a description's text, or none (inertia ellipsoids) */
+        /* shapes and grounds are drawn from the scene: a ground added through the C API is */
         def.scene_text = linear ? "{\"bodies\": [{\"name\": \"box\", \"shape\": {\"type\": "
                                   "\"box\", \"size\": [0.1, 0.2, 0.3]}}], \"effects\": "
                                   "[{\"type\": \"ground\"}]}"
                                 : NULL;
+        if (linear) {
+            const tb_ground_def ground = tb_ground_def_default();
+            assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+        }
         tb_writer *writer = NULL;
         assert_int_equal(tb_writer_open(path, &def, scene, &writer, NULL), TB_STATUS_OK);
         assert_int_equal(tb_scene_run(scene, &run, tb_writer_on_frame, writer, NULL, NULL),

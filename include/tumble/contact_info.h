@@ -54,7 +54,8 @@ typedef struct tb_contact_touch {
     size_t effect;         /* the effect's index among the scene's effects */
     size_t body_a, body_b; /* body ids (body_a < body_b); body_b TB_WORLD for a ground plane */
     double depth;          /* m: the deepest point's overlap; <= 0: a gap of -depth */
-    int points;            /* points of the pair's manifold, or the body's points below */
+    int points; /* points of the pair's manifold (bodies of several pieces: of every touching
+                   piece pair's, one touch for the body pair), or the body's points below */
 } tb_contact_touch;
 
 /* The pairs touching at state y (the scene's state array, e.g. tb_scene_states_const), every

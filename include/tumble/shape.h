@@ -25,8 +25,10 @@ typedef enum tb_shape_type {
     TB_SHAPE_ELLIPSOID, /* semi_axes along x, y, z, centred */
     TB_SHAPE_CONVEX,    /* the convex hull of vertices (a mesh's vertices: a non-convex mesh
                            collides as its convex hull), computed when the shape is set */
-    TB_SHAPE_POINTS     /* spheres at vertices with radii (NULL: all 0); the shape is the
+    TB_SHAPE_POINTS,    /* spheres at vertices with radii (NULL: all 0); the shape is the
                            convex hull of the spheres */
+    TB_SHAPE_COMPOUND   /* read-out only (tb_scene_body_shape_type): a body of several pieces or
+                           of one piece off the shape origin (tb_scene_set_body_pieces) */
 } tb_shape_type;
 
 /* Fill with tb_shape_default(), set type and the fields that type reads; the others are
@@ -55,7 +57,43 @@ TB_API tb_shape tb_shape_default(void);
  * change at their next derivative; CVODE restarts its history. */
 TB_API tb_status tb_scene_set_body_shape(tb_scene *scene, size_t id, const tb_shape *shape);
 
-/* Body id's shape type (TB_SHAPE_NONE when it has none). */
+/* A convex piece of a body: a shape placed in the body's shape frame (the frame of
+ * tb_body_def.orientation) by the position of the piece's own origin (m) and the rotation from
+ * the piece's frame to the body's shape frame (unit quaternion w, x, y, z, |q| = 1 within 1e-4;
+ * it is normalised). tb_shape_piece_default(): no shape, at the shape origin, not rotated. */
+typedef struct tb_shape_piece {
+    tb_shape shape;
+    double position[3];
+    double orientation[4];
+} tb_shape_piece;
+
+TB_API tb_shape_piece tb_shape_piece_default(void);
+
+/* Gives body id a shape of count >= 1 convex pieces (copied, as tb_scene_set_body_shape copies
+ * one), replacing the one it had. The body collides piece by piece: each piece of one body meets
+ * each piece of another through the pair's own narrow phase (a manifold per touching piece
+ * pair); pieces of one body never meet each other. Mass properties are the caller's
+ * (tb_mass_combine combines the pieces'). One piece at the identity pose is the plain shape, bit
+ * for bit. Refused as tb_scene_set_body_shape is, the detail naming the piece
+ * ("pieces[2].radius: ..."), and: pieces NULL (TB_STATUS_NULL_POINTER), count 0 or above
+ * 1 000 000, a piece of type TB_SHAPE_NONE or a bad orientation (TB_STATUS_INVALID_ARGUMENT), a
+ * non-finite or farther than 1e100 m position (TB_STATUS_NOT_FINITE / INVALID_ARGUMENT). A
+ * refused call changes nothing. */
+TB_API tb_status tb_scene_set_body_pieces(tb_scene *scene, size_t id, const tb_shape_piece *pieces,
+                                          size_t count);
+
+/* How many pieces body id's shape has: 0 without a shape, 1 for tb_scene_set_body_shape's. */
+TB_API tb_status tb_scene_body_piece_count(const tb_scene *scene, size_t id, size_t *out_count);
+
+/* Piece k (< the piece count) of body id, as the scene keeps it: out_piece->shape is the shape
+ * (a convex piece's vertices are its hull's; vertices and radii point into the scene and stay
+ * valid until the body's shape is set again or the scene is destroyed), position and
+ * orientation place it in the body's shape frame as tb_scene_set_body_pieces describes
+ * (orientation unit). What writers draw. TB_STATUS_OUT_OF_RANGE for a bad id or k. */
+TB_API tb_status tb_scene_body_piece(const tb_scene *scene, size_t id, size_t k,
+                                     tb_shape_piece *out_piece);
+
+/* Body id's shape type (TB_SHAPE_NONE when it has none, TB_SHAPE_COMPOUND for pieces). */
 TB_API tb_status tb_scene_body_shape_type(const tb_scene *scene, size_t id,
                                           tb_shape_type *out_type);
 

@@ -47,9 +47,11 @@ typedef enum tb_rotation_keys {
 typedef struct tb_writer_def {
     tb_output_format format;        /* default CSV */
     tb_rotation_keys rotation_keys; /* glTF only; default TB_ROTATION_CUBICSPLINE */
-    /* glTF and USD, may be NULL (default): the scene file the scene was loaded from; its bodies'
-     * shapes and its ground planes are drawn. Without it (or for a body given by mass and
-     * inertia) a body is drawn as the solid ellipsoid with its mass and inertia. */
+    /* glTF and USD, may be NULL (default): the scene file the scene was loaded from. Shapes
+     * (each body's pieces, tb_scene_body_piece) and ground planes are drawn from the scene; the
+     * file gives only the triangles of a body whose shape is one "mesh" (the scene keeps their
+     * convex hull). A body without a shape is drawn as the solid ellipsoid with its mass and
+     * inertia. */
     const char *scene_file;
     /* glTF and USD, instead of scene_file (may be NULL, the default): the scene description as
      * JSON text (what tb_scene_load_string read), and where its mesh files are (NULL: the

@@ -1,4 +1,5 @@
-/* The scene's collision shapes: one per body, set, read and placed at a state. */
+/* The scene's collision shapes: one per body (a plain shape or a compound of convex pieces),
+ * set, read and placed at a state. */
 #include "contact/contact_pairs.h"
 
 #include "core/validate.h"
@@ -35,24 +36,16 @@ static tb_status reserve_shapes(tb_scene *scene)
     return TB_STATUS_OK;
 }
 
-tb_status tb_scene_set_body_shape(tb_scene *scene, size_t id, const tb_shape *shape)
+/* Body id's shape becomes made (which may be NULL: none) when status, the setter's checks so
+ * far, is OK; made is freed when the call is refused. */
+static tb_status replace_shape(tb_scene *scene, size_t id, tb__collision_shape *made,
+                               tb_status status)
 {
-    if (scene == NULL) {
-        return TB_STATUS_NULL_POINTER;
-    }
-    tb__scene_clear_detail(scene);
-    tb_status status = tb__scene_check_id(scene, id, "id");
-    if (status == TB_STATUS_OK) {
-        status = tb__scene_check_idle(scene, "tb_scene_set_body_shape");
-    }
     if (status == TB_STATUS_OK) {
         status = reserve_shapes(scene);
     }
-    tb__collision_shape *made = NULL;
-    if (status == TB_STATUS_OK && shape != NULL && shape->type != TB_SHAPE_NONE) {
-        made = tb__collision_shape_make(shape, scene->detail, &status);
-    }
     if (status != TB_STATUS_OK) {
+        free(made);
         return status;
     }
     tb__collision_shape *old = scene->shapes[id];
@@ -66,6 +59,41 @@ tb_status tb_scene_set_body_shape(tb_scene *scene, size_t id, const tb_shape *sh
     free(old);
     ++scene->effects_generation; /* contact effects' right-hand side changed */
     return TB_STATUS_OK;
+}
+
+tb_status tb_scene_set_body_shape(tb_scene *scene, size_t id, const tb_shape *shape)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    tb_status status = tb__scene_check_id(scene, id, "id");
+    if (status == TB_STATUS_OK) {
+        status = tb__scene_check_idle(scene, "tb_scene_set_body_shape");
+    }
+    tb__collision_shape *made = NULL;
+    if (status == TB_STATUS_OK && shape != NULL && shape->type != TB_SHAPE_NONE) {
+        made = tb__collision_shape_make(shape, scene->detail, &status);
+    }
+    return replace_shape(scene, id, made, status);
+}
+
+tb_status tb_scene_set_body_pieces(tb_scene *scene, size_t id, const tb_shape_piece *pieces,
+                                   size_t count)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    tb_status status = tb__scene_check_id(scene, id, "id");
+    if (status == TB_STATUS_OK) {
+        status = tb__scene_check_idle(scene, "tb_scene_set_body_pieces");
+    }
+    tb__collision_shape *made = NULL;
+    if (status == TB_STATUS_OK) {
+        made = tb__collision_shape_make_pieces(pieces, count, scene->detail, &status);
+    }
+    return replace_shape(scene, id, made, status);
 }
 
 const tb__collision_shape *tb__scene_body_collision_shape(const tb_scene *scene, size_t id)
@@ -86,6 +114,67 @@ tb_status tb_scene_body_shape_type(const tb_scene *scene, size_t id, tb_shape_ty
     if (status == TB_STATUS_OK) {
         const tb__collision_shape *shape = tb__scene_body_collision_shape(scene, id);
         *out_type = shape != NULL ? shape->type : TB_SHAPE_NONE;
+    }
+    return status;
+}
+
+tb_status tb_scene_body_piece_count(const tb_scene *scene, size_t id, size_t *out_count)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    if (out_count == NULL) {
+        return tb__scene_fail((tb_scene *)scene, TB_STATUS_NULL_POINTER, "out_count is NULL");
+    }
+    tb_status status = tb__scene_check_id(scene, id, "id");
+    if (status == TB_STATUS_OK) {
+        const tb__collision_shape *shape = tb__scene_body_collision_shape(scene, id);
+        *out_count = shape != NULL ? tb__collision_shape_piece_count(shape) : 0;
+    }
+    return status;
+}
+
+/* The public description of a made shape (sizes back from half sizes). */
+static tb_shape public_shape(const tb__collision_shape *c)
+{
+    tb_shape shape = tb_shape_default();
+    shape.type = c->type;
+    shape.radius = c->radius;
+    shape.length = 2.0 * c->half_length;
+    for (int k = 0; k < 3; ++k) {
+        shape.size[k] = c->type == TB_SHAPE_BOX ? 2.0 * c->half[k] : 0.0;
+        shape.semi_axes[k] = c->type == TB_SHAPE_ELLIPSOID ? c->half[k] : 0.0;
+    }
+    shape.vertices = c->vertices;
+    shape.vertex_count = c->vertex_count;
+    shape.radii = c->radii;
+    return shape;
+}
+
+tb_status tb_scene_body_piece(const tb_scene *scene, size_t id, size_t k, tb_shape_piece *out_piece)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    if (out_piece == NULL) {
+        return tb__scene_fail((tb_scene *)scene, TB_STATUS_NULL_POINTER, "out_piece is NULL");
+    }
+    tb_status status = tb__scene_check_id(scene, id, "id");
+    const tb__collision_shape *shape =
+        status == TB_STATUS_OK ? tb__scene_body_collision_shape(scene, id) : NULL;
+    const size_t count = shape != NULL ? tb__collision_shape_piece_count(shape) : 0;
+    if (status == TB_STATUS_OK && k >= count) {
+        status = tb__scene_fail((tb_scene *)scene, TB_STATUS_OUT_OF_RANGE,
+                                "k: %zu is not a piece of body %zu (it has %zu)", k, id, count);
+    }
+    if (status == TB_STATUS_OK) {
+        static const double identity[TB__POSE_SIZE] = {0, 0, 0, 1, 0, 0, 0};
+        double pose[TB__POSE_SIZE];
+        out_piece->shape = public_shape(tb__collision_shape_piece(shape, k, identity, pose));
+        memcpy(out_piece->position, pose, sizeof out_piece->position);
+        memcpy(out_piece->orientation, pose + 3, sizeof out_piece->orientation);
     }
     return status;
 }

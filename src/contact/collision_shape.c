@@ -219,7 +219,8 @@ static void world_extent(const tb__collision_shape *s, const double R[9], const 
     }
     if (s->type == TB_SHAPE_BOX) {
         rotated_extent(R, s->half, e);
-    } else if (s->type == TB_SHAPE_CONVEX || s->type == TB_SHAPE_POINTS) {
+    } else if (s->type == TB_SHAPE_CONVEX || s->type == TB_SHAPE_POINTS ||
+               s->type == TB_SHAPE_COMPOUND) {
         double c[3], h[3], offset[3];
         for (int k = 0; k < 3; ++k) {
             c[k] = 0.5 * (s->local_min[k] + s->local_max[k]);
@@ -299,6 +300,18 @@ static void local_support(const tb__collision_shape *s, const double d[3], doubl
 void tb__collision_shape_support(const tb__collision_shape *shape, const double pose[TB__POSE_SIZE],
                                  const double d[3], double out[3])
 {
+    if (shape->type == TB_SHAPE_COMPOUND) { /* the union's: the farthest piece's */
+        double best = -INFINITY, piece_pose[TB__POSE_SIZE], point[3];
+        for (size_t k = 0; k < shape->piece_count; ++k) {
+            tb__collision_shape_support(tb__collision_shape_piece(shape, k, pose, piece_pose),
+                                        piece_pose, d, point);
+            if (tb__v3_dot(point, d) > best) {
+                best = tb__v3_dot(point, d);
+                tb__v3_copy(out, point);
+            }
+        }
+        return;
+    }
     double local_d[3], local[3];
     tb__q_rotate_inverse(local_d, pose + 3, d);
     local_support(shape, local_d, local);

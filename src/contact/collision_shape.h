@@ -24,8 +24,17 @@ typedef struct tb__collision_shape {
     double *vertices;
     double *radii;
     double local_min[3], local_max[3]; /* bounds in the shape frame, m */
-    double data[];                     /* vertices, then radii */
+    /* compound (TB_SHAPE_COMPOUND): its pieces, each a convex shape of the other types and its
+     * pose in this shape's frame, all in this allocation; 0 and NULL for the other types */
+    size_t piece_count;
+    const struct tb__shape_piece *pieces;
+    double data[]; /* vertices, then radii; compound: the pieces, then their shapes */
 } tb__collision_shape;
+
+typedef struct tb__shape_piece {
+    const tb__collision_shape *shape;
+    double pose[TB__POSE_SIZE]; /* the piece's frame in the compound's shape frame */
+} tb__shape_piece;
 
 /* A shape made from a checked tb_shape in one allocation (free() releases it); NULL with the
  * detail (TB_DETAIL_SIZE bytes) written on a refusal or when memory runs out, *out_status
@@ -33,8 +42,23 @@ typedef struct tb__collision_shape {
 tb__collision_shape *tb__collision_shape_make(const tb_shape *shape, char *detail,
                                               tb_status *out_status);
 
+/* A body's shape made from checked-here pieces (tb_shape_piece, count >= 1) in one allocation
+ * (free() releases it): one piece at the identity pose is that piece's plain shape, anything
+ * else a compound. NULL with detail and *out_status as tb__collision_shape_make, the detail
+ * naming the piece ("pieces[k].field") when count > 1. */
+tb__collision_shape *tb__collision_shape_make_pieces(const tb_shape_piece *pieces, size_t count,
+                                                     char *detail, tb_status *out_status);
+
+/* The pieces a body's shape is made of: a compound's, else 1 (the shape itself). */
+size_t tb__collision_shape_piece_count(const tb__collision_shape *shape);
+/* Piece k of shape placed at pose (the body's shape pose): the piece and its world pose. A plain
+ * shape's only piece is itself at pose (copied bit for bit). */
+const tb__collision_shape *tb__collision_shape_piece(const tb__collision_shape *shape, size_t k,
+                                                     const double pose[TB__POSE_SIZE],
+                                                     double out_pose[TB__POSE_SIZE]);
+
 /* World axis-aligned bounds of the shape at pose, m (closed forms per type; conservative for
- * convex and points shapes: their shape-frame box, rotated). */
+ * convex, points and compound shapes: their shape-frame box, rotated). */
 void tb__collision_shape_bounds(const tb__collision_shape *shape, const double pose[TB__POSE_SIZE],
                                 double out_min[3], double out_max[3]);
 

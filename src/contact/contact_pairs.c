@@ -22,6 +22,7 @@ struct tb__contact_pairs {
     tb__broad_phase broad;
     tb__index_pair batch[PAIR_BATCH];
     size_t batch_count, batch_next; /* fetched candidates and the next to test */
+    size_t piece_a, piece_b;        /* the next piece pair of candidate batch_next */
     bool skip_asleep;               /* pairs of two asleep bodies are not tested */
 };
 
@@ -130,25 +131,68 @@ void tb__contact_pairs_begin(tb__contact_pairs *pairs, const tb_scene *scene, co
     tb__broad_phase_sort(&pairs->broad, boxes);
     pairs->batch_count = 0;
     pairs->batch_next = 0;
+    pairs->piece_a = pairs->piece_b = 0;
 }
 
-/* Runs the narrow phase on box pair c; true when they touch (out filled). */
-static bool test_pair(const tb__contact_pairs *pairs, const tb_scene *scene,
-                      const tb__index_pair *c, tb__pair_contact *out)
+/* Whether the boxes of two pieces at their world poses come within the margin. */
+static bool pieces_near(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                        const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE],
+                        double margin)
+{
+    double min_a[3], max_a[3], min_b[3], max_b[3];
+    tb__collision_shape_bounds(a, pose_a, min_a, max_a);
+    tb__collision_shape_bounds(b, pose_b, min_b, max_b);
+    for (int i = 0; i < 3; ++i) {
+        if (min_a[i] - max_b[i] > margin || min_b[i] - max_a[i] > margin) {
+            return false;
+        }
+    }
+    return true;
+}
+
+/* Runs the narrow phase on box pair c's piece pairs from the pass's next one, writing the
+ * touching ones to out (up to capacity); returns how many. c is done when pairs->piece_a is
+ * back at 0 (a pair of plain shapes: one test, as before pieces). */
+static size_t test_pair(tb__contact_pairs *pairs, const tb_scene *scene, const tb__index_pair *c,
+                        tb__pair_contact *out, size_t capacity)
 {
     const size_t a = pairs->ids[pairs->local[c->first]];
     const size_t b = pairs->ids[pairs->local[c->second]];
     if (pairs->skip_asleep && tb__pair_asleep(scene, a, b)) {
-        return false; /* a sleeping island: no narrow phase inside it */
+        return 0; /* a sleeping island: no narrow phase inside it */
     }
     const bool in_order = a < b;
     const size_t first = in_order ? c->first : c->second, second = in_order ? c->second : c->first;
-    out->body_a = in_order ? a : b;
-    out->body_b = in_order ? b : a;
-    return tb__collide(tb__scene_body_collision_shape(scene, out->body_a),
-                       pairs->poses + TB__POSE_SIZE * first,
-                       tb__scene_body_collision_shape(scene, out->body_b),
-                       pairs->poses + TB__POSE_SIZE * second, pairs->margin, &out->manifold) > 0;
+    const tb__collision_shape *shape_a = tb__scene_body_collision_shape(scene, in_order ? a : b);
+    const tb__collision_shape *shape_b = tb__scene_body_collision_shape(scene, in_order ? b : a);
+    const size_t count_a = tb__collision_shape_piece_count(shape_a);
+    const size_t count_b = tb__collision_shape_piece_count(shape_b);
+    const double *pose_a = pairs->poses + TB__POSE_SIZE * first;
+    const double *pose_b = pairs->poses + TB__POSE_SIZE * second;
+    size_t written = 0;
+    while (written < capacity) {
+        const size_t i = pairs->piece_a, j = pairs->piece_b;
+        const bool last_b = j + 1 == count_b, last = last_b && i + 1 == count_a;
+        pairs->piece_a = last ? 0 : last_b ? i + 1 : i;
+        pairs->piece_b = last_b ? 0 : j + 1;
+        tb__pair_contact *o = &out[written];
+        double world_a[TB__POSE_SIZE], world_b[TB__POSE_SIZE];
+        const bool plain = count_a == 1 && count_b == 1;
+        const tb__collision_shape *piece_a = tb__collision_shape_piece(shape_a, i, pose_a, world_a);
+        const tb__collision_shape *piece_b = tb__collision_shape_piece(shape_b, j, pose_b, world_b);
+        if (plain || pieces_near(piece_a, world_a, piece_b, world_b, pairs->margin)) {
+            o->body_a = in_order ? a : b;
+            o->body_b = in_order ? b : a;
+            o->piece_a = i;
+            o->piece_b = j;
+            written +=
+                tb__collide(piece_a, world_a, piece_b, world_b, pairs->margin, &o->manifold) > 0;
+        }
+        if (last) {
+            break;
+        }
+    }
+    return written;
 }
 
 size_t tb__contact_pairs_next(tb__contact_pairs *pairs, const tb_scene *scene, const double *y,
@@ -164,8 +208,11 @@ size_t tb__contact_pairs_next(tb__contact_pairs *pairs, const tb_scene *scene, c
                 break;
             }
         }
-        const tb__index_pair *c = &pairs->batch[pairs->batch_next++];
-        written += test_pair(pairs, scene, c, &out[written]);
+        const tb__index_pair *c = &pairs->batch[pairs->batch_next];
+        written += test_pair(pairs, scene, c, &out[written], capacity - written);
+        if (pairs->piece_a == 0 && pairs->piece_b == 0) {
+            ++pairs->batch_next; /* every piece pair of c tested */
+        }
     }
     return written;
 }

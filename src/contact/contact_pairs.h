@@ -14,6 +14,9 @@
 
 typedef struct tb__pair_contact {
     size_t body_a, body_b; /* body ids, body_a < body_b; the manifold's normal points from a */
+    /* the touching pieces of a and b (collision_shape.h; 0 for a plain shape): a body pair of
+     * compound bodies comes once per touching piece pair, in the order (piece_a, piece_b) */
+    size_t piece_a, piece_b;
     tb__contact_manifold manifold; /* count >= 1 */
 } tb__pair_contact;
 

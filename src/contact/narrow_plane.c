@@ -53,6 +53,23 @@ static void cylinder_rims(const plane *g, const tb__collision_shape *cylinder,
     }
 }
 
+/* Adds one candidate, or when there is no room replaces the shallowest if it is deeper: a full
+ * list keeps the deepest points. */
+static void keep_deepest(tb__candidates *out, const tb__contact_point *point)
+{
+    if (out->count < TB__CANDIDATES_MAX) {
+        out->points[out->count++] = *point;
+        return;
+    }
+    int shallowest = 0;
+    for (int k = 1; k < out->count; ++k) {
+        shallowest = out->points[k].depth < out->points[shallowest].depth ? k : shallowest;
+    }
+    if (point->depth > out->points[shallowest].depth) {
+        out->points[shallowest] = *point;
+    }
+}
+
 static void vertices(const plane *g, const tb__collision_shape *s, const double pose[TB__POSE_SIZE],
                      tb__candidates *out)
 {
@@ -60,19 +77,50 @@ static void vertices(const plane *g, const tb__collision_shape *s, const double 
         double world[3];
         local_point(pose, s->vertices + 3 * i, world);
         const double r = s->radii != NULL ? s->radii[i] : 0.0;
-        if (out->count == TB__CANDIDATES_MAX) { /* keep the deepest: replace the shallowest */
+        if (out->count == TB__CANDIDATES_MAX) {
             tb__candidates one = {0};
             sphere_point(g, world, r, &one);
-            int shallowest = 0;
-            for (int k = 1; k < out->count; ++k) {
-                shallowest = out->points[k].depth < out->points[shallowest].depth ? k : shallowest;
-            }
-            if (one.count == 1 && one.points[0].depth > out->points[shallowest].depth) {
-                out->points[shallowest] = one.points[0];
+            if (one.count == 1) {
+                keep_deepest(out, &one.points[0]);
             }
         } else {
             sphere_point(g, world, r, out);
         }
+    }
+}
+
+/* A convex shape's lowest points against the plane, by type, into c. */
+static void plane_candidates(const plane *g, const tb__collision_shape *b,
+                             const double pose_b[TB__POSE_SIZE], tb__candidates *c)
+{
+    const double *normal = g->n;
+    switch (b->type) {
+    case TB_SHAPE_SPHERE:
+        sphere_point(g, pose_b, b->radius, c);
+        break;
+    case TB_SHAPE_CAPSULE: {
+        double p0[3], p1[3];
+        tb__capsule_ends(b, pose_b, p0, p1);
+        sphere_point(g, p0, b->radius, c);
+        sphere_point(g, p1, b->radius, c);
+        break;
+    }
+    case TB_SHAPE_BOX:
+        box_corners(g, b, pose_b, c);
+        break;
+    case TB_SHAPE_CYLINDER:
+        cylinder_rims(g, b, pose_b, c);
+        break;
+    case TB_SHAPE_ELLIPSOID: {
+        double lowest[3];
+        const double down[3] = {-normal[0], -normal[1], -normal[2]};
+        tb__collision_shape_support(b, pose_b, down, lowest);
+        sphere_point(g, lowest, 0.0, c);
+        break;
+    }
+    default:
+        vertices(g, b, pose_b, c);
+        break;
     }
 }
 
@@ -81,33 +129,22 @@ int tb__collide_plane(const double normal[3], double offset, const tb__collision
 {
     const plane g = {normal, offset, margin};
     tb__candidates c = {0};
-    switch (b->type) {
-    case TB_SHAPE_SPHERE:
-        sphere_point(&g, pose_b, b->radius, &c);
-        break;
-    case TB_SHAPE_CAPSULE: {
-        double p0[3], p1[3];
-        tb__capsule_ends(b, pose_b, p0, p1);
-        sphere_point(&g, p0, b->radius, &c);
-        sphere_point(&g, p1, b->radius, &c);
-        break;
+    const size_t pieces = tb__collision_shape_piece_count(b);
+    if (pieces == 1) {
+        plane_candidates(&g, b, pose_b, &c);
+        return tb__reduce_candidates(&c, normal, out);
     }
-    case TB_SHAPE_BOX:
-        box_corners(&g, b, pose_b, &c);
-        break;
-    case TB_SHAPE_CYLINDER:
-        cylinder_rims(&g, b, pose_b, &c);
-        break;
-    case TB_SHAPE_ELLIPSOID: {
-        double lowest[3];
-        const double down[3] = {-normal[0], -normal[1], -normal[2]};
-        tb__collision_shape_support(b, pose_b, down, lowest);
-        sphere_point(&g, lowest, 0.0, &c);
-        break;
-    }
-    default:
-        vertices(&g, b, pose_b, &c);
-        break;
+    /* a body of several pieces: each piece's own manifold, then the deepest of them all */
+    for (size_t k = 0; k < pieces; ++k) {
+        double pose[TB__POSE_SIZE];
+        const tb__collision_shape *piece = tb__collision_shape_piece(b, k, pose_b, pose);
+        tb__candidates own = {0};
+        tb__contact_manifold lowest;
+        plane_candidates(&g, piece, pose, &own);
+        tb__reduce_candidates(&own, normal, &lowest);
+        for (int i = 0; i < lowest.count; ++i) {
+            keep_deepest(&c, &lowest.points[i]);
+        }
     }
     return tb__reduce_candidates(&c, normal, out);
 }

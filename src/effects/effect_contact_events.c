@@ -278,7 +278,8 @@ double tb__contact_step_limit(const tb__effect *effect, const tb_scene *scene, c
 }
 
 /* Half the thickness of body id's shape across its thinnest direction (m): what a body must
- * not pass in one step. Convex and points shapes: their shape-frame bounds'. */
+ * not pass in one step. Convex and points shapes: their shape-frame bounds'; compound: the
+ * thinnest piece's. */
 static double half_thickness(const tb__collision_shape *shape)
 {
     switch (shape->type) {
@@ -290,6 +291,13 @@ static double half_thickness(const tb__collision_shape *shape)
     case TB_SHAPE_BOX:
     case TB_SHAPE_ELLIPSOID:
         return fmin(shape->half[0], fmin(shape->half[1], shape->half[2]));
+    case TB_SHAPE_COMPOUND: { /* its thinnest piece's (a bowl's wall, not the bowl) */
+        double thinnest = INFINITY;
+        for (size_t k = 0; k < shape->piece_count; ++k) {
+            thinnest = fmin(thinnest, half_thickness(shape->pieces[k].shape));
+        }
+        return thinnest;
+    }
     default: {
         double thinnest = INFINITY;
         for (int k = 0; k < 3; ++k) {

@@ -18,8 +18,9 @@
 #define TB__FRICTION_BATCH 16
 
 typedef struct tb__friction_slot {
-    size_t body_a, body_b; /* the pair holding it; body_a TB__NO_SLOT when free */
-    double key[3];         /* the point in A's principal frame at the last boundary, m */
+    size_t body_a, body_b;   /* the pair holding it; body_a TB__NO_SLOT when free */
+    size_t piece_a, piece_b; /* the pair's touching pieces (tb__pair_contact) */
+    double key[3];           /* the point in A's principal frame at the last boundary, m */
 } tb__friction_slot;
 
 struct tb__friction_pool {
@@ -27,7 +28,7 @@ struct tb__friction_pool {
     tb__friction_slot *slots;
     size_t *queue; /* ring of the free slots, handed out from the head */
     size_t head, free_count;
-    size_t *index; /* the claimed slots sorted by (body_a, body_b) */
+    size_t *index; /* the claimed slots sorted by (body_a, body_b, piece_a, piece_b) */
     size_t index_count;
     /* bodies + 1 entries, rebuilt with the index: the index entries of the pairs with body_a ==
      * a are [body_first[a], body_first[a + 1]), so that a pair's run is found without a search
@@ -87,25 +88,37 @@ size_t tb__friction_pool_slots(const tb__friction_pool *pool)
     return pool->capacity;
 }
 
-static bool pair_before(const tb__friction_slot *s, size_t a, size_t b)
+/* Whether slot s's pair comes before pair p's: by bodies, then by pieces (a compound body's
+ * piece pairs each keep their own slots). */
+static bool pair_before(const tb__friction_slot *s, const tb__friction_slot *p)
 {
-    return s->body_a < a || (s->body_a == a && s->body_b < b);
+    if (s->body_a != p->body_a || s->body_b != p->body_b) {
+        return s->body_a < p->body_a || (s->body_a == p->body_a && s->body_b < p->body_b);
+    }
+    return s->piece_a < p->piece_a || (s->piece_a == p->piece_a && s->piece_b < p->piece_b);
 }
 
-/* The index entries [*first, *end) of pair (a, b): among body a's (a short run), those of b. */
-static void pair_run(const tb__friction_pool *pool, size_t a, size_t b, size_t *first, size_t *end)
+static bool same_pair(const tb__friction_slot *s, const tb__friction_slot *p)
 {
+    return s->body_b == p->body_b && s->piece_a == p->piece_a && s->piece_b == p->piece_b;
+}
+
+/* The index entries [*first, *end) of pair p: among body a's (a short run), those of p. */
+static void pair_run(const tb__friction_pool *pool, const tb__friction_slot *p, size_t *first,
+                     size_t *end)
+{
+    const size_t a = p->body_a;
     if (a >= pool->bodies) { /* not a body of the effect: it holds no slot */
         *first = *end = 0;
         return;
     }
     size_t low = pool->body_first[a];
     const size_t high = pool->body_first[a + 1];
-    while (low < high && pool->slots[pool->index[low]].body_b < b) {
+    while (low < high && pair_before(&pool->slots[pool->index[low]], p)) {
         ++low;
     }
     *first = low;
-    while (low < high && pool->slots[pool->index[low]].body_b == b) {
+    while (low < high && same_pair(&pool->slots[pool->index[low]], p)) {
         ++low;
     }
     *end = low;
@@ -192,7 +205,8 @@ void tb__friction_match(const tb__friction_pool *pool, const tb__pair_contact *p
         slots[j] = TB__NO_SLOT;
     }
     size_t first, end;
-    pair_run(pool, pair->body_a, pair->body_b, &first, &end);
+    const tb__friction_slot key = {pair->body_a, pair->body_b, pair->piece_a, pair->piece_b, {0}};
+    pair_run(pool, &key, &first, &end);
     match_claimed(pool, first, end, count, keys, touching, slots);
     for (int j = 0; j < count; ++j) {
         if (touching[j] && slots[j] == TB__NO_SLOT) {
@@ -309,6 +323,8 @@ void tb__friction_hold(tb__friction_pool *pool, const tb__pair_contact *pair,
         tb__friction_slot *slot = &pool->slots[slots[j]];
         slot->body_a = pair->body_a;
         slot->body_b = pair->body_b;
+        slot->piece_a = pair->piece_a;
+        slot->piece_b = pair->piece_b;
         tb__v3_set(slot->key, keys[j][0], keys[j][1], keys[j][2]);
         pool->held[slots[j]] = true;
     }
@@ -341,9 +357,7 @@ static void update_index(tb__friction_pool *pool, const tb_scene *scene, const d
         pool->held[s] = false;
         size_t k = pool->index_count++;
         const tb__friction_slot *claimed = &pool->slots[s];
-        for (; k > 0 && pair_before(claimed, pool->slots[pool->index[k - 1]].body_a,
-                                    pool->slots[pool->index[k - 1]].body_b);
-             --k) {
+        for (; k > 0 && pair_before(claimed, &pool->slots[pool->index[k - 1]]); --k) {
             pool->index[k] = pool->index[k - 1];
         }
         pool->index[k] = s;

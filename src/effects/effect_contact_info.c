@@ -143,16 +143,26 @@ static void pairs_touching(const tb_scene *scene, size_t index, const double *y,
     tb__contact_pairs *pairs = tb__contact_of(&scene->effects[index])->pairs;
     tb__pair_contact batch[16];
     size_t found;
+    /* a body pair's touching piece pairs come one after another: one touch for all of them */
+    tb_contact_touch last = {index, TB_ALL_BODIES, TB_ALL_BODIES, -INFINITY, 0};
     tb__contact_pairs_begin(pairs, scene, y);
     while ((found = tb__contact_pairs_next(pairs, scene, y, batch, 16)) > 0) {
         for (size_t k = 0; k < found; ++k) {
             const tb__contact_manifold *m = &batch[k].manifold;
-            tb_contact_touch touch = {index, batch[k].body_a, batch[k].body_b, -INFINITY, m->count};
-            for (int j = 0; j < m->count; ++j) {
-                touch.depth = fmax(touch.depth, m->points[j].depth);
+            if (batch[k].body_a != last.body_a || batch[k].body_b != last.body_b) {
+                if (last.points > 0) {
+                    note(&last, out, capacity, count);
+                }
+                last = (tb_contact_touch){index, batch[k].body_a, batch[k].body_b, -INFINITY, 0};
             }
-            note(&touch, out, capacity, count);
+            last.points += m->count;
+            for (int j = 0; j < m->count; ++j) {
+                last.depth = fmax(last.depth, m->points[j].depth);
+            }
         }
+    }
+    if (last.points > 0) {
+        note(&last, out, capacity, count);
     }
 }
 

@@ -106,7 +106,8 @@ static int plane_manifold(const tb__ground_params *ground, const tb_scene *scene
                           size_t id, double margin, tb__pair_contact *out)
 {
     const tb__collision_shape *shape = tb__scene_body_collision_shape(scene, id);
-    out->body_a = out->body_b = id; /* the pool's key: the pair (body, body) is asleep with it */
+    out->body_a = out->body_b = id;  /* the pool's key: the pair (body, body) is asleep with it */
+    out->piece_a = out->piece_b = 0; /* the body meets the plane as one manifold */
     out->manifold.count = 0;
     if (shape == NULL) { /* removed since the list was made */
         return 0;

@@ -70,6 +70,7 @@ void tb__mesh_buffers_free(tb__mesh_buffers *mesh)
 {
     free(mesh->vertices);
     free(mesh->triangles);
+    free(mesh->group_starts);
     memset(mesh, 0, sizeof *mesh);
 }
 
@@ -82,7 +83,24 @@ typedef struct obj_parser {
     tb__mesh_buffers mesh;
     char *copy; /* the current line, NUL-terminated */
     size_t copy_capacity;
+    bool group_pending; /* an "o" or "g" (or the file's start) since the last face */
 } obj_parser;
+
+/* A new group begins at the next triangle if an "o" or "g" came since the last face. */
+static bool begin_group(obj_parser *p)
+{
+    tb__mesh_buffers *m = &p->mesh;
+    if (!p->group_pending) {
+        return true;
+    }
+    if (!grow((void **)&m->group_starts, &m->group_capacity, m->group_count + 1,
+              sizeof *m->group_starts)) {
+        return false;
+    }
+    m->group_starts[m->group_count++] = m->triangle_count;
+    p->group_pending = false;
+    return true;
+}
 
 static bool is_blank(char c)
 {
@@ -195,7 +213,8 @@ static tb_status face_line(obj_parser *p, char *rest)
         }
         if (count == 0) {
             first = index;
-        } else if (count >= 2 && !tb__mesh_push_triangle(&p->mesh, first, previous, index)) {
+        } else if (count >= 2 &&
+                   (!begin_group(p) || !tb__mesh_push_triangle(&p->mesh, first, previous, index))) {
             return tb__set_detail(p->detail, TB_STATUS_OUT_OF_MEMORY, "%s:%zu: %zu triangles",
                                   p->name, p->line, p->mesh.triangle_count + 1);
         }
@@ -207,11 +226,11 @@ static tb_status face_line(obj_parser *p, char *rest)
                                        p->line, count);
 }
 
-/* Statements that carry nothing a rigid body needs: names, groups, smoothing, materials,
- * normals and texture coordinates. */
+/* Statements that carry nothing a rigid body needs: smoothing, materials, normals and texture
+ * coordinates. */
 static bool ignored_statement(const char *keyword)
 {
-    static const char *const ignored[] = {"o", "g", "s", "usemtl", "mtllib", "vn", "vt", NULL};
+    static const char *const ignored[] = {"s", "usemtl", "mtllib", "vn", "vt", NULL};
     for (size_t k = 0; ignored[k] != NULL; ++k) {
         if (strcmp(keyword, ignored[k]) == 0) {
             return true;
@@ -243,12 +262,16 @@ static tb_status parse_statement(obj_parser *p)
     if (strcmp(keyword, "f") == 0) {
         return after == '\0' ? face_line(p, rest) : face_line(p, rest + 1);
     }
+    if (strcmp(keyword, "o") == 0 || strcmp(keyword, "g") == 0) {
+        p->group_pending = true; /* its name is not kept */
+        return TB_STATUS_OK;
+    }
     if (ignored_statement(keyword)) {
         return TB_STATUS_OK;
     }
     return tb__set_detail(p->detail, TB_STATUS_BAD_SCENE,
                           "%s:%zu: \"%.32s\" statements are not supported (tumble reads v and f; "
-                          "o, g, s, usemtl, mtllib, vn and vt are ignored)",
+                          "o and g begin pieces; s, usemtl, mtllib, vn and vt are ignored)",
                           p->name, p->line, keyword);
 }
 
@@ -272,7 +295,7 @@ tb_status tb__obj_parse(const char *text, size_t length, const char *name, tb__m
                         char *detail)
 {
     memset(out, 0, sizeof *out);
-    obj_parser p = {.name = name != NULL ? name : "<obj>", .detail = detail};
+    obj_parser p = {.name = name != NULL ? name : "<obj>", .detail = detail, .group_pending = true};
     tb_status status = TB_STATUS_OK;
     const char *end = text + (text != NULL ? length : 0);
     for (const char *line = text; line != NULL && line < end && status == TB_STATUS_OK;) {

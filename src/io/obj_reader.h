@@ -21,6 +21,11 @@ typedef struct tb__mesh_buffers {
     size_t vertex_count, vertex_capacity;
     unsigned *triangles;
     size_t triangle_count, triangle_capacity;
+    /* OBJ objects and groups: group_starts[k] is the first triangle of the k-th run of faces that
+     * an "o" or "g" statement begins (faces before any: the first run); group_count runs, 0 for
+     * a mesh of no faces or one not read from OBJ */
+    size_t *group_starts;
+    size_t group_count, group_capacity;
 } tb__mesh_buffers;
 
 /* false when memory runs out (the buffers keep what they had). */
@@ -31,7 +36,8 @@ void tb__mesh_buffers_free(tb__mesh_buffers *mesh);
 /* Parses OBJ text of length bytes (need not end in NUL; a NUL inside is refused). Reads
  * "v x y z" (an optional "r g b" colour after it is ignored) and "f i j k ..." (1-based or
  * negative indices, "i/t/n" forms; polygons fanned into triangles (i j k), (i k l), ...).
- * Comments and the statements o, g, s, usemtl, mtllib, vn and vt are ignored; any other
+ * "o" and "g" begin a new group of faces (group_starts); comments and the statements s,
+ * usemtl, mtllib, vn and vt are ignored; any other
  * statement, a malformed number or index is refused with "name:line: ..." in detail
  * (TB_DETAIL_SIZE bytes, may be NULL) and TB_STATUS_BAD_SCENE. Lines may be any length. On
  * success *out holds the mesh (the caller frees it); on failure *out is all zeros. */

@@ -174,7 +174,9 @@ static tb_status add_body(tb__loader *ld, const char *path, tb__body_build *b)
     if (status != TB_STATUS_OK) {
         return tb__load_fail(ld, status, path, "contact: %s", tb_scene_detail(ld->scene));
     }
-    if (b->shape.type != TB_SHAPE_NONE) {
+    if (b->pieces != NULL) {
+        status = tb_scene_set_body_pieces(ld->scene, id, b->pieces, b->piece_count);
+    } else if (b->shape.type != TB_SHAPE_NONE) {
         status = tb_scene_set_body_shape(ld->scene, id, &b->shape);
     }
     return status == TB_STATUS_OK
@@ -236,6 +238,7 @@ static tb_status load_body(tb__loader *ld, const json_t *body, const char *path)
     }
     free(b.contacts.many);
     free(b.shape_vertices);
+    tb__free_pieces(&b);
     return status;
 }
 

@@ -74,6 +74,12 @@ typedef struct tb__body_build {
     bool has_contacts;
     tb_shape shape;         /* its collision shape (type TB_SHAPE_NONE without "shape") */
     double *shape_vertices; /* mesh and points shapes: malloc'd, shape.vertices points here */
+    /* a list as "shape": its pieces (malloc'd, piece_count), each mesh piece's vertices in
+     * piece_vertices[k] (malloc'd, else NULL); NULL and 0 for one shape */
+    tb_shape_piece *pieces;
+    double **piece_vertices;
+    size_t piece_count;
+    bool piece; /* this is one piece of a list: a mesh file's groups are not split again */
 } tb__body_build;
 
 /* A mass-property refusal from the library (its message names the mass, density or inertia)
@@ -83,6 +89,22 @@ tb_status tb__mass_result(tb__loader *ld, tb_status status, const char *path,
 
 /* body.shape into b: mass properties (with the body's mass or density) and contact points. */
 tb_status tb__load_shape(tb__loader *ld, const json_t *body, const char *path, tb__body_build *b);
+/* The body's "mass" or "density" (exactly one, > 0). */
+tb_status tb__load_mass_mode(tb__loader *ld, const json_t *body, const char *path,
+                             tb_mass_mode *mode, double *value);
+/* A shape object's keys checked (piece: its "position" and "orientation" allowed) and its type. */
+tb_status tb__load_shape_object(tb__loader *ld, const json_t *shape, const char *shape_path,
+                                bool piece, const char **out_type);
+/* A shape object of type (not "points") into b: b->def.mass (mass refusals named at mass_path),
+ * b->shape, b->contacts. */
+tb_status tb__load_shape_mass(tb__loader *ld, const json_t *shape, const char *shape_path,
+                              const char *mass_path, const char *type, tb_mass_mode mode,
+                              double value, tb__body_build *b);
+/* body.shape as a list of pieces (scene_file_pieces.c): b->pieces, the combined mass properties
+ * in b->def.mass, and the pieces' contact points in the body's frame. */
+tb_status tb__load_pieces(tb__loader *ld, const json_t *body, const char *path, tb__body_build *b);
+/* Frees b's pieces. */
+void tb__free_pieces(tb__body_build *b);
 
 /* The sections. */
 tb_status tb__load_bodies(tb__loader *ld, const json_t *bodies);
@@ -108,9 +130,11 @@ char *tb__folder_of(const char *path);
 tb_status tb__load_mesh_buffers(tb__loader *ld, const json_t *shape, const char *path,
                                 tb__mesh_buffers *m);
 
-/* A "mesh" shape: mass properties, and its vertices (malloc'd, for contact points). */
+/* A "mesh" shape: mass properties (into b->def.mass), and its vertices (malloc'd, for contact
+ * points). An OBJ file of two or more objects or groups also gives b one convex piece per
+ * group (b->pieces, at the identity pose), unless b->piece. */
 tb_status tb__load_mesh_shape(tb__loader *ld, const json_t *shape, const char *path,
-                              tb_mass_mode mode, double value, tb_mass_properties *mass,
-                              double **vertices, size_t *vertex_count, tb_error *error);
+                              tb_mass_mode mode, double value, tb__body_build *b, double **vertices,
+                              size_t *vertex_count, tb_error *error);
 
 #endif

@@ -7,6 +7,7 @@
 #include "io/scene_file_internal.h"
 
 #include "core/detail.h"
+#include "core/validate.h"
 
 #include <errno.h>
 #include <math.h>
@@ -195,15 +196,69 @@ tb_status tb__load_mesh_buffers(tb__loader *ld, const json_t *shape, const char 
     return status;
 }
 
+/* Group k's vertices (those its triangles use, once each, in order) into a new array. */
+static double *group_vertices(const tb__mesh_buffers *m, size_t k, bool *seen, size_t *out_count)
+{
+    const size_t first = m->group_starts[k];
+    const size_t end = k + 1 < m->group_count ? m->group_starts[k + 1] : m->triangle_count;
+    memset(seen, 0, m->vertex_count * sizeof *seen);
+    size_t count = 0;
+    for (size_t corner = 3 * first; corner < 3 * end; ++corner) {
+        count += !seen[m->triangles[corner]];
+        seen[m->triangles[corner]] = true;
+    }
+    double *out = tb__malloc_array(count > 0 ? count : 1, 3 * sizeof(double));
+    size_t w = 0;
+    for (size_t v = 0; out != NULL && v < m->vertex_count; ++v) {
+        if (seen[v]) {
+            memcpy(out + 3 * w++, m->vertices + 3 * v, 3 * sizeof(double));
+        }
+    }
+    *out_count = count;
+    return out;
+}
+
+/* An OBJ of several objects or groups: one convex piece each (the hull of its vertices), at
+ * the identity pose, into b's pieces. */
+static tb_status group_pieces(tb__loader *ld, const char *path, const tb__mesh_buffers *m,
+                              tb__body_build *b)
+{
+    bool *seen = tb__malloc_array(m->vertex_count, sizeof *seen);
+    b->pieces = tb__malloc_array(m->group_count, sizeof *b->pieces);
+    b->piece_vertices = calloc(m->group_count, sizeof *b->piece_vertices);
+    if (seen == NULL || b->pieces == NULL || b->piece_vertices == NULL) {
+        free(seen);
+        return tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, path, "%zu pieces", m->group_count);
+    }
+    b->piece_count = m->group_count;
+    tb_status status = TB_STATUS_OK;
+    for (size_t k = 0; k < m->group_count && status == TB_STATUS_OK; ++k) {
+        tb_shape_piece *piece = &b->pieces[k];
+        *piece = tb_shape_piece_default();
+        piece->shape.type = TB_SHAPE_CONVEX;
+        b->piece_vertices[k] = group_vertices(m, k, seen, &piece->shape.vertex_count);
+        piece->shape.vertices = b->piece_vertices[k];
+        if (b->piece_vertices[k] == NULL) {
+            status = tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, path, "piece %zu's vertices", k);
+        }
+    }
+    free(seen);
+    return status;
+}
+
 tb_status tb__load_mesh_shape(tb__loader *ld, const json_t *shape, const char *path,
-                              tb_mass_mode mode, double value, tb_mass_properties *mass,
-                              double **vertices, size_t *vertex_count, tb_error *error)
+                              tb_mass_mode mode, double value, tb__body_build *b, double **vertices,
+                              size_t *vertex_count, tb_error *error)
 {
     tb__mesh_buffers m;
     tb_status status = tb__load_mesh_buffers(ld, shape, path, &m);
+    tb_mass_properties *mass = &b->def.mass;
     if (status == TB_STATUS_OK) {
         status = tb_mass_from_mesh(mode, value, m.vertices, m.vertex_count, m.triangles,
                                    m.triangle_count, mass, error);
+    }
+    if (status == TB_STATUS_OK && m.group_count >= 2 && !b->piece) {
+        status = group_pieces(ld, path, &m, b); /* before the vertices are compacted */
     }
     if (status == TB_STATUS_OK) {
         status = keep_used_vertices(ld, path, &m); /* after the mesh is known valid */
@@ -215,5 +270,6 @@ tb_status tb__load_mesh_shape(tb__loader *ld, const json_t *shape, const char *p
     *vertex_count = m.vertex_count;
     *vertices = m.vertices;
     free(m.triangles);
+    free(m.group_starts);
     return TB_STATUS_OK;
 }

@@ -13,8 +13,8 @@
 #include <string.h>
 
 /* mass from "mass" or "density" (exactly one) */
-static tb_status mass_mode(tb__loader *ld, const json_t *body, const char *path, tb_mass_mode *mode,
-                           double *value)
+tb_status tb__load_mass_mode(tb__loader *ld, const json_t *body, const char *path,
+                             tb_mass_mode *mode, double *value)
 {
     const bool has_mass = json_object_get(body, "mass") != NULL;
     const bool has_density = json_object_get(body, "density") != NULL;
@@ -180,7 +180,7 @@ static tb_status load_mesh(tb__loader *ld, const json_t *shape, const char *path
     double *vertices = NULL;
     size_t count = 0;
     tb_status status =
-        tb__load_mesh_shape(ld, shape, path, mode, value, &b->def.mass, &vertices, &count, error);
+        tb__load_mesh_shape(ld, shape, path, mode, value, b, &vertices, &count, error);
     if (status == TB_STATUS_OK) {
         status = vertex_contacts(ld, vertices, count, path, &b->contacts);
     }
@@ -258,8 +258,8 @@ static bool listed(const char *const *keys, const char *key)
 }
 
 /* The shape's type, after refusing keys of other types ("radius" on a box was ignored). Keys
- * of no type at all are refused by tb__json_object before. */
-static tb_status shape_type(tb__loader *ld, const json_t *shape, const char *path,
+ * of no type at all are refused by tb__json_object before; a piece's pose keys pass. */
+static tb_status shape_type(tb__loader *ld, const json_t *shape, const char *path, bool piece,
                             const char **out_type)
 {
     const char *type = NULL;
@@ -279,7 +279,9 @@ static tb_status shape_type(tb__loader *ld, const json_t *shape, const char *pat
     const json_t *member;
     json_object_foreach((json_t *)shape, key, member)
     {
-        if (status == TB_STATUS_OK && strcmp(key, "type") != 0 &&
+        const bool pose =
+            piece && (strcmp(key, "position") == 0 || strcmp(key, "orientation") == 0);
+        if (status == TB_STATUS_OK && strcmp(key, "type") != 0 && !pose &&
             !listed(shape_types[t].keys, key)) {
             char own[64] = "";
             for (size_t k = 0; shape_types[t].keys[k] != NULL; ++k) {
@@ -295,18 +297,45 @@ static tb_status shape_type(tb__loader *ld, const json_t *shape, const char *pat
     return status;
 }
 
+tb_status tb__load_shape_object(tb__loader *ld, const json_t *shape, const char *shape_path,
+                                bool piece, const char **out_type)
+{
+    static const char *const keys[] = {"type", "size",     "radius",    "length", "semi_axes",
+                                       "file", "vertices", "triangles", "points", NULL};
+    static const char *const piece_keys[] = {"type",      "size",        "radius",   "length",
+                                             "semi_axes", "file",        "vertices", "triangles",
+                                             "position",  "orientation", NULL};
+    tb_status status = tb__json_object(ld, shape, shape_path, piece ? piece_keys : keys);
+    return status == TB_STATUS_OK ? shape_type(ld, shape, shape_path, piece, out_type) : status;
+}
+
+tb_status tb__load_shape_mass(tb__loader *ld, const json_t *shape, const char *shape_path,
+                              const char *mass_path, const char *type, tb_mass_mode mode,
+                              double value, tb__body_build *b)
+{
+    tb_error error;
+    tb__clear_error(&error);
+    tb_status status;
+    if (strcmp(type, "box") == 0 || strcmp(type, "sphere") == 0) {
+        status = load_box_sphere(ld, shape, shape_path, type, mode, value, b, &error);
+    } else if (strcmp(type, "mesh") == 0) {
+        status = load_mesh(ld, shape, shape_path, mode, value, b, &error);
+    } else {
+        status = load_round(ld, shape, shape_path, type, mode, value, b, &error);
+    }
+    return error.message[0] ? tb__mass_result(ld, status, mass_path, &error) : status;
+}
+
 tb_status tb__load_shape(tb__loader *ld, const json_t *body, const char *path, tb__body_build *b)
 {
     char shape_path[160];
     snprintf(shape_path, sizeof shape_path, "%s.shape", path);
     const json_t *shape = json_object_get(body, "shape");
-    static const char *const keys[] = {"type", "size",     "radius",    "length", "semi_axes",
-                                       "file", "vertices", "triangles", "points", NULL};
-    const char *type = NULL;
-    tb_status status = tb__json_object(ld, shape, shape_path, keys);
-    if (status == TB_STATUS_OK) {
-        status = shape_type(ld, shape, shape_path, &type);
+    if (json_is_array(shape)) {
+        return tb__load_pieces(ld, body, path, b);
     }
+    const char *type = NULL;
+    tb_status status = tb__load_shape_object(ld, shape, shape_path, false, &type);
     if (status != TB_STATUS_OK) {
         return status;
     }
@@ -319,18 +348,9 @@ tb_status tb__load_shape(tb__loader *ld, const json_t *body, const char *path, t
     }
     tb_mass_mode mode = TB_MASS_GIVEN;
     double value = 0.0;
-    status = mass_mode(ld, body, path, &mode, &value);
-    tb_error error;
-    tb__clear_error(&error);
+    status = tb__load_mass_mode(ld, body, path, &mode, &value);
     if (status != TB_STATUS_OK) {
         return status;
     }
-    if (strcmp(type, "box") == 0 || strcmp(type, "sphere") == 0) {
-        status = load_box_sphere(ld, shape, shape_path, type, mode, value, b, &error);
-    } else if (strcmp(type, "mesh") == 0) {
-        status = load_mesh(ld, shape, shape_path, mode, value, b, &error);
-    } else {
-        status = load_round(ld, shape, shape_path, type, mode, value, b, &error);
-    }
-    return error.message[0] ? tb__mass_result(ld, status, path, &error) : status;
+    return tb__load_shape_mass(ld, shape, shape_path, path, type, mode, value, b);
 }

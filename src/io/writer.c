@@ -201,7 +201,7 @@ static tb_status take_scene(tb_writer *w, const tb_writer_def *def, const tb_sce
     tb__frames_init(&w->frames, w->body_count);
     if (def->format == TB_OUTPUT_GLB || def->format == TB_OUTPUT_GLTF ||
         def->format == TB_OUTPUT_USDA) {
-        w->looks.shapes = NULL;
+        w->looks.bodies = NULL;
         return tb__looks_load(&w->looks, def, scene, error);
     }
     return TB_STATUS_OK;

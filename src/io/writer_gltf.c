@@ -83,7 +83,7 @@ static long add_mesh(tb__gltf *g, const tb__mesh *m, const char *name, size_t ma
 static json_t *body_node(tb__gltf *g, const tb_writer *w, size_t id)
 {
     tb__mesh mesh = {0};
-    tb__mesh_of_shape(&mesh, &w->looks.shapes[id]);
+    tb__mesh_of_body(&mesh, &w->looks.bodies[id]);
     const long index = mesh.failed ? -1 : add_mesh(g, &mesh, w->names[id], id % TB__PALETTE);
     g->failed |= mesh.failed;
     tb__mesh_free(&mesh);

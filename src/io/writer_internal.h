@@ -42,7 +42,17 @@ typedef struct tb__shape {
     unsigned *triangles;     /* mesh only, [3 * triangle_count] */
     size_t triangle_count;   /* */
     tb_mass_properties mass; /* for TB__SHAPE_INERTIA */
+    double position[3];      /* where the piece sits in the body's shape frame, m */
+    double orientation[4];   /* piece frame -> body's shape frame, unit (w, x, y, z) */
 } tb__shape;
+
+/* One body as drawn: its pieces (the scene's, tb_scene_body_piece; one TB__SHAPE_INERTIA
+ * piece for a body without a shape), and its mass properties. */
+typedef struct tb__look {
+    tb__shape *pieces;
+    size_t piece_count;
+    tb_mass_properties mass;
+} tb__look;
 
 typedef struct tb__ground {
     double normal[3]; /* unit, out of the ground */
@@ -50,7 +60,7 @@ typedef struct tb__ground {
 } tb__ground;
 
 typedef struct tb__looks {
-    tb__shape *shapes; /* [body_count] */
+    tb__look *bodies; /* [body_count] */
     tb__ground *grounds;
     size_t ground_count;
 } tb__looks;
@@ -102,11 +112,17 @@ double tb__usd_time_code(double t, double fps);
 /* Body id's xformOp:translate and xformOp:orient time samples into the writer's file. */
 void tb__usd_put_pose_samples(const tb_writer *w, size_t id);
 
-/* Shapes and ground planes for glTF and USD, from the scene file or text the def names (neither:
- * every body as its inertia ellipsoid, no ground) and the scene. */
+/* Shapes and ground planes for glTF and USD, from the scene: each body's pieces
+ * (tb_scene_body_piece; a body without a shape as its inertia ellipsoid, a convex piece as its
+ * hull) and the ground planes (tb_scene_get_ground). A body whose shape in the scene file or
+ * text the def names is one "mesh" is drawn with that mesh's own triangles (writer_shapes.c):
+ * the scene keeps only their hull. */
 tb_status tb__looks_load(tb__looks *looks, const tb_writer_def *def, const tb_scene *scene,
                          tb_error *error);
 void tb__looks_free(tb__looks *looks, size_t body_count);
+/* The visual meshes of the scene file or text def names into looks (writer_shapes.c). */
+tb_status tb__looks_file_meshes(tb__looks *looks, const tb_writer_def *def, const tb_scene *scene,
+                                tb_error *error);
 
 /* A triangle mesh in the shape frame, as glTF stores it: float positions and unit normals,
  * counter-clockwise (outward) triangles. */
@@ -119,8 +135,10 @@ typedef struct tb__mesh {
     bool failed; /* out of memory on the way */
 } tb__mesh;
 
-/* Appends the shape's surface (ground: a square of half_size m around center, on the plane). */
+/* Appends the shape's surface in its own frame (ground: a square of half_size m around center,
+ * on the plane); a body's, every piece placed in the body's shape frame. */
 void tb__mesh_of_shape(tb__mesh *mesh, const tb__shape *shape);
+void tb__mesh_of_body(tb__mesh *mesh, const tb__look *look);
 void tb__mesh_of_ground(tb__mesh *mesh, const tb__ground *ground, const double center[3],
                         double half_size);
 void tb__mesh_free(tb__mesh *mesh);

@@ -1,13 +1,12 @@
-/* Writers: what the bodies and grounds look like in glTF, read from the scene file the scene
- * was loaded from (its "shape" of each body, matched by name, and its "ground" effects). The
- * scene file was already validated by the loader; what is read here is checked again only as
- * far as drawing needs. */
+/* Writers: the visual meshes of the scene file the scene was loaded from. The scene keeps a
+ * "mesh" shape only as the convex hull it collides with; a body whose shape in the file is one
+ * mesh is drawn with the mesh's own triangles, read from the file as the loader reads them
+ * (matched by name). Everything else is drawn from the scene (writer_looks.c). */
 #include "io/scene_file_internal.h"
 #include "io/writer_internal.h"
 
 #include "core/detail.h"
 #include "core/validate.h"
-#include "math/tb_math.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -24,117 +23,13 @@ static tb_status mesh_shape(tb__loader *ld, const json_t *shape, const char *pat
         s->vertex_count = mesh.vertex_count;
         s->triangles = mesh.triangles;
         s->triangle_count = mesh.triangle_count;
+        free(mesh.group_starts); /* drawn whole */
     }
     return status;
 }
 
-static tb_status points_shape(tb__loader *ld, const json_t *shape, const char *path, tb__shape *s)
-{
-    const json_t *points = json_object_get(shape, "points");
-    s->kind = TB__SHAPE_POINTS;
-    s->vertex_count = json_array_size(points);
-    s->vertices = tb__malloc_array(s->vertex_count + 1, 3 * sizeof(double));
-    if (s->vertices == NULL) {
-        return tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, path, "%zu points", s->vertex_count);
-    }
-    tb_status status = TB_STATUS_OK;
-    for (size_t k = 0; k < s->vertex_count && status == TB_STATUS_OK; ++k) {
-        status = tb__json_vector(ld, json_array_get(points, k), path, "position", 3, true,
-                                 s->vertices + 3 * k);
-    }
-    return status;
-}
-
-/* Primitive sizes: box edges, sphere radius, cylinder and capsule radius and length,
- * ellipsoid semi-axes. */
-static tb_status primitive_shape(tb__loader *ld, const json_t *shape, const char *path,
-                                 const char *type, tb__shape *s)
-{
-    static const struct {
-        const char *type;
-        tb__shape_kind kind;
-    } kinds[] = {{"box", TB__SHAPE_BOX},
-                 {"sphere", TB__SHAPE_SPHERE},
-                 {"cylinder", TB__SHAPE_CYLINDER},
-                 {"capsule", TB__SHAPE_CAPSULE},
-                 {"ellipsoid", TB__SHAPE_ELLIPSOID}};
-    for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; ++k) {
-        if (strcmp(type, kinds[k].type) == 0) {
-            s->kind = kinds[k].kind;
-        }
-    }
-    switch (s->kind) {
-    case TB__SHAPE_BOX:
-        return tb__json_vector(ld, shape, path, "size", 3, true, s->size);
-    case TB__SHAPE_ELLIPSOID:
-        return tb__json_vector(ld, shape, path, "semi_axes", 3, true, s->size);
-    case TB__SHAPE_SPHERE:
-        return tb__json_number(ld, shape, path, "radius", true, &s->size[0]);
-    case TB__SHAPE_CYLINDER:
-    case TB__SHAPE_CAPSULE: {
-        tb_status status = tb__json_number(ld, shape, path, "radius", true, &s->size[0]);
-        return status == TB_STATUS_OK
-                   ? tb__json_number(ld, shape, path, "length", true, &s->size[1])
-                   : status;
-    }
-    default:
-        return tb__load_fail(ld, TB_STATUS_BAD_SCENE, path, "type: \"%s\" cannot be drawn", type);
-    }
-}
-
-static tb_status body_shape(tb__loader *ld, const json_t *body, const char *path, tb__shape *s)
-{
-    const json_t *shape = json_object_get(body, "shape");
-    if (shape == NULL) {
-        return TB_STATUS_OK; /* mass and inertia: drawn as the equivalent ellipsoid */
-    }
-    const char *type = NULL;
-    tb_status status = tb__json_string(ld, shape, path, "type", true, &type);
-    if (status != TB_STATUS_OK) {
-        return status;
-    }
-    if (strcmp(type, "mesh") == 0) {
-        return mesh_shape(ld, shape, path, s);
-    }
-    return strcmp(type, "points") == 0 ? points_shape(ld, shape, path, s)
-                                       : primitive_shape(ld, shape, path, type, s);
-}
-
-static tb_status load_grounds(tb__loader *ld, const json_t *effects, tb__looks *looks)
-{
-    looks->grounds = tb__malloc_array(json_array_size(effects) + 1, sizeof *looks->grounds);
-    if (looks->grounds == NULL) {
-        return tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, "effects", "ground planes");
-    }
-    tb_status status = TB_STATUS_OK;
-    for (size_t k = 0; k < json_array_size(effects) && status == TB_STATUS_OK; ++k) {
-        const json_t *e = json_array_get(effects, k);
-        const char *type = json_string_value(json_object_get(e, "type"));
-        if (type == NULL || strcmp(type, "ground") != 0) {
-            continue;
-        }
-        char path[32];
-        tb__path_index(path, sizeof path, "", "effects", k);
-        tb__ground *g = &looks->grounds[looks->ground_count];
-        tb__v3_set(g->normal, 0, 0, 1);
-        g->offset = 0;
-        status = tb__json_vector(ld, e, path, "normal", 3, false, g->normal);
-        if (status == TB_STATUS_OK) {
-            status = tb__json_number(ld, e, path, "offset", false, &g->offset);
-        }
-        const double length = tb__v3_norm(g->normal);
-        if (status == TB_STATUS_OK && !(length > 0)) {
-            status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, path, "normal: must not be zero");
-        }
-        for (int i = 0; i < 3; ++i) {
-            g->normal[i] /= length;
-        }
-        looks->ground_count += status == TB_STATUS_OK;
-    }
-    return status;
-}
-
-/* Each body of the scene drawn as the scene file's body of the same name describes it. */
+/* Each body of the scene whose file shape is one mesh and whose scene shape is one convex
+ * piece at its origin (the loader's making) takes the mesh's triangles. */
 static tb_status load_file(tb__loader *ld, const json_t *root, const tb_scene *scene,
                            tb__looks *looks)
 {
@@ -143,16 +38,27 @@ static tb_status load_file(tb__loader *ld, const json_t *root, const tb_scene *s
     for (size_t k = 0; k < json_array_size(bodies) && status == TB_STATUS_OK; ++k) {
         const json_t *body = json_array_get(bodies, k);
         const char *name = json_string_value(json_object_get(body, "name"));
+        const json_t *shape = json_object_get(body, "shape");
+        const char *type = json_string_value(json_object_get(shape, "type"));
         size_t id;
-        if (name == NULL || tb_scene_find_body(scene, name, &id) != TB_STATUS_OK) {
+        if (name == NULL || type == NULL || strcmp(type, "mesh") != 0 ||
+            tb_scene_find_body(scene, name, &id) != TB_STATUS_OK ||
+            looks->bodies[id].piece_count != 1 ||
+            looks->bodies[id].pieces[0].kind != TB__SHAPE_MESH) {
             continue;
         }
-        char path[32];
+        char path[48];
         tb__path_index(path, sizeof path, "", "bodies", k);
-        status = body_shape(ld, body, path, &looks->shapes[id]);
+        strcat(path, ".shape");
+        tb__shape *s = &looks->bodies[id].pieces[0];
+        free(s->vertices);
+        free(s->triangles);
+        s->vertices = NULL;
+        s->triangles = NULL;
+        s->vertex_count = s->triangle_count = 0;
+        status = mesh_shape(ld, shape, path, s);
     }
-    return status == TB_STATUS_OK ? load_grounds(ld, json_object_get(root, "effects"), looks)
-                                  : status;
+    return status;
 }
 
 /* The scene file, or the text with its base directory, as JSON; *directory (malloc'd, any
@@ -188,22 +94,9 @@ static tb_status parse_scene(const tb_writer_def *def, json_t **out, char **dire
     return TB_STATUS_OK;
 }
 
-tb_status tb__looks_load(tb__looks *looks, const tb_writer_def *def, const tb_scene *scene,
-                         tb_error *error)
+tb_status tb__looks_file_meshes(tb__looks *looks, const tb_writer_def *def, const tb_scene *scene,
+                                tb_error *error)
 {
-    const size_t n = tb_scene_body_count(scene);
-    memset(looks, 0, sizeof *looks);
-    looks->shapes = calloc(n > 0 ? n : 1, sizeof *looks->shapes);
-    if (looks->shapes == NULL) {
-        return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "writer: shapes of %zu bodies", n);
-    }
-    for (size_t id = 0; id < n; ++id) {
-        looks->shapes[id].kind = TB__SHAPE_INERTIA;
-        tb_scene_get_mass(scene, id, &looks->shapes[id].mass);
-    }
-    if (def->scene_file == NULL && def->scene_text == NULL) {
-        return TB_STATUS_OK;
-    }
     char *directory = NULL;
     json_t *root = NULL;
     tb_status status = parse_scene(def, &root, &directory, error);
@@ -218,15 +111,4 @@ tb_status tb__looks_load(tb__looks *looks, const tb_writer_def *def, const tb_sc
     json_decref(root);
     free(directory);
     return status;
-}
-
-void tb__looks_free(tb__looks *looks, size_t body_count)
-{
-    for (size_t id = 0; looks->shapes != NULL && id < body_count; ++id) {
-        free(looks->shapes[id].vertices);
-        free(looks->shapes[id].triangles);
-    }
-    free(looks->shapes);
-    free(looks->grounds);
-    memset(looks, 0, sizeof *looks);
 }

@@ -178,6 +178,33 @@ static bool put_shape(FILE *file, const tb__shape *s)
     }
 }
 
+/* A body's shape: one piece at the shape origin as the prim "shape" (as a single shape always
+ * was); otherwise each piece k in an Xform "piece_k" that places it in the body's shape frame. */
+static bool put_pieces(FILE *file, const tb__look *look)
+{
+    const tb__shape *first = &look->pieces[0];
+    const bool plain = look->piece_count == 1 && first->position[0] == 0.0 &&
+                       first->position[1] == 0.0 && first->position[2] == 0.0 &&
+                       first->orientation[0] == 1.0;
+    if (plain) {
+        return put_shape(file, first);
+    }
+    bool done = true;
+    for (size_t k = 0; k < look->piece_count && done; ++k) {
+        const double *p = look->pieces[k].position, *q = look->pieces[k].orientation;
+        fprintf(file,
+                "        def Xform \"piece_%zu\"\n        {\n"
+                "        double3 xformOp:translate = (%.17g, %.17g, %.17g)\n"
+                "        quatd xformOp:orient = (%.17g, %.17g, %.17g, %.17g)\n"
+                "        uniform token[] xformOpOrder = [\"xformOp:translate\", "
+                "\"xformOp:orient\"]\n\n",
+                k, p[0], p[1], p[2], q[0], q[1], q[2], q[3]);
+        done = put_shape(file, &look->pieces[k]);
+        fputs("        }\n", file);
+    }
+    return done;
+}
+
 static bool put_body(const tb_writer *w, size_t id, const char *prim)
 {
     FILE *file = w->file;
@@ -195,7 +222,7 @@ static bool put_body(const tb_writer *w, size_t id, const char *prim)
     }
     fputs("        uniform token[] xformOpOrder = [\"xformOp:translate\", \"xformOp:orient\"]\n\n",
           file);
-    const bool done = put_shape(file, &w->looks.shapes[id]);
+    const bool done = put_pieces(file, &w->looks.bodies[id]);
     fputs("    }\n\n", file);
     return done;
 }

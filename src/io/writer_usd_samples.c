@@ -237,7 +237,7 @@ static void samples_between(const tb_writer *w, size_t k, size_t id)
     key_of(&w->frames, k, id, &v.a);
     key_of(&w->frames, k + 1, id, &v.b);
     follow(&v.a, &v.b);
-    v.mass = free_inertia(&w->looks.shapes[id].mass, &v.a, &v.b, w->sample_tolerance);
+    v.mass = free_inertia(&w->looks.bodies[id].mass, &v.a, &v.b, w->sample_tolerance);
     int count = 1;
     while (count < TB__USD_MAX_PIECES && !pieces_follow(&v, count, w->sample_tolerance)) {
         count *= 2;

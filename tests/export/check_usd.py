@@ -128,6 +128,17 @@ SHAPES = {"box": "Cube", "sphere": "Sphere", "ellipsoid": "Sphere", "capsule": "
 
 
 def check_shape(prim, shape):
+    if isinstance(shape, list):  # pieces: each in an Xform "piece_k" placing it in the body
+        for k, piece in enumerate(shape):
+            holder = prim.GetChild(f"piece_{k}")
+            assert holder and holder.GetTypeName() == "Xform", (prim.GetPath(), k)
+            position = holder.GetAttribute("xformOp:translate").Get()
+            orientation = quaternion(holder.GetAttribute("xformOp:orient").Get())
+            assert np.allclose(position, piece.get("position", [0, 0, 0]), rtol=0, atol=1e-15)
+            assert np.allclose(orientation, piece.get("orientation", [1, 0, 0, 0]), rtol=0,
+                               atol=1e-12)
+            check_shape(holder, piece)
+        return
     child = prim.GetChild("shape")
     kind = shape.get("type") if shape else None
     assert child and child.GetTypeName() == SHAPES[kind], (prim.GetPath(), kind,
