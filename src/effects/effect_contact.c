@@ -316,6 +316,7 @@ static const tb__effect_ops contact_ops = {
     .check_impacts = tb__contact_check_impacts,
     .owns_states = true,
     .post_step = tb__friction_post_step,
+    .event_pairs = tb__contact_event_pairs, /* effect_contact_event_pairs.c */
 };
 
 tb_contact_def tb_contact_def_default(void)

@@ -348,6 +348,7 @@ static const tb__effect_ops ground_ops = {
     .rate = ground_rate,
     .check_start = ground_check_start,
     .event_gaps = tb__ground_event_gaps, /* effect_contact_events.c */
+    .event_pairs = tb__ground_event_pairs, /* effect_contact_event_pairs.c */
 };
 
 tb_ground_def tb_ground_def_default(void)

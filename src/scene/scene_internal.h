@@ -56,6 +56,8 @@ typedef enum tb__lanes_kind {
     TB__LANES_DRAG,
 } tb__lanes_kind;
 
+typedef struct tb__event_pair tb__event_pair; /* below */
+
 typedef struct tb__effect_ops {
     const char *name;                     /* "gravity", "drag", "spring", "ground", ... */
     tb__lanes_kind lanes_kind;            /* per-body effects: its lane form, if any */
@@ -129,7 +131,24 @@ typedef struct tb__effect_ops {
     /* The effect's loads may change while the bodies rest (a user callback of t): while the
      * scene holds it, no body sleeps. */
     bool keeps_awake;
+    /* Contact events (scene/contact_event_watch.c): writes the effect's pairs within
+     * TB__EVENT_LOOKAHEAD at y, the first capacity of them into out (tb__event_pair), and
+     * returns how many there are. Called at step boundaries only. NULL: no contact events. */
+    size_t (*event_pairs)(const tb__effect *effect, const tb_scene *scene, const double *y,
+                          tb__event_pair *out, size_t capacity);
 } tb__effect_ops;
+
+/* A pair as the contact events see it at a state (tb__effect_ops.event_pairs). */
+struct tb__event_pair {
+    size_t body_a, body_b; /* body_a < body_b; body_b TB_WORLD for a ground plane */
+    double gap;            /* m: minus the deepest point's depth (negative: touching) */
+    double gap_rate;       /* m/s: d gap / dt, (v_b - v_a) . normal at the point */
+    double point[3];       /* the deepest point, world */
+    double normal[3];      /* unit, from a to b */
+    double inverse_mass;   /* 1/kg: of the pair's relative motion along the normal at the point */
+    double gravity;        /* m/s^2: the uniform acceleration closing the pair that its own
+                              motion does not cancel (a body on a ground plane: the plane's g) */
+};
 
 /* The gap (m) the event functions start from: a body farther than this from everything it can
  * touch has this gap, and the adaptive step limit sees the pairs closer than it. */
@@ -298,7 +317,19 @@ struct tb_scene {
      * (tb_scene_set_state, a write through tb_scene_states) and is checked as a start is. */
     double *states_left;
     size_t states_left_size, states_left_capacity;
+    /* Contact events (contact_event_watch.c): NULL until tb_scene_set_contact_events. */
+    struct tb__contact_event_watch *contact_events;
 };
+
+/* Contact events (contact_event_watch.c): the scene's state at a step boundary at time t,
+ * from a fixed step's post-step hook (fixed = true), or an adaptive method's accepted step or
+ * event stop (fixed = false); only the integrator kind the watch was started for is heard.
+ * start begins a watch at an integrator's first time; free releases it. */
+void tb__contact_events_observe(tb_scene *scene, double t, const double *y, bool fixed);
+void tb__contact_events_start(tb_scene *scene, double t0, bool fixed);
+void tb__contact_events_free(tb_scene *scene);
+/* tb_ode_system.at_event of a scene with events: the watch, then the sleep's. */
+void tb__scene_at_event(double t, const double *y, void *ctx);
 
 /* Sleeping islands (sleep.c). Bodies linked at a step boundary (a pair the contact effect
  * finds within its margin, a spring between them, a sleeping body's island) form islands; an
