@@ -180,8 +180,7 @@ static void test_the_first_hit_is_at_the_free_fall_time_under_fixed_steps(void *
             const tb_integrator_def def = test_integrator_def(TB_METHOD_RK4, dt / (1 + k), 0.0);
             first_hit_error(scene, &def, h, errors[k]);
             print_message("rk4 on the %s at dt = %.3e s: time off by %.2e s, speed by %.2e m/s\n",
-                          target == 0 ? "ground" : "box", dt / (1 + k), errors[k][0],
-                          errors[k][1]);
+                          target == 0 ? "ground" : "box", dt / (1 + k), errors[k][0], errors[k][1]);
             tb_scene_destroy(scene);
         }
         assert_true(errors[0][0] < 1e-7 && errors[0][1] < 1e-4);
@@ -386,11 +385,11 @@ static void test_identical_runs_give_identical_events(void **unused)
                             logs[0].count * sizeof(tb_contact_event));
         for (size_t k = 1; k < logs[0].count; ++k) {
             const tb_contact_event *a = &logs[0].events[k - 1], *b = &logs[0].events[k];
-            assert_true(a->t < b->t || (a->t == b->t && (a->body_a < b->body_a ||
-                                                         (a->body_a == b->body_a &&
-                                                          (a->body_b < b->body_b ||
-                                                           (a->body_b == b->body_b &&
-                                                            a->kind < b->kind))))));
+            assert_true(a->t < b->t ||
+                        (a->t == b->t && (a->body_a < b->body_a ||
+                                          (a->body_a == b->body_a &&
+                                           (a->body_b < b->body_b ||
+                                            (a->body_b == b->body_b && a->kind < b->kind))))));
         }
     }
 }

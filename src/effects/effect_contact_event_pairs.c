@@ -35,7 +35,8 @@ static tb__event_pair event_pair(const tb_scene *scene, const double *y,
         }
         tb__point_velocity(&motion, arm, velocity);
         out.gap_rate += (k == 0 ? -1.0 : 1.0) * tb__v3_dot(velocity, out.normal);
-        out.inverse_mass += tb__inverse_mass_along(&scene->bodies[ids[k]], &motion, arm, out.normal);
+        out.inverse_mass +=
+            tb__inverse_mass_along(&scene->bodies[ids[k]], &motion, arm, out.normal);
     }
     return out;
 }
@@ -64,8 +65,8 @@ static tb__event_pair ground_pair(const tb__ground_params *ground, const tb_scen
     const size_t body = scene->contacts[first].body;
     tb__motion motion;
     tb__body_motion(&scene->bodies[body], y + TB_STATE_SIZE * body, &motion);
-    tb__event_pair out = {.body_a = body, .body_b = TB_WORLD, .gap = INFINITY,
-                          .gravity = ground->gravity};
+    tb__event_pair out = {
+        .body_a = body, .body_b = TB_WORLD, .gap = INFINITY, .gravity = ground->gravity};
     double lowest[3] = {0.0, 0.0, 0.0};
     for (size_t j = first; j < end; ++j) {
         const tb__contact *c = &scene->contacts[j];
@@ -86,7 +87,8 @@ static tb__event_pair ground_pair(const tb__ground_params *ground, const tb_scen
         out.point[k] = motion.x[k] + lowest[k];
         out.normal[k] = -ground->normal[k];
     }
-    out.inverse_mass = tb__inverse_mass_along(&scene->bodies[body], &motion, lowest, ground->normal);
+    out.inverse_mass =
+        tb__inverse_mass_along(&scene->bodies[body], &motion, lowest, ground->normal);
     return out;
 }
 

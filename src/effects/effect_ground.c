@@ -347,7 +347,7 @@ static const tb__effect_ops ground_ops = {
     .owns_states = true,
     .rate = ground_rate,
     .check_start = ground_check_start,
-    .event_gaps = tb__ground_event_gaps, /* effect_contact_events.c */
+    .event_gaps = tb__ground_event_gaps,   /* effect_contact_events.c */
     .event_pairs = tb__ground_event_pairs, /* effect_contact_event_pairs.c */
 };
 

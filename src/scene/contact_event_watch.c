@@ -147,8 +147,8 @@ tb_status tb_scene_set_contact_events(tb_scene *scene, const tb_contact_events_d
     tb__watch *watch = calloc(1, sizeof *watch);
     if (watch == NULL || !grow(watch, capacity)) {
         free_watch(watch);
-        return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY,
-                              "contact events: room for %zu pairs", capacity);
+        return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "contact events: room for %zu pairs",
+                              capacity);
     }
     watch->fn = def->fn;
     watch->ctx = def->ctx;
@@ -317,8 +317,7 @@ static tb_contact_event *push_event(tb__watch *watch, tb_contact_event_kind kind
                                     double fraction)
 {
     tb_contact_event *e = &watch->events[watch->event_count++];
-    *e = (tb_contact_event){.kind = kind, .t = t, .body_a = after->body_a,
-                            .body_b = after->body_b};
+    *e = (tb_contact_event){.kind = kind, .t = t, .body_a = after->body_a, .body_b = after->body_b};
     for (int k = 0; k < 3; ++k) {
         e->point[k] = before->point[k] + fraction * (after->point[k] - before->point[k]);
         e->normal[k] = before->normal[k] + fraction * (after->normal[k] - before->normal[k]);
@@ -426,8 +425,8 @@ void tb__contact_events_observe(tb_scene *scene, double t, const double *y, bool
     const size_t count = find_pairs(watch, scene, y);
     qsort(watch->found, count, sizeof *watch->found, compare_pairs);
     for (size_t k = 0; k < count; ++k) {
-        watch->cur[k] = (tb__watched_pair){.now = watch->found[k],
-                                           .touching = watch->found[k].gap < 0.0};
+        watch->cur[k] =
+            (tb__watched_pair){.now = watch->found[k], .touching = watch->found[k].gap < 0.0};
     }
     watch->event_count = 0;
     watch->prev_count = watch->have_last ? watch->prev_count : 0;
