@@ -83,6 +83,7 @@ typedef struct writer {
     bool frames_failed; /* a write of the library's writer failed */
     cli_events events;  /* --events: open when has_events */
     bool has_events;
+    bool gltf; /* frames is a glTF writer: the events go into it too */
     double duration;
     double started, last_progress;
     int progress; /* stderr is a terminal */
@@ -210,6 +211,11 @@ static int simulate(const cli_options *o, tb_scene *scene, const tb_run_def *run
     /* stopped by Ctrl-C (one that came after the last frame leaves the finished file) */
     const bool stopped = status == TB_STATUS_CANCELLED && cli_interrupt_caught() != 0;
     char message[TB_DETAIL_SIZE];
+    if (w->has_events && w->gltf && status == TB_STATUS_OK &&
+        tb_writer_set_contact_events(w->frames, w->events.events, w->events.count) !=
+            TB_STATUS_OK) {
+        w->frames_failed = true; /* close_output reports the writer's detail */
+    }
     const bool events_ok =
         !w->has_events ||
         cli_events_close(&w->events, scene, status == TB_STATUS_OK, message, sizeof message);
@@ -347,6 +353,7 @@ int cli_run_command(const cli_options *o)
     if (code == CLI_EXIT_OK && o->events != NULL) {
         code = open_events(o, scene, &w);
     }
+    w.gltf = def.format == TB_OUTPUT_GLB || def.format == TB_OUTPUT_GLTF;
     if (code == CLI_EXIT_OK && def.format != TB_OUTPUT_CSV) {
         code = open_frames_writer(o, &def, scene, &w);
     } else if (code == CLI_EXIT_OK &&

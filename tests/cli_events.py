@@ -8,12 +8,14 @@ h = 0.25 m above the ground. Its first hit is at sqrt(2 h / g) = 0.22576 s at sq
 to its zero, so both to 1e-9 (tests/test_contact_events_api.c measures 1e-14). Begin and end
 alternate, hits follow their begins; the CSV and the JSON hold the same events; an extension
 other than .csv or .json is refused (exit 2, no file); a failed write (a .csv that is
-/dev/full) is exit 1 with a message, never a silent 0."""
+/dev/full) is exit 1 with a message, never a silent 0; a .glb output carries the same events
+as scenes[0].extras.tumble_events."""
 
 import csv
 import json
 import math
 import os
+import struct
 import subprocess
 import sys
 
@@ -50,6 +52,15 @@ for k, e in enumerate(events):
     assert touching == (e["kind"] == "end"), (k, e)
     touching = not touching
     assert e["kind"] == "begin" or float(e["impulse"]) > 0
+
+# the glb carries the same events in its scene's extras, for a sound designer's script
+glb = os.path.join(work, "events.glb")
+subprocess.run([tumble, "run", scene, "--out", glb, "--events", paths["csv"]], check=True)
+with open(glb, "rb") as f:
+    data = f.read()
+length = struct.unpack("<I", data[12:16])[0]
+extras = json.loads(data[20 : 20 + length])["scenes"][0]["extras"]["tumble_events"]
+assert extras == objects, (extras[:2], objects[:2])
 
 bad = os.path.join(work, "events.txt")
 run = subprocess.run([tumble, "run", scene, "--out", os.devnull, "--events", bad],

@@ -6,6 +6,7 @@
 
 #include "tumble/export.h"
 
+#include "tumble/effects.h" /* TB_WORLD */
 #include "tumble/scene.h"
 #include "tumble/status.h"
 
