@@ -68,7 +68,8 @@ TB_API void tb_scene_clear_contact_events(tb_scene *scene);
 
 /* Whether the events are whole: TB_STATUS_OUT_OF_MEMORY when the list of watched pairs could
  * not grow at some step boundary (pairs beyond it were not watched: events may be missing),
- * with how many pairs were dropped in *out_dropped (may be NULL); TB_STATUS_OK otherwise. */
+ * with the pairs left out, summed over the boundaries, in *out_dropped (may be NULL);
+ * TB_STATUS_OK otherwise. (tests/test_contact_events_memory.c) */
 TB_API tb_status tb_scene_contact_events_status(const tb_scene *scene, size_t *out_dropped);
 
 #ifdef __cplusplus
