@@ -390,8 +390,55 @@ static void test_identical_runs_give_identical_events(void **unused)
                                           (a->body_a == b->body_a &&
                                            (a->body_b < b->body_b ||
                                             (a->body_b == b->body_b && a->kind < b->kind))))));
+            assert_true(a->effect < 4 && b->effect < 4); /* gravity, ground, force, contact */
         }
     }
+}
+
+/* A ball thrown at a wall plane (x = 0.1 m, effect 2) above a floor plane (effect 1): it has a
+ * pair with each, told apart by the event's effect; each pair's begins and ends alternate on
+ * their own, and the wall's normal points from the ball into the wall (+x). */
+static void test_a_body_on_two_planes_has_a_pair_with_each(void **unused)
+{
+    (void)unused;
+    tb_scene *scene = ball_over_ground(0.1, 0.5, 0.0);
+    assert_int_equal(tb_scene_set_velocity(scene, 0, (double[]){1, 0, 0}, (double[]){0, 0, 0}),
+                     TB_STATUS_OK);
+    tb_ground_def wall = tb_ground_def_default();
+    wall.normal[0] = -1.0, wall.normal[2] = 0.0;
+    wall.offset = -0.1;
+    assert_int_equal(tb_scene_add_ground(scene, &wall), TB_STATUS_OK);
+    event_log log;
+    watch(scene, &log, 0.0);
+    const tb_integrator_def def = test_integrator_def(TB_METHOD_CVODE_ADAMS, 0.0, 1e-8);
+    run_for(scene, &def, 0.5);
+    bool touching[3] = {false, false, false};
+    size_t begins[3] = {0, 0, 0};
+    for (size_t k = 0; k < log.count && k < MAX_EVENTS; ++k) {
+        const tb_contact_event *e = &log.events[k];
+        assert_true(e->effect == 1 || e->effect == 2);
+        assert_true(e->body_b == TB_WORLD);
+        if (e->kind == TB_CONTACT_HIT) {
+            continue;
+        }
+        assert_true(touching[e->effect] == (e->kind == TB_CONTACT_END));
+        touching[e->effect] = !touching[e->effect];
+        begins[e->effect] += e->kind == TB_CONTACT_BEGIN;
+        if (e->effect == 2) {
+            assert_true(fabs(e->normal[0] - 1.0) < 1e-12);
+        }
+    }
+    print_message("%zu floor begins, %zu wall begins\n", begins[1], begins[2]);
+    assert_true(begins[1] >= 1 && begins[2] >= 1);
+    /* free flight to the wall (at 0.1 - r = 0.08 m, 1 m/s: t = 0.08 s) before the floor (at
+     * sqrt(2 (0.1 - r) / g) = 0.128 s); CVODE's root at rtol 1e-8 to 1e-6 s as above */
+    for (size_t k = 0; k < log.count; ++k) {
+        if (log.events[k].effect == 2) {
+            assert_true(fabs(log.events[k].t - 0.08) < 1e-6);
+            break;
+        }
+    }
+    tb_scene_destroy(scene);
 }
 
 /* One row per bad definition: its status, and the scene as it was (its states byte for byte,
@@ -493,6 +540,7 @@ int main(void)
         cmocka_unit_test(test_begins_and_ends_pair_up_and_count_the_touches),
         cmocka_unit_test(test_the_threshold_filters_hits),
         cmocka_unit_test(test_identical_runs_give_identical_events),
+        cmocka_unit_test(test_a_body_on_two_planes_has_a_pair_with_each),
         cmocka_unit_test(test_bad_definitions_are_refused_and_change_nothing),
         cmocka_unit_test(test_setting_events_from_the_callback_is_refused),
     };

@@ -21,6 +21,7 @@ int main(void)
     FIELD(tb_contact_event, normal);
     FIELD(tb_contact_event, speed);
     FIELD(tb_contact_event, impulse);
+    FIELD(tb_contact_event, effect);
     printf("\"_\": 0},\n");
     printf("\"tb_contact_events_def\": {\"size\": %zu, ", sizeof(tb_contact_events_def));
     FIELD(tb_contact_events_def, fn);

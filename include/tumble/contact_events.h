@@ -37,11 +37,12 @@ typedef struct tb_contact_event {
     double speed;          /* m/s: the normal speed at which the pair closes (begin, hit) or
                               separates (end) at t, >= 0 */
     double impulse;        /* N s: the normal impulse over the whole contact, at end; 0 else */
+    size_t effect; /* the contact effect's or ground plane's index among the scene's effects */
 } tb_contact_event;
 
 /* Called at step boundaries (after a fixed step, at an adaptive method's step or event stop),
- * never inside a derivative; events come in the order of t, then body_a, body_b, kind. It must
- * not change the scene (it is given none) and must not step the scene's integrator. */
+ * never inside a derivative; events come in the order of t, then body_a, body_b, effect, kind. It
+ * must not change the scene (it is given none) and must not step the scene's integrator. */
 typedef void (*tb_contact_event_fn)(const tb_contact_event *event, void *ctx);
 
 typedef struct tb_contact_events_def {

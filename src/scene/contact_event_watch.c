@@ -203,6 +203,9 @@ static size_t find_pairs(tb__watch *watch, const tb_scene *scene, const double *
                 const size_t used = total < watch->capacity ? total : watch->capacity;
                 total += effect->ops->event_pairs(effect, scene, y, watch->found + used,
                                                   watch->capacity - used);
+                for (size_t j = used; j < total && j < watch->capacity; ++j) {
+                    watch->found[j].effect = k;
+                }
             }
         }
         if (total <= watch->capacity || attempt == 1 ||
@@ -223,7 +226,10 @@ static int compare_pairs(const void *left, const void *right)
     if (a->body_a != b->body_a) {
         return a->body_a < b->body_a ? -1 : 1;
     }
-    return a->body_b < b->body_b ? -1 : a->body_b > b->body_b;
+    if (a->body_b != b->body_b) {
+        return a->body_b < b->body_b ? -1 : 1;
+    }
+    return a->effect < b->effect ? -1 : a->effect > b->effect; /* a body on two planes */
 }
 
 static int compare_events(const void *left, const void *right)
@@ -237,6 +243,9 @@ static int compare_events(const void *left, const void *right)
     }
     if (a->body_b != b->body_b) {
         return a->body_b < b->body_b ? -1 : 1;
+    }
+    if (a->effect != b->effect) {
+        return a->effect < b->effect ? -1 : 1;
     }
     return (int)a->kind - (int)b->kind;
 }
@@ -317,7 +326,11 @@ static tb_contact_event *push_event(tb__watch *watch, tb_contact_event_kind kind
                                     double fraction)
 {
     tb_contact_event *e = &watch->events[watch->event_count++];
-    *e = (tb_contact_event){.kind = kind, .t = t, .body_a = after->body_a, .body_b = after->body_b};
+    *e = (tb_contact_event){.kind = kind,
+                            .t = t,
+                            .body_a = after->body_a,
+                            .body_b = after->body_b,
+                            .effect = after->effect};
     for (int k = 0; k < 3; ++k) {
         e->point[k] = before->point[k] + fraction * (after->point[k] - before->point[k]);
         e->normal[k] = before->normal[k] + fraction * (after->normal[k] - before->normal[k]);

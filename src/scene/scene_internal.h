@@ -141,6 +141,7 @@ typedef struct tb__effect_ops {
 /* A pair as the contact events see it at a state (tb__effect_ops.event_pairs). */
 struct tb__event_pair {
     size_t body_a, body_b; /* body_a < body_b; body_b TB_WORLD for a ground plane */
+    size_t effect;         /* the effect's index (set by the watch, not the op) */
     double gap;            /* m: minus the deepest point's depth (negative: touching) */
     double gap_rate;       /* m/s: d gap / dt, (v_b - v_a) . normal at the point */
     double point[3];       /* the deepest point, world */

@@ -124,7 +124,7 @@ class ContactEvent(ctypes.Structure):
     _fields_ = [("kind", ctypes.c_int), ("t", ctypes.c_double), ("body_a", ctypes.c_size_t),
                 ("body_b", ctypes.c_size_t), ("point", ctypes.c_double * 3),
                 ("normal", ctypes.c_double * 3), ("speed", ctypes.c_double),
-                ("impulse", ctypes.c_double)]
+                ("impulse", ctypes.c_double), ("effect", ctypes.c_size_t)]
 
 
 CONTACT_EVENT_FN = ctypes.CFUNCTYPE(None, ctypes.POINTER(ContactEvent), ctypes.c_void_p)
