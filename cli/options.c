@@ -44,6 +44,7 @@ static const option_info option_table[] = {
     TEXT("rotation", 0, CLI_RUN, rotation),
     TEXT("integrator", 0, RUN_OR_CHECK, method),
     TEXT("chart", 0, CLI_ACCURACY, chart),
+    TEXT("events", 0, CLI_RUN, events),
     NUMBER("dt", RUN_OR_CHECK, dt, has_dt, false),
     NUMBER("rtol", RUN_OR_CHECK, rtol, has_rtol, false),
     NUMBER("atol", RUN_OR_CHECK, atol, has_atol, true),
@@ -51,6 +52,7 @@ static const option_info option_table[] = {
     NUMBER("fps", ALL_COMMANDS, fps, has_fps, false),
     NUMBER("duration", ALL_COMMANDS, duration, has_duration, true),
     NUMBER("target-error", CLI_ACCURACY, target_error, has_target, false),
+    NUMBER("hit-speed", CLI_RUN, hit_speed, has_hit_speed, true),
 };
 #define OPTION_COUNT (sizeof option_table / sizeof option_table[0])
 

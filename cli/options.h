@@ -25,10 +25,13 @@ typedef struct cli_options {
     const char *rotation; /* run, glTF: "cubic" (NULL) or "linear" rotation keys */
     const char *method;   /* NULL: the scene's */
     const char *chart;    /* accuracy: an SVG chart to write, or NULL */
+    const char *events;   /* run: a .csv or .json file of contact events, or NULL */
     double target_error;  /* accuracy: m */
     bool has_target;
     double dt, rtol, atol, fps, duration, max_steps;
     bool has_dt, has_rtol, has_atol, has_fps, has_duration, has_max_steps;
+    double hit_speed; /* run, --events: m/s, hits closing slower are left out (0: none) */
+    bool has_hit_speed;
 } cli_options;
 
 /* Parses argv (argv[1] is the command); on a mistake writes a message naming it into message

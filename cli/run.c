@@ -6,6 +6,7 @@
 #include "check_contact.h"
 #include "check_steps.h"
 #include "commands.h"
+#include "events.h"
 #include "interrupt.h"
 #include "output.h"
 #include "summary.h"
@@ -80,6 +81,9 @@ typedef struct writer {
     cli_output output;  /* CSV */
     tb_writer *frames;  /* npz, glb, gltf: the library's writer, else NULL */
     bool frames_failed; /* a write of the library's writer failed */
+    cli_events events;  /* --events: open when has_events */
+    bool has_events;
+    bool gltf; /* frames is a glTF writer: the events go into it too */
     double duration;
     double started, last_progress;
     int progress; /* stderr is a terminal */
@@ -207,8 +211,22 @@ static int simulate(const cli_options *o, tb_scene *scene, const tb_run_def *run
     /* stopped by Ctrl-C (one that came after the last frame leaves the finished file) */
     const bool stopped = status == TB_STATUS_CANCELLED && cli_interrupt_caught() != 0;
     char message[TB_DETAIL_SIZE];
+    if (w->has_events && w->gltf && status == TB_STATUS_OK &&
+        tb_writer_set_contact_events(w->frames, w->events.events, w->events.count) !=
+            TB_STATUS_OK) {
+        w->frames_failed = true; /* close_output reports the writer's detail */
+    }
+    const bool events_ok =
+        !w->has_events ||
+        cli_events_close(&w->events, scene, status == TB_STATUS_OK, message, sizeof message);
+    if (!events_ok && !stopped) {
+        fprintf(stderr, "tumble: %s: %s\n", o->scene, message);
+    }
     if (!close_output(w, status, message, sizeof message) && !stopped) {
         fprintf(stderr, "tumble: %s: %s\n", o->scene, message);
+        return CLI_EXIT_SIMULATION;
+    }
+    if (!events_ok && !stopped) {
         return CLI_EXIT_SIMULATION;
     }
     if (stopped) {
@@ -289,6 +307,22 @@ static int open_frames_writer(const cli_options *o, tb_writer_def *def, const tb
     return CLI_EXIT_OK;
 }
 
+/* --events FILE: never the frames' file; opened before it (and removed if that fails). */
+static int open_events(const cli_options *o, tb_scene *scene, writer *w)
+{
+    char message[TB_DETAIL_SIZE];
+    if (o->out != NULL &&
+        (strcmp(o->events, o->out) == 0 || cli_output_same_file(o->events, o->out))) {
+        snprintf(message, sizeof message, "--events %s is the --out file", o->events);
+    } else if (cli_events_open(&w->events, o->events, o->scene, scene, o->hit_speed, message,
+                               sizeof message)) {
+        w->has_events = true;
+        return CLI_EXIT_OK;
+    }
+    fprintf(stderr, "tumble: %s\n", message);
+    return CLI_EXIT_INPUT;
+}
+
 int cli_run_command(const cli_options *o)
 {
     tb_scene *scene = NULL;
@@ -312,6 +346,14 @@ int cli_run_command(const cli_options *o)
                                                     run.fps, &frames, NULL) == TB_STATUS_OK) {
         def.frame_count = frames;
     }
+    if (code == CLI_EXIT_OK && o->has_hit_speed && o->events == NULL) {
+        fprintf(stderr, "tumble: --hit-speed applies with --events FILE\n");
+        code = CLI_EXIT_INPUT;
+    }
+    if (code == CLI_EXIT_OK && o->events != NULL) {
+        code = open_events(o, scene, &w);
+    }
+    w.gltf = def.format == TB_OUTPUT_GLB || def.format == TB_OUTPUT_GLTF;
     if (code == CLI_EXIT_OK && def.format != TB_OUTPUT_CSV) {
         code = open_frames_writer(o, &def, scene, &w);
     } else if (code == CLI_EXIT_OK &&
@@ -321,6 +363,8 @@ int cli_run_command(const cli_options *o)
     }
     if (code == CLI_EXIT_OK) {
         code = simulate(o, scene, &run, &w);
+    } else if (w.has_events) {
+        cli_events_close(&w.events, scene, false, message, sizeof message); /* removes it */
     }
     tb_scene_destroy(scene);
     cli_interrupt_finish();

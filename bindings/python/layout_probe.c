@@ -12,6 +12,24 @@
 int main(void)
 {
     printf("{\"version\": \"%s\",\n", TB_VERSION_STRING);
+    printf("\"tb_contact_event\": {\"size\": %zu, ", sizeof(tb_contact_event));
+    FIELD(tb_contact_event, kind);
+    FIELD(tb_contact_event, t);
+    FIELD(tb_contact_event, body_a);
+    FIELD(tb_contact_event, body_b);
+    FIELD(tb_contact_event, point);
+    FIELD(tb_contact_event, normal);
+    FIELD(tb_contact_event, speed);
+    FIELD(tb_contact_event, impulse);
+    FIELD(tb_contact_event, effect);
+    printf("\"_\": 0},\n");
+    printf("\"tb_contact_events_def\": {\"size\": %zu, ", sizeof(tb_contact_events_def));
+    FIELD(tb_contact_events_def, fn);
+    FIELD(tb_contact_events_def, ctx);
+    FIELD(tb_contact_events_def, hit_threshold);
+    FIELD(tb_contact_events_def, pair_capacity);
+    FIELD(tb_contact_events_def, internal_cookie);
+    printf("\"_\": 0},\n");
     printf("\"tb_error\": {\"size\": %zu, ", sizeof(tb_error));
     FIELD(tb_error, status);
     FIELD(tb_error, message);

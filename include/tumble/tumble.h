@@ -13,6 +13,7 @@
 #include "tumble/effects.h"
 #include "tumble/shape.h"
 #include "tumble/contact_info.h"
+#include "tumble/contact_events.h"
 #include "tumble/run.h"
 #include "tumble/scene_file.h"
 #include "tumble/writer.h"

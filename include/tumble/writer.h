@@ -19,6 +19,7 @@
 
 #include "tumble/export.h"
 
+#include "tumble/contact_events.h"
 #include "tumble/scene.h"
 #include "tumble/status.h"
 
@@ -128,6 +129,16 @@ TB_API tb_status tb_writer_frame_values(tb_writer *writer, double t, const doubl
 /* tb_frame_fn for tb_scene_run with the writer as ctx: tb_writer_frame, and non-zero (which
  * stops the run) when it fails; tb_writer_detail then says why. */
 TB_API int tb_writer_on_frame(size_t frame, double t, const tb_scene *scene, void *writer);
+
+/* Contact events for the file (include/tumble/contact_events.h), e.g. those a run's callback
+ * kept: glTF (glb, gltf) writes them at close as scenes[0].extras.tumble_events, an array of
+ * objects {t, kind, body_a, body_b (body names; "ground" for TB_WORLD), point, normal (tumble's
+ * z-up world, m), speed (m/s), impulse (N s)}, for a sound designer to sync to; a later call
+ * replaces them. Copies the array. Refused, nothing kept: NULL writer or events with count > 0
+ * (TB_STATUS_NULL_POINTER), a format other than glTF, a body id past the writer's bodies
+ * (TB_STATUS_INVALID_ARGUMENT), no memory (TB_STATUS_OUT_OF_MEMORY). */
+TB_API tb_status tb_writer_set_contact_events(tb_writer *writer, const tb_contact_event *events,
+                                              size_t count);
 
 /* Detail of the writer's last failure ("" if none); owned by the writer. */
 TB_API const char *tb_writer_detail(const tb_writer *writer);

@@ -39,4 +39,11 @@ tb_status tb__contact_check_impacts(const tb__effect *effect, const tb_scene *sc
 void tb__ground_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
                            double *gap);
 
+/* tb__effect_ops.event_pairs of contact between bodies and of a ground plane
+ * (effect_contact_event_pairs.c): the pairs contact events watch. */
+size_t tb__contact_event_pairs(const tb__effect *effect, const tb_scene *scene, const double *y,
+                               tb__event_pair *out, size_t capacity);
+size_t tb__ground_event_pairs(const tb__effect *effect, const tb_scene *scene, const double *y,
+                              tb__event_pair *out, size_t capacity);
+
 #endif

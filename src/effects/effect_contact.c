@@ -308,6 +308,7 @@ static const tb__effect_stepping contact_stepping = {
     .tunnel_step = tb__contact_tunnel_step,
     .check_impacts = tb__contact_check_impacts,
     .post_step = tb__friction_post_step,
+    .event_pairs = tb__contact_event_pairs, /* effect_contact_event_pairs.c */
 };
 
 static const tb__effect_ops contact_ops = {

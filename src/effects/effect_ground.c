@@ -361,6 +361,7 @@ static const tb__effect_stepping ground_stepping = {
     /* the shapes of bodies without points (effect_ground_shapes.c): their friction slots' map */
     .post_step = tb__ground_shapes_post_step,
     .shapes_changed = tb__ground_shapes_changed,
+    .event_pairs = tb__ground_event_pairs, /* effect_contact_event_pairs.c */
 };
 
 static const tb__effect_ops ground_ops = {

@@ -438,6 +438,7 @@ static void release(tb_writer *w, bool remove_file)
     tb__frames_free(&w->frames);
     tb__looks_free(&w->looks, w->body_count);
     free(w->names);
+    free(w->events);
     free(w->values);
     free(w->path);
     free(w->written_path);

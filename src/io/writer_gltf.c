@@ -157,6 +157,11 @@ static json_t *document(tb__gltf *g, const tb_writer *w)
     if (json_array_size(g->animations) > 0) {
         json_object_set(root, "animations", g->animations);
     }
+    json_t *events = tb__events_json(w, &g->failed);
+    if (events != NULL) {
+        json_object_set_new(json_array_get(json_object_get(root, "scenes"), 0), "extras",
+                            json_pack("{s:o}", "tumble_events", events));
+    }
     json_object_set(root, "accessors", g->accessors);
     json_object_set(root, "bufferViews", g->views);
     return root;

@@ -42,4 +42,8 @@ void tb__gltf_add_animation(tb__gltf *g, const tb_writer *w);
 tb_status tb__gltf_write_glb(tb__gltf *g, json_t *root, tb_writer *w);
 tb_status tb__gltf_write_text(tb__gltf *g, json_t *root, tb_writer *w);
 
+/* The writer's contact events as scenes[0].extras.tumble_events (writer_gltf_events.c); NULL
+ * when there are none, or no memory (*failed set then). */
+json_t *tb__events_json(const tb_writer *writer, bool *failed);
+
 #endif

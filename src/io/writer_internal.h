@@ -82,6 +82,8 @@ struct tb_writer {
     tb__looks looks;         /* glTF, USD */
     double last_t;
     size_t frame_count;
+    tb_contact_event *events; /* glTF: tb_writer_set_contact_events's copy (event_count) */
+    size_t event_count;
     tb_status failed; /* a write failed: every later call reports it */
     char detail[TB_DETAIL_SIZE];
 };

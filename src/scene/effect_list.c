@@ -190,6 +190,7 @@ int tb__scene_post_step(double t, double *y, void *ctx)
     }
     if (rc == 0) {
         tb__scene_sleep_end(scene, t, y);
+        tb__scene_events_observe(scene, t, y, true); /* a fixed step's end (if watched) */
     }
     return rc;
 }

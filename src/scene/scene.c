@@ -210,6 +210,7 @@ void tb_scene_destroy(tb_scene *scene)
         free(scene->shapes);
         free(scene->name_slots);
         tb__scene_sleep_free(scene);
+        tb__scene_events_free(scene);
         free(scene);
     }
 }

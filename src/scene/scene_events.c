@@ -70,8 +70,9 @@ int tb__scene_event_and_wake_gaps(double t, const double *y, double *g, void *ct
 
 double tb__scene_step_limit(double t, const double *y, const double *dydt, void *ctx)
 {
-    (void)t;
-    const tb_scene *scene = ctx;
+    tb_scene *scene = ctx;
+    /* asked once per accepted adaptive step, with its state: a boundary for contact events */
+    tb__scene_events_observe(scene, t, y, false);
     double limit = INFINITY;
     for (size_t k = 0; k < scene->effect_count; ++k) {
         const tb__effect *effect = &scene->effects[k];

@@ -49,6 +49,8 @@ void tb__effect_rate_add_decay(tb__effect_rate *out, double rate, size_t body);
  * without them is applied lane by lane through apply_bodies, with the same arithmetic. */
 typedef struct tb__effect_lanes tb__effect_lanes;
 
+typedef struct tb__event_pair tb__event_pair; /* below */
+
 typedef struct tb__effect_stepping tb__effect_stepping;
 
 /* One constant row per effect kind (the core row), defined in the kind's file in src/effects/:
@@ -142,6 +144,24 @@ struct tb__effect_stepping {
      * may change how many states it owns and lay the scene's states out again
      * (tb__scene_layout_states), or fail with nothing changed. NULL: shapes change nothing. */
     tb_status (*shapes_changed)(tb__effect *effect, tb_scene *scene, size_t id);
+    /* Contact events (scene/contact_event_watch.c): writes the effect's pairs within
+     * TB__EVENT_LOOKAHEAD at y, the first capacity of them into out (tb__event_pair), and
+     * returns how many there are. Called at step boundaries only. NULL: no contact events. */
+    size_t (*event_pairs)(const tb__effect *effect, const tb_scene *scene, const double *y,
+                          tb__event_pair *out, size_t capacity);
+};
+
+/* A pair as the contact events see it at a state (tb__effect_ops.event_pairs). */
+struct tb__event_pair {
+    size_t body_a, body_b; /* body_a < body_b; body_b TB_WORLD for a ground plane */
+    size_t effect;         /* the effect's index (set by the watch, not the op) */
+    double gap;            /* m: minus the deepest point's depth (negative: touching) */
+    double gap_rate;       /* m/s: d gap / dt, (v_b - v_a) . normal at the point */
+    double point[3];       /* the deepest point, world */
+    double normal[3];      /* unit, from a to b */
+    double inverse_mass;   /* 1/kg: of the pair's relative motion along the normal at the point */
+    double gravity;        /* m/s^2: the uniform acceleration closing the pair that its own
+                              motion does not cancel (a body on a ground plane: the plane's g) */
 };
 
 /* The gap (m) the event functions start from: a body farther than this from everything it can
@@ -260,7 +280,19 @@ struct tb_scene {
      * (tb_scene_set_state, a write through tb_scene_states) and is checked as a start is. */
     double *states_left;
     size_t states_left_size, states_left_capacity;
+    /* Contact events (contact_event_watch.c): NULL until tb_scene_set_contact_events. */
+    struct tb__event_watch *contact_events;
 };
+
+/* Contact events (contact_event_watch.c): the scene's state at a step boundary at time t,
+ * from a fixed step's post-step hook (fixed = true), or an adaptive method's accepted step or
+ * event stop (fixed = false); only the integrator kind the watch was started for is heard.
+ * start begins a watch at an integrator's first time; free releases it. */
+void tb__scene_events_observe(tb_scene *scene, double t, const double *y, bool fixed);
+void tb__scene_events_start(tb_scene *scene, double t0, bool fixed);
+void tb__scene_events_free(tb_scene *scene);
+/* tb_ode_system.at_event of a scene with events: the watch, then the sleep's. */
+void tb__scene_at_event(double t, const double *y, void *ctx);
 
 /* Sleeping islands (sleep.c). Bodies linked at a step boundary (a pair the contact effect
  * finds within its margin, a spring between them, a sleeping body's island) form islands; an

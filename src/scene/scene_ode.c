@@ -241,7 +241,7 @@ tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
         out_system->root_count = (wake ? 2 : 1) * scene->body_count;
         out_system->roots = wake ? tb__scene_event_and_wake_gaps : tb__scene_event_gaps;
         out_system->step_limit = tb__scene_step_limit;
-        out_system->at_event = wake ? tb__scene_sleep_at_event : NULL;
+        out_system->at_event = wake || scene->contact_events != NULL ? tb__scene_at_event : NULL;
     }
     /* Bodies that do not interact are the system's blocks. */
     if (tb__scene_separable(scene)) {
@@ -432,5 +432,6 @@ tb_status tb_scene_integrator_create(tb_scene *scene, const tb_integrator_def *d
     }
     scene->guard_method = def->method;
     scene->guard_dt = tb_method_is_adaptive(def->method) ? 0.0 : def->dt;
+    tb__scene_events_start(scene, t0, !tb_method_is_adaptive(def->method));
     return TB_STATUS_OK;
 }

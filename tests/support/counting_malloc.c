@@ -10,21 +10,32 @@ extern void *__libc_realloc(void *pointer, size_t size);
 extern void __libc_free(void *pointer);
 
 long counted_allocations;
+long failing_allocations;
+
+/* Whether this allocation is one of those made to fail. */
+static int fails(void)
+{
+    if (failing_allocations > 0) {
+        --failing_allocations;
+        return 1;
+    }
+    return 0;
+}
 
 void *malloc(size_t size)
 {
     ++counted_allocations;
-    return __libc_malloc(size);
+    return fails() ? NULL : __libc_malloc(size);
 }
 void *calloc(size_t count, size_t size)
 {
     ++counted_allocations;
-    return __libc_calloc(count, size);
+    return fails() ? NULL : __libc_calloc(count, size);
 }
 void *realloc(void *pointer, size_t size)
 {
     ++counted_allocations;
-    return __libc_realloc(pointer, size);
+    return fails() ? NULL : __libc_realloc(pointer, size);
 }
 void free(void *pointer)
 {

@@ -6,5 +6,8 @@
 #define TUMBLE_TEST_COUNTING_MALLOC_H
 
 extern long counted_allocations; /* malloc, calloc and realloc calls so far */
+/* While above 0, each malloc, calloc and realloc fails (returns NULL) and counts it down: a
+ * test of what a failed allocation leaves. 0 by default. */
+extern long failing_allocations;
 
 #endif

@@ -26,12 +26,14 @@ frames made so far on the exception (`frames`).
 
 from ._core import METHODS, TumbleError, TumbleValueError, lib
 from ._ensemble import run_many
+from ._events import EVENT_DTYPE
 from ._scene import ACCURACY_SWEEP, Frames, Scene, SceneBuilder
 from ._simulation import Simulation
 from ._version import __version__  # equal to the library's: _native checks it at import
 
 __all__ = ["Scene", "SceneBuilder", "Frames", "Simulation", "run_many", "TumbleError",
-           "TumbleValueError", "METHODS", "ACCURACY_SWEEP", "__version__", "library_version"]
+           "TumbleValueError", "METHODS", "ACCURACY_SWEEP", "EVENT_DTYPE", "__version__",
+           "library_version"]
 
 #: tb_version() of the libtumble loaded (the same as __version__, or the import fails)
 library_version: str = lib.tb_version().decode()

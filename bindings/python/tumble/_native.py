@@ -120,6 +120,22 @@ class AccuracyReference(ctypes.Structure):
                 ("cvode_detail", ctypes.c_char * DETAIL_SIZE)]
 
 
+class ContactEvent(ctypes.Structure):
+    _fields_ = [("kind", ctypes.c_int), ("t", ctypes.c_double), ("body_a", ctypes.c_size_t),
+                ("body_b", ctypes.c_size_t), ("point", ctypes.c_double * 3),
+                ("normal", ctypes.c_double * 3), ("speed", ctypes.c_double),
+                ("impulse", ctypes.c_double), ("effect", ctypes.c_size_t)]
+
+
+CONTACT_EVENT_FN = ctypes.CFUNCTYPE(None, ctypes.POINTER(ContactEvent), ctypes.c_void_p)
+
+
+class ContactEventsDef(ctypes.Structure):
+    _fields_ = [("fn", CONTACT_EVENT_FN), ("ctx", ctypes.c_void_p),
+                ("hit_threshold", ctypes.c_double), ("pair_capacity", ctypes.c_size_t),
+                ("internal_cookie", ctypes.c_int)]
+
+
 STRUCTS = {
     "tb_error": Error,
     "tb_integrator_def": IntegratorDef,
@@ -132,6 +148,8 @@ STRUCTS = {
     "tb_accuracy_reference": AccuracyReference,
     "tb_writer_def": WriterDef,
     "tb_body_state": BodyState,
+    "tb_contact_event": ContactEvent,
+    "tb_contact_events_def": ContactEventsDef,
 }
 
 FRAME_FN = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_size_t, ctypes.c_double, ctypes.c_void_p,
@@ -234,6 +252,12 @@ def _declare(lib):
                                         ctypes.c_void_p, ctypes.POINTER(IntegratorStats),
                                         ctypes.POINTER(Error)]),
         "tb_scene_set_sleeping": (ctypes.c_int, [ctypes.c_void_p, ctypes.c_bool]),
+        "tb_contact_events_def_default": (ContactEventsDef, []),
+        "tb_scene_set_contact_events": (ctypes.c_int, [ctypes.c_void_p,
+                                                       ctypes.POINTER(ContactEventsDef)]),
+        "tb_scene_contact_events_status": (ctypes.c_int, [ctypes.c_void_p,
+                                                          ctypes.POINTER(ctypes.c_size_t)]),
+        "tb_contact_event_kind_name": (ctypes.c_char_p, [ctypes.c_int]),
         "tb_scene_asleep_count": (ctypes.c_int, [ctypes.c_void_p,
                                                  ctypes.POINTER(ctypes.c_size_t)]),
         "tb_method_is_adaptive": (ctypes.c_int, [ctypes.c_int]),

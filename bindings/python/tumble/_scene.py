@@ -10,7 +10,7 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from . import _export, _native
+from . import _events, _export, _native
 from ._core import (_PARSE_ERROR, TumbleError, apply_settings,
                     deferred_interrupt, failure, lib, method_code, number, stats_dict)
 
@@ -29,6 +29,8 @@ class Frames:
                       the world origin (about another point: angular_momentum_about)
     center_of_mass    (F, 3) m, of all bodies
     stats             what the integrator did (steps, derivative_evals, ...)
+    events            the run's contact events (run(events=True)), a NumPy structured array of
+                      EVENT_DTYPE in the order they happened; None when not asked for
 
     The per-body arrays are views of one (F, N, 13) block, the layout of
     tb_scene_frame_values (include/tumble/scene.h)."""
@@ -47,6 +49,7 @@ class Frames:
     stats: dict = field(default_factory=dict)
     #: the Scene the frames came from: its bodies' names and shapes, for the files below
     source: object = field(default=None, repr=False, compare=False)
+    events: Optional[np.ndarray] = field(default=None, compare=False)
 
     def angular_momentum_about(self, point) -> np.ndarray:
         """Total angular momentum (F, 3), kg m^2/s, about `point`: a world point (3,) in m, or
@@ -284,7 +287,9 @@ class Scene:
             fps: Optional[float] = None, duration: Optional[float] = None,
             on_frame: Optional[Callable[[int, float, np.ndarray], None]] = None,
             threads: Optional[int] = None, max_steps: Optional[int] = None,
-            sleeping: Optional[bool] = None) -> "Frames":
+            sleeping: Optional[bool] = None, events: bool = False,
+            on_event: Optional[Callable[[dict], None]] = None,
+            hit_speed: float = 0.0) -> "Frames":
         """Simulates the scene from its initial state for `duration` seconds (the file's settings
         unless given here: method "euler", "midpoint", "rk4", "cvode-adams" or "cvode-bdf"; dt in
         s for the fixed-step methods, rtol and atol for CVODE, frames per second fps) and returns
@@ -298,6 +303,10 @@ class Scene:
         every method (the scene file's, default 100000). sleeping: whether islands of resting
         bodies sleep (default: the file's "sleeping", itself true by default;
         tb_scene_set_sleeping); stats["asleep"] says how many bodies were asleep at the end.
+        events: keep the contact events (docs/events.md) in frames.events; on_event(event) is
+        called with each as it happens (a dict of EVENT_DTYPE's fields), at a step boundary:
+        an exception from it stops nothing, and is raised when the run ends. hit_speed (m/s):
+        hits closing slower are left out (begins and ends never).
         Raises TumbleError if the integrator refuses the settings or the run fails;
         a KeyboardInterrupt (Ctrl-C, seen at the next frame) or an exception from on_frame stops
         the run, and the frames made so far are on the exception's `frames` attribute."""
@@ -308,6 +317,8 @@ class Scene:
             if sleeping is not None:
                 lib.tb_scene_set_sleeping(handle, bool(sleeping))
             recorder = _Recorder(handle, run, self.masses, on_frame)
+            listener = _events.Listener(handle, self.body_names, hit_speed, on_event) \
+                if events or on_event is not None else None
             stats, error = _native.IntegratorStats(), _native.Error()
             with deferred_interrupt() as recorder.interrupt:
                 status = lib.tb_scene_run(handle, ctypes.byref(run), recorder.callback, None,
@@ -317,6 +328,10 @@ class Scene:
             lib.tb_scene_destroy(handle)
         frames = recorder.frames(self, stats)
         frames.stats["asleep"] = asleep.value
+        if listener is not None:
+            frames.events = listener.array() if events else None
+            if recorder.failure is None and listener.failure is not None:
+                recorder.failure = listener.failure
         if recorder.failure is None and recorder.interrupt.pending and status == 0:
             recorder.failure = KeyboardInterrupt()  # came after the last frame
         if recorder.failure is not None:

@@ -1,0 +1,80 @@
+/* Contact events: when two bodies begin and end touching, and how hard they hit, handed to a
+ * callback as the scene is stepped (a sound, a particle burst, a score). Units SI, vectors in the
+ * world frame. docs/events.md describes the timing and the impulse and names their tests. */
+#ifndef TUMBLE_CONTACT_EVENTS_H
+#define TUMBLE_CONTACT_EVENTS_H
+
+#include "tumble/export.h"
+
+#include "tumble/effects.h" /* TB_WORLD */
+#include "tumble/scene.h"
+#include "tumble/status.h"
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* What happened to a pair. At one time the order is begin, hit, end. */
+typedef enum tb_contact_event_kind {
+    TB_CONTACT_BEGIN = 0, /* the pair's deepest point went from apart (gap > 0) to touching */
+    TB_CONTACT_HIT = 1,   /* a begin whose approach speed is at least the hit threshold */
+    TB_CONTACT_END = 2,   /* the pair went from touching to apart */
+} tb_contact_event_kind;
+
+/* "begin", "hit", "end"; "unknown" for any other value. */
+TB_API const char *tb_contact_event_kind_name(tb_contact_event_kind kind);
+
+/* One event of a pair of bodies (contact between bodies, tb_scene_add_contact) or of a body and
+ * a ground plane (tb_scene_add_ground: body_b is TB_WORLD). */
+typedef struct tb_contact_event {
+    tb_contact_event_kind kind;
+    double t;              /* s: where the pair's gap crosses zero (docs/events.md) */
+    size_t body_a, body_b; /* body ids, body_a < body_b; body_b TB_WORLD for a ground plane */
+    double point[3];       /* m, world: the pair's deepest point */
+    double normal[3];      /* unit, world, from body_a to body_b (into the ground for a plane) */
+    double speed;          /* m/s: the normal speed at which the pair closes (begin, hit) or
+                              separates (end) at t, >= 0 */
+    double impulse;        /* N s: the normal impulse over the whole contact, at end; 0 else */
+    size_t effect; /* the contact effect's or ground plane's index among the scene's effects */
+} tb_contact_event;
+
+/* Called at step boundaries (after a fixed step, at an adaptive method's step or event stop),
+ * never inside a derivative; events come in the order of t, then body_a, body_b, effect, kind. It
+ * must not change the scene (it is given none) and must not step the scene's integrator. */
+typedef void (*tb_contact_event_fn)(const tb_contact_event *event, void *ctx);
+
+typedef struct tb_contact_events_def {
+    tb_contact_event_fn fn; /* required */
+    void *ctx;              /* handed to fn */
+    double hit_threshold;   /* m/s, >= 0: hits closing slower are not reported; default 0 */
+    size_t pair_capacity;   /* pairs watched before the list grows (at a step boundary);
+                               0 (default): 4 per body + 16 */
+    int internal_cookie;
+} tb_contact_events_def;
+
+TB_API tb_contact_events_def tb_contact_events_def_default(void);
+
+/* Starts reporting the events of every contact effect and ground plane of the scene, from the
+ * next integrator made for it (tb_scene_integrator_create, tb_scene_run), to def->fn. Refuses
+ * (changing nothing) a NULL def or fn (TB_STATUS_NULL_POINTER), a def not from
+ * tb_contact_events_def_default, a negative threshold (TB_STATUS_INVALID_ARGUMENT), a NaN or
+ * infinite one (TB_STATUS_NOT_FINITE); TB_STATUS_BUSY while an integrator steps the scene.
+ * Setting again replaces the callback and forgets the pairs watched. */
+TB_API tb_status tb_scene_set_contact_events(tb_scene *scene, const tb_contact_events_def *def);
+
+/* Stops reporting events and frees what they used (NULL is fine). */
+TB_API void tb_scene_clear_contact_events(tb_scene *scene);
+
+/* Whether the events are whole: TB_STATUS_OUT_OF_MEMORY when the list of watched pairs could
+ * not grow at some step boundary (pairs beyond it were not watched: events may be missing),
+ * with the pairs left out, summed over the boundaries, in *out_dropped (may be NULL);
+ * TB_STATUS_OK otherwise. (tests/test_contact_events_memory.c) */
+TB_API tb_status tb_scene_contact_events_status(const tb_scene *scene, size_t *out_dropped);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

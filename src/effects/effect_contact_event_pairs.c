@@ -1,0 +1,115 @@
+/* The pairs contact events watch (tb__effect_ops.event_pairs, scene/contact_event_watch.c): of
+ * contact between bodies, the pairs within TB__EVENT_LOOKAHEAD (the events' pair finder) at
+ * their deepest manifold point; of a ground plane, each body with contact points at its lowest
+ * point, body_b TB_WORLD and the normal into the ground. Called at step boundaries only. */
+#include "effects/contact_events.h"
+
+#include "contact/contact_pairs.h"
+#include "math/tb_math.h"
+
+#include <math.h>
+
+/* Pairs handled per batch of a pass (a stack buffer). */
+#define TB__EVENT_PAIR_BATCH 16
+
+/* The pair's deepest point, its gap and the relative normal speed and inverse mass there. */
+static tb__event_pair event_pair(const tb_scene *scene, const double *y,
+                                 const tb__pair_contact *pair)
+{
+    const tb__contact_point *deepest = &pair->manifold.points[0];
+    for (int j = 1; j < pair->manifold.count; ++j) {
+        if (pair->manifold.points[j].depth > deepest->depth) {
+            deepest = &pair->manifold.points[j];
+        }
+    }
+    tb__event_pair out = {.body_a = pair->body_a, .body_b = pair->body_b, .gap = -deepest->depth};
+    tb__v3_copy(out.point, deepest->position);
+    tb__v3_copy(out.normal, pair->manifold.normal);
+    const size_t ids[2] = {pair->body_a, pair->body_b};
+    for (int k = 0; k < 2; ++k) {
+        tb__motion motion;
+        tb__body_motion(&scene->bodies[ids[k]], y + TB_STATE_SIZE * ids[k], &motion);
+        double arm[3], velocity[3];
+        for (int i = 0; i < 3; ++i) {
+            arm[i] = deepest->position[i] - motion.x[i];
+        }
+        tb__point_velocity(&motion, arm, velocity);
+        out.gap_rate += (k == 0 ? -1.0 : 1.0) * tb__v3_dot(velocity, out.normal);
+        out.inverse_mass +=
+            tb__inverse_mass_along(&scene->bodies[ids[k]], &motion, arm, out.normal);
+    }
+    return out;
+}
+
+size_t tb__contact_event_pairs(const tb__effect *effect, const tb_scene *scene, const double *y,
+                               tb__event_pair *out, size_t capacity)
+{
+    tb__contact_pairs *pairs = tb__contact_of(effect)->lookahead;
+    tb__pair_contact batch[TB__EVENT_PAIR_BATCH];
+    tb__contact_pairs_begin(pairs, scene, y);
+    size_t count, total = 0;
+    while ((count = tb__contact_pairs_next(pairs, scene, y, batch, TB__EVENT_PAIR_BATCH)) > 0) {
+        for (size_t k = 0; k < count; ++k, ++total) {
+            if (total < capacity) {
+                out[total] = event_pair(scene, y, &batch[k]);
+            }
+        }
+    }
+    return total;
+}
+
+/* Body `body`'s points [first, end) against the plane: the lowest one's pair. */
+static tb__event_pair ground_pair(const tb__ground_params *ground, const tb_scene *scene,
+                                  const double *y, size_t first, size_t end)
+{
+    const size_t body = scene->contacts[first].body;
+    tb__motion motion;
+    tb__body_motion(&scene->bodies[body], y + TB_STATE_SIZE * body, &motion);
+    tb__event_pair out = {
+        .body_a = body, .body_b = TB_WORLD, .gap = INFINITY, .gravity = ground->gravity};
+    double lowest[3] = {0.0, 0.0, 0.0};
+    for (size_t j = first; j < end; ++j) {
+        const tb__contact *c = &scene->contacts[j];
+        double arm[3];
+        tb__point_arm(&motion, c->r, arm);
+        tb__v3_axpy(arm, -c->radius, ground->normal); /* the sphere's lowest point */
+        const double height =
+            tb__v3_dot(ground->normal, motion.x) + tb__v3_dot(ground->normal, arm) - ground->offset;
+        if (height < out.gap) {
+            out.gap = height;
+            tb__v3_copy(lowest, arm);
+        }
+    }
+    double velocity[3];
+    tb__point_velocity(&motion, lowest, velocity);
+    out.gap_rate = tb__v3_dot(velocity, ground->normal);
+    for (int k = 0; k < 3; ++k) {
+        out.point[k] = motion.x[k] + lowest[k];
+        out.normal[k] = -ground->normal[k];
+    }
+    out.inverse_mass =
+        tb__inverse_mass_along(&scene->bodies[body], &motion, lowest, ground->normal);
+    return out;
+}
+
+size_t tb__ground_event_pairs(const tb__effect *effect, const tb_scene *scene, const double *y,
+                              tb__event_pair *out, size_t capacity)
+{
+    size_t total = 0, first = 0;
+    while (first < scene->contact_count) {
+        size_t end = first + 1;
+        while (end < scene->contact_count &&
+               scene->contacts[end].body == scene->contacts[first].body) {
+            ++end;
+        }
+        const tb__event_pair pair = ground_pair(tb__ground_of(effect), scene, y, first, end);
+        if (pair.gap < TB__EVENT_LOOKAHEAD) {
+            if (total < capacity) {
+                out[total] = pair;
+            }
+            ++total;
+        }
+        first = end;
+    }
+    return total;
+}
