@@ -10,9 +10,10 @@
 #   python    build-shared/: a shared libtumble, its install consumers, the sdist, the wheel pip
 #             builds from it, repaired and run with the system's libraries hidden, the Python
 #             tests against the installed wheel, the README's own install.
-#   sanitize  build-sanitize/ (gcc, Debug) and build-clang/ (clang, with float-cast-overflow and
-#             the fuzz targets): every ctest again under AddressSanitizer and
-#             UndefinedBehaviorSanitizer, then a short reproducible run of each fuzz target.
+#   sanitize  build-sanitize/ (gcc, Debug: the suites valgrind did not check) and build-clang/
+#             (clang, with float-cast-overflow and the fuzz targets: every suite): the ctests
+#             again under AddressSanitizer and UndefinedBehaviorSanitizer, and a short
+#             reproducible run of each fuzz target.
 # The exports and python parts wait on the network, on pip's and CMake's single-threaded steps
 # and on Blender's one core most of their time, so they run in the background (python from the
 # end of the static build, exports from the end of its ctests) beside the CPU-bound builds and
@@ -121,24 +122,36 @@ python_part() {
 # suites have their own cuts under TUMBLE_SANITIZE (tests/CMakeLists.txt). The style checks
 # (label style: clang-format, the sizes) read the sources, the same in every build: the static
 # build runs them.
-sanitized_ctest() { # build directory
+sanitized_ctest() { # build directory, [more ctest arguments]
+    local build=$1
+    shift
     ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
-        TUMBLE_TEST_SHORT=1 ctest --test-dir "$1" --output-on-failure -j "$(nproc)" -LE style
+        TUMBLE_TEST_SHORT=1 ctest --test-dir "$build" --output-on-failure -j "$(nproc)" -LE style "$@"
 }
 
 # The static build and its ctests first: the quickest answer, and the exports need build/.
 scripts/build.sh -DTUMBLE_WARNINGS_AS_ERRORS=ON
 start_part python build-shared/test-python.log python_part
 ctest --test-dir build --output-on-failure -j "$(nproc)"
+# the suites memcheck ran (read before the exports reconfigure build/)
+memchecked=$(ctest --test-dir build -N -L memcheck | sed -n 's/^ *Test *#[0-9]*: memcheck_//p' |
+    paste -sd '|')
 start_part exports build/test-exports.log exports_part
 
-# The whole suite again under AddressSanitizer and UndefinedBehaviorSanitizer.
+# The suite again under AddressSanitizer and UndefinedBehaviorSanitizer (gcc, Debug), but for
+# the suites valgrind memcheck already ran in the static build (the memcheck_<suite> ctests: no
+# leak, no invalid heap access there): those run under both sanitizers in the clang build below,
+# so every suite still runs under ASan and UBSan once, and the memcheck suites under valgrind too.
 cmake -S . -B build-sanitize -G Ninja -DTUMBLE_WARNINGS_AS_ERRORS=ON -DTUMBLE_SANITIZE=ON \
     -DCMAKE_BUILD_TYPE=Debug >/dev/null
 cmake --build build-sanitize
-sanitized_ctest build-sanitize
+if [ -n "$memchecked" ]; then
+    sanitized_ctest build-sanitize -E "^($memchecked)\$"
+else # no valgrind: every suite here too
+    sanitized_ctest build-sanitize
+fi
 
-# The whole suite again built by clang, whose UndefinedBehaviorSanitizer also checks
+# Every suite again, built by clang, whose UndefinedBehaviorSanitizer also checks
 # float-to-integer conversions that overflow (float-cast-overflow; gcc's does not), with the
 # fuzz targets as libFuzzer programs: ctest replays their seed corpora and regression inputs,
 # and beside it a short reproducible run of each (fixed seed, a fixed number of inputs, one
