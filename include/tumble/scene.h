@@ -55,12 +55,21 @@ TB_API const char *tb_scene_body_name(const tb_scene *scene, size_t id);
 /* The id of the body called name; TB_STATUS_OUT_OF_RANGE if there is none. */
 TB_API tb_status tb_scene_find_body(const tb_scene *scene, const char *name, size_t *out_id);
 
-/* The flat state array: tb_scene_state_size() doubles; body i at [13 i, 13 i + 13), then
- * the states some effects own (ground friction: 2 per contact point). Owned by the scene;
- * valid until the next tb_scene_add_body, tb_scene_add_ground or
- * tb_scene_set_contact_points, which may move it and reset the effects' states. */
+/* The flat state array: tb_scene_state_size() doubles; the body in slot k at [13 k, 13 k + 13),
+ * then the states some effects own (ground friction: 2 per contact point). Only dynamic bodies
+ * have a slot (tb_scene_body_slot), given in the order they were added: in a scene of dynamic
+ * bodies alone body i's slot is i. Owned by the scene; valid until the next tb_scene_add_body,
+ * tb_scene_add_ground or tb_scene_set_contact_points, which may move it and reset the effects'
+ * states. */
 TB_API double *tb_scene_states(tb_scene *scene);
 TB_API size_t tb_scene_state_size(const tb_scene *scene);
+
+/* A body without a state in the state array (static or keyframed): its slot. */
+#define TB_NO_SLOT ((size_t)-1)
+
+/* Body id's slot: its 13 states are y[13 slot .. 13 slot + 13); TB_NO_SLOT for a body with no
+ * state (a static or keyframed body, whose motion the read-outs give). */
+TB_API tb_status tb_scene_body_slot(const tb_scene *scene, size_t id, size_t *out_slot);
 TB_API const double *tb_scene_states_const(const tb_scene *scene);
 
 /* Reads or writes one body's state. set validates it (finite, unit quaternion within 1e-4,

@@ -88,7 +88,8 @@ static tb_status check_pair(const tb__contact_params *contact, const tb_scene *s
     for (int j = 0; j < pair->manifold.count; ++j) {
         depth = fmax(depth, pair->manifold.points[j].depth);
     }
-    const tb__body *a = &scene->bodies[pair->body_a], *b = &scene->bodies[pair->body_b];
+    const tb__body *a = tb__body_constants(scene, pair->body_a);
+    const tb__body *b = tb__body_constants(scene, pair->body_b);
     const double limit = TB__CONTACT_START_DEPTH_WEIGHTS * weight_depth(contact, a, b);
     if (!(depth > limit)) {
         return TB_STATUS_OK;

@@ -289,7 +289,7 @@ static void hold_pair(tb__friction_pool *pool, const tb_scene *scene, const doub
                       const tb__pair_contact *pair, size_t *fresh)
 {
     tb__motion motion;
-    tb__body_motion(&scene->bodies[pair->body_a], y + TB_STATE_SIZE * pair->body_a, &motion);
+    tb__body_motion_at(scene, scene->time, y, pair->body_a, &motion);
     double keys[TB__MANIFOLD_POINTS][3];
     bool touching[TB__MANIFOLD_POINTS];
     size_t slots[TB__MANIFOLD_POINTS];

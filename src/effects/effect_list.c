@@ -85,8 +85,10 @@ tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect)
     }
     const size_t index = scene->effect_count;
     scene->effects[scene->effect_count++] = *effect;
+    scene->effects[index].slot =
+        effect->body < scene->body_count ? tb__body_slot(scene, effect->body) : TB_NO_SLOT;
     if (effect->states_per_contact > 0 || effect->fixed_states > 0) {
-        status = tb__scene_layout_states(scene, scene->body_count);
+        status = tb__scene_layout_states(scene, scene->slot_count);
         if (status != TB_STATUS_OK) {
             scene->effect_count--;
             return status;

@@ -71,7 +71,7 @@ static tb_status reserve_bodies(tb_scene *scene, size_t capacity)
         return TB_STATUS_OK;
     }
     if (capacity > SIZE_MAX / (TB_STATE_SIZE * sizeof(double) + sizeof(tb_mass_properties) +
-                               sizeof(tb__motion))) {
+                               sizeof(tb__motion) + 2 * sizeof(size_t))) {
         return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "%zu bodies", capacity);
     }
     tb__body *bodies = tb__realloc_array(scene->bodies, capacity, sizeof(tb__body));
@@ -91,7 +91,16 @@ static tb_status reserve_bodies(tb_scene *scene, size_t capacity)
     if (motions != NULL) {
         scene->motions = motions;
     }
-    if (bodies == NULL || props == NULL || names == NULL || motions == NULL) {
+    size_t *slots = tb__realloc_array(scene->slots, capacity, sizeof(size_t));
+    if (slots != NULL) {
+        scene->slots = slots;
+    }
+    size_t *slot_ids = tb__realloc_array(scene->slot_ids, capacity, sizeof(size_t));
+    if (slot_ids != NULL) {
+        scene->slot_ids = slot_ids;
+    }
+    if (bodies == NULL || props == NULL || names == NULL || motions == NULL || slots == NULL ||
+        slot_ids == NULL) {
         return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "room for %zu bodies", capacity);
     }
     scene->body_capacity = capacity;
@@ -115,7 +124,7 @@ static tb_status reserve_states(tb_scene *scene, size_t size)
     return TB_STATUS_OK;
 }
 
-tb_status tb__scene_layout_states(tb_scene *scene, size_t body_count)
+tb_status tb__scene_layout_states(tb_scene *scene, size_t slot_count)
 {
     tb_status status = tb__scene_check_idle(scene, "changing the scene's layout");
     if (status != TB_STATUS_OK) {
@@ -125,18 +134,18 @@ tb_status tb__scene_layout_states(tb_scene *scene, size_t body_count)
     for (size_t e = 0; e < scene->effect_count; ++e) {
         extra += tb__effect_state_count(&scene->effects[e], scene);
     }
-    status = reserve_states(scene, TB_STATE_SIZE * body_count + extra);
+    status = reserve_states(scene, TB_STATE_SIZE * slot_count + extra);
     if (status != TB_STATUS_OK) {
         return status;
     }
-    size_t offset = TB_STATE_SIZE * body_count;
+    size_t offset = TB_STATE_SIZE * slot_count;
     for (size_t e = 0; e < scene->effect_count; ++e) {
         scene->effects[e].state_offset = offset;
         offset += tb__effect_state_count(&scene->effects[e], scene);
     }
-    memset(scene->states + TB_STATE_SIZE * body_count, 0, extra * sizeof(double));
+    memset(scene->states + TB_STATE_SIZE * slot_count, 0, extra * sizeof(double));
     scene->extra_count = extra;
-    if (body_count > scene->body_count) {
+    if (slot_count > scene->slot_count) {
         tb__scene_layout_changed(scene, "body %zu added", scene->body_count);
     } else {
         tb__scene_layout_changed(scene, "effect-owned states laid out again (%zu contact points)",
@@ -147,7 +156,7 @@ tb_status tb__scene_layout_states(tb_scene *scene, size_t body_count)
 
 size_t tb_scene_state_size(const tb_scene *scene)
 {
-    return scene == NULL ? 0 : TB_STATE_SIZE * scene->body_count + scene->extra_count;
+    return scene == NULL ? 0 : TB_STATE_SIZE * scene->slot_count + scene->extra_count;
 }
 
 tb_status tb_scene_create(const tb_scene_def *def, tb_scene **out_scene, tb_error *out_error)
@@ -196,6 +205,8 @@ void tb_scene_destroy(tb_scene *scene)
         free(scene->states);
         free(scene->bodies);
         free(scene->motions);
+        free(scene->slots);
+        free(scene->slot_ids);
         free(scene->lane_constants);
         free(scene->states_left);
         free(scene->mass_props);
@@ -391,7 +402,7 @@ static tb_status make_room_for_body(tb_scene *scene)
     }
     if (status == TB_STATUS_OK) {
         /* Effect-owned states move up by one body and restart from zero. */
-        status = tb__scene_layout_states(scene, scene->body_count + 1);
+        status = tb__scene_layout_states(scene, scene->slot_count + 1);
     }
     return status;
 }
@@ -427,8 +438,11 @@ tb_status tb_scene_add_body(tb_scene *scene, const tb_body_def *def, size_t *out
     } else {
         snprintf(scene->names[i], TB_NAME_SIZE, "body%zu", i);
     }
-    scene->bodies[i] = constants;
-    memcpy(scene->states + TB_STATE_SIZE * i, s, sizeof s);
+    const size_t slot = scene->slot_count++;
+    scene->slots[i] = slot;
+    scene->slot_ids[slot] = i;
+    scene->bodies[slot] = constants;
+    memcpy(tb__body_state_mut(scene, scene->states, i), s, sizeof s);
     scene->body_count++;
     tb__scene_insert_name(scene, i);
     if (out_id != NULL) {
@@ -494,7 +508,7 @@ tb_status tb_scene_get_state(const tb_scene *scene, size_t id, tb_body_state *ou
 {
     tb_status status = begin_body_call(scene, id, out_state, "out_state");
     if (status == TB_STATUS_OK) {
-        memcpy(out_state, scene->states + TB_STATE_SIZE * id, sizeof *out_state);
+        memcpy(out_state, tb__body_state(scene, scene->states, id), sizeof *out_state);
     }
     return status;
 }
@@ -520,7 +534,7 @@ tb_status tb_scene_set_state(tb_scene *scene, size_t id, const tb_body_state *st
                               "state of body %zu: P / M or I^-1 L overflows (|P| %g, |L| %g)", id,
                               tb__v3_norm(state->P), tb__v3_norm(state->L));
     }
-    double *s = scene->states + TB_STATE_SIZE * id;
+    double *s = tb__body_state_mut(scene, scene->states, id);
     memcpy(s, values, TB_STATE_SIZE * sizeof(double));
     const double norm = tb__q_norm(state->q);
     for (int k = 0; k < 4; ++k) {
@@ -542,11 +556,11 @@ tb_status tb_scene_set_velocity(tb_scene *scene, size_t id, const double velocit
     }
     double q[4], P[3], L[3];
     if (status == TB_STATUS_OK) {
-        tb__unit_quaternion(scene->states, id, q);
+        tb__unit_quaternion(tb__body_state(scene, scene->states, id), 0, q);
         status = momenta(scene, &scene->mass_props[id], q, velocity, angular_velocity, "", P, L);
     }
     if (status == TB_STATUS_OK) {
-        double *s = scene->states + TB_STATE_SIZE * id;
+        double *s = tb__body_state_mut(scene, scene->states, id);
         tb__v3_copy(s + TB_STATE_P, P);
         tb__v3_copy(s + TB_STATE_L, L);
         tb__scene_wake_body(scene, id);

@@ -86,8 +86,8 @@ static void remember_state(tb_scene *scene)
  * whose lowest pair, carrying every weight above it, is deeper than a start may be. */
 static bool poses_changed(const tb_scene *scene)
 {
-    for (size_t id = 0; id < scene->body_count; ++id) {
-        const size_t k = TB_STATE_SIZE * id + TB_STATE_X;
+    for (size_t slot = 0; slot < scene->slot_count; ++slot) {
+        const size_t k = TB_STATE_SIZE * slot + TB_STATE_X;
         if (memcmp(scene->states_left + k, scene->states + k,
                    (TB_STATE_P - TB_STATE_X) * sizeof(double)) != 0) {
             return true;
@@ -253,7 +253,7 @@ tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
             return TB_STATUS_OUT_OF_MEMORY;
         }
         if (kernels != NULL) {
-            out_system->lanes = tb__lanes_for(scene->body_count);
+            out_system->lanes = tb__lanes_for(scene->slot_count);
             out_system->lanes_derivative = kernels->derivative;
             out_system->lanes_post_step = scene->renormalize ? kernels->normalize : NULL;
         }
@@ -286,8 +286,8 @@ tb_status tb_scene_absolute_tolerances(const tb_scene *scene, double scale, doub
         return tb__scene_fail((tb_scene *)scene, TB_STATUS_INVALID_ARGUMENT,
                               "scale: must be finite and > 0, got %g", scale);
     }
-    for (size_t i = 0; i < scene->body_count; ++i) {
-        const tb_mass_properties *props = &scene->mass_props[i];
+    for (size_t i = 0; i < scene->slot_count; ++i) {
+        const tb_mass_properties *props = &scene->mass_props[scene->slot_ids[i]];
         const double largest = fmax(props->moments[0], fmax(props->moments[1], props->moments[2]));
         const double length = sqrt(largest / props->mass);
         const double block[TB_STATE_SIZE] = {length,
