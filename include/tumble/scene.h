@@ -70,6 +70,15 @@ TB_API size_t tb_scene_state_size(const tb_scene *scene);
 /* Body id's slot: its 13 states are y[13 slot .. 13 slot + 13); TB_NO_SLOT for a body with no
  * state (a static or keyframed body, whose motion the read-outs give). */
 TB_API tb_status tb_scene_body_slot(const tb_scene *scene, size_t id, size_t *out_slot);
+
+/* How body id moves (tb_body_def.motion). Every read-out that takes (y, id) works for every
+ * kind: a static body's pose with zero velocities; tb_scene_get_state gives a static body's
+ * pose and zero momenta. tb_scene_set_state, tb_scene_set_velocity and per-body loads
+ * (forces, torques, drag on one body) refuse a body that is not dynamic
+ * (TB_STATUS_INVALID_ARGUMENT, the detail naming it and its kind); per-body effects on every
+ * body (gravity, drag) act on dynamic bodies only. */
+TB_API tb_status tb_scene_body_motion_kind(const tb_scene *scene, size_t id,
+                                           tb_body_motion *out_motion);
 TB_API const double *tb_scene_states_const(const tb_scene *scene);
 
 /* Reads or writes one body's state. set validates it (finite, unit quaternion within 1e-4,

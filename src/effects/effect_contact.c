@@ -132,7 +132,7 @@ static void pair_loads(const tb__effect *effect, const tb_scene *scene, const do
     m.body[0] = tb__derivative_motion(scene, pair->body_a);
     m.body[1] = tb__derivative_motion(scene, pair->body_b);
     m.light = fmin(a->mass, b->mass);
-    m.reduced = a->mass * b->mass / (a->mass + b->mass);
+    m.reduced = tb__reduced_mass(a->mass, b->mass);
     pair_masses(scene, pair, &m);
     size_t slots[TB__MANIFOLD_POINTS];
     tb__friction_match(effect->params.contact.friction, pair, m.body[0], fresh, slots);
@@ -227,7 +227,7 @@ static void contact_bounds(const tb__contact_params *contact, const tb_scene *sc
         const size_t id = contact->bodies[k];
         const tb__collision_shape *shape =
             id < scene->body_count ? tb__scene_body_collision_shape(scene, id) : NULL;
-        if (shape == NULL) {
+        if (shape == NULL || tb__body_fixed(scene, id)) { /* no mass: the partner's alone */
             continue;
         }
         const double normal = lightness(scene, y, id, true);

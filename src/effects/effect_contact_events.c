@@ -82,7 +82,9 @@ void tb__contact_event_gaps(const tb__effect *effect, const tb_scene *scene, con
  * other as a fixed body, so the pair must not touch before its island wakes. */
 static bool mixed(const tb_scene *scene, const tb__pair_contact *pair)
 {
-    return tb__body_asleep(scene, pair->body_a) != tb__body_asleep(scene, pair->body_b);
+    /* a static body has no island to wake */
+    return tb__body_asleep(scene, pair->body_a) != tb__body_asleep(scene, pair->body_b) &&
+           !tb__body_static(scene, pair->body_a) && !tb__body_static(scene, pair->body_b);
 }
 
 static bool any_asleep(const tb_scene *scene)

@@ -207,7 +207,7 @@ void tb__friction_match(const tb__friction_pool *pool, const tb__pair_contact *p
 /* A claimed slot between two asleep bodies: frozen, kept claimed. */
 static bool slot_asleep(const tb__friction_slot *slot, const tb_scene *scene)
 {
-    return slot->body_a != TB__NO_SLOT && tb__pair_asleep(scene, slot->body_a, slot->body_b);
+    return slot->body_a != TB__NO_SLOT && tb__pair_resting(scene, slot->body_a, slot->body_b);
 }
 
 void tb__friction_relax_all(const tb__friction_pool *pool, const tb_scene *scene, const double *z,

@@ -49,6 +49,9 @@ static tb_status validate(tb_scene *scene, size_t id, const tb_contact_point *po
         return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "points is NULL (count %zu)", count);
     }
     tb_status status = tb__scene_check_id(scene, id, "id");
+    if (status == TB_STATUS_OK) { /* a ground plane pushes bodies that can move */
+        status = tb__scene_check_dynamic(scene, id, "id");
+    }
     if (status == TB_STATUS_OK) {
         status = check_points(scene, id, points, count);
     }

@@ -77,6 +77,10 @@ tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect)
            !(effect->ops->couples_bodies || effect->ops->owns_states));
     assert((effect->ops->apply == NULL) != (effect->ops->apply_bodies == NULL));
     tb_status status = tb__scene_check_idle(scene, "adding an effect");
+    if (status == TB_STATUS_OK && effect->ops->apply_bodies != NULL &&
+        effect->body < scene->body_count) { /* a load on one body needs its state */
+        status = tb__scene_check_dynamic(scene, effect->body, "id");
+    }
     if (status == TB_STATUS_OK) {
         status = grow(scene);
     }

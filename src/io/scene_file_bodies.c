@@ -159,6 +159,25 @@ static tb_status load_motion(tb__loader *ld, const json_t *body, const char *pat
     return status;
 }
 
+/* "motion": "dynamic" (the default) or "static". */
+static tb_status load_motion_kind(tb__loader *ld, const json_t *body, const char *path,
+                                  tb_body_motion *out)
+{
+    const char *motion = NULL;
+    tb_status status = tb__json_string(ld, body, path, "motion", false, &motion);
+    if (status != TB_STATUS_OK || motion == NULL || strcmp(motion, "dynamic") == 0) {
+        return status;
+    }
+    if (strcmp(motion, "static") == 0) {
+        *out = TB_MOTION_STATIC;
+        return TB_STATUS_OK;
+    }
+    char where[160];
+    snprintf(where, sizeof where, "%s.motion", path);
+    return tb__load_fail(ld, TB_STATUS_BAD_SCENE, where,
+                         "\"%s\" is not a motion: \"dynamic\" or \"static\"", motion);
+}
+
 static tb_status add_body(tb__loader *ld, const char *path, tb__body_build *b)
 {
     size_t id;
@@ -166,7 +185,8 @@ static tb_status add_body(tb__loader *ld, const char *path, tb__body_build *b)
     if (status != TB_STATUS_OK) {
         return tb__load_fail(ld, TB_STATUS_BAD_SCENE, path, "%s", tb_scene_detail(ld->scene));
     }
-    if (b->has_contacts) {
+    if (b->has_contacts && b->def.motion == TB_MOTION_DYNAMIC) { /* the ground's, for bodies
+                                                                     that can move */
         const tb_contact_point *points = b->contacts.many ? b->contacts.many : b->contacts.points;
         status = tb_scene_set_contact_points(ld->scene, id, points, b->contacts.count,
                                              b->contacts.support);
@@ -197,6 +217,7 @@ static tb_status load_body(tb__loader *ld, const json_t *body, const char *path)
                                        "angular_velocity",
                                        "angular_velocity_body",
                                        "contact",
+                                       "motion",
                                        NULL};
     tb__body_build b;
     memset(&b, 0, sizeof b);
@@ -212,6 +233,9 @@ static tb_status load_body(tb__loader *ld, const json_t *body, const char *path)
             tb__load_fail(ld, TB_STATUS_BAD_SCENE, path,
                           "name: \"%s\" is already the name of bodies[%zu]", b.def.name, existing);
     }
+    if (status == TB_STATUS_OK) {
+        status = load_motion_kind(ld, body, path, &b.def.motion);
+    }
     const bool shaped = json_object_get(body, "shape") != NULL;
     if (status == TB_STATUS_OK && shaped &&
         (json_object_get(body, "inertia") || json_object_get(body, "center"))) {
@@ -222,7 +246,8 @@ static tb_status load_body(tb__loader *ld, const json_t *body, const char *path)
         status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, path,
                                "density: applies to a shape; with inertia give mass");
     }
-    if (status == TB_STATUS_OK) {
+    const bool needs_mass = b.def.motion == TB_MOTION_DYNAMIC || json_object_get(body, "mass");
+    if (status == TB_STATUS_OK && (shaped || needs_mass)) {
         status = shaped ? tb__load_shape(ld, body, path, &b) : load_inertia(ld, body, path, &b);
     }
     if (status == TB_STATUS_OK) {

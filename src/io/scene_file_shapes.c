@@ -317,9 +317,12 @@ tb_status tb__load_shape(tb__loader *ld, const json_t *body, const char *path, t
         }
         return load_points(ld, shape, shape_path, b);
     }
-    tb_mass_mode mode = TB_MASS_GIVEN;
-    double value = 0.0;
-    status = mass_mode(ld, body, path, &mode, &value);
+    tb_mass_mode mode = TB_MASS_DENSITY;
+    double value = 1.0; /* a body with no state needs no mass: any will do, it is ignored */
+    if (b->def.motion == TB_MOTION_DYNAMIC || json_object_get(body, "mass") ||
+        json_object_get(body, "density")) {
+        status = mass_mode(ld, body, path, &mode, &value);
+    }
     tb_error error;
     tb__clear_error(&error);
     if (status != TB_STATUS_OK) {

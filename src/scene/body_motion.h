@@ -3,6 +3,15 @@
 #ifndef TUMBLE_BODY_MOTION_H
 #define TUMBLE_BODY_MOTION_H
 
+#include <math.h>
+
+/* What the accessor reads for a body with no slot: its kind, and a static body's pose. */
+typedef struct tb__body_kind {
+    tb_body_motion motion;
+    double x[3]; /* the centre (the shape origin), world, m */
+    double q[4]; /* principal (= shape) -> world, unit */
+} tb__body_kind;
+
 /* Body id's slot (the index of its 13 doubles in y), or TB_NO_SLOT. */
 static inline size_t tb__body_slot(const tb_scene *scene, size_t id)
 {
@@ -20,6 +29,52 @@ static inline double *tb__body_state_mut(const tb_scene *scene, double *y, size_
 {
     const size_t slot = scene->slots[id];
     return slot == TB_NO_SLOT ? NULL : y + TB_STATE_SIZE * slot;
+}
+
+/* Whether body id has no state (static or keyframed): it cannot be moved by the laws. */
+static inline bool tb__body_fixed(const tb_scene *scene, size_t id)
+{
+    return scene->slots[id] == TB_NO_SLOT;
+}
+
+/* Whether body id is static (it never moves, at any t). */
+static inline bool tb__body_static(const tb_scene *scene, size_t id)
+{
+    return scene->kinds[id].motion == TB_MOTION_STATIC;
+}
+
+/* Whether both bodies of a pair rest: each asleep or static (the narrow phase skips it, and
+ * the friction between them stays frozen). */
+static inline bool tb__pair_resting(const tb_scene *scene, size_t a, size_t b)
+{
+    return (tb__body_static(scene, a) || tb__body_asleep(scene, a)) &&
+           (tb__body_static(scene, b) || tb__body_asleep(scene, b));
+}
+
+/* What tb_body_def_default writes into internal_cookie (scene.c), checked here. */
+#define TB__BODY_COOKIE 0xb0d1e5
+
+/* A body def checked (cookie, name, mass for a dynamic body, pose, velocities; body_def.c),
+ * and the constants the derivative divides by from its mass properties (a mass or moment
+ * whose inverse overflows refused, naming the field). */
+tb_status tb__scene_validate_body_def(tb_scene *scene, const tb_body_def *def);
+tb_status tb__scene_body_constants(tb_scene *scene, const tb_mass_properties *props, tb__body *out);
+
+/* A non-dynamic body's def checked (a known kind; a static body without velocities) and its
+ * kind made (the pose of def, principal frame = shape frame); the detail names what is wrong. */
+tb_status tb__body_kind_from_def(tb_scene *scene, const tb_body_def *def, tb__body_kind *out);
+/* The mass properties of a body that cannot move: infinite mass and moments, centre at the
+ * shape origin, principal frame the shape frame. */
+tb_mass_properties tb__fixed_mass_properties(void);
+/* TB_STATUS_INVALID_ARGUMENT, with a detail naming body id and its kind, when it is not dynamic
+ * (`what` names the refused change: "set_state", "a force"). */
+tb_status tb__scene_check_dynamic(const tb_scene *scene, size_t id, const char *what);
+
+/* The reduced mass m_a m_b / (m_a + m_b) of two bodies' masses (kg), m_a where m_b is infinite
+ * (a body that cannot move), and the reverse. */
+static inline double tb__reduced_mass(double a, double b)
+{
+    return isinf(b) ? a : isinf(a) ? b : a * b / (a + b);
 }
 
 /* Body id's constants: a dynamic body's, or for a body that cannot move an infinitely heavy

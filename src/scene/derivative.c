@@ -126,6 +126,11 @@ int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
     }
     const size_t n = scene->slot_count;
     kinematics(scene->bodies, y, dydt, n, scene->motions, scene->slot_ids);
+    for (size_t id = 0; n < scene->body_count && id < scene->body_count; ++id) {
+        if (tb__body_fixed(scene, id)) { /* the bodies with no state, at t */
+            tb__body_motion_at(scene, t, y, id, &scene->motions[id]);
+        }
+    }
     int rc = apply_per_body_effects(scene, t, y, dydt, 0, n);
     /* then the coupled effects, last in effect_order */
     const size_t first_coupled = scene->effect_count - scene->coupled_effect_count;

@@ -14,7 +14,6 @@
 #include <string.h>
 
 #define TB__SCENE_COOKIE 0x5ce2e
-#define TB__BODY_COOKIE 0xb0d1e5
 
 _Static_assert(sizeof(tb_body_state) == TB_STATE_SIZE * sizeof(double),
                "tb_body_state must be 13 doubles with no padding");
@@ -71,7 +70,7 @@ static tb_status reserve_bodies(tb_scene *scene, size_t capacity)
         return TB_STATUS_OK;
     }
     if (capacity > SIZE_MAX / (TB_STATE_SIZE * sizeof(double) + sizeof(tb_mass_properties) +
-                               sizeof(tb__motion) + 2 * sizeof(size_t))) {
+                               sizeof(tb__motion) + 2 * sizeof(size_t) + sizeof(tb__body_kind))) {
         return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "%zu bodies", capacity);
     }
     tb__body *bodies = tb__realloc_array(scene->bodies, capacity, sizeof(tb__body));
@@ -99,8 +98,12 @@ static tb_status reserve_bodies(tb_scene *scene, size_t capacity)
     if (slot_ids != NULL) {
         scene->slot_ids = slot_ids;
     }
+    tb__body_kind *kinds = tb__realloc_array(scene->kinds, capacity, sizeof(tb__body_kind));
+    if (kinds != NULL) {
+        scene->kinds = kinds;
+    }
     if (bodies == NULL || props == NULL || names == NULL || motions == NULL || slots == NULL ||
-        slot_ids == NULL) {
+        slot_ids == NULL || kinds == NULL) {
         return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "room for %zu bodies", capacity);
     }
     scene->body_capacity = capacity;
@@ -207,6 +210,7 @@ void tb_scene_destroy(tb_scene *scene)
         free(scene->motions);
         free(scene->slots);
         free(scene->slot_ids);
+        free(scene->kinds);
         free(scene->lane_constants);
         free(scene->states_left);
         free(scene->mass_props);
@@ -244,77 +248,6 @@ tb_status tb__check_vector(tb_scene *scene, const double *v, const char *what)
 void tb__scene_clear_detail(const tb_scene *scene)
 {
     ((tb_scene *)scene)->detail[0] = '\0';
-}
-
-static tb_status validate_name(tb_scene *scene, const char *name)
-{
-    if (name == NULL) {
-        return TB_STATUS_OK;
-    }
-    const size_t length = strlen(name);
-    if (length == 0 || length >= TB_NAME_SIZE) {
-        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
-                              "def.name: must have 1 to %d characters, got %zu", TB_NAME_SIZE - 1,
-                              length);
-    }
-    size_t existing;
-    if (tb__scene_lookup_name(scene, name, &existing)) {
-        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
-                              "def.name: \"%s\" is already body %zu's name", name, existing);
-    }
-    return TB_STATUS_OK;
-}
-
-static tb_status validate_body_def(tb_scene *scene, const tb_body_def *def)
-{
-    if (def->internal_cookie != TB__BODY_COOKIE) {
-        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
-                              "def: not initialised by tb_body_def_default()");
-    }
-    if (validate_name(scene, def->name) != TB_STATUS_OK) {
-        return TB_STATUS_INVALID_ARGUMENT;
-    }
-    tb_error error;
-    tb_status status = tb_mass_validate(&def->mass, &error);
-    if (status != TB_STATUS_OK) {
-        return tb__scene_fail(scene, status, "def.mass.%s", error.message);
-    }
-    status = tb__check_unit_quaternion(def->orientation, "def.orientation", &error);
-    if (status != TB_STATUS_OK) {
-        return tb__scene_fail(scene, status, "%s", error.message);
-    }
-    status = tb__check_vector(scene, def->position, "def.position");
-    if (status == TB_STATUS_OK) {
-        status = tb__check_vector(scene, def->velocity, "def.velocity");
-    }
-    if (status == TB_STATUS_OK) {
-        status = tb__check_vector(scene, def->angular_velocity, "def.angular_velocity");
-    }
-    return status;
-}
-
-/* The constants the derivative divides by: a finite mass or moment whose inverse overflows
- * (a subnormal mass) is refused here, naming the field (NOT_FINITE: the value it makes is),
- * rather than turning every state into
- * infinity at the first step. */
-static tb_status body_constants(tb_scene *scene, const tb_mass_properties *props, tb__body *out)
-{
-    out->mass = props->mass;
-    out->inv_mass = 1.0 / props->mass;
-    if (!isfinite(out->inv_mass)) {
-        return tb__scene_fail(scene, TB_STATUS_NOT_FINITE,
-                              "def.mass.mass: %g kg is too small: 1/mass overflows", props->mass);
-    }
-    for (int k = 0; k < 3; ++k) {
-        out->inv_moments[k] = 1.0 / props->moments[k];
-        if (!isfinite(out->inv_moments[k])) {
-            return tb__scene_fail(scene, TB_STATUS_NOT_FINITE,
-                                  "def.mass.moments[%d]: %g kg m^2 is too small: 1/moment "
-                                  "overflows",
-                                  k, props->moments[k]);
-        }
-    }
-    return TB_STATUS_OK;
 }
 
 /* P (if not NULL) and L (if not NULL) finite, and the velocities made from them too:
@@ -390,7 +323,7 @@ static tb_status initial_state(tb_scene *scene, const tb_body_def *def, double s
 }
 
 /* Room for one more body everywhere it is kept; nothing is lost on failure. */
-static tb_status make_room_for_body(tb_scene *scene)
+static tb_status make_room_for_body(tb_scene *scene, bool dynamic)
 {
     /* first: growing the arrays would move what a step in progress is reading */
     tb_status status = tb__scene_check_idle(scene, "adding a body");
@@ -402,7 +335,7 @@ static tb_status make_room_for_body(tb_scene *scene)
     }
     if (status == TB_STATUS_OK) {
         /* Effect-owned states move up by one body and restart from zero. */
-        status = tb__scene_layout_states(scene, scene->slot_count + 1);
+        status = tb__scene_layout_states(scene, scene->slot_count + (dynamic ? 1 : 0));
     }
     return status;
 }
@@ -417,32 +350,40 @@ tb_status tb_scene_add_body(tb_scene *scene, const tb_body_def *def, size_t *out
         return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "def is NULL");
     }
     tb__body constants;
+    tb__body_kind kind = {.motion = TB_MOTION_DYNAMIC};
     double s[TB_STATE_SIZE];
-    tb_status status = validate_body_def(scene, def);
-    if (status == TB_STATUS_OK) {
-        status = body_constants(scene, &def->mass, &constants);
+    tb_status status = tb__scene_validate_body_def(scene, def);
+    const bool dynamic = def->motion == TB_MOTION_DYNAMIC;
+    if (status == TB_STATUS_OK && dynamic) {
+        status = tb__scene_body_constants(scene, &def->mass, &constants);
     }
     if (status == TB_STATUS_OK) {
-        status = initial_state(scene, def, s);
+        status = dynamic ? initial_state(scene, def, s) : tb__body_kind_from_def(scene, def, &kind);
     }
     if (status == TB_STATUS_OK) {
-        status = make_room_for_body(scene);
+        status = make_room_for_body(scene, dynamic);
     }
     if (status != TB_STATUS_OK) {
         return status;
     }
     const size_t i = scene->body_count;
-    scene->mass_props[i] = def->mass;
+    scene->mass_props[i] = dynamic ? def->mass : tb__fixed_mass_properties();
+    scene->kinds[i] = kind;
     if (def->name != NULL) {
         snprintf(scene->names[i], TB_NAME_SIZE, "%s", def->name);
     } else {
         snprintf(scene->names[i], TB_NAME_SIZE, "body%zu", i);
     }
-    const size_t slot = scene->slot_count++;
-    scene->slots[i] = slot;
-    scene->slot_ids[slot] = i;
-    scene->bodies[slot] = constants;
-    memcpy(tb__body_state_mut(scene, scene->states, i), s, sizeof s);
+    scene->slots[i] = TB_NO_SLOT;
+    if (dynamic) {
+        const size_t slot = scene->slot_count++;
+        scene->slots[i] = slot;
+        scene->slot_ids[slot] = i;
+        scene->bodies[slot] = constants;
+        memcpy(tb__body_state_mut(scene, scene->states, i), s, sizeof s);
+    } else {
+        tb__scene_layout_changed(scene, "body %zu added", i);
+    }
     scene->body_count++;
     tb__scene_insert_name(scene, i);
     if (out_id != NULL) {
@@ -507,7 +448,12 @@ static tb_status begin_body_call(const tb_scene *scene, size_t id, const void *p
 tb_status tb_scene_get_state(const tb_scene *scene, size_t id, tb_body_state *out_state)
 {
     tb_status status = begin_body_call(scene, id, out_state, "out_state");
-    if (status == TB_STATUS_OK) {
+    if (status == TB_STATUS_OK && tb__body_fixed(scene, id)) { /* its pose, no momenta */
+        tb__motion motion;
+        tb__body_motion_at(scene, scene->time, scene->states, id, &motion);
+        *out_state = (tb_body_state){.x = {motion.x[0], motion.x[1], motion.x[2]},
+                                     .q = {motion.q[0], motion.q[1], motion.q[2], motion.q[3]}};
+    } else if (status == TB_STATUS_OK) {
         memcpy(out_state, tb__body_state(scene, scene->states, id), sizeof *out_state);
     }
     return status;
@@ -516,6 +462,9 @@ tb_status tb_scene_get_state(const tb_scene *scene, size_t id, tb_body_state *ou
 tb_status tb_scene_set_state(tb_scene *scene, size_t id, const tb_body_state *state)
 {
     tb_status status = begin_body_call(scene, id, state, "state");
+    if (status == TB_STATUS_OK) {
+        status = tb__scene_check_dynamic(scene, id, "set_state");
+    }
     if (status != TB_STATUS_OK) {
         return status;
     }
@@ -548,6 +497,9 @@ tb_status tb_scene_set_velocity(tb_scene *scene, size_t id, const double velocit
                                 const double angular_velocity[3])
 {
     tb_status status = begin_body_call(scene, id, velocity, "velocity");
+    if (status == TB_STATUS_OK) {
+        status = tb__scene_check_dynamic(scene, id, "set_velocity");
+    }
     if (status == TB_STATUS_OK) {
         status = tb__check_vector(scene, velocity, "velocity");
     }

@@ -237,6 +237,7 @@ struct tb_scene {
     size_t *slots;
     size_t *slot_ids;
     size_t slot_count;
+    struct tb__body_kind *kinds; /* body_capacity, by id: each body's kind and fixed pose */
     /* The time (s) of the scene's states: 0 at creation, set where an integrator writes its
      * states back and by tb_scene_set_time; the time read-outs without a t ask bodies with no
      * state for their motion at. */

@@ -212,9 +212,10 @@ tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
     if (out_system == NULL) {
         return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "out_system is NULL");
     }
-    if (scene->body_count == 0) {
+    if (scene->slot_count == 0) { /* no body, or none with a state */
         return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
-                              "scene has no bodies: nothing to integrate");
+                              "scene has no %sbodies: nothing to integrate",
+                              scene->body_count > 0 ? "dynamic " : "");
     }
     *out_system = (tb_ode_system){
         .n = tb_scene_state_size(scene),

@@ -94,6 +94,10 @@ void tb__scene_sleep_link(const tb_scene *scene, size_t a, size_t b)
     if (sleep == NULL || a >= sleep->capacity || b >= sleep->capacity) {
         return;
     }
+    /* a body that cannot move joins no island: a table would merge every box on it into one */
+    if (tb__body_fixed(scene, a) || tb__body_fixed(scene, b)) {
+        return;
+    }
     const size_t root_a = find(sleep->parent, a), root_b = find(sleep->parent, b);
     /* the smaller id is the root, so islands are named the same whatever the link order */
     if (root_a < root_b) {
@@ -124,7 +128,9 @@ static void update_still(tb_scene *scene, const double *y, double dt)
     tb__sleep *sleep = scene->sleep;
     for (size_t i = 0; i < sleep->capacity; ++i) {
         const double *s = tb__body_state(scene, y, i);
-        if (sleep->asleep[i]) {
+        if (s == NULL) { /* static and keyframed bodies never sleep */
+            sleep->still[i] = 0.0;
+        } else if (sleep->asleep[i]) {
             const double *kept = sleep->snapshot + TB_STATE_SIZE * i;
             for (int k = 0; k < TB_STATE_SIZE; ++k) {
                 if (s[k] != kept[k]) {

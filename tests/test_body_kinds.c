@@ -1,0 +1,273 @@
+/* Body kinds: static bodies (no state, infinite mass) touch dynamic ones through the contact
+ * pipeline, and every call that would change a body with no state is refused with nothing
+ * changed. The physics: a ball at rest on a finite static table sinks by the contact's static
+ * deflection, and a ball sliding off its edge follows the ballistic arc from the edge. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "fixtures.h"
+#include "tumble/tumble.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define G 9.81
+/* A soft contact (omega = sqrt(g / penetration) = 99 rad/s) so that fixed steps of 1 ms
+ * resolve it cheaply; the static deflection M g / k of one point is this penetration. */
+#define PENETRATION 1e-3
+#define BALL_RADIUS 0.05
+#define TABLE_SIZE_X 1.2
+#define TABLE_SIZE_Y 0.8
+#define TABLE_HEIGHT 0.75
+
+/* A static box-shaped table (1.2 x 0.8 x 0.75 m) standing on z = 0, its top at z = 0.75. */
+static size_t add_table(tb_scene *scene)
+{
+    tb_body_def def = tb_body_def_default();
+    def.name = "table";
+    def.motion = TB_MOTION_STATIC;
+    def.position[2] = 0.5 * TABLE_HEIGHT;
+    size_t id = 0;
+    assert_int_equal(tb_scene_add_body(scene, &def, &id), TB_STATUS_OK);
+    tb_shape shape = tb_shape_default();
+    shape.type = TB_SHAPE_BOX;
+    shape.size[0] = TABLE_SIZE_X;
+    shape.size[1] = TABLE_SIZE_Y;
+    shape.size[2] = TABLE_HEIGHT;
+    assert_int_equal(tb_scene_set_body_shape(scene, id, &shape), TB_STATUS_OK);
+    return id;
+}
+
+/* Gravity, the table (body 0) and a 1 kg ball (body 1) at x moving at v, with a contact
+ * effect over every body (restitution 0.3, the given friction). */
+static tb_scene *table_and_ball(const double x[3], const double v[3], double friction)
+{
+    tb_scene *scene = test_empty_scene();
+    add_table(scene);
+    test_add_ball(scene, "ball", 1.0, BALL_RADIUS, x, v);
+    const double g[3] = {0, 0, -G};
+    assert_int_equal(tb_scene_add_gravity(scene, g), TB_STATUS_OK);
+    tb_contact_def contact = tb_contact_def_default();
+    contact.penetration = PENETRATION;
+    contact.static_friction = friction;
+    contact.kinetic_friction = friction;
+    contact.presliding = 1e-4; /* a friction spring as soft as the normal one */
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    return scene;
+}
+
+static void ball_position(const tb_scene *scene, double out[3])
+{
+    tb_body_state state;
+    assert_int_equal(tb_scene_get_state(scene, 1, &state), TB_STATUS_OK);
+    memcpy(out, state.x, sizeof state.x);
+}
+
+/* The methods each physics test runs under: fixed ones at the scene's default step (dt 0),
+ * which the stability guard sizes with the table counted infinitely heavy; adaptive ones at
+ * rtol 1e-7 (their atol from the bodies, scaled by rtol: 1e-7 of the ball's 2 cm radius of
+ * gyration, far below the millimetre bounds below). */
+typedef struct method_case {
+    tb_method method;
+    double dt, rtol;
+} method_case;
+
+static const method_case methods[] = {
+    {TB_METHOD_EULER, 0.0, 0.0},        {TB_METHOD_MIDPOINT, 0.0, 0.0},   {TB_METHOD_RK4, 0.0, 0.0},
+    {TB_METHOD_CVODE_ADAMS, 0.0, 1e-7}, {TB_METHOD_CVODE_BDF, 0.0, 1e-7},
+};
+
+static void test_static_body_has_no_state_and_reads_as_its_pose(void **state)
+{
+    (void)state;
+    const double x[3] = {0.0, 0.0, 1.0};
+    tb_scene *scene = table_and_ball(x, NULL, 0.5);
+    /* the state array holds the one dynamic body: the ball, in slot 0 */
+    size_t slot = 0;
+    assert_int_equal(tb_scene_body_slot(scene, 0, &slot), TB_STATUS_OK);
+    assert_true(slot == TB_NO_SLOT);
+    assert_int_equal(tb_scene_body_slot(scene, 1, &slot), TB_STATUS_OK);
+    assert_int_equal(slot, 0);
+    tb_body_motion kind = TB_MOTION_DYNAMIC;
+    assert_int_equal(tb_scene_body_motion_kind(scene, 0, &kind), TB_STATUS_OK);
+    assert_int_equal(kind, TB_MOTION_STATIC);
+    /* its pose and zero momenta; a frame row like any body's */
+    tb_body_state table;
+    assert_int_equal(tb_scene_get_state(scene, 0, &table), TB_STATUS_OK);
+    assert_true(table.x[2] == 0.5 * TABLE_HEIGHT && table.q[0] == 1.0);
+    assert_true(table.P[0] == 0.0 && table.P[1] == 0.0 && table.P[2] == 0.0);
+    double values[2 * TB_FRAME_VALUES];
+    assert_int_equal(tb_scene_frame_values(scene, tb_scene_states(scene), values), TB_STATUS_OK);
+    assert_true(values[2] == 0.5 * TABLE_HEIGHT && values[3] == 1.0);
+    for (int k = 7; k < 13; ++k) {
+        assert_true(values[k] == 0.0); /* at rest */
+    }
+    assert_true(values[TB_FRAME_VALUES + 2] == 1.0); /* the ball's row after it */
+    tb_scene_destroy(scene);
+}
+
+/* Released 0.1 mm above the table top, the ball settles where its weight is carried: its
+ * centre at top + radius - M g / k, k = M g / penetration (one manifold point), so sunk by the
+ * penetration. Tolerance 2 % of it: what is left of the bounce after 1.5 s (the damped mode
+ * decays as exp(-zeta omega t), far below) plus the step's error on the spring's equilibrium
+ * (none: the equilibrium is a fixed point of every method); the ball also falls asleep, at
+ * rest on a body that never sleeps. */
+static void test_ball_rests_on_static_table_at_its_static_deflection(void **state)
+{
+    (void)state;
+    for (size_t m = 0; m < sizeof methods / sizeof methods[0]; ++m) {
+        const double x[3] = {0.1, 0.05, TABLE_HEIGHT + BALL_RADIUS + 1e-4};
+        tb_scene *scene = table_and_ball(x, NULL, 0.5);
+        tb_integrator *integrator =
+            test_integrator_for(scene, methods[m].method, methods[m].dt, methods[m].rtol);
+        for (int frame = 1; frame <= 30; ++frame) { /* outputs: the sleep boundaries */
+            assert_int_equal(tb_integrator_advance(integrator, 0.05 * frame), TB_STATUS_OK);
+        }
+        double p[3];
+        ball_position(scene, p);
+        const double expected = TABLE_HEIGHT + BALL_RADIUS - PENETRATION;
+        if (fabs(p[2] - expected) > 0.02 * PENETRATION) {
+            fail_msg("%s: the ball rests at z = %.9g m, expected %.9g m",
+                     tb_method_name(methods[m].method), p[2], expected);
+        }
+        /* asleep on a body that never sleeps (an adaptive method applies the decision of an
+         * output at its next advance) */
+        assert_int_equal(tb_integrator_advance(integrator, 1.6), TB_STATUS_OK);
+        bool asleep = false;
+        assert_int_equal(tb_scene_body_asleep(scene, 1, &asleep), TB_STATUS_OK);
+        assert_true(asleep);
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
+/* Sliding without friction at 2 m/s along x on the table top, the ball leaves the edge
+ * (x = 0.6 m) when its centre passes it: the edge would have to pull to keep it on a circle
+ * of radius r (v^2 / r = 80 m/s^2 > g). From there it falls freely: at t_e + s it is at
+ * x = 0.6 + v s, z = z0 - g s^2 / 2. Checked at s = 0.3 s (a fall of 0.44 m): within 3 mm,
+ * the penetration-sized push of the edge's corner while the ball leaves it (a few ms of a
+ * force below M g) and the start's settling, each under 1 mm; under Euler plus its own
+ * error g s h / 2 on the fall. */
+static void test_ball_slides_off_static_table_on_the_ballistic_arc(void **state)
+{
+    (void)state;
+    for (size_t m = 0; m < sizeof methods / sizeof methods[0]; ++m) {
+        const double speed = 2.0, start = 0.2;
+        const double z0 = TABLE_HEIGHT + BALL_RADIUS - PENETRATION;
+        const double x[3] = {start, 0.0, z0}, v[3] = {speed, 0.0, 0.0};
+        tb_scene *scene = table_and_ball(x, v, 0.0);
+        double h = 0.0; /* the step a fixed method takes: the default, at the start */
+        assert_int_equal(tb_scene_default_step(scene, methods[m].method, &h), TB_STATUS_OK);
+        tb_integrator *integrator =
+            test_integrator_for(scene, methods[m].method, methods[m].dt, methods[m].rtol);
+        const double edge_time = (0.5 * TABLE_SIZE_X - start) / speed, s = 0.3;
+        assert_int_equal(tb_integrator_advance(integrator, edge_time + s), TB_STATUS_OK);
+        double p[3];
+        ball_position(scene, p);
+        const double expected_x = 0.5 * TABLE_SIZE_X + speed * s;
+        const double expected_z = z0 - 0.5 * G * s * s;
+        /* Euler's own error on a constant acceleration, exactly g t h / 2 after t */
+        const double euler = methods[m].method == TB_METHOD_EULER ? 0.5 * G * s * h : 0.0;
+        if (fabs(p[0] - expected_x) > 3e-3 || fabs(p[2] - expected_z) > 3e-3 + euler) {
+            fail_msg("%s: the ball is at (%.6g, %.6g) m, the arc says (%.6g, %.6g) m",
+                     tb_method_name(methods[m].method), p[0], p[2], expected_x, expected_z);
+        }
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
+/* The scene's observable contents, to compare byte for byte around a refused call. */
+typedef struct snapshot {
+    size_t bodies, size, effects;
+    double states[64];
+} snapshot;
+
+static snapshot take(tb_scene *scene)
+{
+    snapshot s;
+    memset(&s, 0, sizeof s);
+    s.bodies = tb_scene_body_count(scene);
+    s.size = tb_scene_state_size(scene);
+    s.effects = tb_scene_effect_count(scene);
+    assert_true(s.size <= 64);
+    memcpy(s.states, tb_scene_states(scene), s.size * sizeof(double));
+    return s;
+}
+
+/* Each refusal: TB_STATUS_INVALID_ARGUMENT, a detail naming the body (or the field), and the
+ * scene as it was, byte for byte. */
+static void test_changes_to_bodies_without_state_are_refused(void **state)
+{
+    (void)state;
+    const double x[3] = {0.0, 0.0, 1.0};
+    tb_scene *scene = table_and_ball(x, NULL, 0.5);
+    const snapshot before = take(scene);
+    tb_body_def bad_kind = tb_body_def_default();
+    bad_kind.motion = (tb_body_motion)7;
+    tb_body_def moving_static = tb_body_def_default();
+    moving_static.motion = TB_MOTION_STATIC;
+    moving_static.velocity[1] = 0.5;
+    tb_body_def spinning_static = moving_static;
+    spinning_static.velocity[1] = 0.0;
+    spinning_static.angular_velocity[2] = 1.0;
+    tb_body_state table_state;
+    assert_int_equal(tb_scene_get_state(scene, 0, &table_state), TB_STATUS_OK);
+    const double v[3] = {1, 0, 0}, zero[3] = {0, 0, 0};
+    const struct {
+        const char *what, *detail;
+        tb_status status;
+    } refusals[] = {
+        {"bad kind", "def.motion", tb_scene_add_body(scene, &bad_kind, NULL)},
+        {"static with a velocity", "def.velocity", tb_scene_add_body(scene, &moving_static, NULL)},
+        {"static spinning", "def.angular_velocity",
+         tb_scene_add_body(scene, &spinning_static, NULL)},
+        {"set_state", "table", tb_scene_set_state(scene, 0, &table_state)},
+        {"set_velocity", "table", tb_scene_set_velocity(scene, 0, v, zero)},
+        {"force", "table", tb_scene_add_force(scene, 0, v, zero, TB_FRAME_WORLD)},
+        {"torque", "table", tb_scene_add_torque(scene, 0, v, TB_FRAME_WORLD)},
+    };
+    for (size_t k = 0; k < sizeof refusals / sizeof refusals[0]; ++k) {
+        if (refusals[k].status != TB_STATUS_INVALID_ARGUMENT) {
+            fail_msg("%s: status %d", refusals[k].what, (int)refusals[k].status);
+        }
+        const snapshot after = take(scene);
+        if (memcmp(&before, &after, sizeof before) != 0) {
+            fail_msg("%s: the scene changed", refusals[k].what);
+        }
+    }
+    /* the detail of the last one names the body and its kind */
+    assert_non_null(strstr(tb_scene_detail(scene), "static"));
+    assert_int_equal(tb_scene_add_torque(scene, 0, v, TB_FRAME_WORLD), TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(strstr(tb_scene_detail(scene), "\"table\""));
+    tb_scene_destroy(scene);
+}
+
+/* A scene of static bodies alone has nothing to integrate. */
+static void test_scene_of_static_bodies_alone_is_refused(void **state)
+{
+    (void)state;
+    tb_scene *scene = test_empty_scene();
+    add_table(scene);
+    tb_ode_system system;
+    assert_int_equal(tb_scene_ode_system(scene, &system), TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(strstr(tb_scene_detail(scene), "dynamic"));
+    tb_scene_destroy(scene);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_static_body_has_no_state_and_reads_as_its_pose),
+        cmocka_unit_test(test_ball_rests_on_static_table_at_its_static_deflection),
+        cmocka_unit_test(test_ball_slides_off_static_table_on_the_ballistic_arc),
+        cmocka_unit_test(test_changes_to_bodies_without_state_are_refused),
+        cmocka_unit_test(test_scene_of_static_bodies_alone_is_refused),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
