@@ -1,7 +1,7 @@
-/* Body kinds: static bodies (no state, infinite mass) touch dynamic ones through the contact
- * pipeline, and every call that would change a body with no state is refused with nothing
- * changed. The physics: a ball at rest on a finite static table sinks by the contact's static
- * deflection, and a ball sliding off its edge follows the ballistic arc from the edge. */
+/* Body kinds: static and keyframed bodies (no state, infinite mass) touch dynamic ones through
+ * the contact pipeline, and every call that would change a body with no state is refused with
+ * nothing changed. The physics: a ball at rest on a finite static table sinks by the contact's
+ * static deflection, and a ball sliding off its edge follows the ballistic arc from the edge. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -10,6 +10,7 @@
 #include <cmocka.h>
 
 #include "fixtures.h"
+#include "scene/scene_internal.h" /* tb__scene_set_body_motion_source */
 #include "tumble/tumble.h"
 
 #include <math.h>
@@ -260,6 +261,270 @@ static void test_scene_of_static_bodies_alone_is_refused(void **state)
     tb_scene_destroy(scene);
 }
 
+/* --- keyframed bodies driven by a C callback ------------------------------------------------ */
+
+/* A motion along z (or y) of piecewise constant acceleration: C1 (velocity continuous). */
+typedef struct segment {
+    double t0, t1, a; /* s, s, m/s^2 */
+} segment;
+
+typedef struct profile {
+    const segment *segments;
+    size_t count;
+    double start[3]; /* position at t = 0 */
+    double v0;       /* velocity at t = 0 along axis */
+    int axis;        /* 1: y, 2: z */
+} profile;
+
+/* The platform: at rest, rises at 1 m/s, stops, descends at 1 m/s, stops; each change of speed
+ * at 5 m/s^2 (less than g, so that the box is never left behind when it slows down). */
+static const segment platform_segments[] = {
+    {0.2, 0.4, 5.0}, {0.8, 1.0, -5.0}, {1.1, 1.3, -5.0}, {1.6, 1.8, 5.0}};
+
+static int profile_motion(double t, void *ctx, tb_body_motion_sample *out)
+{
+    const profile *p = ctx;
+    double x = 0.0, v = p->v0, a = 0.0, last = 0.0;
+    for (size_t k = 0; k < p->count; ++k) {
+        const segment *s = &p->segments[k];
+        const double coast = fmin(t, s->t0) - last; /* at constant speed up to the segment */
+        if (coast > 0.0) {
+            x += v * coast;
+            last += coast;
+        }
+        if (t <= s->t0) {
+            break;
+        }
+        const double dt = fmin(t, s->t1) - s->t0;
+        x += v * dt + 0.5 * s->a * dt * dt;
+        v += s->a * dt;
+        last = s->t0 + dt;
+        a = t < s->t1 ? s->a : 0.0;
+    }
+    if (t > last) {
+        x += v * (t - last);
+    }
+    memset(out, 0, sizeof *out);
+    memcpy(out->position, p->start, sizeof p->start);
+    out->position[p->axis] += x;
+    out->orientation[0] = 1.0;
+    out->velocity[p->axis] = v;
+    out->acceleration[p->axis] = a;
+    return 0;
+}
+
+/* Adds a keyframed box of size (m) driven by p; returns its id. */
+static size_t add_keyframed_box(tb_scene *scene, const char *name, const double size[3], profile *p)
+{
+    tb_body_def def = tb_body_def_default();
+    def.name = name;
+    def.motion = TB_MOTION_KEYFRAMED;
+    memcpy(def.position, p->start, sizeof def.position);
+    size_t id = 0;
+    assert_int_equal(tb_scene_add_body(scene, &def, &id), TB_STATUS_OK);
+    tb_shape shape = tb_shape_default();
+    shape.type = TB_SHAPE_BOX;
+    memcpy(shape.size, size, sizeof shape.size);
+    assert_int_equal(tb_scene_set_body_shape(scene, id, &shape), TB_STATUS_OK);
+    assert_int_equal(tb_scene_set_body_motion_fn(scene, id, profile_motion, p), TB_STATUS_OK);
+    return id;
+}
+
+/* A 1 kg box (0.2 x 0.2 x 0.1 m) on the platform (1 x 1 x 0.1 m, its top at z = 0.05 at
+ * rest). The box never loses contact: the force it puts on the platform (the platform's
+ * reaction read-out) points down at every output. While the platform rises at constant speed
+ * (0.55 s to 0.8 s, after the ramp's ringing has died: zeta omega = 36 1/s) the box sinks into it
+ * by M g / k = penetration (the four manifold points share k = M g / penetration), within 10 %;
+ * at rest again (1.05 s) it has risen with it, 0.6 m. Steps: the fixed ones at the default step,
+ * CVODE at rtol 1e-7 (atol 1e-7 of the box's 8 cm radius of gyration: far below the 0.1 mm
+ * asked); outputs every 5 ms. */
+static void check_box_rides_platform(tb_method method, double rtol)
+{
+    profile p = {platform_segments, 4, {0.0, 0.0, 0.0}, 0.0, 2};
+    tb_scene *scene = test_empty_scene();
+    const double platform_size[3] = {1.0, 1.0, 0.1};
+    const size_t platform = add_keyframed_box(scene, "platform", platform_size, &p);
+    tb_body_def def = tb_body_def_default();
+    def.name = "box";
+    const double box_size[3] = {0.2, 0.2, 0.1};
+    assert_int_equal(tb_mass_from_box(TB_MASS_GIVEN, 1.0, box_size, &def.mass, NULL), TB_STATUS_OK);
+    def.position[2] = 0.1 - PENETRATION;
+    size_t box = 0;
+    assert_int_equal(tb_scene_add_body(scene, &def, &box), TB_STATUS_OK);
+    tb_shape shape = tb_shape_default();
+    shape.type = TB_SHAPE_BOX;
+    memcpy(shape.size, box_size, sizeof shape.size);
+    assert_int_equal(tb_scene_set_body_shape(scene, box, &shape), TB_STATUS_OK);
+    const double g[3] = {0, 0, -G};
+    assert_int_equal(tb_scene_add_gravity(scene, g), TB_STATUS_OK);
+    tb_contact_def contact = tb_contact_def_default();
+    contact.penetration = PENETRATION;
+    contact.presliding = 1e-4;
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    tb_integrator *integrator = test_integrator_for(scene, method, 0.0, rtol);
+    double worst = 0.0;
+    for (int frame = 1; frame <= 210; ++frame) {
+        const double t = 0.005 * frame;
+        assert_int_equal(tb_integrator_advance(integrator, t), TB_STATUS_OK);
+        assert_true(fabs(tb_scene_time(scene) - t) < 1e-12);
+        double force[3], torque[3];
+        assert_int_equal(
+            tb_scene_body_reaction(scene, tb_scene_states(scene), platform, force, torque),
+            TB_STATUS_OK);
+        if (!(force[2] < 0.0)) {
+            fail_msg("%s: t = %g s: the box pushes the platform with %g N", tb_method_name(method),
+                     t, -force[2]);
+        }
+        tb_body_state b, q;
+        assert_int_equal(tb_scene_get_state(scene, box, &b), TB_STATUS_OK);
+        assert_int_equal(tb_scene_get_state(scene, platform, &q), TB_STATUS_OK);
+        const double sinking = q.x[2] + 0.1 - b.x[2];
+        if (t >= 0.55 && t <= 0.8) {
+            worst = fmax(worst, fabs(sinking / PENETRATION - 1.0));
+        }
+        if (frame == 210) { /* at rest, 0.6 m up */
+            assert_true(fabs(q.x[2] - 0.6) < 1e-12);
+            assert_true(fabs(sinking - PENETRATION) < 0.1 * PENETRATION);
+        }
+    }
+    print_message("%s: sinking within %.2f %% of the static deflection\n", tb_method_name(method),
+                  100.0 * worst);
+    assert_true(worst < 0.1);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
+static void test_box_rides_a_keyframed_platform_at_its_static_deflection(void **state)
+{
+    (void)state;
+    check_box_rides_platform(TB_METHOD_RK4, 0.0);
+    check_box_rides_platform(TB_METHOD_MIDPOINT, 0.0);
+    check_box_rides_platform(TB_METHOD_CVODE_BDF, 1e-7);
+}
+
+/* A keyframed paddle (0.4 x 0.05 x 0.3 m) sweeping along y at 10 m/s meets a 2 cm ball (10 g)
+ * at rest, restitution 0.5, no gravity. The paddle is infinitely heavy: in its frame the ball
+ * comes in at 10 m/s and leaves at e times that, so in the world at (1 + e) 10 m/s = 15 m/s,
+ * within the law's 5 % of e (test_balls_separate_at_e_times_their_approach_speed: 0.25 m/s),
+ * and it never passes through (it ends ahead of the paddle). */
+static void check_paddle_hits_ball(tb_method method, double rtol)
+{
+    profile p = {NULL, 0, {0.0, -0.2, 0.0}, 10.0, 1};
+    tb_scene *scene = test_empty_scene();
+    const double paddle_size[3] = {0.4, 0.05, 0.3};
+    const size_t paddle = add_keyframed_box(scene, "paddle", paddle_size, &p);
+    const double x[3] = {0, 0, 0};
+    const size_t ball = test_add_ball(scene, "ball", 0.01, 0.01, x, NULL);
+    tb_contact_def contact = tb_contact_def_default();
+    contact.restitution = 0.5;
+    contact.static_friction = contact.kinetic_friction = 0.0;
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    tb_integrator *integrator = test_integrator_for(scene, method, 0.0, rtol);
+    assert_int_equal(tb_integrator_advance(integrator, 0.06), TB_STATUS_OK);
+    double v[3];
+    assert_int_equal(tb_scene_body_velocity(scene, tb_scene_states(scene), ball, v), TB_STATUS_OK);
+    tb_body_state b, q;
+    assert_int_equal(tb_scene_get_state(scene, ball, &b), TB_STATUS_OK);
+    assert_int_equal(tb_scene_get_state(scene, paddle, &q), TB_STATUS_OK);
+    print_message("%s: the ball leaves at %.4f m/s\n", tb_method_name(method), v[1]);
+    assert_true(b.x[1] > q.x[1] + 0.025); /* ahead of the paddle's face */
+    assert_true(fabs(v[1] - 15.0) < 0.25);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
+static void test_keyframed_paddle_sends_ball_off_at_one_plus_e_its_speed(void **state)
+{
+    (void)state;
+    check_paddle_hits_ball(TB_METHOD_RK4, 0.0);
+    check_paddle_hits_ball(TB_METHOD_CVODE_BDF, 1e-7);
+}
+
+/* A motion function on a body that is not keyframed is refused, naming it; nothing changes. */
+static void test_motion_fn_needs_a_keyframed_body(void **state)
+{
+    (void)state;
+    const double x[3] = {0.0, 0.0, 1.0};
+    tb_scene *scene = table_and_ball(x, NULL, 0.5);
+    const snapshot before = take(scene);
+    profile p = {NULL, 0, {0, 0, 0}, 0.0, 2};
+    assert_int_equal(tb_scene_set_body_motion_fn(scene, 0, profile_motion, &p),
+                     TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(strstr(tb_scene_detail(scene), "\"table\") is static"));
+    assert_int_equal(tb_scene_set_body_motion_fn(scene, 1, profile_motion, &p),
+                     TB_STATUS_INVALID_ARGUMENT);
+    const snapshot after = take(scene);
+    assert_memory_equal(&before, &after, sizeof before);
+    tb_scene_destroy(scene);
+}
+
+/* A motion source that notes whether it was asked at the break time exactly. */
+typedef struct break_probe {
+    double at;
+    int hits;
+} break_probe;
+
+static int probe_motion(double t, void *ctx, tb_body_motion_sample *out)
+{
+    break_probe *probe = ctx;
+    probe->hits += t == probe->at;
+    memset(out, 0, sizeof *out);
+    out->orientation[0] = 1.0;
+    out->position[2] = t < probe->at ? 0.0 : t - probe->at; /* C0 there: a kink */
+    out->velocity[2] = t < probe->at ? 0.0 : 1.0;
+    return 0;
+}
+
+static void release_probe(void *ctx)
+{
+    ((break_probe *)ctx)->hits = -1000; /* seen by the test after destroy */
+}
+
+/* A break time (a key time, where the motion is only C1) ends a fixed step and is where CVODE
+ * stops and restarts: each method evaluates the derivative at the break time itself (a step
+ * starts there), though 0.1234 s is on no step grid. The scene owns the source's ctx: it is
+ * released at destroy. */
+static void test_steps_end_on_break_times(void **state)
+{
+    (void)state;
+    const tb_method methods_to_check[] = {TB_METHOD_EULER, TB_METHOD_RK4, TB_METHOD_CVODE_ADAMS,
+                                          TB_METHOD_CVODE_BDF};
+    for (size_t m = 0; m < 4; ++m) {
+        break_probe probe = {0.1234, 0};
+        tb_scene *scene = test_empty_scene();
+        tb_body_def def = tb_body_def_default();
+        def.motion = TB_MOTION_KEYFRAMED;
+        size_t id = 0;
+        assert_int_equal(tb_scene_add_body(scene, &def, &id), TB_STATUS_OK);
+        const double x[3] = {0, 0, 5};
+        test_add_ball(scene, "ball", 1.0, 0.1, x, NULL);
+        const double g[3] = {0, 0, -G};
+        assert_int_equal(tb_scene_add_gravity(scene, g), TB_STATUS_OK);
+        tb_spring_def spring = tb_spring_def_default(); /* of no stiffness: it only couples */
+        spring.body_a = 1;
+        spring.body_b = id;
+        assert_int_equal(tb_scene_add_spring(scene, &spring), TB_STATUS_OK);
+        const double breaks[1] = {probe.at};
+        assert_int_equal(tb__scene_set_body_motion_source(scene, id, probe_motion, &probe, breaks,
+                                                          1, release_probe),
+                         TB_STATUS_OK);
+        const bool fixed = !tb_method_is_adaptive(methods_to_check[m]);
+        tb_integrator *integrator =
+            test_integrator_for(scene, methods_to_check[m], fixed ? 0.01 : 0.0, 1e-8);
+        assert_int_equal(tb_integrator_advance(integrator, 0.3), TB_STATUS_OK);
+        if (probe.hits < 1) {
+            fail_msg("%s: no derivative at the break", tb_method_name(methods_to_check[m]));
+        }
+        /* the ball falls freely all the same: z = 5 - g t^2 / 2 */
+        tb_body_state b;
+        assert_int_equal(tb_scene_get_state(scene, 1, &b), TB_STATUS_OK);
+        assert_true(fabs(b.x[2] - (5.0 - 0.5 * G * 0.09)) < (fixed ? 0.5 * G * 0.3 * 0.01 : 1e-6));
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+        assert_int_equal(probe.hits, -1000);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -268,6 +533,10 @@ int main(void)
         cmocka_unit_test(test_ball_slides_off_static_table_on_the_ballistic_arc),
         cmocka_unit_test(test_changes_to_bodies_without_state_are_refused),
         cmocka_unit_test(test_scene_of_static_bodies_alone_is_refused),
+        cmocka_unit_test(test_box_rides_a_keyframed_platform_at_its_static_deflection),
+        cmocka_unit_test(test_keyframed_paddle_sends_ball_off_at_one_plus_e_its_speed),
+        cmocka_unit_test(test_motion_fn_needs_a_keyframed_body),
+        cmocka_unit_test(test_steps_end_on_break_times),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

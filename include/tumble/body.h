@@ -69,6 +69,28 @@ typedef struct tb_body_def {
 
 TB_API tb_body_def tb_body_def_default(void);
 
+typedef struct tb_scene tb_scene;
+
+/* A keyframed body's motion at time t, world frame: its shape-frame origin's position (m),
+ * the shape -> world unit quaternion (w, x, y, z), their derivatives. */
+typedef struct tb_body_motion_sample {
+    double position[3];             /* m */
+    double orientation[4];          /* unit, (w, x, y, z) */
+    double velocity[3];             /* m/s */
+    double angular_velocity[3];     /* rad/s, world */
+    double acceleration[3];         /* m/s^2 */
+    double angular_acceleration[3]; /* rad/s^2, world */
+} tb_body_motion_sample;
+/* Returns 0, or nonzero to fail the derivative (the step is then refused). Must be pure in t. */
+typedef int (*tb_body_motion_fn)(double t, void *ctx, tb_body_motion_sample *out);
+/* Drives keyframed body id by fn (ctx passed through, owned by the caller; fn NULL: the body
+ * holds the pose it was added with). Every read of the body at time t (the derivative's t, or
+ * the scene's time for read-outs, tb_scene_time) asks fn, so a contact sees its true surface
+ * velocity. Refused (TB_STATUS_INVALID_ARGUMENT, nothing changed) for a body that is not
+ * keyframed, and while the scene is being stepped (TB_STATUS_BUSY). */
+TB_API tb_status tb_scene_set_body_motion_fn(tb_scene *scene, size_t id, tb_body_motion_fn fn,
+                                             void *ctx);
+
 #ifdef __cplusplus
 }
 #endif

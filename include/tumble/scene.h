@@ -79,6 +79,20 @@ TB_API tb_status tb_scene_body_slot(const tb_scene *scene, size_t id, size_t *ou
  * body (gravity, drag) act on dynamic bodies only. */
 TB_API tb_status tb_scene_body_motion_kind(const tb_scene *scene, size_t id,
                                            tb_body_motion *out_motion);
+
+/* The time (s) of the scene's states: the time read-outs without a t (tb_scene_frame_values,
+ * tb_scene_get_state, ...) read keyframed bodies at. 0 at creation; integrators of the scene
+ * keep it at the time of the states they leave (after every fixed step, at every adaptive
+ * output); tb_scene_set_time sets it (finite; TB_STATUS_BUSY while stepped). NAN for NULL. */
+TB_API double tb_scene_time(const tb_scene *scene);
+TB_API tb_status tb_scene_set_time(tb_scene *scene, double t);
+
+/* The force (N, world) and torque (N m, world, about its shape origin) that the bodies put on
+ * body id through the scene's effects at state y and the scene's time: a keyframed or static
+ * body's reaction (what holding it on its path costs). 0 for a dynamic body is not given:
+ * TB_STATUS_INVALID_ARGUMENT. Evaluates the derivative once (allocates its scratch). */
+TB_API tb_status tb_scene_body_reaction(tb_scene *scene, const double *y, size_t id,
+                                        double out_force[3], double out_torque[3]);
 TB_API const double *tb_scene_states_const(const tb_scene *scene);
 
 /* Reads or writes one body's state. set validates it (finite, unit quaternion within 1e-4,

@@ -162,6 +162,7 @@ int tb__scene_post_step(double t, double *y, void *ctx)
     if (scene == NULL || y == NULL) {
         return -1;
     }
+    scene->time = t; /* the states' time, which bodies without a state are read at */
     const int rc = scene->renormalize ? tb_scene_normalize_quaternions(t, y, ctx) : 0;
     tb__scene_sleep_begin(scene);
     for (size_t e = 0; e < scene->effect_count && rc == 0; ++e) {

@@ -3,10 +3,12 @@
  * these functions and not of their callers. */
 #include "scene/scene_internal.h"
 
+#include "core/detail.h"
 #include "core/validate.h"
 #include "math/tb_math.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 static const char *const kind_names[] = {"dynamic", "static", "keyframed"};
@@ -33,26 +35,50 @@ static void fixed_motion(const tb__body_kind *kind, tb__motion *out)
     }
 }
 
-void tb__body_motion_at(const tb_scene *scene, double t, const double *y, size_t id,
-                        tb__motion *out)
+/* A keyframed body's motion from its source at t: the shape origin is its centre, the shape
+ * frame its principal frame. */
+static int sampled_motion(const tb__body_kind *kind, double t, tb__motion *out)
 {
-    (void)t;
+    tb_body_motion_sample sample;
+    const int rc = kind->fn(t, kind->ctx, &sample);
+    if (rc != 0) {
+        fixed_motion(kind, out);
+        return rc;
+    }
+    const double norm = tb__q_norm(sample.orientation);
+    for (int k = 0; k < 3; ++k) {
+        out->x[k] = sample.position[k];
+        out->v[k] = sample.velocity[k];
+        out->omega[k] = sample.angular_velocity[k];
+    }
+    for (int k = 0; k < 4; ++k) {
+        out->q[k] = sample.orientation[k] / norm;
+    }
+    return 0;
+}
+
+int tb__body_motion_at(const tb_scene *scene, double t, const double *y, size_t id, tb__motion *out)
+{
     const size_t slot = scene->slots[id];
     if (slot == TB_NO_SLOT) {
-        fixed_motion(&scene->kinds[id], out);
-        return;
+        const tb__body_kind *kind = &scene->kinds[id];
+        if (kind->fn != NULL) {
+            return sampled_motion(kind, t, out);
+        }
+        fixed_motion(kind, out);
+        return 0;
     }
     tb__body_motion(&scene->bodies[slot], y + TB_STATE_SIZE * slot, out);
+    return 0;
 }
 
 void tb__body_pose_at(const tb_scene *scene, double t, const double *y, size_t id, double out_x[3],
                       double out_q[4])
 {
-    (void)t;
     const size_t slot = scene->slots[id];
     if (slot == TB_NO_SLOT) {
         tb__motion motion;
-        fixed_motion(&scene->kinds[id], &motion);
+        tb__body_motion_at(scene, t, y, id, &motion);
         memcpy(out_x, motion.x, sizeof motion.x);
         memcpy(out_q, motion.q, sizeof motion.q);
         return;
@@ -137,5 +163,183 @@ tb_status tb_scene_body_motion_kind(const tb_scene *scene, size_t id, tb_body_mo
     if (status == TB_STATUS_OK) {
         *out_motion = scene->kinds[id].motion;
     }
+    return status;
+}
+
+static int compare_times(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static void release_source(tb__body_kind *kind)
+{
+    if (kind->release != NULL) {
+        kind->release(kind->ctx);
+    }
+    free(kind->break_times);
+    kind->fn = NULL;
+    kind->ctx = NULL;
+    kind->release = NULL;
+    kind->break_times = NULL;
+    kind->break_count = 0;
+}
+
+/* The checks of a new source for body id; the detail names what is wrong. */
+static tb_status check_source(tb_scene *scene, size_t id, const double *break_times,
+                              size_t break_count)
+{
+    tb_status status = tb__scene_check_idle(scene, "setting a body's motion");
+    if (status == TB_STATUS_OK) {
+        status = tb__scene_check_id(scene, id, "id");
+    }
+    if (status == TB_STATUS_OK && scene->kinds[id].motion != TB_MOTION_KEYFRAMED) {
+        status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                                "id: body %zu (\"%s\") is %s, not keyframed", id, scene->names[id],
+                                kind_names[scene->kinds[id].motion]);
+    }
+    if (status == TB_STATUS_OK && break_times == NULL && break_count > 0) {
+        status = tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "break_times is NULL (count %zu)",
+                                break_count);
+    }
+    for (size_t k = 0; status == TB_STATUS_OK && k < break_count; ++k) {
+        if (!isfinite(break_times[k])) {
+            status = tb__scene_fail(scene, TB_STATUS_NOT_FINITE,
+                                    "break_times[%zu]: must be finite, got %g", k, break_times[k]);
+        }
+    }
+    return status;
+}
+
+tb_status tb__scene_set_body_motion_source(tb_scene *scene, size_t id, tb_body_motion_fn fn,
+                                           void *ctx, const double *break_times, size_t break_count,
+                                           void (*release)(void *ctx))
+{
+    tb_status status = check_source(scene, id, break_times, break_count);
+    double *times = NULL;
+    if (status == TB_STATUS_OK && break_count > 0) {
+        times = tb__malloc_array(break_count, sizeof(double));
+        status = times == NULL ? tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "%zu break times",
+                                                break_count)
+                               : TB_STATUS_OK;
+    }
+    if (status != TB_STATUS_OK) {
+        if (release != NULL) {
+            release(ctx); /* owned from the call on */
+        }
+        return status;
+    }
+    if (times != NULL) {
+        memcpy(times, break_times, break_count * sizeof(double));
+        qsort(times, break_count, sizeof(double), compare_times);
+    }
+    tb__body_kind *kind = &scene->kinds[id];
+    release_source(kind);
+    kind->fn = fn;
+    kind->ctx = ctx;
+    kind->release = release;
+    kind->break_times = times;
+    kind->break_count = break_count;
+    scene->effects_generation++; /* the right-hand side changed: CVODE restarts */
+    tb__scene_wake_all(scene);
+    return TB_STATUS_OK;
+}
+
+tb_status tb_scene_set_body_motion_fn(tb_scene *scene, size_t id, tb_body_motion_fn fn, void *ctx)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    return tb__scene_set_body_motion_source(scene, id, fn, ctx, NULL, 0, NULL);
+}
+
+void tb__scene_release_motion_sources(tb_scene *scene)
+{
+    for (size_t id = 0; scene->kinds != NULL && id < scene->body_count; ++id) {
+        release_source(&scene->kinds[id]);
+    }
+}
+
+double tb__scene_next_break(double t, void *ctx)
+{
+    const tb_scene *scene = ctx;
+    double next = INFINITY;
+    for (size_t id = 0; scene->slot_count < scene->body_count && id < scene->body_count; ++id) {
+        const tb__body_kind *kind = &scene->kinds[id];
+        for (size_t k = 0; k < kind->break_count; ++k) {
+            if (kind->break_times[k] > t) {
+                next = fmin(next, kind->break_times[k]);
+                break;
+            }
+        }
+    }
+    return next;
+}
+
+double tb_scene_time(const tb_scene *scene)
+{
+    return scene == NULL ? NAN : scene->time;
+}
+
+tb_status tb_scene_set_time(tb_scene *scene, double t)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    tb_status status = tb__scene_check_idle(scene, "setting the scene's time");
+    if (status == TB_STATUS_OK && !isfinite(t)) {
+        status = tb__scene_fail(scene, TB_STATUS_NOT_FINITE, "t: must be finite, got %g", t);
+    }
+    if (status == TB_STATUS_OK) {
+        scene->time = t;
+    }
+    return status;
+}
+
+tb_status tb_scene_body_reaction(tb_scene *scene, const double *y, size_t id, double out_force[3],
+                                 double out_torque[3])
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    if (y == NULL || out_force == NULL || out_torque == NULL) {
+        return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "%s is NULL",
+                              y == NULL           ? "y"
+                              : out_force == NULL ? "out_force"
+                                                  : "out_torque");
+    }
+    tb_status status = tb__scene_check_idle(scene, "a reaction read-out");
+    if (status == TB_STATUS_OK) {
+        status = tb__scene_check_id(scene, id, "id");
+    }
+    if (status == TB_STATUS_OK && !tb__body_fixed(scene, id)) {
+        status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                                "id: body %zu (\"%s\") is dynamic: its loads move it", id,
+                                scene->names[id]);
+    }
+    const size_t n = tb_scene_state_size(scene);
+    double *dydt = status == TB_STATUS_OK ? tb__malloc_array(n > 0 ? n : 1, sizeof(double)) : NULL;
+    double *reactions =
+        status == TB_STATUS_OK ? calloc(6 * scene->body_count, sizeof(double)) : NULL;
+    if (status == TB_STATUS_OK && (dydt == NULL || reactions == NULL)) {
+        status = tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "a derivative's scratch");
+    }
+    if (status == TB_STATUS_OK) {
+        scene->reactions = reactions;
+        const int rc = tb_scene_derivative(scene->time, y, dydt, scene);
+        scene->reactions = NULL;
+        status = rc == 0 ? TB_STATUS_OK
+                         : tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                                          "the derivative failed at t = %g (%d)", scene->time, rc);
+    }
+    if (status == TB_STATUS_OK) {
+        memcpy(out_force, reactions + 6 * id, 3 * sizeof(double));
+        memcpy(out_torque, reactions + 6 * id + 3, 3 * sizeof(double));
+    }
+    free(dydt);
+    free(reactions);
     return status;
 }

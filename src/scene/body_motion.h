@@ -8,9 +8,28 @@
 /* What the accessor reads for a body with no slot: its kind, and a static body's pose. */
 typedef struct tb__body_kind {
     tb_body_motion motion;
-    double x[3]; /* the centre (the shape origin), world, m */
+    double x[3]; /* the centre (the shape origin), world, m: the pose a body without fn holds */
     double q[4]; /* principal (= shape) -> world, unit */
+    /* a keyframed body's motion source (tb__scene_set_body_motion_source) */
+    tb_body_motion_fn fn;
+    void *ctx;
+    void (*release)(void *ctx); /* frees ctx when the source is replaced or the scene destroyed */
+    double *break_times;        /* owned, ascending: where the motion is only C1 (key times) */
+    size_t break_count;
 } tb__body_kind;
+
+/* Drives keyframed body id by fn with ctx, owning ctx when release is not NULL (released when
+ * replaced and at destroy, and at once on failure), and records break_times (copied, sorted;
+ * times where the motion is only C1). TB_STATUS_INVALID_ARGUMENT for a body that is not
+ * keyframed or non-finite times; TB_STATUS_BUSY while stepped. */
+tb_status tb__scene_set_body_motion_source(tb_scene *scene, size_t id, tb_body_motion_fn fn,
+                                           void *ctx, const double *break_times, size_t break_count,
+                                           void (*release)(void *ctx));
+/* Releases every body's motion source (tb_scene_destroy). */
+void tb__scene_release_motion_sources(tb_scene *scene);
+/* The earliest break time of the keyframed bodies after t (INFINITY: none): the scene's
+ * tb_ode_system.next_break (ctx the scene). */
+double tb__scene_next_break(double t, void *ctx);
 
 /* Body id's slot (the index of its 13 doubles in y), or TB_NO_SLOT. */
 static inline size_t tb__body_slot(const tb_scene *scene, size_t id)
@@ -82,9 +101,11 @@ static inline double tb__reduced_mass(double a, double b)
 const tb__body *tb__body_constants(const tb_scene *scene, size_t id);
 
 /* Body id's motion at time t and state y: centre of mass, orientation, velocities. For a
- * dynamic body read from y (bit for bit tb__body_motion's). */
-void tb__body_motion_at(const tb_scene *scene, double t, const double *y, size_t id,
-                        tb__motion *out);
+ * dynamic body read from y (bit for bit tb__body_motion's); a static body's pose at rest; a
+ * keyframed body's from its source at t. Returns 0, or the source's nonzero failure (out then
+ * holds the body's added pose at rest). */
+int tb__body_motion_at(const tb_scene *scene, double t, const double *y, size_t id,
+                       tb__motion *out);
 /* Its pose alone (centre of mass, unit principal -> world quaternion), as tb__body_motion_at
  * gives it, for the hot paths that need no velocity (shape poses of the broad phase). */
 void tb__body_pose_at(const tb_scene *scene, double t, const double *y, size_t id, double out_x[3],

@@ -125,13 +125,17 @@ int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
         return -1;
     }
     const size_t n = scene->slot_count;
+    /* the time bodies without a state are read at (shape poses included), written through
+     * the const scene like the motions */
+    ((tb_scene *)scene)->time = t;
     kinematics(scene->bodies, y, dydt, n, scene->motions, scene->slot_ids);
-    for (size_t id = 0; n < scene->body_count && id < scene->body_count; ++id) {
+    int rc = 0;
+    for (size_t id = 0; n < scene->body_count && id < scene->body_count && rc == 0; ++id) {
         if (tb__body_fixed(scene, id)) { /* the bodies with no state, at t */
-            tb__body_motion_at(scene, t, y, id, &scene->motions[id]);
+            rc = tb__body_motion_at(scene, t, y, id, &scene->motions[id]) != 0 ? -1 : 0;
         }
     }
-    int rc = apply_per_body_effects(scene, t, y, dydt, 0, n);
+    rc = rc != 0 ? rc : apply_per_body_effects(scene, t, y, dydt, 0, n);
     /* then the coupled effects, last in effect_order */
     const size_t first_coupled = scene->effect_count - scene->coupled_effect_count;
     for (size_t k = first_coupled; k < scene->effect_count && rc == 0; ++k) {
@@ -257,6 +261,11 @@ void tb__add_body_load(const tb_scene *scene, double *dydt, size_t id, const dou
     const size_t slot = tb__body_slot(scene, id);
     if (slot != TB_NO_SLOT) {
         tb__add_load(dydt, slot, arm, f);
+    } else if (scene->reactions != NULL) { /* a reaction read-out is running */
+        double torque[3];
+        tb__v3_cross(torque, arm, f);
+        tb__v3_axpy(scene->reactions + 6 * id, 1.0, f);
+        tb__v3_axpy(scene->reactions + 6 * id + 3, 1.0, torque);
     }
 }
 

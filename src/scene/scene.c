@@ -210,6 +210,7 @@ void tb_scene_destroy(tb_scene *scene)
         free(scene->motions);
         free(scene->slots);
         free(scene->slot_ids);
+        tb__scene_release_motion_sources(scene);
         free(scene->kinds);
         free(scene->lane_constants);
         free(scene->states_left);

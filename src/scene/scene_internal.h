@@ -238,6 +238,8 @@ struct tb_scene {
     size_t *slot_ids;
     size_t slot_count;
     struct tb__body_kind *kinds; /* body_capacity, by id: each body's kind and fixed pose */
+    double *reactions; /* NULL, or 6 per body while tb_scene_body_reaction runs the derivative:
+                          the force and torque the effects put on bodies without a state */
     /* The time (s) of the scene's states: 0 at creation, set where an integrator writes its
      * states back and by tb_scene_set_time; the time read-outs without a t ask bodies with no
      * state for their motion at. */

@@ -203,6 +203,16 @@ static tb_status prepare_rooms(tb_scene *scene, size_t n)
     return TB_STATUS_OK;
 }
 
+/* The full hook where effects or sleep need it, or where bodies without a state are read at the
+ * scene's time, which it keeps; else the renormalisation alone (or nothing). */
+static tb_ode_hook post_step_hook(const tb_scene *scene)
+{
+    return tb__scene_has_post_step_effects(scene) || !tb__scene_separable(scene) ||
+                   scene->slot_count < scene->body_count
+               ? tb__scene_post_step
+               : (scene->renormalize ? tb_scene_normalize_quaternions : NULL);
+}
+
 tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
 {
     if (scene == NULL) {
@@ -220,14 +230,14 @@ tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
     *out_system = (tb_ode_system){
         .n = tb_scene_state_size(scene),
         .derivative = tb_scene_derivative,
-        .post_step = tb__scene_has_post_step_effects(scene) || !tb__scene_separable(scene)
-                         ? tb__scene_post_step
-                         : (scene->renormalize ? tb_scene_normalize_quaternions : NULL),
+        .post_step = post_step_hook(scene),
         .ctx = scene,
         .layout_generation = claim,
         .acquire = acquire,
         .release = release,
         .rhs_generation = rhs_generation,
+        /* the key times of bodies without a state */
+        .next_break = scene->slot_count < scene->body_count ? tb__scene_next_break : NULL,
     };
     const tb_status rooms = prepare_rooms(scene, out_system->n);
     if (rooms != TB_STATUS_OK) {
