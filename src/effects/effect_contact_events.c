@@ -166,6 +166,11 @@ static bound motion_bound(const tb_scene *scene, const double *y, const double *
     const double r = reach(scene, y, id), spin = tb__v3_norm(motion.omega);
     bound out = {tb__v3_norm(motion.v) + spin * r, 0.0};
     const double *d = dydt != NULL ? tb__body_state(scene, dydt, id) : NULL;
+    if (dydt != NULL && d == NULL) { /* a body without a state: its own acceleration */
+        double a[3], alpha[3];
+        tb__fixed_body_acceleration_at(scene, scene->time, id, a, alpha);
+        out.acceleration = tb__v3_norm(a) + (tb__v3_norm(alpha) + spin * spin) * r;
+    }
     if (d != NULL) {
         const double *inverse = body->inv_moments;
         const double softest = fmax(inverse[0], fmax(inverse[1], inverse[2]));

@@ -343,3 +343,16 @@ tb_status tb_scene_body_reaction(tb_scene *scene, const double *y, size_t id, do
     free(reactions);
     return status;
 }
+
+void tb__fixed_body_acceleration_at(const tb_scene *scene, double t, size_t id, double out_a[3],
+                                    double out_alpha[3])
+{
+    const tb__body_kind *kind = &scene->kinds[id];
+    tb_body_motion_sample sample;
+    const bool sampled =
+        scene->slots[id] == TB_NO_SLOT && kind->fn != NULL && kind->fn(t, kind->ctx, &sample) == 0;
+    for (int k = 0; k < 3; ++k) {
+        out_a[k] = sampled ? sample.acceleration[k] : 0.0;
+        out_alpha[k] = sampled ? sample.angular_acceleration[k] : 0.0;
+    }
+}

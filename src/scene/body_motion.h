@@ -106,6 +106,11 @@ const tb__body *tb__body_constants(const tb_scene *scene, size_t id);
  * holds the body's added pose at rest). */
 int tb__body_motion_at(const tb_scene *scene, double t, const double *y, size_t id,
                        tb__motion *out);
+/* The acceleration (m/s^2) and angular acceleration (rad/s^2, world) of a body without a state
+ * at t: a keyframed body's from its source, 0 for a static one (a dynamic body's come from the
+ * derivative: 0 here too). */
+void tb__fixed_body_acceleration_at(const tb_scene *scene, double t, size_t id, double out_a[3],
+                                    double out_alpha[3]);
 /* Its pose alone (centre of mass, unit principal -> world quaternion), as tb__body_motion_at
  * gives it, for the hot paths that need no velocity (shape poses of the broad phase). */
 void tb__body_pose_at(const tb_scene *scene, double t, const double *y, size_t id, double out_x[3],
