@@ -13,7 +13,8 @@ from ._scene import Frames, Scene, SceneBuilder, _Recorder  # noqa: F401 (hints)
 
 Body = Union[int, str]
 #: A user force: force(t, state) -> forces, or (forces, torques). state is the (N, 13) state
-#: the derivative is evaluated at (read-only; x, q, P, L per body as in Simulation.state);
+#: the derivative is evaluated at (read-only; x, q, P, L per body with a state, the rows of
+#: Simulation.state, in Simulation.dynamic_bodies' order);
 #: forces (N, 3) in N act at each body's centre of mass, torques (N, 3) in N m, both in the
 #: world frame. Rows of zeros cost nothing more.
 ForceFunction = Callable[[float, np.ndarray], object]
