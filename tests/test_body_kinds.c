@@ -525,6 +525,42 @@ static void test_steps_end_on_break_times(void **state)
     }
 }
 
+/* Two balls resting far apart on the static table sleep each on its own island: the table joins
+ * none (else every body on it would be one island), so waking one (a new velocity) leaves the
+ * other asleep. */
+static void test_balls_on_a_static_table_sleep_on_their_own_islands(void **state)
+{
+    (void)state;
+    const double a[3] = {-0.4, 0.0, TABLE_HEIGHT + BALL_RADIUS - PENETRATION};
+    const double b[3] = {0.4, 0.0, a[2]};
+    tb_scene *scene = test_empty_scene();
+    add_table(scene);
+    test_add_ball(scene, "ball", 1.0, BALL_RADIUS, a, NULL);
+    const size_t other = test_add_ball(scene, "other", 1.0, BALL_RADIUS, b, NULL);
+    const double g[3] = {0, 0, -G};
+    assert_int_equal(tb_scene_add_gravity(scene, g), TB_STATUS_OK);
+    tb_contact_def contact = tb_contact_def_default();
+    contact.penetration = PENETRATION;
+    contact.presliding = 1e-4;
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    tb_integrator *integrator = test_integrator_for(scene, TB_METHOD_RK4, 0.0, 0.0);
+    for (int frame = 1; frame <= 20; ++frame) { /* outputs: the sleep boundaries */
+        assert_int_equal(tb_integrator_advance(integrator, 0.05 * frame), TB_STATUS_OK);
+    }
+    bool asleep[2] = {false, false};
+    assert_int_equal(tb_scene_body_asleep(scene, 1, &asleep[0]), TB_STATUS_OK);
+    assert_int_equal(tb_scene_body_asleep(scene, other, &asleep[1]), TB_STATUS_OK);
+    assert_true(asleep[0] && asleep[1]);
+    const double v[3] = {0.1, 0, 0}, zero[3] = {0, 0, 0};
+    assert_int_equal(tb_scene_set_velocity(scene, 1, v, zero), TB_STATUS_OK);
+    assert_int_equal(tb_scene_body_asleep(scene, 1, &asleep[0]), TB_STATUS_OK);
+    assert_int_equal(tb_scene_body_asleep(scene, other, &asleep[1]), TB_STATUS_OK);
+    assert_false(asleep[0]);
+    assert_true(asleep[1]);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -537,6 +573,7 @@ int main(void)
         cmocka_unit_test(test_keyframed_paddle_sends_ball_off_at_one_plus_e_its_speed),
         cmocka_unit_test(test_motion_fn_needs_a_keyframed_body),
         cmocka_unit_test(test_steps_end_on_break_times),
+        cmocka_unit_test(test_balls_on_a_static_table_sleep_on_their_own_islands),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
