@@ -561,6 +561,39 @@ static void test_balls_on_a_static_table_sleep_on_their_own_islands(void **state
     tb_scene_destroy(scene);
 }
 
+/* Integrators keep the scene's time at their last output, so read-outs give a keyframed body
+ * where its source puts it then, whether the bodies interact (RK4 of a contact scene) or not
+ * (each body alone, gravity only: the chunked path), and under CVODE. */
+static void test_read_outs_follow_the_scene_time(void **state)
+{
+    (void)state;
+    const tb_method methods_to_check[] = {TB_METHOD_RK4, TB_METHOD_CVODE_BDF};
+    for (size_t m = 0; m < 2; ++m) {
+        profile p = {NULL, 0, {0.0, -0.2, 0.0}, 10.0, 1};
+        tb_scene *scene = test_empty_scene();
+        const double size[3] = {0.4, 0.05, 0.3};
+        const size_t paddle = add_keyframed_box(scene, "paddle", size, &p);
+        const double x[3] = {0, 0, 5};
+        test_add_ball(scene, "ball", 1.0, 0.1, x, NULL);
+        const double g[3] = {0, 0, -G};
+        assert_int_equal(tb_scene_add_gravity(scene, g), TB_STATUS_OK);
+        assert_true(tb_scene_time(scene) == 0.0);
+        tb_integrator *integrator =
+            test_integrator_for(scene, methods_to_check[m], m == 0 ? 0.01 : 0.0, 1e-8);
+        assert_int_equal(tb_integrator_advance(integrator, 0.25), TB_STATUS_OK);
+        assert_true(fabs(tb_scene_time(scene) - 0.25) < 1e-12);
+        tb_body_state s;
+        assert_int_equal(tb_scene_get_state(scene, paddle, &s), TB_STATUS_OK);
+        assert_true(fabs(s.x[1] - (-0.2 + 10.0 * 0.25)) < 1e-9);
+        double values[2 * TB_FRAME_VALUES];
+        assert_int_equal(tb_scene_frame_values(scene, tb_scene_states(scene), values),
+                         TB_STATUS_OK);
+        assert_true(fabs(values[1] - s.x[1]) < 1e-12 && values[8] == 10.0);
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -574,6 +607,7 @@ int main(void)
         cmocka_unit_test(test_motion_fn_needs_a_keyframed_body),
         cmocka_unit_test(test_steps_end_on_break_times),
         cmocka_unit_test(test_balls_on_a_static_table_sleep_on_their_own_islands),
+        cmocka_unit_test(test_read_outs_follow_the_scene_time),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

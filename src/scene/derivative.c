@@ -148,7 +148,9 @@ int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
 
 bool tb__scene_separable(const tb_scene *scene)
 {
-    return scene->coupled_effect_count == 0 && scene->extra_count == 0;
+    /* bodies without a state need the whole post-step hook, which keeps the scene's time */
+    return scene->coupled_effect_count == 0 && scene->extra_count == 0 &&
+           scene->slot_count == scene->body_count;
 }
 
 int tb__scene_block_derivative(double t, const double *y, double *dydt, size_t first, size_t count,
