@@ -98,7 +98,9 @@ static void write_body(cli_output *out, double t, const tb_scene *scene, size_t 
     tb_scene_body_velocity(scene, y, id, v);
     tb_scene_body_angular_velocity(scene, y, id, w);
     /* velocity of the shape origin: v + omega x (origin - centre of mass) */
-    const double *x = y + TB_STATE_SIZE * id + TB_STATE_X;
+    tb_body_state state;
+    tb_scene_get_state(scene, id, &state);
+    const double *x = state.x;
     for (int k = 0; k < 3; ++k) {
         arm[k] = origin[k] - x[k];
     }

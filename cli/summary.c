@@ -18,10 +18,15 @@ static void center_of_mass(const tb_scene *scene, const double *y, double out[3]
     double total = 0.0, sum[3] = {0, 0, 0};
     for (size_t i = 0; i < count; ++i) {
         tb_mass_properties mass;
+        size_t slot = TB_NO_SLOT;
         tb_scene_get_mass(scene, i, &mass);
+        tb_scene_body_slot(scene, i, &slot);
+        if (slot == TB_NO_SLOT) { /* a body that cannot move: not part of the moving mass */
+            continue;
+        }
         total += mass.mass;
         for (int k = 0; k < 3; ++k) {
-            sum[k] += mass.mass * y[TB_STATE_SIZE * i + TB_STATE_X + k];
+            sum[k] += mass.mass * y[TB_STATE_SIZE * slot + TB_STATE_X + k];
         }
     }
     for (int k = 0; k < 3; ++k) {

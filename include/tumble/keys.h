@@ -7,6 +7,7 @@
 
 #include "tumble/export.h"
 
+#include "tumble/body.h"
 #include "tumble/status.h"
 
 #include <stdbool.h>
@@ -16,20 +17,7 @@
 extern "C" {
 #endif
 
-#ifndef TB_BODY_MOTION_SAMPLE_DEFINED
-#define TB_BODY_MOTION_SAMPLE_DEFINED
-/* A body's motion at one time: its pose and the pose's first and second time derivatives. */
-typedef struct tb_body_motion_sample {
-    double position[3];             /* m, world */
-    double orientation[4];          /* unit (w, x, y, z), shape -> world */
-    double velocity[3];             /* m/s */
-    double angular_velocity[3];     /* rad/s, world */
-    double acceleration[3];         /* m/s^2 */
-    double angular_acceleration[3]; /* rad/s^2, world */
-} tb_body_motion_sample;
-/* The motion at time t (s) into *out; 0 on success, < 0 when it cannot be given. */
-typedef int (*tb_body_motion_fn)(double t, void *ctx, tb_body_motion_sample *out);
-#endif
+/* tb_body_motion_sample and tb_body_motion_fn are declared in tumble/body.h. */
 
 /* How the pose moves between two keys. */
 typedef enum tb_interpolation {
@@ -105,6 +93,15 @@ TB_API const char *tb_interpolation_name(tb_interpolation interpolation);
  * TB_STATUS_NULL_POINTER. *out_interpolation is written only on success. */
 TB_API tb_status tb_interpolation_parse(const char *name, tb_interpolation *out_interpolation,
                                         tb_error *out_error);
+
+/* Drives keyframed body id of scene through keys (copied; tb_keyframes_create's rules and
+ * refusals, the detail in the scene naming the key) with its velocity and acceleration from the
+ * curve: tb_scene_set_body_motion_fn with a curve the scene owns, whose key times end fixed
+ * steps and stop CVODE (the curve is only C1 there). Also refused (nothing changed): a body
+ * that is not keyframed (TB_STATUS_INVALID_ARGUMENT), an id out of range
+ * (TB_STATUS_OUT_OF_RANGE), while the scene is being stepped (TB_STATUS_BUSY). */
+TB_API tb_status tb_scene_set_body_keys(tb_scene *scene, size_t id, const tb_body_key *keys,
+                                        size_t count, tb_interpolation interpolation);
 
 #ifdef __cplusplus
 }

@@ -113,6 +113,12 @@ typedef struct tb_ode_system {
      * once, so that the new right-hand side holds from the event on (an event past the output
      * time: from the output). NULL (default): none. */
     void (*at_event)(double t, const double *y, void *ctx);
+    /* Optional: the first time after t where the right-hand side is only C1 in t (a keyframed
+     * body's key time), INFINITY for none. A fixed-step method shortens the step that would
+     * cross it so that the step ends on it (the steps after keep their grid); CVODE stops there
+     * (CVodeSetStopTime) and restarts from it, its history being of the curve before. NULL
+     * (default): none, and every method steps as before, bit for bit. */
+    double (*next_break)(double t, void *ctx);
 } tb_ode_system;
 
 /* How to integrate, chosen as data. */

@@ -55,12 +55,44 @@ TB_API const char *tb_scene_body_name(const tb_scene *scene, size_t id);
 /* The id of the body called name; TB_STATUS_OUT_OF_RANGE if there is none. */
 TB_API tb_status tb_scene_find_body(const tb_scene *scene, const char *name, size_t *out_id);
 
-/* The flat state array: tb_scene_state_size() doubles; body i at [13 i, 13 i + 13), then
- * the states some effects own (ground friction: 2 per contact point). Owned by the scene;
- * valid until the next tb_scene_add_body, tb_scene_add_ground or
- * tb_scene_set_contact_points, which may move it and reset the effects' states. */
+/* The flat state array: tb_scene_state_size() doubles; the body in slot k at [13 k, 13 k + 13),
+ * then the states some effects own (ground friction: 2 per contact point). Only dynamic bodies
+ * have a slot (tb_scene_body_slot), given in the order they were added: in a scene of dynamic
+ * bodies alone body i's slot is i. Owned by the scene; valid until the next tb_scene_add_body,
+ * tb_scene_add_ground or tb_scene_set_contact_points, which may move it and reset the effects'
+ * states. */
 TB_API double *tb_scene_states(tb_scene *scene);
 TB_API size_t tb_scene_state_size(const tb_scene *scene);
+
+/* A body without a state in the state array (static or keyframed): its slot. */
+#define TB_NO_SLOT ((size_t)-1)
+
+/* Body id's slot: its 13 states are y[13 slot .. 13 slot + 13); TB_NO_SLOT for a body with no
+ * state (a static or keyframed body, whose motion the read-outs give). */
+TB_API tb_status tb_scene_body_slot(const tb_scene *scene, size_t id, size_t *out_slot);
+
+/* How body id moves (tb_body_def.motion). Every read-out that takes (y, id) works for every
+ * kind: a static body's pose with zero velocities; tb_scene_get_state gives a static body's
+ * pose and zero momenta. tb_scene_set_state, tb_scene_set_velocity and per-body loads
+ * (forces, torques, drag on one body) refuse a body that is not dynamic
+ * (TB_STATUS_INVALID_ARGUMENT, the detail naming it and its kind); per-body effects on every
+ * body (gravity, drag) act on dynamic bodies only. */
+TB_API tb_status tb_scene_body_motion_kind(const tb_scene *scene, size_t id,
+                                           tb_body_motion *out_motion);
+
+/* The time (s) of the scene's states: the time read-outs without a t (tb_scene_frame_values,
+ * tb_scene_get_state, ...) read keyframed bodies at. 0 at creation; integrators of the scene
+ * keep it at the time of the states they leave (after every fixed step, at every adaptive
+ * output); tb_scene_set_time sets it (finite; TB_STATUS_BUSY while stepped). NAN for NULL. */
+TB_API double tb_scene_time(const tb_scene *scene);
+TB_API tb_status tb_scene_set_time(tb_scene *scene, double t);
+
+/* The force (N, world) and torque (N m, world, about its shape origin) that the bodies put on
+ * body id through the scene's effects at state y and the scene's time: a keyframed or static
+ * body's reaction (what holding it on its path costs). 0 for a dynamic body is not given:
+ * TB_STATUS_INVALID_ARGUMENT. Evaluates the derivative once (allocates its scratch). */
+TB_API tb_status tb_scene_body_reaction(tb_scene *scene, const double *y, size_t id,
+                                        double out_force[3], double out_torque[3]);
 TB_API const double *tb_scene_states_const(const tb_scene *scene);
 
 /* Reads or writes one body's state. set validates it (finite, unit quaternion within 1e-4,

@@ -185,11 +185,10 @@ void tb__shape_pose(const tb_scene *scene, const double *y, size_t id,
     const tb_mass_properties *props = &scene->mass_props[id];
     const double *r = props->rotation;
     const double principal_from_shape[4] = {r[0], -r[1], -r[2], -r[3]};
-    double q[4], offset[3];
-    tb__unit_quaternion(y, id, q);
+    double x[3], q[4], offset[3];
+    tb__body_pose_at(scene, scene->time, y, id, x, q);
     tb__q_mul(out_pose + 3, q, principal_from_shape); /* shape -> principal -> world */
     tb__q_rotate(offset, out_pose + 3, props->center);
-    const double *x = y + TB_STATE_SIZE * id;
     tb__v3_set(out_pose, x[0] - offset[0], x[1] - offset[1], x[2] - offset[2]);
 }
 

@@ -111,7 +111,7 @@ void tb__contact_pairs_begin(tb__contact_pairs *pairs, const tb_scene *scene, co
     size_t boxes = 0;
     /* every body asleep: no pair to find (the broad phase would list only asleep ones) */
     const bool all_asleep = pairs->skip_asleep && scene->sleep != NULL &&
-                            scene->sleep->asleep_count == scene->body_count;
+                            scene->sleep->asleep_count == scene->slot_count;
     for (size_t k = 0; k < pairs->count && !all_asleep; ++k) {
         const size_t id = pairs->ids[k];
         const tb__collision_shape *shape = tb__scene_body_collision_shape(scene, id);
@@ -158,7 +158,10 @@ static size_t test_pair(tb__contact_pairs *pairs, const tb_scene *scene, const t
 {
     const size_t a = pairs->ids[pairs->local[c->first]];
     const size_t b = pairs->ids[pairs->local[c->second]];
-    if (pairs->skip_asleep && tb__pair_asleep(scene, a, b)) {
+    if (tb__body_fixed(scene, a) && tb__body_fixed(scene, b)) {
+        return 0; /* neither can move: no force between them can act */
+    }
+    if (pairs->skip_asleep && tb__pair_resting(scene, a, b)) {
         return 0; /* a sleeping island: no narrow phase inside it */
     }
     const bool in_order = a < b;

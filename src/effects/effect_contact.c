@@ -38,9 +38,10 @@ typedef struct tb__pair_motion {
 
 /* One manifold point of pair (a, b) holding friction slot `slot` (TB__NO_SLOT: none): the force
  * on b is N n + friction, on a its opposite, both at the point's world position. */
-static void point_load(const tb__effect *effect, const tb__pair_contact *pair,
-                       const tb__pair_motion *m, const tb__contact_point *point, double share,
-                       size_t slot, const double *y, double *dydt)
+static void point_load(const tb__effect *effect, const tb_scene *scene,
+                       const tb__pair_contact *pair, const tb__pair_motion *m,
+                       const tb__contact_point *point, double share, size_t slot, const double *y,
+                       double *dydt)
 {
     const tb__contact_params *contact = tb__contact_of(effect);
     const double *n = pair->manifold.normal;
@@ -81,8 +82,8 @@ static void point_load(const tb__effect *effect, const tb__pair_contact *pair,
         f[i] = N * n[i] + friction[i];
         minus[i] = -f[i];
     }
-    tb__add_load(dydt, pair->body_b, arm_b, f);
-    tb__add_load(dydt, pair->body_a, arm_a, minus);
+    tb__add_body_load(scene, dydt, pair->body_b, arm_b, f);
+    tb__add_body_load(scene, dydt, pair->body_a, arm_a, minus);
 }
 
 /* The dashpots are sized where they act: the touching points' centre of pressure p (their
@@ -110,7 +111,7 @@ static void pair_masses(const tb_scene *scene, const tb__pair_contact *pair, tb_
     }
     double along = 0.0, across = 0.0;
     for (int k = 0; k < 2; ++k) {
-        const tb__body *body = &scene->bodies[k == 0 ? pair->body_a : pair->body_b];
+        const tb__body *body = tb__body_constants(scene, k == 0 ? pair->body_a : pair->body_b);
         double arm[3];
         for (int i = 0; i < 3; ++i) {
             arm[i] = centre[i] / m->load - m->body[k]->x[i];
@@ -125,18 +126,19 @@ static void pair_masses(const tb_scene *scene, const tb__pair_contact *pair, tb_
 static void pair_loads(const tb__effect *effect, const tb_scene *scene, const double *y,
                        const tb__pair_contact *pair, size_t *fresh, double *dydt)
 {
-    const tb__body *a = &scene->bodies[pair->body_a], *b = &scene->bodies[pair->body_b];
+    const tb__body *a = tb__body_constants(scene, pair->body_a);
+    const tb__body *b = tb__body_constants(scene, pair->body_b);
     tb__pair_motion m;
     m.body[0] = tb__derivative_motion(scene, pair->body_a);
     m.body[1] = tb__derivative_motion(scene, pair->body_b);
     m.light = fmin(a->mass, b->mass);
-    m.reduced = a->mass * b->mass / (a->mass + b->mass);
+    m.reduced = tb__reduced_mass(a->mass, b->mass);
     pair_masses(scene, pair, &m);
     size_t slots[TB__MANIFOLD_POINTS];
     tb__friction_match(tb__contact_of(effect)->friction, pair, m.body[0], fresh, slots);
     const double share = 1.0 / (double)pair->manifold.count;
     for (int j = 0; j < pair->manifold.count; ++j) {
-        point_load(effect, pair, &m, &pair->manifold.points[j], share, slots[j], y, dydt);
+        point_load(effect, scene, pair, &m, &pair->manifold.points[j], share, slots[j], y, dydt);
     }
 }
 
@@ -171,13 +173,14 @@ static int apply_contact(const tb__effect *effect, const tb_scene *scene, double
 static double lightness(const tb_scene *scene, const double *y, size_t id, bool normal)
 {
     const tb__collision_shape *shape = tb__scene_body_collision_shape(scene, id);
-    const tb__body *body = &scene->bodies[id];
+    const tb__body *body = tb__body_constants(scene, id);
     const double identity[TB__POSE_SIZE] = {0, 0, 0, 1, 0, 0, 0};
-    double low[3], high[3], pose[TB__POSE_SIZE], q[4];
+    double low[3], high[3], pose[TB__POSE_SIZE];
     tb__collision_shape_bounds(shape, identity, low, high); /* in the shape frame */
     tb__shape_pose(scene, y, id, pose);
-    tb__unit_quaternion(y, id, q);
-    const double *x = y + TB_STATE_SIZE * id;
+    tb__motion motion;
+    tb__body_motion_at(scene, scene->time, y, id, &motion);
+    const double *x = motion.x, *q = motion.q;
     const bool sphere = shape->type == TB_SHAPE_SPHERE;
     double most = 1.0;
     for (int corner = 0; corner < (sphere ? 1 : 8); ++corner) {
@@ -224,7 +227,7 @@ static void contact_bounds(const tb__contact_params *contact, const tb_scene *sc
         const size_t id = contact->bodies[k];
         const tb__collision_shape *shape =
             id < scene->body_count ? tb__scene_body_collision_shape(scene, id) : NULL;
-        if (shape == NULL) {
+        if (shape == NULL || tb__body_fixed(scene, id)) { /* no mass: the partner's alone */
             continue;
         }
         const double normal = lightness(scene, y, id, true);

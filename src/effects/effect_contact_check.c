@@ -77,7 +77,9 @@ tb_status tb__contact_check_shared_pairs(tb_scene *scene, const tb__effect_ops *
  * push with M_min omega^2 depth (effect_contact.c). */
 static double weight_depth(const tb__contact_params *contact, const tb__body *a, const tb__body *b)
 {
-    const double light = fmin(a->mass, b->mass), heavy = fmax(a->mass, b->mass);
+    /* a body that cannot move carries the other's weight: the depth of that weight alone */
+    const double light = fmin(a->mass, b->mass), heavier = fmax(a->mass, b->mass);
+    const double heavy = isinf(heavier) ? light : heavier;
     return contact->gravity / (contact->omega * contact->omega) * (heavy / light);
 }
 
@@ -88,7 +90,8 @@ static tb_status check_pair(const tb__contact_params *contact, const tb_scene *s
     for (int j = 0; j < pair->manifold.count; ++j) {
         depth = fmax(depth, pair->manifold.points[j].depth);
     }
-    const tb__body *a = &scene->bodies[pair->body_a], *b = &scene->bodies[pair->body_b];
+    const tb__body *a = tb__body_constants(scene, pair->body_a);
+    const tb__body *b = tb__body_constants(scene, pair->body_b);
     const double limit = TB__CONTACT_START_DEPTH_WEIGHTS * weight_depth(contact, a, b);
     if (!(depth > limit)) {
         return TB_STATUS_OK;
@@ -96,7 +99,7 @@ static tb_status check_pair(const tb__contact_params *contact, const tb_scene *s
     /* one point between free bodies rings at omega sqrt(M_min / m_reduced): the speed its
      * spring gives them back, released from that depth */
     const double light = fmin(a->mass, b->mass);
-    const double reduced = a->mass * b->mass / (a->mass + b->mass);
+    const double reduced = tb__reduced_mass(a->mass, b->mass);
     const double speed = depth * contact->omega * sqrt(light / reduced);
     return tb__set_detail(detail, TB_STATUS_INVALID_ARGUMENT,
                           "bodies %zu (\"%s\") and %zu (\"%s\") start %.3g m inside each other, "

@@ -3,6 +3,7 @@
  * their deepest manifold point; of a ground plane, each body with contact points at its lowest
  * point, body_b TB_WORLD and the normal into the ground. Called at step boundaries only. */
 #include "effects/contact_events.h"
+#include "effects/ground_shapes.h"
 
 #include "contact/contact_pairs.h"
 #include "math/tb_math.h"
@@ -28,7 +29,7 @@ static tb__event_pair event_pair(const tb_scene *scene, const double *y,
     const size_t ids[2] = {pair->body_a, pair->body_b};
     for (int k = 0; k < 2; ++k) {
         tb__motion motion;
-        tb__body_motion(&scene->bodies[ids[k]], y + TB_STATE_SIZE * ids[k], &motion);
+        tb__body_motion_at(scene, scene->time, y, ids[k], &motion);
         double arm[3], velocity[3];
         for (int i = 0; i < 3; ++i) {
             arm[i] = deepest->position[i] - motion.x[i];
@@ -36,7 +37,7 @@ static tb__event_pair event_pair(const tb_scene *scene, const double *y,
         tb__point_velocity(&motion, arm, velocity);
         out.gap_rate += (k == 0 ? -1.0 : 1.0) * tb__v3_dot(velocity, out.normal);
         out.inverse_mass +=
-            tb__inverse_mass_along(&scene->bodies[ids[k]], &motion, arm, out.normal);
+            tb__inverse_mass_along(tb__body_constants(scene, ids[k]), &motion, arm, out.normal);
     }
     return out;
 }
@@ -64,7 +65,7 @@ static tb__event_pair ground_pair(const tb__ground_params *ground, const tb_scen
 {
     const size_t body = scene->contacts[first].body;
     tb__motion motion;
-    tb__body_motion(&scene->bodies[body], y + TB_STATE_SIZE * body, &motion);
+    tb__body_motion_at(scene, scene->time, y, body, &motion);
     tb__event_pair out = {
         .body_a = body, .body_b = TB_WORLD, .gap = INFINITY, .gravity = ground->gravity};
     double lowest[3] = {0.0, 0.0, 0.0};
@@ -88,7 +89,7 @@ static tb__event_pair ground_pair(const tb__ground_params *ground, const tb_scen
         out.normal[k] = -ground->normal[k];
     }
     out.inverse_mass =
-        tb__inverse_mass_along(&scene->bodies[body], &motion, lowest, ground->normal);
+        tb__inverse_mass_along(tb__body_constants(scene, body), &motion, lowest, ground->normal);
     return out;
 }
 
@@ -111,5 +112,5 @@ size_t tb__ground_event_pairs(const tb__effect *effect, const tb_scene *scene, c
         }
         first = end;
     }
-    return total;
+    return tb__ground_shapes_event_pairs(effect, scene, y, out, capacity, total);
 }

@@ -82,7 +82,9 @@ void tb__contact_event_gaps(const tb__effect *effect, const tb_scene *scene, con
  * other as a fixed body, so the pair must not touch before its island wakes. */
 static bool mixed(const tb_scene *scene, const tb__pair_contact *pair)
 {
-    return tb__body_asleep(scene, pair->body_a) != tb__body_asleep(scene, pair->body_b);
+    /* a static body has no island to wake */
+    return tb__body_asleep(scene, pair->body_a) != tb__body_asleep(scene, pair->body_b) &&
+           !tb__body_static(scene, pair->body_a) && !tb__body_static(scene, pair->body_b);
 }
 
 static bool any_asleep(const tb_scene *scene)
@@ -141,7 +143,8 @@ static double reach(const tb_scene *scene, const double *y, size_t id)
     if (tb_scene_body_shape_bounds(scene, y, id, low, high) != TB_STATUS_OK) {
         return 0.0;
     }
-    const double *x = y + TB_STATE_SIZE * id;
+    double x[3], q[4];
+    tb__body_pose_at(scene, scene->time, y, id, x, q);
     double r[3];
     for (int k = 0; k < 3; ++k) {
         r[k] = fmax(fabs(low[k] - x[k]), fabs(high[k] - x[k]));
@@ -157,13 +160,18 @@ typedef struct bound {
 
 static bound motion_bound(const tb_scene *scene, const double *y, const double *dydt, size_t id)
 {
-    const tb__body *body = &scene->bodies[id];
+    const tb__body *body = tb__body_constants(scene, id);
     tb__motion motion;
-    tb__body_motion(body, y + TB_STATE_SIZE * id, &motion);
+    tb__body_motion_at(scene, scene->time, y, id, &motion);
     const double r = reach(scene, y, id), spin = tb__v3_norm(motion.omega);
     bound out = {tb__v3_norm(motion.v) + spin * r, 0.0};
-    if (dydt != NULL) {
-        const double *d = dydt + TB_STATE_SIZE * id;
+    const double *d = dydt != NULL ? tb__body_state(scene, dydt, id) : NULL;
+    if (dydt != NULL && d == NULL) { /* a body without a state: its own acceleration */
+        double a[3], alpha[3];
+        tb__fixed_body_acceleration_at(scene, scene->time, id, a, alpha);
+        out.acceleration = tb__v3_norm(a) + (tb__v3_norm(alpha) + spin * spin) * r;
+    }
+    if (d != NULL) {
         const double *inverse = body->inv_moments;
         const double softest = fmax(inverse[0], fmax(inverse[1], inverse[2]));
         out.acceleration = tb__v3_norm(d + TB_STATE_P) * body->inv_mass +
@@ -441,7 +449,7 @@ void tb__ground_event_gaps(const tb__effect *effect, const tb_scene *scene, cons
         const tb__contact *c = &scene->contacts[j];
         if (c->body != current) {
             current = c->body;
-            tb__body_motion(&scene->bodies[current], y + TB_STATE_SIZE * current, &motion);
+            tb__body_motion_at(scene, scene->time, y, current, &motion);
         }
         double arm[3];
         tb__point_arm(&motion, c->r, arm);

@@ -221,7 +221,7 @@ void tb__friction_match(const tb__friction_pool *pool, const tb__pair_contact *p
 /* A claimed slot between two asleep bodies: frozen, kept claimed. */
 static bool slot_asleep(const tb__friction_slot *slot, const tb_scene *scene)
 {
-    return slot->body_a != TB__NO_SLOT && tb__pair_asleep(scene, slot->body_a, slot->body_b);
+    return slot->body_a != TB__NO_SLOT && tb__pair_resting(scene, slot->body_a, slot->body_b);
 }
 
 void tb__friction_relax_all(const tb__friction_pool *pool, const tb_scene *scene, const double *z,
@@ -303,7 +303,7 @@ static void hold_pair(tb__friction_pool *pool, const tb_scene *scene, const doub
                       const tb__pair_contact *pair, size_t *fresh)
 {
     tb__motion motion;
-    tb__body_motion(&scene->bodies[pair->body_a], y + TB_STATE_SIZE * pair->body_a, &motion);
+    tb__body_motion_at(scene, scene->time, y, pair->body_a, &motion);
     tb__scene_sleep_link(scene, pair->body_a, pair->body_b);
     tb__friction_hold(pool, pair, &motion, fresh);
 }

@@ -184,7 +184,7 @@ static void ground_touching(const tb_scene *scene, size_t index, const double *y
             touch = (tb_contact_touch){index, c->body, TB_WORLD, -INFINITY, 0};
         }
         tb__motion motion;
-        tb__body_motion(&scene->bodies[c->body], y + TB_STATE_SIZE * c->body, &motion);
+        tb__body_motion_at(scene, scene->time, y, c->body, &motion);
         double arm[3];
         tb__point_arm(&motion, c->r, arm);
         double height = -g->offset;

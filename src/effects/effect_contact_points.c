@@ -31,7 +31,8 @@ static tb_status check_points(tb_scene *scene, size_t id, const tb_contact_point
         tb__shape_point_to_principal(&scene->mass_props[id], points[k].position, r);
         const double reach = tb__v3_norm(r) + points[k].radius;
         const double arm[3] = {reach, 0.0, 0.0};
-        if (!isfinite(scene->bodies[id].mass * tb__inverse_mass_at(&scene->bodies[id], arm))) {
+        const tb__body *body = tb__body_constants(scene, id);
+        if (!isfinite(body->mass * tb__inverse_mass_at(body, arm))) {
             return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
                                   "points[%zu]: %g m from the body's centre of mass is so far "
                                   "that the contact's rate overflows",
@@ -48,6 +49,9 @@ static tb_status validate(tb_scene *scene, size_t id, const tb_contact_point *po
         return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "points is NULL (count %zu)", count);
     }
     tb_status status = tb__scene_check_id(scene, id, "id");
+    if (status == TB_STATUS_OK) { /* a ground plane pushes bodies that can move */
+        status = tb__scene_check_dynamic(scene, id, "id");
+    }
     if (status == TB_STATUS_OK) {
         status = check_points(scene, id, points, count);
     }
@@ -91,7 +95,7 @@ static tb_status commit_points(tb_scene *scene, size_t end, tb__contact *old, si
     scene->contact_bodies_end = end;
     tb_status status = tb__scene_check_effects_start(scene, scene->states);
     if (status == TB_STATUS_OK) {
-        status = tb__scene_layout_states(scene, scene->body_count);
+        status = tb__scene_layout_states(scene, scene->slot_count);
     }
     if (status != TB_STATUS_OK && old != scene->contacts) {
         free(scene->contacts);

@@ -32,7 +32,7 @@ static int apply_drag(const tb__effect *effect, const tb_scene *scene, double t,
     const tb__body *bodies = scene->bodies + first;
     size_t i;
     if (effect->body != TB_ALL_BODIES) {
-        if (tb__local_body(effect->body, first, count, &i)) {
+        if (tb__local_body(effect->slot, first, count, &i)) {
             drag_body(drag, &bodies[i], y + TB_STATE_SIZE * i, dydt + TB_STATE_SIZE * i);
         }
         return 0;
@@ -67,12 +67,12 @@ static void drag_rate(const tb__effect *effect, const tb_scene *scene, const dou
 {
     *out = (tb__effect_rate){0.0, TB_ALL_BODIES, 0.0, TB_ALL_BODIES};
     const bool all = effect->body == TB_ALL_BODIES;
-    for (size_t i = all ? 0 : effect->body; i < (all ? scene->body_count : effect->body + 1); ++i) {
+    for (size_t i = all ? 0 : effect->slot; i < (all ? scene->slot_count : effect->slot + 1); ++i) {
         const double rate =
             drag_body_rate(effect->params, &scene->bodies[i], y + TB_STATE_SIZE * i);
         if (rate > out->decay) {
             out->decay = rate;
-            out->decay_body = i;
+            out->decay_body = scene->slot_ids[i];
         }
     }
 }

@@ -119,7 +119,7 @@ static void body_load(const tb__ground_params *ground, const tb_scene *scene, si
     }
     const double centre[3] = {moment[0] / out->total, moment[1] / out->total,
                               moment[2] / out->total};
-    const tb__body *body = &scene->bodies[scene->contacts[first].body];
+    const tb__body *body = tb__body_constants(scene, scene->contacts[first].body);
     out->normal = 1.0 / tb__inverse_mass_along(body, motion, centre, ground->normal);
     out->tangential = 1.0 / tb__inverse_mass_across(body, motion, centre, ground->normal);
 }
@@ -143,7 +143,7 @@ static void contact(const tb__ground_params *ground, const tb_scene *scene, cons
     tb__v3_axpy(arm, -c->radius, n); /* the sphere's lowest point touches */
     double velocity[3];
     tb__point_velocity(motion, arm, velocity);
-    const tb__body *body = &scene->bodies[c->body];
+    const tb__body *body = tb__body_constants(scene, c->body);
     const double mass = body->mass * c->share;
     const double part = c->share * depth / load->total; /* of the load, in (0, 1] */
     /* never heavier than M share, the mass the law had before, unless the point alone is */
@@ -161,7 +161,7 @@ static void contact(const tb__ground_params *ground, const tb_scene *scene, cons
     for (int k = 0; k < 3; ++k) {
         f[k] = N * n[k] + friction[0] * t1[k] + friction[1] * t2[k];
     }
-    tb__add_load(dydt, c->body, arm, f);
+    tb__add_body_load(scene, dydt, c->body, arm, f);
 }
 
 /* True when every point of the body's [first, end) is surely above the plane at motion, with
@@ -257,7 +257,7 @@ static double rocking_factor(const tb_scene *scene, size_t first, size_t end, bo
         }
         shares += c->share;
     }
-    const tb__body *b = &scene->bodies[scene->contacts[first].body];
+    const tb__body *b = tb__body_constants(scene, scene->contacts[first].body);
     double a2 = 1.0;
     for (int k = 0; k < 3; ++k) {
         double row = 0.0;
@@ -331,7 +331,7 @@ static tb_status ground_check_start(const tb__effect *effect, const tb_scene *sc
     for (size_t j = 0; j < scene->contact_count; ++j) {
         const tb__contact *c = &scene->contacts[j];
         tb__motion motion;
-        tb__body_motion(&scene->bodies[c->body], y + TB_STATE_SIZE * c->body, &motion);
+        tb__body_motion_at(scene, scene->time, y, c->body, &motion);
         double arm[3];
         const double depth = point_depth(ground, c, &motion, arm);
         if (depth > limit) {

@@ -37,8 +37,7 @@ typedef struct tb__ground_shapes {
 } tb__ground_shapes;
 
 /* The plane as body A: at rest at the origin, unturned (friction keys and z in the world). */
-static const double plane_origin[3] = {0.0, 0.0, 0.0};
-static const tb__motion plane_motion = {plane_origin, {1.0, 0.0, 0.0, 0.0}, {0, 0, 0}, {0, 0, 0}};
+static const tb__motion plane_motion = {{0, 0, 0}, {1.0, 0.0, 0.0, 0.0}, {0, 0, 0}, {0, 0, 0}};
 
 /* The body's load on its touching points: the sum of depths and the effective masses at their
  * centre of pressure (as effect_contact.c's pair_masses with an immovable A). */
@@ -73,7 +72,7 @@ static void plane_load(const tb__ground_params *ground, const tb__body *body,
 /* One manifold point's force on body id (z, dz: its slot's states, NULL for none). */
 static void point_force(const tb__contact_params *law, const tb__ground_params *ground,
                         const tb__plane_load *m, const tb__contact_point *point, double share,
-                        const double *z, double *dz, size_t id, double *dydt)
+                        const double *z, double *dz, size_t slot, double *dydt)
 {
     const double *n = ground->normal;
     double arm[3], velocity[3], tangent[3], friction[3], f[3];
@@ -98,7 +97,7 @@ static void point_force(const tb__contact_params *law, const tb__ground_params *
     for (int k = 0; k < 3; ++k) {
         f[k] = N * n[k] + friction[k];
     }
-    tb__add_load(dydt, id, arm, f);
+    tb__add_load(dydt, slot, arm, f); /* by the body's slot in y */
 }
 
 /* Body id's manifold against the plane at y within margin (0 points: apart, or no shape). */
@@ -117,10 +116,11 @@ static int plane_manifold(const tb__ground_params *ground, const tb_scene *scene
     return tb__collide_plane(ground->normal, ground->offset, shape, pose, margin, &out->manifold);
 }
 
-/* Whether the ground meets body id through its shape: it has one and no contact points. */
+/* Whether the ground meets body id through its shape: it can move, has one and no contact
+ * points. */
 static bool meets_shape(const tb__ground_shapes *shapes, const tb_scene *scene, size_t id)
 {
-    return !(id < shapes->capacity && shapes->has_points[id]) &&
+    return !tb__body_fixed(scene, id) && !(id < shapes->capacity && shapes->has_points[id]) &&
            tb__scene_body_collision_shape(scene, id) != NULL;
 }
 
@@ -150,7 +150,7 @@ void tb__ground_shapes_apply(const tb__effect *effect, const tb_scene *scene, co
             continue; /* an asleep body's slots stay frozen (relax_all) */
         }
         tb__plane_load m = {.motion = tb__derivative_motion(scene, id)};
-        plane_load(ground, &scene->bodies[id], &pair.manifold, &m);
+        plane_load(ground, tb__body_constants(scene, id), &pair.manifold, &m);
         size_t slots[TB__MANIFOLD_POINTS] = {TB__NO_SLOT, TB__NO_SLOT, TB__NO_SLOT, TB__NO_SLOT};
         if (pool != NULL && id < shapes->pool_bodies) {
             tb__friction_match(pool, &pair, &plane_motion, &fresh, slots);
@@ -160,7 +160,8 @@ void tb__ground_shapes_apply(const tb__effect *effect, const tb_scene *scene, co
             const bool held = slots[j] != TB__NO_SLOT;
             const size_t s = first + TB__FRICTION_SLOT_STATES * (held ? slots[j] : 0);
             point_force(&shapes->law, ground, &m, &pair.manifold.points[j], share,
-                        held ? y + s : NULL, held ? dydt + s : NULL, id, dydt);
+                        held ? y + s : NULL, held ? dydt + s : NULL, tb__body_slot(scene, id),
+                        dydt);
         }
     }
 }
@@ -407,4 +408,46 @@ void tb__ground_shapes_release(tb__effect *effect)
         free(shapes);
         tb__ground_of(effect)->shapes = NULL;
     }
+}
+
+size_t tb__ground_shapes_event_pairs(const tb__effect *effect, const tb_scene *scene,
+                                     const double *y, tb__event_pair *out, size_t capacity,
+                                     size_t total)
+{
+    const tb__ground_params *ground = tb__ground_of(effect);
+    for (size_t id = 0; id < scene->body_count; ++id) {
+        tb__pair_contact pair;
+        if (!meets_shape(ground->shapes, scene, id) ||
+            plane_manifold(ground, scene, y, id, TB__EVENT_LOOKAHEAD, &pair) == 0) {
+            continue;
+        }
+        const tb__contact_point *deepest = &pair.manifold.points[0];
+        for (int j = 1; j < pair.manifold.count; ++j) {
+            deepest =
+                pair.manifold.points[j].depth > deepest->depth ? &pair.manifold.points[j] : deepest;
+        }
+        tb__motion motion;
+        tb__body_motion_at(scene, scene->time, y, id, &motion);
+        double arm[3], velocity[3];
+        for (int k = 0; k < 3; ++k) {
+            arm[k] = deepest->position[k] - motion.x[k];
+        }
+        tb__point_velocity(&motion, arm, velocity);
+        tb__event_pair found = {.body_a = id,
+                                .body_b = TB_WORLD,
+                                .gap = -deepest->depth,
+                                .gap_rate = tb__v3_dot(velocity, ground->normal),
+                                .gravity = ground->gravity};
+        for (int k = 0; k < 3; ++k) {
+            found.point[k] = deepest->position[k];
+            found.normal[k] = -ground->normal[k]; /* from the body into the ground */
+        }
+        found.inverse_mass =
+            tb__inverse_mass_along(tb__body_constants(scene, id), &motion, arm, ground->normal);
+        if (total < capacity) {
+            out[total] = found;
+        }
+        ++total;
+    }
+    return total;
 }

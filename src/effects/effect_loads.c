@@ -26,7 +26,7 @@ static double gravity_potential_energy(const tb__effect *effect, const tb_scene 
                                        const double *y)
 {
     double energy = 0.0;
-    for (size_t i = 0; i < scene->body_count; ++i) {
+    for (size_t i = 0; i < scene->slot_count; ++i) {
         const double *x = y + TB_STATE_SIZE * i + TB_STATE_X;
         energy -= scene->bodies[i].mass * tb__v3_dot(tb__gravity_of(effect)->g, x);
     }
@@ -87,7 +87,7 @@ static int apply_world_force(const tb__effect *effect, const tb_scene *scene, do
     (void)scene;
     (void)t;
     size_t i;
-    if (tb__local_body(effect->body, first, count, &i)) {
+    if (tb__local_body(effect->slot, first, count, &i)) {
         double q[4], arm[3];
         tb__unit_quaternion(y, i, q);
         tb__q_rotate(arm, q, load_of(effect)->point);
@@ -102,7 +102,7 @@ static int apply_body_force(const tb__effect *effect, const tb_scene *scene, dou
     (void)scene;
     (void)t;
     size_t i;
-    if (tb__local_body(effect->body, first, count, &i)) {
+    if (tb__local_body(effect->slot, first, count, &i)) {
         double q[4], arm[3], force[3];
         tb__unit_quaternion(y, i, q);
         tb__q_rotate(arm, q, load_of(effect)->point);
@@ -119,7 +119,7 @@ static int apply_world_torque(const tb__effect *effect, const tb_scene *scene, d
     (void)t;
     (void)y;
     size_t i;
-    if (tb__local_body(effect->body, first, count, &i)) {
+    if (tb__local_body(effect->slot, first, count, &i)) {
         tb__v3_axpy(dydt + TB_STATE_SIZE * i + TB_STATE_L, 1.0, load_of(effect)->vector);
     }
     return 0;
@@ -131,7 +131,7 @@ static int apply_body_torque(const tb__effect *effect, const tb_scene *scene, do
     (void)scene;
     (void)t;
     size_t i;
-    if (tb__local_body(effect->body, first, count, &i)) {
+    if (tb__local_body(effect->slot, first, count, &i)) {
         double q[4], torque[3];
         tb__unit_quaternion(y, i, q);
         tb__q_rotate(torque, q, load_of(effect)->vector);

@@ -30,6 +30,16 @@ typedef struct spring_end {
     double arm[3], p[3], v[3];
 } spring_end;
 
+static void motion_end(const tb__motion *motion, const double r[3], spring_end *end)
+{
+    tb__point_arm(motion, r, end->arm);
+    tb__point_velocity(motion, end->arm, end->v);
+    for (int k = 0; k < 3; ++k) {
+        end->p[k] = motion->x[k] + end->arm[k];
+    }
+}
+
+/* The end at body point r of the dynamic body whose state is s (a per-body range's form). */
 static void body_end(const tb__body *body, const double *s, const double r[3], spring_end *end)
 {
     tb__motion motion;
@@ -66,11 +76,11 @@ static int apply_anchored_spring(const tb__effect *effect, const tb_scene *scene
     (void)t;
     const tb__spring_params *spring = spring_of(effect);
     size_t i;
-    if (!tb__local_body(effect->body, first, count, &i)) {
+    if (!tb__local_body(effect->slot, first, count, &i)) {
         return 0;
     }
     spring_end a, anchor = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
-    body_end(&scene->bodies[effect->body], y + TB_STATE_SIZE * i, spring->point, &a);
+    body_end(&scene->bodies[effect->slot], y + TB_STATE_SIZE * i, spring->point, &a);
     tb__v3_copy(anchor.p, spring->anchor);
     double f[3];
     if (spring_force(spring, &a, &anchor, f)) {
@@ -83,43 +93,45 @@ static int apply_anchored_spring(const tb__effect *effect, const tb_scene *scene
 static int apply_spring(const tb__effect *effect, const tb_scene *scene, double t, const double *y,
                         double *dydt)
 {
-    (void)t;
     const tb__spring_params *spring = spring_of(effect);
     spring_end a, b;
-    body_end(&scene->bodies[effect->body], y + TB_STATE_SIZE * effect->body, spring->point, &a);
-    body_end(&scene->bodies[spring->other], y + TB_STATE_SIZE * spring->other, spring->anchor, &b);
+    tb__motion motion;
+    tb__body_motion_at(scene, t, y, effect->body, &motion);
+    motion_end(&motion, spring->point, &a);
+    tb__body_motion_at(scene, t, y, spring->other, &motion);
+    motion_end(&motion, spring->anchor, &b);
     double f[3];
     if (spring_force(spring, &a, &b, f)) {
-        tb__add_load(dydt, effect->body, a.arm, f);
+        tb__add_body_load(scene, dydt, effect->body, a.arm, f);
         tb__v3_set(f, -f[0], -f[1], -f[2]);
-        tb__add_load(dydt, spring->other, b.arm, f);
+        tb__add_body_load(scene, dydt, spring->other, b.arm, f);
     }
     return 0;
 }
 
 /* World position of a spring end: a body point (principal frame offset) or a world anchor. */
-static void end_position(const double *y, size_t body, const double r[3], double p[3])
+static void end_position(const tb_scene *scene, const double *y, size_t body, const double r[3],
+                         double p[3])
 {
     if (body == TB_WORLD) {
         tb__v3_copy(p, r);
         return;
     }
-    double q[4], arm[3];
-    tb__unit_quaternion(y, body, q);
-    tb__q_rotate(arm, q, r);
-    const double *x = y + TB_STATE_SIZE * body + TB_STATE_X;
-    tb__v3_set(p, x[0] + arm[0], x[1] + arm[1], x[2] + arm[2]);
+    tb__motion motion;
+    double arm[3];
+    tb__body_motion_at(scene, scene->time, y, body, &motion);
+    tb__q_rotate(arm, motion.q, r);
+    tb__v3_set(p, motion.x[0] + arm[0], motion.x[1] + arm[1], motion.x[2] + arm[2]);
 }
 
 /* k (|d| - rest)^2 / 2 (J). */
 static double spring_potential_energy(const tb__effect *effect, const tb_scene *scene,
                                       const double *y)
 {
-    (void)scene;
     const tb__spring_params *spring = spring_of(effect);
     double a[3], b[3];
-    end_position(y, effect->body, spring->point, a);
-    end_position(y, spring->other, spring->anchor, b);
+    end_position(scene, y, effect->body, spring->point, a);
+    end_position(scene, y, spring->other, spring->anchor, b);
     const double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
     const double stretch = tb__v3_norm(d) - spring->rest_length;
     return 0.5 * spring->stiffness * stretch * stretch;
@@ -138,9 +150,9 @@ static void spring_rate(const tb__effect *effect, const tb_scene *scene, const d
 {
     (void)y;
     const tb__spring_params *spring = spring_of(effect);
-    double w = tb__inverse_mass_at(&scene->bodies[effect->body], spring->point);
+    double w = tb__inverse_mass_at(tb__body_constants(scene, effect->body), spring->point);
     if (spring->other != TB_WORLD) {
-        w += tb__inverse_mass_at(&scene->bodies[spring->other], spring->anchor);
+        w += tb__inverse_mass_at(tb__body_constants(scene, spring->other), spring->anchor);
     }
     *out = (tb__effect_rate){.oscillation = sqrt(spring->stiffness * w),
                              .oscillation_body = effect->body,
@@ -225,10 +237,11 @@ static tb_status check_rate(tb_scene *scene, const tb__effect *effect, const tb_
         return TB_STATUS_OK;
     }
     const tb__spring_params *spring = spring_of(effect);
-    const bool a_far = !isfinite(tb__inverse_mass_at(&scene->bodies[effect->body], spring->point));
+    const bool a_far =
+        !isfinite(tb__inverse_mass_at(tb__body_constants(scene, effect->body), spring->point));
     const bool b_far =
         spring->other != TB_WORLD &&
-        !isfinite(tb__inverse_mass_at(&scene->bodies[spring->other], spring->anchor));
+        !isfinite(tb__inverse_mass_at(tb__body_constants(scene, spring->other), spring->anchor));
     if (!a_far && !b_far) {
         return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
                               "stiffness: %g N/m with damping %g N s/m makes the spring's rate "

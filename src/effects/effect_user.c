@@ -94,9 +94,11 @@ tb_status tb_effect_add_force(const tb_scene *scene, const double *y, double *dy
         }
         return refuse(scene, status);
     }
-    const double *x = y + TB_STATE_SIZE * id + TB_STATE_X;
+    tb__motion motion;
+    tb__body_motion_at(scene, scene->time, y, id, &motion);
+    const double *x = motion.x;
     const double arm[3] = {point[0] - x[0], point[1] - x[1], point[2] - x[2]};
-    tb__add_load(dydt, id, arm, force);
+    tb__add_body_load(scene, dydt, id, arm, force);
     return TB_STATUS_OK;
 }
 
@@ -110,6 +112,9 @@ tb_status tb_effect_add_torque(const tb_scene *scene, double *dydt, size_t id,
     if (!load_is_good(scene, dydt, id, torque, torque)) {
         return refuse(scene, check_load(scene, dydt, id, torque, "torque"));
     }
-    tb__v3_axpy(dydt + TB_STATE_SIZE * id + TB_STATE_L, 1.0, torque);
+    double *d = tb__body_state_mut(scene, dydt, id);
+    if (d != NULL) {
+        tb__v3_axpy(d + TB_STATE_L, 1.0, torque);
+    }
     return TB_STATUS_OK;
 }

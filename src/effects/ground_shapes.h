@@ -55,4 +55,12 @@ void tb__ground_shapes_post_step(const tb__effect *effect, const tb_scene *scene
 bool tb__ground_shape_touch(const tb__effect *effect, const tb_scene *scene, const double *y,
                             size_t id, double *depth, int *points);
 
+/* The ground's event pairs (tb__effect_stepping.event_pairs) of the bodies it meets through
+ * their shapes, within TB__EVENT_LOOKAHEAD at y (the scene's time): each body's deepest point
+ * against the plane, body_b TB_WORLD; written into out[total ..) while capacity lasts. Returns
+ * total plus their number. */
+size_t tb__ground_shapes_event_pairs(const tb__effect *effect, const tb_scene *scene,
+                                     const double *y, tb__event_pair *out, size_t capacity,
+                                     size_t total);
+
 #endif

@@ -159,14 +159,75 @@ static tb_status load_motion(tb__loader *ld, const json_t *body, const char *pat
     return status;
 }
 
-static tb_status add_body(tb__loader *ld, const char *path, tb__body_build *b)
+/* "motion": "dynamic" (the default), "static" or "keyframed". */
+static tb_status load_motion_kind(tb__loader *ld, const json_t *body, const char *path,
+                                  tb_body_motion *out)
+{
+    const char *motion = NULL;
+    tb_status status = tb__json_string(ld, body, path, "motion", false, &motion);
+    if (status != TB_STATUS_OK || motion == NULL || strcmp(motion, "dynamic") == 0) {
+        return status;
+    }
+    if (strcmp(motion, "static") == 0 || strcmp(motion, "keyframed") == 0) {
+        *out = motion[0] == 's' ? TB_MOTION_STATIC : TB_MOTION_KEYFRAMED;
+        return TB_STATUS_OK;
+    }
+    char where[160];
+    snprintf(where, sizeof where, "%s.motion", path);
+    return tb__load_fail(ld, TB_STATUS_BAD_SCENE, where,
+                         "\"%s\" is not a motion: \"dynamic\", \"static\" or \"keyframed\"",
+                         motion);
+}
+
+/* A keyframed body's "keys" and "interpolation" (scene_file_keys.c; required for it, refused for
+ * the others), its added pose the first key's; k->keys NULL for a body of another kind. */
+typedef struct keys_build {
+    tb_body_key *keys;
+    size_t count;
+    tb_interpolation interpolation;
+} keys_build;
+
+static tb_status load_body_keys(tb__loader *ld, const json_t *body, const char *path,
+                                tb__body_build *b, keys_build *k)
+{
+    if (b->def.motion != TB_MOTION_KEYFRAMED) {
+        const bool keyed = json_object_get(body, "keys") || json_object_get(body, "interpolation");
+        return keyed ? tb__load_fail(ld, TB_STATUS_BAD_SCENE, path,
+                                     "keys and interpolation are for \"motion\": \"keyframed\"")
+                     : TB_STATUS_OK;
+    }
+    if (json_object_get(body, "position") || json_object_get(body, "orientation")) {
+        return tb__load_fail(ld, TB_STATUS_BAD_SCENE, path,
+                             "a keyframed body's pose comes from its keys: no position or "
+                             "orientation");
+    }
+    tb_status status = tb__load_keys(ld, body, path, &k->keys, &k->count, &k->interpolation);
+    if (status == TB_STATUS_OK) {
+        const tb_body_key *first = &k->keys[0];
+        const double norm = tb__q_norm(first->orientation);
+        for (int i = 0; i < 3; ++i) {
+            b->def.position[i] = first->position[i];
+        }
+        for (int i = 0; i < 4; ++i) {
+            b->def.orientation[i] = first->orientation[i] / norm;
+        }
+    }
+    return status;
+}
+
+static tb_status add_body(tb__loader *ld, const char *path, tb__body_build *b, const keys_build *k)
 {
     size_t id;
     tb_status status = tb_scene_add_body(ld->scene, &b->def, &id);
-    if (status != TB_STATUS_OK) {
-        return tb__load_fail(ld, TB_STATUS_BAD_SCENE, path, "%s", tb_scene_detail(ld->scene));
+    if (status == TB_STATUS_OK && k->keys != NULL) {
+        status = tb_scene_set_body_keys(ld->scene, id, k->keys, k->count, k->interpolation);
     }
-    if (b->has_contacts) {
+    if (status != TB_STATUS_OK) {
+        return tb__load_fail(ld, status == TB_STATUS_OUT_OF_MEMORY ? status : TB_STATUS_BAD_SCENE,
+                             path, "%s", tb_scene_detail(ld->scene));
+    }
+    if (b->has_contacts && b->def.motion == TB_MOTION_DYNAMIC) { /* the ground's, for bodies
+                                                                     that can move */
         const tb_contact_point *points = b->contacts.many ? b->contacts.many : b->contacts.points;
         status = tb_scene_set_contact_points(ld->scene, id, points, b->contacts.count,
                                              b->contacts.support);
@@ -185,6 +246,27 @@ static tb_status add_body(tb__loader *ld, const char *path, tb__body_build *b)
                                path, "shape: %s", tb_scene_detail(ld->scene));
 }
 
+/* The body's shape (and mass properties from it) or its mass and inertia; a body with no
+ * state needs neither. */
+static tb_status load_shape_or_inertia(tb__loader *ld, const json_t *body, const char *path,
+                                       tb__body_build *b)
+{
+    const bool shaped = json_object_get(body, "shape") != NULL;
+    if (shaped && (json_object_get(body, "inertia") || json_object_get(body, "center"))) {
+        return tb__load_fail(ld, TB_STATUS_BAD_SCENE, path,
+                             "inertia and center come from the shape: give one or the other");
+    }
+    if (!shaped && json_object_get(body, "density")) {
+        return tb__load_fail(ld, TB_STATUS_BAD_SCENE, path,
+                             "density: applies to a shape; with inertia give mass");
+    }
+    const bool needs_mass = b->def.motion == TB_MOTION_DYNAMIC || json_object_get(body, "mass");
+    if (!shaped && !needs_mass) {
+        return TB_STATUS_OK;
+    }
+    return shaped ? tb__load_shape(ld, body, path, b) : load_inertia(ld, body, path, b);
+}
+
 static tb_status load_body(tb__loader *ld, const json_t *body, const char *path)
 {
     static const char *const keys[] = {"name",
@@ -199,9 +281,13 @@ static tb_status load_body(tb__loader *ld, const json_t *body, const char *path)
                                        "angular_velocity",
                                        "angular_velocity_body",
                                        "contact",
+                                       "motion",
+                                       "keys",
+                                       "interpolation",
                                        NULL};
     tb__body_build b;
     memset(&b, 0, sizeof b);
+    keys_build k = {NULL, 0, TB_INTERPOLATION_CUBIC};
     b.def = tb_body_def_default();
     b.shape = tb_shape_default();
     tb_status status = tb__json_object(ld, body, path, keys);
@@ -214,18 +300,11 @@ static tb_status load_body(tb__loader *ld, const json_t *body, const char *path)
             tb__load_fail(ld, TB_STATUS_BAD_SCENE, path,
                           "name: \"%s\" is already the name of bodies[%zu]", b.def.name, existing);
     }
-    const bool shaped = json_object_get(body, "shape") != NULL;
-    if (status == TB_STATUS_OK && shaped &&
-        (json_object_get(body, "inertia") || json_object_get(body, "center"))) {
-        status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, path,
-                               "inertia and center come from the shape: give one or the other");
-    }
-    if (status == TB_STATUS_OK && !shaped && json_object_get(body, "density")) {
-        status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, path,
-                               "density: applies to a shape; with inertia give mass");
+    if (status == TB_STATUS_OK) {
+        status = load_motion_kind(ld, body, path, &b.def.motion);
     }
     if (status == TB_STATUS_OK) {
-        status = shaped ? tb__load_shape(ld, body, path, &b) : load_inertia(ld, body, path, &b);
+        status = load_shape_or_inertia(ld, body, path, &b);
     }
     if (status == TB_STATUS_OK) {
         status = load_contact(ld, body, path, &b);
@@ -234,8 +313,12 @@ static tb_status load_body(tb__loader *ld, const json_t *body, const char *path)
         status = load_motion(ld, body, path, &b.def);
     }
     if (status == TB_STATUS_OK) {
-        status = add_body(ld, path, &b);
+        status = load_body_keys(ld, body, path, &b, &k);
     }
+    if (status == TB_STATUS_OK) {
+        status = add_body(ld, path, &b, &k);
+    }
+    free(k.keys);
     free(b.contacts.many);
     free(b.shape_vertices);
     tb__free_pieces(&b);

@@ -92,6 +92,10 @@ tb_status tb__load_shape(tb__loader *ld, const json_t *body, const char *path, t
 /* The body's "mass" or "density" (exactly one, > 0). */
 tb_status tb__load_mass_mode(tb__loader *ld, const json_t *body, const char *path,
                              tb_mass_mode *mode, double *value);
+/* The same for body b, except that a body with no state (static, keyframed) needs neither: then
+ * any density will do (its mass is not used). */
+tb_status tb__load_body_mass_mode(tb__loader *ld, const json_t *body, const char *path,
+                                  const tb__body_build *b, tb_mass_mode *mode, double *value);
 /* A shape object's keys checked (piece: its "position" and "orientation" allowed) and its type. */
 tb_status tb__load_shape_object(tb__loader *ld, const json_t *shape, const char *shape_path,
                                 bool piece, const char **out_type);

@@ -129,7 +129,7 @@ tb_status tb__load_pieces(tb__loader *ld, const json_t *body, const char *path, 
     }
     tb_mass_mode mode = TB_MASS_GIVEN;
     double value = 0.0;
-    tb_status status = tb__load_mass_mode(ld, body, path, &mode, &value);
+    tb_status status = tb__load_body_mass_mode(ld, body, path, b, &mode, &value);
     if (status != TB_STATUS_OK) {
         return status;
     }

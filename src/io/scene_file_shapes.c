@@ -326,6 +326,18 @@ tb_status tb__load_shape_mass(tb__loader *ld, const json_t *shape, const char *s
     return error.message[0] ? tb__mass_result(ld, status, mass_path, &error) : status;
 }
 
+tb_status tb__load_body_mass_mode(tb__loader *ld, const json_t *body, const char *path,
+                                  const tb__body_build *b, tb_mass_mode *mode, double *value)
+{
+    if (b->def.motion != TB_MOTION_DYNAMIC && !json_object_get(body, "mass") &&
+        !json_object_get(body, "density")) {
+        *mode = TB_MASS_DENSITY; /* a body with no state needs no mass: any will do, unused */
+        *value = 1.0;
+        return TB_STATUS_OK;
+    }
+    return tb__load_mass_mode(ld, body, path, mode, value);
+}
+
 tb_status tb__load_shape(tb__loader *ld, const json_t *body, const char *path, tb__body_build *b)
 {
     char shape_path[160];
@@ -346,9 +358,9 @@ tb_status tb__load_shape(tb__loader *ld, const json_t *body, const char *path, t
         }
         return load_points(ld, shape, shape_path, b);
     }
-    tb_mass_mode mode = TB_MASS_GIVEN;
-    double value = 0.0;
-    status = tb__load_mass_mode(ld, body, path, &mode, &value);
+    tb_mass_mode mode = TB_MASS_DENSITY;
+    double value = 1.0;
+    status = tb__load_body_mass_mode(ld, body, path, b, &mode, &value);
     if (status != TB_STATUS_OK) {
         return status;
     }

@@ -70,7 +70,8 @@ void tb__cvode_events_free(tb__cvode *cvode)
 
 bool tb__cvode_marches(const tb_integrator *integrator)
 {
-    return integrator->system.root_count > 0 || integrator->system.step_limit != NULL;
+    return integrator->system.root_count > 0 || integrator->system.step_limit != NULL ||
+           integrator->system.next_break != NULL;
 }
 
 /* CVODE stopped at an event at tau: counts it and names the lowest function that fired. */
@@ -95,8 +96,15 @@ static int limit_next_step(tb_integrator *integrator, sunrealtype tn)
 {
     tb__cvode *cvode = integrator->cvode;
     const tb_ode_system *system = &integrator->system;
+    /* a break ahead: CVODE stops on it (and the march restarts there) */
+    const double next =
+        system->next_break != NULL
+            ? system->next_break(cvode->t_origin + tn, system->ctx) - cvode->t_origin
+            : INFINITY;
+    cvode->break_stop = isfinite(next) && next > tn ? next : INFINITY;
     if (system->step_limit == NULL) {
-        return CV_SUCCESS;
+        return CVodeSetStopTime(cvode->mem,
+                                isfinite(cvode->break_stop) ? cvode->break_stop : tn + 1e300);
     }
     const double *state = N_VGetArrayPointer(cvode->y), *rate = NULL;
     if (cvode->started) { /* y may hold an interpolated output: take CVODE's own y_n, y'_n */
@@ -114,7 +122,7 @@ static int limit_next_step(tb_integrator *integrator, sunrealtype tn)
     /* no limit, or one below the time's resolution: a stop time far ahead (6.x cannot clear
      * one) */
     const double stop = limit > 0.0 && isfinite(limit) && tn + limit > tn ? tn + limit : tn + 1e300;
-    return CVodeSetStopTime(cvode->mem, stop);
+    return CVodeSetStopTime(cvode->mem, fmin(stop, cvode->break_stop));
 }
 
 /* The system's at_event at the event CVODE stopped at (y there): whether it changed the
@@ -167,6 +175,13 @@ int tb__cvode_march(tb_integrator *integrator, double tau_out, int mode, double 
                 return TB__CV_EVENT_RESTART;
             }
         }
+        /* on a break: the curve after it is another; restart there (on the output: at the
+         * next call; a break past tau_out is beyond this call) */
+        const bool on_break = flag == CV_TSTOP_RETURN && *tau_reached == cvode->break_stop;
+        if (on_break && (mode == CV_ONE_STEP || *tau_reached < tau_out)) {
+            return TB__CV_EVENT_RESTART;
+        }
+        cvode->stale = cvode->stale || (on_break && *tau_reached == tau_out);
         if (flag < 0 || mode == CV_ONE_STEP) {
             return flag;
         }

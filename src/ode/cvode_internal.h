@@ -27,9 +27,10 @@ struct tb__cvode {
     double *y_seen;           /* y as last handed out; a difference means the caller changed it */
     bool band_preconditioner; /* CVBandPrec attached (its counters exist) */
     tb__block_preconditioner *block_preconditioner; /* for systems of independent blocks */
-    bool started; /* the first step since creation or restart has been taken */
-    bool stale;   /* CVODE's history went past the last good output (a non-finite
-                     output was refused): restart from y before the next step */
+    bool started;      /* the first step since creation or restart has been taken */
+    double break_stop; /* the stop time set at the system's next break (INFINITY: none) */
+    bool stale;        /* CVODE's history went past the last good output (a non-finite
+                          output was refused): restart from y before the next step */
     unsigned long long rhs_generation; /* the system's, at the last (re)start */
     double t_origin;       /* CVODE integrates in tau = t - t_origin, from tau = 0 at creation
                               and every restart, so a start at t = 1e16 (where CVODE's first

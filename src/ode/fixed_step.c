@@ -332,12 +332,24 @@ static tb_status take_step(tb_integrator *integrator, double h, double t_end)
     return status;
 }
 
+/* t_end, or the system's first break after t when it comes before (tb_ode_system.next_break);
+ * *cut tells which. */
+static double end_at_break(const tb_integrator *integrator, double t_end, bool *cut)
+{
+    const tb_ode_system *system = &integrator->system;
+    const double next =
+        system->next_break != NULL ? system->next_break(integrator->t, system->ctx) : INFINITY;
+    *cut = next > integrator->t && next < t_end;
+    return *cut ? next : t_end;
+}
+
 static tb_status fixed_step(tb_integrator *integrator)
 {
-    const double t_end = integrator->t + integrator->dt;
+    bool cut;
+    const double t_end = end_at_break(integrator, integrator->t + integrator->dt, &cut);
     const tb_status status =
         check_time_resolution(integrator->detail, integrator->dt, t_end, "t + dt");
-    return status != TB_STATUS_OK ? status : take_step(integrator, integrator->dt, t_end);
+    return status != TB_STATUS_OK ? status : take_step(integrator, t_end - integrator->t, t_end);
 }
 
 /* Steps to t_target are counted as advance lands them (see fixed_advance); more than
@@ -373,12 +385,14 @@ static tb_status fixed_advance(tb_integrator *integrator, double t_target)
     }
     const double t_start = integrator->t, dt = integrator->dt;
     /* Step times are t_start + i dt rather than a running sum, so round-off does not
-     * accumulate over long runs. */
-    for (long i = 1; integrator->t < t_target; ++i) {
+     * accumulate over long runs; a step cut at a break leaves i for the rest of the way. */
+    for (long i = 1; integrator->t < t_target;) {
         double t_end = t_start + (double)i * dt;
         if (t_end >= t_target - TB__LANDING_SLACK * dt) {
             t_end = t_target;
         }
+        bool cut;
+        t_end = end_at_break(integrator, t_end, &cut);
         if (i > integrator->max_steps || !(t_end > integrator->t)) {
             return budget_used(integrator, t_target, i - 1);
         }
@@ -386,6 +400,7 @@ static tb_status fixed_advance(tb_integrator *integrator, double t_target)
         if (status != TB_STATUS_OK) {
             return status;
         }
+        i += cut ? 0 : 1;
     }
     return TB_STATUS_OK;
 }

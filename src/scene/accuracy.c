@@ -89,7 +89,7 @@ tb_accuracy_def tb_accuracy_def_default(void)
 
 /* What one run is compared with, and what the comparison found so far. */
 typedef struct comparison {
-    size_t bodies;
+    size_t bodies;        /* the dynamic bodies, by slot */
     const double *length; /* bodies: radius of gyration about the largest axis, m */
     double *reference;    /* frames x bodies x TB__POSE, grown while recording */
     size_t frames, capacity;
@@ -446,7 +446,8 @@ tb_status tb_scene_accuracy_sweep(tb_scene *scene, const tb_run_def *run,
     if (status != TB_STATUS_OK) {
         return status;
     }
-    const size_t bodies = tb_scene_body_count(scene), size = tb_scene_state_size(scene);
+    /* the bodies compared are those with a state (slots): the others move the same in both */
+    const size_t bodies = scene->slot_count, size = tb_scene_state_size(scene);
     double *start = tb__malloc_array(size > 0 ? size : 1, sizeof(double));
     double *length = tb__malloc_array(bodies > 0 ? bodies : 1, sizeof(double));
     if (start == NULL || length == NULL) {
@@ -458,7 +459,7 @@ tb_status tb_scene_accuracy_sweep(tb_scene *scene, const tb_run_def *run,
     memcpy(start, tb_scene_states_const(scene), size * sizeof(double));
     for (size_t i = 0; i < bodies; ++i) {
         tb_mass_properties mass;
-        tb_scene_get_mass(scene, i, &mass);
+        tb_scene_get_mass(scene, scene->slot_ids[i], &mass);
         const double largest = fmax(mass.moments[0], fmax(mass.moments[1], mass.moments[2]));
         length[i] = sqrt(largest / mass.mass);
     }

@@ -33,11 +33,12 @@ void tb__angular_velocity(const tb__body *body, const double *s, double omega[3]
     angular_velocity(body, s, omega);
 }
 
-/* dx = P/M and dq = 1/2 (0, omega) (x) q for `count` bodies, with dP and dL zeroed for the
- * effects to add into; y and dydt point at the first body's state, bodies at its data. With
- * motions (count entries) each body's tb__body_motion too, from the same omega and v. */
+/* dx = P/M and dq = 1/2 (0, omega) (x) q for `count` slots, with dP and dL zeroed for the
+ * effects to add into; y and dydt point at the first slot's state, bodies at its data. With
+ * motions (by id, the slots' ids in ids) each body's tb__body_motion too, from the same omega
+ * and v. */
 static void kinematics(const tb__body *bodies, const double *y, double *dydt, size_t count,
-                       tb__motion *motions)
+                       tb__motion *motions, const size_t *ids)
 {
     for (size_t i = 0; i < count; ++i) {
         const double *s = y + TB_STATE_SIZE * i;
@@ -46,7 +47,7 @@ static void kinematics(const tb__body *bodies, const double *y, double *dydt, si
         /* dq uses q itself, for which 1/2 (0, omega) (x) q is tangent to the sphere
          * |q| = const. */
         tb__motion own;
-        tb__motion *motion = motions != NULL ? &motions[i] : &own;
+        tb__motion *motion = motions != NULL ? &motions[ids[i]] : &own;
         double *omega = motion->omega;
         angular_velocity(body, s, omega);
         const double *qr = s + TB_STATE_Q;
@@ -54,7 +55,7 @@ static void kinematics(const tb__body *bodies, const double *y, double *dydt, si
             d[TB_STATE_X + k] = s[TB_STATE_P + k] * body->inv_mass;
         }
         if (motions != NULL) {
-            motion->x = s;
+            tb__v3_copy(motion->x, s + TB_STATE_X);
             tb__unit_quaternion(s, 0, motion->q);
             tb__v3_copy(motion->v, d + TB_STATE_X);
         }
@@ -78,14 +79,14 @@ void tb__scene_single_body_effects(const tb_scene *scene, size_t first, size_t c
     size_t low = all, high = last;
     while (low < high) {
         const size_t middle = low + (high - low) / 2;
-        if (effects[order[middle]].body < first) {
+        if (effects[order[middle]].slot < first) {
             low = middle + 1;
         } else {
             high = middle;
         }
     }
     *begin = low;
-    while (low < last && effects[order[low]].body - first < count) {
+    while (low < last && effects[order[low]].slot - first < count) {
         ++low;
     }
     *end = low;
@@ -123,9 +124,18 @@ int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
     if (scene == NULL || y == NULL || dydt == NULL) {
         return -1;
     }
-    const size_t n = scene->body_count;
-    kinematics(scene->bodies, y, dydt, n, scene->motions);
-    int rc = apply_per_body_effects(scene, t, y, dydt, 0, n);
+    const size_t n = scene->slot_count;
+    /* the time bodies without a state are read at (shape poses included), written through
+     * the const scene like the motions */
+    ((tb_scene *)scene)->time = t;
+    kinematics(scene->bodies, y, dydt, n, scene->motions, scene->slot_ids);
+    int rc = 0;
+    for (size_t id = 0; n < scene->body_count && id < scene->body_count && rc == 0; ++id) {
+        if (tb__body_fixed(scene, id)) { /* the bodies with no state, at t */
+            rc = tb__body_motion_at(scene, t, y, id, &scene->motions[id]) != 0 ? -1 : 0;
+        }
+    }
+    rc = rc != 0 ? rc : apply_per_body_effects(scene, t, y, dydt, 0, n);
     /* then the coupled effects, last in effect_order */
     const size_t first_coupled = scene->effect_count - scene->coupled_effect_count;
     for (size_t k = first_coupled; k < scene->effect_count && rc == 0; ++k) {
@@ -138,7 +148,9 @@ int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
 
 bool tb__scene_separable(const tb_scene *scene)
 {
-    return scene->coupled_effect_count == 0 && scene->extra_count == 0;
+    /* bodies without a state need the whole post-step hook, which keeps the scene's time */
+    return scene->coupled_effect_count == 0 && scene->extra_count == 0 &&
+           scene->slot_count == scene->body_count;
 }
 
 int tb__scene_block_derivative(double t, const double *y, double *dydt, size_t first, size_t count,
@@ -150,13 +162,13 @@ int tb__scene_block_derivative(double t, const double *y, double *dydt, size_t f
     if (scene == NULL || !tb__scene_separable(scene)) {
         return -1;
     }
-    kinematics(scene->bodies + first, y, dydt, count, NULL);
+    kinematics(scene->bodies + first, y, dydt, count, NULL, NULL);
     return apply_per_body_effects(scene, t, y, dydt, first, count);
 }
 
 void tb__body_motion(const tb__body *body, const double *s, tb__motion *out)
 {
-    out->x = s;
+    tb__v3_copy(out->x, s + TB_STATE_X);
     tb__unit_quaternion(s, 0, out->q);
     angular_velocity(body, s, out->omega);
     const double *P = s + TB_STATE_P;
@@ -237,12 +249,26 @@ double tb__lightness_at(const tb__body *body, const double r[3])
     return 1.0 + body->mass * (q + 2.0 * p * cos(acos(half) / 3.0));
 }
 
-void tb__add_load(double *dydt, size_t i, const double arm[3], const double f[3])
+void tb__add_load(double *dydt, size_t slot, const double arm[3], const double f[3])
 {
     double torque[3];
     tb__v3_cross(torque, arm, f);
-    tb__v3_axpy(dydt + TB_STATE_SIZE * i + TB_STATE_P, 1.0, f);
-    tb__v3_axpy(dydt + TB_STATE_SIZE * i + TB_STATE_L, 1.0, torque);
+    tb__v3_axpy(dydt + TB_STATE_SIZE * slot + TB_STATE_P, 1.0, f);
+    tb__v3_axpy(dydt + TB_STATE_SIZE * slot + TB_STATE_L, 1.0, torque);
+}
+
+void tb__add_body_load(const tb_scene *scene, double *dydt, size_t id, const double arm[3],
+                       const double f[3])
+{
+    const size_t slot = tb__body_slot(scene, id);
+    if (slot != TB_NO_SLOT) {
+        tb__add_load(dydt, slot, arm, f);
+    } else if (scene->reactions != NULL) { /* a reaction read-out is running */
+        double torque[3];
+        tb__v3_cross(torque, arm, f);
+        tb__v3_axpy(scene->reactions + 6 * id, 1.0, f);
+        tb__v3_axpy(scene->reactions + 6 * id + 3, 1.0, torque);
+    }
 }
 
 void tb__scene_note_drift(tb_scene *scene, double drift)
@@ -267,7 +293,7 @@ static int normalize(tb_scene *scene, double *y, size_t first, size_t count)
     double drift = 0.0;
     int rc = 0;
     for (size_t i = 0; i < count && rc == 0; ++i) {
-        if (tb__body_asleep(scene, first + i)) {
+        if (tb__body_asleep(scene, scene->slot_ids[first + i])) {
             continue;
         }
         double *q = y + TB_STATE_SIZE * i + TB_STATE_Q;
@@ -290,7 +316,7 @@ int tb_scene_normalize_quaternions(double t, double *y, void *ctx)
 {
     (void)t;
     tb_scene *scene = ctx;
-    return scene == NULL || y == NULL ? -1 : normalize(scene, y, 0, scene->body_count);
+    return scene == NULL || y == NULL ? -1 : normalize(scene, y, 0, scene->slot_count);
 }
 
 int tb__scene_block_normalize(double t, double *y, size_t first, size_t count, void *ctx)

@@ -78,6 +78,10 @@ tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect, size_
            !(effect->ops->couples_bodies || effect->ops->owns_states));
     assert((effect->ops->apply == NULL) != (effect->ops->apply_bodies == NULL));
     tb_status status = tb__scene_check_idle(scene, "adding an effect");
+    if (status == TB_STATUS_OK && effect->ops->apply_bodies != NULL &&
+        effect->body < scene->body_count) { /* a load on one body needs its state */
+        status = tb__scene_check_dynamic(scene, effect->body, "id");
+    }
     if (status == TB_STATUS_OK) {
         status = grow(scene);
     }
@@ -92,8 +96,10 @@ tb_status tb__scene_push_effect(tb_scene *scene, const tb__effect *effect, size_
     const size_t index = scene->effect_count;
     scene->effects[scene->effect_count++] = *effect;
     scene->effects[index].params = params;
+    scene->effects[index].slot =
+        effect->body < scene->body_count ? tb__body_slot(scene, effect->body) : TB_NO_SLOT;
     if (effect->states_per_contact > 0 || effect->fixed_states > 0) {
-        status = tb__scene_layout_states(scene, scene->body_count);
+        status = tb__scene_layout_states(scene, scene->slot_count);
         if (status != TB_STATUS_OK) {
             scene->effect_count--;
             free(params);
@@ -180,6 +186,7 @@ int tb__scene_post_step(double t, double *y, void *ctx)
     if (scene == NULL || y == NULL) {
         return -1;
     }
+    scene->time = t; /* the states' time, which bodies without a state are read at */
     const int rc = scene->renormalize ? tb_scene_normalize_quaternions(t, y, ctx) : 0;
     tb__scene_sleep_begin(scene);
     for (size_t e = 0; e < scene->effect_count && rc == 0; ++e) {

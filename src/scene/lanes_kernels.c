@@ -127,7 +127,7 @@ static int apply_effects(const tb__lanes *lanes, double t)
     tb__scene_single_body_effects(scene, lanes->first, lanes->count, &begin, &end);
     for (size_t k = begin; k < end; ++k) {
         const tb__effect *effect = &scene->effects[order[k]];
-        const int rc = apply_on_lane(effect, t, lanes, effect->body - lanes->first);
+        const int rc = apply_on_lane(effect, t, lanes, effect->slot - lanes->first);
         if (rc != 0) {
             return rc;
         }
@@ -149,7 +149,7 @@ static int derivative(double t, const double *y, double *dydt, size_t first, siz
     lanes.dydt = dydt;
     lanes.first = first;
     lanes.count = count;
-    lanes.lanes = tb__lanes_for(scene->body_count);
+    lanes.lanes = tb__lanes_for(scene->slot_count);
     /* chunks are whole lane groups from body 0 */
     lanes.constants = scene->lane_constants + TB__LANE_CONSTANTS * first;
     kinematics(&lanes);
@@ -166,7 +166,7 @@ static int normalize(double t, double *y, size_t first, size_t count, void *ctx)
     if (scene == NULL) {
         return -1;
     }
-    const size_t n = tb__lanes_for(scene->body_count);
+    const size_t n = tb__lanes_for(scene->slot_count);
     double *restrict q0 = y + TB_STATE_Q * n, *restrict q1 = q0 + n, *restrict q2 = q1 + n,
                      *restrict q3 = q2 + n;
     double norm[TB__LANES];

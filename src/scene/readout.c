@@ -27,8 +27,8 @@ tb_status tb_scene_body_rotation(const tb_scene *scene, const double *y, size_t 
 {
     tb_status status = check_body(scene, y, id, out_R);
     if (status == TB_STATUS_OK) {
-        double q[4];
-        tb__unit_quaternion(y, id, q);
+        double x[3], q[4];
+        tb__body_pose_at(scene, scene->time, y, id, x, q);
         tb__q_to_matrix(out_R, q);
     }
     return status;
@@ -38,9 +38,9 @@ tb_status tb_scene_body_velocity(const tb_scene *scene, const double *y, size_t 
 {
     tb_status status = check_body(scene, y, id, out_v);
     if (status == TB_STATUS_OK) {
-        const double *P = y + TB_STATE_SIZE * id + TB_STATE_P;
-        const double inv_mass = scene->bodies[id].inv_mass;
-        tb__v3_set(out_v, P[0] * inv_mass, P[1] * inv_mass, P[2] * inv_mass);
+        tb__motion motion;
+        tb__body_motion_at(scene, scene->time, y, id, &motion);
+        tb__v3_copy(out_v, motion.v);
     }
     return status;
 }
@@ -50,7 +50,9 @@ tb_status tb_scene_body_angular_velocity(const tb_scene *scene, const double *y,
 {
     tb_status status = check_body(scene, y, id, out_omega);
     if (status == TB_STATUS_OK) {
-        tb__angular_velocity(&scene->bodies[id], y + TB_STATE_SIZE * id, out_omega);
+        tb__motion motion;
+        tb__body_motion_at(scene, scene->time, y, id, &motion);
+        tb__v3_copy(out_omega, motion.omega);
     }
     return status;
 }
@@ -69,11 +71,10 @@ tb_status tb_scene_body_shape_pose(const tb_scene *scene, const double *y, size_
     const tb_mass_properties *props = &scene->mass_props[id];
     const double *r = props->rotation;
     const double principal_from_shape[4] = {r[0], -r[1], -r[2], -r[3]};
-    double q[4], offset[3];
-    tb__unit_quaternion(y, id, q);
+    double x[3], q[4], offset[3];
+    tb__body_pose_at(scene, scene->time, y, id, x, q);
     tb__q_mul(out_orientation, q, principal_from_shape); /* shape -> principal -> world */
     tb__q_rotate(offset, out_orientation, props->center);
-    const double *x = y + TB_STATE_SIZE * id;
     tb__v3_set(out_position, x[0] - offset[0], x[1] - offset[1], x[2] - offset[2]);
     return TB_STATUS_OK;
 }
@@ -96,7 +97,7 @@ tb_status tb_scene_body_point(const tb_scene *scene, const double *y, size_t id,
     double r[3], arm[3];
     tb__shape_point_to_principal(&scene->mass_props[id], point, r);
     tb__motion motion;
-    tb__body_motion(&scene->bodies[id], y + TB_STATE_SIZE * id, &motion);
+    tb__body_motion_at(scene, scene->time, y, id, &motion);
     tb__point_arm(&motion, r, arm);
     tb__v3_set(out_position, motion.x[0] + arm[0], motion.x[1] + arm[1], motion.x[2] + arm[2]);
     if (out_velocity != NULL) {
@@ -120,14 +121,15 @@ tb_status tb_scene_body_shape_velocity(const tb_scene *scene, const double *y, s
 tb_status tb_scene_body_frame_angular_velocity(const tb_scene *scene, const double *y, size_t id,
                                                double out_omega[3])
 {
-    double pose[3], orientation[4], omega[3];
+    double pose[3], orientation[4];
     tb_status status = tb_scene_body_shape_pose(scene, y, id, pose, orientation);
     if (status == TB_STATUS_OK && out_omega == NULL) {
         status = tb__scene_fail((tb_scene *)scene, TB_STATUS_NULL_POINTER, "out_omega is NULL");
     }
     if (status == TB_STATUS_OK) {
-        tb__angular_velocity(&scene->bodies[id], y + TB_STATE_SIZE * id, omega);
-        tb__q_rotate_inverse(out_omega, orientation, omega); /* world -> shape frame */
+        tb__motion motion;
+        tb__body_motion_at(scene, scene->time, y, id, &motion);
+        tb__q_rotate_inverse(out_omega, orientation, motion.omega); /* world -> shape frame */
     }
     return status;
 }
@@ -137,10 +139,12 @@ static void frame_values_of(const tb_scene *scene, const double *y, size_t id, d
 {
     double *origin = out, *q = out + 3, *v = out + 7, *omega = out + 10, arm[3], spin[3];
     tb_scene_body_shape_pose(scene, y, id, origin, q);
-    tb_scene_body_velocity(scene, y, id, v);
-    tb__angular_velocity(&scene->bodies[id], y + TB_STATE_SIZE * id, omega);
+    tb__motion motion;
+    tb__body_motion_at(scene, scene->time, y, id, &motion);
+    tb__v3_copy(v, motion.v);
+    tb__v3_copy(omega, motion.omega);
     /* the shape origin moves with v + omega x (origin - centre of mass) */
-    const double *x = y + TB_STATE_SIZE * id + TB_STATE_X;
+    const double *x = motion.x;
     tb__v3_set(arm, origin[0] - x[0], origin[1] - x[1], origin[2] - x[2]);
     tb__v3_cross(spin, omega, arm);
     tb__v3_axpy(v, 1.0, spin);
@@ -161,8 +165,8 @@ tb_status tb_scene_kinetic_energy(const tb_scene *scene, const double *y, double
     if (status != TB_STATUS_OK) {
         return status;
     }
-    double energy = 0.0;
-    for (size_t i = 0; i < scene->body_count; ++i) {
+    double energy = 0.0; /* of the bodies that have a state (slots) */
+    for (size_t i = 0; i < scene->slot_count; ++i) {
         const double *s = y + TB_STATE_SIZE * i;
         double omega[3];
         tb__angular_velocity(&scene->bodies[i], s, omega);
@@ -180,7 +184,7 @@ tb_status tb_scene_linear_momentum(const tb_scene *scene, const double *y, doubl
         return status;
     }
     double P[3] = {0, 0, 0};
-    for (size_t i = 0; i < scene->body_count; ++i) {
+    for (size_t i = 0; i < scene->slot_count; ++i) {
         tb__v3_axpy(P, 1.0, y + TB_STATE_SIZE * i + TB_STATE_P);
     }
     tb__v3_copy(out_P, P);
@@ -198,7 +202,7 @@ tb_status tb_scene_angular_momentum(const tb_scene *scene, const double *y, cons
         return status;
     }
     double L[3] = {0, 0, 0};
-    for (size_t i = 0; i < scene->body_count; ++i) {
+    for (size_t i = 0; i < scene->slot_count; ++i) {
         const double *s = y + TB_STATE_SIZE * i;
         const double arm[3] = {s[0] - point[0], s[1] - point[1], s[2] - point[2]};
         double orbital[3];

@@ -14,7 +14,6 @@
 #include <string.h>
 
 #define TB__SCENE_COOKIE 0x5ce2e
-#define TB__BODY_COOKIE 0xb0d1e5
 
 _Static_assert(sizeof(tb_body_state) == TB_STATE_SIZE * sizeof(double),
                "tb_body_state must be 13 doubles with no padding");
@@ -71,7 +70,7 @@ static tb_status reserve_bodies(tb_scene *scene, size_t capacity)
         return TB_STATUS_OK;
     }
     if (capacity > SIZE_MAX / (TB_STATE_SIZE * sizeof(double) + sizeof(tb_mass_properties) +
-                               sizeof(tb__motion))) {
+                               sizeof(tb__motion) + 2 * sizeof(size_t) + sizeof(tb__body_kind))) {
         return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "%zu bodies", capacity);
     }
     tb__body *bodies = tb__realloc_array(scene->bodies, capacity, sizeof(tb__body));
@@ -91,7 +90,20 @@ static tb_status reserve_bodies(tb_scene *scene, size_t capacity)
     if (motions != NULL) {
         scene->motions = motions;
     }
-    if (bodies == NULL || props == NULL || names == NULL || motions == NULL) {
+    size_t *slots = tb__realloc_array(scene->slots, capacity, sizeof(size_t));
+    if (slots != NULL) {
+        scene->slots = slots;
+    }
+    size_t *slot_ids = tb__realloc_array(scene->slot_ids, capacity, sizeof(size_t));
+    if (slot_ids != NULL) {
+        scene->slot_ids = slot_ids;
+    }
+    tb__body_kind *kinds = tb__realloc_array(scene->kinds, capacity, sizeof(tb__body_kind));
+    if (kinds != NULL) {
+        scene->kinds = kinds;
+    }
+    if (bodies == NULL || props == NULL || names == NULL || motions == NULL || slots == NULL ||
+        slot_ids == NULL || kinds == NULL) {
         return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "room for %zu bodies", capacity);
     }
     scene->body_capacity = capacity;
@@ -115,7 +127,7 @@ static tb_status reserve_states(tb_scene *scene, size_t size)
     return TB_STATUS_OK;
 }
 
-tb_status tb__scene_layout_states(tb_scene *scene, size_t body_count)
+tb_status tb__scene_layout_states(tb_scene *scene, size_t slot_count)
 {
     tb_status status = tb__scene_check_idle(scene, "changing the scene's layout");
     if (status != TB_STATUS_OK) {
@@ -125,18 +137,18 @@ tb_status tb__scene_layout_states(tb_scene *scene, size_t body_count)
     for (size_t e = 0; e < scene->effect_count; ++e) {
         extra += tb__effect_state_count(&scene->effects[e], scene);
     }
-    status = reserve_states(scene, TB_STATE_SIZE * body_count + extra);
+    status = reserve_states(scene, TB_STATE_SIZE * slot_count + extra);
     if (status != TB_STATUS_OK) {
         return status;
     }
-    size_t offset = TB_STATE_SIZE * body_count;
+    size_t offset = TB_STATE_SIZE * slot_count;
     for (size_t e = 0; e < scene->effect_count; ++e) {
         scene->effects[e].state_offset = offset;
         offset += tb__effect_state_count(&scene->effects[e], scene);
     }
-    memset(scene->states + TB_STATE_SIZE * body_count, 0, extra * sizeof(double));
+    memset(scene->states + TB_STATE_SIZE * slot_count, 0, extra * sizeof(double));
     scene->extra_count = extra;
-    if (body_count > scene->body_count) {
+    if (slot_count > scene->slot_count) {
         tb__scene_layout_changed(scene, "body %zu added", scene->body_count);
     } else {
         tb__scene_layout_changed(scene, "effect-owned states laid out again (%zu contact points)",
@@ -147,7 +159,7 @@ tb_status tb__scene_layout_states(tb_scene *scene, size_t body_count)
 
 size_t tb_scene_state_size(const tb_scene *scene)
 {
-    return scene == NULL ? 0 : TB_STATE_SIZE * scene->body_count + scene->extra_count;
+    return scene == NULL ? 0 : TB_STATE_SIZE * scene->slot_count + scene->extra_count;
 }
 
 tb_status tb_scene_create(const tb_scene_def *def, tb_scene **out_scene, tb_error *out_error)
@@ -197,6 +209,10 @@ void tb_scene_destroy(tb_scene *scene)
         free(scene->states);
         free(scene->bodies);
         free(scene->motions);
+        free(scene->slots);
+        free(scene->slot_ids);
+        tb__scene_release_motion_sources(scene);
+        free(scene->kinds);
         free(scene->lane_constants);
         free(scene->states_left);
         free(scene->mass_props);
@@ -235,77 +251,6 @@ tb_status tb__check_vector(tb_scene *scene, const double *v, const char *what)
 void tb__scene_clear_detail(const tb_scene *scene)
 {
     ((tb_scene *)scene)->detail[0] = '\0';
-}
-
-static tb_status validate_name(tb_scene *scene, const char *name)
-{
-    if (name == NULL) {
-        return TB_STATUS_OK;
-    }
-    const size_t length = strlen(name);
-    if (length == 0 || length >= TB_NAME_SIZE) {
-        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
-                              "def.name: must have 1 to %d characters, got %zu", TB_NAME_SIZE - 1,
-                              length);
-    }
-    size_t existing;
-    if (tb__scene_lookup_name(scene, name, &existing)) {
-        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
-                              "def.name: \"%s\" is already body %zu's name", name, existing);
-    }
-    return TB_STATUS_OK;
-}
-
-static tb_status validate_body_def(tb_scene *scene, const tb_body_def *def)
-{
-    if (def->internal_cookie != TB__BODY_COOKIE) {
-        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
-                              "def: not initialised by tb_body_def_default()");
-    }
-    if (validate_name(scene, def->name) != TB_STATUS_OK) {
-        return TB_STATUS_INVALID_ARGUMENT;
-    }
-    tb_error error;
-    tb_status status = tb_mass_validate(&def->mass, &error);
-    if (status != TB_STATUS_OK) {
-        return tb__scene_fail(scene, status, "def.mass.%s", error.message);
-    }
-    status = tb__check_unit_quaternion(def->orientation, "def.orientation", &error);
-    if (status != TB_STATUS_OK) {
-        return tb__scene_fail(scene, status, "%s", error.message);
-    }
-    status = tb__check_vector(scene, def->position, "def.position");
-    if (status == TB_STATUS_OK) {
-        status = tb__check_vector(scene, def->velocity, "def.velocity");
-    }
-    if (status == TB_STATUS_OK) {
-        status = tb__check_vector(scene, def->angular_velocity, "def.angular_velocity");
-    }
-    return status;
-}
-
-/* The constants the derivative divides by: a finite mass or moment whose inverse overflows
- * (a subnormal mass) is refused here, naming the field (NOT_FINITE: the value it makes is),
- * rather than turning every state into
- * infinity at the first step. */
-static tb_status body_constants(tb_scene *scene, const tb_mass_properties *props, tb__body *out)
-{
-    out->mass = props->mass;
-    out->inv_mass = 1.0 / props->mass;
-    if (!isfinite(out->inv_mass)) {
-        return tb__scene_fail(scene, TB_STATUS_NOT_FINITE,
-                              "def.mass.mass: %g kg is too small: 1/mass overflows", props->mass);
-    }
-    for (int k = 0; k < 3; ++k) {
-        out->inv_moments[k] = 1.0 / props->moments[k];
-        if (!isfinite(out->inv_moments[k])) {
-            return tb__scene_fail(scene, TB_STATUS_NOT_FINITE,
-                                  "def.mass.moments[%d]: %g kg m^2 is too small: 1/moment "
-                                  "overflows",
-                                  k, props->moments[k]);
-        }
-    }
-    return TB_STATUS_OK;
 }
 
 /* P (if not NULL) and L (if not NULL) finite, and the velocities made from them too:
@@ -381,7 +326,7 @@ static tb_status initial_state(tb_scene *scene, const tb_body_def *def, double s
 }
 
 /* Room for one more body everywhere it is kept; nothing is lost on failure. */
-static tb_status make_room_for_body(tb_scene *scene)
+static tb_status make_room_for_body(tb_scene *scene, bool dynamic)
 {
     /* first: growing the arrays would move what a step in progress is reading */
     tb_status status = tb__scene_check_idle(scene, "adding a body");
@@ -393,7 +338,7 @@ static tb_status make_room_for_body(tb_scene *scene)
     }
     if (status == TB_STATUS_OK) {
         /* Effect-owned states move up by one body and restart from zero. */
-        status = tb__scene_layout_states(scene, scene->body_count + 1);
+        status = tb__scene_layout_states(scene, scene->slot_count + (dynamic ? 1 : 0));
     }
     return status;
 }
@@ -408,29 +353,40 @@ tb_status tb_scene_add_body(tb_scene *scene, const tb_body_def *def, size_t *out
         return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "def is NULL");
     }
     tb__body constants;
+    tb__body_kind kind = {.motion = TB_MOTION_DYNAMIC};
     double s[TB_STATE_SIZE];
-    tb_status status = validate_body_def(scene, def);
-    if (status == TB_STATUS_OK) {
-        status = body_constants(scene, &def->mass, &constants);
+    tb_status status = tb__scene_validate_body_def(scene, def);
+    const bool dynamic = def->motion == TB_MOTION_DYNAMIC;
+    if (status == TB_STATUS_OK && dynamic) {
+        status = tb__scene_body_constants(scene, &def->mass, &constants);
     }
     if (status == TB_STATUS_OK) {
-        status = initial_state(scene, def, s);
+        status = dynamic ? initial_state(scene, def, s) : tb__body_kind_from_def(scene, def, &kind);
     }
     if (status == TB_STATUS_OK) {
-        status = make_room_for_body(scene);
+        status = make_room_for_body(scene, dynamic);
     }
     if (status != TB_STATUS_OK) {
         return status;
     }
     const size_t i = scene->body_count;
-    scene->mass_props[i] = def->mass;
+    scene->mass_props[i] = dynamic ? def->mass : tb__fixed_mass_properties();
+    scene->kinds[i] = kind;
     if (def->name != NULL) {
         snprintf(scene->names[i], TB_NAME_SIZE, "%s", def->name);
     } else {
         snprintf(scene->names[i], TB_NAME_SIZE, "body%zu", i);
     }
-    scene->bodies[i] = constants;
-    memcpy(scene->states + TB_STATE_SIZE * i, s, sizeof s);
+    scene->slots[i] = TB_NO_SLOT;
+    if (dynamic) {
+        const size_t slot = scene->slot_count++;
+        scene->slots[i] = slot;
+        scene->slot_ids[slot] = i;
+        scene->bodies[slot] = constants;
+        memcpy(tb__body_state_mut(scene, scene->states, i), s, sizeof s);
+    } else {
+        tb__scene_layout_changed(scene, "body %zu added", i);
+    }
     scene->body_count++;
     tb__scene_insert_name(scene, i);
     if (out_id != NULL) {
@@ -495,8 +451,13 @@ static tb_status begin_body_call(const tb_scene *scene, size_t id, const void *p
 tb_status tb_scene_get_state(const tb_scene *scene, size_t id, tb_body_state *out_state)
 {
     tb_status status = begin_body_call(scene, id, out_state, "out_state");
-    if (status == TB_STATUS_OK) {
-        memcpy(out_state, scene->states + TB_STATE_SIZE * id, sizeof *out_state);
+    if (status == TB_STATUS_OK && tb__body_fixed(scene, id)) { /* its pose, no momenta */
+        tb__motion motion;
+        tb__body_motion_at(scene, scene->time, scene->states, id, &motion);
+        *out_state = (tb_body_state){.x = {motion.x[0], motion.x[1], motion.x[2]},
+                                     .q = {motion.q[0], motion.q[1], motion.q[2], motion.q[3]}};
+    } else if (status == TB_STATUS_OK) {
+        memcpy(out_state, tb__body_state(scene, scene->states, id), sizeof *out_state);
     }
     return status;
 }
@@ -504,6 +465,9 @@ tb_status tb_scene_get_state(const tb_scene *scene, size_t id, tb_body_state *ou
 tb_status tb_scene_set_state(tb_scene *scene, size_t id, const tb_body_state *state)
 {
     tb_status status = begin_body_call(scene, id, state, "state");
+    if (status == TB_STATUS_OK) {
+        status = tb__scene_check_dynamic(scene, id, "set_state");
+    }
     if (status != TB_STATUS_OK) {
         return status;
     }
@@ -522,7 +486,7 @@ tb_status tb_scene_set_state(tb_scene *scene, size_t id, const tb_body_state *st
                               "state of body %zu: P / M or I^-1 L overflows (|P| %g, |L| %g)", id,
                               tb__v3_norm(state->P), tb__v3_norm(state->L));
     }
-    double *s = scene->states + TB_STATE_SIZE * id;
+    double *s = tb__body_state_mut(scene, scene->states, id);
     memcpy(s, values, TB_STATE_SIZE * sizeof(double));
     const double norm = tb__q_norm(state->q);
     for (int k = 0; k < 4; ++k) {
@@ -537,6 +501,9 @@ tb_status tb_scene_set_velocity(tb_scene *scene, size_t id, const double velocit
 {
     tb_status status = begin_body_call(scene, id, velocity, "velocity");
     if (status == TB_STATUS_OK) {
+        status = tb__scene_check_dynamic(scene, id, "set_velocity");
+    }
+    if (status == TB_STATUS_OK) {
         status = tb__check_vector(scene, velocity, "velocity");
     }
     if (status == TB_STATUS_OK) {
@@ -544,11 +511,11 @@ tb_status tb_scene_set_velocity(tb_scene *scene, size_t id, const double velocit
     }
     double q[4], P[3], L[3];
     if (status == TB_STATUS_OK) {
-        tb__unit_quaternion(scene->states, id, q);
+        tb__unit_quaternion(tb__body_state(scene, scene->states, id), 0, q);
         status = momenta(scene, &scene->mass_props[id], q, velocity, angular_velocity, "", P, L);
     }
     if (status == TB_STATUS_OK) {
-        double *s = scene->states + TB_STATE_SIZE * id;
+        double *s = tb__body_state_mut(scene, scene->states, id);
         tb__v3_copy(s + TB_STATE_P, P);
         tb__v3_copy(s + TB_STATE_L, L);
         tb__scene_wake_body(scene, id);

@@ -24,8 +24,8 @@ bool tb__scene_has_events(const tb_scene *scene)
 
 int tb__scene_event_gaps(double t, const double *y, double *gap, void *ctx)
 {
-    (void)t;
-    const tb_scene *scene = ctx;
+    tb_scene *scene = ctx;
+    scene->time = t; /* bodies without a state, at t */
     for (size_t i = 0; i < scene->body_count; ++i) {
         gap[i] = TB__EVENT_LOOKAHEAD;
     }
@@ -71,6 +71,7 @@ int tb__scene_event_and_wake_gaps(double t, const double *y, double *g, void *ct
 double tb__scene_step_limit(double t, const double *y, const double *dydt, void *ctx)
 {
     tb_scene *scene = ctx;
+    scene->time = t; /* bodies without a state, at t */
     /* asked once per accepted adaptive step, with its state: a boundary for contact events */
     tb__scene_events_observe(scene, t, y, false);
     double limit = INFINITY;

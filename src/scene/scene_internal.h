@@ -179,6 +179,7 @@ struct tb__event_pair {
 struct tb__effect {
     const tb__effect_ops *ops;
     size_t body;               /* the body acted on, or TB_ALL_BODIES (the derivative's order) */
+    size_t slot;               /* body's slot, TB_NO_SLOT for none (set when pushed) */
     size_t states_per_contact; /* states owned per contact point (ground planes: 2) */
     size_t fixed_states;       /* states owned whatever the points (contact's friction slots) */
     size_t state_offset;       /* where in y those states start */
@@ -211,9 +212,24 @@ struct tb_scene {
     double *states;        /* 13 * body_count body states, then extra_count effect states */
     size_t state_capacity; /* doubles allocated in states */
     size_t extra_count;
-    tb__body *bodies; /* body_capacity */
-    /* Scratch of tb_scene_derivative, body_capacity entries: each body's motion at the y being
-     * evaluated (tb__body_motion), filled by its kinematics stage once per evaluation and read by
+    /* Body kinds and slots (body_motion.c). slots[id] is body id's slot: the index of its 13
+     * doubles in y and of its constants in bodies, or TB_NO_SLOT for a body with no state;
+     * slot_ids[slot] is the body of a slot. Slots are given in the order bodies are added, so
+     * both maps are increasing. slot_count dynamic bodies; body_capacity entries each. */
+    size_t *slots;
+    size_t *slot_ids;
+    size_t slot_count;
+    struct tb__body_kind *kinds; /* body_capacity, by id: each body's kind and fixed pose */
+    double *reactions; /* NULL, or 6 per body while tb_scene_body_reaction runs the derivative:
+                          the force and torque the effects put on bodies without a state */
+    /* The time (s) of the scene's states: 0 at creation, set where an integrator writes its
+     * states back and by tb_scene_set_time; the time read-outs without a t ask bodies with no
+     * state for their motion at. */
+    double time;
+    tb__body *bodies; /* body_capacity, by slot */
+    /* Scratch of tb_scene_derivative, body_capacity entries by id: each body's motion at the y
+     * being evaluated (tb__body_motion), filled by its kinematics stage once per evaluation and
+     * read by
      * the coupled effects (tb__derivative_motion), so that no effect recomputes a body's
      * rotation and angular velocity per point or per pair. Written through the const scene,
      * like the contact pair finder's scratch. */
@@ -419,11 +435,11 @@ void tb__scene_layout_changed(tb_scene *scene, const char *format, ...)
 #endif
     ;
 
-/* Recomputes where effect-owned states live (after the bodies' states), grows the state
- * array if needed and zeroes those states; records the layout change (body_count above the
- * scene's: a body is being added). TB_STATUS_BUSY while the scene is being stepped. On
- * failure nothing changes. */
-tb_status tb__scene_layout_states(tb_scene *scene, size_t body_count);
+/* Recomputes where effect-owned states live (after the slot_count dynamic bodies' states),
+ * grows the state array if needed and zeroes those states; records the layout change
+ * (slot_count above the scene's: a body is being added). TB_STATUS_BUSY while the scene is
+ * being stepped. On failure nothing changes. */
+tb_status tb__scene_layout_states(tb_scene *scene, size_t slot_count);
 
 /* A point fixed in a body's shape frame, as an offset from the centre of mass in the
  * principal frame. */
@@ -433,7 +449,8 @@ void tb__shape_point_to_principal(const tb_mass_properties *props, const double 
 void tb__shape_vector_to_principal(const tb_mass_properties *props, const double v[3],
                                    double out[3]);
 
-/* Body i's quaternion in y, normalised, into q. */
+/* The quaternion of slot i in y (y at a body's state and i 0, or y at a range's first slot
+ * and i local to it), normalised, into q. */
 void tb__unit_quaternion(const double *y, size_t i, double q[4]);
 
 /* omega (world) of a body from its 13 states s. */
@@ -505,12 +522,13 @@ double tb__scene_default_step(const tb_scene *scene, const double *y, tb_method 
 
 /* How body i moves, read from y once for an effect that looks at several of its points. */
 typedef struct tb__motion {
-    const double *x; /* centre of mass, world */
-    double q[4];     /* unit */
+    double x[3];     /* centre of mass, world */
+    double q[4];     /* unit, principal -> world */
     double v[3];     /* centre-of-mass velocity */
     double omega[3]; /* angular velocity, world */
 } tb__motion;
 
+/* A dynamic body's motion from its 13 states s (the hot loops' form). */
 void tb__body_motion(const tb__body *body, const double *s, tb__motion *out);
 
 /* Body id's motion at the y of the evaluation of tb_scene_derivative running now: for the
@@ -542,7 +560,10 @@ double tb__inverse_mass_across(const tb__body *body, const tb__motion *motion, c
  * body, whose smallest moment only turns it about its long axis. */
 double tb__lightness_at(const tb__body *body, const double r[3]);
 
-/* dP += f and dL += arm x f for body i. */
-void tb__add_load(double *dydt, size_t i, const double arm[3], const double f[3]);
+/* dP += f and dL += arm x f for the body in slot `slot` (y's index, as the per-body effects'
+ * ranges count). */
+void tb__add_load(double *dydt, size_t slot, const double arm[3], const double f[3]);
+
+#include "scene/body_motion.h" /* the body-motion accessor, by id */
 
 #endif

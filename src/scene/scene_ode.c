@@ -86,8 +86,8 @@ static void remember_state(tb_scene *scene)
  * whose lowest pair, carrying every weight above it, is deeper than a start may be. */
 static bool poses_changed(const tb_scene *scene)
 {
-    for (size_t id = 0; id < scene->body_count; ++id) {
-        const size_t k = TB_STATE_SIZE * id + TB_STATE_X;
+    for (size_t slot = 0; slot < scene->slot_count; ++slot) {
+        const size_t k = TB_STATE_SIZE * slot + TB_STATE_X;
         if (memcmp(scene->states_left + k, scene->states + k,
                    (TB_STATE_P - TB_STATE_X) * sizeof(double)) != 0) {
             return true;
@@ -203,6 +203,16 @@ static tb_status prepare_rooms(tb_scene *scene, size_t n)
     return TB_STATUS_OK;
 }
 
+/* The full hook where effects or sleep need it, or where bodies without a state are read at the
+ * scene's time, which it keeps; else the renormalisation alone (or nothing). */
+static tb_ode_hook post_step_hook(const tb_scene *scene)
+{
+    return tb__scene_has_post_step_effects(scene) || !tb__scene_separable(scene) ||
+                   scene->slot_count < scene->body_count
+               ? tb__scene_post_step
+               : (scene->renormalize ? tb_scene_normalize_quaternions : NULL);
+}
+
 tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
 {
     if (scene == NULL) {
@@ -212,21 +222,22 @@ tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
     if (out_system == NULL) {
         return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "out_system is NULL");
     }
-    if (scene->body_count == 0) {
+    if (scene->slot_count == 0) { /* no body, or none with a state */
         return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
-                              "scene has no bodies: nothing to integrate");
+                              "scene has no %sbodies: nothing to integrate",
+                              scene->body_count > 0 ? "dynamic " : "");
     }
     *out_system = (tb_ode_system){
         .n = tb_scene_state_size(scene),
         .derivative = tb_scene_derivative,
-        .post_step = tb__scene_has_post_step_effects(scene) || !tb__scene_separable(scene)
-                         ? tb__scene_post_step
-                         : (scene->renormalize ? tb_scene_normalize_quaternions : NULL),
+        .post_step = post_step_hook(scene),
         .ctx = scene,
         .layout_generation = claim,
         .acquire = acquire,
         .release = release,
         .rhs_generation = rhs_generation,
+        /* the key times of bodies without a state */
+        .next_break = scene->slot_count < scene->body_count ? tb__scene_next_break : NULL,
     };
     const tb_status rooms = prepare_rooms(scene, out_system->n);
     if (rooms != TB_STATUS_OK) {
@@ -253,7 +264,7 @@ tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
             return TB_STATUS_OUT_OF_MEMORY;
         }
         if (kernels != NULL) {
-            out_system->lanes = tb__lanes_for(scene->body_count);
+            out_system->lanes = tb__lanes_for(scene->slot_count);
             out_system->lanes_derivative = kernels->derivative;
             out_system->lanes_post_step = scene->renormalize ? kernels->normalize : NULL;
         }
@@ -286,8 +297,8 @@ tb_status tb_scene_absolute_tolerances(const tb_scene *scene, double scale, doub
         return tb__scene_fail((tb_scene *)scene, TB_STATUS_INVALID_ARGUMENT,
                               "scale: must be finite and > 0, got %g", scale);
     }
-    for (size_t i = 0; i < scene->body_count; ++i) {
-        const tb_mass_properties *props = &scene->mass_props[i];
+    for (size_t i = 0; i < scene->slot_count; ++i) {
+        const tb_mass_properties *props = &scene->mass_props[scene->slot_ids[i]];
         const double largest = fmax(props->moments[0], fmax(props->moments[1], props->moments[2]));
         const double length = sqrt(largest / props->mass);
         const double block[TB_STATE_SIZE] = {length,

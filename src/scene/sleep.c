@@ -94,6 +94,10 @@ void tb__scene_sleep_link(const tb_scene *scene, size_t a, size_t b)
     if (sleep == NULL || a >= sleep->capacity || b >= sleep->capacity) {
         return;
     }
+    /* a body that cannot move joins no island: a table would merge every box on it into one */
+    if (tb__body_fixed(scene, a) || tb__body_fixed(scene, b)) {
+        return;
+    }
     const size_t root_a = find(sleep->parent, a), root_b = find(sleep->parent, b);
     /* the smaller id is the root, so islands are named the same whatever the link order */
     if (root_a < root_b) {
@@ -107,7 +111,7 @@ void tb__scene_sleep_link(const tb_scene *scene, size_t a, size_t b)
  * radius of gyration about its softest axis, sqrt(I_max / M). */
 static bool slow(const tb_scene *scene, size_t i, const double *s)
 {
-    const tb__body *body = &scene->bodies[i];
+    const tb__body *body = tb__body_constants(scene, i);
     const double *moments = scene->mass_props[i].moments;
     const double largest = fmax(moments[0], fmax(moments[1], moments[2]));
     double omega[3];
@@ -123,8 +127,10 @@ static void update_still(tb_scene *scene, const double *y, double dt)
 {
     tb__sleep *sleep = scene->sleep;
     for (size_t i = 0; i < sleep->capacity; ++i) {
-        const double *s = y + TB_STATE_SIZE * i;
-        if (sleep->asleep[i]) {
+        const double *s = tb__body_state(scene, y, i);
+        if (s == NULL) { /* static and keyframed bodies never sleep */
+            sleep->still[i] = 0.0;
+        } else if (sleep->asleep[i]) {
             const double *kept = sleep->snapshot + TB_STATE_SIZE * i;
             for (int k = 0; k < TB_STATE_SIZE; ++k) {
                 if (s[k] != kept[k]) {
@@ -172,7 +178,7 @@ static void apply(tb_scene *scene, const double *y)
         changed = true;
         sleep->asleep[i] = sleep->decision[i];
         if (sleep->asleep[i]) {
-            memcpy(sleep->snapshot + TB_STATE_SIZE * i, y + TB_STATE_SIZE * i,
+            memcpy(sleep->snapshot + TB_STATE_SIZE * i, tb__body_state(scene, y, i),
                    TB_STATE_SIZE * sizeof(double));
             sleep->asleep_count++;
         } else {
@@ -292,7 +298,7 @@ void tb__scene_sleep_zero(const tb_scene *scene, double *dydt)
     }
     for (size_t i = 0; i < sleep->capacity; ++i) {
         if (sleep->asleep[i]) {
-            memset(dydt + TB_STATE_SIZE * i, 0, TB_STATE_SIZE * sizeof(double));
+            memset(tb__body_state_mut(scene, dydt, i), 0, TB_STATE_SIZE * sizeof(double));
         }
     }
 }

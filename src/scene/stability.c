@@ -88,9 +88,10 @@ static double rotation_rate(const tb__body *body, const double *s, double *out_s
 
 static void rotation_modes(guard *g, const tb_scene *scene, const double *y)
 {
-    for (size_t i = 0; i < scene->body_count; ++i) {
+    for (size_t slot = 0; slot < scene->slot_count; ++slot) {
+        const size_t i = scene->slot_ids[slot];
         double spin;
-        const double rate = rotation_rate(&scene->bodies[i], y + TB_STATE_SIZE * i, &spin);
+        const double rate = rotation_rate(&scene->bodies[slot], y + TB_STATE_SIZE * slot, &spin);
         if (!(rate * g->dt <= g->imaginary)) {
             consider(g, rate, true, "body %zu (\"%s\") spinning at %.3g rad/s", i, scene->names[i],
                      spin);

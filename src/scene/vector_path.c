@@ -92,7 +92,7 @@ tb_vector_path tb_scene_vector_path(const tb_scene *scene)
 
 const tb__lanes_kernels *tb__scene_lanes_kernels(const tb_scene *scene)
 {
-    if (tb__lanes_for(scene->body_count) == 0 || scene->vector_path == TB_VECTOR_PATH_NONE) {
+    if (tb__lanes_for(scene->slot_count) == 0 || scene->vector_path == TB_VECTOR_PATH_NONE) {
         return NULL;
     }
     const tb_vector_path path = scene->vector_path == TB_VECTOR_PATH_AUTO
@@ -103,14 +103,14 @@ const tb__lanes_kernels *tb__scene_lanes_kernels(const tb_scene *scene)
 
 tb_status tb__scene_prepare_lanes(tb_scene *scene)
 {
-    const size_t lanes = tb__lanes_for(scene->body_count);
-    const size_t groups = (scene->body_count + lanes - 1) / lanes;
+    const size_t lanes = tb__lanes_for(scene->slot_count);
+    const size_t groups = (scene->slot_count + lanes - 1) / lanes;
     const size_t size = groups * lanes * TB__LANE_CONSTANTS;
     if (size > scene->lane_constants_size) {
         double *grown = tb__realloc_array(scene->lane_constants, size, sizeof(double));
         if (grown == NULL) {
             return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY,
-                                  "the lane layout of %zu bodies' constants", scene->body_count);
+                                  "the lane layout of %zu bodies' constants", scene->slot_count);
         }
         scene->lane_constants = grown;
         scene->lane_constants_size = size;
@@ -119,7 +119,7 @@ tb_status tb__scene_prepare_lanes(tb_scene *scene)
         double *rows = scene->lane_constants + g * lanes * TB__LANE_CONSTANTS;
         for (size_t j = 0; j < lanes; ++j) {
             const size_t i =
-                g * lanes + j < scene->body_count ? g * lanes + j : scene->body_count - 1;
+                g * lanes + j < scene->slot_count ? g * lanes + j : scene->slot_count - 1;
             const tb__body *body = &scene->bodies[i];
             rows[TB__LANE_MASS * lanes + j] = body->mass;
             rows[TB__LANE_INV_MASS * lanes + j] = body->inv_mass;

@@ -302,3 +302,31 @@ def test_threads_share_a_step_and_change_no_bit():
         scene.run(threads=1.5)
     with pytest.raises(ValueError, match="from 0 to"):
         scene.run(threads=-1)
+
+
+def test_a_static_table_has_no_state_row_and_carries_a_ball():
+    # A static body (no state, infinite mass): the live state has one row per dynamic body, in
+    # dynamic_bodies' order; frames and frame_values have a row for every body. The ball
+    # dropped 1 cm onto the table rests with its centre sunk by the contact's static
+    # deflection M g / k = penetration (1 mm), to 2 % (its bounce has died out after 1 s).
+    scene = tumble.Scene.from_dict({
+        "bodies": [{"name": "table", "motion": "static",
+                    "shape": {"type": "box", "size": [1.2, 0.8, 0.75]}, "position": [0, 0, 0.375]},
+                   {"name": "ball", "shape": {"type": "sphere", "radius": 0.05}, "mass": 1.0,
+                    "position": [0.1, 0, 0.81]}],
+        "effects": [{"type": "gravity"},
+                    {"type": "contact", "penetration": 1e-3, "presliding": 1e-4}]})
+    sim = tumble.Simulation(scene, method="rk4", dt=0)
+    assert sim.dynamic_bodies == [1]
+    assert sim.state.shape == (1, 13)
+    sim.advance(1.0)
+    assert abs(sim.position[0, 2] - (0.75 + 0.05 - 1e-3)) < 0.02 * 1e-3
+    values = sim.frame_values()
+    assert values.shape == (2, 13)
+    assert np.array_equal(values[0, 0:7], [0, 0, 0.375, 1, 0, 0, 0])
+    with pytest.raises(tumble.TumbleValueError) as caught:
+        sim.set_state("table", position=[0, 0, 1])
+    assert '"table"' in caught.value.message and "static" in caught.value.message
+    frames = scene.run(method="rk4", dt=0)
+    assert frames.position.shape[1] == 2
+    assert np.all(frames.position[:, 0, 2] == 0.375)

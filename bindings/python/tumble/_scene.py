@@ -107,6 +107,16 @@ def _read_scene_file(path):
     return text, path, directory
 
 
+def dynamic_bodies(handle):
+    """The ids of the scene's bodies that have a state (dynamic ones), in slot order: the
+    rows of the state array (tb_scene_body_slot)."""
+    ids, slot = [], ctypes.c_size_t()
+    for i in range(lib.tb_scene_body_count(handle)):
+        if lib.tb_scene_body_slot(handle, i, ctypes.byref(slot)) == 0 and slot.value != ctypes.c_size_t(-1).value:
+            ids.append(i)
+    return ids
+
+
 class _Recorder:
     """Collects each frame the C run hands over into one array allocated up front for the
     frame count the library gives (tb_run_output_frames): a frame costs one call that fills it
@@ -126,7 +136,10 @@ class _Recorder:
         # kinetic, potential, P[3], L[3] about the origin, centre of mass[3]
         self.totals = np.empty((frames, 11))
         self.bodies = bodies
-        self.mass_fraction = np.asarray(masses) / max(sum(masses), np.finfo(float).tiny)
+        # the centre of mass of the bodies that move (those with a state, in slot order)
+        self.dynamic = dynamic_bodies(handle)
+        moving = np.asarray(masses)[self.dynamic] if self.dynamic else np.zeros(0)
+        self.mass_fraction = moving / max(sum(moving), np.finfo(float).tiny)
         self.count = 0
         self.on_frame = on_frame
         self.failure = None
@@ -165,9 +178,10 @@ class _Recorder:
         fast.angular_momentum(scene, y, self._origin.ctypes.data, totals + 40)
         if y != self._y_address:  # the scene's array: it stays put during a run
             self._y_address = y
-            n = self.bodies * _native.STATE_SIZE
+            slots = len(self.dynamic)
+            n = slots * _native.STATE_SIZE
             array = np.frombuffer((ctypes.c_double * max(n, 1)).from_address(y), count=n)
-            self._x = array.reshape(self.bodies, _native.STATE_SIZE)[:, 0:3]
+            self._x = array.reshape(slots, _native.STATE_SIZE)[:, 0:3]
         self.totals[k, 8:11] = self.mass_fraction @ self._x
         self.t[k] = t
         self.count = k + 1
@@ -232,10 +246,14 @@ class Scene:
         self.radius_of_gyration = []
         #: each body's mass, kg
         self.masses = []
+        #: the ids of the bodies with a state (dynamic ones), in the order of their slots
+        self.dynamic_bodies = dynamic_bodies(handle)
         for i in range(len(self.body_names)):
             mass = _native.MassProperties()
             lib.tb_scene_get_mass(handle, i, ctypes.byref(mass))
-            self.radius_of_gyration.append(float(np.sqrt(max(mass.moments) / mass.mass)))
+            moving = i in self.dynamic_bodies  # a static body: infinite mass, no radius
+            self.radius_of_gyration.append(
+                float(np.sqrt(max(mass.moments) / mass.mass)) if moving else 0.0)
             self.masses.append(mass.mass)
         lib.tb_scene_destroy(handle)
 

@@ -13,7 +13,8 @@ from ._scene import Frames, Scene, SceneBuilder, _Recorder  # noqa: F401 (hints)
 
 Body = Union[int, str]
 #: A user force: force(t, state) -> forces, or (forces, torques). state is the (N, 13) state
-#: the derivative is evaluated at (read-only; x, q, P, L per body as in Simulation.state);
+#: the derivative is evaluated at (read-only; x, q, P, L per body with a state, the rows of
+#: Simulation.state, in Simulation.dynamic_bodies' order);
 #: forces (N, 3) in N act at each body's centre of mass, torques (N, 3) in N m, both in the
 #: world frame. Rows of zeros cost nothing more.
 ForceFunction = Callable[[float, np.ndarray], object]
@@ -41,10 +42,12 @@ class Simulation:
     step). A fixed step beyond the scene's stability limit is refused (TumbleValueError,
     UNSTABLE_STEP).
 
-    State (N bodies; world frame, z up, SI units). These are live views of the library's own
-    state array, no copies: they change as the simulation advances, and they are read-only so
-    that every change goes through the library, which checks it and restarts the integrator
-    (assign to the property, or use set_state / set_velocity):
+    State (N bodies with a state, the dynamic ones, in the order of dynamic_bodies, their ids:
+    every body unless the scene has static bodies, which have no state; world frame, z up, SI
+    units). These are live views of the library's own state array, no copies: they change as
+    the simulation advances, and they are read-only so that every change goes through the
+    library, which checks it and restarts the integrator (assign to the property, or use
+    set_state / set_velocity):
 
         state             (N, 13) per body x[3] q[4] P[3] L[3]
         position          (N, 3) m, centre of mass
@@ -54,7 +57,8 @@ class Simulation:
 
     Derived read-outs (new arrays): velocity (N, 3) m/s of the centre of mass (P / M);
     angular_velocity (N, 3) rad/s (omega = R I_body^-1 R^T L); frame_values() the shape-frame
-    pose and velocities (N, 13), as a Frames frame holds them.
+    pose and velocities of every body, static ones included (bodies, 13), as a Frames frame
+    holds them.
 
     Stepping releases the GIL while C runs. Ctrl-C raises KeyboardInterrupt when advance() or
     step() returns (at the next derivative evaluation when Python forces act) and at every
@@ -99,9 +103,11 @@ class Simulation:
         # the public views stand on a read-only buffer, so that no view of them can be made
         # writable (flags.writeable = True raises): every change goes through the library
         self._y = np.frombuffer(memoryview(buffer).toreadonly(), dtype=np.float64, count=n)
-        self._state = self._y[:_native.STATE_SIZE * self.bodies].reshape(self.bodies,
-                                                                         _native.STATE_SIZE)
-        self._masses = np.array(self.scene.masses)
+        #: the ids of the bodies the state's rows are (dynamic ones, in slot order)
+        self.dynamic_bodies = list(self.scene.dynamic_bodies)
+        slots = len(self.dynamic_bodies)
+        self._state = self._y[:_native.STATE_SIZE * slots].reshape(slots, _native.STATE_SIZE)
+        self._masses = np.array(self.scene.masses)[self.dynamic_bodies]
 
     def _create_integrator(self, t0):
         if self._integrator:
@@ -319,7 +325,7 @@ class Simulation:
         The library checks it (finite, unit quaternion within 1e-4) and changes nothing on
         failure (TumbleValueError); the integrator restarts from it."""
         i = self.body(body)
-        new = self._state[i].copy()
+        new = self._state[self._slot(i)].copy()
         for start, stop, name, value in ((0, 3, "position", position),
                                          (3, 7, "quaternion", quaternion),
                                          (7, 10, "momentum", momentum),
@@ -333,8 +339,9 @@ class Simulation:
         frame, as P = M v and L = I(t) omega at its current orientation
         (tb_scene_set_velocity); the other is kept. The integrator restarts."""
         i = self.body(body)
-        v = self.velocity[i] if velocity is None else _vector("velocity", velocity, 3)
-        w = (self.angular_velocity[i] if angular_velocity is None
+        slot = self._slot(i)
+        v = self.velocity[slot] if velocity is None else _vector("velocity", velocity, 3)
+        w = (self.angular_velocity[slot] if angular_velocity is None
              else _vector("angular_velocity", angular_velocity, 3))
         status = lib.tb_scene_set_velocity(self._handle, i, as_pointer(np.ascontiguousarray(v)),
                                            as_pointer(np.ascontiguousarray(w)))
@@ -346,14 +353,24 @@ class Simulation:
         array = np.asarray(value, dtype=float) if _is_numeric(value) else None
         if array is None:
             raise TypeError(f"{name} must be an array of numbers, got {type(value).__name__}")
+        rows = len(self.dynamic_bodies)
         try:
-            array = np.broadcast_to(array, (self.bodies, stop - start))
+            array = np.broadcast_to(array, (rows, stop - start))
         except ValueError:
-            raise ValueError(f"{name} must have shape ({self.bodies}, {stop - start}), got "
+            raise ValueError(f"{name} must have shape ({rows}, {stop - start}), got "
                              f"{array.shape}") from None
         new = self._state.copy()
         new[:, start:stop] = array
-        self._set_states({i: new[i] for i in range(self.bodies)})
+        self._set_states({i: new[k] for k, i in enumerate(self.dynamic_bodies)})
+
+    def _slot(self, i):
+        """Body i's row of the state; a body without a state (static) is refused as the
+        library refuses it."""
+        if i in self.dynamic_bodies:
+            return self.dynamic_bodies.index(i)
+        # the library's own refusal, naming the body and its kind (it changes nothing)
+        status = lib.tb_scene_set_state(self._handle, i, ctypes.byref(_native.BodyState()))
+        raise failure(status, lib.tb_scene_detail(self._handle).decode())
 
     def _set_states(self, states):
         """Each body's new state through tb_scene_set_state; all or nothing: on a refusal the
@@ -388,7 +405,8 @@ class Simulation:
     def _add_user_effect(self, force):
         if not callable(force):
             raise TypeError(f"a force is a callable force(t, state), got {type(force).__name__}")
-        bodies, handle = self.bodies, self._handle
+        ids, handle = list(self.dynamic_bodies), self._handle
+        bodies = len(ids)
 
         def effect(t, scene, y, dydt, ctx):
             try:
@@ -399,7 +417,7 @@ class Simulation:
                 buffer = (ctypes.c_double * size).from_address(ctypes.addressof(y.contents))
                 state = np.frombuffer(memoryview(buffer).toreadonly(),
                                       dtype=np.float64).reshape(bodies, _native.STATE_SIZE)
-                _apply_loads(handle, y, dydt, state, force(t, state), bodies)
+                _apply_loads(handle, y, dydt, state, force(t, state), ids)
                 return 0
             except BaseException as caught:  # cannot cross C: fail the step, raise after it
                 self._failure = caught
@@ -412,7 +430,8 @@ class Simulation:
         self._user_effects.append(callback)
 
 
-def _apply_loads(handle, y, dydt, state, loads, bodies):
+def _apply_loads(handle, y, dydt, state, loads, ids):
+    bodies = len(ids)
     forces, torques = loads if isinstance(loads, tuple) else (loads, None)
     for name, array in (("forces", forces), ("torques", torques)):
         if array is None:
@@ -424,10 +443,10 @@ def _apply_loads(handle, y, dydt, state, loads, bodies):
         for i in np.flatnonzero(np.any(array != 0.0, axis=1)).tolist():
             if name == "forces":
                 point = np.ascontiguousarray(state[i, 0:3])
-                status = lib.tb_effect_add_force(handle, y, dydt, i, as_pointer(array[i]),
+                status = lib.tb_effect_add_force(handle, y, dydt, ids[i], as_pointer(array[i]),
                                                  as_pointer(point))
             else:
-                status = lib.tb_effect_add_torque(handle, dydt, i, as_pointer(array[i]))
+                status = lib.tb_effect_add_torque(handle, dydt, ids[i], as_pointer(array[i]))
             if status != 0:
                 raise failure(status, lib.tb_scene_detail(handle).decode())
 

@@ -1,0 +1,393 @@
+/* The body-motion accessor: a body's slot in y, its constants and its motion at (t, y), by id.
+ * Every read of a body's state goes through here, so that a body with no state is a case of
+ * these functions and not of their callers. */
+#include "scene/scene_internal.h"
+
+#include "tumble/keys.h"
+
+#include "core/detail.h"
+#include "core/validate.h"
+#include "math/tb_math.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *const kind_names[] = {"dynamic", "static", "keyframed"};
+
+/* What a body that cannot move offers every law: no inverse mass, no inverse inertia. */
+static const tb__body immovable = {.mass = INFINITY};
+
+const tb__body *tb__body_constants(const tb_scene *scene, size_t id)
+{
+    const size_t slot = scene->slots[id];
+    return slot == TB_NO_SLOT ? &immovable : &scene->bodies[slot];
+}
+
+/* A static body's motion: its pose, at rest. */
+static void fixed_motion(const tb__body_kind *kind, tb__motion *out)
+{
+    for (int k = 0; k < 3; ++k) {
+        out->x[k] = kind->x[k];
+        out->v[k] = 0.0;
+        out->omega[k] = 0.0;
+    }
+    for (int k = 0; k < 4; ++k) {
+        out->q[k] = kind->q[k];
+    }
+}
+
+/* A keyframed body's motion from its source at t: the shape origin is its centre, the shape
+ * frame its principal frame. */
+static int sampled_motion(const tb__body_kind *kind, double t, tb__motion *out)
+{
+    tb_body_motion_sample sample;
+    const int rc = kind->fn(t, kind->ctx, &sample);
+    if (rc != 0) {
+        fixed_motion(kind, out);
+        return rc;
+    }
+    const double norm = tb__q_norm(sample.orientation);
+    for (int k = 0; k < 3; ++k) {
+        out->x[k] = sample.position[k];
+        out->v[k] = sample.velocity[k];
+        out->omega[k] = sample.angular_velocity[k];
+    }
+    for (int k = 0; k < 4; ++k) {
+        out->q[k] = sample.orientation[k] / norm;
+    }
+    return 0;
+}
+
+int tb__body_motion_at(const tb_scene *scene, double t, const double *y, size_t id, tb__motion *out)
+{
+    const size_t slot = scene->slots[id];
+    if (slot == TB_NO_SLOT) {
+        const tb__body_kind *kind = &scene->kinds[id];
+        if (kind->fn != NULL) {
+            return sampled_motion(kind, t, out);
+        }
+        fixed_motion(kind, out);
+        return 0;
+    }
+    tb__body_motion(&scene->bodies[slot], y + TB_STATE_SIZE * slot, out);
+    return 0;
+}
+
+void tb__body_pose_at(const tb_scene *scene, double t, const double *y, size_t id, double out_x[3],
+                      double out_q[4])
+{
+    const size_t slot = scene->slots[id];
+    if (slot == TB_NO_SLOT) {
+        tb__motion motion;
+        tb__body_motion_at(scene, t, y, id, &motion);
+        memcpy(out_x, motion.x, sizeof motion.x);
+        memcpy(out_q, motion.q, sizeof motion.q);
+        return;
+    }
+    const double *s = y + TB_STATE_SIZE * slot;
+    out_x[0] = s[TB_STATE_X];
+    out_x[1] = s[TB_STATE_X + 1];
+    out_x[2] = s[TB_STATE_X + 2];
+    tb__unit_quaternion(s, 0, out_q);
+}
+
+tb_status tb_scene_body_slot(const tb_scene *scene, size_t id, size_t *out_slot)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    if (out_slot == NULL) {
+        return tb__scene_fail((tb_scene *)scene, TB_STATUS_NULL_POINTER, "out_slot is NULL");
+    }
+    tb_status status = tb__scene_check_id(scene, id, "id");
+    if (status == TB_STATUS_OK) {
+        *out_slot = scene->slots[id];
+    }
+    return status;
+}
+
+tb_mass_properties tb__fixed_mass_properties(void)
+{
+    return (tb_mass_properties){.mass = INFINITY,
+                                .moments = {INFINITY, INFINITY, INFINITY},
+                                .rotation = {1.0, 0.0, 0.0, 0.0}};
+}
+
+tb_status tb__body_kind_from_def(tb_scene *scene, const tb_body_def *def, tb__body_kind *out)
+{
+    if (def->motion != TB_MOTION_STATIC && def->motion != TB_MOTION_KEYFRAMED) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "def.motion: %d is not a motion kind (TB_MOTION_DYNAMIC, "
+                              "TB_MOTION_STATIC or TB_MOTION_KEYFRAMED)",
+                              (int)def->motion);
+    }
+    const double *v = def->velocity, *w = def->angular_velocity;
+    if (def->motion == TB_MOTION_STATIC &&
+        (v[0] != 0.0 || v[1] != 0.0 || v[2] != 0.0 || w[0] != 0.0 || w[1] != 0.0 || w[2] != 0.0)) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "def.%svelocity: a static body does not move, got (%g, %g, %g)",
+                              v[0] != 0.0 || v[1] != 0.0 || v[2] != 0.0 ? "" : "angular_",
+                              v[0] != 0.0 || v[1] != 0.0 || v[2] != 0.0 ? v[0] : w[0],
+                              v[0] != 0.0 || v[1] != 0.0 || v[2] != 0.0 ? v[1] : w[1],
+                              v[0] != 0.0 || v[1] != 0.0 || v[2] != 0.0 ? v[2] : w[2]);
+    }
+    out->motion = def->motion;
+    const double norm = tb__q_norm(def->orientation);
+    for (int k = 0; k < 4; ++k) {
+        out->q[k] = def->orientation[k] / norm;
+    }
+    tb__v3_copy(out->x, def->position);
+    return TB_STATUS_OK;
+}
+
+tb_status tb__scene_check_dynamic(const tb_scene *scene, size_t id, const char *what)
+{
+    if (scene->slots[id] == TB_NO_SLOT) {
+        return tb__scene_fail((tb_scene *)scene, TB_STATUS_INVALID_ARGUMENT,
+                              "%s: body %zu (\"%s\") is %s: it has no state to change", what, id,
+                              scene->names[id], kind_names[scene->kinds[id].motion]);
+    }
+    return TB_STATUS_OK;
+}
+
+tb_status tb_scene_body_motion_kind(const tb_scene *scene, size_t id, tb_body_motion *out_motion)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    if (out_motion == NULL) {
+        return tb__scene_fail((tb_scene *)scene, TB_STATUS_NULL_POINTER, "out_motion is NULL");
+    }
+    tb_status status = tb__scene_check_id(scene, id, "id");
+    if (status == TB_STATUS_OK) {
+        *out_motion = scene->kinds[id].motion;
+    }
+    return status;
+}
+
+static int compare_times(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static void release_source(tb__body_kind *kind)
+{
+    if (kind->release != NULL) {
+        kind->release(kind->ctx);
+    }
+    free(kind->break_times);
+    kind->fn = NULL;
+    kind->ctx = NULL;
+    kind->release = NULL;
+    kind->break_times = NULL;
+    kind->break_count = 0;
+}
+
+/* The checks of a new source for body id; the detail names what is wrong. */
+static tb_status check_source(tb_scene *scene, size_t id, const double *break_times,
+                              size_t break_count)
+{
+    tb_status status = tb__scene_check_idle(scene, "setting a body's motion");
+    if (status == TB_STATUS_OK) {
+        status = tb__scene_check_id(scene, id, "id");
+    }
+    if (status == TB_STATUS_OK && scene->kinds[id].motion != TB_MOTION_KEYFRAMED) {
+        status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                                "id: body %zu (\"%s\") is %s, not keyframed", id, scene->names[id],
+                                kind_names[scene->kinds[id].motion]);
+    }
+    if (status == TB_STATUS_OK && break_times == NULL && break_count > 0) {
+        status = tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "break_times is NULL (count %zu)",
+                                break_count);
+    }
+    for (size_t k = 0; status == TB_STATUS_OK && k < break_count; ++k) {
+        if (!isfinite(break_times[k])) {
+            status = tb__scene_fail(scene, TB_STATUS_NOT_FINITE,
+                                    "break_times[%zu]: must be finite, got %g", k, break_times[k]);
+        }
+    }
+    return status;
+}
+
+tb_status tb__scene_set_body_motion_source(tb_scene *scene, size_t id, tb_body_motion_fn fn,
+                                           void *ctx, const double *break_times, size_t break_count,
+                                           void (*release)(void *ctx))
+{
+    tb_status status = check_source(scene, id, break_times, break_count);
+    double *times = NULL;
+    if (status == TB_STATUS_OK && break_count > 0) {
+        times = tb__malloc_array(break_count, sizeof(double));
+        status = times == NULL ? tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "%zu break times",
+                                                break_count)
+                               : TB_STATUS_OK;
+    }
+    if (status != TB_STATUS_OK) {
+        if (release != NULL) {
+            release(ctx); /* owned from the call on */
+        }
+        return status;
+    }
+    if (times != NULL) {
+        memcpy(times, break_times, break_count * sizeof(double));
+        qsort(times, break_count, sizeof(double), compare_times);
+    }
+    tb__body_kind *kind = &scene->kinds[id];
+    release_source(kind);
+    kind->fn = fn;
+    kind->ctx = ctx;
+    kind->release = release;
+    kind->break_times = times;
+    kind->break_count = break_count;
+    scene->effects_generation++; /* the right-hand side changed: CVODE restarts */
+    tb__scene_wake_all(scene);
+    return TB_STATUS_OK;
+}
+
+tb_status tb_scene_set_body_motion_fn(tb_scene *scene, size_t id, tb_body_motion_fn fn, void *ctx)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    return tb__scene_set_body_motion_source(scene, id, fn, ctx, NULL, 0, NULL);
+}
+
+static void release_keyframes(void *ctx)
+{
+    tb_keyframes_destroy(ctx);
+}
+
+tb_status tb_scene_set_body_keys(tb_scene *scene, size_t id, const tb_body_key *keys, size_t count,
+                                 tb_interpolation interpolation)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    tb_status status = tb__scene_check_id(scene, id, "id");
+    if (status == TB_STATUS_OK && scene->kinds[id].motion != TB_MOTION_KEYFRAMED) {
+        status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                                "body %zu (\"%s\") is %s: only a keyframed body follows keys", id,
+                                scene->names[id], kind_names[scene->kinds[id].motion]);
+    }
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    tb_keyframes *curve = NULL;
+    tb_error error;
+    status = tb_keyframes_create(keys, count, interpolation, &curve, &error);
+    if (status != TB_STATUS_OK) {
+        return tb__scene_fail(scene, status, "%s", error.message);
+    }
+    size_t times = 0;
+    const double *at = tb_keyframes_times(curve, &times);
+    return tb__scene_set_body_motion_source(scene, id, tb_keyframes_sample, curve, at, times,
+                                            release_keyframes);
+}
+
+void tb__scene_release_motion_sources(tb_scene *scene)
+{
+    for (size_t id = 0; scene->kinds != NULL && id < scene->body_count; ++id) {
+        release_source(&scene->kinds[id]);
+    }
+}
+
+double tb__scene_next_break(double t, void *ctx)
+{
+    const tb_scene *scene = ctx;
+    double next = INFINITY;
+    for (size_t id = 0; scene->slot_count < scene->body_count && id < scene->body_count; ++id) {
+        const tb__body_kind *kind = &scene->kinds[id];
+        for (size_t k = 0; k < kind->break_count; ++k) {
+            if (kind->break_times[k] > t) {
+                next = fmin(next, kind->break_times[k]);
+                break;
+            }
+        }
+    }
+    return next;
+}
+
+double tb_scene_time(const tb_scene *scene)
+{
+    return scene == NULL ? NAN : scene->time;
+}
+
+tb_status tb_scene_set_time(tb_scene *scene, double t)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    tb_status status = tb__scene_check_idle(scene, "setting the scene's time");
+    if (status == TB_STATUS_OK && !isfinite(t)) {
+        status = tb__scene_fail(scene, TB_STATUS_NOT_FINITE, "t: must be finite, got %g", t);
+    }
+    if (status == TB_STATUS_OK) {
+        scene->time = t;
+    }
+    return status;
+}
+
+tb_status tb_scene_body_reaction(tb_scene *scene, const double *y, size_t id, double out_force[3],
+                                 double out_torque[3])
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    if (y == NULL || out_force == NULL || out_torque == NULL) {
+        return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "%s is NULL",
+                              y == NULL           ? "y"
+                              : out_force == NULL ? "out_force"
+                                                  : "out_torque");
+    }
+    tb_status status = tb__scene_check_idle(scene, "a reaction read-out");
+    if (status == TB_STATUS_OK) {
+        status = tb__scene_check_id(scene, id, "id");
+    }
+    if (status == TB_STATUS_OK && !tb__body_fixed(scene, id)) {
+        status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                                "id: body %zu (\"%s\") is dynamic: its loads move it", id,
+                                scene->names[id]);
+    }
+    const size_t n = tb_scene_state_size(scene);
+    double *dydt = status == TB_STATUS_OK ? tb__malloc_array(n > 0 ? n : 1, sizeof(double)) : NULL;
+    double *reactions =
+        status == TB_STATUS_OK ? calloc(6 * scene->body_count, sizeof(double)) : NULL;
+    if (status == TB_STATUS_OK && (dydt == NULL || reactions == NULL)) {
+        status = tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "a derivative's scratch");
+    }
+    if (status == TB_STATUS_OK) {
+        scene->reactions = reactions;
+        const int rc = tb_scene_derivative(scene->time, y, dydt, scene);
+        scene->reactions = NULL;
+        status = rc == 0 ? TB_STATUS_OK
+                         : tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                                          "the derivative failed at t = %g (%d)", scene->time, rc);
+    }
+    if (status == TB_STATUS_OK) {
+        memcpy(out_force, reactions + 6 * id, 3 * sizeof(double));
+        memcpy(out_torque, reactions + 6 * id + 3, 3 * sizeof(double));
+    }
+    free(dydt);
+    free(reactions);
+    return status;
+}
+
+void tb__fixed_body_acceleration_at(const tb_scene *scene, double t, size_t id, double out_a[3],
+                                    double out_alpha[3])
+{
+    const tb__body_kind *kind = &scene->kinds[id];
+    tb_body_motion_sample sample;
+    const bool sampled =
+        scene->slots[id] == TB_NO_SLOT && kind->fn != NULL && kind->fn(t, kind->ctx, &sample) == 0;
+    for (int k = 0; k < 3; ++k) {
+        out_a[k] = sampled ? sample.acceleration[k] : 0.0;
+        out_alpha[k] = sampled ? sample.angular_acceleration[k] : 0.0;
+    }
+}
