@@ -113,20 +113,6 @@ static void test_a_step_limit_bounds_every_adaptive_step(void **unused)
 
 /* --- scenes ------------------------------------------------------------------------------ */
 
-static size_t add_box(tb_scene *scene, double m, const double size[3], const double x[3])
-{
-    tb_body_def def = tb_body_def_default();
-    assert_int_equal(tb_mass_from_box(TB_MASS_GIVEN, m, size, &def.mass, NULL), TB_STATUS_OK);
-    memcpy(def.position, x, sizeof def.position);
-    size_t id = 0;
-    assert_int_equal(tb_scene_add_body(scene, &def, &id), TB_STATUS_OK);
-    tb_shape shape = tb_shape_default();
-    shape.type = TB_SHAPE_BOX;
-    memcpy(shape.size, size, sizeof shape.size);
-    assert_int_equal(tb_scene_set_body_shape(scene, id, &shape), TB_STATUS_OK);
-    return id;
-}
-
 static tb_scene *new_scene(void)
 {
     tb_scene_def def = tb_scene_def_default();
@@ -168,7 +154,7 @@ static void test_a_dropped_ball_touches_the_box_at_the_free_fall_time(void **unu
         tb_scene *scene = new_scene();
         const size_t ball =
             test_add_ball(scene, NULL, 0.1, r, (double[]){0, 0, 0.05 + h + r}, (double[]){0, 0, 0});
-        add_box(scene, 10.0, (double[]){0.4, 0.4, 0.1}, (double[]){0, 0, 0});
+        test_add_box(scene, 10.0, (double[]){0.4, 0.4, 0.1}, (double[]){0, 0, 0});
         assert_int_equal(tb_scene_add_force(scene, ball, (double[]){0, 0, -0.1 * G},
                                             (double[]){0, 0, 0}, TB_FRAME_WORLD),
                          TB_STATUS_OK);
@@ -271,8 +257,8 @@ static tb_scene *ball_and_plate(double plate_thickness, const tb_contact_def *co
     tb_scene *scene = new_scene();
     test_add_ball(scene, NULL, 0.0329, 0.01, (double[]){-0.057 - 0.5 * plate_thickness, 0, 0},
                   (double[]){20, 0, 0});
-    add_box(scene, 2700.0 * plate_thickness * 0.04, (double[]){plate_thickness, 0.2, 0.2},
-            (double[]){0, 0, 0});
+    test_add_box(scene, 2700.0 * plate_thickness * 0.04, (double[]){plate_thickness, 0.2, 0.2},
+                 (double[]){0, 0, 0});
     assert_int_equal(tb_scene_add_contact(scene, contact), TB_STATUS_OK);
     return scene;
 }
@@ -369,7 +355,7 @@ static tb_scene *ball_and_heavy_plate(double speed, double thickness, double pen
     tb_scene *scene = new_scene();
     test_add_ball(scene, NULL, 0.01, 0.005, (double[]){-0.05 - 0.5 * thickness, 0, 0},
                   (double[]){speed, 0, 0});
-    add_box(scene, 100.0, (double[]){thickness, 0.2, 0.2}, (double[]){0, 0, 0});
+    test_add_box(scene, 100.0, (double[]){thickness, 0.2, 0.2}, (double[]){0, 0, 0});
     tb_contact_def contact = tb_contact_def_default();
     contact.restitution = 0.5;
     if (penetration > 0.0) {

@@ -63,20 +63,6 @@ static size_t count_of(const event_log *log, tb_contact_event_kind kind)
     return n;
 }
 
-static size_t add_box(tb_scene *scene, double m, const double size[3], const double x[3])
-{
-    tb_body_def def = tb_body_def_default();
-    assert_int_equal(tb_mass_from_box(TB_MASS_GIVEN, m, size, &def.mass, NULL), TB_STATUS_OK);
-    memcpy(def.position, x, sizeof def.position);
-    size_t id = 0;
-    assert_int_equal(tb_scene_add_body(scene, &def, &id), TB_STATUS_OK);
-    tb_shape shape = tb_shape_default();
-    shape.type = TB_SHAPE_BOX;
-    memcpy(shape.size, size, sizeof shape.size);
-    assert_int_equal(tb_scene_set_body_shape(scene, id, &shape), TB_STATUS_OK);
-    return id;
-}
-
 /* A 2 cm ball (0.1 kg) at rest with its centre at height h over the ground (restitution e),
  * under gravity: its contact point is its centre with radius r. */
 static tb_scene *ball_over_ground(double h, double e, double penetration)
@@ -104,7 +90,7 @@ static tb_scene *ball_over_box(double h)
     const double r = 0.02;
     tb_scene *scene = test_empty_scene();
     const size_t ball = test_add_ball(scene, "ball", 0.1, r, (double[]){0, 0, 0.05 + h}, NULL);
-    add_box(scene, 10.0, (double[]){0.4, 0.4, 0.1}, (double[]){0, 0, 0});
+    test_add_box(scene, 10.0, (double[]){0.4, 0.4, 0.1}, (double[]){0, 0, 0});
     assert_int_equal(tb_scene_add_force(scene, ball, (double[]){0, 0, -0.1 * G},
                                         (double[]){0, 0, 0}, TB_FRAME_WORLD),
                      TB_STATUS_OK);
@@ -354,7 +340,8 @@ static tb_scene *tumbling_scene(void)
     size_t n = 0;
     assert_int_equal(tb_contact_points_box(size, corners, 8, &n), TB_STATUS_OK);
     for (int k = 0; k < 2; ++k) {
-        const size_t box = add_box(scene, 0.1, size, (double[]){0.03 * k, 0.01, 0.15 + 0.1 * k});
+        const size_t box =
+            test_add_box(scene, 0.1, size, (double[]){0.03 * k, 0.01, 0.15 + 0.1 * k});
         assert_int_equal(tb_scene_set_contact_points(scene, box, corners, n, 4), TB_STATUS_OK);
         assert_int_equal(tb_scene_set_velocity(scene, box, (double[]){0.2, -0.1 * k, 0},
                                                (double[]){3, 1 + k, 0}),

@@ -80,3 +80,17 @@ tb_integrator *test_integrator_for(tb_scene *scene, tb_method method, double dt,
     const tb_integrator_def def = test_integrator_def(method, dt, rtol);
     return test_integrator(scene, &def);
 }
+
+size_t test_add_box(tb_scene *scene, double m, const double size[3], const double x[3])
+{
+    tb_body_def def = tb_body_def_default();
+    assert_int_equal(tb_mass_from_box(TB_MASS_GIVEN, m, size, &def.mass, NULL), TB_STATUS_OK);
+    memcpy(def.position, x, sizeof def.position);
+    size_t id = 0;
+    assert_int_equal(tb_scene_add_body(scene, &def, &id), TB_STATUS_OK);
+    tb_shape shape = tb_shape_default();
+    shape.type = TB_SHAPE_BOX;
+    memcpy(shape.size, size, sizeof shape.size);
+    assert_int_equal(tb_scene_set_body_shape(scene, id, &shape), TB_STATUS_OK);
+    return id;
+}

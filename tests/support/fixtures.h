@@ -29,4 +29,8 @@ tb_integrator *test_integrator(tb_scene *scene, const tb_integrator_def *def);
 /* test_integrator of test_integrator_def(method, dt, rtol). */
 tb_integrator *test_integrator_for(tb_scene *scene, tb_method method, double dt, double rtol);
 
+/* A dynamic box body of mass m (kg) and edge lengths size (m), at rest at x, with a box
+ * collision shape of the same size. Fails the test on error. */
+size_t test_add_box(tb_scene *scene, double m, const double size[3], const double x[3]);
+
 #endif
