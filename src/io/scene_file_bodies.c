@@ -201,6 +201,12 @@ static tb_status load_body_keys(tb__loader *ld, const json_t *body, const char *
                              "a keyframed body's pose comes from its keys: no position or "
                              "orientation");
     }
+    if (json_object_get(body, "velocity") || json_object_get(body, "angular_velocity") ||
+        json_object_get(body, "angular_velocity_body")) { /* else read and silently unused */
+        return tb__load_fail(ld, TB_STATUS_BAD_SCENE, path,
+                             "a keyframed body's velocities come from its keys: give them "
+                             "as a key's velocity or angular_velocity");
+    }
     tb_status status = tb__load_keys(ld, body, path, &k->keys, &k->count, &k->interpolation);
     if (status == TB_STATUS_OK) {
         const tb_body_key *first = &k->keys[0];

@@ -117,6 +117,19 @@ def dynamic_bodies(handle):
     return ids
 
 
+#: A body's motion (tb_body_motion, include/tumble/body.h): Scene.motions' words, by code.
+MOTIONS = ("dynamic", "static", "keyframed")
+
+
+def body_motions(handle):
+    """Each body's motion, "dynamic", "static" or "keyframed" (tb_scene_body_motion_kind)."""
+    motions, code = [], ctypes.c_int()
+    for i in range(lib.tb_scene_body_count(handle)):
+        lib.tb_scene_body_motion_kind(handle, i, ctypes.byref(code))
+        motions.append(MOTIONS[code.value])
+    return motions
+
+
 class _Recorder:
     """Collects each frame the C run hands over into one array allocated up front for the
     frame count the library gives (tb_run_output_frames): a frame costs one call that fills it
@@ -201,7 +214,9 @@ class Scene:
     repeatable; a Scene pickles as its text.
 
     body_names          the bodies' names, in order (body i is index i everywhere)
-    masses              each body's mass, kg
+    masses              each body's mass, kg (a static or keyframed body's is not used)
+    motions             each body's motion: "dynamic", "static" (fixed in the world) or
+                        "keyframed" (its pose follows its keys); the latter two have no state
     radius_of_gyration  each body's sqrt(I_max / M), m
     run_settings        the file's method, dt (s), rtol, atol, max_steps, fps and duration (s)
     """
@@ -248,10 +263,12 @@ class Scene:
         self.masses = []
         #: the ids of the bodies with a state (dynamic ones), in the order of their slots
         self.dynamic_bodies = dynamic_bodies(handle)
+        #: each body's motion: "dynamic", "static" or "keyframed"
+        self.motions = body_motions(handle)
         for i in range(len(self.body_names)):
             mass = _native.MassProperties()
             lib.tb_scene_get_mass(handle, i, ctypes.byref(mass))
-            moving = i in self.dynamic_bodies  # a static body: infinite mass, no radius
+            moving = i in self.dynamic_bodies  # static, keyframed: infinite mass, no radius
             self.radius_of_gyration.append(
                 float(np.sqrt(max(mass.moments) / mass.mass)) if moving else 0.0)
             self.masses.append(mass.mass)
@@ -444,6 +461,36 @@ class SceneBuilder:
         velocity (m/s), angular_velocity (rad/s, world) or angular_velocity_body, ..."""
         self._description["bodies"].append({"name": name, **fields})
         return self
+
+    def add_keyframed_body(self, name: str, t, position, orientation=None, velocity=None,
+                           angular_velocity=None, interpolation: str = "cubic",
+                           **fields) -> "SceneBuilder":
+        """A keyframed body (the scene format's "motion": "keyframed", docs/scene-format.md,
+        "Keys"): its pose follows keys at times t (K,) s, strictly increasing, with position
+        (K, 3) m (world; the shape frame's origin) and orientation (K, 4) quaternions
+        (w, x, y, z; default the identity); velocity (K, 3) m/s and angular_velocity (K, 3)
+        rad/s (world) are the cubic curve's tangents at the keys (rows of NaN: Catmull-Rom's);
+        interpolation "linear", "cubic" or "step". fields as add_body's (a shape, a contact);
+        it needs no mass. The library checks the keys when the scene is built."""
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        count = len(t)
+        position = np.broadcast_to(np.asarray(position, dtype=float), (count, 3))
+        orientation = np.broadcast_to(np.asarray([1.0, 0, 0, 0] if orientation is None
+                                                 else orientation, dtype=float), (count, 4))
+        tangents = {}
+        for key, value in (("velocity", velocity), ("angular_velocity", angular_velocity)):
+            if value is not None:
+                tangents[key] = np.broadcast_to(np.asarray(value, dtype=float), (count, 3))
+        keys = []
+        for k in range(count):
+            entry = {"t": float(t[k]), "position": position[k].tolist(),
+                     "orientation": orientation[k].tolist()}
+            for key, rows in tangents.items():
+                if not np.all(np.isnan(rows[k])):
+                    entry[key] = rows[k].tolist()
+            keys.append(entry)
+        return self.add_body(name, motion="keyframed", interpolation=interpolation, keys=keys,
+                             **fields)
 
     def add_effect(self, type: str, **fields) -> "SceneBuilder":
         """An effect with the scene format's fields: "gravity", "drag", "spring", "force",

@@ -43,7 +43,7 @@ class Simulation:
     UNSTABLE_STEP).
 
     State (N bodies with a state, the dynamic ones, in the order of dynamic_bodies, their ids:
-    every body unless the scene has static bodies, which have no state; world frame, z up, SI
+    every body but the static and keyframed ones, which have no state; world frame, z up, SI
     units). These are live views of the library's own state array, no copies: they change as
     the simulation advances, and they are read-only so that every change goes through the
     library, which checks it and restarts the integrator (assign to the property, or use
@@ -57,8 +57,8 @@ class Simulation:
 
     Derived read-outs (new arrays): velocity (N, 3) m/s of the centre of mass (P / M);
     angular_velocity (N, 3) rad/s (omega = R I_body^-1 R^T L); frame_values() the shape-frame
-    pose and velocities of every body, static ones included (bodies, 13), as a Frames frame
-    holds them.
+    pose and velocities of every body, static and keyframed ones included (bodies, 13), as a
+    Frames frame holds them; reaction(body) what the bodies put on a static or keyframed body.
 
     Stepping releases the GIL while C runs. Ctrl-C raises KeyboardInterrupt when advance() or
     step() returns (at the next derivative evaluation when Python forces act) and at every
@@ -105,6 +105,8 @@ class Simulation:
         self._y = np.frombuffer(memoryview(buffer).toreadonly(), dtype=np.float64, count=n)
         #: the ids of the bodies the state's rows are (dynamic ones, in slot order)
         self.dynamic_bodies = list(self.scene.dynamic_bodies)
+        #: each body's motion: "dynamic", "static" or "keyframed" (Scene.motions)
+        self.motions = list(self.scene.motions)
         slots = len(self.dynamic_bodies)
         self._state = self._y[:_native.STATE_SIZE * slots].reshape(slots, _native.STATE_SIZE)
         self._masses = np.array(self.scene.masses)[self.dynamic_bodies]
@@ -317,6 +319,19 @@ class Simulation:
         self._check(lib.tb_scene_frame_values(self._handle, as_pointer(self._y),
                                               as_pointer(values)))
         return values
+
+    def reaction(self, body: Body) -> tuple:
+        """(force (3,) N, torque (3,) N m): what the other bodies put on a static or keyframed
+        body through the scene's effects (contact, springs) at the current state and time,
+        world frame, the torque about its shape-frame origin: what holding it on its path
+        costs (tb_scene_body_reaction). A dynamic body is refused (TumbleValueError)."""
+        i = self.body(body)
+        force, torque = np.empty(3), np.empty(3)
+        status = lib.tb_scene_body_reaction(self._handle, as_pointer(self._y), i,
+                                            as_pointer(force), as_pointer(torque))
+        if status != 0:
+            raise failure(status, lib.tb_scene_detail(self._handle).decode())
+        return force, torque
 
     def set_state(self, body: Body, position=None, quaternion=None, momentum=None,
                   angular_momentum=None) -> None:
