@@ -96,7 +96,9 @@ TB_API tb_status tb_scene_body_reaction(tb_scene *scene, const double *y, size_t
 TB_API const double *tb_scene_states_const(const tb_scene *scene);
 
 /* Reads or writes one body's state. set validates it (finite, unit quaternion within 1e-4,
- * which is then normalised exactly) and changes nothing on failure. */
+ * which is then normalised exactly) and changes nothing on failure; it and
+ * tb_scene_set_velocity return TB_STATUS_BUSY while an integrator steps the scene (from a
+ * callback or user effect). */
 TB_API tb_status tb_scene_get_state(const tb_scene *scene, size_t id, tb_body_state *out_state);
 TB_API tb_status tb_scene_set_state(tb_scene *scene, size_t id, const tb_body_state *state);
 
