@@ -594,6 +594,50 @@ static void test_read_outs_follow_the_scene_time(void **state)
     }
 }
 
+/* A keyframed wall (a 2 m cube) at x = -5 at t = 0 that has slid to x = 0 by t = 1, and a ball
+ * at x = 0.5, inside where the wall ends: the integrator's start check reads the wall at the
+ * integrator's t0, not at the scene's older time. From t0 = 5 the start is refused naming both
+ * (the scene's time unchanged); from t0 = 0 it is accepted although the scene's time was 5. */
+static void test_the_start_check_reads_keyframed_bodies_at_t0(void **state)
+{
+    (void)state;
+    const tb_method methods_to_check[] = {TB_METHOD_RK4, TB_METHOD_CVODE_BDF};
+    for (size_t m = 0; m < 2; ++m) {
+        tb_scene *scene = test_empty_scene();
+        tb_body_def def = tb_body_def_default();
+        def.name = "wall";
+        def.motion = TB_MOTION_KEYFRAMED;
+        size_t wall = 0;
+        assert_int_equal(tb_scene_add_body(scene, &def, &wall), TB_STATUS_OK);
+        tb_shape shape = tb_shape_default();
+        shape.type = TB_SHAPE_BOX;
+        shape.size[0] = shape.size[1] = shape.size[2] = 2.0;
+        assert_int_equal(tb_scene_set_body_shape(scene, wall, &shape), TB_STATUS_OK);
+        tb_body_key keys[2] = {tb_body_key_default(), tb_body_key_default()};
+        keys[0].position[0] = -5.0;
+        keys[1].t = 1.0;
+        assert_int_equal(tb_scene_set_body_keys(scene, wall, keys, 2, TB_INTERPOLATION_LINEAR),
+                         TB_STATUS_OK);
+        test_add_ball(scene, "ball", 1.0, 0.1, (double[]){0.5, 0, 0}, NULL);
+        tb_contact_def contact = tb_contact_def_default();
+        contact.penetration = PENETRATION;
+        assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+        tb_integrator_def def_m = test_integrator_def(methods_to_check[m], 0.0, 1e-6);
+        tb_integrator *integrator = NULL;
+        assert_int_equal(tb_scene_integrator_create(scene, &def_m, 5.0, &integrator),
+                         TB_STATUS_INVALID_ARGUMENT);
+        assert_null(integrator);
+        assert_non_null(strstr(tb_scene_detail(scene), "\"wall\""));
+        assert_non_null(strstr(tb_scene_detail(scene), "\"ball\""));
+        assert_true(tb_scene_time(scene) == 0.0);
+        assert_int_equal(tb_scene_set_time(scene, 5.0), TB_STATUS_OK);
+        assert_int_equal(tb_scene_integrator_create(scene, &def_m, 0.0, &integrator), TB_STATUS_OK);
+        assert_true(tb_scene_time(scene) == 0.0);
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -608,6 +652,7 @@ int main(void)
         cmocka_unit_test(test_steps_end_on_break_times),
         cmocka_unit_test(test_balls_on_a_static_table_sleep_on_their_own_islands),
         cmocka_unit_test(test_read_outs_follow_the_scene_time),
+        cmocka_unit_test(test_the_start_check_reads_keyframed_bodies_at_t0),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
