@@ -638,6 +638,55 @@ static void test_the_start_check_reads_keyframed_bodies_at_t0(void **state)
     }
 }
 
+/* A ball asleep on a keyframed platform (a 4 x 4 x 1 m box, top at z = 0) that holds still
+ * until t = 2 s and then rises 1 m in 1 s: the moving platform wakes the ball and carries it,
+ * so at t = 3.5 s the ball is above the platform's final top (z = 1 m; it rests on it at
+ * 1 + radius less its 1 mm deflection). Asleep, it would stay at z = 0.1 inside the box. */
+static void test_a_platform_that_starts_moving_wakes_the_ball_asleep_on_it(void **state)
+{
+    (void)state;
+    const tb_method methods_to_check[] = {TB_METHOD_RK4, TB_METHOD_CVODE_BDF};
+    for (size_t m = 0; m < 2; ++m) {
+        tb_scene *scene = test_empty_scene();
+        tb_body_def def = tb_body_def_default();
+        def.name = "platform";
+        def.motion = TB_MOTION_KEYFRAMED;
+        size_t platform = 0;
+        assert_int_equal(tb_scene_add_body(scene, &def, &platform), TB_STATUS_OK);
+        tb_shape shape = tb_shape_default();
+        shape.type = TB_SHAPE_BOX;
+        shape.size[0] = shape.size[1] = 4.0;
+        shape.size[2] = 1.0;
+        assert_int_equal(tb_scene_set_body_shape(scene, platform, &shape), TB_STATUS_OK);
+        tb_body_key keys[3] = {tb_body_key_default(), tb_body_key_default(), tb_body_key_default()};
+        keys[0].position[2] = keys[1].position[2] = -0.5;
+        keys[1].t = 2.0;
+        keys[2].t = 3.0;
+        keys[2].position[2] = 0.5;
+        assert_int_equal(tb_scene_set_body_keys(scene, platform, keys, 3, TB_INTERPOLATION_LINEAR),
+                         TB_STATUS_OK);
+        const size_t ball = test_add_ball(scene, "ball", 1.0, 0.1, (double[]){0, 0, 0.1}, NULL);
+        assert_int_equal(tb_scene_add_gravity(scene, (double[]){0, 0, -G}), TB_STATUS_OK);
+        tb_contact_def contact = tb_contact_def_default();
+        contact.penetration = PENETRATION;
+        assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+        assert_int_equal(tb_scene_set_sleeping(scene, true), TB_STATUS_OK);
+        tb_integrator *integrator = test_integrator_for(scene, methods_to_check[m], 0.0, 1e-6);
+        bool asleep = false;
+        for (int k = 1; k <= 19 && !asleep; ++k) { /* it falls asleep before the platform moves */
+            assert_int_equal(tb_integrator_advance(integrator, 0.1 * k), TB_STATUS_OK);
+            assert_int_equal(tb_scene_body_asleep(scene, ball, &asleep), TB_STATUS_OK);
+        }
+        assert_true(asleep);
+        assert_int_equal(tb_integrator_advance(integrator, 3.5), TB_STATUS_OK);
+        tb_body_state s;
+        assert_int_equal(tb_scene_get_state(scene, ball, &s), TB_STATUS_OK);
+        assert_true(s.x[2] > 1.0);
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -653,6 +702,7 @@ int main(void)
         cmocka_unit_test(test_balls_on_a_static_table_sleep_on_their_own_islands),
         cmocka_unit_test(test_read_outs_follow_the_scene_time),
         cmocka_unit_test(test_the_start_check_reads_keyframed_bodies_at_t0),
+        cmocka_unit_test(test_a_platform_that_starts_moving_wakes_the_ball_asleep_on_it),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
