@@ -687,6 +687,63 @@ static void test_a_platform_that_starts_moving_wakes_the_ball_asleep_on_it(void 
     }
 }
 
+/* A motion that says 0 but gives NaN (position, velocity) or a zero quaternion from t = 0.05 s
+ * on. */
+static int broken_motion(double t, void *ctx, tb_body_motion_sample *out)
+{
+    const int *mode = ctx;
+    memset(out, 0, sizeof *out);
+    out->orientation[0] = 1.0;
+    out->position[2] = -0.5;
+    if (t > 0.05) {
+        if (*mode == 0) {
+            out->position[2] = NAN;
+        } else if (*mode == 1) {
+            out->velocity[0] = INFINITY;
+        } else {
+            out->orientation[0] = 0.0;
+        }
+    }
+    return 0;
+}
+
+/* A ball resting on a keyframed platform whose motion function turns to garbage: the advance
+ * past 0.05 s fails (not OK) and the ball stays at its last good state, finite and on the
+ * platform (its 0.1 m radius above the top at z = 0, less the deflection). */
+static void test_a_motion_giving_nan_fails_the_step(void **state)
+{
+    (void)state;
+    const tb_method methods_to_check[] = {TB_METHOD_RK4, TB_METHOD_CVODE_BDF};
+    for (int mode = 0; mode < 3; ++mode) {
+        for (size_t m = 0; m < 2; ++m) {
+            tb_scene *scene = test_empty_scene();
+            tb_body_def def = tb_body_def_default();
+            def.motion = TB_MOTION_KEYFRAMED;
+            size_t platform = 0;
+            assert_int_equal(tb_scene_add_body(scene, &def, &platform), TB_STATUS_OK);
+            tb_shape shape = tb_shape_default();
+            shape.type = TB_SHAPE_BOX;
+            shape.size[0] = shape.size[1] = 4.0;
+            shape.size[2] = 1.0;
+            assert_int_equal(tb_scene_set_body_shape(scene, platform, &shape), TB_STATUS_OK);
+            assert_int_equal(tb_scene_set_body_motion_fn(scene, platform, broken_motion, &mode),
+                             TB_STATUS_OK);
+            const size_t ball = test_add_ball(scene, "ball", 1.0, 0.1, (double[]){0, 0, 0.1}, NULL);
+            assert_int_equal(tb_scene_add_gravity(scene, (double[]){0, 0, -G}), TB_STATUS_OK);
+            tb_contact_def contact = tb_contact_def_default();
+            contact.penetration = PENETRATION;
+            assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+            tb_integrator *integrator = test_integrator_for(scene, methods_to_check[m], 0.0, 1e-6);
+            assert_int_not_equal(tb_integrator_advance(integrator, 0.2), TB_STATUS_OK);
+            tb_body_state s;
+            assert_int_equal(tb_scene_get_state(scene, ball, &s), TB_STATUS_OK);
+            assert_true(isfinite(s.x[2]) && fabs(s.x[2] - 0.1) < 2.0 * PENETRATION);
+            tb_integrator_destroy(integrator);
+            tb_scene_destroy(scene);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -703,6 +760,7 @@ int main(void)
         cmocka_unit_test(test_read_outs_follow_the_scene_time),
         cmocka_unit_test(test_the_start_check_reads_keyframed_bodies_at_t0),
         cmocka_unit_test(test_a_platform_that_starts_moving_wakes_the_ball_asleep_on_it),
+        cmocka_unit_test(test_a_motion_giving_nan_fails_the_step),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
