@@ -594,6 +594,156 @@ static void test_read_outs_follow_the_scene_time(void **state)
     }
 }
 
+/* A keyframed wall (a 2 m cube) at x = -5 at t = 0 that has slid to x = 0 by t = 1, and a ball
+ * at x = 0.5, inside where the wall ends: the integrator's start check reads the wall at the
+ * integrator's t0, not at the scene's older time. From t0 = 5 the start is refused naming both
+ * (the scene's time unchanged); from t0 = 0 it is accepted although the scene's time was 5. */
+static void test_the_start_check_reads_keyframed_bodies_at_t0(void **state)
+{
+    (void)state;
+    const tb_method methods_to_check[] = {TB_METHOD_RK4, TB_METHOD_CVODE_BDF};
+    for (size_t m = 0; m < 2; ++m) {
+        tb_scene *scene = test_empty_scene();
+        tb_body_def def = tb_body_def_default();
+        def.name = "wall";
+        def.motion = TB_MOTION_KEYFRAMED;
+        size_t wall = 0;
+        assert_int_equal(tb_scene_add_body(scene, &def, &wall), TB_STATUS_OK);
+        tb_shape shape = tb_shape_default();
+        shape.type = TB_SHAPE_BOX;
+        shape.size[0] = shape.size[1] = shape.size[2] = 2.0;
+        assert_int_equal(tb_scene_set_body_shape(scene, wall, &shape), TB_STATUS_OK);
+        tb_body_key keys[2] = {tb_body_key_default(), tb_body_key_default()};
+        keys[0].position[0] = -5.0;
+        keys[1].t = 1.0;
+        assert_int_equal(tb_scene_set_body_keys(scene, wall, keys, 2, TB_INTERPOLATION_LINEAR),
+                         TB_STATUS_OK);
+        test_add_ball(scene, "ball", 1.0, 0.1, (double[]){0.5, 0, 0}, NULL);
+        tb_contact_def contact = tb_contact_def_default();
+        contact.penetration = PENETRATION;
+        assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+        tb_integrator_def def_m = test_integrator_def(methods_to_check[m], 0.0, 1e-6);
+        tb_integrator *integrator = NULL;
+        assert_int_equal(tb_scene_integrator_create(scene, &def_m, 5.0, &integrator),
+                         TB_STATUS_INVALID_ARGUMENT);
+        assert_null(integrator);
+        assert_non_null(strstr(tb_scene_detail(scene), "\"wall\""));
+        assert_non_null(strstr(tb_scene_detail(scene), "\"ball\""));
+        assert_true(tb_scene_time(scene) == 0.0);
+        assert_int_equal(tb_scene_set_time(scene, 5.0), TB_STATUS_OK);
+        assert_int_equal(tb_scene_integrator_create(scene, &def_m, 0.0, &integrator), TB_STATUS_OK);
+        assert_true(tb_scene_time(scene) == 0.0);
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
+/* A ball asleep on a keyframed platform (a 4 x 4 x 1 m box, top at z = 0) that holds still
+ * until t = 2 s and then rises 1 m in 1 s: the moving platform wakes the ball and carries it,
+ * so at t = 3.5 s the ball is above the platform's final top (z = 1 m; it rests on it at
+ * 1 + radius less its 1 mm deflection). Asleep, it would stay at z = 0.1 inside the box. */
+static void test_a_platform_that_starts_moving_wakes_the_ball_asleep_on_it(void **state)
+{
+    (void)state;
+    const tb_method methods_to_check[] = {TB_METHOD_RK4, TB_METHOD_CVODE_BDF};
+    for (size_t m = 0; m < 2; ++m) {
+        tb_scene *scene = test_empty_scene();
+        tb_body_def def = tb_body_def_default();
+        def.name = "platform";
+        def.motion = TB_MOTION_KEYFRAMED;
+        size_t platform = 0;
+        assert_int_equal(tb_scene_add_body(scene, &def, &platform), TB_STATUS_OK);
+        tb_shape shape = tb_shape_default();
+        shape.type = TB_SHAPE_BOX;
+        shape.size[0] = shape.size[1] = 4.0;
+        shape.size[2] = 1.0;
+        assert_int_equal(tb_scene_set_body_shape(scene, platform, &shape), TB_STATUS_OK);
+        tb_body_key keys[3] = {tb_body_key_default(), tb_body_key_default(), tb_body_key_default()};
+        keys[0].position[2] = keys[1].position[2] = -0.5;
+        keys[1].t = 2.0;
+        keys[2].t = 3.0;
+        keys[2].position[2] = 0.5;
+        assert_int_equal(tb_scene_set_body_keys(scene, platform, keys, 3, TB_INTERPOLATION_LINEAR),
+                         TB_STATUS_OK);
+        const size_t ball = test_add_ball(scene, "ball", 1.0, 0.1, (double[]){0, 0, 0.1}, NULL);
+        assert_int_equal(tb_scene_add_gravity(scene, (double[]){0, 0, -G}), TB_STATUS_OK);
+        tb_contact_def contact = tb_contact_def_default();
+        contact.penetration = PENETRATION;
+        assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+        assert_int_equal(tb_scene_set_sleeping(scene, true), TB_STATUS_OK);
+        tb_integrator *integrator = test_integrator_for(scene, methods_to_check[m], 0.0, 1e-6);
+        bool asleep = false;
+        for (int k = 1; k <= 19 && !asleep; ++k) { /* it falls asleep before the platform moves */
+            assert_int_equal(tb_integrator_advance(integrator, 0.1 * k), TB_STATUS_OK);
+            assert_int_equal(tb_scene_body_asleep(scene, ball, &asleep), TB_STATUS_OK);
+        }
+        assert_true(asleep);
+        assert_int_equal(tb_integrator_advance(integrator, 3.5), TB_STATUS_OK);
+        tb_body_state s;
+        assert_int_equal(tb_scene_get_state(scene, ball, &s), TB_STATUS_OK);
+        assert_true(s.x[2] > 1.0);
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
+/* A motion that says 0 but gives NaN (position, velocity) or a zero quaternion from t = 0.05 s
+ * on. */
+static int broken_motion(double t, void *ctx, tb_body_motion_sample *out)
+{
+    const int *mode = ctx;
+    memset(out, 0, sizeof *out);
+    out->orientation[0] = 1.0;
+    out->position[2] = -0.5;
+    if (t > 0.05) {
+        if (*mode == 0) {
+            out->position[2] = NAN;
+        } else if (*mode == 1) {
+            out->velocity[0] = INFINITY;
+        } else {
+            out->orientation[0] = 0.0;
+        }
+    }
+    return 0;
+}
+
+/* A ball resting on a keyframed platform whose motion function turns to garbage: the advance
+ * past 0.05 s fails (not OK) and the ball stays at its last good state, finite and on the
+ * platform (its 0.1 m radius above the top at z = 0, less the deflection). */
+static void test_a_motion_giving_nan_fails_the_step(void **state)
+{
+    (void)state;
+    const tb_method methods_to_check[] = {TB_METHOD_RK4, TB_METHOD_CVODE_BDF};
+    for (int mode = 0; mode < 3; ++mode) {
+        for (size_t m = 0; m < 2; ++m) {
+            tb_scene *scene = test_empty_scene();
+            tb_body_def def = tb_body_def_default();
+            def.motion = TB_MOTION_KEYFRAMED;
+            size_t platform = 0;
+            assert_int_equal(tb_scene_add_body(scene, &def, &platform), TB_STATUS_OK);
+            tb_shape shape = tb_shape_default();
+            shape.type = TB_SHAPE_BOX;
+            shape.size[0] = shape.size[1] = 4.0;
+            shape.size[2] = 1.0;
+            assert_int_equal(tb_scene_set_body_shape(scene, platform, &shape), TB_STATUS_OK);
+            assert_int_equal(tb_scene_set_body_motion_fn(scene, platform, broken_motion, &mode),
+                             TB_STATUS_OK);
+            const size_t ball = test_add_ball(scene, "ball", 1.0, 0.1, (double[]){0, 0, 0.1}, NULL);
+            assert_int_equal(tb_scene_add_gravity(scene, (double[]){0, 0, -G}), TB_STATUS_OK);
+            tb_contact_def contact = tb_contact_def_default();
+            contact.penetration = PENETRATION;
+            assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+            tb_integrator *integrator = test_integrator_for(scene, methods_to_check[m], 0.0, 1e-6);
+            assert_int_not_equal(tb_integrator_advance(integrator, 0.2), TB_STATUS_OK);
+            tb_body_state s;
+            assert_int_equal(tb_scene_get_state(scene, ball, &s), TB_STATUS_OK);
+            assert_true(isfinite(s.x[2]) && fabs(s.x[2] - 0.1) < 2.0 * PENETRATION);
+            tb_integrator_destroy(integrator);
+            tb_scene_destroy(scene);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -608,6 +758,9 @@ int main(void)
         cmocka_unit_test(test_steps_end_on_break_times),
         cmocka_unit_test(test_balls_on_a_static_table_sleep_on_their_own_islands),
         cmocka_unit_test(test_read_outs_follow_the_scene_time),
+        cmocka_unit_test(test_the_start_check_reads_keyframed_bodies_at_t0),
+        cmocka_unit_test(test_a_platform_that_starts_moving_wakes_the_ball_asleep_on_it),
+        cmocka_unit_test(test_a_motion_giving_nan_fails_the_step),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

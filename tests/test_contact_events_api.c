@@ -517,6 +517,53 @@ static void test_setting_events_from_the_callback_is_refused(void **unused)
     tb_scene_destroy(scene);
 }
 
+typedef struct state_writes {
+    tb_scene *scene;
+    tb_status set_state, set_velocity;
+} state_writes;
+
+/* Sends the ball (body 0) up at 2 m/s: what a callback must not do while the scene steps. */
+static void write_state(const tb_contact_event *event, void *ctx)
+{
+    (void)event;
+    state_writes *w = ctx;
+    tb_body_state state;
+    assert_int_equal(tb_scene_get_state(w->scene, 0, &state), TB_STATUS_OK);
+    state.P[2] = 0.2;
+    w->set_state = tb_scene_set_state(w->scene, 0, &state);
+    w->set_velocity = tb_scene_set_velocity(w->scene, 0, (double[]){0, 0, 2}, (double[]){0, 0, 0});
+}
+
+/* Writing a body's state from the callback (mid-advance: under CVODE the write would be lost
+ * or break its history, under fixed steps it would change what the step reads) is refused
+ * (TB_STATUS_BUSY) and the run ends where a run without the writes ends, bit for bit. */
+static void test_writing_states_from_the_callback_is_refused(void **unused)
+{
+    (void)unused;
+    const tb_method methods[] = {TB_METHOD_RK4, TB_METHOD_CVODE_BDF};
+    for (size_t m = 0; m < sizeof methods / sizeof methods[0]; ++m) {
+        const tb_integrator_def method =
+            test_integrator_def(methods[m], 0.0, tb_method_is_adaptive(methods[m]) ? 1e-6 : 0.0);
+        tb_scene *control = ball_over_ground(0.3, 0.5, 0.0);
+        event_log log;
+        watch(control, &log, 0.0);
+        run_for(control, &method, 0.3);
+        tb_scene *scene = ball_over_ground(0.3, 0.5, 0.0);
+        state_writes w = {scene, TB_STATUS_OK, TB_STATUS_OK};
+        tb_contact_events_def def = tb_contact_events_def_default();
+        def.fn = write_state;
+        def.ctx = &w;
+        assert_int_equal(tb_scene_set_contact_events(scene, &def), TB_STATUS_OK);
+        run_for(scene, &method, 0.3);
+        assert_int_equal(w.set_state, TB_STATUS_BUSY);
+        assert_int_equal(w.set_velocity, TB_STATUS_BUSY);
+        assert_memory_equal(tb_scene_states_const(scene), tb_scene_states_const(control),
+                            tb_scene_state_size(scene) * sizeof(double));
+        tb_scene_destroy(scene);
+        tb_scene_destroy(control);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -530,6 +577,7 @@ int main(void)
         cmocka_unit_test(test_a_body_on_two_planes_has_a_pair_with_each),
         cmocka_unit_test(test_bad_definitions_are_refused_and_change_nothing),
         cmocka_unit_test(test_setting_events_from_the_callback_is_refused),
+        cmocka_unit_test(test_writing_states_from_the_callback_is_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

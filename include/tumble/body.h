@@ -81,7 +81,8 @@ typedef struct tb_body_motion_sample {
     double acceleration[3];         /* m/s^2 */
     double angular_acceleration[3]; /* rad/s^2, world */
 } tb_body_motion_sample;
-/* Returns 0, or nonzero to fail the derivative (the step is then refused). Must be pure in t. */
+/* Returns 0, or nonzero to fail the derivative (the step is then refused); a sample with a NaN,
+ * an infinity or a zero quaternion fails it too. Must be pure in t. */
 typedef int (*tb_body_motion_fn)(double t, void *ctx, tb_body_motion_sample *out);
 /* Drives keyframed body id by fn (ctx passed through, owned by the caller; fn NULL: the body
  * holds the pose it was added with). Every read of the body at time t (the derivative's t, or

@@ -82,8 +82,9 @@ TB_API tb_status tb_scene_body_motion_kind(const tb_scene *scene, size_t id,
 
 /* The time (s) of the scene's states: the time read-outs without a t (tb_scene_frame_values,
  * tb_scene_get_state, ...) read keyframed bodies at. 0 at creation; integrators of the scene
- * keep it at the time of the states they leave (after every fixed step, at every adaptive
- * output); tb_scene_set_time sets it (finite; TB_STATUS_BUSY while stepped). NAN for NULL. */
+ * keep it at the time of the states they leave (t0 at tb_scene_integrator_create, whose
+ * checks read the bodies there; after every fixed step, at every adaptive output);
+ * tb_scene_set_time sets it (finite; TB_STATUS_BUSY while stepped). NAN for NULL. */
 TB_API double tb_scene_time(const tb_scene *scene);
 TB_API tb_status tb_scene_set_time(tb_scene *scene, double t);
 
@@ -96,7 +97,9 @@ TB_API tb_status tb_scene_body_reaction(tb_scene *scene, const double *y, size_t
 TB_API const double *tb_scene_states_const(const tb_scene *scene);
 
 /* Reads or writes one body's state. set validates it (finite, unit quaternion within 1e-4,
- * which is then normalised exactly) and changes nothing on failure. */
+ * which is then normalised exactly) and changes nothing on failure; it and
+ * tb_scene_set_velocity return TB_STATUS_BUSY while an integrator steps the scene (from a
+ * callback or user effect). */
 TB_API tb_status tb_scene_get_state(const tb_scene *scene, size_t id, tb_body_state *out_state);
 TB_API tb_status tb_scene_set_state(tb_scene *scene, size_t id, const tb_body_state *state);
 

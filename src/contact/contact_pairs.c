@@ -106,12 +106,25 @@ void tb__contact_pairs_skip_asleep(tb__contact_pairs *pairs, bool skip)
     pairs->skip_asleep = skip;
 }
 
+/* Whether one of the pairs' bodies is keyframed: it may move into (or carry) asleep bodies. */
+static bool any_keyframed(const tb__contact_pairs *pairs, const tb_scene *scene)
+{
+    for (size_t k = 0; k < pairs->count; ++k) {
+        if (tb__body_fixed(scene, pairs->ids[k]) && !tb__body_static(scene, pairs->ids[k])) {
+            return true;
+        }
+    }
+    return false;
+}
+
 void tb__contact_pairs_begin(tb__contact_pairs *pairs, const tb_scene *scene, const double *y)
 {
     size_t boxes = 0;
-    /* every body asleep: no pair to find (the broad phase would list only asleep ones) */
+    /* every dynamic body asleep and no keyframed one: no pair to find (the broad phase would
+     * list only asleep and static ones) */
     const bool all_asleep = pairs->skip_asleep && scene->sleep != NULL &&
-                            scene->sleep->asleep_count == scene->slot_count;
+                            scene->sleep->asleep_count == scene->slot_count &&
+                            !any_keyframed(pairs, scene);
     for (size_t k = 0; k < pairs->count && !all_asleep; ++k) {
         const size_t id = pairs->ids[k];
         const tb__collision_shape *shape = tb__scene_body_collision_shape(scene, id);

@@ -291,7 +291,9 @@ tb_status tb__ground_shapes_refresh(const tb__effect *effect, const tb_scene *sc
         shapes->has_points = flags;
         shapes->capacity = n;
     }
-    memset(shapes->has_points, 0, shapes->capacity);
+    if (shapes->capacity > 0) { /* a scene without bodies has no flags yet (NULL) */
+        memset(shapes->has_points, 0, shapes->capacity);
+    }
     for (size_t j = 0; j < scene->contact_count; ++j) {
         shapes->has_points[scene->contacts[j].body] = 1;
     }

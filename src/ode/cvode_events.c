@@ -179,6 +179,7 @@ int tb__cvode_march(tb_integrator *integrator, double tau_out, int mode, double 
          * next call; a break past tau_out is beyond this call) */
         const bool on_break = flag == CV_TSTOP_RETURN && *tau_reached == cvode->break_stop;
         if (on_break && (mode == CV_ONE_STEP || *tau_reached < tau_out)) {
+            changed_at_event(integrator, *tau_reached); /* e.g. what a moving body wakes */
             return TB__CV_EVENT_RESTART;
         }
         cvode->stale = cvode->stale || (on_break && *tau_reached == tau_out);

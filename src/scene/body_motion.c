@@ -43,11 +43,16 @@ static int sampled_motion(const tb__body_kind *kind, double t, tb__motion *out)
 {
     tb_body_motion_sample sample;
     const int rc = kind->fn(t, kind->ctx, &sample);
-    if (rc != 0) {
+    const double norm = rc == 0 ? tb__q_norm(sample.orientation) : 0.0;
+    /* a source that says 0 but gives a NaN, an infinity or a zero quaternion fails too */
+    const bool usable =
+        rc == 0 && norm > 0.0 && isfinite(norm) && tb__all_finite(sample.position, 3) &&
+        tb__all_finite(sample.velocity, 3) && tb__all_finite(sample.angular_velocity, 3) &&
+        tb__all_finite(sample.acceleration, 3) && tb__all_finite(sample.angular_acceleration, 3);
+    if (!usable) {
         fixed_motion(kind, out);
-        return rc;
+        return rc != 0 ? rc : -1;
     }
-    const double norm = tb__q_norm(sample.orientation);
     for (int k = 0; k < 3; ++k) {
         out->x[k] = sample.position[k];
         out->v[k] = sample.velocity[k];

@@ -468,6 +468,9 @@ tb_status tb_scene_set_state(tb_scene *scene, size_t id, const tb_body_state *st
     if (status == TB_STATUS_OK) {
         status = tb__scene_check_dynamic(scene, id, "set_state");
     }
+    if (status == TB_STATUS_OK) {
+        status = tb__scene_check_idle(scene, "set_state");
+    }
     if (status != TB_STATUS_OK) {
         return status;
     }
@@ -502,6 +505,9 @@ tb_status tb_scene_set_velocity(tb_scene *scene, size_t id, const double velocit
     tb_status status = begin_body_call(scene, id, velocity, "velocity");
     if (status == TB_STATUS_OK) {
         status = tb__scene_check_dynamic(scene, id, "set_velocity");
+    }
+    if (status == TB_STATUS_OK) {
+        status = tb__scene_check_idle(scene, "set_velocity");
     }
     if (status == TB_STATUS_OK) {
         status = tb__check_vector(scene, velocity, "velocity");

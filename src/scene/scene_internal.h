@@ -324,7 +324,8 @@ typedef struct tb__sleep {
     size_t asleep_count;           /* bodies asleep */
     size_t *parent;                /* union-find of the boundary's islands */
     size_t *island;                /* an asleep body's island (a body id) */
-    double *still;                 /* s each body has been slow */
+    double *still;                 /* s each body has been slow (-1: touched by a moving
+                                      keyframed body since the last boundary) */
     unsigned char *decision;       /* the last boundary's: 1 asleep, 0 awake */
     double *snapshot;              /* TB_STATE_SIZE per body: the state it fell asleep with */
     double last_t;                 /* the last boundary's time (NAN: none yet) */

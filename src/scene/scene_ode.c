@@ -392,12 +392,9 @@ static tb_status scene_integrator_def(tb_scene *scene, const tb_integrator_def *
     return TB_STATUS_OK;
 }
 
-tb_status tb_scene_integrator_create(tb_scene *scene, const tb_integrator_def *def, double t0,
-                                     tb_integrator **out_integrator)
+static tb_status create_at(tb_scene *scene, const tb_integrator_def *def, double t0,
+                           tb_integrator **out_integrator)
 {
-    if (out_integrator != NULL) {
-        *out_integrator = NULL; /* also on failure */
-    }
     tb_ode_system system;
     tb_status status = tb_scene_ode_system(scene, &system);
     if (status == TB_STATUS_OK && (def == NULL || out_integrator == NULL)) {
@@ -445,4 +442,23 @@ tb_status tb_scene_integrator_create(tb_scene *scene, const tb_integrator_def *d
     scene->guard_dt = tb_method_is_adaptive(def->method) ? 0.0 : def->dt;
     tb__scene_events_start(scene, t0, !tb_method_is_adaptive(def->method));
     return TB_STATUS_OK;
+}
+
+tb_status tb_scene_integrator_create(tb_scene *scene, const tb_integrator_def *def, double t0,
+                                     tb_integrator **out_integrator)
+{
+    if (out_integrator != NULL) {
+        *out_integrator = NULL; /* also on failure */
+    }
+    /* The checks (start, default step, stability) read bodies without a state at t0, where
+     * the states start; a refusal leaves the scene's time as it was. */
+    const double time_before = scene != NULL ? scene->time : 0.0;
+    if (scene != NULL && !scene->busy && isfinite(t0)) {
+        scene->time = t0;
+    }
+    const tb_status status = create_at(scene, def, t0, out_integrator);
+    if (status != TB_STATUS_OK && scene != NULL) {
+        scene->time = time_before;
+    }
+    return status;
 }

@@ -88,14 +88,34 @@ void tb__scene_sleep_begin(const tb_scene *scene)
     }
 }
 
+/* Whether keyframed body id moves (or is about to: an acceleration from rest) at the scene's
+ * time, when the links are made. */
+static bool keyframed_moving(const tb_scene *scene, size_t id)
+{
+    if (tb__body_static(scene, id)) {
+        return false;
+    }
+    tb__motion motion;
+    double a[3], alpha[3];
+    tb__body_motion_at(scene, scene->time, scene->states, id, &motion);
+    tb__fixed_body_acceleration_at(scene, scene->time, id, a, alpha);
+    return tb__v3_norm(motion.v) > 0.0 || tb__v3_norm(motion.omega) > 0.0 || tb__v3_norm(a) > 0.0 ||
+           tb__v3_norm(alpha) > 0.0;
+}
+
 void tb__scene_sleep_link(const tb_scene *scene, size_t a, size_t b)
 {
     tb__sleep *sleep = scene->sleep;
     if (sleep == NULL || a >= sleep->capacity || b >= sleep->capacity) {
         return;
     }
-    /* a body that cannot move joins no island: a table would merge every box on it into one */
-    if (tb__body_fixed(scene, a) || tb__body_fixed(scene, b)) {
+    /* a body that cannot move joins no island: a table would merge every box on it into one;
+     * a keyframed body that moves marks the dynamic body it touches moving (update_still) */
+    const bool fixed_a = tb__body_fixed(scene, a), fixed_b = tb__body_fixed(scene, b);
+    if (fixed_a != fixed_b && keyframed_moving(scene, fixed_a ? a : b)) {
+        sleep->still[fixed_a ? b : a] = -1.0;
+    }
+    if (fixed_a || fixed_b) {
         return;
     }
     const size_t root_a = find(sleep->parent, a), root_b = find(sleep->parent, b);
@@ -128,7 +148,8 @@ static void update_still(tb_scene *scene, const double *y, double dt)
     tb__sleep *sleep = scene->sleep;
     for (size_t i = 0; i < sleep->capacity; ++i) {
         const double *s = tb__body_state(scene, y, i);
-        if (s == NULL) { /* static and keyframed bodies never sleep */
+        if (s == NULL || sleep->still[i] < 0.0) { /* static and keyframed bodies never sleep;
+                                                     -1: touched by a moving keyframed body */
             sleep->still[i] = 0.0;
         } else if (sleep->asleep[i]) {
             const double *kept = sleep->snapshot + TB_STATE_SIZE * i;
