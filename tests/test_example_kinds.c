@@ -7,7 +7,9 @@
  *                    loses contact, sinks by its static deflection while the platform moves at
  *                    constant speed and rises and falls with it;
  *   paddle.json      a keyframed paddle at 10 m/s hitting a 2 cm ball: the ball never passes
- *                    through it and leaves at (1 + e) times the paddle's speed.
+ *                    through it and leaves at (1 + e) times the paddle's speed;
+ *   bat_sweep.json   a keyframed bat sweeping five boxes off a static table: none passes
+ *                    through it, all end at rest on the floor past the table's edge.
  *   test_example_kinds NAME [METHOD [DURATION]]
  * METHOD (rk4, cvode-bdf, ...) replaces the scene's integrator (adaptive ones at rtol 1e-7: their
  * atol from the bodies, 1e-9 of their sizes, far below the bounds below). DURATION (s) cuts the
@@ -232,17 +234,63 @@ static void paddle(void)
     tb_scene_destroy(scene);
 }
 
+/* bat_sweep: the table (body 0, its far edge at y = 0.4 m), the bat (body 1, its face 3 cm ahead
+ * of its origin along y) and five 6 cm boxes (bodies 2-6). The bat pushes the boxes ahead of it:
+ * no box's centre comes behind its face at any frame (none passes through). By the end (2 s)
+ * every box has gone off the table and rests on the floor: its centre past the edge, at half its
+ * size less the ground's static sinking (0.05 mm), within 10 % of that sinking (the four bottom
+ * corners share its weight), and slower than 1 mm/s. */
+static void bat_sweep(void)
+{
+    tb_scene *scene;
+    double fps = 200.0, duration;
+    tb_integrator *integrator = start("bat_sweep", &scene, &fps, &duration);
+    const double half = 0.03, pen = 5e-5;
+    double closest = INFINITY;
+    const long frames = lround(duration * fps);
+    for (long k = 1; k <= frames; ++k) {
+        advance(integrator, (double)k / fps);
+        double bat[3];
+        position(scene, 1, bat);
+        for (size_t id = 2; id <= 6; ++id) {
+            double b[3];
+            position(scene, id, b);
+            closest = fmin(closest, b[1] - (bat[1] + 0.03));
+        }
+    }
+    test_check(closest > 0.0, "closest a box's centre came to the bat's face (m)", closest, 0.0);
+    if (cut_duration > 0.0) {
+        printf("  %-62s skipped: the run was cut to %g s\n", "on the floor", cut_duration);
+    } else {
+        for (size_t id = 2; id <= 6; ++id) {
+            double b[3], v[3];
+            position(scene, id, b);
+            tb_scene_body_velocity(scene, tb_scene_states_const(scene), id, v);
+            test_check(b[1] > 0.4 + half, "box's y past the table's edge (m)", b[1], 0.4 + half);
+            const double sink = half - b[2];
+            test_check(fabs(sink / pen - 1.0) < 0.1, "box on the floor: |sink / pen - 1|",
+                       fabs(sink / pen - 1.0), 0.1);
+            const double speed = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+            test_check(speed < 1e-3, "box's speed (m/s)", speed, 1e-3);
+        }
+    }
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
 int main(int argc, char **argv)
 {
-    static const test_example scenes[] = {
-        {"table_roll", table_roll}, {"platform", platform}, {"paddle", paddle}};
+    static const test_example scenes[] = {{"table_roll", table_roll},
+                                          {"platform", platform},
+                                          {"paddle", paddle},
+                                          {"bat_sweep", bat_sweep}};
     if (argc >= 3) {
         method_name = argv[2];
     }
     if (argc >= 4) {
         cut_duration = atof(argv[3]);
     }
-    return test_example_main(argc, argv, scenes, 3, 2,
-                             "usage: test_example_kinds table_roll|platform|paddle "
+    return test_example_main(argc, argv, scenes, 4, 2,
+                             "usage: test_example_kinds table_roll|platform|paddle|bat_sweep "
                              "[METHOD [DURATION]]");
 }
