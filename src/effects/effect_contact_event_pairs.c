@@ -47,6 +47,9 @@ size_t tb__contact_event_pairs(const tb__effect *effect, const tb_scene *scene, 
 {
     tb__contact_pairs *pairs = tb__contact_of(effect)->lookahead;
     tb__pair_contact batch[TB__EVENT_PAIR_BATCH];
+    /* a pair resting in a sleeping island (or on a static body) still touches: test it here too,
+     * else its falling asleep would read as an end */
+    tb__contact_pairs_skip_asleep(pairs, false);
     tb__contact_pairs_begin(pairs, scene, y);
     size_t count, total = 0;
     while ((count = tb__contact_pairs_next(pairs, scene, y, batch, TB__EVENT_PAIR_BATCH)) > 0) {
@@ -56,6 +59,7 @@ size_t tb__contact_event_pairs(const tb__effect *effect, const tb_scene *scene, 
             }
         }
     }
+    tb__contact_pairs_skip_asleep(pairs, true);
     return total;
 }
 

@@ -145,6 +145,7 @@ static void pairs_touching(const tb_scene *scene, size_t index, const double *y,
     size_t found;
     /* a body pair's touching piece pairs come one after another: one touch for all of them */
     tb_contact_touch last = {index, TB_ALL_BODIES, TB_ALL_BODIES, -INFINITY, 0};
+    tb__contact_pairs_skip_asleep(pairs, false); /* an asleep pair at rest touches too */
     tb__contact_pairs_begin(pairs, scene, y);
     while ((found = tb__contact_pairs_next(pairs, scene, y, batch, 16)) > 0) {
         for (size_t k = 0; k < found; ++k) {
@@ -164,6 +165,7 @@ static void pairs_touching(const tb_scene *scene, size_t index, const double *y,
     if (last.points > 0) {
         note(&last, out, capacity, count);
     }
+    tb__contact_pairs_skip_asleep(pairs, true);
 }
 
 /* Each body whose contact points dip into ground plane index, with its deepest point. */
