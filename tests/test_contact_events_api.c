@@ -456,8 +456,8 @@ static void test_resting_pairs_keep_touching_while_asleep(void **unused)
     memcpy(shape.size, (double[]){1.0, 1.0, 0.1}, sizeof shape.size);
     assert_int_equal(tb_scene_set_body_shape(scene, table, &shape), TB_STATUS_OK);
     const double size[3] = {0.1, 0.1, 0.1};
-    const size_t low = add_box(scene, 1.0, size, (double[]){0, 0, 0.12});
-    const size_t high = add_box(scene, 1.0, size, (double[]){0.01, 0, 0.24});
+    const size_t low = test_add_box(scene, 1.0, size, (double[]){0, 0, 0.12});
+    const size_t high = test_add_box(scene, 1.0, size, (double[]){0.01, 0, 0.24});
     assert_int_equal(tb_scene_add_gravity(scene, (double[]){0, 0, -G}), TB_STATUS_OK);
     tb_contact_def contact = tb_contact_def_default();
     contact.penetration = contact.presliding = 1e-3;
