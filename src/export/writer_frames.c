@@ -1,5 +1,5 @@
 /* Writers: what a frame holds per body, and the frames kept for the formats written at close. */
-#include "io/writer_internal.h"
+#include "export/writer_internal.h"
 
 #include "core/validate.h"
 #include "math/tb_math.h"

@@ -3,7 +3,7 @@
  * with a digit (or is empty) gets a '_' in front, and a name taken already gets the first free
  * suffix _2, _3, ... (names taken are kept in a hash set, so this costs the same at any number of
  * bodies). The body's own name stays in its prim's customData. */
-#include "io/writer_internal.h"
+#include "export/writer_internal.h"
 
 #include <ctype.h>
 #include <stdint.h>

@@ -6,7 +6,7 @@
  * spline: p(s) = (2s^3 - 3s^2 + 1) v_k + t_d (s^3 - 2s^2 + s) b_k + (-2s^3 + 3s^2) v_k+1
  * + t_d (s^3 - s^2) a_k+1 with t_d the key interval, so the tangents a, b are stored per
  * second: the derivative itself. */
-#include "io/writer_gltf_internal.h"
+#include "export/writer_gltf_internal.h"
 
 #include "core/detail.h"
 #include "math/tb_math.h"

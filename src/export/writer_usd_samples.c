@@ -12,7 +12,7 @@
  * the piece's middle within the writer's sample_tolerance. docs/export.md has the measured distance
  * from the simulation. Values are printed with 17 significant digits, which read back as the
  * doubles printed. */
-#include "io/writer_internal.h"
+#include "export/writer_internal.h"
 
 #include "math/tb_math.h"
 

@@ -3,7 +3,7 @@
 #ifndef TUMBLE_WRITER_GLTF_INTERNAL_H
 #define TUMBLE_WRITER_GLTF_INTERNAL_H
 
-#include "io/writer_internal.h"
+#include "export/writer_internal.h"
 
 #include <jansson.h>
 

@@ -3,7 +3,7 @@
  * to glTF's y up). Quaternions go out as glTF orders them, (x, y, z, w), each key on the side
  * of the previous one (q and -q are one rotation; the spline and slerp must not go the long
  * way round). */
-#include "io/writer_gltf_internal.h"
+#include "export/writer_gltf_internal.h"
 
 #include "core/validate.h"
 #include "math/tb_math.h"

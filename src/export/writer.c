@@ -1,6 +1,6 @@
 /* Writers: choosing a format, opening the file, taking frames, finishing the file whole. */
 #define _POSIX_C_SOURCE 200809L /* stat, lseek, open, fdopen, getpid, clock_gettime */
-#include "io/writer_npz_internal.h"
+#include "export/writer_npz_internal.h"
 
 #include "core/detail.h"
 #include "core/validate.h"

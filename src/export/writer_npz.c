@@ -1,7 +1,7 @@
 /* Writers: NumPy .npz, written without NumPy: a zip archive of stored (uncompressed) .npy
  * files, format version 1.0 (numpy.lib.format). The arrays are in the byte order of the
  * machine that wrote them, which their headers state ('<f8' on x86 and ARM). */
-#include "io/writer_npz_internal.h"
+#include "export/writer_npz_internal.h"
 
 #include "core/detail.h"
 

@@ -8,7 +8,7 @@
  * TB_STATUS_IO_ERROR naming the file and the system's reason. When no thread can be started
  * the caller's thread writes each block itself. */
 #define _POSIX_C_SOURCE 200809L /* pwrite */
-#include "io/writer_npz_internal.h"
+#include "export/writer_npz_internal.h"
 
 #include "core/detail.h"
 #include "core/validate.h"

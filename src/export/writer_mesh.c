@@ -1,6 +1,6 @@
 /* Writers: triangle meshes of the shapes for glTF, in the shape frame (m), with outward
  * normals and counter-clockwise triangles seen from outside (glTF's front faces). */
-#include "io/writer_internal.h"
+#include "export/writer_internal.h"
 
 #include "core/validate.h"
 #include "math/tb_math.h"

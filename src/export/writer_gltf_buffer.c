@@ -1,7 +1,7 @@
 /* Writers: glTF's binary buffer, its views and accessors, and the two containers: .glb (a
  * 12-byte header, a JSON chunk and a BIN chunk, each 4-byte aligned) and .gltf (JSON text
  * with the buffer as a base64 data URI). */
-#include "io/writer_gltf_internal.h"
+#include "export/writer_gltf_internal.h"
 
 #include "core/detail.h"
 

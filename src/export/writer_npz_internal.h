@@ -4,7 +4,7 @@
 #ifndef TUMBLE_WRITER_NPZ_INTERNAL_H
 #define TUMBLE_WRITER_NPZ_INTERNAL_H
 
-#include "io/writer_internal.h"
+#include "export/writer_internal.h"
 
 #include <stdint.h>
 

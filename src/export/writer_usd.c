@@ -8,7 +8,7 @@
  * of radius 1 scaled to its semi-axes, a mesh as a Mesh of its own vertices and triangles, and
  * what has no USD primitive (points, a body given by its inertia) as a Mesh of the glTF
  * writer's tessellation. Ground planes are square Meshes, as in glTF. */
-#include "io/writer_internal.h"
+#include "export/writer_internal.h"
 
 #include "core/detail.h"
 

@@ -1,7 +1,7 @@
 /* Writers: what the bodies and grounds look like, from the scene: each body's pieces as the
  * scene keeps them (tb_scene_body_piece) and its ground planes (tb_scene_get_ground), so that a
  * scene built through the C API is drawn as one loaded from a file. */
-#include "io/writer_internal.h"
+#include "export/writer_internal.h"
 
 #include "contact/convex_hull.h"
 #include "core/detail.h"

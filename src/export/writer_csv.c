@@ -1,6 +1,6 @@
 /* Writers: CSV text, a row per body per frame. Numbers are printed with 17 significant
  * digits, which read back (strtod, NumPy, pandas) as exactly the double that was printed. */
-#include "io/writer_internal.h"
+#include "export/writer_internal.h"
 
 #include <errno.h>
 #include <string.h>

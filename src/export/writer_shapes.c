@@ -3,7 +3,7 @@
  * mesh is drawn with the mesh's own triangles, read from the file as the loader reads them
  * (matched by name). Everything else is drawn from the scene (writer_looks.c). */
 #include "io/scene_file_internal.h"
-#include "io/writer_internal.h"
+#include "export/writer_internal.h"
 
 #include "core/detail.h"
 #include "core/validate.h"

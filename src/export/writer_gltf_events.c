@@ -1,6 +1,6 @@
 /* Contact events in written files (tb_writer_set_contact_events): glTF keeps them in the
  * scene's extras, where an animation tool's script finds them beside the animation. */
-#include "io/writer_gltf_internal.h"
+#include "export/writer_gltf_internal.h"
 
 #include "core/detail.h"
 #include "core/validate.h"
