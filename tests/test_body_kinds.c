@@ -313,20 +313,24 @@ static int profile_motion(double t, void *ctx, tb_body_motion_sample *out)
     return 0;
 }
 
-/* Adds a keyframed box of size (m) driven by p; returns its id. */
+/* Adds a keyframed box of size (m) driven by p (NULL: set its motion later); returns its id. */
 static size_t add_keyframed_box(tb_scene *scene, const char *name, const double size[3], profile *p)
 {
     tb_body_def def = tb_body_def_default();
     def.name = name;
     def.motion = TB_MOTION_KEYFRAMED;
-    memcpy(def.position, p->start, sizeof def.position);
+    if (p != NULL) {
+        memcpy(def.position, p->start, sizeof def.position);
+    }
     size_t id = 0;
     assert_int_equal(tb_scene_add_body(scene, &def, &id), TB_STATUS_OK);
     tb_shape shape = tb_shape_default();
     shape.type = TB_SHAPE_BOX;
     memcpy(shape.size, size, sizeof shape.size);
     assert_int_equal(tb_scene_set_body_shape(scene, id, &shape), TB_STATUS_OK);
-    assert_int_equal(tb_scene_set_body_motion_fn(scene, id, profile_motion, p), TB_STATUS_OK);
+    if (p != NULL) {
+        assert_int_equal(tb_scene_set_body_motion_fn(scene, id, profile_motion, p), TB_STATUS_OK);
+    }
     return id;
 }
 
@@ -604,15 +608,7 @@ static void test_the_start_check_reads_keyframed_bodies_at_t0(void **state)
     const tb_method methods_to_check[] = {TB_METHOD_RK4, TB_METHOD_CVODE_BDF};
     for (size_t m = 0; m < 2; ++m) {
         tb_scene *scene = test_empty_scene();
-        tb_body_def def = tb_body_def_default();
-        def.name = "wall";
-        def.motion = TB_MOTION_KEYFRAMED;
-        size_t wall = 0;
-        assert_int_equal(tb_scene_add_body(scene, &def, &wall), TB_STATUS_OK);
-        tb_shape shape = tb_shape_default();
-        shape.type = TB_SHAPE_BOX;
-        shape.size[0] = shape.size[1] = shape.size[2] = 2.0;
-        assert_int_equal(tb_scene_set_body_shape(scene, wall, &shape), TB_STATUS_OK);
+        const size_t wall = add_keyframed_box(scene, "wall", (double[]){2.0, 2.0, 2.0}, NULL);
         tb_body_key keys[2] = {tb_body_key_default(), tb_body_key_default()};
         keys[0].position[0] = -5.0;
         keys[1].t = 1.0;
@@ -648,16 +644,8 @@ static void test_a_platform_that_starts_moving_wakes_the_ball_asleep_on_it(void 
     const tb_method methods_to_check[] = {TB_METHOD_RK4, TB_METHOD_CVODE_BDF};
     for (size_t m = 0; m < 2; ++m) {
         tb_scene *scene = test_empty_scene();
-        tb_body_def def = tb_body_def_default();
-        def.name = "platform";
-        def.motion = TB_MOTION_KEYFRAMED;
-        size_t platform = 0;
-        assert_int_equal(tb_scene_add_body(scene, &def, &platform), TB_STATUS_OK);
-        tb_shape shape = tb_shape_default();
-        shape.type = TB_SHAPE_BOX;
-        shape.size[0] = shape.size[1] = 4.0;
-        shape.size[2] = 1.0;
-        assert_int_equal(tb_scene_set_body_shape(scene, platform, &shape), TB_STATUS_OK);
+        const size_t platform =
+            add_keyframed_box(scene, "platform", (double[]){4.0, 4.0, 1.0}, NULL);
         tb_body_key keys[3] = {tb_body_key_default(), tb_body_key_default(), tb_body_key_default()};
         keys[0].position[2] = keys[1].position[2] = -0.5;
         keys[1].t = 2.0;
