@@ -148,16 +148,16 @@ start_part exports build/test-exports.log exports_part
 
 # The suite again under AddressSanitizer and UndefinedBehaviorSanitizer (gcc, Debug), but for
 # the suites valgrind memcheck already ran in the static build (the memcheck_<suite> ctests: no
-# leak, no invalid heap access there): those run under both sanitizers in the clang build below,
-# so every suite still runs under ASan and UBSan once, and the memcheck suites under valgrind too.
+# leak, no invalid heap access there) and the few that cost the most here (over 30 s each at -O0:
+# the friction and contact-law sweeps, sleeping, the accuracy sweeps and the benchmarks' smoke
+# runs, about 5 of the run's 20 minutes): those run under both sanitizers in the clang build
+# below, so every suite still runs under ASan and UBSan once, and the memcheck suites under
+# valgrind too.
 cmake -S . -B build-sanitize -G Ninja -DTUMBLE_WARNINGS_AS_ERRORS=ON -DTUMBLE_SANITIZE=ON \
     -DCMAKE_BUILD_TYPE=Debug >/dev/null
 cmake --build build-sanitize
-if [ -n "$memchecked" ]; then
-    sanitized_ctest build-sanitize -E "^($memchecked)\$"
-else # no valgrind: every suite here too
-    sanitized_ctest build-sanitize
-fi
+clang_only="contact_friction|contact_law|sleep|smoke_bench_.*|cli_accuracy_.*"
+sanitized_ctest build-sanitize -E "^(${memchecked:+$memchecked|}$clang_only)\$"
 
 # Every suite again, built by clang, whose UndefinedBehaviorSanitizer also checks
 # float-to-integer conversions that overflow (float-cast-overflow; gcc's does not), with the
