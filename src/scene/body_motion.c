@@ -273,12 +273,8 @@ tb_status tb_scene_set_body_keys(tb_scene *scene, size_t id, const tb_body_key *
         return TB_STATUS_NULL_POINTER;
     }
     tb__scene_clear_detail(scene);
-    tb_status status = tb__scene_check_id(scene, id, "id");
-    if (status == TB_STATUS_OK && scene->kinds[id].motion != TB_MOTION_KEYFRAMED) {
-        status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
-                                "body %zu (\"%s\") is %s: only a keyframed body follows keys", id,
-                                scene->names[id], kind_names[scene->kinds[id].motion]);
-    }
+    /* the source's own checks (idle, id, kind) before the curve is made */
+    tb_status status = check_source(scene, id, NULL, 0);
     if (status != TB_STATUS_OK) {
         return status;
     }
