@@ -129,9 +129,10 @@ static drawn read_drawn(const char *path, const char *name)
 }
 
 /* Triangles [first, first + count) of d are the mesh's, in order, each corner the float
- * nearest the given double moved by (q, t) (glTF stores floats: the writer rounds once). With
- * a rotation the test's own double arithmetic may differ from the writer's by an ulp of the
- * double, which can tip the float: 1e-6 m, far below a float's step at 0.5 m times ten. */
+ * nearest the given double (glTF stores floats: the writer rounds once), exactly. Moved by a
+ * piece's pose (q, t), the test's double arithmetic may differ from the writer's in the last
+ * bits, which can tip the rounding to the next float (6e-8 m near 0.5 m): within 1e-6 m,
+ * while a wrong vertex or pose is off by centimetres. */
 static void assert_drawn_as(const drawn *d, size_t first, const double *vertices,
                             const unsigned *triangles, size_t count, const double q[4],
                             const double t[3])
