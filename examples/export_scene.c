@@ -37,7 +37,6 @@ int main(int argc, char **argv)
         run.fps = atof(argv[3]); /* the run checks it */
     }
     tb_writer_def def = tb_writer_def_default();
-    def.scene_file = argv[1]; /* the shapes and ground planes to draw */
     const bool linear = argc > 4 && strcmp(argv[4], "linear") == 0;
     def.rotation_keys = linear ? TB_ROTATION_LINEAR : TB_ROTATION_CUBICSPLINE;
     def.sample_tolerance = linear ? 0.0 : def.sample_tolerance;

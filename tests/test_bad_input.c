@@ -35,13 +35,14 @@ typedef struct fixture {
     double vertices[12], subnormal_tensor[9], subnormal_masses[2], huge_omega[3];
     unsigned triangles[12], past_the_vertices[12];
     tb_contact_point far_point;
-    tb_shape nan_sphere, far_hull, flat_hull;
+    tb_shape nan_sphere, far_hull, flat_hull, mesh_past_the_vertices;
     tb_shape_piece nan_piece, piece_out;
+    tb_visual_mesh visual_out;
     tb_contact_def bad_contact, null_bodies;
     tb_contact_def huge_body_count, huge_friction_points, shapeless, huge_gravity;
     tb_scene_def huge_body_capacity;
     size_t first_body[2];
-    double far_vertices[12], flat_vertices[12];
+    double far_vertices[12], flat_vertices[12], nan_vertices[12];
     size_t id, count;
     char name[100];
 } fixture;
@@ -136,6 +137,23 @@ static void set_up_contact(fixture *f)
     set_up_counts(f);
 }
 
+/* Body 0 is drawn as the tetrahedron (vertices, triangles): a refused call must leave it
+ * (past_the_vertices is filled by set_up_extremes). */
+static void set_up_visual_mesh(fixture *f)
+{
+    for (int k = 0; k < 12; ++k) {
+        f->nan_vertices[k] = k == 7 ? NAN : f->vertices[k];
+    }
+    assert_int_equal(tb_scene_set_body_visual_mesh(f->scene, 0, 0, f->vertices, 4, f->triangles, 4),
+                     TB_STATUS_OK);
+    f->mesh_past_the_vertices = tb_shape_default();
+    f->mesh_past_the_vertices.type = TB_SHAPE_CONVEX;
+    f->mesh_past_the_vertices.vertices = f->vertices;
+    f->mesh_past_the_vertices.vertex_count = 4;
+    f->mesh_past_the_vertices.triangles = f->past_the_vertices;
+    f->mesh_past_the_vertices.triangle_count = 4;
+}
+
 static void set_up(fixture *f)
 {
     memset(f, 0, sizeof *f);
@@ -185,6 +203,7 @@ static void set_up(fixture *f)
         f->vertices[k] = (double)(k % 3 == k / 3);
     }
     set_up_contact(f);
+    set_up_visual_mesh(f);
     memset(&f->mass, 0x5a, sizeof f->mass);
     memset(&f->method, 0x5a, sizeof f->method);
     set_up_extremes(f);
@@ -361,12 +380,46 @@ static void set_up(fixture *f)
     X("body_piece: NULL out", NULL_POINTER, tb_scene_body_piece(f->scene, 0, 0, NULL))             \
     X("body_shape_bounds: no shape", INVALID_ARGUMENT,                                             \
       tb_scene_body_shape_bounds(f->scene, tb_scene_states_const(f->scene), 0, f->v, f->v))        \
+    VISUAL_MESH_INPUTS(X)                                                                          \
     X("add_contact: restitution 2", INVALID_ARGUMENT,                                              \
       tb_scene_add_contact(f->scene, &f->bad_contact))                                             \
     X("add_contact: NULL def", NULL_POINTER, tb_scene_add_contact(f->scene, NULL))                 \
     X("add_contact: NULL bodies, count 2", NULL_POINTER,                                           \
       tb_scene_add_contact(f->scene, &f->null_bodies))                                             \
     COUNT_INPUTS(X)
+
+/* Issue 22: the visual meshes (body 0 has the tetrahedron; none of these may touch it). */
+#define VISUAL_MESH_INPUTS(X)                                                                      \
+    X("set_body_visual_mesh: NULL scene", NULL_POINTER,                                            \
+      tb_scene_set_body_visual_mesh(NULL, 0, 0, f->vertices, 4, f->triangles, 4))                  \
+    X("set_body_visual_mesh: id 9", OUT_OF_RANGE,                                                  \
+      tb_scene_set_body_visual_mesh(f->scene, 9, 0, f->vertices, 4, f->triangles, 4))              \
+    X("set_body_visual_mesh: piece 1 of 1", OUT_OF_RANGE,                                          \
+      tb_scene_set_body_visual_mesh(f->scene, 0, 1, f->vertices, 4, f->triangles, 4))              \
+    X("set_body_visual_mesh: NULL vertices", NULL_POINTER,                                         \
+      tb_scene_set_body_visual_mesh(f->scene, 0, 0, NULL, 4, f->triangles, 4))                     \
+    X("set_body_visual_mesh: NULL triangles", NULL_POINTER,                                        \
+      tb_scene_set_body_visual_mesh(f->scene, 0, 0, f->vertices, 4, NULL, 4))                      \
+    X("set_body_visual_mesh: NaN vertex", NOT_FINITE,                                              \
+      tb_scene_set_body_visual_mesh(f->scene, 0, 0, f->nan_vertices, 4, f->triangles, 4))          \
+    X("set_body_visual_mesh: vertex 1e101 m out", INVALID_ARGUMENT,                                \
+      tb_scene_set_body_visual_mesh(f->scene, 0, 0, f->far_vertices, 4, f->triangles, 4))          \
+    X("set_body_visual_mesh: index past vertices", INVALID_ARGUMENT,                               \
+      tb_scene_set_body_visual_mesh(f->scene, 0, 0, f->vertices, 4, f->past_the_vertices, 4))      \
+    X("set_body_visual_mesh: 2 vertices", INVALID_ARGUMENT,                                        \
+      tb_scene_set_body_visual_mesh(f->scene, 0, 0, f->vertices, 2, f->triangles, 4))              \
+    X("set_body_visual_mesh: vertices, 0 triangles", INVALID_ARGUMENT,                             \
+      tb_scene_set_body_visual_mesh(f->scene, 0, 0, f->vertices, 4, f->triangles, 0))              \
+    X("set_body_visual_mesh: SIZE_MAX vertices", INVALID_ARGUMENT,                                 \
+      tb_scene_set_body_visual_mesh(f->scene, 0, 0, f->vertices, SIZE_MAX, f->triangles, 4))       \
+    X("set_body_visual_mesh: 2^62 triangles", INVALID_ARGUMENT,                                    \
+      tb_scene_set_body_visual_mesh(f->scene, 0, 0, f->vertices, 4, f->triangles,                  \
+                                    (size_t)1 << 62))                                              \
+    X("set_body_shape: a mesh index past vertices", INVALID_ARGUMENT,                              \
+      tb_scene_set_body_shape(f->scene, 0, &f->mesh_past_the_vertices))                            \
+    X("body_visual_mesh: NULL out", NULL_POINTER, tb_scene_body_visual_mesh(f->scene, 0, 0, NULL)) \
+    X("body_visual_mesh: piece 1 of 1", OUT_OF_RANGE,                                              \
+      tb_scene_body_visual_mesh(f->scene, 0, 1, &f->visual_out))
 
 /* Issue 19: counts near the wrap of size_t and contact inputs that failed the run. */
 #define COUNT_INPUTS(X)                                                                            \
@@ -411,6 +464,10 @@ typedef struct snapshot {
     double time;
     tb_mass_properties mass;
     tb_body_state state;
+    size_t pieces;
+    tb_visual_mesh visual; /* body 0's, pointing into the scene */
+    double visual_vertices[12];
+    unsigned visual_triangles[12];
 } snapshot;
 
 static void take(const fixture *f, snapshot *s)
@@ -423,6 +480,10 @@ static void take(const fixture *f, snapshot *s)
     s->time = tb_integrator_time(f->integrator);
     s->mass = f->mass;
     s->state = f->state;
+    tb_scene_body_piece_count(f->scene, 0, &s->pieces);
+    tb_scene_body_visual_mesh(f->scene, 0, 0, &s->visual);
+    memcpy(s->visual_vertices, s->visual.vertices, sizeof s->visual_vertices);
+    memcpy(s->visual_triangles, s->visual.triangles, sizeof s->visual_triangles);
 }
 
 static void test_every_public_function_refuses_bad_input_and_changes_nothing(void **state)

@@ -182,17 +182,6 @@ static void test_open_refuses_bad_input_and_leaves_no_file(void **state)
     }
     def.sample_tolerance = TB_WRITER_SAMPLE_TOLERANCE;
     def.format = TB_OUTPUT_GLB;
-    def.scene_file = DIRECTORY "no_such_scene.json";
-    assert_int_equal(tb_writer_open(path, &def, scene, &writer, &error), TB_STATUS_IO_ERROR);
-    assert_non_null(strstr(error.message, "scene_file"));
-    def.scene_text = "{\"bodies\": [";
-    assert_int_equal(tb_writer_open(path, &def, scene, &writer, &error),
-                     TB_STATUS_INVALID_ARGUMENT);
-    assert_non_null(strstr(error.message, "give one or neither"));
-    def.scene_file = NULL;
-    assert_int_equal(tb_writer_open(path, &def, scene, &writer, &error), TB_STATUS_PARSE_ERROR);
-    assert_non_null(strstr(error.message, "scene_text"));
-    def.scene_text = NULL;
     assert_int_equal(
         tb_writer_open(DIRECTORY "no_such_directory/a.glb", &def, scene, &writer, &error),
         TB_STATUS_IO_ERROR);
@@ -501,10 +490,6 @@ static void test_glb_is_one_json_chunk_and_one_binary_chunk(void **state)
         def.format = TB_OUTPUT_GLB;
         def.rotation_keys = linear ? TB_ROTATION_LINEAR : TB_ROTATION_CUBICSPLINE;
         /* shapes and grounds are drawn from the scene: a ground added through the C API is */
-        def.scene_text = linear ? "{\"bodies\": [{\"name\": \"box\", \"shape\": {\"type\": "
-                                  "\"box\", \"size\": [0.1, 0.2, 0.3]}}], \"effects\": "
-                                  "[{\"type\": \"ground\"}]}"
-                                : NULL;
         if (linear) {
             const tb_ground_def ground = tb_ground_def_default();
             assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
@@ -565,6 +550,34 @@ static void assert_same_file(const char *a, const char *b)
     assert_memory_equal(data_a, data_b, (size_t)size_a);
     free(data_a);
     free(data_b);
+}
+
+/* The writer draws from the scene alone: the deprecated scene_file, scene_text and
+ * base_directory are ignored, so a .glb written with a missing file and broken text named in
+ * them is the .glb written without, byte for byte. */
+static void test_the_deprecated_scene_file_fields_are_ignored(void **state)
+{
+    (void)state;
+    const char *paths[2] = {DIRECTORY "writers_plain.glb", DIRECTORY "writers_named.glb"};
+    for (int named = 0; named < 2; ++named) {
+        tb_run_def run;
+        tb_scene *scene = load(&run);
+        tb_writer_def def = tb_writer_def_default();
+        def.format = TB_OUTPUT_GLB;
+        if (named) {
+            def.scene_file = DIRECTORY "no_such_scene.json";
+            def.scene_text = "{\"bodies\": [";
+            def.base_directory = DIRECTORY "no_such_directory";
+        }
+        tb_writer *writer = NULL;
+        tb_error error;
+        assert_int_equal(tb_writer_open(paths[named], &def, scene, &writer, &error), TB_STATUS_OK);
+        assert_int_equal(tb_scene_run(scene, &run, tb_writer_on_frame, writer, NULL, NULL),
+                         TB_STATUS_OK);
+        assert_int_equal(tb_writer_close(writer, &error), TB_STATUS_OK);
+        tb_scene_destroy(scene);
+    }
+    assert_same_file(paths[0], paths[1]);
 }
 
 /* Feeds two writers: one streaming (the frame count announced), one keeping the frames. */
@@ -730,6 +743,7 @@ int main(void)
         cmocka_unit_test(test_frames_from_values_are_written_as_given),
         cmocka_unit_test(test_format_follows_the_extension_or_the_name),
         cmocka_unit_test(test_open_refuses_bad_input_and_leaves_no_file),
+        cmocka_unit_test(test_the_deprecated_scene_file_fields_are_ignored),
         cmocka_unit_test(test_a_bad_frame_is_refused_and_changes_nothing),
         cmocka_unit_test(test_a_failed_write_is_an_error),
         cmocka_unit_test(test_an_unfinished_file_never_replaces_the_old_one),

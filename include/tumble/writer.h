@@ -48,15 +48,12 @@ typedef enum tb_rotation_keys {
 typedef struct tb_writer_def {
     tb_output_format format;        /* default CSV */
     tb_rotation_keys rotation_keys; /* glTF only; default TB_ROTATION_CUBICSPLINE */
-    /* glTF and USD, may be NULL (default): the scene file the scene was loaded from. Shapes
-     * (each body's pieces, tb_scene_body_piece) and ground planes are drawn from the scene; the
-     * file gives only the triangles of a body whose shape is one "mesh" (the scene keeps their
-     * convex hull). A body without a shape is drawn as the solid ellipsoid with its mass and
-     * inertia. */
+    /* Deprecated and ignored (kept so that callers compile): the writers draw every body from
+     * the scene alone (each piece as its visual mesh where it has one, tb_scene_body_visual_mesh,
+     * else as its shape, tb_scene_body_piece; a body without either as the solid ellipsoid with
+     * its mass and inertia) and the ground planes from the scene's. They once named the scene
+     * file or JSON text (and the folder of its mesh files) to read a mesh's triangles from. */
     const char *scene_file;
-    /* glTF and USD, instead of scene_file (may be NULL, the default): the scene description as
-     * JSON text (what tb_scene_load_string read), and where its mesh files are (NULL: the
-     * current directory). */
     const char *scene_text;
     const char *base_directory;
     /* npz only: the number of frames that will come, if known (0, the default: not known). A

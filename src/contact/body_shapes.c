@@ -1,5 +1,6 @@
 /* The scene's collision shapes: one per body (a plain shape or a compound of convex pieces),
  * set, read and placed at a state. */
+#include "contact/body_visuals.h"
 #include "contact/contact_pairs.h"
 
 #include "core/validate.h"
@@ -36,16 +37,21 @@ static tb_status reserve_shapes(tb_scene *scene)
     return TB_STATUS_OK;
 }
 
-/* Body id's shape becomes made (which may be NULL: none) when status, the setter's checks so
- * far, is OK; made is freed when the call is refused. */
+/* Body id's shape becomes made (which may be NULL: none) and its visual meshes visuals (NULL:
+ * none) when status, the setter's checks so far, is OK; both are freed when the call is
+ * refused. */
 static tb_status replace_shape(tb_scene *scene, size_t id, tb__collision_shape *made,
-                               tb_status status)
+                               tb__body_visuals *visuals, tb_status status)
 {
     if (status == TB_STATUS_OK) {
         status = reserve_shapes(scene);
     }
+    if (status == TB_STATUS_OK) {
+        status = tb__scene_reserve_visuals(scene);
+    }
     if (status != TB_STATUS_OK) {
         free(made);
+        tb__body_visuals_free(visuals);
         return status;
     }
     tb__collision_shape *old = scene->shapes[id];
@@ -54,11 +60,29 @@ static tb_status replace_shape(tb_scene *scene, size_t id, tb__collision_shape *
     if (status != TB_STATUS_OK) {
         scene->shapes[id] = old; /* the effects keep room for the shape: no harm */
         free(made);
+        tb__body_visuals_free(visuals);
         return status;
     }
     free(old);
+    tb__scene_swap_visuals(scene, id, visuals);
     ++scene->effects_generation; /* contact effects' right-hand side changed */
     return TB_STATUS_OK;
+}
+
+/* The shape and the visual meshes of count pieces, made; *made NULL on a refusal. */
+static tb_status make_pieces(tb_scene *scene, const tb_shape_piece *pieces, size_t count,
+                             tb__collision_shape **made, tb__body_visuals **visuals)
+{
+    tb_status status = TB_STATUS_OK;
+    *made = tb__collision_shape_make_pieces(pieces, count, scene->detail, &status);
+    if (status == TB_STATUS_OK) {
+        status = tb__body_visuals_of_pieces(pieces, count, scene->detail, visuals);
+    }
+    if (status != TB_STATUS_OK) {
+        free(*made);
+        *made = NULL;
+    }
+    return status;
 }
 
 tb_status tb_scene_set_body_shape(tb_scene *scene, size_t id, const tb_shape *shape)
@@ -72,10 +96,13 @@ tb_status tb_scene_set_body_shape(tb_scene *scene, size_t id, const tb_shape *sh
         status = tb__scene_check_idle(scene, "tb_scene_set_body_shape");
     }
     tb__collision_shape *made = NULL;
+    tb__body_visuals *visuals = NULL;
     if (status == TB_STATUS_OK && shape != NULL && shape->type != TB_SHAPE_NONE) {
-        made = tb__collision_shape_make(shape, scene->detail, &status);
+        tb_shape_piece piece = tb_shape_piece_default();
+        piece.shape = *shape; /* one piece at the identity pose is the plain shape */
+        status = make_pieces(scene, &piece, 1, &made, &visuals);
     }
-    return replace_shape(scene, id, made, status);
+    return replace_shape(scene, id, made, visuals, status);
 }
 
 tb_status tb_scene_set_body_pieces(tb_scene *scene, size_t id, const tb_shape_piece *pieces,
@@ -90,10 +117,11 @@ tb_status tb_scene_set_body_pieces(tb_scene *scene, size_t id, const tb_shape_pi
         status = tb__scene_check_idle(scene, "tb_scene_set_body_pieces");
     }
     tb__collision_shape *made = NULL;
+    tb__body_visuals *visuals = NULL;
     if (status == TB_STATUS_OK) {
-        made = tb__collision_shape_make_pieces(pieces, count, scene->detail, &status);
+        status = make_pieces(scene, pieces, count, &made, &visuals);
     }
-    return replace_shape(scene, id, made, status);
+    return replace_shape(scene, id, made, visuals, status);
 }
 
 const tb__collision_shape *tb__scene_body_collision_shape(const tb_scene *scene, size_t id)

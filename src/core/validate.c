@@ -103,6 +103,21 @@ void *tb__realloc_array(void *p, size_t count, size_t size)
     return tb__size_product(count, size, &bytes) ? realloc(p, bytes) : NULL;
 }
 
+bool tb__grow_array(void **data, size_t *capacity, size_t needed, size_t size)
+{
+    if (needed <= *capacity) {
+        return true;
+    }
+    const size_t next = needed > 2 * *capacity ? needed : 2 * *capacity;
+    void *grown = tb__realloc_array(*data, next, size);
+    if (grown == NULL) {
+        return false;
+    }
+    *data = grown;
+    *capacity = next;
+    return true;
+}
+
 bool tb__same_name(const char *a, const char *b)
 {
     for (;; ++a, ++b) {

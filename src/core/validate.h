@@ -35,6 +35,10 @@ tb_status tb__validate_size_product(char *detail, size_t a, size_t b, const char
  * its own product.) */
 void *tb__malloc_array(size_t count, size_t size);
 void *tb__realloc_array(void *p, size_t count, size_t size);
+/* A growing array *data of *capacity items of size bytes: room for needed items, the capacity
+ * at least doubled when it grows (so n pushes cost O(n)); false when memory runs out (then
+ * *data and *capacity are as they were). */
+bool tb__grow_array(void **data, size_t *capacity, size_t needed, size_t size);
 /* Names equal ignoring ASCII case, for the name tables (methods, interpolations); strcasecmp is
  * POSIX, not C11, and follows the locale. */
 bool tb__same_name(const char *a, const char *b);

@@ -113,10 +113,6 @@ static tb_status check_def(const tb_writer_def *def, tb_error *error)
                              "[1e-6, 0.1] rad, got %g",
                              tolerance);
     }
-    if (def->scene_file != NULL && def->scene_text != NULL) {
-        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
-                             "def.scene_file and def.scene_text: give one or neither");
-    }
     return TB_STATUS_OK;
 }
 
@@ -202,7 +198,7 @@ static tb_status take_scene(tb_writer *w, const tb_writer_def *def, const tb_sce
     if (def->format == TB_OUTPUT_GLB || def->format == TB_OUTPUT_GLTF ||
         def->format == TB_OUTPUT_USDA) {
         w->looks.bodies = NULL;
-        return tb__looks_load(&w->looks, def, scene, error);
+        return tb__looks_load(&w->looks, scene, error);
     }
     return TB_STATUS_OK;
 }

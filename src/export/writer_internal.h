@@ -114,17 +114,12 @@ double tb__usd_time_code(double t, double fps);
 /* Body id's xformOp:translate and xformOp:orient time samples into the writer's file. */
 void tb__usd_put_pose_samples(const tb_writer *w, size_t id);
 
-/* Shapes and ground planes for glTF and USD, from the scene: each body's pieces
- * (tb_scene_body_piece; a body without a shape as its inertia ellipsoid, a convex piece as its
- * hull) and the ground planes (tb_scene_get_ground). A body whose shape in the scene file or
- * text the def names is one "mesh" is drawn with that mesh's own triangles (writer_shapes.c):
- * the scene keeps only their hull. */
-tb_status tb__looks_load(tb__looks *looks, const tb_writer_def *def, const tb_scene *scene,
-                         tb_error *error);
+/* Shapes and ground planes for glTF and USD, from the scene alone: each body's pieces
+ * (tb_scene_body_piece; a piece with a visual mesh as that mesh, tb_scene_body_visual_mesh; a
+ * body without a shape as its visual mesh or its inertia ellipsoid; a convex piece as its hull)
+ * and the ground planes (tb_scene_get_ground). */
+tb_status tb__looks_load(tb__looks *looks, const tb_scene *scene, tb_error *error);
 void tb__looks_free(tb__looks *looks, size_t body_count);
-/* The visual meshes of the scene file or text def names into looks (writer_shapes.c). */
-tb_status tb__looks_file_meshes(tb__looks *looks, const tb_writer_def *def, const tb_scene *scene,
-                                tb_error *error);
 
 /* A triangle mesh in the shape frame, as glTF stores it: float positions and unit normals,
  * counter-clockwise (outward) triangles. */

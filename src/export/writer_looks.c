@@ -1,6 +1,8 @@
-/* Writers: what the bodies and grounds look like, from the scene: each body's pieces as the
- * scene keeps them (tb_scene_body_piece) and its ground planes (tb_scene_get_ground), so that a
- * scene built through the C API is drawn as one loaded from a file. */
+/* Writers: what the bodies and grounds look like, from the scene alone: each body's pieces as
+ * the scene keeps them (tb_scene_body_piece), each drawn with its visual mesh where it has one
+ * (tb_scene_body_visual_mesh: a mesh shape's own triangles), and the ground planes
+ * (tb_scene_get_ground), so that a scene built through the C API is drawn as one loaded from a
+ * file. */
 #include "export/writer_internal.h"
 
 #include "contact/convex_hull.h"
@@ -85,7 +87,28 @@ static tb_status piece_look(const tb_shape_piece *p, tb__shape *s, tb_error *err
     }
 }
 
-/* Body id's pieces, or its inertia ellipsoid. */
+/* A piece drawn with its visual mesh, at the piece's pose. */
+static tb_status visual_look(const tb_shape_piece *p, const tb_visual_mesh *visual, tb__shape *s,
+                             tb_error *error)
+{
+    memcpy(s->position, p->position, sizeof s->position);
+    memcpy(s->orientation, p->orientation, sizeof s->orientation);
+    s->kind = TB__SHAPE_MESH;
+    s->vertices = tb__malloc_array(visual->vertex_count, 3 * sizeof(double));
+    s->triangles = tb__malloc_array(visual->triangle_count, 3 * sizeof(unsigned));
+    if (s->vertices == NULL || s->triangles == NULL) {
+        return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "writer: a mesh of %zu vertices",
+                             visual->vertex_count);
+    }
+    memcpy(s->vertices, visual->vertices, 3 * visual->vertex_count * sizeof(double));
+    memcpy(s->triangles, visual->triangles, 3 * visual->triangle_count * sizeof(unsigned));
+    s->vertex_count = visual->vertex_count;
+    s->triangle_count = visual->triangle_count;
+    return TB_STATUS_OK;
+}
+
+/* Body id's pieces (each its visual mesh, or its shape), or its inertia ellipsoid (or the
+ * visual mesh of a body without a shape). */
 static tb_status body_look(const tb_scene *scene, size_t id, tb__look *look, tb_error *error)
 {
     size_t count = 0;
@@ -102,10 +125,18 @@ static tb_status body_look(const tb_scene *scene, size_t id, tb__look *look, tb_
         look->pieces[k].orientation[0] = 1.0;
     }
     tb_status status = TB_STATUS_OK;
-    for (size_t k = 0; k < count && status == TB_STATUS_OK; ++k) {
-        tb_shape_piece piece;
-        tb_scene_body_piece(scene, id, k, &piece);
-        status = piece_look(&piece, &look->pieces[k], error);
+    for (size_t k = 0; k < look->piece_count && status == TB_STATUS_OK; ++k) {
+        tb_shape_piece piece = tb_shape_piece_default();
+        tb_visual_mesh visual;
+        if (k < count) {
+            tb_scene_body_piece(scene, id, k, &piece);
+        }
+        tb_scene_body_visual_mesh(scene, id, k, &visual);
+        if (visual.triangle_count > 0) {
+            status = visual_look(&piece, &visual, &look->pieces[k], error);
+        } else if (k < count) {
+            status = piece_look(&piece, &look->pieces[k], error);
+        }
     }
     return status;
 }
@@ -127,8 +158,7 @@ static tb_status ground_looks(const tb_scene *scene, tb__looks *looks, tb_error 
     return TB_STATUS_OK;
 }
 
-tb_status tb__looks_load(tb__looks *looks, const tb_writer_def *def, const tb_scene *scene,
-                         tb_error *error)
+tb_status tb__looks_load(tb__looks *looks, const tb_scene *scene, tb_error *error)
 {
     const size_t n = tb_scene_body_count(scene);
     memset(looks, 0, sizeof *looks);
@@ -142,9 +172,6 @@ tb_status tb__looks_load(tb__looks *looks, const tb_writer_def *def, const tb_sc
     }
     if (status == TB_STATUS_OK) {
         status = ground_looks(scene, looks, error);
-    }
-    if (status == TB_STATUS_OK && (def->scene_file != NULL || def->scene_text != NULL)) {
-        status = tb__looks_file_meshes(looks, def, scene, error);
     }
     return status;
 }

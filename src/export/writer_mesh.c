@@ -13,27 +13,14 @@
 #define TB__SEGMENTS 32 /* around a round shape's axis */
 #define TB__RINGS 16    /* from pole to pole */
 
-static bool grow(void **data, size_t *capacity, size_t needed, size_t item)
-{
-    if (needed <= *capacity) {
-        return true;
-    }
-    const size_t next = needed > 2 * *capacity ? needed : 2 * *capacity;
-    void *grown = tb__realloc_array(*data, next, item);
-    if (grown == NULL) {
-        return false;
-    }
-    *data = grown;
-    *capacity = next;
-    return true;
-}
-
 /* Adds a vertex; returns its index. The normal is normalised here. */
 static uint32_t vertex(tb__mesh *m, const double p[3], const double n[3])
 {
     size_t capacity = m->vertex_capacity;
-    if (!grow((void **)&m->positions, &capacity, m->vertex_count + 1, 3 * sizeof(float)) ||
-        !grow((void **)&m->normals, &m->vertex_capacity, m->vertex_count + 1, 3 * sizeof(float))) {
+    if (!tb__grow_array((void **)&m->positions, &capacity, m->vertex_count + 1,
+                        3 * sizeof(float)) ||
+        !tb__grow_array((void **)&m->normals, &m->vertex_capacity, m->vertex_count + 1,
+                        3 * sizeof(float))) {
         m->failed = true;
         return 0;
     }
@@ -47,8 +34,8 @@ static uint32_t vertex(tb__mesh *m, const double p[3], const double n[3])
 
 static void triangle(tb__mesh *m, uint32_t a, uint32_t b, uint32_t c)
 {
-    if (m->failed ||
-        !grow((void **)&m->indices, &m->index_capacity, m->index_count + 3, sizeof(uint32_t))) {
+    if (m->failed || !tb__grow_array((void **)&m->indices, &m->index_capacity, m->index_count + 3,
+                                     sizeof(uint32_t))) {
         m->failed = true;
         return;
     }

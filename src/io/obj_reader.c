@@ -30,25 +30,10 @@ void tb__shown_path(char out[TB__SHOWN_PATH_SIZE], const char *path)
     }
 }
 
-static bool grow(void **data, size_t *capacity, size_t needed, size_t item)
-{
-    if (needed <= *capacity) {
-        return true;
-    }
-    const size_t next = needed > 2 * *capacity ? needed : 2 * *capacity;
-    void *grown = tb__realloc_array(*data, next, item);
-    if (grown == NULL) {
-        return false;
-    }
-    *data = grown;
-    *capacity = next;
-    return true;
-}
-
 bool tb__mesh_push_vertex(tb__mesh_buffers *mesh, const double vertex[3])
 {
-    if (!grow((void **)&mesh->vertices, &mesh->vertex_capacity, mesh->vertex_count + 1,
-              3 * sizeof(double))) {
+    if (!tb__grow_array((void **)&mesh->vertices, &mesh->vertex_capacity, mesh->vertex_count + 1,
+                        3 * sizeof(double))) {
         return false;
     }
     memcpy(mesh->vertices + 3 * mesh->vertex_count++, vertex, 3 * sizeof(double));
@@ -57,8 +42,8 @@ bool tb__mesh_push_vertex(tb__mesh_buffers *mesh, const double vertex[3])
 
 bool tb__mesh_push_triangle(tb__mesh_buffers *mesh, unsigned a, unsigned b, unsigned c)
 {
-    if (!grow((void **)&mesh->triangles, &mesh->triangle_capacity, mesh->triangle_count + 1,
-              3 * sizeof(unsigned))) {
+    if (!tb__grow_array((void **)&mesh->triangles, &mesh->triangle_capacity,
+                        mesh->triangle_count + 1, 3 * sizeof(unsigned))) {
         return false;
     }
     unsigned *t = mesh->triangles + 3 * mesh->triangle_count++;
@@ -93,8 +78,8 @@ static bool begin_group(obj_parser *p)
     if (!p->group_pending) {
         return true;
     }
-    if (!grow((void **)&m->group_starts, &m->group_capacity, m->group_count + 1,
-              sizeof *m->group_starts)) {
+    if (!tb__grow_array((void **)&m->group_starts, &m->group_capacity, m->group_count + 1,
+                        sizeof *m->group_starts)) {
         return false;
     }
     m->group_starts[m->group_count++] = m->triangle_count;
@@ -282,7 +267,8 @@ static tb_status parse_line(obj_parser *p, const char *start, size_t length)
         return tb__set_detail(p->detail, TB_STATUS_BAD_SCENE,
                               "%s:%zu: a NUL byte: not an OBJ text file", p->name, p->line);
     }
-    if (length == SIZE_MAX || !grow((void **)&p->copy, &p->copy_capacity, length + 1, 1)) {
+    if (length == SIZE_MAX ||
+        !tb__grow_array((void **)&p->copy, &p->copy_capacity, length + 1, 1)) {
         return tb__set_detail(p->detail, TB_STATUS_OUT_OF_MEMORY, "%s:%zu: a line of %zu bytes",
                               p->name, p->line, length);
     }

@@ -327,6 +327,7 @@ static tb_status load_body(tb__loader *ld, const json_t *body, const char *path)
     free(k.keys);
     free(b.contacts.many);
     free(b.shape_vertices);
+    free(b.shape_triangles);
     tb__free_pieces(&b);
     return status;
 }

@@ -72,12 +72,15 @@ typedef struct tb__body_build {
     tb_body_def def;
     tb__shape_contacts contacts;
     bool has_contacts;
-    tb_shape shape;         /* its collision shape (type TB_SHAPE_NONE without "shape") */
-    double *shape_vertices; /* mesh and points shapes: malloc'd, shape.vertices points here */
-    /* a list as "shape": its pieces (malloc'd, piece_count), each mesh piece's vertices in
-     * piece_vertices[k] (malloc'd, else NULL); NULL and 0 for one shape */
+    tb_shape shape;            /* its collision shape (type TB_SHAPE_NONE without "shape") */
+    double *shape_vertices;    /* mesh and points shapes: malloc'd, shape.vertices points here */
+    unsigned *shape_triangles; /* mesh: malloc'd, shape.triangles points here (drawn) */
+    /* a list as "shape" or an OBJ's groups: its pieces (malloc'd, piece_count), each mesh
+     * piece's vertices and triangles in piece_vertices[k] and piece_triangles[k] (malloc'd, else
+     * NULL); NULL and 0 for one shape */
     tb_shape_piece *pieces;
     double **piece_vertices;
+    unsigned **piece_triangles;
     size_t piece_count;
     bool piece; /* this is one piece of a list: a mesh file's groups are not split again */
 } tb__body_build;
@@ -129,16 +132,12 @@ tb_status tb__load_keys(tb__loader *ld, const json_t *body, const char *path,
  * as the path is. NULL when memory runs out. */
 char *tb__folder_of(const char *path);
 
-/* A "mesh" shape's triangles, from its "file" (resolved and confined as ld->options say,
- * regular, bounded) or inline; *m starts empty, the caller frees it (emptied on failure). */
-tb_status tb__load_mesh_buffers(tb__loader *ld, const json_t *shape, const char *path,
-                                tb__mesh_buffers *m);
-
-/* A "mesh" shape: mass properties (into b->def.mass), and its vertices (malloc'd, for contact
- * points). An OBJ file of two or more objects or groups also gives b one convex piece per
- * group (b->pieces, at the identity pose), unless b->piece. */
+/* A "mesh" shape: mass properties (into b->def.mass), and b->shape a convex shape of its
+ * vertices (those its triangles use) and triangles (b->shape_vertices, b->shape_triangles): it
+ * collides as its hull and is drawn as itself. An OBJ file of two or more objects or groups
+ * also gives b one convex piece per group with the group's triangles (b->pieces, at the
+ * identity pose), unless b->piece. */
 tb_status tb__load_mesh_shape(tb__loader *ld, const json_t *shape, const char *path,
-                              tb_mass_mode mode, double value, tb__body_build *b, double **vertices,
-                              size_t *vertex_count, tb_error *error);
+                              tb_mass_mode mode, double value, tb__body_build *b, tb_error *error);
 
 #endif

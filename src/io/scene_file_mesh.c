@@ -10,6 +10,7 @@
 #include "core/validate.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -162,30 +163,54 @@ static tb_status file_mesh(tb__loader *ld, const json_t *shape, const char *path
     return status == TB_STATUS_OK ? status : tb__load_fail(ld, status, path, "file: %s", detail);
 }
 
-/* Keeps the vertices some triangle uses, in their order (a stray vertex is no part of the
- * solid and would make a wrong contact point). */
-static tb_status keep_used_vertices(tb__loader *ld, const char *path, tb__mesh_buffers *m)
+#define UNUSED UINT_MAX /* a vertex no triangle of the run uses */
+
+/* The vertices the triangles [first, end) use, renumbered in their order into to[vertex_count]
+ * (UNUSED for the others); returns how many. */
+static size_t number_used(const tb__mesh_buffers *m, size_t first, size_t end, unsigned *to)
 {
-    bool *used = calloc(m->vertex_count, sizeof *used);
-    if (used == NULL) {
-        return tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, path, "%zu vertices", m->vertex_count);
-    }
-    for (size_t corner = 0; corner < 3 * m->triangle_count; ++corner) {
-        used[m->triangles[corner]] = true;
-    }
-    size_t kept = 0;
     for (size_t v = 0; v < m->vertex_count; ++v) {
-        if (used[v]) {
-            memmove(m->vertices + 3 * kept++, m->vertices + 3 * v, 3 * sizeof(double));
-        }
+        to[v] = UNUSED;
     }
-    free(used);
-    m->vertex_count = kept;
-    return TB_STATUS_OK;
+    for (size_t corner = 3 * first; corner < 3 * end; ++corner) {
+        to[m->triangles[corner]] = 0;
+    }
+    unsigned count = 0; /* vertex_count fits an unsigned (the mesh code checks) */
+    for (size_t v = 0; v < m->vertex_count; ++v) {
+        to[v] = to[v] == UNUSED ? UNUSED : count++;
+    }
+    return count;
 }
 
-tb_status tb__load_mesh_buffers(tb__loader *ld, const json_t *shape, const char *path,
-                                tb__mesh_buffers *m)
+/* The mesh of the triangles [first, end) alone: the vertices they use (in their order) and the
+ * triangles renumbered to them, in new arrays; false when memory runs out. */
+static bool run_mesh(const tb__mesh_buffers *m, size_t first, size_t end, unsigned *to,
+                     tb__mesh_buffers *out)
+{
+    memset(out, 0, sizeof *out);
+    out->vertex_count = number_used(m, first, end, to);
+    out->triangle_count = end - first;
+    out->vertices = tb__malloc_array(out->vertex_count + 1, 3 * sizeof(double));
+    out->triangles = tb__malloc_array(3 * out->triangle_count + 1, sizeof(unsigned));
+    if (out->vertices == NULL || out->triangles == NULL) {
+        tb__mesh_buffers_free(out);
+        return false;
+    }
+    for (size_t v = 0; v < m->vertex_count; ++v) {
+        if (to[v] != UNUSED) {
+            memcpy(out->vertices + 3 * to[v], m->vertices + 3 * v, 3 * sizeof(double));
+        }
+    }
+    for (size_t corner = 0; corner < 3 * out->triangle_count; ++corner) {
+        out->triangles[corner] = to[m->triangles[3 * first + corner]];
+    }
+    return true;
+}
+
+/* A "mesh" shape's triangles, from its "file" (resolved and confined as ld->options say,
+ * regular, bounded) or inline; *m starts empty, the caller frees it (emptied on failure). */
+static tb_status load_mesh_buffers(tb__loader *ld, const json_t *shape, const char *path,
+                                   tb__mesh_buffers *m)
 {
     memset(m, 0, sizeof *m);
     tb_status status = json_object_get(shape, "file") != NULL ? file_mesh(ld, shape, path, m)
@@ -196,80 +221,69 @@ tb_status tb__load_mesh_buffers(tb__loader *ld, const json_t *shape, const char 
     return status;
 }
 
-/* Group k's vertices (those its triangles use, once each, in order) into a new array. */
-static double *group_vertices(const tb__mesh_buffers *m, size_t k, bool *seen, size_t *out_count)
+/* A convex piece of the triangles [first, end) of m: its vertices (those they use: a stray
+ * vertex is no part of the solid and would make a wrong contact point) and the triangles it
+ * is drawn with, into *vertices and *triangles (malloc'd). */
+static bool convex_of_run(const tb__mesh_buffers *m, size_t first, size_t end, unsigned *to,
+                          tb_shape *out, double **vertices, unsigned **triangles)
 {
-    const size_t first = m->group_starts[k];
-    const size_t end = k + 1 < m->group_count ? m->group_starts[k + 1] : m->triangle_count;
-    memset(seen, 0, m->vertex_count * sizeof *seen);
-    size_t count = 0;
-    for (size_t corner = 3 * first; corner < 3 * end; ++corner) {
-        count += !seen[m->triangles[corner]];
-        seen[m->triangles[corner]] = true;
+    tb__mesh_buffers run;
+    if (!run_mesh(m, first, end, to, &run)) {
+        return false;
     }
-    double *out = tb__malloc_array(count > 0 ? count : 1, 3 * sizeof(double));
-    size_t w = 0;
-    for (size_t v = 0; out != NULL && v < m->vertex_count; ++v) {
-        if (seen[v]) {
-            memcpy(out + 3 * w++, m->vertices + 3 * v, 3 * sizeof(double));
-        }
-    }
-    *out_count = count;
-    return out;
+    *out = tb_shape_default();
+    out->type = TB_SHAPE_CONVEX; /* a mesh collides as its convex hull */
+    out->vertices = *vertices = run.vertices;
+    out->vertex_count = run.vertex_count;
+    out->triangles = *triangles = run.triangles;
+    out->triangle_count = run.triangle_count;
+    return true;
 }
 
-/* An OBJ of several objects or groups: one convex piece each (the hull of its vertices), at
- * the identity pose, into b's pieces. */
+/* An OBJ of several objects or groups: one convex piece each (the hull of its vertices, drawn
+ * with its own triangles), at the identity pose, into b's pieces. */
 static tb_status group_pieces(tb__loader *ld, const char *path, const tb__mesh_buffers *m,
-                              tb__body_build *b)
+                              unsigned *to, tb__body_build *b)
 {
-    bool *seen = tb__malloc_array(m->vertex_count, sizeof *seen);
     b->pieces = tb__malloc_array(m->group_count, sizeof *b->pieces);
     b->piece_vertices = calloc(m->group_count, sizeof *b->piece_vertices);
-    if (seen == NULL || b->pieces == NULL || b->piece_vertices == NULL) {
-        free(seen);
+    b->piece_triangles = calloc(m->group_count, sizeof *b->piece_triangles);
+    if (b->pieces == NULL || b->piece_vertices == NULL || b->piece_triangles == NULL) {
         return tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, path, "%zu pieces", m->group_count);
     }
     b->piece_count = m->group_count;
-    tb_status status = TB_STATUS_OK;
-    for (size_t k = 0; k < m->group_count && status == TB_STATUS_OK; ++k) {
-        tb_shape_piece *piece = &b->pieces[k];
-        *piece = tb_shape_piece_default();
-        piece->shape.type = TB_SHAPE_CONVEX;
-        b->piece_vertices[k] = group_vertices(m, k, seen, &piece->shape.vertex_count);
-        piece->shape.vertices = b->piece_vertices[k];
-        if (b->piece_vertices[k] == NULL) {
-            status = tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, path, "piece %zu's vertices", k);
+    for (size_t k = 0; k < m->group_count; ++k) {
+        const size_t end = k + 1 < m->group_count ? m->group_starts[k + 1] : m->triangle_count;
+        b->pieces[k] = tb_shape_piece_default();
+        if (!convex_of_run(m, m->group_starts[k], end, to, &b->pieces[k].shape,
+                           &b->piece_vertices[k], &b->piece_triangles[k])) {
+            return tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, path, "piece %zu's mesh", k);
         }
     }
-    free(seen);
-    return status;
+    return TB_STATUS_OK;
 }
 
 tb_status tb__load_mesh_shape(tb__loader *ld, const json_t *shape, const char *path,
-                              tb_mass_mode mode, double value, tb__body_build *b, double **vertices,
-                              size_t *vertex_count, tb_error *error)
+                              tb_mass_mode mode, double value, tb__body_build *b, tb_error *error)
 {
     tb__mesh_buffers m;
-    tb_status status = tb__load_mesh_buffers(ld, shape, path, &m);
-    tb_mass_properties *mass = &b->def.mass;
+    tb_status status = load_mesh_buffers(ld, shape, path, &m);
     if (status == TB_STATUS_OK) {
         status = tb_mass_from_mesh(mode, value, m.vertices, m.vertex_count, m.triangles,
-                                   m.triangle_count, mass, error);
+                                   m.triangle_count, &b->def.mass, error);
+    }
+    unsigned *to = status == TB_STATUS_OK ? tb__malloc_array(m.vertex_count, sizeof *to) : NULL;
+    if (status == TB_STATUS_OK && to == NULL) {
+        status = tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, path, "%zu vertices", m.vertex_count);
     }
     if (status == TB_STATUS_OK && m.group_count >= 2 && !b->piece) {
-        status = group_pieces(ld, path, &m, b); /* before the vertices are compacted */
+        status = group_pieces(ld, path, &m, to, b);
     }
-    if (status == TB_STATUS_OK) {
-        status = keep_used_vertices(ld, path, &m); /* after the mesh is known valid */
+    if (status == TB_STATUS_OK && !convex_of_run(&m, 0, m.triangle_count, to, &b->shape,
+                                                 &b->shape_vertices, &b->shape_triangles)) {
+        status = tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, path, "%zu vertices", m.vertex_count);
     }
-    if (status != TB_STATUS_OK) {
-        tb__mesh_buffers_free(&m);
-        return status;
-    }
-    *vertex_count = m.vertex_count;
-    *vertices = m.vertices;
-    free(m.triangles);
-    free(m.group_starts);
-    return TB_STATUS_OK;
+    free(to);
+    tb__mesh_buffers_free(&m);
+    return status;
 }

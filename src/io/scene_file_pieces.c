@@ -89,6 +89,7 @@ static tb_status load_piece(tb__loader *ld, const json_t *piece, const char *ite
         status = tb__load_shape_mass(ld, piece, item, item, type, TB_MASS_DENSITY, density, &one);
     }
     b->piece_vertices[k] = one.shape_vertices; /* freed with the body */
+    b->piece_triangles[k] = one.shape_triangles;
     out->shape = one.shape;
     if (status == TB_STATUS_OK) {
         status = add_points(ld, item, &one, out, p);
@@ -136,7 +137,9 @@ tb_status tb__load_pieces(tb__loader *ld, const json_t *body, const char *path, 
     pieces_build p = {tb__malloc_array(count, sizeof *p.parts), NULL, 0, 0};
     b->pieces = tb__malloc_array(count, sizeof *b->pieces);
     b->piece_vertices = calloc(count, sizeof *b->piece_vertices);
-    if (p.parts == NULL || b->pieces == NULL || b->piece_vertices == NULL) {
+    b->piece_triangles = calloc(count, sizeof *b->piece_triangles);
+    if (p.parts == NULL || b->pieces == NULL || b->piece_vertices == NULL ||
+        b->piece_triangles == NULL) {
         free(p.parts);
         return tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, path, "%zu pieces", count);
     }
@@ -160,9 +163,11 @@ tb_status tb__load_pieces(tb__loader *ld, const json_t *body, const char *path, 
 
 void tb__free_pieces(tb__body_build *b)
 {
-    for (size_t k = 0; b->piece_vertices != NULL && k < b->piece_count; ++k) {
-        free(b->piece_vertices[k]);
+    for (size_t k = 0; k < b->piece_count; ++k) {
+        free(b->piece_vertices != NULL ? b->piece_vertices[k] : NULL);
+        free(b->piece_triangles != NULL ? b->piece_triangles[k] : NULL);
     }
     free(b->piece_vertices);
+    free(b->piece_triangles);
     free(b->pieces);
 }

@@ -177,16 +177,10 @@ static tb_status vertex_contacts(tb__loader *ld, const double *vertices, size_t 
 static tb_status load_mesh(tb__loader *ld, const json_t *shape, const char *path, tb_mass_mode mode,
                            double value, tb__body_build *b, tb_error *error)
 {
-    double *vertices = NULL;
-    size_t count = 0;
-    tb_status status =
-        tb__load_mesh_shape(ld, shape, path, mode, value, b, &vertices, &count, error);
+    tb_status status = tb__load_mesh_shape(ld, shape, path, mode, value, b, error);
     if (status == TB_STATUS_OK) {
-        status = vertex_contacts(ld, vertices, count, path, &b->contacts);
+        status = vertex_contacts(ld, b->shape.vertices, b->shape.vertex_count, path, &b->contacts);
     }
-    b->shape.type = TB_SHAPE_CONVEX; /* a mesh collides as its convex hull */
-    b->shape.vertices = b->shape_vertices = vertices;
-    b->shape.vertex_count = count;
     return status;
 }
 

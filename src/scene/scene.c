@@ -224,6 +224,13 @@ void tb_scene_destroy(tb_scene *scene)
             free(scene->shapes[i]);
         }
         free(scene->shapes);
+        for (size_t i = 0; i < scene->visual_capacity; ++i) {
+            for (size_t k = 0; scene->visuals[i] != NULL && k < scene->visuals[i]->count; ++k) {
+                free(scene->visuals[i]->meshes[k]);
+            }
+            free(scene->visuals[i]);
+        }
+        free(scene->visuals);
         free(scene->name_slots);
         tb__scene_sleep_free(scene);
         tb__scene_events_free(scene);

@@ -14,6 +14,14 @@ typedef struct tb__body {
 
 typedef struct tb__effect tb__effect;
 
+/* A body's visual meshes, what writers draw (src/contact/body_visuals.c): meshes[k] is piece
+ * k's (the only one, k = 0, of a body without a shape), NULL where it has none; each one
+ * allocation freed by free(). */
+typedef struct tb__body_visuals {
+    size_t count;
+    struct tb__visual_mesh *meshes[];
+} tb__body_visuals;
+
 /* Adds the effect's forces into dydt[13 i + TB_STATE_P ..] and torques into
  * dydt[13 i + TB_STATE_L ..], and writes the derivatives of the states it owns. Pure: reads y,
  * writes only those slots. Returns 0, or the failure of a user callback. */
@@ -253,6 +261,10 @@ struct tb_scene {
      * none; shape_capacity entries (at most body_count), each one allocation freed by free(). */
     struct tb__collision_shape **shapes;
     size_t shape_capacity;
+    /* Visual meshes (src/contact/body_visuals.c): visuals[i] is body i's, NULL when none of its
+     * pieces has one; visual_capacity entries (at most body_count). */
+    struct tb__body_visuals **visuals;
+    size_t visual_capacity;
     /* Counts changes of the effects that leave the layout alone (an effect added): the
      * right-hand side changed, so an integrator with a history of it (CVODE) restarts. */
     unsigned long long effects_generation;

@@ -16,7 +16,10 @@ Checks, each with its reason:
     the local-to-world transform USD computes from them puts the shape frame where the CSV does
     (origin within 1e-9 m; rotation matrix within 1e-7, USD's own rounding, see below);
   * the body's "shape" child is the USD primitive the scene file's shape maps to, with its sizes
-    (Cube scaled to the box, Sphere, Capsule and Cylinder along Z, Mesh for meshes);
+    (Cube scaled to the box, Sphere, Capsule and Cylinder along Z, Mesh for meshes, with the
+    mesh's own number of triangles, not its hull's: the writer draws the scene's visual mesh);
+    an OBJ of several groups is a piece each ("piece_k" at the origin), each its group's
+    triangles;
   * with --reference (the same scene run at a multiple of the frame rate): USD's own
     interpolation of the orientation (attribute Get at a time code between frames, which slerps)
     stays within D degrees of the simulation at every reference time. The largest angle is
@@ -26,6 +29,7 @@ import argparse
 import csv
 import json
 import math
+import os
 import sys
 
 import numpy as np
@@ -127,7 +131,47 @@ SHAPES = {"box": "Cube", "sphere": "Sphere", "ellipsoid": "Sphere", "capsule": "
           "cylinder": "Cylinder", "mesh": "Mesh", "points": "Mesh", None: "Mesh"}
 
 
-def check_shape(prim, shape):
+SCENE_FOLDER = "."  # where the scene file's mesh files are (set in main)
+
+
+def obj_group_triangles(path):
+    """Triangles in each object or group of an OBJ file, counted here as the scene loader reads
+    the file (a polygon of n corners fanned into n - 2; an "o" or "g" starts a new group once
+    faces have come), for the meshes' own triangles the writer must draw."""
+    runs, new_group = [], True
+    with open(path) as f:
+        for line in f:
+            words = line.split()
+            if words and words[0] in ("o", "g"):
+                new_group = True
+            elif words and words[0] == "f":
+                if new_group or not runs:
+                    runs.append(0)
+                    new_group = False
+                runs[-1] += len(words) - 3
+    return runs
+
+
+def mesh_triangles(shape):
+    """A "mesh" shape's own triangles per piece: one count, or one per group of its OBJ file."""
+    if "file" in shape:
+        return obj_group_triangles(os.path.join(SCENE_FOLDER, shape["file"]))
+    return [len(shape["triangles"])]
+
+
+def check_shape(prim, shape, triangles=None):
+    """triangles: how many the Mesh must have (a mesh is drawn with its own triangles)."""
+    kind = shape.get("type") if isinstance(shape, dict) else None
+    runs = mesh_triangles(shape) if kind == "mesh" and triangles is None else None
+    if runs is not None and len(runs) > 1:  # an OBJ of groups: one piece each, at the origin
+        for k, count in enumerate(runs):
+            holder = prim.GetChild(f"piece_{k}")
+            assert holder and holder.GetTypeName() == "Xform", (prim.GetPath(), k)
+            assert np.array_equal(holder.GetAttribute("xformOp:translate").Get(), [0, 0, 0])
+            check_shape(holder, shape, count)
+        return
+    if runs is not None:
+        triangles = runs[0]
     if isinstance(shape, list):  # pieces: each in an Xform "piece_k" placing it in the body
         for k, piece in enumerate(shape):
             holder = prim.GetChild(f"piece_{k}")
@@ -137,10 +181,10 @@ def check_shape(prim, shape):
             assert np.allclose(position, piece.get("position", [0, 0, 0]), rtol=0, atol=1e-15)
             assert np.allclose(orientation, piece.get("orientation", [1, 0, 0, 0]), rtol=0,
                                atol=1e-12)
-            check_shape(holder, piece)
+            check_shape(holder, piece,
+                        sum(mesh_triangles(piece)) if piece.get("type") == "mesh" else None)
         return
     child = prim.GetChild("shape")
-    kind = shape.get("type") if shape else None
     assert child and child.GetTypeName() == SHAPES[kind], (prim.GetPath(), kind,
                                                           child.GetTypeName())
     get = lambda name: child.GetAttribute(name).Get()  # noqa: E731
@@ -159,6 +203,8 @@ def check_shape(prim, shape):
         counts = mesh.GetFaceVertexCountsAttr().Get()
         assert len(counts) > 0 and set(counts) == {3}, "a mesh of triangles"
         assert len(mesh.GetFaceVertexIndicesAttr().Get()) == 3 * len(counts)
+        assert triangles is None or len(counts) == triangles, (prim.GetPath(), len(counts),
+                                                               triangles)
 
 
 def check_fidelity(bodies, fps, reference, max_degrees):
@@ -184,6 +230,8 @@ def main():
     args = parser.parse_args()
     with open(args.scene) as f:
         scene = json.load(f)
+    global SCENE_FOLDER
+    SCENE_FOLDER = os.path.dirname(os.path.abspath(args.scene))
     fps = args.fps or scene.get("output", {}).get("fps", 60.0)
     frames = read_frames(args.frames)
     check_compliance(args.usd)

@@ -52,6 +52,44 @@ def test_gltf_is_a_glb_with_a_node_per_body(frames, tmp_path):
     assert text["animations"][0]["samplers"][1]["interpolation"] == "LINEAR"
 
 
+# An L-shaped prism, 0.1 m thick (the L (0, 0) (0.2, 0) (0.2, 0.1) (0.1, 0.1) (0.1, 0.3) (0, 0.3)
+# at z = 0 and z = 0.1): not convex, so its hull (16 triangles) is not it (20 triangles).
+L_VERTICES = [[x, y, z] for z in (0.0, 0.1)
+              for x, y in ((0, 0), (0.2, 0), (0.2, 0.1), (0.1, 0.1), (0.1, 0.3), (0, 0.3))]
+L_TRIANGLES = ([[6, 7 + k, 8 + k] for k in range(4)] + [[0, 2 + k, 1 + k] for k in range(4)] +
+               [t for i in range(6) for t in ([i, (i + 1) % 6, 6 + (i + 1) % 6],
+                                               [i, 6 + (i + 1) % 6, 6 + i])])
+
+
+def test_a_mesh_body_built_in_python_exports_its_triangles(tmp_path):
+    """A mesh body given through SceneBuilder reaches the scene's visual mesh: the .glb's mesh
+    for it has exactly the given triangles, each corner the float nearest the given vertex."""
+    builder = tumble.SceneBuilder()
+    builder.add_body("letter", density=500, shape={"type": "mesh", "vertices": L_VERTICES,
+                                                   "triangles": L_TRIANGLES})
+    frames = builder.build(fps=10, duration=0.1).run()
+    frames.to_gltf(tmp_path / "letter.glb")
+    data = (tmp_path / "letter.glb").read_bytes()
+    json_length = struct.unpack_from("<I", data, 12)[0]
+    document = json.loads(data[20:20 + json_length])
+    blob = data[20 + json_length + 8:]
+    mesh = next(m for m in document["meshes"] if m["name"] == "letter")
+    primitive = mesh["primitives"][0]
+
+    def accessor(index, dtype, width):
+        a = document["accessors"][index]
+        view = document["bufferViews"][a["bufferView"]]
+        start = view.get("byteOffset", 0) + a.get("byteOffset", 0)
+        return np.frombuffer(blob, dtype=dtype, count=a["count"] * width,
+                             offset=start).reshape(a["count"], width)
+
+    positions = accessor(primitive["attributes"]["POSITION"], "<f4", 3)
+    indices = accessor(primitive["indices"], "<u4", 1).reshape(-1, 3)
+    expected = np.asarray(L_VERTICES, dtype=np.float64)[np.asarray(L_TRIANGLES)]
+    assert indices.shape == (len(L_TRIANGLES), 3)
+    assert np.array_equal(positions[indices], expected.astype(np.float32))
+
+
 def test_usd_is_a_layer_with_a_body_xform_per_body_at_the_frames_rate(frames, tmp_path):
     # usd-core reads it in tests/export/check_usd.py; here the text says what the run was
     frames.to_usd(tmp_path / "chain.usda")

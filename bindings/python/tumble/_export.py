@@ -1,7 +1,8 @@
 """Writing a run's frames to a file through the C library's writer (include/tumble/writer.h):
 CSV with numbers that read back exactly, NumPy .npz, animated glTF 2.0 (.glb/.gltf) with the
 scene's shapes, USD text (.usda). The frames written are the ones in memory, bit for bit (tb_writer_frame_values);
-the scene is loaded again only for its body names and shapes. docs/export.md has the formats."""
+the scene is loaded again only for its body names and shapes, which the writer draws from the scene
+(a mesh with its own triangles). docs/export.md has the formats."""
 
 import ctypes
 
@@ -15,9 +16,9 @@ class WriterDef(ctypes.Structure):
     _fields_ = [
         ("format", ctypes.c_int),
         ("rotation_keys", ctypes.c_int),
-        ("scene_file", ctypes.c_char_p),
-        ("scene_text", ctypes.c_char_p),
-        ("base_directory", ctypes.c_char_p),
+        ("scene_file", ctypes.c_char_p),  # deprecated and ignored by the library
+        ("scene_text", ctypes.c_char_p),  # deprecated and ignored by the library
+        ("base_directory", ctypes.c_char_p),  # deprecated and ignored by the library
         ("frame_count", ctypes.c_size_t),
         ("fps", ctypes.c_double),
         ("sample_tolerance", ctypes.c_double),
@@ -58,11 +59,10 @@ def format_of(path, format):
     return format.lower()
 
 
-def write(lib, error_type, fail, frames, scene_handle, scene_text, base_directory, path,
-          format=None, rotation="cubic"):
+def write(lib, error_type, fail, frames, scene_handle, path, format=None, rotation="cubic"):
     """Writes frames (tumble.Frames) to path; scene_handle is a loaded scene with the same
-    bodies, scene_text its description (for the shapes). fail(status, message) makes the
-    exception to raise."""
+    bodies, whose shapes and visual meshes are drawn. fail(status, message) makes the exception
+    to raise."""
     if rotation not in ROTATIONS:
         raise ValueError(f"rotation must be one of {', '.join(ROTATIONS)}, got {rotation!r}")
     definition = lib.tb_writer_def_default()
@@ -70,8 +70,6 @@ def write(lib, error_type, fail, frames, scene_handle, scene_text, base_director
     lib.tb_output_format_from_name(format_of(path, format).encode(), ctypes.byref(code))
     definition.format = code.value
     definition.rotation_keys = ROTATIONS.index(rotation)
-    definition.scene_text = scene_text
-    definition.base_directory = base_directory.encode() if base_directory else None
     definition.frame_count = len(frames.t)  # npz: streamed to the file as the frames are given
     definition.fps = 0.0  # USD: time codes per second from the frames' interval
     writer, error = ctypes.c_void_p(), error_type()

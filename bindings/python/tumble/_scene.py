@@ -69,8 +69,7 @@ class Frames:
                              "come from the scene they were run from")
         handle, _ = self.source._load()
         try:
-            _export.write(lib, _native.Error, failure, self, handle, self.source._text,
-                          self.source._base, path, format, rotation)
+            _export.write(lib, _native.Error, failure, self, handle, path, format, rotation)
         finally:
             lib.tb_scene_destroy(handle)
 
