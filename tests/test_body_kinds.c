@@ -634,6 +634,46 @@ static void test_the_start_check_reads_keyframed_bodies_at_t0(void **state)
     }
 }
 
+/* The same wall and ball, the integrator made at t0 = 0 (the wall 5 m away): a reset to t = 5,
+ * where the keys put the wall around the ball, is refused as a start there would be (naming
+ * both), and changes nothing: the integrator's and the scene's times and the states, byte for
+ * byte. A reset to t = 0.5 (the wall at x = -2.5, its face 1.5 m from the ball) is accepted and
+ * the scene's time follows it. */
+static void test_a_reset_to_where_keys_put_a_body_inside_another_is_refused(void **state)
+{
+    (void)state;
+    const tb_method methods_to_check[] = {TB_METHOD_EULER, TB_METHOD_RK4, TB_METHOD_CVODE_ADAMS,
+                                          TB_METHOD_CVODE_BDF};
+    for (size_t m = 0; m < 4; ++m) {
+        tb_scene *scene = test_empty_scene();
+        const size_t wall = add_keyframed_box(scene, "wall", (double[]){2.0, 2.0, 2.0}, NULL);
+        tb_body_key keys[2] = {tb_body_key_default(), tb_body_key_default()};
+        keys[0].position[0] = -5.0;
+        keys[1].t = 1.0;
+        assert_int_equal(tb_scene_set_body_keys(scene, wall, keys, 2, TB_INTERPOLATION_LINEAR),
+                         TB_STATUS_OK);
+        test_add_ball(scene, "ball", 1.0, 0.1, (double[]){0.5, 0, 0}, NULL);
+        tb_contact_def contact = tb_contact_def_default();
+        contact.penetration = PENETRATION;
+        assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+        tb_integrator *integrator = test_integrator_for(scene, methods_to_check[m], 0.0, 1e-6);
+        const size_t n = tb_scene_state_size(scene);
+        double before[4 * TB_STATE_SIZE]; /* the ball, and the contact's friction slots */
+        assert_true(n <= 4 * TB_STATE_SIZE);
+        memcpy(before, tb_scene_states(scene), n * sizeof(double));
+        assert_int_equal(tb_integrator_reset(integrator, 5.0), TB_STATUS_INVALID_ARGUMENT);
+        assert_non_null(strstr(tb_integrator_detail(integrator), "\"wall\""));
+        assert_non_null(strstr(tb_integrator_detail(integrator), "\"ball\""));
+        assert_true(tb_integrator_time(integrator) == 0.0 && tb_scene_time(scene) == 0.0);
+        assert_memory_equal(before, tb_scene_states(scene), n * sizeof(double));
+        assert_int_equal(tb_integrator_reset(integrator, 0.5), TB_STATUS_OK);
+        assert_true(tb_integrator_time(integrator) == 0.5 && tb_scene_time(scene) == 0.5);
+        assert_int_equal(tb_integrator_advance(integrator, 0.6), TB_STATUS_OK);
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
 /* A ball asleep on a keyframed platform (a 4 x 4 x 1 m box, top at z = 0) that holds still
  * until t = 2 s and then rises 1 m in 1 s: the moving platform wakes the ball and carries it,
  * so at t = 3.5 s the ball is above the platform's final top (z = 1 m; it rests on it at
@@ -747,6 +787,7 @@ int main(void)
         cmocka_unit_test(test_balls_on_a_static_table_sleep_on_their_own_islands),
         cmocka_unit_test(test_read_outs_follow_the_scene_time),
         cmocka_unit_test(test_the_start_check_reads_keyframed_bodies_at_t0),
+        cmocka_unit_test(test_a_reset_to_where_keys_put_a_body_inside_another_is_refused),
         cmocka_unit_test(test_a_platform_that_starts_moving_wakes_the_ball_asleep_on_it),
         cmocka_unit_test(test_a_motion_giving_nan_fails_the_step),
     };
