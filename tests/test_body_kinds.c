@@ -674,6 +674,63 @@ static void test_a_reset_to_where_keys_put_a_body_inside_another_is_refused(void
     }
 }
 
+/* A user effect that pushes the body in *ctx along x by the keyframed body 0's x (N per m), as
+ * the read-out gives it inside the callback. */
+static int push_by_wall_x(double t, const tb_scene *scene, const double *y, double *dydt, void *ctx)
+{
+    (void)t;
+    double x[3], q[4], f[3] = {0, 0, 0};
+    if (tb_scene_body_shape_pose(scene, y, 0, x, q) != TB_STATUS_OK) {
+        return -1;
+    }
+    f[0] = x[0];
+    return tb_effect_add_force(scene, y, dydt, *(const size_t *)ctx, f, x) == TB_STATUS_OK ? 0 : -1;
+}
+
+/* The derivative is a function of (t, y) alone and changes nothing (DESIGN.md): the wall (linear
+ * keys, x = -5 m at t = 0 to 0 at t = 1, a 2 m cube) and two balls (r = 0.1 m): A 0.5 mm inside
+ * the wall's face where the wall is at t = 0.5 (face at x = -1.5), B far off, pushed by a user
+ * effect with the wall's x as its read-out sees it inside the callback. With the scene's time
+ * at 0, the derivative at t = 0.5 gives B dP_x = -2.5 N exactly (the wall at 0.5) and A a push
+ * out of the wall (+x), at t = 0 B -5 N and A nothing (the wall 2.5 m off); the scene's time
+ * stays 0, and the derivative at 0.5 is the same, bit for bit, when the scene's time is 0.5. */
+static void test_the_derivative_reads_keyframed_bodies_at_its_own_t(void **state)
+{
+    (void)state;
+    tb_scene *scene = test_empty_scene();
+    const size_t wall = add_keyframed_box(scene, "wall", (double[]){2.0, 2.0, 2.0}, NULL);
+    tb_body_key keys[2] = {tb_body_key_default(), tb_body_key_default()};
+    keys[0].position[0] = -5.0;
+    keys[1].t = 1.0;
+    assert_int_equal(tb_scene_set_body_keys(scene, wall, keys, 2, TB_INTERPOLATION_LINEAR),
+                     TB_STATUS_OK);
+    const size_t a = test_add_ball(scene, "a", 1.0, 0.1, (double[]){-1.4005, 0, 0}, NULL);
+    static size_t b;
+    b = test_add_ball(scene, "b", 1.0, 0.1, (double[]){0, 10, 0}, NULL);
+    tb_contact_def contact = tb_contact_def_default();
+    contact.penetration = PENETRATION;
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    assert_int_equal(tb_scene_add_user_effect(scene, push_by_wall_x, &b), TB_STATUS_OK);
+    const size_t n = tb_scene_state_size(scene);
+    double y[8 * TB_STATE_SIZE], at_half[8 * TB_STATE_SIZE], at_zero[8 * TB_STATE_SIZE];
+    double again[8 * TB_STATE_SIZE];
+    assert_true(n <= 8 * TB_STATE_SIZE);
+    memcpy(y, tb_scene_states(scene), n * sizeof(double));
+    assert_int_equal(tb_scene_derivative(0.5, y, at_half, scene), 0);
+    assert_true(tb_scene_time(scene) == 0.0);
+    assert_int_equal(tb_scene_derivative(0.0, y, at_zero, scene), 0);
+    /* the balls hold slots 0 and 1 (the wall has none): their dP_x */
+    const size_t pa = TB_STATE_SIZE * (a - 1) + TB_STATE_P,
+                 pb = TB_STATE_SIZE * (b - 1) + TB_STATE_P;
+    assert_true(at_half[pb] == -2.5 && at_zero[pb] == -5.0);
+    assert_true(at_half[pa] > 0.0 && at_zero[pa] == 0.0);
+    assert_int_equal(tb_scene_set_time(scene, 0.5), TB_STATUS_OK);
+    assert_int_equal(tb_scene_derivative(0.5, y, again, scene), 0);
+    assert_memory_equal(at_half, again, n * sizeof(double));
+    assert_true(tb_scene_time(scene) == 0.5);
+    tb_scene_destroy(scene);
+}
+
 /* A ball asleep on a keyframed platform (a 4 x 4 x 1 m box, top at z = 0) that holds still
  * until t = 2 s and then rises 1 m in 1 s: the moving platform wakes the ball and carries it,
  * so at t = 3.5 s the ball is above the platform's final top (z = 1 m; it rests on it at
@@ -788,6 +845,7 @@ int main(void)
         cmocka_unit_test(test_read_outs_follow_the_scene_time),
         cmocka_unit_test(test_the_start_check_reads_keyframed_bodies_at_t0),
         cmocka_unit_test(test_a_reset_to_where_keys_put_a_body_inside_another_is_refused),
+        cmocka_unit_test(test_the_derivative_reads_keyframed_bodies_at_its_own_t),
         cmocka_unit_test(test_a_platform_that_starts_moving_wakes_the_ball_asleep_on_it),
         cmocka_unit_test(test_a_motion_giving_nan_fails_the_step),
     };

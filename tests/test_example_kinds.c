@@ -25,8 +25,8 @@
 #define G 9.81
 #define MAX_TOUCHES 16
 
-static const char *method_name; /* NULL: the scene's own integrator */
-static double cut_duration;     /* > 0: the run was cut to this many seconds */
+static const char *method_name;    /* NULL: the scene's own integrator */
+static double cut_duration;        /* > 0: the run was cut to this many seconds */
 static double step_fraction = 1.0; /* a fixed method's step: this fraction of the default */
 
 /* The scene NAME, its integrator and the frame rate; exits 1 on a refusal. */
@@ -232,8 +232,8 @@ static double paddle_run(void)
         deepest = fmax(deepest, depth(scene, 0, 1));
     }
     test_check(closest > 0.0, "closest the ball's centre came to the face (m)", closest, 0.0);
-    printf("  deepest overlap at a frame %.3g m (the radius %.3g m); fastest %.4f m/s\n", deepest, r,
-           fastest);
+    printf("  deepest overlap at a frame %.3g m (the radius %.3g m); fastest %.4f m/s\n", deepest,
+           r, fastest);
     tb_integrator_destroy(integrator);
     tb_scene_destroy(scene);
     return fastest;
@@ -252,8 +252,8 @@ static void paddle_euler(void)
     const double v_half = paddle_run();
     const double ratio = (v_h - 15.0) / (v_half - 15.0), limit = 2.0 * v_half - v_h;
     test_check(fabs(ratio - 2.0) < 0.4, "Euler: (v(h) - 15) / (v(h/2) - 15), order 1", ratio, 2.0);
-    test_check(fabs(limit - 15.0) < 0.25, "Euler: 2 v(h/2) - v(h) - (1 + e) 10 (m/s)",
-               limit - 15.0, 0.25);
+    test_check(fabs(limit - 15.0) < 0.25, "Euler: 2 v(h/2) - v(h) - (1 + e) 10 (m/s)", limit - 15.0,
+               0.25);
 }
 
 static void paddle(void)

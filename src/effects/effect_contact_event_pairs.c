@@ -50,7 +50,7 @@ size_t tb__contact_event_pairs(const tb__effect *effect, const tb_scene *scene, 
     /* a pair resting in a sleeping island (or on a static body) still touches: test it here too,
      * else its falling asleep would read as an end */
     tb__contact_pairs_skip_asleep(pairs, false);
-    tb__contact_pairs_begin(pairs, scene, y);
+    tb__contact_pairs_begin(pairs, scene, scene->time, y);
     size_t count, total = 0;
     while ((count = tb__contact_pairs_next(pairs, scene, y, batch, TB__EVENT_PAIR_BATCH)) > 0) {
         for (size_t k = 0; k < count; ++k, ++total) {

@@ -125,9 +125,6 @@ int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
         return -1;
     }
     const size_t n = scene->slot_count;
-    /* the time bodies without a state are read at (shape poses included), written through
-     * the const scene like the motions */
-    ((tb_scene *)scene)->time = t;
     kinematics(scene->bodies, y, dydt, n, scene->motions, scene->slot_ids);
     int rc = 0;
     for (size_t k = 0; k < scene->body_count - n && rc == 0; ++k) { /* the bodies with no state */
