@@ -17,12 +17,7 @@
 static tb__event_pair event_pair(const tb_scene *scene, const double *y,
                                  const tb__pair_contact *pair)
 {
-    const tb__contact_point *deepest = &pair->manifold.points[0];
-    for (int j = 1; j < pair->manifold.count; ++j) {
-        if (pair->manifold.points[j].depth > deepest->depth) {
-            deepest = &pair->manifold.points[j];
-        }
-    }
+    const tb__contact_point *deepest = tb__manifold_deepest(&pair->manifold);
     tb__event_pair out = {.body_a = pair->body_a, .body_b = pair->body_b, .gap = -deepest->depth};
     tb__v3_copy(out.point, deepest->position);
     tb__v3_copy(out.normal, pair->manifold.normal);

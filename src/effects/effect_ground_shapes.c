@@ -423,11 +423,7 @@ size_t tb__ground_shapes_event_pairs(const tb__effect *effect, const tb_scene *s
             plane_manifold(ground, scene, scene->time, y, id, TB__EVENT_LOOKAHEAD, &pair) == 0) {
             continue;
         }
-        const tb__contact_point *deepest = &pair.manifold.points[0];
-        for (int j = 1; j < pair.manifold.count; ++j) {
-            deepest =
-                pair.manifold.points[j].depth > deepest->depth ? &pair.manifold.points[j] : deepest;
-        }
+        const tb__contact_point *deepest = tb__manifold_deepest(&pair.manifold);
         tb__motion motion;
         tb__body_motion_at(scene, scene->time, y, id, &motion);
         double arm[3], velocity[3];
