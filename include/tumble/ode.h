@@ -115,8 +115,10 @@ typedef struct tb_ode_system {
     void (*at_event)(double t, const double *y, void *ctx);
     /* Optional: the first time after t where the right-hand side is only C1 in t (a keyframed
      * body's key time), INFINITY for none. A fixed-step method shortens the step that would
-     * cross it so that the step ends on it (the steps after keep their grid); CVODE stops there
-     * (CVodeSetStopTime) and restarts from it, its history being of the curve before. NULL
+     * cross it so that the step ends on it (the steps after keep their grid), and a step that
+     * ends on it evaluates its stage at the end (RK4's last) at the largest double below it, so
+     * that the step sees the piece it lies in (a linear key's velocity jumps there); CVODE stops
+     * there (CVodeSetStopTime) and restarts from it, its history being of the curve before. NULL
      * (default): none, and every method steps as before, bit for bit. */
     double (*next_break)(double t, void *ctx);
     /* Optional: tb_integrator_reset(integrator, t)'s check of (t, y) as a state to start from,
