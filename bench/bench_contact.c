@@ -140,7 +140,7 @@ static size_t pair_pass(tb__contact_pairs *pairs, const tb_scene *scene, const d
 {
     tb__pair_contact batch[64];
     size_t n, touching = 0;
-    tb__contact_pairs_begin(pairs, scene, y);
+    tb__contact_pairs_begin(pairs, scene, tb_scene_time(scene), y);
     while ((n = tb__contact_pairs_next(pairs, scene, y, batch, 64)) > 0) {
         touching += n;
     }
@@ -158,7 +158,7 @@ static void pair_finder_seconds(const tb_scene *scene, const double *y, int batc
     for (int k = 0; k < PART_REPEATS; ++k) {
         const double t0 = bench_cpu_seconds();
         for (int j = 0; j < batch; ++j) {
-            tb__contact_pairs_begin(pairs, scene, y);
+            tb__contact_pairs_begin(pairs, scene, tb_scene_time(scene), y);
         }
         const double t1 = bench_cpu_seconds();
         for (int j = 0; j < batch; ++j) {

@@ -75,7 +75,7 @@ static pass_result one_pass(tb__contact_pairs *pairs, const tb_scene *scene, con
     pass_result r = {0};
     tb__pair_contact out[64];
     const double t0 = bench_cpu_seconds();
-    tb__contact_pairs_begin(pairs, scene, y);
+    tb__contact_pairs_begin(pairs, scene, tb_scene_time(scene), y);
     const double t1 = bench_cpu_seconds();
     size_t n;
     while ((n = tb__contact_pairs_next(pairs, scene, y, out, 64)) > 0) {

@@ -634,6 +634,195 @@ static void test_the_start_check_reads_keyframed_bodies_at_t0(void **state)
     }
 }
 
+/* The same wall and ball, the integrator made at t0 = 0 (the wall 5 m away): a reset to t = 5,
+ * where the keys put the wall around the ball, is refused as a start there would be (naming
+ * both), and changes nothing: the integrator's and the scene's times and the states, byte for
+ * byte. A reset to t = 0.5 (the wall at x = -2.5, its face 1.5 m from the ball) is accepted and
+ * the scene's time follows it. */
+static void test_a_reset_to_where_keys_put_a_body_inside_another_is_refused(void **state)
+{
+    (void)state;
+    const tb_method methods_to_check[] = {TB_METHOD_EULER, TB_METHOD_RK4, TB_METHOD_CVODE_ADAMS,
+                                          TB_METHOD_CVODE_BDF};
+    for (size_t m = 0; m < 4; ++m) {
+        tb_scene *scene = test_empty_scene();
+        const size_t wall = add_keyframed_box(scene, "wall", (double[]){2.0, 2.0, 2.0}, NULL);
+        tb_body_key keys[2] = {tb_body_key_default(), tb_body_key_default()};
+        keys[0].position[0] = -5.0;
+        keys[1].t = 1.0;
+        assert_int_equal(tb_scene_set_body_keys(scene, wall, keys, 2, TB_INTERPOLATION_LINEAR),
+                         TB_STATUS_OK);
+        test_add_ball(scene, "ball", 1.0, 0.1, (double[]){0.5, 0, 0}, NULL);
+        tb_contact_def contact = tb_contact_def_default();
+        contact.penetration = PENETRATION;
+        assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+        tb_integrator *integrator = test_integrator_for(scene, methods_to_check[m], 0.0, 1e-6);
+        const size_t n = tb_scene_state_size(scene);
+        double before[4 * TB_STATE_SIZE]; /* the ball, and the contact's friction slots */
+        assert_true(n <= 4 * TB_STATE_SIZE);
+        memcpy(before, tb_scene_states(scene), n * sizeof(double));
+        assert_int_equal(tb_integrator_reset(integrator, 5.0), TB_STATUS_INVALID_ARGUMENT);
+        assert_non_null(strstr(tb_integrator_detail(integrator), "\"wall\""));
+        assert_non_null(strstr(tb_integrator_detail(integrator), "\"ball\""));
+        assert_true(tb_integrator_time(integrator) == 0.0 && tb_scene_time(scene) == 0.0);
+        assert_memory_equal(before, tb_scene_states(scene), n * sizeof(double));
+        assert_int_equal(tb_integrator_reset(integrator, 0.5), TB_STATUS_OK);
+        assert_true(tb_integrator_time(integrator) == 0.5 && tb_scene_time(scene) == 0.5);
+        assert_int_equal(tb_integrator_advance(integrator, 0.6), TB_STATUS_OK);
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
+/* A user effect that pushes the body in *ctx along x by the keyframed body 0's x (N per m), as
+ * the read-out gives it inside the callback. */
+static int push_by_wall_x(double t, const tb_scene *scene, const double *y, double *dydt, void *ctx)
+{
+    (void)t;
+    double x[3], q[4], f[3] = {0, 0, 0};
+    if (tb_scene_body_shape_pose(scene, y, 0, x, q) != TB_STATUS_OK) {
+        return -1;
+    }
+    f[0] = x[0];
+    return tb_effect_add_force(scene, y, dydt, *(const size_t *)ctx, f, x) == TB_STATUS_OK ? 0 : -1;
+}
+
+/* The derivative is a function of (t, y) alone and changes nothing (DESIGN.md): the wall (linear
+ * keys, x = -5 m at t = 0 to 0 at t = 1, a 2 m cube) and two balls (r = 0.1 m): A 0.5 mm inside
+ * the wall's face where the wall is at t = 0.5 (face at x = -1.5), B far off, pushed by a user
+ * effect with the wall's x as its read-out sees it inside the callback. With the scene's time
+ * at 0, the derivative at t = 0.5 gives B dP_x = -2.5 N exactly (the wall at 0.5) and A a push
+ * out of the wall (+x), at t = 0 B -5 N and A nothing (the wall 2.5 m off); the scene's time
+ * stays 0, and the derivative at 0.5 is the same, bit for bit, when the scene's time is 0.5. */
+static void test_the_derivative_reads_keyframed_bodies_at_its_own_t(void **state)
+{
+    (void)state;
+    tb_scene *scene = test_empty_scene();
+    const size_t wall = add_keyframed_box(scene, "wall", (double[]){2.0, 2.0, 2.0}, NULL);
+    tb_body_key keys[2] = {tb_body_key_default(), tb_body_key_default()};
+    keys[0].position[0] = -5.0;
+    keys[1].t = 1.0;
+    assert_int_equal(tb_scene_set_body_keys(scene, wall, keys, 2, TB_INTERPOLATION_LINEAR),
+                     TB_STATUS_OK);
+    const size_t a = test_add_ball(scene, "a", 1.0, 0.1, (double[]){-1.4005, 0, 0}, NULL);
+    static size_t b;
+    b = test_add_ball(scene, "b", 1.0, 0.1, (double[]){0, 10, 0}, NULL);
+    tb_contact_def contact = tb_contact_def_default();
+    contact.penetration = PENETRATION;
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    assert_int_equal(tb_scene_add_user_effect(scene, push_by_wall_x, &b), TB_STATUS_OK);
+    const size_t n = tb_scene_state_size(scene);
+    double y[8 * TB_STATE_SIZE], at_half[8 * TB_STATE_SIZE], at_zero[8 * TB_STATE_SIZE];
+    double again[8 * TB_STATE_SIZE];
+    assert_true(n <= 8 * TB_STATE_SIZE);
+    memcpy(y, tb_scene_states(scene), n * sizeof(double));
+    assert_int_equal(tb_scene_derivative(0.5, y, at_half, scene), 0);
+    assert_true(tb_scene_time(scene) == 0.0);
+    assert_int_equal(tb_scene_derivative(0.0, y, at_zero, scene), 0);
+    /* the balls hold slots 0 and 1 (the wall has none): their dP_x */
+    const size_t pa = TB_STATE_SIZE * (a - 1) + TB_STATE_P,
+                 pb = TB_STATE_SIZE * (b - 1) + TB_STATE_P;
+    assert_true(at_half[pb] == -2.5 && at_zero[pb] == -5.0);
+    assert_true(at_half[pa] > 0.0 && at_zero[pa] == 0.0);
+    assert_int_equal(tb_scene_set_time(scene, 0.5), TB_STATUS_OK);
+    assert_int_equal(tb_scene_derivative(0.5, y, again, scene), 0);
+    assert_memory_equal(at_half, again, n * sizeof(double));
+    assert_true(tb_scene_time(scene) == 0.5);
+    tb_scene_destroy(scene);
+}
+
+/* A user effect that pushes the body in *ctx along x by C_DRIVE times the x velocity of the
+ * keyframed body 0 as the read-out gives it at the callback's t: F = c v_key(t). */
+#define C_DRIVE 2.0
+static int drive_by_key_velocity(double t, const tb_scene *scene, const double *y, double *dydt,
+                                 void *ctx)
+{
+    (void)t;
+    double v[3], x[3], q[4], f[3] = {0, 0, 0};
+    if (tb_scene_body_velocity(scene, y, 0, v) != TB_STATUS_OK ||
+        tb_scene_body_shape_pose(scene, y, *(const size_t *)ctx, x, q) != TB_STATUS_OK) {
+        return -1;
+    }
+    f[0] = C_DRIVE * v[0];
+    return tb_effect_add_force(scene, y, dydt, *(const size_t *)ctx, f, x) == TB_STATUS_OK ? 0 : -1;
+}
+
+/* The keyframed body's x for the linear keys below (m): 0, 1, 0.4, 0.4 at t = 0, 0.1, 0.25,
+ * 0.3, held after. Its integral from 0 to t (m s), exact. */
+static const double drive_times[4] = {0.0, 0.1, 0.25, 0.3}, drive_x[4] = {0.0, 1.0, 0.4, 0.4};
+static double drive_position(double t, double *out_integral)
+{
+    double integral = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        const double t0 = drive_times[k], t1 = drive_times[k + 1];
+        const double v = (drive_x[k + 1] - drive_x[k]) / (t1 - t0);
+        if (t <= t1) {
+            const double x = drive_x[k] + v * (t - t0);
+            *out_integral = integral + 0.5 * (drive_x[k] + x) * (t - t0);
+            return x;
+        }
+        integral += 0.5 * (drive_x[k] + drive_x[k + 1]) * (t1 - t0);
+    }
+    *out_integral = integral + drive_x[3] * (t - drive_times[3]);
+    return drive_x[3];
+}
+
+/* A 1 kg ball pushed by F = c v_key(t) (c = 2 N s/m), v_key the velocity of a body on linear
+ * keys (10, -4 and 0 m/s on [0, 0.1], [0.1, 0.25], [0.25, 0.3]): its momentum is exactly
+ * P(t) = c (x_key(t) - x_key(0)) and its x, from 0, c / M times the integral of that. The
+ * force is constant inside each piece and the steps end on the key times, so a step whose
+ * stages see the piece it lies in integrates it exactly: Euler P (x' = P / M is linear in t
+ * there, which Euler does not integrate exactly), midpoint and RK4 both P and x. RK4's last
+ * stage lies at the step's end: on a key time it must see the piece before it (the curve's left
+ * derivative), or the step gets (h / 6) c (v_after - v_before): 0.019 N s after the two jumps
+ * at dt = 1/240 s. CVODE (rtol 1e-10) stops at each key time and restarts there: P exact as
+ * well (a constant P' is integrated exactly at every order), x within 1e-8 m (100 rtol).
+ * Checked at every frame (1/60 s) and at the key times, to 1e-12 (rounding over about 100
+ * steps). */
+static void test_a_step_ending_on_a_linear_key_sees_the_segment_before_it(void **state)
+{
+    (void)state;
+    const tb_method methods_to_check[] = {TB_METHOD_EULER, TB_METHOD_MIDPOINT, TB_METHOD_RK4,
+                                          TB_METHOD_CVODE_ADAMS, TB_METHOD_CVODE_BDF};
+    for (size_t m = 0; m < 5; ++m) {
+        const bool adaptive = tb_method_is_adaptive(methods_to_check[m]);
+        tb_scene *scene = test_empty_scene();
+        const size_t key = add_keyframed_box(scene, "key", (double[]){0.1, 0.1, 0.1}, NULL);
+        tb_body_key keys[4];
+        for (int k = 0; k < 4; ++k) {
+            keys[k] = tb_body_key_default();
+            keys[k].t = drive_times[k];
+            keys[k].position[0] = drive_x[k];
+            keys[k].position[1] = 5.0; /* away from the ball */
+        }
+        assert_int_equal(tb_scene_set_body_keys(scene, key, keys, 4, TB_INTERPOLATION_LINEAR),
+                         TB_STATUS_OK);
+        static size_t ball;
+        ball = test_add_ball(scene, "ball", 1.0, 0.1, (double[]){0, 0, 0}, NULL);
+        assert_int_equal(tb_scene_add_user_effect(scene, drive_by_key_velocity, &ball),
+                         TB_STATUS_OK);
+        tb_integrator *integrator =
+            test_integrator_for(scene, methods_to_check[m], adaptive ? 0.0 : 1.0 / 240, 1e-10);
+        double worst_p = 0.0, worst_x = 0.0;
+        const double times[] = {1.0 / 60, 0.05, 0.1, 0.15, 0.2, 0.25, 0.3, 0.35};
+        for (size_t i = 0; i < sizeof times / sizeof times[0]; ++i) {
+            assert_int_equal(tb_integrator_advance(integrator, times[i]), TB_STATUS_OK);
+            double integral;
+            const double x_key = drive_position(times[i], &integral);
+            tb_body_state s;
+            assert_int_equal(tb_scene_get_state(scene, ball, &s), TB_STATUS_OK);
+            worst_p = fmax(worst_p, fabs(s.P[0] - C_DRIVE * x_key));
+            worst_x = fmax(worst_x, fabs(s.x[0] - C_DRIVE * integral));
+        }
+        print_message("%s: worst |P - c x_key| %.3g N s, |x - exact| %.3g m\n",
+                      tb_method_name(methods_to_check[m]), worst_p, worst_x);
+        assert_true(worst_p < 1e-12);
+        assert_true(methods_to_check[m] == TB_METHOD_EULER || worst_x < (adaptive ? 1e-8 : 1e-12));
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
 /* A ball asleep on a keyframed platform (a 4 x 4 x 1 m box, top at z = 0) that holds still
  * until t = 2 s and then rises 1 m in 1 s: the moving platform wakes the ball and carries it,
  * so at t = 3.5 s the ball is above the platform's final top (z = 1 m; it rests on it at
@@ -747,6 +936,9 @@ int main(void)
         cmocka_unit_test(test_balls_on_a_static_table_sleep_on_their_own_islands),
         cmocka_unit_test(test_read_outs_follow_the_scene_time),
         cmocka_unit_test(test_the_start_check_reads_keyframed_bodies_at_t0),
+        cmocka_unit_test(test_a_reset_to_where_keys_put_a_body_inside_another_is_refused),
+        cmocka_unit_test(test_the_derivative_reads_keyframed_bodies_at_its_own_t),
+        cmocka_unit_test(test_a_step_ending_on_a_linear_key_sees_the_segment_before_it),
         cmocka_unit_test(test_a_platform_that_starts_moving_wakes_the_ball_asleep_on_it),
         cmocka_unit_test(test_a_motion_giving_nan_fails_the_step),
     };

@@ -87,7 +87,7 @@ static void test_contact_pair_passes_allocate_nothing(void **state)
     const long before = counted_allocations;
     for (int pass = 0; pass < 10; ++pass) {
         tb_scene_states(scene)[0] += 0.01; /* a body moves: the sort has work */
-        tb__contact_pairs_begin(pairs, scene, tb_scene_states(scene));
+        tb__contact_pairs_begin(pairs, scene, tb_scene_time(scene), tb_scene_states(scene));
         size_t n;
         while ((n = tb__contact_pairs_next(pairs, scene, tb_scene_states(scene), out, 8)) > 0) {
             found += n;

@@ -331,7 +331,7 @@ static void test_contact_pairs_are_the_narrow_phase_on_every_pair(void **state)
     static tb__pair_contact found[N * N / 2], again[N * N / 2];
     size_t count[2] = {0, 0};
     for (int pass = 0; pass < 2; ++pass) {
-        tb__contact_pairs_begin(pairs, scene, y);
+        tb__contact_pairs_begin(pairs, scene, tb_scene_time(scene), y);
         size_t n;
         tb__pair_contact *out = pass == 0 ? found : again;
         while ((n = tb__contact_pairs_next(pairs, scene, y, out + count[pass],
@@ -354,8 +354,8 @@ static void test_contact_pairs_are_the_narrow_phase_on_every_pair(void **state)
             if (sa == NULL || sb == NULL) {
                 continue;
             }
-            tb__shape_pose(scene, y, a, pa);
-            tb__shape_pose(scene, y, b, pb);
+            tb__shape_pose(scene, tb_scene_time(scene), y, a, pa);
+            tb__shape_pose(scene, tb_scene_time(scene), y, b, pb);
             if (tb__collide(sa, pa, sb, pb, margin, &m) == 0) {
                 continue;
             }
@@ -383,7 +383,7 @@ static void test_shape_pose_is_the_body_shape_pose(void **state)
     tb_scene *scene = scene_of_shapes(&rng, 4, 1.0);
     for (size_t id = 0; id < 4; ++id) {
         double pose[7], position[3], orientation[4];
-        tb__shape_pose(scene, tb_scene_states(scene), id, pose);
+        tb__shape_pose(scene, tb_scene_time(scene), tb_scene_states(scene), id, pose);
         assert_int_equal(
             tb_scene_body_shape_pose(scene, tb_scene_states(scene), id, position, orientation),
             TB_STATUS_OK);
@@ -504,8 +504,8 @@ static void test_scene_file_shapes_collide(void **state)
     /* ball (r 0.1 at 0) and die (half 0.025 at 0.12): 5 mm deep */
     const double *y = tb_scene_states(scene);
     double pa[7], pb[7];
-    tb__shape_pose(scene, y, 0, pa);
-    tb__shape_pose(scene, y, 1, pb);
+    tb__shape_pose(scene, tb_scene_time(scene), y, 0, pa);
+    tb__shape_pose(scene, tb_scene_time(scene), y, 1, pb);
     tb__contact_manifold m;
     assert_int_equal(tb__collide(tb__scene_body_collision_shape(scene, 0), pa,
                                  tb__scene_body_collision_shape(scene, 1), pb, 0.0, &m),

@@ -25,8 +25,9 @@
 #define G 9.81
 #define MAX_TOUCHES 16
 
-static const char *method_name; /* NULL: the scene's own integrator */
-static double cut_duration;     /* > 0: the run was cut to this many seconds */
+static const char *method_name;    /* NULL: the scene's own integrator */
+static double cut_duration;        /* > 0: the run was cut to this many seconds */
+static double step_fraction = 1.0; /* a fixed method's step: this fraction of the default */
 
 /* The scene NAME, its integrator and the frame rate; exits 1 on a refusal. */
 static tb_integrator *start(const char *name, tb_scene **out_scene, double *inout_fps,
@@ -47,8 +48,16 @@ static tb_integrator *start(const char *name, tb_scene **out_scene, double *inou
         }
     }
     *out_duration = cut_duration > 0.0 ? fmin(run.duration, cut_duration) : run.duration;
-    printf("  method %s, %g s at %g frames a second\n", tb_method_name(run.integrator.method),
-           *out_duration, *inout_fps);
+    if (!tb_method_is_adaptive(run.integrator.method) && step_fraction != 1.0) {
+        double dt = 0.0;
+        if (tb_scene_default_step(*out_scene, run.integrator.method, &dt) != TB_STATUS_OK) {
+            printf("no default step: %s\n", tb_scene_detail(*out_scene));
+            exit(1);
+        }
+        run.integrator.dt = step_fraction * dt;
+    }
+    printf("  method %s, %g s at %g frames a second, step fraction %g\n",
+           tb_method_name(run.integrator.method), *out_duration, *inout_fps, step_fraction);
     tb_integrator *integrator = NULL;
     if (tb_scene_integrator_create(*out_scene, &run.integrator, 0.0, &integrator) != TB_STATUS_OK) {
         printf("integrator refused: %s\n", tb_scene_detail(*out_scene));
@@ -203,7 +212,7 @@ static void platform(void)
  * world at (1 + e) 10 = 15 m/s. The fastest frame (1 ms apart) is the one just after the hit:
  * the floor's friction takes mu_k g = 5 m/s^2, 5 mm/s a frame, from it. The ball's centre stays
  * ahead of the paddle's face at every frame (it never passes through). */
-static void paddle(void)
+static double paddle_run(void)
 {
     tb_scene *scene;
     double fps = 1000.0, duration;
@@ -223,15 +232,44 @@ static void paddle(void)
         deepest = fmax(deepest, depth(scene, 0, 1));
     }
     test_check(closest > 0.0, "closest the ball's centre came to the face (m)", closest, 0.0);
-    printf("  deepest overlap at a frame %.3g m (the radius %.3g m)\n", deepest, r);
-    if (cut_duration > 0.0) {
-        printf("  %-62s skipped: the run was cut to %g s\n", "the ball's speed", cut_duration);
-    } else {
-        test_check(fabs(fastest - 15.0) < 0.25, "ball's speed after the hit - (1 + e) 10 (m/s)",
-                   fastest - 15.0, 0.25);
-    }
+    printf("  deepest overlap at a frame %.3g m (the radius %.3g m); fastest %.4f m/s\n", deepest,
+           r, fastest);
     tb_integrator_destroy(integrator);
     tb_scene_destroy(scene);
+    return fastest;
+}
+
+/* Euler's error in a bounce is of order 1 in the step: at its default step (1% growth of a
+ * contact oscillation a step) the ball leaves 0.34 m/s fast (the law's 5 % of e, 0.25 m/s, is a
+ * bound for the law, not for Euler's error). So under Euler the run is made at the default step h
+ * and at h / 2: the excess must halve (ratio within 2 +- 0.4: order 1, the law's own error of a
+ * few mm/s beside it), and the extrapolation to h = 0, 2 v(h / 2) - v(h), must meet 15 m/s
+ * within the law's 0.25 m/s. */
+static void paddle_euler(void)
+{
+    const double v_h = paddle_run();
+    step_fraction = 0.5;
+    const double v_half = paddle_run();
+    const double ratio = (v_h - 15.0) / (v_half - 15.0), limit = 2.0 * v_half - v_h;
+    test_check(fabs(ratio - 2.0) < 0.4, "Euler: (v(h) - 15) / (v(h/2) - 15), order 1", ratio, 2.0);
+    test_check(fabs(limit - 15.0) < 0.25, "Euler: 2 v(h/2) - v(h) - (1 + e) 10 (m/s)", limit - 15.0,
+               0.25);
+}
+
+static void paddle(void)
+{
+    if (cut_duration > 0.0) {
+        paddle_run();
+        printf("  %-62s skipped: the run was cut to %g s\n", "the ball's speed", cut_duration);
+        return;
+    }
+    if (method_name != NULL && strcmp(method_name, "euler") == 0) {
+        paddle_euler();
+        return;
+    }
+    const double fastest = paddle_run();
+    test_check(fabs(fastest - 15.0) < 0.25, "ball's speed after the hit - (1 + e) 10 (m/s)",
+               fastest - 15.0, 0.25);
 }
 
 /* bat_sweep: the table (body 0, its near edge at y = -0.4 m), the bat (body 1, sweeping along -y,

@@ -115,10 +115,19 @@ typedef struct tb_ode_system {
     void (*at_event)(double t, const double *y, void *ctx);
     /* Optional: the first time after t where the right-hand side is only C1 in t (a keyframed
      * body's key time), INFINITY for none. A fixed-step method shortens the step that would
-     * cross it so that the step ends on it (the steps after keep their grid); CVODE stops there
-     * (CVodeSetStopTime) and restarts from it, its history being of the curve before. NULL
+     * cross it so that the step ends on it (the steps after keep their grid), and a step that
+     * ends on it evaluates its stage at the end (RK4's last) at the largest double below it, so
+     * that the step sees the piece it lies in (a linear key's velocity jumps there); CVODE stops
+     * there (CVodeSetStopTime) and restarts from it, its history being of the curve before. NULL
      * (default): none, and every method steps as before, bit for bit. */
     double (*next_break)(double t, void *ctx);
+    /* Optional: tb_integrator_reset(integrator, t)'s check of (t, y) as a state to start from,
+     * called after acquire and before the integrator changes anything (a scene refuses a time
+     * where keys put a keyframed body inside another). It returns TB_STATUS_OK to go ahead,
+     * the system then taking t as y's time, or a refusal with a message in detail
+     * (TB_DETAIL_SIZE bytes): the reset returns that status and detail and changes nothing.
+     * NULL (default): every finite time is accepted. */
+    tb_status (*check_reset)(double t, const double *y, void *ctx, char *detail);
 } tb_ode_system;
 
 /* How to integrate, chosen as data. */
@@ -343,7 +352,8 @@ TB_API tb_status tb_integrator_step(tb_integrator *integrator);
 TB_API double tb_integrator_time(const tb_integrator *integrator);
 
 /* Tells the integrator that the caller changed y (or wants a new time): the next step starts
- * from y at time t (CVODE restarts at order 1). Statistics keep counting. */
+ * from y at time t (CVODE restarts at order 1). Statistics keep counting. The system's
+ * check_reset, when set, may refuse (t, y); a refused reset changes nothing. */
 TB_API tb_status tb_integrator_reset(tb_integrator *integrator, double t);
 
 /* The events an adaptive integrator found since it was created (tb_ode_system.roots). */

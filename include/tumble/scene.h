@@ -83,8 +83,11 @@ TB_API tb_status tb_scene_body_motion_kind(const tb_scene *scene, size_t id,
 /* The time (s) of the scene's states: the time read-outs without a t (tb_scene_frame_values,
  * tb_scene_get_state, ...) read keyframed bodies at. 0 at creation; integrators of the scene
  * keep it at the time of the states they leave (t0 at tb_scene_integrator_create, whose
- * checks read the bodies there; after every fixed step, at every adaptive output);
- * tb_scene_set_time sets it (finite; TB_STATUS_BUSY while stepped). NAN for NULL. */
+ * checks read the bodies there; t at tb_integrator_reset; after every fixed step, at every
+ * adaptive output) in every scene where it can matter, that is but one of dynamic bodies that
+ * do not interact (no hook runs there after a step); tb_scene_derivative never changes it
+ * (inside a user effect's callback it is the callback's t); tb_scene_set_time sets it
+ * (finite; TB_STATUS_BUSY while stepped). NAN for NULL. */
 TB_API double tb_scene_time(const tb_scene *scene);
 TB_API tb_status tb_scene_set_time(tb_scene *scene, double t);
 

@@ -207,14 +207,14 @@ tb_status tb_scene_body_piece(const tb_scene *scene, size_t id, size_t k, tb_sha
     return status;
 }
 
-void tb__shape_pose(const tb_scene *scene, const double *y, size_t id,
+void tb__shape_pose(const tb_scene *scene, double t, const double *y, size_t id,
                     double out_pose[TB__POSE_SIZE])
 {
     const tb_mass_properties *props = &scene->mass_props[id];
     const double *r = props->rotation;
     const double principal_from_shape[4] = {r[0], -r[1], -r[2], -r[3]};
     double x[3], q[4], offset[3];
-    tb__body_pose_at(scene, scene->time, y, id, x, q);
+    tb__body_pose_at(scene, t, y, id, x, q);
     tb__q_mul(out_pose + 3, q, principal_from_shape); /* shape -> principal -> world */
     tb__q_rotate(offset, out_pose + 3, props->center);
     tb__v3_set(out_pose, x[0] - offset[0], x[1] - offset[1], x[2] - offset[2]);
@@ -242,7 +242,7 @@ tb_status tb_scene_body_shape_bounds(const tb_scene *scene, const double *y, siz
     }
     if (status == TB_STATUS_OK) {
         double pose[TB__POSE_SIZE];
-        tb__shape_pose(scene, y, id, pose);
+        tb__shape_pose(scene, scene->time, y, id, pose);
         tb__collision_shape_bounds(shape, pose, out_min, out_max);
     }
     return status;

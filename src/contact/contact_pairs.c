@@ -117,7 +117,8 @@ static bool any_keyframed(const tb__contact_pairs *pairs, const tb_scene *scene)
     return false;
 }
 
-void tb__contact_pairs_begin(tb__contact_pairs *pairs, const tb_scene *scene, const double *y)
+void tb__contact_pairs_begin(tb__contact_pairs *pairs, const tb_scene *scene, double t,
+                             const double *y)
 {
     size_t boxes = 0;
     /* every dynamic body asleep and no keyframed one: no pair to find (the broad phase would
@@ -132,7 +133,7 @@ void tb__contact_pairs_begin(tb__contact_pairs *pairs, const tb_scene *scene, co
             continue;
         }
         double *pose = pairs->poses + TB__POSE_SIZE * boxes;
-        tb__shape_pose(scene, y, id, pose);
+        tb__shape_pose(scene, t, y, id, pose);
         tb__aabb *box = &pairs->broad.boxes[boxes];
         tb__collision_shape_bounds(shape, pose, box->min, box->max);
         for (int i = 0; i < 3; ++i) { /* each box grows by half the margin: pairs within it meet */

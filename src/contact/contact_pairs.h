@@ -40,17 +40,21 @@ void tb__contact_pairs_skip_asleep(tb__contact_pairs *pairs, bool skip);
 tb_status tb__contact_pairs_check_ids(const tb_scene *scene, const size_t *bodies, size_t count,
                                       char *detail);
 
-/* Starts a pass at state y (the scene's state array): bounds, sort. */
-void tb__contact_pairs_begin(tb__contact_pairs *pairs, const tb_scene *scene, const double *y);
+/* Starts a pass at state y (the scene's state array) at time t (bodies without a state are
+ * read there): bounds, sort. */
+void tb__contact_pairs_begin(tb__contact_pairs *pairs, const tb_scene *scene, double t,
+                             const double *y);
 
 /* The pass's next touching pairs, up to capacity (>= 1) of them, into out; returns how many
  * were written, 0 when the pass is done. */
 size_t tb__contact_pairs_next(tb__contact_pairs *pairs, const tb_scene *scene, const double *y,
                               tb__pair_contact *out, size_t capacity);
 
-/* Body id's shape pose at y (collision_shape.h), without checks; NULL shape when it has none. */
+/* Body id's shape pose at (t, y) (collision_shape.h), without checks; NULL shape when it has
+ * none. t is where a body without a state is read (the derivative's own t; the scene's time
+ * outside a derivative). */
 const tb__collision_shape *tb__scene_body_collision_shape(const tb_scene *scene, size_t id);
-void tb__shape_pose(const tb_scene *scene, const double *y, size_t id,
+void tb__shape_pose(const tb_scene *scene, double t, const double *y, size_t id,
                     double out_pose[TB__POSE_SIZE]);
 
 #endif

@@ -35,6 +35,17 @@ typedef struct tb__contact_manifold {
     tb__contact_point points[TB__MANIFOLD_POINTS];
 } tb__contact_manifold;
 
+/* The deepest point of a manifold of at least one point (the first of equal depths): where a
+ * pair's gap, hits and events are measured. */
+static inline const tb__contact_point *tb__manifold_deepest(const tb__contact_manifold *manifold)
+{
+    const tb__contact_point *deepest = &manifold->points[0];
+    for (int j = 1; j < manifold->count; ++j) {
+        deepest = manifold->points[j].depth > deepest->depth ? &manifold->points[j] : deepest;
+    }
+    return deepest;
+}
+
 /* Fills out and returns its point count (0: farther apart than margin, out->count 0).
  * margin >= 0, m. */
 int tb__collide(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],

@@ -145,12 +145,11 @@ static void pair_loads(const tb__effect *effect, const tb_scene *scene, const do
 static int apply_contact(const tb__effect *effect, const tb_scene *scene, double t, const double *y,
                          double *dydt)
 {
-    (void)t;
     const tb__contact_params *contact = tb__contact_of(effect);
     tb__friction_relax_all(contact->friction, scene, y + effect->state_offset,
                            dydt + effect->state_offset);
     tb__pair_contact batch[TB__CONTACT_BATCH];
-    tb__contact_pairs_begin(contact->pairs, scene, y);
+    tb__contact_pairs_begin(contact->pairs, scene, t, y);
     size_t count, fresh = 0;
     while ((count = tb__contact_pairs_next(contact->pairs, scene, y, batch, TB__CONTACT_BATCH)) >
            0) {
@@ -177,7 +176,7 @@ static double lightness(const tb_scene *scene, const double *y, size_t id, bool 
     const double identity[TB__POSE_SIZE] = {0, 0, 0, 1, 0, 0, 0};
     double low[3], high[3], pose[TB__POSE_SIZE];
     tb__collision_shape_bounds(shape, identity, low, high); /* in the shape frame */
-    tb__shape_pose(scene, y, id, pose);
+    tb__shape_pose(scene, scene->time, y, id, pose);
     tb__motion motion;
     tb__body_motion_at(scene, scene->time, y, id, &motion);
     const double *x = motion.x, *q = motion.q;

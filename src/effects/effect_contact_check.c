@@ -116,7 +116,7 @@ tb_status tb__contact_check_start(const tb__effect *effect, const tb_scene *scen
 {
     const tb__contact_params *contact = tb__contact_of(effect);
     tb__pair_contact batch[START_BATCH];
-    tb__contact_pairs_begin(contact->pairs, scene, y);
+    tb__contact_pairs_begin(contact->pairs, scene, scene->time, y);
     size_t count;
     while ((count = tb__contact_pairs_next(contact->pairs, scene, y, batch, START_BATCH)) > 0) {
         for (size_t k = 0; k < count; ++k) {

@@ -17,12 +17,7 @@
 static tb__event_pair event_pair(const tb_scene *scene, const double *y,
                                  const tb__pair_contact *pair)
 {
-    const tb__contact_point *deepest = &pair->manifold.points[0];
-    for (int j = 1; j < pair->manifold.count; ++j) {
-        if (pair->manifold.points[j].depth > deepest->depth) {
-            deepest = &pair->manifold.points[j];
-        }
-    }
+    const tb__contact_point *deepest = tb__manifold_deepest(&pair->manifold);
     tb__event_pair out = {.body_a = pair->body_a, .body_b = pair->body_b, .gap = -deepest->depth};
     tb__v3_copy(out.point, deepest->position);
     tb__v3_copy(out.normal, pair->manifold.normal);
@@ -50,7 +45,7 @@ size_t tb__contact_event_pairs(const tb__effect *effect, const tb_scene *scene, 
     /* a pair resting in a sleeping island (or on a static body) still touches: test it here too,
      * else its falling asleep would read as an end */
     tb__contact_pairs_skip_asleep(pairs, false);
-    tb__contact_pairs_begin(pairs, scene, y);
+    tb__contact_pairs_begin(pairs, scene, scene->time, y);
     size_t count, total = 0;
     while ((count = tb__contact_pairs_next(pairs, scene, y, batch, TB__EVENT_PAIR_BATCH)) > 0) {
         for (size_t k = 0; k < count; ++k, ++total) {

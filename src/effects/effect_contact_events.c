@@ -67,7 +67,7 @@ void tb__contact_event_gaps(const tb__effect *effect, const tb_scene *scene, con
 {
     tb__contact_pairs *pairs = tb__contact_of(effect)->lookahead;
     tb__pair_contact batch[TB__EVENT_BATCH];
-    tb__contact_pairs_begin(pairs, scene, y);
+    tb__contact_pairs_begin(pairs, scene, scene->time, y);
     size_t count;
     while ((count = tb__contact_pairs_next(pairs, scene, y, batch, TB__EVENT_BATCH)) > 0) {
         for (size_t k = 0; k < count; ++k) {
@@ -100,7 +100,7 @@ void tb__contact_wake_gaps(const tb__effect *effect, const tb_scene *scene, cons
     }
     tb__contact_pairs *pairs = tb__contact_of(effect)->lookahead;
     tb__pair_contact batch[TB__EVENT_BATCH];
-    tb__contact_pairs_begin(pairs, scene, y);
+    tb__contact_pairs_begin(pairs, scene, scene->time, y);
     size_t count;
     while ((count = tb__contact_pairs_next(pairs, scene, y, batch, TB__EVENT_BATCH)) > 0) {
         for (size_t k = 0; k < count; ++k) {
@@ -120,7 +120,7 @@ void tb__contact_wake_links(const tb__effect *effect, const tb_scene *scene, con
 {
     tb__contact_pairs *pairs = tb__contact_of(effect)->lookahead;
     tb__pair_contact batch[TB__EVENT_BATCH];
-    tb__contact_pairs_begin(pairs, scene, y);
+    tb__contact_pairs_begin(pairs, scene, scene->time, y);
     size_t count;
     while ((count = tb__contact_pairs_next(pairs, scene, y, batch, TB__EVENT_BATCH)) > 0) {
         for (size_t k = 0; k < count; ++k) {
@@ -270,7 +270,7 @@ double tb__contact_step_limit(const tb__effect *effect, const tb_scene *scene, c
                                       TB__GAP_SAFETY * TB__EVENT_LOOKAHEAD)
                         : INFINITY;
     tb__pair_contact batch[TB__EVENT_BATCH];
-    tb__contact_pairs_begin(contact->lookahead, scene, y);
+    tb__contact_pairs_begin(contact->lookahead, scene, scene->time, y);
     size_t count;
     while ((count = tb__contact_pairs_next(contact->lookahead, scene, y, batch, TB__EVENT_BATCH)) >
            0) {

@@ -371,7 +371,7 @@ void tb__friction_post_step(const tb__effect *effect, const tb_scene *scene, con
     tb__friction_pool *pool = contact->friction;
     tb__friction_boundary_begin(pool);
     tb__pair_contact batch[TB__FRICTION_BATCH];
-    tb__contact_pairs_begin(contact->pairs, scene, y);
+    tb__contact_pairs_begin(contact->pairs, scene, scene->time, y);
     size_t count, fresh = 0;
     while ((count = tb__contact_pairs_next(contact->pairs, scene, y, batch, TB__FRICTION_BATCH)) >
            0) {

@@ -146,7 +146,7 @@ static void pairs_touching(const tb_scene *scene, size_t index, const double *y,
     /* a body pair's touching piece pairs come one after another: one touch for all of them */
     tb_contact_touch last = {index, TB_ALL_BODIES, TB_ALL_BODIES, -INFINITY, 0};
     tb__contact_pairs_skip_asleep(pairs, false); /* an asleep pair at rest touches too */
-    tb__contact_pairs_begin(pairs, scene, y);
+    tb__contact_pairs_begin(pairs, scene, scene->time, y);
     while ((found = tb__contact_pairs_next(pairs, scene, y, batch, 16)) > 0) {
         for (size_t k = 0; k < found; ++k) {
             const tb__contact_manifold *m = &batch[k].manifold;

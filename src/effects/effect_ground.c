@@ -189,7 +189,6 @@ static bool body_clear(const tb__ground_params *ground, const tb_scene *scene, s
 static int apply_ground(const tb__effect *effect, const tb_scene *scene, double t, const double *y,
                         double *dydt)
 {
-    (void)t;
     const tb__ground_params *ground = tb__ground_of(effect);
     size_t first = 0;
     while (first < scene->contact_count) {
@@ -225,7 +224,7 @@ static int apply_ground(const tb__effect *effect, const tb_scene *scene, double 
         }
         first = end;
     }
-    tb__ground_shapes_apply(effect, scene, y, dydt); /* bodies without points, by their shapes */
+    tb__ground_shapes_apply(effect, scene, t, y, dydt); /* bodies without points, by their shapes */
     return 0;
 }
 

@@ -101,8 +101,8 @@ static void point_force(const tb__contact_params *law, const tb__ground_params *
 }
 
 /* Body id's manifold against the plane at y within margin (0 points: apart, or no shape). */
-static int plane_manifold(const tb__ground_params *ground, const tb_scene *scene, const double *y,
-                          size_t id, double margin, tb__pair_contact *out)
+static int plane_manifold(const tb__ground_params *ground, const tb_scene *scene, double t,
+                          const double *y, size_t id, double margin, tb__pair_contact *out)
 {
     const tb__collision_shape *shape = tb__scene_body_collision_shape(scene, id);
     out->body_a = out->body_b = id;  /* the pool's key: the pair (body, body) is asleep with it */
@@ -112,7 +112,7 @@ static int plane_manifold(const tb__ground_params *ground, const tb_scene *scene
         return 0;
     }
     double pose[TB__POSE_SIZE];
-    tb__shape_pose(scene, y, id, pose);
+    tb__shape_pose(scene, t, y, id, pose);
     return tb__collide_plane(ground->normal, ground->offset, shape, pose, margin, &out->manifold);
 }
 
@@ -129,8 +129,8 @@ static size_t pool_first_state(const tb__effect *effect, const tb_scene *scene)
     return effect->state_offset + effect->states_per_contact * scene->contact_count;
 }
 
-void tb__ground_shapes_apply(const tb__effect *effect, const tb_scene *scene, const double *y,
-                             double *dydt)
+void tb__ground_shapes_apply(const tb__effect *effect, const tb_scene *scene, double t,
+                             const double *y, double *dydt)
 {
     const tb__ground_params *ground = tb__ground_of(effect);
     const tb__ground_shapes *shapes = ground->shapes;
@@ -146,7 +146,7 @@ void tb__ground_shapes_apply(const tb__effect *effect, const tb_scene *scene, co
         }
         tb__pair_contact pair;
         if (tb__body_asleep(scene, id) ||
-            plane_manifold(ground, scene, y, id, TB__CONTACT_MARGIN, &pair) == 0) {
+            plane_manifold(ground, scene, t, y, id, TB__CONTACT_MARGIN, &pair) == 0) {
             continue; /* an asleep body's slots stay frozen (relax_all) */
         }
         tb__plane_load m = {.motion = tb__derivative_motion(scene, id)};
@@ -182,7 +182,7 @@ void tb__ground_shapes_post_step(const tb__effect *effect, const tb_scene *scene
         }
         tb__pair_contact pair;
         if (id < shapes->pool_bodies && !tb__body_asleep(scene, id) &&
-            plane_manifold(ground, scene, y, id, TB__CONTACT_MARGIN, &pair) > 0) {
+            plane_manifold(ground, scene, scene->time, y, id, TB__CONTACT_MARGIN, &pair) > 0) {
             tb__friction_hold(pool, &pair, &plane_motion, &fresh);
         }
     }
@@ -233,7 +233,7 @@ static bool deepest(const tb__ground_params *ground, const tb_scene *scene, cons
         return false;
     }
     tb__pair_contact pair;
-    plane_manifold(ground, scene, y, id, margin, &pair);
+    plane_manifold(ground, scene, scene->time, y, id, margin, &pair);
     *depth = -INFINITY;
     *touching = 0;
     for (int j = 0; j < pair.manifold.count; ++j) {
@@ -420,14 +420,10 @@ size_t tb__ground_shapes_event_pairs(const tb__effect *effect, const tb_scene *s
     for (size_t id = 0; id < scene->body_count; ++id) {
         tb__pair_contact pair;
         if (!meets_shape(ground->shapes, scene, id) ||
-            plane_manifold(ground, scene, y, id, TB__EVENT_LOOKAHEAD, &pair) == 0) {
+            plane_manifold(ground, scene, scene->time, y, id, TB__EVENT_LOOKAHEAD, &pair) == 0) {
             continue;
         }
-        const tb__contact_point *deepest = &pair.manifold.points[0];
-        for (int j = 1; j < pair.manifold.count; ++j) {
-            deepest =
-                pair.manifold.points[j].depth > deepest->depth ? &pair.manifold.points[j] : deepest;
-        }
+        const tb__contact_point *deepest = tb__manifold_deepest(&pair.manifold);
         tb__motion motion;
         tb__body_motion_at(scene, scene->time, y, id, &motion);
         double arm[3], velocity[3];

@@ -16,7 +16,13 @@ static int apply_user(const tb__effect *effect, const tb_scene *scene, double t,
     tb_scene *writable = (tb_scene *)scene; /* the load status, like the detail, is writable */
     writable->user_load_status = TB_STATUS_OK;
     const tb__user_params *user = effect->params;
+    /* The read-outs the callback asks with y (a keyframed body's pose) and its loads' arms read
+     * bodies without a state at the scene's time: it is the callback's t while the callback
+     * runs, and back as it was after, so the derivative leaves the scene as it found it. */
+    const double time = scene->time;
+    writable->time = t;
     const int rc = user->fn(t, scene, y, dydt, user->ctx);
+    writable->time = time;
     /* A refused load the callback did not act on would be a silently missing force: fail. */
     return rc == 0 && scene->user_load_status != TB_STATUS_OK ? -1 : rc;
 }

@@ -39,8 +39,8 @@ tb_status tb__ground_shapes_changed(tb__effect *effect, tb_scene *scene, size_t 
 tb_status tb__ground_shapes_refresh(const tb__effect *effect, const tb_scene *scene, char *detail);
 
 /* The ground's hooks for those bodies; each does nothing for a ground with none. */
-void tb__ground_shapes_apply(const tb__effect *effect, const tb_scene *scene, const double *y,
-                             double *dydt);
+void tb__ground_shapes_apply(const tb__effect *effect, const tb_scene *scene, double t,
+                             const double *y, double *dydt);
 void tb__ground_shapes_rate(const tb__effect *effect, const tb_scene *scene, const double *y,
                             tb__effect_rate *out);
 /* Refuses a shape starting deeper than limit (m) in the plane, naming the body. */

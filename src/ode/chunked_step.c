@@ -166,7 +166,8 @@ typedef struct thread_range {
 /* Steps the blocks [first, first + count), at y + offset, into the lane layout or into fresh;
  * work: TB__CHUNK_BUFFERS chunks. Returns where the new chunk is. */
 static const double *step_chunk(const tb_integrator *integrator, size_t first, size_t count,
-                                double *work, double h, double t_end, thread_range *range)
+                                double *work, double h, double t_last, double t_end,
+                                thread_range *range)
 {
     const tb_ode_system *system = &integrator->system;
     const size_t size = system->block_size, offset = first * size;
@@ -186,7 +187,7 @@ static const double *step_chunk(const tb_integrator *integrator, size_t first, s
     }
     long evals = 0;
     tb__step_failure *failure = &range->failure;
-    int rc = integrator->entry->step(&part, integrator->t, h, y, fresh, scratch, &evals);
+    int rc = integrator->entry->step(&part, integrator->t, h, t_last, y, fresh, scratch, &evals);
     range->evals = evals;
     if (rc != 0) {
         *failure = (tb__step_failure){TB_STATUS_DERIVATIVE_FAILED, rc, 0, 0, 0.0};
@@ -207,8 +208,8 @@ static const double *step_chunk(const tb_integrator *integrator, size_t first, s
 }
 
 /* One thread's chunks; work: its TB__CHUNK_BUFFERS chunks. */
-static void step_range(const tb_integrator *integrator, double *work, double h, double t_end,
-                       thread_range *range)
+static void step_range(const tb_integrator *integrator, double *work, double h, double t_last,
+                       double t_end, thread_range *range)
 {
     const tb_ode_system *system = &integrator->system;
     const size_t size = system->block_size, blocks = system->n / size;
@@ -222,7 +223,7 @@ static void step_range(const tb_integrator *integrator, double *work, double h, 
         const size_t offset = first * size, length = count * size;
         prefetch(y, offset + length,
                  offset + 2 * length < system->n ? offset + 2 * length : system->n);
-        const double *fresh = step_chunk(integrator, first, count, work, h, t_end, range);
+        const double *fresh = step_chunk(integrator, first, count, work, h, t_last, t_end, range);
         if (range->failure.status != TB_STATUS_OK) {
             return;
         }
@@ -236,7 +237,7 @@ static void step_range(const tb_integrator *integrator, double *work, double h, 
     }
 }
 
-tb_status tb__take_chunked_step(tb_integrator *integrator, double h, double t_end)
+tb_status tb__take_chunked_step(tb_integrator *integrator, double h, double t_last, double t_end)
 {
     const tb_ode_system *system = &integrator->system;
     const size_t blocks = system->n / system->block_size, per_chunk = integrator->chunk_blocks;
@@ -249,14 +250,14 @@ tb_status tb__take_chunked_step(tb_integrator *integrator, double h, double t_en
         ranges[k].end_chunk = chunks * (size_t)(k + 1) / (size_t)threads;
     }
     if (threads == 1) {
-        step_range(integrator, integrator->work, h, t_end, &ranges[0]);
+        step_range(integrator, integrator->work, h, t_last, t_end, &ranges[0]);
     } else {
 #ifdef _OPENMP
 #pragma omp parallel for schedule(static, 1) num_threads(threads)
 #endif
         for (int k = 0; k < threads; ++k) {
-            step_range(integrator, integrator->work + (size_t)k * integrator->chunk_work, h, t_end,
-                       &ranges[k]);
+            step_range(integrator, integrator->work + (size_t)k * integrator->chunk_work, h, t_last,
+                       t_end, &ranges[k]);
         }
     }
     /* the first failure in block order is the one reported; every chunk written is undone */

@@ -26,9 +26,10 @@ TB__CLONES static void add_scaled(double *out, const double *y, double s, const 
 }
 
 /* y_new = y + h f(t, y) */
-int tb__euler_step(const tb_ode_system *system, double t, double h, const double *y, double *y_new,
-                   double *work, long *evals)
+int tb__euler_step(const tb_ode_system *system, double t, double h, double t_last, const double *y,
+                   double *y_new, double *work, long *evals)
 {
+    (void)t_last; /* no stage at the end */
     double *k = work;
     ++*evals;
     int rc = system->derivative(t, y, k, system->ctx);
@@ -40,9 +41,10 @@ int tb__euler_step(const tb_ode_system *system, double t, double h, const double
 }
 
 /* k1 = f(t, y); y_new = y + h f(t + h/2, y + h/2 k1) */
-int tb__midpoint_step(const tb_ode_system *system, double t, double h, const double *y,
-                      double *y_new, double *work, long *evals)
+int tb__midpoint_step(const tb_ode_system *system, double t, double h, double t_last,
+                      const double *y, double *y_new, double *work, long *evals)
 {
+    (void)t_last; /* no stage at the end */
     const size_t n = system->n;
     double *k = work, *y_mid = work + n;
     ++*evals;
@@ -79,8 +81,8 @@ TB__CLONES static void rk4_stage(double *y_new, const double *sum, double *y_sta
 
 /* Classical RK4, y_new = y + h/6 (k1 + 2 k2 + 2 k3 + k4), accumulated stage by stage so the
  * workspace is one stage vector and one stage state (2n) instead of four stages. */
-int tb__rk4_step(const tb_ode_system *system, double t, double h, const double *y, double *y_new,
-                 double *work, long *evals)
+int tb__rk4_step(const tb_ode_system *system, double t, double h, double t_last, const double *y,
+                 double *y_new, double *work, long *evals)
 {
     static const double stage_time[4] = {0.0, 0.5, 0.5, 1.0};             /* c_i */
     static const double next_stage[4] = {0.5, 0.5, 1.0, 0.0};             /* a_{i+1,i} */
@@ -90,7 +92,8 @@ int tb__rk4_step(const tb_ode_system *system, double t, double h, const double *
     const double *stage_input = y;
     for (int s = 0; s < 4; ++s) {
         ++*evals;
-        int rc = system->derivative(t + stage_time[s] * h, stage_input, k, system->ctx);
+        const double t_stage = s == 3 ? t_last : t + stage_time[s] * h;
+        int rc = system->derivative(t_stage, stage_input, k, system->ctx);
         if (rc != 0) {
             return rc;
         }
@@ -281,11 +284,12 @@ static void commit(tb_integrator *integrator, double h, double t_end)
 /* Steps the whole system from y into fresh, with 2n doubles of scratch, applies its post-step
  * hook and checks that every component is finite. */
 static tb__step_failure step_whole(tb_integrator *integrator, const double *y, double *fresh,
-                                   double *scratch, double h, double t_end, long *evals)
+                                   double *scratch, double h, double t_last, double t_end,
+                                   long *evals)
 {
     const tb_ode_system *system = &integrator->system;
     tb__step_failure failure = {TB_STATUS_OK, 0, 0, 0, 0.0};
-    int rc = integrator->entry->step(system, integrator->t, h, y, fresh, scratch, evals);
+    int rc = integrator->entry->step(system, integrator->t, h, t_last, y, fresh, scratch, evals);
     if (rc != 0) {
         return (tb__step_failure){TB_STATUS_DERIVATIVE_FAILED, rc, 0, 0, 0.0};
     }
@@ -306,10 +310,10 @@ static tb__step_failure step_whole(tb_integrator *integrator, const double *y, d
 }
 
 /* One step of size h over the whole array; commits to y only if everything succeeded. */
-static tb_status take_whole_step(tb_integrator *integrator, double h, double t_end)
+static tb_status take_whole_step(tb_integrator *integrator, double h, double t_last, double t_end)
 {
     const tb__step_failure failure =
-        step_whole(integrator, integrator->y, integrator->y_new, integrator->work, h, t_end,
+        step_whole(integrator, integrator->y, integrator->y_new, integrator->work, h, t_last, t_end,
                    &integrator->stats.derivative_evals);
     if (failure.status != TB_STATUS_OK) {
         return tb__fixed_report(integrator, &failure, h, t_end);
@@ -319,13 +323,27 @@ static tb_status take_whole_step(tb_integrator *integrator, double h, double t_e
     return TB_STATUS_OK;
 }
 
+/* The time of a step's stages at its end (c = 1, RK4's last): t + h, but the largest double
+ * below t_end when the step ends on a break of the system (tb_ode_system.next_break), where the
+ * right-hand side is only piecewise smooth in t (a linear key's velocity jumps): the step then
+ * sees the piece it lies in, the left limit, and the step after starts on the next piece. */
+static double last_stage_time(const tb_integrator *integrator, double h, double t_end)
+{
+    const tb_ode_system *system = &integrator->system;
+    if (system->next_break != NULL && system->next_break(integrator->t, system->ctx) == t_end) {
+        return nextafter(t_end, integrator->t);
+    }
+    return integrator->t + h;
+}
+
 /* One step of size h from the integrator's time; commits to y only if everything succeeded. */
 static tb_status take_step(tb_integrator *integrator, double h, double t_end)
 {
+    const double t_last = last_stage_time(integrator, h, t_end);
     if (integrator->system.block_size == 0) {
-        return take_whole_step(integrator, h, t_end);
+        return take_whole_step(integrator, h, t_last, t_end);
     }
-    const tb_status status = tb__take_chunked_step(integrator, h, t_end);
+    const tb_status status = tb__take_chunked_step(integrator, h, t_last, t_end);
     if (status == TB_STATUS_OK) {
         commit(integrator, h, t_end);
     }

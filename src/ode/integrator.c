@@ -340,10 +340,14 @@ tb_status tb_integrator_reset(tb_integrator *integrator, double t)
     if (status != TB_STATUS_OK) {
         return status;
     }
+    const tb_ode_system *system = &integrator->system;
     if (!isfinite(t)) {
         status = tb__set_detail(integrator->detail, TB_STATUS_NOT_FINITE,
                                 "t: must be finite, got %g", t);
-    } else {
+    } else if (system->check_reset != NULL) {
+        status = system->check_reset(t, integrator->y, system->ctx, integrator->detail);
+    }
+    if (status == TB_STATUS_OK) {
         status = integrator->entry->backend->reset(integrator, t);
     }
     return leave(integrator, status);

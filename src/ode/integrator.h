@@ -20,19 +20,20 @@ typedef struct tb__backend {
     void (*destroy)(tb_integrator *integrator);
 } tb__backend;
 
-/* One explicit step from (t, y) to y_new at t + h. work holds 2n doubles of scratch.
- * Returns the derivative's status: 0 ok, anything else stops the step. *evals counts
- * derivative calls. */
-typedef int (*tb__step_fn)(const tb_ode_system *system, double t, double h, const double *y,
-                           double *y_new, double *work, long *evals);
+/* One explicit step from (t, y) to y_new at t + h. A stage at the step's end (c = 1) is
+ * evaluated at t_last: t + h, or just below a break the step ends on (fixed_step.c,
+ * last_stage_time). work holds 2n doubles of scratch. Returns the derivative's status: 0 ok,
+ * anything else stops the step. *evals counts derivative calls. */
+typedef int (*tb__step_fn)(const tb_ode_system *system, double t, double h, double t_last,
+                           const double *y, double *y_new, double *work, long *evals);
 
 /* The fixed-step methods' steppers (fixed_step.c). */
-int tb__euler_step(const tb_ode_system *system, double t, double h, const double *y, double *y_new,
-                   double *work, long *evals);
-int tb__midpoint_step(const tb_ode_system *system, double t, double h, const double *y,
-                      double *y_new, double *work, long *evals);
-int tb__rk4_step(const tb_ode_system *system, double t, double h, const double *y, double *y_new,
-                 double *work, long *evals);
+int tb__euler_step(const tb_ode_system *system, double t, double h, double t_last, const double *y,
+                   double *y_new, double *work, long *evals);
+int tb__midpoint_step(const tb_ode_system *system, double t, double h, double t_last,
+                      const double *y, double *y_new, double *work, long *evals);
+int tb__rk4_step(const tb_ode_system *system, double t, double h, double t_last, const double *y,
+                 double *y_new, double *work, long *evals);
 
 /* A row of the method table (methods.c), indexed by tb_method: the public facts and how the
  * integrator runs the method. */
@@ -124,8 +125,9 @@ tb_status tb__fixed_report(tb_integrator *integrator, const tb__step_failure *fa
 
 /* The chunked path of the fixed-step methods (chunked_step.c), for systems with block_size:
  * chunk_layout fills chunk_blocks, chunk_work and threads at creation; take_chunked_step takes
- * one step of size h to t_end, committing to y only if every chunk succeeded. */
+ * one step of size h to t_end (its stages at the end at t_last), committing to y only if every
+ * chunk succeeded. */
 void tb__chunk_layout(tb_integrator *integrator, int threads);
-tb_status tb__take_chunked_step(tb_integrator *integrator, double h, double t_end);
+tb_status tb__take_chunked_step(tb_integrator *integrator, double h, double t_last, double t_end);
 
 #endif

@@ -301,11 +301,11 @@ double tb__scene_next_break(double t, void *ctx)
 {
     const tb_scene *scene = ctx;
     double next = INFINITY;
-    for (size_t id = 0; scene->slot_count < scene->body_count && id < scene->body_count; ++id) {
-        const tb__body_kind *kind = &scene->kinds[id];
-        for (size_t k = 0; k < kind->break_count; ++k) {
-            if (kind->break_times[k] > t) {
-                next = fmin(next, kind->break_times[k]);
+    for (size_t k = 0; k < scene->body_count - scene->slot_count; ++k) {
+        const tb__body_kind *kind = &scene->kinds[scene->fixed_ids[k]];
+        for (size_t b = 0; b < kind->break_count; ++b) {
+            if (kind->break_times[b] > t) {
+                next = fmin(next, kind->break_times[b]);
                 break;
             }
         }

@@ -472,6 +472,7 @@ void tb__scene_events_start(tb_scene *scene, double t0, bool fixed)
 void tb__scene_at_event(double t, const double *y, void *ctx)
 {
     tb_scene *scene = ctx;
+    scene->time = t; /* bodies without a state, at t */
     tb__scene_events_observe(scene, t, y, false);
     if (scene->sleep != NULL) {
         tb__scene_sleep_at_event(t, y, ctx);

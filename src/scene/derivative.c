@@ -125,15 +125,11 @@ int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
         return -1;
     }
     const size_t n = scene->slot_count;
-    /* the time bodies without a state are read at (shape poses included), written through
-     * the const scene like the motions */
-    ((tb_scene *)scene)->time = t;
     kinematics(scene->bodies, y, dydt, n, scene->motions, scene->slot_ids);
     int rc = 0;
-    for (size_t id = 0; n < scene->body_count && id < scene->body_count && rc == 0; ++id) {
-        if (tb__body_fixed(scene, id)) { /* the bodies with no state, at t */
-            rc = tb__body_motion_at(scene, t, y, id, &scene->motions[id]) != 0 ? -1 : 0;
-        }
+    for (size_t k = 0; k < scene->body_count - n && rc == 0; ++k) { /* the bodies with no state */
+        const size_t id = scene->fixed_ids[k];
+        rc = tb__body_motion_at(scene, t, y, id, &scene->motions[id]) != 0 ? -1 : 0;
     }
     rc = rc != 0 ? rc : apply_per_body_effects(scene, t, y, dydt, 0, n);
     /* then the coupled effects, last in effect_order */

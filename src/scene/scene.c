@@ -70,7 +70,7 @@ static tb_status reserve_bodies(tb_scene *scene, size_t capacity)
         return TB_STATUS_OK;
     }
     if (capacity > SIZE_MAX / (TB_STATE_SIZE * sizeof(double) + sizeof(tb_mass_properties) +
-                               sizeof(tb__motion) + 2 * sizeof(size_t) + sizeof(tb__body_kind))) {
+                               sizeof(tb__motion) + 3 * sizeof(size_t) + sizeof(tb__body_kind))) {
         return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "%zu bodies", capacity);
     }
     tb__body *bodies = tb__realloc_array(scene->bodies, capacity, sizeof(tb__body));
@@ -98,12 +98,16 @@ static tb_status reserve_bodies(tb_scene *scene, size_t capacity)
     if (slot_ids != NULL) {
         scene->slot_ids = slot_ids;
     }
+    size_t *fixed_ids = tb__realloc_array(scene->fixed_ids, capacity, sizeof(size_t));
+    if (fixed_ids != NULL) {
+        scene->fixed_ids = fixed_ids;
+    }
     tb__body_kind *kinds = tb__realloc_array(scene->kinds, capacity, sizeof(tb__body_kind));
     if (kinds != NULL) {
         scene->kinds = kinds;
     }
     if (bodies == NULL || props == NULL || names == NULL || motions == NULL || slots == NULL ||
-        slot_ids == NULL || kinds == NULL) {
+        slot_ids == NULL || fixed_ids == NULL || kinds == NULL) {
         return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "room for %zu bodies", capacity);
     }
     scene->body_capacity = capacity;
@@ -211,6 +215,7 @@ void tb_scene_destroy(tb_scene *scene)
         free(scene->motions);
         free(scene->slots);
         free(scene->slot_ids);
+        free(scene->fixed_ids);
         tb__scene_release_motion_sources(scene);
         free(scene->kinds);
         free(scene->lane_constants);
@@ -392,6 +397,7 @@ tb_status tb_scene_add_body(tb_scene *scene, const tb_body_def *def, size_t *out
         scene->bodies[slot] = constants;
         memcpy(tb__body_state_mut(scene, scene->states, i), s, sizeof s);
     } else {
+        scene->fixed_ids[i - scene->slot_count] = i;
         tb__scene_layout_changed(scene, "body %zu added", i);
     }
     scene->body_count++;

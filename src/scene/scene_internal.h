@@ -227,6 +227,9 @@ struct tb_scene {
     size_t *slots;
     size_t *slot_ids;
     size_t slot_count;
+    /* The bodies with no state (static, keyframed), in the order added: body_count - slot_count
+     * of them (body_capacity entries). */
+    size_t *fixed_ids;
     struct tb__body_kind *kinds; /* body_capacity, by id: each body's kind and fixed pose */
     double *reactions; /* NULL, or 6 per body while tb_scene_body_reaction runs the derivative:
                           the force and torque the effects put on bodies without a state */

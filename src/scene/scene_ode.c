@@ -168,6 +168,43 @@ static tb_status acquire(void *ctx, unsigned long long generation, char *detail)
     return TB_STATUS_OK;
 }
 
+/* Whether a body without a state stands elsewhere at t than at the scene's time (keys). */
+static bool fixed_poses_move(const tb_scene *scene, double t)
+{
+    for (size_t k = 0; k < scene->body_count - scene->slot_count; ++k) {
+        const size_t id = scene->fixed_ids[k];
+        double x[3], q[4], x_t[3], q_t[4];
+        tb__body_pose_at(scene, scene->time, scene->states, id, x, q);
+        tb__body_pose_at(scene, t, scene->states, id, x_t, q_t);
+        if (memcmp(x, x_t, sizeof x) != 0 || memcmp(q, q_t, sizeof q) != 0) {
+            return true;
+        }
+    }
+    return false;
+}
+
+/* tb_ode_system.check_reset: keys may put a keyframed body inside another at the new time, so
+ * a reset that moves one gets the checks of a start there (as creation does at t0); the scene's
+ * time becomes t, or stays on a refusal. */
+static tb_status check_reset(double t, const double *y, void *ctx, char *detail)
+{
+    tb_scene *scene = ctx;
+    if (!has_start_checks(scene) || !fixed_poses_move(scene, t)) {
+        scene->time = t;
+        return TB_STATUS_OK;
+    }
+    const double time_before = scene->time;
+    scene->time = t;
+    char found[TB_DETAIL_SIZE];
+    const tb_status status = check_start(scene, y, found);
+    if (status != TB_STATUS_OK) {
+        scene->time = time_before;
+        return tb__set_detail(detail, status, "reset to t = %.17g is refused as a start: %.*s", t,
+                              TB_DETAIL_SIZE - 96, found);
+    }
+    return TB_STATUS_OK;
+}
+
 /* tb_ode_system.rhs_generation: effects added since (a force, a drag) change the right-hand
  * side without changing the layout; CVODE restarts on them. */
 static unsigned long long rhs_generation(void *ctx)
@@ -238,6 +275,7 @@ tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
         .rhs_generation = rhs_generation,
         /* the key times of bodies without a state */
         .next_break = scene->slot_count < scene->body_count ? tb__scene_next_break : NULL,
+        .check_reset = check_reset,
     };
     const tb_status rooms = prepare_rooms(scene, out_system->n);
     if (rooms != TB_STATUS_OK) {

@@ -217,6 +217,10 @@ class Scene:
     motions             each body's motion: "dynamic", "static" (fixed in the world) or
                         "keyframed" (its pose follows its keys); the latter two have no state
     radius_of_gyration  each body's sqrt(I_max / M), m
+    center_of_mass      each body's centre of mass in its shape frame, (3,) m
+    inertia             each body's inertia tensor about its centre of mass in its shape
+                        frame, (3, 3) kg m^2 (of a body of pieces: theirs combined)
+    piece_counts        each body's number of convex pieces (0: no shape)
     run_settings        the file's method, dt (s), rtol, atol, max_steps, fps and duration (s)
     """
 
@@ -260,6 +264,7 @@ class Scene:
         self.radius_of_gyration = []
         #: each body's mass, kg
         self.masses = []
+        self.center_of_mass, self.inertia, self.piece_counts = [], [], []
         #: the ids of the bodies with a state (dynamic ones), in the order of their slots
         self.dynamic_bodies = dynamic_bodies(handle)
         #: each body's motion: "dynamic", "static" or "keyframed"
@@ -271,6 +276,13 @@ class Scene:
             self.radius_of_gyration.append(
                 float(np.sqrt(max(mass.moments) / mass.mass)) if moving else 0.0)
             self.masses.append(mass.mass)
+            self.center_of_mass.append(np.array(mass.center[:]))
+            tensor = (ctypes.c_double * 9)()
+            lib.tb_mass_tensor(ctypes.byref(mass), tensor)
+            self.inertia.append(np.array(tensor[:]).reshape(3, 3))
+            count = ctypes.c_size_t()
+            lib.tb_scene_body_piece_count(handle, i, ctypes.byref(count))
+            self.piece_counts.append(count.value)
         lib.tb_scene_destroy(handle)
 
     def __reduce__(self):  # pickled (Dask) as its text, reloaded and checked on arrival
@@ -490,6 +502,24 @@ class SceneBuilder:
             keys.append(entry)
         return self.add_body(name, motion="keyframed", interpolation=interpolation, keys=keys,
                              **fields)
+
+    def set_body_pieces(self, name: str, pieces) -> "SceneBuilder":
+        """Gives the body added as name a shape of convex pieces, replacing its shape (C's
+        tb_scene_set_body_pieces; the scene format's list as a shape, docs/scene-format.md,
+        "Bodies of several pieces"): pieces is a non-empty sequence of shapes in the format's
+        words, each with an optional "position" (m) and "orientation" (w, x, y, z) placing it
+        in the body's shape frame. The body's density or mass applies to them all, and its mass
+        properties are the pieces' combined by the parallel-axis theorem (tb_mass_combine).
+        ValueError for a name not added or no pieces; the library checks each piece when the
+        scene is built, naming it."""
+        pieces = [dict(piece) for piece in pieces]
+        if not pieces:
+            raise ValueError(f"set_body_pieces({name!r}): pieces must not be empty")
+        for body in self._description["bodies"]:
+            if body["name"] == name:
+                body["shape"] = pieces
+                return self
+        raise ValueError(f"set_body_pieces: no body named {name!r} was added")
 
     def add_effect(self, type: str, **fields) -> "SceneBuilder":
         """An effect with the scene format's fields: "gravity", "drag", "spring", "force",
