@@ -452,6 +452,38 @@ static void test_cantilever_reaction_is_statics(void **state)
     tb_scene_destroy(scene);
 }
 
+/* Sleeping: a still ball joined to a spinning one (the joint at the spinning ball's centre,
+ * so it carries no force and the still ball stays still) must not fall asleep apart from it:
+ * the joint links the two into one island. A lone still ball beside them does sleep after
+ * TB_SLEEP_TIME (the control). */
+static void test_jointed_bodies_do_not_fall_asleep_apart(void **state)
+{
+    (void)state;
+    tb_scene *scene = test_empty_scene();
+    const size_t still = test_add_ball(scene, NULL, 1.0, 0.1, (double[]){0.0, 0.0, 0.0}, NULL);
+    tb_body_def spinning = tb_body_def_default();
+    assert_int_equal(tb_mass_from_sphere(TB_MASS_GIVEN, 1.0, 0.1, &spinning.mass, NULL),
+                     TB_STATUS_OK);
+    spinning.position[0] = 1.0;
+    spinning.angular_velocity[2] = 5.0;
+    size_t spinner = 0;
+    assert_int_equal(tb_scene_add_body(scene, &spinning, &spinner), TB_STATUS_OK);
+    const size_t lone = test_add_ball(scene, NULL, 1.0, 0.1, (double[]){5.0, 0.0, 0.0}, NULL);
+    join(scene, TB_JOINT_BALL, still, spinner, (double[]){1.0, 0.0, 0.0});
+    tb_integrator *integrator = test_integrator_for(scene, TB_METHOD_RK4, 1.0 / 240.0, 0.0);
+    assert_int_equal(tb_integrator_advance(integrator, 4.0 * TB_SLEEP_TIME), TB_STATUS_OK);
+    bool asleep[3];
+    const size_t ids[3] = {still, spinner, lone};
+    for (int k = 0; k < 3; ++k) {
+        assert_int_equal(tb_scene_body_asleep(scene, ids[k], &asleep[k]), TB_STATUS_OK);
+    }
+    assert_false(asleep[0]);
+    assert_false(asleep[1]);
+    assert_true(asleep[2]);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -464,6 +496,7 @@ int main(void)
         cmocka_unit_test(test_ball_pendulum_small_angle_period),
         cmocka_unit_test(test_pendulum_on_accelerating_keyframed_support),
         cmocka_unit_test(test_cantilever_reaction_is_statics),
+        cmocka_unit_test(test_jointed_bodies_do_not_fall_asleep_apart),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
