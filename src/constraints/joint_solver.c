@@ -308,16 +308,31 @@ static double row_dot(const tb__joint_row *a, int sa, const tb__joint_row *b, in
            a->w[sa][0] * b->w[sb][0] + a->w[sa][1] * b->w[sb][1] + a->w[sa][2] * b->w[sb][2];
 }
 
+static void zero_block(double *B, int rows, int columns)
+{
+    for (int r = 0; r < rows; ++r) {
+        memset(B + TB__JOINT_ROWS * r, 0, (size_t)columns * sizeof(double));
+    }
+}
+
 static void assemble(tb__joint_solver *s, const tb__joint *joints, const tb__joint_eval *evals)
 {
-    memset(s->blocks, 0, s->block_count * TB__BLOCK * sizeof(double));
+    for (size_t p = 0; p < s->count; ++p) { /* the parts of the blocks the joints' rows use */
+        const size_t v = s->order[p];
+        zero_block(s->blocks + TB__BLOCK * v, joints[v].rows, joints[v].rows);
+        for (size_t e = s->column_start[p]; e < s->column_start[p + 1]; ++e) {
+            zero_block(s->blocks + TB__BLOCK * s->below[e], joints[s->below_joint[e]].rows,
+                       joints[v].rows);
+        }
+    }
     for (size_t c = 0; c < s->coupling_count; ++c) {
         const tb__joint_coupling *cp = &s->couplings[c];
         double *B = s->blocks + TB__BLOCK * cp->block;
         const tb__joint_eval *ei = &evals[cp->row_joint], *ek = &evals[cp->column_joint];
         const int mi = joints[cp->row_joint].rows, mk = joints[cp->column_joint].rows;
+        const bool diagonal = cp->row_joint == cp->column_joint; /* its lower half is read */
         for (int r = 0; r < mi; ++r) {
-            for (int q = 0; q < mk; ++q) {
+            for (int q = 0; q < (diagonal ? r + 1 : mk); ++q) {
                 B[TB__JOINT_ROWS * r + q] +=
                     row_dot(&ei->J[r], cp->row_side, &ek->W[q], cp->column_side);
             }
@@ -325,7 +340,8 @@ static void assemble(tb__joint_solver *s, const tb__joint *joints, const tb__joi
     }
 }
 
-/* D = L L^T in place (lower), m x m; 0, or 1 for a pivot that is not positive. */
+/* D = L L^T in place (lower), m x m, with 1 / L_jj kept on the diagonal (the substitutions
+ * multiply); 0, or 1 for a pivot that is not positive. */
 static int factor_diagonal(double *D, int m)
 {
     for (int j = 0; j < m; ++j) {
@@ -336,13 +352,14 @@ static int factor_diagonal(double *D, int m)
         if (!(d > 0.0)) {
             return 1;
         }
-        D[TB__JOINT_ROWS * j + j] = sqrt(d);
+        const double inverse = 1.0 / sqrt(d);
+        D[TB__JOINT_ROWS * j + j] = inverse;
         for (int i = j + 1; i < m; ++i) {
             double x = D[TB__JOINT_ROWS * i + j];
             for (int k = 0; k < j; ++k) {
                 x -= D[TB__JOINT_ROWS * i + k] * D[TB__JOINT_ROWS * j + k];
             }
-            D[TB__JOINT_ROWS * i + j] = x / D[TB__JOINT_ROWS * j + j];
+            D[TB__JOINT_ROWS * i + j] = x * inverse;
         }
     }
     return 0;
@@ -358,16 +375,16 @@ static void right_solve(double *B, int rows, const double *L, int m)
             for (int k = 0; k < j; ++k) {
                 x -= b[k] * L[TB__JOINT_ROWS * j + k];
             }
-            b[j] = x / L[TB__JOINT_ROWS * j + j];
+            b[j] = x * L[TB__JOINT_ROWS * j + j];
         }
     }
 }
 
-/* T -= F S^T, F of mf x m, S of ms x m. */
+/* T -= F S^T, F of mf x m, S of ms x m; only T's lower half where F is S (a diagonal block). */
 static void subtract_product(double *T, const double *F, int mf, const double *S, int ms, int m)
 {
     for (int i = 0; i < mf; ++i) {
-        for (int j = 0; j < ms; ++j) {
+        for (int j = 0; j < (F == S ? i + 1 : ms); ++j) {
             double x = 0.0;
             for (int k = 0; k < m; ++k) {
                 x += F[TB__JOINT_ROWS * i + k] * S[TB__JOINT_ROWS * j + k];
@@ -411,7 +428,7 @@ static void substitute(const tb__joint_solver *s, const tb__joint *joints, tb__j
             for (int k = 0; k < i; ++k) {
                 y[i] -= L[TB__JOINT_ROWS * i + k] * y[k];
             }
-            y[i] /= L[TB__JOINT_ROWS * i + i];
+            y[i] *= L[TB__JOINT_ROWS * i + i];
         }
         for (size_t e = s->column_start[p]; e < s->column_start[p + 1]; ++e) {
             const double *B = s->blocks + TB__BLOCK * s->below[e];
@@ -441,7 +458,7 @@ static void substitute(const tb__joint_solver *s, const tb__joint *joints, tb__j
             for (int k = i + 1; k < m; ++k) {
                 x[i] -= L[TB__JOINT_ROWS * k + i] * x[k];
             }
-            x[i] /= L[TB__JOINT_ROWS * i + i];
+            x[i] *= L[TB__JOINT_ROWS * i + i];
         }
     }
 }

@@ -36,12 +36,14 @@ typedef struct tb__joint {
 
 /* One evaluation's scratch per joint: its rows at y, M^-1 J^T (the same shape), the part of
  * the rows' acceleration that the velocities give (dJ/dt u), the position error C, the
- * right-hand side and lambda of the solve. */
+ * rows' rates J u where the projection reads them, the right-hand side and lambda of the
+ * solve. */
 typedef struct tb__joint_eval {
     tb__joint_row J[TB__JOINT_ROWS];
     tb__joint_row W[TB__JOINT_ROWS];
     double bias[TB__JOINT_ROWS];
     double C[TB__JOINT_ROWS];
+    double rate[TB__JOINT_ROWS]; /* J u (the projection's) */
     double rhs[TB__JOINT_ROWS];
     double lambda[TB__JOINT_ROWS];
 } tb__joint_eval;
