@@ -484,6 +484,52 @@ static void test_jointed_bodies_do_not_fall_asleep_apart(void **state)
     tb_scene_destroy(scene);
 }
 
+/* Contact and joints together: a ball pendulum (1 kg, r 0.1 m, 1 m arm) released level swings
+ * down into a ground plane 1.05 m below its pivot (contact forces are applied loads, and the
+ * joint's stage runs after them). It bounces back up the way it came, never sinks more than
+ * 1 mm into the ground, loses energy at the impact (restitution 0.3) and never gains any, and
+ * stays on its joint (1e-12 m). RK4 at the scene's default step. */
+static void test_pendulum_bounces_off_the_ground_on_its_joint(void **state)
+{
+    (void)state;
+    tb_scene *scene = test_empty_scene();
+    assert_int_equal(tb_scene_add_gravity(scene, (double[]){0.0, 0.0, -TEST_G}), TB_STATUS_OK);
+    const double r = 0.1, floor_z = -1.05;
+    const size_t id = test_add_ball(scene, NULL, 1.0, r, (double[]){1.0, 0.0, 0.0}, NULL);
+    tb_contact_point point;
+    size_t count = 0;
+    assert_int_equal(tb_contact_points_sphere(r, &point, 1, &count), TB_STATUS_OK);
+    assert_int_equal(tb_scene_set_contact_points(scene, id, &point, count, 1), TB_STATUS_OK);
+    tb_ground_def ground = tb_ground_def_default();
+    ground.offset = floor_z;
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+    join(scene, TB_JOINT_BALL, id, TB_WORLD, (double[]){0.0, 0.0, 0.0});
+    tb_integrator *integrator = test_integrator_for(scene, TB_METHOD_RK4, 0.0, 0.0);
+    const double e0 = test_total_energy(scene);
+    double deepest = 0.0, gained = -INFINITY, joint = 0.0, last_vx = 0.0;
+    bool swung_in = false, bounced = false;
+    for (int k = 1; k <= 120; ++k) {
+        assert_int_equal(tb_integrator_advance(integrator, k / 120.0), TB_STATUS_OK);
+        tb_body_state s;
+        assert_int_equal(tb_scene_get_state(scene, id, &s), TB_STATUS_OK);
+        deepest = fmax(deepest, floor_z - (s.x[2] - r));
+        gained = fmax(gained, test_total_energy(scene) - e0);
+        joint = fmax(joint, test_largest_joint_error(scene));
+        swung_in = swung_in || s.P[0] < 0.0;
+        bounced = bounced || (swung_in && last_vx < 0.0 && s.P[0] > 0.0 && s.x[0] > 0.0);
+        last_vx = s.P[0];
+    }
+    print_message("pendulum on the ground: deepest %.3g m, energy gained %.3g J, joint %.3g m\n",
+                  deepest, gained, joint);
+    assert_true(bounced);
+    assert_true(deepest <= 1e-3);
+    assert_true(gained <= 1e-9 * e0 + 1e-9);
+    assert_true(test_total_energy(scene) < e0 - 0.1);
+    assert_true(joint <= 1e-12);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -497,6 +543,7 @@ int main(void)
         cmocka_unit_test(test_pendulum_on_accelerating_keyframed_support),
         cmocka_unit_test(test_cantilever_reaction_is_statics),
         cmocka_unit_test(test_jointed_bodies_do_not_fall_asleep_apart),
+        cmocka_unit_test(test_pendulum_bounces_off_the_ground_on_its_joint),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
