@@ -530,6 +530,40 @@ static void test_pendulum_bounces_off_the_ground_on_its_joint(void **state)
     tb_scene_destroy(scene);
 }
 
+/* A soft ball joint (2 Hz, damping ratio 0.1) holding a 2 kg ball at its centre, the ball
+ * kicked at 1 m/s, no gravity: each row is a spring-damper at the ball's mass, so the ball
+ * follows the damped oscillator x = v0 / w_d e^(-zeta w t) sin(w_d t), w = 2 pi f,
+ * w_d = w sqrt(1 - zeta^2). RK4 at 1/240 s over 2 s: within 1e-6 m (measured 1.8e-8 m; the
+ * step's w dt = 0.05 gives RK4 an error of order (w dt)^4 / 120 of the amplitude). */
+static void test_soft_joint_is_a_damped_spring_at_the_body_mass(void **state)
+{
+    (void)state;
+    tb_scene *scene = test_empty_scene();
+    const double f = 2.0, zeta = 0.1, v0 = 1.0;
+    const size_t id =
+        test_add_ball(scene, NULL, 2.0, 0.1, (double[]){0.0, 0.0, 0.0}, (double[]){v0, 0.0, 0.0});
+    tb_joint_def def = tb_joint_def_default();
+    def.body_a = id;
+    def.soft_frequency = f;
+    def.soft_damping_ratio = zeta;
+    assert_int_equal(tb_scene_add_joint(scene, &def, NULL), TB_STATUS_OK);
+    tb_integrator *integrator = test_integrator_for(scene, TB_METHOD_RK4, 1.0 / 240.0, 0.0);
+    const double w = 2.0 * TEST_PI * f, wd = w * sqrt(1.0 - zeta * zeta);
+    double worst = 0.0;
+    for (int k = 1; k <= 120; ++k) {
+        const double t = k / 60.0;
+        assert_int_equal(tb_integrator_advance(integrator, t), TB_STATUS_OK);
+        tb_body_state s;
+        assert_int_equal(tb_scene_get_state(scene, id, &s), TB_STATUS_OK);
+        const double exact = v0 / wd * exp(-zeta * w * t) * sin(wd * t);
+        worst = fmax(worst, fmax(fabs(s.x[0] - exact), fmax(fabs(s.x[1]), fabs(s.x[2]))));
+    }
+    print_message("soft joint: %.3g m off the damped oscillator\n", worst);
+    assert_true(worst <= 1e-6);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -544,6 +578,7 @@ int main(void)
         cmocka_unit_test(test_cantilever_reaction_is_statics),
         cmocka_unit_test(test_jointed_bodies_do_not_fall_asleep_apart),
         cmocka_unit_test(test_pendulum_bounces_off_the_ground_on_its_joint),
+        cmocka_unit_test(test_soft_joint_is_a_damped_spring_at_the_body_mass),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

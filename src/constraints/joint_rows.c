@@ -221,4 +221,5 @@ void tb__joint_frames(tb__joint *joint, const tb__motion *ma, const tb__motion *
     const double conj_b[4] = {mb->q[0], -mb->q[1], -mb->q[2], -mb->q[3]};
     tb__q_mul(joint->relative, conj_b, ma->q);
     joint->rows = tb__joint_row_count(def->type);
+    joint->solved_rows = def->soft_frequency > 0.0 ? 0 : joint->rows;
 }

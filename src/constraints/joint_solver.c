@@ -61,6 +61,9 @@ static bool dynamic(const tb_scene *scene, size_t body)
 
 static bool share_body(const tb_scene *scene, const tb__joint *a, const tb__joint *b)
 {
+    if (a->solved_rows == 0 || b->solved_rows == 0) { /* a soft joint: a load, not a row */
+        return false;
+    }
     for (int s = 0; s < 2; ++s) {
         for (int u = 0; u < 2; ++u) {
             if (a->body[s] == b->body[u] && dynamic(scene, a->body[s])) {
@@ -221,7 +224,7 @@ static bool list_couplings(const tb_scene *scene, tb__joint_solver *s, const tb_
     for (size_t p = 0; p < s->count; ++p) {
         const size_t k = s->order[p];
         for (int side = 0; side < 2; ++side) {
-            if (dynamic(scene, joints[k].body[side])) {
+            if (joints[k].solved_rows > 0 && dynamic(scene, joints[k].body[side])) {
                 s->couplings[n++] = (tb__joint_coupling){k, k, side, side, k};
             }
         }
@@ -319,17 +322,17 @@ static void assemble(tb__joint_solver *s, const tb__joint *joints, const tb__joi
 {
     for (size_t p = 0; p < s->count; ++p) { /* the parts of the blocks the joints' rows use */
         const size_t v = s->order[p];
-        zero_block(s->blocks + TB__BLOCK * v, joints[v].rows, joints[v].rows);
+        zero_block(s->blocks + TB__BLOCK * v, joints[v].solved_rows, joints[v].solved_rows);
         for (size_t e = s->column_start[p]; e < s->column_start[p + 1]; ++e) {
-            zero_block(s->blocks + TB__BLOCK * s->below[e], joints[s->below_joint[e]].rows,
-                       joints[v].rows);
+            zero_block(s->blocks + TB__BLOCK * s->below[e], joints[s->below_joint[e]].solved_rows,
+                       joints[v].solved_rows);
         }
     }
     for (size_t c = 0; c < s->coupling_count; ++c) {
         const tb__joint_coupling *cp = &s->couplings[c];
         double *B = s->blocks + TB__BLOCK * cp->block;
         const tb__joint_eval *ei = &evals[cp->row_joint], *ek = &evals[cp->column_joint];
-        const int mi = joints[cp->row_joint].rows, mk = joints[cp->column_joint].rows;
+        const int mi = joints[cp->row_joint].solved_rows, mk = joints[cp->column_joint].solved_rows;
         const bool diagonal = cp->row_joint == cp->column_joint; /* its lower half is read */
         for (int r = 0; r < mi; ++r) {
             for (int q = 0; q < (diagonal ? r + 1 : mk); ++q) {
@@ -398,19 +401,21 @@ static int factor(tb__joint_solver *s, const tb__joint *joints)
 {
     for (size_t p = 0; p < s->count; ++p) {
         const size_t v = s->order[p];
-        const int m = joints[v].rows;
+        const int m = joints[v].solved_rows;
         double *D = s->blocks + TB__BLOCK * v;
         if (factor_diagonal(D, m) != 0) {
             return 1;
         }
         for (size_t e = s->column_start[p]; e < s->column_start[p + 1]; ++e) {
-            right_solve(s->blocks + TB__BLOCK * s->below[e], joints[s->below_joint[e]].rows, D, m);
+            right_solve(s->blocks + TB__BLOCK * s->below[e], joints[s->below_joint[e]].solved_rows,
+                        D, m);
         }
         for (size_t u = s->update_start[p]; u < s->update_start[p + 1]; ++u) {
             const tb__block_update *up = &s->updates[u];
             subtract_product(s->blocks + TB__BLOCK * up->target, s->blocks + TB__BLOCK * up->first,
-                             joints[up->first_joint].rows, s->blocks + TB__BLOCK * up->second,
-                             joints[up->second_joint].rows, m);
+                             joints[up->first_joint].solved_rows,
+                             s->blocks + TB__BLOCK * up->second,
+                             joints[up->second_joint].solved_rows, m);
         }
     }
     return 0;
@@ -421,7 +426,7 @@ static void substitute(const tb__joint_solver *s, const tb__joint *joints, tb__j
 {
     for (size_t p = 0; p < s->count; ++p) { /* L y = b */
         const size_t v = s->order[p];
-        const int m = joints[v].rows;
+        const int m = joints[v].solved_rows;
         const double *L = s->blocks + TB__BLOCK * v;
         double *y = evals[v].lambda;
         for (int i = 0; i < m; ++i) {
@@ -433,7 +438,7 @@ static void substitute(const tb__joint_solver *s, const tb__joint *joints, tb__j
         for (size_t e = s->column_start[p]; e < s->column_start[p + 1]; ++e) {
             const double *B = s->blocks + TB__BLOCK * s->below[e];
             double *b = evals[s->below_joint[e]].lambda;
-            for (int i = 0; i < joints[s->below_joint[e]].rows; ++i) {
+            for (int i = 0; i < joints[s->below_joint[e]].solved_rows; ++i) {
                 for (int k = 0; k < m; ++k) {
                     b[i] -= B[TB__JOINT_ROWS * i + k] * y[k];
                 }
@@ -442,13 +447,13 @@ static void substitute(const tb__joint_solver *s, const tb__joint *joints, tb__j
     }
     for (size_t p = s->count; p-- > 0;) { /* L^T x = y */
         const size_t v = s->order[p];
-        const int m = joints[v].rows;
+        const int m = joints[v].solved_rows;
         const double *L = s->blocks + TB__BLOCK * v;
         double *x = evals[v].lambda;
         for (size_t e = s->column_start[p]; e < s->column_start[p + 1]; ++e) {
             const double *B = s->blocks + TB__BLOCK * s->below[e];
             const double *xw = evals[s->below_joint[e]].lambda;
-            for (int i = 0; i < joints[s->below_joint[e]].rows; ++i) {
+            for (int i = 0; i < joints[s->below_joint[e]].solved_rows; ++i) {
                 for (int k = 0; k < m; ++k) {
                     x[k] -= B[TB__JOINT_ROWS * i + k] * xw[i];
                 }
@@ -470,7 +475,9 @@ int tb__joint_solve(tb__joint_solver *solver, const tb__joint *joints, tb__joint
         return 1;
     }
     for (size_t j = 0; j < solver->count; ++j) {
-        memcpy(evals[j].lambda, evals[j].rhs, sizeof evals[j].lambda);
+        if (joints[j].solved_rows > 0) { /* a soft joint's lambda is its own */
+            memcpy(evals[j].lambda, evals[j].rhs, sizeof evals[j].lambda);
+        }
     }
     substitute(solver, joints, evals);
     return 0;

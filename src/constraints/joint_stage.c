@@ -147,18 +147,51 @@ static void add_row_loads(const tb__joints *js, const tb_scene *scene, size_t j,
     }
 }
 
+/* A soft joint's rows as springs with dampers: lambda_r = -m_r (w^2 C_r + 2 zeta w J_r u),
+ * m_r = 1 / (J_r M^-1 J_r^T) the row's effective mass, w = 2 pi soft_frequency. */
+static void soft_loads(const tb__joints *js, const tb_scene *scene, double t, const double *y,
+                       size_t j)
+{
+    const tb__joint *joint = &js->joints[j];
+    tb__joint_eval *eval = &js->evals[j];
+    tb__motion m[2];
+    evaluate(js, scene, t, y, true, j, m);
+    tb__joint_row_velocities(joint, eval, &m[0], &m[1], eval->rate);
+    const double w = 2.0 * 3.14159265358979323846 * joint->def.soft_frequency;
+    const double zeta = joint->def.soft_damping_ratio;
+    for (int r = 0; r < joint->rows; ++r) {
+        double inverse_mass = 0.0;
+        for (int s = 0; s < 2; ++s) {
+            inverse_mass += tb__v3_dot(eval->J[r].v[s], eval->W[r].v[s]) +
+                            tb__v3_dot(eval->J[r].w[s], eval->W[r].w[s]);
+        }
+        const double mass = inverse_mass > 0.0 ? 1.0 / inverse_mass : 0.0;
+        eval->lambda[r] = -mass * (w * w * eval->C[r] + 2.0 * zeta * w * eval->rate[r]);
+    }
+}
+
 static int apply_joints(void *constraints, const tb_scene *scene, double t, const double *y,
                         double *dydt)
 {
     tb__joints *js = constraints;
+    for (size_t j = 0; j < js->count; ++j) { /* soft joints first: loads the solve sees */
+        if (js->joints[j].solved_rows == 0) {
+            soft_loads(js, scene, t, y, j);
+            add_row_loads(js, scene, j, dydt, false);
+        }
+    }
     for (size_t j = 0; j < js->count; ++j) {
-        stage_rhs(js, scene, t, y, dydt, j);
+        if (js->joints[j].solved_rows > 0) {
+            stage_rhs(js, scene, t, y, dydt, j);
+        }
     }
     if (tb__joint_solve(&js->solver, js->joints, js->evals) != 0) {
         return 1; /* rows that repeat one another: recoverable, a smaller step may pass */
     }
     for (size_t j = 0; j < js->count; ++j) {
-        add_row_loads(js, scene, j, dydt, false);
+        if (js->joints[j].solved_rows > 0) {
+            add_row_loads(js, scene, j, dydt, false);
+        }
     }
     return 0;
 }
@@ -172,7 +205,7 @@ static double position_rhs(const tb__joints *js, const tb_scene *scene, double t
         evaluate(js, scene, t, y, false, j, m);
         tb__joint_eval *eval = &js->evals[j];
         tb__joint_row_velocities(&js->joints[j], eval, &m[0], &m[1], eval->rate);
-        for (int r = 0; r < js->joints[j].rows; ++r) {
+        for (int r = 0; r < js->joints[j].solved_rows; ++r) { /* soft joints: not projected */
             eval->rhs[r] = -eval->C[r];
             worst = fmax(worst, fabs(eval->C[r]));
         }
@@ -186,7 +219,7 @@ static void move_bodies(const tb__joints *js, const tb_scene *scene, size_t j, d
 {
     const tb__joint *joint = &js->joints[j];
     const tb__joint_eval *eval = &js->evals[j];
-    for (int s = 0; s < 2; ++s) {
+    for (int s = 0; s < 2 && joint->solved_rows > 0; ++s) {
         const size_t body = joint->body[s];
         if (body == TB_WORLD || tb__body_slot(scene, body) == TB_NO_SLOT ||
             tb__body_asleep(scene, body)) {
@@ -260,7 +293,7 @@ static int project_momenta(tb__joints *js, const tb_scene *scene, double t, doub
         position_rhs(js, scene, t, y);
     }
     for (size_t j = 0; j < js->count; ++j) {
-        for (int r = 0; r < js->joints[j].rows; ++r) {
+        for (int r = 0; r < js->joints[j].solved_rows; ++r) {
             js->evals[j].rhs[r] = -js->evals[j].rate[r];
         }
     }
@@ -268,7 +301,9 @@ static int project_momenta(tb__joints *js, const tb_scene *scene, double t, doub
         return 1;
     }
     for (size_t j = 0; j < js->count; ++j) {
-        add_row_loads(js, scene, j, y, true);
+        if (js->joints[j].solved_rows > 0) {
+            add_row_loads(js, scene, j, y, true);
+        }
     }
     return 0;
 }

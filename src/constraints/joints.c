@@ -147,19 +147,23 @@ static tb_status check_breaking_and_softness(tb_scene *scene, const tb_joint_def
                                   names[k], values[k], k < 2 ? "> 0" : ">= 0");
         }
     }
+    if (def->soft_damping_ratio != 0.0 && def->soft_frequency == 0.0) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "soft_damping_ratio: %g on a rigid joint (only with "
+                              "soft_frequency > 0)",
+                              def->soft_damping_ratio);
+    }
     return TB_STATUS_OK;
 }
 
 /* What is asked but not built yet: refused, never accepted and ignored. */
 static tb_status check_supported(tb_scene *scene, const tb_joint_def *def)
 {
-    const char *what = def->has_limits                ? "has_limits (joint limits)"
-                       : def->motor != TB_MOTOR_OFF   ? "motor (joint motors)"
-                       : !isinf(def->break_force)     ? "break_force (breaking joints)"
-                       : !isinf(def->break_torque)    ? "break_torque (breaking joints)"
-                       : def->soft_frequency != 0.0   ? "soft_frequency (soft joints)"
-                       : def->soft_damping_ratio != 0 ? "soft_damping_ratio (soft joints)"
-                                                      : NULL;
+    const char *what = def->has_limits              ? "has_limits (joint limits)"
+                       : def->motor != TB_MOTOR_OFF ? "motor (joint motors)"
+                       : !isinf(def->break_force)   ? "break_force (breaking joints)"
+                       : !isinf(def->break_torque)  ? "break_torque (breaking joints)"
+                                                    : NULL;
     return what == NULL
                ? TB_STATUS_OK
                : tb__scene_fail(scene, TB_STATUS_UNSUPPORTED,

@@ -27,6 +27,7 @@ typedef struct tb__joint {
     tb_joint_def def;
     size_t body[2];        /* body_a, body_b (TB_WORLD) */
     int rows;              /* 3, 5, 5, 6 */
+    int solved_rows;       /* rows in the exact solve: rows, or 0 for a soft joint */
     double anchor[2][3];   /* the anchor from each centre of mass, m */
     double axis_a[3];      /* the axis, unit, in a's frame */
     double across_a[2][3]; /* two unit vectors across the axis, in a's frame (slider rows) */
