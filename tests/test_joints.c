@@ -564,6 +564,65 @@ static void test_soft_joint_is_a_damped_spring_at_the_body_mass(void **state)
     tb_scene_destroy(scene);
 }
 
+#define PULL_RATE 10.0 /* N/s: the pull's growth */
+
+/* A pull down on body 0's centre growing as PULL_RATE t. */
+static int growing_pull(double t, const tb_scene *scene, const double *y, double *dydt, void *ctx)
+{
+    (void)ctx;
+    const double force[3] = {0.0, 0.0, -PULL_RATE * t};
+    return tb_effect_add_force(scene, y, dydt, 0, force, y + TB_STATE_X) == TB_STATUS_OK ? 0 : -1;
+}
+
+/* A 1 kg ball hanging at rest from a ball joint with break_force 30 N, pulled down by a force
+ * growing at 10 N/s: statics puts the joint's reaction at m g + 10 t, which passes 30 N at
+ * t* = (30 - m g) / 10 = 2.019 s. The joint breaks at the first step boundary past t* (within
+ * the 1/240 s between reads), its reaction is 0 from then on, and the ball falls. */
+static void break_under(tb_method method)
+{
+    tb_scene *scene = test_empty_scene();
+    assert_int_equal(tb_scene_add_gravity(scene, (double[]){0.0, 0.0, -TEST_G}), TB_STATUS_OK);
+    const size_t id = test_add_ball(scene, NULL, 1.0, 0.1, (double[]){0.0, 0.0, -0.1}, NULL);
+    assert_int_equal(tb_scene_add_user_effect(scene, growing_pull, NULL), TB_STATUS_OK);
+    tb_joint_def def = tb_joint_def_default();
+    def.body_a = id;
+    def.break_force = 30.0;
+    assert_int_equal(tb_scene_add_joint(scene, &def, NULL), TB_STATUS_OK);
+    tb_integrator *integrator = test_integrator_for(scene, method, 1.0 / 240.0, 1e-8);
+    const double t_star = (30.0 - TEST_G) / PULL_RATE;
+    double broke_at = -1.0;
+    for (int k = 1; k <= 600 && broke_at < 0.0; ++k) {
+        assert_int_equal(tb_integrator_advance(integrator, k / 240.0), TB_STATUS_OK);
+        bool broken = false;
+        assert_int_equal(tb_scene_joint_broken(scene, 0, &broken), TB_STATUS_OK);
+        broke_at = broken ? k / 240.0 : -1.0;
+    }
+    print_message("%s: joint broke at %.6f s, statics %.6f s\n", tb_method_name(method), broke_at,
+                  t_star);
+    /* CVODE's check runs as the next advance starts, on the last output: one read later */
+    const double reads = tb_method_is_adaptive(method) ? 2.0 : 1.0;
+    assert_true(broke_at > t_star && broke_at <= t_star + reads / 240.0);
+    double force[3], torque[3];
+    assert_int_equal(tb_scene_joint_reaction(scene, tb_scene_states_const(scene), 0, force, torque),
+                     TB_STATUS_OK);
+    assert_true(force[0] == 0.0 && force[1] == 0.0 && force[2] == 0.0);
+    assert_int_equal(tb_integrator_advance(integrator, broke_at + 0.5), TB_STATUS_OK);
+    tb_body_state s;
+    assert_int_equal(tb_scene_get_state(scene, id, &s), TB_STATUS_OK);
+    assert_true(s.x[2] < -0.1 - 0.5 * TEST_G * 0.25 * 0.9); /* at least free fall's 1.2 m */
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
+/* Under RK4 at 1/240 s, and under CVODE BDF read every 1/240 s (its boundaries are its
+ * outputs: its projections run on trial steps too). */
+static void test_joint_breaks_when_its_reaction_passes_the_limit(void **state)
+{
+    (void)state;
+    break_under(TB_METHOD_RK4);
+    break_under(TB_METHOD_CVODE_BDF);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -579,6 +638,7 @@ int main(void)
         cmocka_unit_test(test_jointed_bodies_do_not_fall_asleep_apart),
         cmocka_unit_test(test_pendulum_bounces_off_the_ground_on_its_joint),
         cmocka_unit_test(test_soft_joint_is_a_damped_spring_at_the_body_mass),
+        cmocka_unit_test(test_joint_breaks_when_its_reaction_passes_the_limit),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

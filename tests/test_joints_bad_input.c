@@ -101,8 +101,6 @@ static void set_up(fixture *f)
     X("add_joint: a motor (not built)", UNSUPPORTED, "motor",                                      \
       (f->def.motor = TB_MOTOR_VELOCITY, f->def.motor_max_force = 2.0,                             \
        tb_scene_add_joint(f->scene, &f->def, NULL)))                                               \
-    X("add_joint: breaking (not built)", UNSUPPORTED, "break_force",                               \
-      (f->def.break_force = 50.0, tb_scene_add_joint(f->scene, &f->def, NULL)))                    \
     X("add_joint: damping on a rigid joint", INVALID_ARGUMENT, "soft_damping_ratio",               \
       (f->def.soft_damping_ratio = 0.5, tb_scene_add_joint(f->scene, &f->def, NULL)))              \
     X("add_joint: infinite soft_frequency", NOT_FINITE, "soft_frequency",                          \

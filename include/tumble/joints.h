@@ -66,9 +66,10 @@ typedef struct tb_joint_def {
     double motor_speed;     /* rad/s or m/s (TB_MOTOR_VELOCITY) */
     double motor_target;    /* rad or m (TB_MOTOR_POSITION) */
     double motor_max_force; /* > 0 with a motor */
-    /* Breaking: the joint breaks (its rows are dropped for good, an event is reported) when
-     * the magnitude of its reaction force (N) or torque (N m) on body_a exceeds these.
-     * INFINITY (default): never. */
+    /* Breaking: the joint breaks (its rows are dropped for good; tb_scene_joint_broken says so)
+     * when the magnitude of its reaction force (N) or torque (N m, about the anchor) on body_a
+     * exceeds these (> 0), at the first step boundary where it does (fixed-step methods: every
+     * step; CVODE: its outputs). INFINITY (default): never. */
     double break_force, break_torque;
     /* A soft joint: a spring-damper on the same rows instead of an exact constraint, for
      * animators' wobbly rigs: each row r pulls with -m_r (w^2 C_r + 2 zeta w dC_r/dt), w = 2 pi
@@ -91,7 +92,7 @@ TB_API tb_joint_def tb_joint_def_default(void);
  * force or torque <= 0, a negative soft frequency or damping ratio, a damping ratio on a rigid
  * joint (TB_STATUS_INVALID_ARGUMENT), a non-finite value (TB_STATUS_NOT_FINITE);
  * TB_STATUS_BUSY while an integrator steps the scene. Not built yet, refused with
- * TB_STATUS_UNSUPPORTED rather than ignored: limits, motors and breaking (docs/joints.md). An
+ * TB_STATUS_UNSUPPORTED rather than ignored: limits and motors (docs/joints.md). An
  * integrator made before the joint refuses to advance (TB_STATUS_LAYOUT_CHANGED). */
 TB_API tb_status tb_scene_add_joint(tb_scene *scene, const tb_joint_def *def, size_t *out_id);
 

@@ -175,7 +175,7 @@ static int apply_joints(void *constraints, const tb_scene *scene, double t, cons
 {
     tb__joints *js = constraints;
     for (size_t j = 0; j < js->count; ++j) { /* soft joints first: loads the solve sees */
-        if (js->joints[j].solved_rows == 0) {
+        if (js->joints[j].solved_rows == 0 && !js->joints[j].broken) {
             soft_loads(js, scene, t, y, j);
             add_row_loads(js, scene, j, dydt, false);
         }
@@ -312,15 +312,19 @@ static int project_joints(void *constraints, const tb_scene *scene, double t, do
 {
     tb__joints *js = constraints;
     bool current = false;
-    const int rc = project_positions(js, scene, t, y, &current);
-    return rc != 0 ? rc : project_momenta(js, scene, t, y, current);
+    int rc = project_positions(js, scene, t, y, &current);
+    rc = rc != 0 ? rc : project_momenta(js, scene, t, y, current);
+    /* an adaptive method's projections run on trial steps too: it breaks joints at outputs */
+    return rc != 0 || tb_method_is_adaptive(scene->guard_method)
+               ? rc
+               : tb__joints_check_breaking(js, scene, t, y);
 }
 
 static void link_joints(const void *constraints, const tb_scene *scene)
 {
     const tb__joints *js = constraints;
     for (size_t j = 0; j < js->count; ++j) {
-        if (js->joints[j].body[1] != TB_WORLD) {
+        if (js->joints[j].body[1] != TB_WORLD && !js->joints[j].broken) {
             tb__scene_sleep_link(scene, js->joints[j].body[0], js->joints[j].body[1]);
         }
     }
@@ -331,10 +335,16 @@ static void destroy_joints(void *constraints)
     tb__joints *js = constraints;
     if (js != NULL) {
         tb__joint_solver_free(&js->solver);
+        free(js->scratch);
         free(js->joints);
         free(js->evals);
         free(js);
     }
+}
+
+static int joints_at_output(void *constraints, const tb_scene *scene, double t, double *y)
+{
+    return tb__joints_check_breaking(constraints, scene, t, y);
 }
 
 const tb__constraint_ops tb__joint_ops = {
@@ -342,4 +352,5 @@ const tb__constraint_ops tb__joint_ops = {
     .project = project_joints,
     .link_islands = link_joints,
     .destroy = destroy_joints,
+    .at_output = joints_at_output,
 };

@@ -33,6 +33,8 @@ typedef struct tb__joint {
     double across_a[2][3]; /* two unit vectors across the axis, in a's frame (slider rows) */
     double across_b[2][3]; /* the same, in b's frame (hinge rows) */
     double relative[4];    /* q_b^* q_a when made: the held relative rotation (slider, fixed) */
+    bool broken;           /* its reaction passed break_force or break_torque: rows dropped */
+    double broken_time;    /* s: the step boundary where it broke */
 } tb__joint;
 
 /* One evaluation's scratch per joint: its rows at y, M^-1 J^T (the same shape), the part of
@@ -87,7 +89,20 @@ typedef struct tb__joints {
     size_t count;
     tb__joint_eval *evals; /* count */
     tb__joint_solver solver;
+    size_t breakable; /* joints with a finite break_force or break_torque */
+    double *scratch;  /* a derivative's worth (scratch_size doubles) for the breaking check */
+    size_t scratch_size;
 } tb__joints;
+
+/* Joint j's force on body_a (N) and torque about its anchor (N m), world, from the last solve's
+ * lambda and the derivative's motions (joint_breaking.c). */
+void tb__joint_reaction(const tb_scene *scene, const tb__joints *js, size_t j, double force[3],
+                        double torque[3]);
+/* At a step boundary (the post-step hook, after the projection): the reactions at (t, y), and
+ * the breakable joints whose reaction passed a limit break there (their rows leave the solve
+ * for good; the scene's right-hand side changes, so CVODE restarts). 0, or the derivative's
+ * failure. */
+int tb__joints_check_breaking(tb__joints *js, const tb_scene *scene, double t, double *y);
 
 /* The Baumgarte rate (1/s) under CVODE Adams (joint_stage.c explains it). */
 #define TB__JOINT_BAUMGARTE_RATE 20.0
