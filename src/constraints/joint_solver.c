@@ -343,9 +343,17 @@ static void assemble(tb__joint_solver *s, const tb__joint *joints, const tb__joi
     }
 }
 
+/* The kernels below take a column's row count m as a constant where they are inlined into the
+ * dispatch, so that the compiler unrolls their loops for 3, 5 and 6 rows. */
+#if defined(__GNUC__) || defined(__clang__)
+#define TB__UNROLLED static inline __attribute__((always_inline))
+#else
+#define TB__UNROLLED static inline
+#endif
+
 /* D = L L^T in place (lower), m x m, with 1 / L_jj kept on the diagonal (the substitutions
  * multiply); 0, or 1 for a pivot that is not positive. */
-static int factor_diagonal(double *D, int m)
+TB__UNROLLED int factor_diagonal(double *D, int m)
 {
     for (int j = 0; j < m; ++j) {
         double d = D[TB__JOINT_ROWS * j + j];
@@ -369,7 +377,7 @@ static int factor_diagonal(double *D, int m)
 }
 
 /* B <- B L^-T for B of rows x m. */
-static void right_solve(double *B, int rows, const double *L, int m)
+TB__UNROLLED void right_solve(double *B, int rows, const double *L, int m)
 {
     for (int i = 0; i < rows; ++i) {
         double *b = B + TB__JOINT_ROWS * i;
@@ -384,7 +392,8 @@ static void right_solve(double *B, int rows, const double *L, int m)
 }
 
 /* T -= F S^T, F of mf x m, S of ms x m; only T's lower half where F is S (a diagonal block). */
-static void subtract_product(double *T, const double *F, int mf, const double *S, int ms, int m)
+TB__UNROLLED void subtract_product(double *T, const double *F, int mf, const double *S, int ms,
+                                   int m)
 {
     for (int i = 0; i < mf; ++i) {
         for (int j = 0; j < (F == S ? i + 1 : ms); ++j) {
@@ -397,73 +406,111 @@ static void subtract_product(double *T, const double *F, int mf, const double *S
     }
 }
 
-static int factor(tb__joint_solver *s, const tb__joint *joints)
+TB__UNROLLED int factor_column(tb__joint_solver *s, const tb__joint *joints, size_t p, int m)
 {
-    for (size_t p = 0; p < s->count; ++p) {
-        const size_t v = s->order[p];
-        const int m = joints[v].solved_rows;
-        double *D = s->blocks + TB__BLOCK * v;
-        if (factor_diagonal(D, m) != 0) {
-            return 1;
-        }
-        for (size_t e = s->column_start[p]; e < s->column_start[p + 1]; ++e) {
-            right_solve(s->blocks + TB__BLOCK * s->below[e], joints[s->below_joint[e]].solved_rows,
-                        D, m);
-        }
-        for (size_t u = s->update_start[p]; u < s->update_start[p + 1]; ++u) {
-            const tb__block_update *up = &s->updates[u];
-            subtract_product(s->blocks + TB__BLOCK * up->target, s->blocks + TB__BLOCK * up->first,
-                             joints[up->first_joint].solved_rows,
-                             s->blocks + TB__BLOCK * up->second,
-                             joints[up->second_joint].solved_rows, m);
-        }
+    double *D = s->blocks + TB__BLOCK * s->order[p];
+    if (factor_diagonal(D, m) != 0) {
+        return 1;
+    }
+    for (size_t e = s->column_start[p]; e < s->column_start[p + 1]; ++e) {
+        right_solve(s->blocks + TB__BLOCK * s->below[e], joints[s->below_joint[e]].solved_rows, D,
+                    m);
+    }
+    for (size_t u = s->update_start[p]; u < s->update_start[p + 1]; ++u) {
+        const tb__block_update *up = &s->updates[u];
+        subtract_product(s->blocks + TB__BLOCK * up->target, s->blocks + TB__BLOCK * up->first,
+                         joints[up->first_joint].solved_rows, s->blocks + TB__BLOCK * up->second,
+                         joints[up->second_joint].solved_rows, m);
     }
     return 0;
+}
+
+static int factor(tb__joint_solver *s, const tb__joint *joints)
+{
+    int rc = 0;
+    for (size_t p = 0; p < s->count && rc == 0; ++p) {
+        switch (joints[s->order[p]].solved_rows) {
+        case 3:
+            rc = factor_column(s, joints, p, 3);
+            break;
+        case 5:
+            rc = factor_column(s, joints, p, 5);
+            break;
+        case 6:
+            rc = factor_column(s, joints, p, 6);
+            break;
+        default: /* a soft or broken joint: no rows */
+            break;
+        }
+    }
+    return rc;
+}
+
+/* L y = b for column p: y = L_pp^-1 b_p, then the rows below take their share. */
+TB__UNROLLED void forward_column(const tb__joint_solver *s, const tb__joint *joints,
+                                 tb__joint_eval *evals, size_t p, int m)
+{
+    const size_t v = s->order[p];
+    const double *L = s->blocks + TB__BLOCK * v;
+    double *y = evals[v].lambda;
+    for (int i = 0; i < m; ++i) {
+        for (int k = 0; k < i; ++k) {
+            y[i] -= L[TB__JOINT_ROWS * i + k] * y[k];
+        }
+        y[i] *= L[TB__JOINT_ROWS * i + i];
+    }
+    for (size_t e = s->column_start[p]; e < s->column_start[p + 1]; ++e) {
+        const double *B = s->blocks + TB__BLOCK * s->below[e];
+        double *b = evals[s->below_joint[e]].lambda;
+        for (int i = 0; i < joints[s->below_joint[e]].solved_rows; ++i) {
+            for (int k = 0; k < m; ++k) {
+                b[i] -= B[TB__JOINT_ROWS * i + k] * y[k];
+            }
+        }
+    }
+}
+
+/* L^T x = y for column p: the rows below give back their share, then x = L_pp^-T. */
+TB__UNROLLED void backward_column(const tb__joint_solver *s, const tb__joint *joints,
+                                  tb__joint_eval *evals, size_t p, int m)
+{
+    const size_t v = s->order[p];
+    const double *L = s->blocks + TB__BLOCK * v;
+    double *x = evals[v].lambda;
+    for (size_t e = s->column_start[p]; e < s->column_start[p + 1]; ++e) {
+        const double *B = s->blocks + TB__BLOCK * s->below[e];
+        const double *xw = evals[s->below_joint[e]].lambda;
+        for (int i = 0; i < joints[s->below_joint[e]].solved_rows; ++i) {
+            for (int k = 0; k < m; ++k) {
+                x[k] -= B[TB__JOINT_ROWS * i + k] * xw[i];
+            }
+        }
+    }
+    for (int i = m - 1; i >= 0; --i) {
+        for (int k = i + 1; k < m; ++k) {
+            x[i] -= L[TB__JOINT_ROWS * k + i] * x[k];
+        }
+        x[i] *= L[TB__JOINT_ROWS * i + i];
+    }
 }
 
 /* L L^T x = b, b in each eval's lambda (overwritten by x). */
 static void substitute(const tb__joint_solver *s, const tb__joint *joints, tb__joint_eval *evals)
 {
-    for (size_t p = 0; p < s->count; ++p) { /* L y = b */
-        const size_t v = s->order[p];
-        const int m = joints[v].solved_rows;
-        const double *L = s->blocks + TB__BLOCK * v;
-        double *y = evals[v].lambda;
-        for (int i = 0; i < m; ++i) {
-            for (int k = 0; k < i; ++k) {
-                y[i] -= L[TB__JOINT_ROWS * i + k] * y[k];
-            }
-            y[i] *= L[TB__JOINT_ROWS * i + i];
-        }
-        for (size_t e = s->column_start[p]; e < s->column_start[p + 1]; ++e) {
-            const double *B = s->blocks + TB__BLOCK * s->below[e];
-            double *b = evals[s->below_joint[e]].lambda;
-            for (int i = 0; i < joints[s->below_joint[e]].solved_rows; ++i) {
-                for (int k = 0; k < m; ++k) {
-                    b[i] -= B[TB__JOINT_ROWS * i + k] * y[k];
-                }
-            }
+    for (size_t p = 0; p < s->count; ++p) {
+        const int m = joints[s->order[p]].solved_rows;
+        if (m == 3) {
+            forward_column(s, joints, evals, p, 3);
+        } else if (m > 0) {
+            forward_column(s, joints, evals, p, m == 5 ? 5 : 6);
         }
     }
-    for (size_t p = s->count; p-- > 0;) { /* L^T x = y */
-        const size_t v = s->order[p];
-        const int m = joints[v].solved_rows;
-        const double *L = s->blocks + TB__BLOCK * v;
-        double *x = evals[v].lambda;
-        for (size_t e = s->column_start[p]; e < s->column_start[p + 1]; ++e) {
-            const double *B = s->blocks + TB__BLOCK * s->below[e];
-            const double *xw = evals[s->below_joint[e]].lambda;
-            for (int i = 0; i < joints[s->below_joint[e]].solved_rows; ++i) {
-                for (int k = 0; k < m; ++k) {
-                    x[k] -= B[TB__JOINT_ROWS * i + k] * xw[i];
-                }
-            }
-        }
-        for (int i = m - 1; i >= 0; --i) {
-            for (int k = i + 1; k < m; ++k) {
-                x[i] -= L[TB__JOINT_ROWS * k + i] * x[k];
-            }
-            x[i] *= L[TB__JOINT_ROWS * i + i];
+    for (size_t p = s->count; p-- > 0;) {
+        const int m = joints[s->order[p]].solved_rows;
+        if (m == 3) {
+            backward_column(s, joints, evals, p, 3);
+        } else if (m > 0) {
+            backward_column(s, joints, evals, p, m == 5 ? 5 : 6);
         }
     }
 }
