@@ -622,6 +622,80 @@ static void test_joint_breaks_when_its_reaction_passes_the_limit(void **state)
     break_under(TB_METHOD_CVODE_BDF);
 }
 
+typedef struct ring_watch {
+    double P0[3], L0[3], e0;
+    double momentum, angular, energy, joint;
+} ring_watch;
+
+static void watch_ring(const tb_scene *scene, double t, void *ctx)
+{
+    (void)t;
+    ring_watch *w = ctx;
+    const double *y = tb_scene_states_const(scene), origin[3] = {0.0, 0.0, 0.0};
+    double P[3], L[3];
+    assert_int_equal(tb_scene_linear_momentum(scene, y, P), TB_STATUS_OK);
+    assert_int_equal(tb_scene_angular_momentum(scene, y, origin, L), TB_STATUS_OK);
+    for (int k = 0; k < 3; ++k) {
+        w->momentum = fmax(w->momentum, fabs(P[k] - w->P0[k]));
+        w->angular = fmax(w->angular, fabs(L[k] - w->L0[k]));
+    }
+    w->energy = fmax(w->energy, fabs(test_total_energy(scene) - w->e0));
+    w->joint = fmax(w->joint, test_largest_joint_error(scene));
+}
+
+/* A closed ring of four bars on ball joints (a loop: the factor fills in) tumbling freely,
+ * started as one rigid rotation with one bar spinning about its own axis through its two
+ * joints as well (a start on the joints), so that the ring flexes: the joints' forces are internal,
+ * so the total momentum is kept to round-off (1e-12 kg m/s: the solve and the projection's impulses
+ * are equal and opposite) and the angular momentum and energy to RK4's error at 1/240 s over 5 s
+ * (measured 6.8e-10 and 3.2e-11 of their sizes; bounds 1e-8), the joints at round-off. */
+static void test_free_ring_keeps_momentum_angular_momentum_and_energy(void **state)
+{
+    (void)state;
+    tb_scene *scene = test_empty_scene();
+    const double corner[5][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 0}};
+    const double omega[3] = {0.3, 0.2, 1.0}, c[3] = {0.5, 0.5, 0.0};
+    size_t ids[4];
+    for (int i = 0; i < 4; ++i) {
+        tb_body_def def = tb_body_def_default();
+        const double size[3] = {1.0, 0.1, 0.1};
+        assert_int_equal(tb_mass_from_box(TB_MASS_GIVEN, 1.0 + 0.5 * i, size, &def.mass, NULL),
+                         TB_STATUS_OK);
+        const double q[4] = {cos(0.25 * TEST_PI * i), 0.0, 0.0, sin(0.25 * TEST_PI * i)};
+        memcpy(def.orientation, q, sizeof q);
+        double r[3];
+        for (int k = 0; k < 3; ++k) {
+            def.position[k] = 0.5 * (corner[i][k] + corner[i + 1][k]);
+            r[k] = def.position[k] - c[k];
+        }
+        def.velocity[0] = omega[1] * r[2] - omega[2] * r[1];
+        def.velocity[1] = omega[2] * r[0] - omega[0] * r[2];
+        def.velocity[2] = omega[0] * r[1] - omega[1] * r[0];
+        memcpy(def.angular_velocity, omega, sizeof omega);
+        def.angular_velocity[0] += i == 0 ? 5.0 : 0.0; /* bar 0 spins about its own axis too */
+        assert_int_equal(tb_scene_add_body(scene, &def, &ids[i]), TB_STATUS_OK);
+    }
+    for (int i = 0; i < 4; ++i) {
+        join(scene, TB_JOINT_BALL, ids[(i + 1) % 4], ids[i], corner[i + 1]);
+    }
+    ring_watch w = {.e0 = test_total_energy(scene)};
+    const double *y = tb_scene_states_const(scene), origin[3] = {0.0, 0.0, 0.0};
+    assert_int_equal(tb_scene_linear_momentum(scene, y, w.P0), TB_STATUS_OK);
+    assert_int_equal(tb_scene_angular_momentum(scene, y, origin, w.L0), TB_STATUS_OK);
+    tb_integrator *integrator = test_integrator_for(scene, TB_METHOD_RK4, 1.0 / 240.0, 0.0);
+    run_frames(scene, integrator, 300, 60.0, watch_ring, &w);
+    const double size_L = sqrt(w.L0[0] * w.L0[0] + w.L0[1] * w.L0[1] + w.L0[2] * w.L0[2]);
+    print_message("free ring: momentum %.3g, angular momentum %.3g, energy %.3g (relative), joint "
+                  "%.3g m\n",
+                  w.momentum, w.angular / size_L, w.energy / w.e0, w.joint);
+    assert_true(w.momentum <= 1e-12);
+    assert_true(w.angular <= 1e-8 * size_L);
+    assert_true(w.energy <= 1e-8 * w.e0);
+    assert_true(w.joint <= 1e-12);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -638,6 +712,7 @@ int main(void)
         cmocka_unit_test(test_pendulum_bounces_off_the_ground_on_its_joint),
         cmocka_unit_test(test_soft_joint_is_a_damped_spring_at_the_body_mass),
         cmocka_unit_test(test_joint_breaks_when_its_reaction_passes_the_limit),
+        cmocka_unit_test(test_free_ring_keeps_momentum_angular_momentum_and_energy),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
