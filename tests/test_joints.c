@@ -696,6 +696,34 @@ static void test_free_ring_keeps_momentum_angular_momentum_and_energy(void **sta
     tb_scene_destroy(scene);
 }
 
+/* The same cantilever fixed to a static wall body (its shape origin at the anchor) instead of
+ * the world: the wall's reaction read-out (tb_scene_body_reaction) is the joint's load on it,
+ * the opposite of the bar's: m g down and the bar's weight's torque m g L / 2 about y. */
+static void test_static_wall_feels_the_cantilever_it_holds(void **state)
+{
+    (void)state;
+    tb_scene *scene = test_empty_scene();
+    assert_int_equal(tb_scene_add_gravity(scene, (double[]){0.0, 0.0, -TEST_G}), TB_STATUS_OK);
+    tb_body_def wall = tb_body_def_default();
+    wall.motion = TB_MOTION_STATIC;
+    size_t holder = 0;
+    assert_int_equal(tb_scene_add_body(scene, &wall, &holder), TB_STATUS_OK);
+    const double m = 2.0, length = 0.8;
+    const size_t id =
+        test_add_bar(scene, m, length, 0.05, 0.5 * TEST_PI, (double[]){0.5 * length, 0.0, 0.0});
+    join(scene, TB_JOINT_FIXED, id, holder, (double[]){0.0, 0.0, 0.0});
+    double force[3], torque[3];
+    assert_int_equal(
+        tb_scene_body_reaction(scene, tb_scene_states_const(scene), holder, force, torque),
+        TB_STATUS_OK);
+    const double weight = m * TEST_G, tol = 1e-12 * weight;
+    assert_true(fabs(force[0]) <= tol && fabs(force[1]) <= tol);
+    assert_true(fabs(force[2] + weight) <= tol);
+    assert_true(fabs(torque[0]) <= tol && fabs(torque[2]) <= tol);
+    assert_true(fabs(torque[1] - 0.5 * length * weight) <= tol);
+    tb_scene_destroy(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -708,6 +736,7 @@ int main(void)
         cmocka_unit_test(test_ball_pendulum_small_angle_period),
         cmocka_unit_test(test_pendulum_on_accelerating_keyframed_support),
         cmocka_unit_test(test_cantilever_reaction_is_statics),
+        cmocka_unit_test(test_static_wall_feels_the_cantilever_it_holds),
         cmocka_unit_test(test_jointed_bodies_do_not_fall_asleep_apart),
         cmocka_unit_test(test_pendulum_bounces_off_the_ground_on_its_joint),
         cmocka_unit_test(test_soft_joint_is_a_damped_spring_at_the_body_mass),
