@@ -47,7 +47,7 @@ typedef enum tb_joint_motor_mode {
 /* How a joint is made. Fill with tb_joint_def_default(), then set the fields. */
 typedef struct tb_joint_def {
     tb_joint_type type; /* default TB_JOINT_BALL */
-    size_t body_a;      /* required: a body id */
+    size_t body_a;      /* required: a body id (the default, TB_WORLD, is refused) */
     size_t body_b;      /* a body id or TB_WORLD (default): the world; at least one of the two
                            bodies must be dynamic */
     double anchor[3];   /* m, world frame, at the bodies' current poses: the joint's point; each
