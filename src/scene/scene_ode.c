@@ -163,6 +163,12 @@ static tb_status acquire(void *ctx, unsigned long long generation, char *detail)
     if (status != TB_STATUS_OK) {
         return status;
     }
+    if (scene->constraint_ops != NULL && tb_method_is_adaptive(scene->guard_method) &&
+        scene->constraint_ops->at_output(scene->constraints, scene, scene->time, scene->states) !=
+            0) { /* joints breaking at the last output; CVODE restarts on it (rhs_generation) */
+        return tb__set_detail(detail, TB_STATUS_DERIVATIVE_FAILED,
+                              "the joints' check at t = %g: the derivative failed", scene->time);
+    }
     tb__scene_sleep_apply_pending(scene); /* CVODE restarts on it (rhs_generation) */
     scene->busy = true;
     return TB_STATUS_OK;
@@ -467,6 +473,10 @@ static tb_status create_at(tb_scene *scene, const tb_integrator_def *def, double
     const unsigned long long generation = scene->layout_generation;
     const bool separable = scene->separable_at_claim;
     const double guard_dt = scene->guard_dt;
+    const bool stabilise = scene->stabilise_constraints;
+    /* CVODE Adams has no projection (SUNDIALS 6 projects with BDF only): its steps keep to the
+     * joints by the constraint stage's Baumgarte terms */
+    scene->stabilise_constraints = def->method == TB_METHOD_CVODE_ADAMS;
     tb_error error;
     status = tb_integrator_create(&system, &scene_def, t0, scene->states, out_integrator, &error);
     free(atol); /* the integrator copied it */
@@ -474,6 +484,7 @@ static tb_status create_at(tb_scene *scene, const tb_integrator_def *def, double
         scene->layout_generation = generation;
         scene->separable_at_claim = separable;
         scene->guard_dt = guard_dt;
+        scene->stabilise_constraints = stabilise;
         return tb__scene_fail(scene, status, "integrator: %s", error.message);
     }
     scene->guard_method = def->method;
