@@ -10,7 +10,7 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from . import _events, _export, _native
+from . import _events, _export, _joints, _native
 from ._core import (_PARSE_ERROR, TumbleError, apply_settings,
                     deferred_interrupt, failure, lib, method_code, number, stats_dict)
 
@@ -218,6 +218,8 @@ class Scene:
     motions             each body's motion: "dynamic", "static" (fixed in the world) or
                         "keyframed" (its pose follows its keys); the latter two have no state
     radius_of_gyration  each body's sqrt(I_max / M), m
+    joint_count         how many joints; joints: each one's type, bodies, anchor and axis;
+                        joint_reaction(j), joint_error(j), joint_broken(j) at the start
     run_settings        the file's method, dt (s), rtol, atol, max_steps, fps and duration (s)
     """
 
@@ -272,6 +274,11 @@ class Scene:
             self.radius_of_gyration.append(
                 float(np.sqrt(max(mass.moments) / mass.mass)) if moving else 0.0)
             self.masses.append(mass.mass)
+        #: how many joints the scene has (its "joints", docs/joints.md)
+        self.joint_count = _joints.count(handle)
+        #: each joint's type, bodies' names ("world" for the world), anchor and axis as given
+        self.joints = [_joints.describe(handle, self.body_names, j)
+                       for j in range(self.joint_count)]
         lib.tb_scene_destroy(handle)
 
     def __reduce__(self):  # pickled (Dask) as its text, reloaded and checked on arrival
@@ -316,6 +323,29 @@ class Scene:
         if status != 0:
             raise failure(status, error.message.decode())
         return handle, run
+
+    def _at_start(self, read):
+        handle, _ = self._load()
+        try:
+            return read(handle, lib.tb_scene_states(handle))
+        finally:
+            lib.tb_scene_destroy(handle)
+
+    def joint_reaction(self, joint: int) -> tuple:
+        """(force (3,) N, torque (3,) N m): what joint `joint` (an index, in the order of the
+        file's "joints") puts on its first body at the start, world frame, the torque about
+        the anchor (tb_scene_joint_reaction). Simulation.joint_reaction gives it as the
+        simulation goes. TumbleValueError (OUT_OF_RANGE) for a joint the scene has not."""
+        return self._at_start(lambda handle, y: _joints.reaction(handle, y, joint))
+
+    def joint_error(self, joint: int) -> tuple:
+        """(position error, velocity error) of the start on joint `joint`: the largest of its
+        rows, m (or rad, as the sine of an angle) and m/s (rad/s) (tb_scene_joint_error)."""
+        return self._at_start(lambda handle, y: _joints.error(handle, y, joint))
+
+    def joint_broken(self, joint: int) -> bool:
+        """Whether joint `joint` is broken at the start: never (tb_scene_joint_broken)."""
+        return self._at_start(lambda handle, y: _joints.broken(handle, joint))
 
     def run(self, method: Optional[str] = None, dt: Optional[float] = None,
             rtol: Optional[float] = None, atol: Optional[float] = None,
@@ -449,6 +479,7 @@ class SceneBuilder:
         b = tumble.SceneBuilder()
         b.add_body("ball", shape={"type": "sphere", "radius": 0.1}, mass=1, position=[0, 0, 2])
         b.add_effect("gravity")
+        b.add_joint("ball", "ball", anchor=[0, 0, 3])   # hung from the world by a rigid rod
         scene = b.build(method="rk4", dt=1/240, fps=60, duration=2)
     """
 
@@ -496,6 +527,23 @@ class SceneBuilder:
         """An effect with the scene format's fields: "gravity", "drag", "spring", "force",
         "torque", "ground", ... (docs/scene-format.md, "Effects")."""
         self._description["effects"].append({"type": type, **fields})
+        return self
+
+    def add_joint(self, type: str, bodies, anchor, axis=None, **fields) -> "SceneBuilder":
+        """A joint with the scene format's fields (docs/joints.md, "Joints in a scene file"):
+        type "ball", "hinge", "slider" or "fixed"; bodies one body's name (joined to the
+        world) or a list of one or two; anchor (3,) m and axis (3,) (hinge and slider: the axis
+        or the direction of travel), both in the world frame at the start; fields limits
+        ([lower, upper], rad or m from the start pose), restitution (at the limits),
+        motor ({"speed" or "target", "max_torque" for a hinge or "max_force" for a slider}),
+        break_force (N), break_torque (N m), soft ({"frequency": Hz, "damping_ratio"}). The
+        library checks it when the scene is built (TumbleError naming joints[k].field)."""
+        joint = {"type": type, "bodies": [bodies] if isinstance(bodies, str) else list(bodies),
+                 "anchor": np.asarray(anchor, dtype=float).tolist()}
+        if axis is not None:
+            joint["axis"] = np.asarray(axis, dtype=float).tolist()
+        joint.update(fields)
+        self._description.setdefault("joints", []).append(joint)
         return self
 
     def build(self, fps: Optional[float] = None, duration: Optional[float] = None,
