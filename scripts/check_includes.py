@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Checks that includes point down the layers (DESIGN.md, "Layout"): each folder of src/ may
 include its own headers, the public ones (tumble/) and those of the folders below it, never one
-above; and that src/scene/ names no effect kind (the scene holds effect rows by pointer and
-includes neither effects/ nor contact/, so adding a kind never touches it).
+above; and that src/scene/ names no effect kind and no constraint (the scene holds effect and
+constraint rows by pointer and includes neither effects/, contact/ nor constraints/, so adding a
+kind or a joint type never touches it).
 
     scripts/check_includes.py [SRC_FOLDER]
 
@@ -34,6 +35,9 @@ KIND = re.compile(
     r"\btb__(?:\w+_params|(?:gravity|load|drag|spring|ground|contact|friction|user)_\w+)\b"
 )
 
+# What only src/constraints/ says: the joints' types and functions.
+CONSTRAINT = re.compile(r"\btb_{1,2}(?:joint|joints|block_update)\w*\b|\bTB_(?:_)?JOINT\w*\b")
+
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([a-z_]+)/', re.M)
 
 
@@ -64,6 +68,9 @@ def main():
             for match in KIND.finditer(code):
                 line = code.count("\n", 0, match.start()) + 1
                 problems.append(f"{path}:{line}: scene/ names an effect kind: {match.group(0)}")
+            for match in CONSTRAINT.finditer(code):
+                line = code.count("\n", 0, match.start()) + 1
+                problems.append(f"{path}:{line}: scene/ names a constraint: {match.group(0)}")
     for message in problems:
         print(message, file=sys.stderr)
     if checked == 0:

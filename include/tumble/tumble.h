@@ -18,5 +18,6 @@
 #include "tumble/scene_file.h"
 #include "tumble/writer.h"
 #include "tumble/accuracy.h"
+#include "tumble/joints.h"
 
 #endif

@@ -118,6 +118,15 @@ static int apply_per_body_effects(const tb_scene *scene, double t, const double 
     return 0;
 }
 
+/* The last stage: the constraint forces that keep the joints' rows, from the accelerations the
+ * applied loads left in dydt (src/constraints/, through its row). */
+static int constraint_forces(const tb_scene *scene, double t, const double *y, double *dydt)
+{
+    return scene->constraint_ops == NULL
+               ? 0
+               : scene->constraint_ops->apply(scene->constraints, scene, t, y, dydt);
+}
+
 int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
 {
     const tb_scene *scene = ctx;
@@ -142,6 +151,7 @@ int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
         const tb__effect *effect = &scene->effects[scene->effect_order[k]];
         rc = effect->ops->apply(effect, scene, t, y, dydt);
     }
+    rc = rc != 0 ? rc : constraint_forces(scene, t, y, dydt);
     tb__scene_sleep_zero(scene, dydt);
     return rc;
 }
@@ -150,7 +160,7 @@ bool tb__scene_separable(const tb_scene *scene)
 {
     /* bodies without a state need the whole post-step hook, which keeps the scene's time */
     return scene->coupled_effect_count == 0 && scene->extra_count == 0 &&
-           scene->slot_count == scene->body_count;
+           scene->slot_count == scene->body_count && scene->constraint_ops == NULL;
 }
 
 int tb__scene_block_derivative(double t, const double *y, double *dydt, size_t first, size_t count,

@@ -187,7 +187,10 @@ int tb__scene_post_step(double t, double *y, void *ctx)
         return -1;
     }
     scene->time = t; /* the states' time, which bodies without a state are read at */
-    const int rc = scene->renormalize ? tb_scene_normalize_quaternions(t, y, ctx) : 0;
+    int rc = scene->renormalize ? tb_scene_normalize_quaternions(t, y, ctx) : 0;
+    if (rc == 0 && scene->constraint_ops != NULL) { /* back onto the joints */
+        rc = scene->constraint_ops->project(scene->constraints, scene, t, y);
+    }
     tb__scene_sleep_begin(scene);
     for (size_t e = 0; e < scene->effect_count && rc == 0; ++e) {
         const tb__effect *effect = &scene->effects[e];

@@ -206,6 +206,9 @@ void tb_scene_destroy(tb_scene *scene)
             }
             free(scene->effects[k].params);
         }
+        if (scene->constraint_ops != NULL) {
+            scene->constraint_ops->destroy(scene->constraints);
+        }
         free(scene->states);
         free(scene->bodies);
         free(scene->motions);

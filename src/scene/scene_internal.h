@@ -206,6 +206,23 @@ typedef struct tb__contact {
     double share;  /* 1 / (number of the body's contact points) */
 } tb__contact;
 
+/* The constraints the scene holds (src/constraints/: the joints), by pointer and one row of
+ * operations, as it holds effect rows: the scene names no constraint kind. NULL row: none. */
+typedef struct tb__constraint_ops {
+    /* The derivative's last stage: adds the constraint forces into dP and dL of dydt, after the
+     * applied loads (the effects) wrote theirs, the motions filled by kinematics. 0, >0
+     * recoverable (a singular solve), <0 fatal. Pure but for the rows' own scratch. */
+    int (*apply)(void *constraints, const tb_scene *scene, double t, const double *y, double *dydt);
+    /* The post-step projection of y at t onto the constraints (positions, then momenta); 0 or
+     * >0 when it cannot solve. Leaves asleep bodies as they are. */
+    int (*project)(void *constraints, const tb_scene *scene, double t, double *y);
+    /* Links the bodies the constraints hold together into one sleeping island
+     * (tb__scene_sleep_link). */
+    void (*link_islands)(const void *constraints, const tb_scene *scene);
+    /* Frees the constraints (tb_scene_destroy). */
+    void (*destroy)(void *constraints);
+} tb__constraint_ops;
+
 struct tb_scene {
     size_t body_count;
     size_t body_capacity;
@@ -298,6 +315,12 @@ struct tb_scene {
     size_t states_left_size, states_left_capacity;
     /* Contact events (contact_event_watch.c): NULL until tb_scene_set_contact_events. */
     struct tb__event_watch *contact_events;
+    /* Constraints (src/constraints/): NULL until the first joint; constraint_ops their row.
+     * stabilise: the integrator made last has no projection (CVODE Adams), so the constraint
+     * stage adds its Baumgarte terms (set by tb_scene_integrator_create). */
+    void *constraints;
+    const tb__constraint_ops *constraint_ops;
+    bool stabilise_constraints;
 };
 
 /* Contact events (contact_event_watch.c): the scene's state at a step boundary at time t,

@@ -429,6 +429,10 @@ static tb_status create_at(tb_scene *scene, const tb_integrator_def *def, double
     const unsigned long long generation = scene->layout_generation;
     const bool separable = scene->separable_at_claim;
     const double guard_dt = scene->guard_dt;
+    const bool stabilise = scene->stabilise_constraints;
+    /* CVODE Adams has no projection (SUNDIALS 6 projects with BDF only): its steps keep to the
+     * joints by the constraint stage's Baumgarte terms */
+    scene->stabilise_constraints = def->method == TB_METHOD_CVODE_ADAMS;
     tb_error error;
     status = tb_integrator_create(&system, &scene_def, t0, scene->states, out_integrator, &error);
     free(atol); /* the integrator copied it */
@@ -436,6 +440,7 @@ static tb_status create_at(tb_scene *scene, const tb_integrator_def *def, double
         scene->layout_generation = generation;
         scene->separable_at_claim = separable;
         scene->guard_dt = guard_dt;
+        scene->stabilise_constraints = stabilise;
         return tb__scene_fail(scene, status, "integrator: %s", error.message);
     }
     scene->guard_method = def->method;

@@ -179,6 +179,9 @@ static bool link_effects(tb_scene *scene)
             tb__scene_sleep_link(scene, effect->body, partner);
         }
     }
+    if (scene->constraint_ops != NULL) { /* jointed bodies sleep and wake together */
+        scene->constraint_ops->link_islands(scene->constraints, scene);
+    }
     for (size_t i = 0; i < sleep->capacity; ++i) {
         if (sleep->asleep[i]) {
             tb__scene_sleep_link(scene, i, sleep->island[i]);

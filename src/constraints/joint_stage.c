@@ -1,0 +1,300 @@
+/* The joints' stage of the derivative and their projection after each step.
+ *
+ * The stage runs after the applied loads. With u each body's (v, omega) and M its mass and
+ * world inertia, the loads alone give du/dt = a_free: a = F / M and alpha = I^-1 (tau -
+ * omega x L) (the state holds L, so d omega/dt carries the gyroscopic term). The joint forces
+ * J^T lambda make the rows' accelerations J du/dt + dJ/dt u vanish:
+ *
+ *     J M^-1 J^T lambda = -(J a_free + dJ/dt u)      (joint_solver.c, exact)
+ *
+ * and add lambda v-parts to dP, lambda w-parts to dL. A body without a state (static,
+ * keyframed) has M^-1 = 0 and its known acceleration in a_free.
+ *
+ * That keeps C'' = 0, so C and C' drift at the integrator's error. After each step (the scene's
+ * post-step hook: every fixed step, CVODE BDF's projection, every CVODE output) positions are
+ * projected by Newton's method on C = 0 with the correction M^-1 J^T mu, J M^-1 J^T mu = -C
+ * (the mass-weighted least change), then momenta by dP, dL = J^T mu with J M^-1 J^T mu = -J u,
+ * which leaves J u = 0 exactly.
+ *
+ * CVODE Adams (SUNDIALS 6) has no projection: its steps use Baumgarte's terms instead,
+ * -(2 b J u + b^2 C) added to the right-hand side, so that errors decay as (1 + b t) e^(-b t).
+ * b = TB__JOINT_BAUMGARTE_RATE = 20/s: a drift is halved within about 80 ms (a few frames),
+ * while the added modes (rate b, critically damped) are far slower than what sets Adams's
+ * steps at useful tolerances (a pendulum's rtol-1e-8 steps are ~1 ms: h b ~ 0.02), so they
+ * cost no steps; the outputs are projected as every method's are. */
+#include "constraints/joints_internal.h"
+
+#include "math/tb_math.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+/* The projection's Newton iterations: at most this many, stopping when the largest |C| is
+ * below the tolerance (m, or rad) or stops halving (round-off). */
+#define TB__PROJECTION_ITERATIONS 5
+#define TB__PROJECTION_TOLERANCE 1e-14
+
+static const tb__body world_constants = {INFINITY, 0.0, {0.0, 0.0, 0.0}};
+
+const tb__body *tb__joint_body_constants(const tb_scene *scene, size_t body)
+{
+    return body == TB_WORLD ? &world_constants : tb__body_constants(scene, body);
+}
+
+void tb__joint_motion(const tb_scene *scene, double t, const double *y, size_t body,
+                      bool derivative, tb__motion *out)
+{
+    if (body == TB_WORLD) {
+        *out = (tb__motion){.q = {1.0, 0.0, 0.0, 0.0}};
+    } else if (derivative) {
+        *out = *tb__derivative_motion(scene, body);
+    } else {
+        (void)tb__body_motion_at(scene, t, y, body, out); /* a failure holds the rest pose */
+    }
+}
+
+/* The acceleration and angular acceleration of a body under the applied loads in dydt. */
+static void free_acceleration(const tb_scene *scene, double t, const double *y, const double *dydt,
+                              size_t body, const tb__motion *m, double a[3], double alpha[3])
+{
+    const size_t slot = body == TB_WORLD ? TB_NO_SLOT : tb__body_slot(scene, body);
+    if (body == TB_WORLD) {
+        tb__v3_set(a, 0.0, 0.0, 0.0);
+        tb__v3_set(alpha, 0.0, 0.0, 0.0);
+        return;
+    }
+    if (slot == TB_NO_SLOT) {
+        tb__fixed_body_acceleration_at(scene, t, body, a, alpha);
+        return;
+    }
+    const tb__body *constants = &scene->bodies[slot];
+    const double *d = dydt + TB_STATE_SIZE * slot, *L = y + TB_STATE_SIZE * slot + TB_STATE_L;
+    double gyroscopic[3], torque[3], principal[3];
+    tb__v3_cross(gyroscopic, m->omega, L);
+    for (int k = 0; k < 3; ++k) {
+        a[k] = d[TB_STATE_P + k] * constants->inv_mass;
+        torque[k] = d[TB_STATE_L + k] - gyroscopic[k];
+    }
+    tb__q_rotate_inverse(principal, m->q, torque);
+    for (int k = 0; k < 3; ++k) {
+        principal[k] *= constants->inv_moments[k];
+    }
+    tb__q_rotate(alpha, m->q, principal);
+}
+
+/* Joint j's rows at (t, y), its motions in m. */
+static void evaluate(const tb__joints *js, const tb_scene *scene, double t, const double *y,
+                     bool derivative, size_t j, tb__motion m[2])
+{
+    const tb__joint *joint = &js->joints[j];
+    const tb__body *constants[2];
+    for (int s = 0; s < 2; ++s) {
+        tb__joint_motion(scene, t, y, joint->body[s], derivative, &m[s]);
+        constants[s] = tb__joint_body_constants(scene, joint->body[s]);
+    }
+    tb__joint_rows(joint, &m[0], &m[1], constants, &js->evals[j]);
+}
+
+/* The right-hand side -(J a_free + dJ/dt u), with Baumgarte's terms when stabilising. */
+static void stage_rhs(const tb__joints *js, const tb_scene *scene, double t, const double *y,
+                      const double *dydt, size_t j)
+{
+    const tb__joint *joint = &js->joints[j];
+    tb__joint_eval *eval = &js->evals[j];
+    tb__motion m[2];
+    evaluate(js, scene, t, y, true, j, m);
+    double a[2][3], alpha[2][3], velocity[TB__JOINT_ROWS];
+    for (int s = 0; s < 2; ++s) {
+        free_acceleration(scene, t, y, dydt, joint->body[s], &m[s], a[s], alpha[s]);
+    }
+    tb__joint_row_velocities(joint, eval, &m[0], &m[1], velocity);
+    const double b = scene->stabilise_constraints ? TB__JOINT_BAUMGARTE_RATE : 0.0;
+    for (int r = 0; r < joint->rows; ++r) {
+        double free = eval->bias[r];
+        for (int s = 0; s < 2; ++s) {
+            free += tb__v3_dot(eval->J[r].v[s], a[s]) + tb__v3_dot(eval->J[r].w[s], alpha[s]);
+        }
+        eval->rhs[r] = -free - 2.0 * b * velocity[r] - b * b * eval->C[r];
+    }
+}
+
+/* Adds J^T lambda (or, for momenta, the impulse J^T mu) of joint j into the P and L of the
+ * dynamic bodies at base (dydt or y). */
+static void add_row_loads(const tb__joints *js, const tb_scene *scene, size_t j, double *base,
+                          bool skip_asleep)
+{
+    const tb__joint *joint = &js->joints[j];
+    const tb__joint_eval *eval = &js->evals[j];
+    for (int s = 0; s < 2; ++s) {
+        const size_t body = joint->body[s];
+        if (body == TB_WORLD || (skip_asleep && tb__body_asleep(scene, body))) {
+            continue;
+        }
+        const bool fixed = tb__body_slot(scene, body) == TB_NO_SLOT;
+        if (fixed && (skip_asleep || scene->reactions == NULL)) {
+            continue;
+        }
+        /* a body without a state: its reaction, while tb_scene_body_reaction reads it */
+        double *force = fixed ? scene->reactions + 6 * body
+                              : base + TB_STATE_SIZE * tb__body_slot(scene, body) + TB_STATE_P;
+        double *torque = fixed ? force + 3 : force + (TB_STATE_L - TB_STATE_P);
+        for (int r = 0; r < joint->rows; ++r) {
+            tb__v3_axpy(force, eval->lambda[r], eval->J[r].v[s]);
+            tb__v3_axpy(torque, eval->lambda[r], eval->J[r].w[s]);
+        }
+    }
+}
+
+static int apply_joints(void *constraints, const tb_scene *scene, double t, const double *y,
+                        double *dydt)
+{
+    tb__joints *js = constraints;
+    for (size_t j = 0; j < js->count; ++j) {
+        stage_rhs(js, scene, t, y, dydt, j);
+    }
+    if (tb__joint_solve(&js->solver, js->joints, js->evals) != 0) {
+        return 1; /* rows that repeat one another: recoverable, a smaller step may pass */
+    }
+    for (size_t j = 0; j < js->count; ++j) {
+        add_row_loads(js, scene, j, dydt, false);
+    }
+    return 0;
+}
+
+/* Every joint's rows at (t, y) with rhs = -C; the largest |C|. */
+static double position_rhs(const tb__joints *js, const tb_scene *scene, double t, const double *y)
+{
+    double worst = 0.0;
+    tb__motion m[2];
+    for (size_t j = 0; j < js->count; ++j) {
+        evaluate(js, scene, t, y, false, j, m);
+        tb__joint_eval *eval = &js->evals[j];
+        for (int r = 0; r < js->joints[j].rows; ++r) {
+            eval->rhs[r] = -eval->C[r];
+            worst = fmax(worst, fabs(eval->C[r]));
+        }
+    }
+    return worst;
+}
+
+/* x += M^-1 J^T mu (the W rows), q turned by M^-1 J^T mu's angular part, for the dynamic awake
+ * bodies of joint j. */
+static void move_bodies(const tb__joints *js, const tb_scene *scene, size_t j, double *y)
+{
+    const tb__joint *joint = &js->joints[j];
+    const tb__joint_eval *eval = &js->evals[j];
+    for (int s = 0; s < 2; ++s) {
+        const size_t body = joint->body[s];
+        if (body == TB_WORLD || tb__body_slot(scene, body) == TB_NO_SLOT ||
+            tb__body_asleep(scene, body)) {
+            continue;
+        }
+        double *state = y + TB_STATE_SIZE * tb__body_slot(scene, body);
+        double turn[3] = {0.0, 0.0, 0.0};
+        for (int r = 0; r < joint->rows; ++r) {
+            tb__v3_axpy(state + TB_STATE_X, eval->lambda[r], eval->W[r].v[s]);
+            tb__v3_axpy(turn, eval->lambda[r], eval->W[r].w[s]);
+        }
+        double *q = state + TB_STATE_Q, dq[4];
+        const double half_turn[4] = {0.0, 0.5 * turn[0], 0.5 * turn[1], 0.5 * turn[2]};
+        tb__q_mul(dq, half_turn, q);
+        for (int k = 0; k < 4; ++k) {
+            q[k] += dq[k];
+        }
+    }
+}
+
+static void normalise_joint_bodies(const tb__joints *js, const tb_scene *scene, double *y)
+{
+    for (size_t j = 0; j < js->count; ++j) {
+        for (int s = 0; s < 2; ++s) {
+            const size_t body = js->joints[j].body[s];
+            if (body != TB_WORLD && tb__body_slot(scene, body) != TB_NO_SLOT &&
+                !tb__body_asleep(scene, body)) {
+                double *q = y + TB_STATE_SIZE * tb__body_slot(scene, body) + TB_STATE_Q;
+                const double inverse = 1.0 / tb__q_norm(q);
+                for (int k = 0; k < 4; ++k) {
+                    q[k] *= inverse;
+                }
+            }
+        }
+    }
+}
+
+static int project_positions(tb__joints *js, const tb_scene *scene, double t, double *y)
+{
+    double last = INFINITY;
+    for (int iteration = 0; iteration < TB__PROJECTION_ITERATIONS; ++iteration) {
+        const double worst = position_rhs(js, scene, t, y);
+        if (!isfinite(worst)) {
+            return 1;
+        }
+        if (worst <= TB__PROJECTION_TOLERANCE || worst > 0.5 * last) {
+            break;
+        }
+        last = worst;
+        if (tb__joint_solve(&js->solver, js->joints, js->evals) != 0) {
+            return 1;
+        }
+        for (size_t j = 0; j < js->count; ++j) {
+            move_bodies(js, scene, j, y);
+        }
+        normalise_joint_bodies(js, scene, y);
+    }
+    return 0;
+}
+
+static int project_momenta(tb__joints *js, const tb_scene *scene, double t, double *y)
+{
+    tb__motion m[2];
+    double velocity[TB__JOINT_ROWS];
+    for (size_t j = 0; j < js->count; ++j) {
+        evaluate(js, scene, t, y, false, j, m);
+        tb__joint_row_velocities(&js->joints[j], &js->evals[j], &m[0], &m[1], velocity);
+        for (int r = 0; r < js->joints[j].rows; ++r) {
+            js->evals[j].rhs[r] = -velocity[r];
+        }
+    }
+    if (tb__joint_solve(&js->solver, js->joints, js->evals) != 0) {
+        return 1;
+    }
+    for (size_t j = 0; j < js->count; ++j) {
+        add_row_loads(js, scene, j, y, true);
+    }
+    return 0;
+}
+
+static int project_joints(void *constraints, const tb_scene *scene, double t, double *y)
+{
+    tb__joints *js = constraints;
+    const int rc = project_positions(js, scene, t, y);
+    return rc != 0 ? rc : project_momenta(js, scene, t, y);
+}
+
+static void link_joints(const void *constraints, const tb_scene *scene)
+{
+    const tb__joints *js = constraints;
+    for (size_t j = 0; j < js->count; ++j) {
+        if (js->joints[j].body[1] != TB_WORLD) {
+            tb__scene_sleep_link(scene, js->joints[j].body[0], js->joints[j].body[1]);
+        }
+    }
+}
+
+static void destroy_joints(void *constraints)
+{
+    tb__joints *js = constraints;
+    if (js != NULL) {
+        tb__joint_solver_free(&js->solver);
+        free(js->joints);
+        free(js->evals);
+        free(js);
+    }
+}
+
+const tb__constraint_ops tb__joint_ops = {
+    .apply = apply_joints,
+    .project = project_joints,
+    .link_islands = link_joints,
+    .destroy = destroy_joints,
+};

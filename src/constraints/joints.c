@@ -1,0 +1,376 @@
+/* The joints' public calls: names, the def, adding a joint (every refusal changing nothing),
+ * and the read-outs. */
+#include "constraints/joints_internal.h"
+
+#include "core/validate.h"
+#include "math/tb_math.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define TB__JOINT_COOKIE 0x10147d
+
+static const char *const type_names[TB_JOINT_TYPE_COUNT] = {
+    [TB_JOINT_BALL] = "ball",
+    [TB_JOINT_HINGE] = "hinge",
+    [TB_JOINT_SLIDER] = "slider",
+    [TB_JOINT_FIXED] = "fixed",
+};
+
+const char *tb_joint_type_name(tb_joint_type type)
+{
+    return (unsigned)type < TB_JOINT_TYPE_COUNT ? type_names[type] : "unknown";
+}
+
+tb_status tb_joint_type_from_name(const char *name, tb_joint_type *out_type)
+{
+    if (name == NULL || out_type == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    for (int k = 0; k < TB_JOINT_TYPE_COUNT; ++k) {
+        if (strcmp(name, type_names[k]) == 0) {
+            *out_type = (tb_joint_type)k;
+            return TB_STATUS_OK;
+        }
+    }
+    return TB_STATUS_INVALID_ARGUMENT;
+}
+
+tb_joint_def tb_joint_def_default(void)
+{
+    tb_joint_def def;
+    memset(&def, 0, sizeof def);
+    def.type = TB_JOINT_BALL;
+    def.body_a = TB_WORLD; /* required: refused until set */
+    def.body_b = TB_WORLD;
+    def.axis[2] = 1.0;
+    def.motor = TB_MOTOR_OFF;
+    def.break_force = INFINITY;
+    def.break_torque = INFINITY;
+    def.internal_cookie = TB__JOINT_COOKIE;
+    return def;
+}
+
+/* The bodies: in range, different, one of them dynamic. */
+static tb_status check_bodies(tb_scene *scene, const tb_joint_def *def)
+{
+    if (def->body_a == TB_WORLD) {
+        return tb__scene_fail(scene, TB_STATUS_OUT_OF_RANGE,
+                              "body_a: required (a body id), got TB_WORLD");
+    }
+    tb_status status = tb__scene_check_id(scene, def->body_a, "body_a");
+    if (status == TB_STATUS_OK && def->body_b != TB_WORLD) {
+        status = tb__scene_check_id(scene, def->body_b, "body_b");
+    }
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    if (def->body_a == def->body_b) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "body_b: the same body as body_a (%zu)", def->body_a);
+    }
+    const bool fixed_b = def->body_b == TB_WORLD || tb__body_fixed(scene, def->body_b);
+    if (tb__body_fixed(scene, def->body_a) && fixed_b) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "body_a, body_b: neither is dynamic (a joint must move a body)");
+    }
+    return TB_STATUS_OK;
+}
+
+/* The geometry: finite anchor and axis, a non-zero axis where the type has one. */
+static tb_status check_geometry(tb_scene *scene, const tb_joint_def *def)
+{
+    if ((unsigned)def->type >= TB_JOINT_TYPE_COUNT) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT, "type: %d is not a joint type",
+                              (int)def->type);
+    }
+    tb_status status = tb__validate_vector(scene->detail, def->anchor, "anchor");
+    if (status == TB_STATUS_OK) {
+        status = tb__validate_vector(scene->detail, def->axis, "axis");
+    }
+    const bool axial = def->type == TB_JOINT_HINGE || def->type == TB_JOINT_SLIDER;
+    if (status == TB_STATUS_OK && axial && !(tb__v3_norm(def->axis) > 0.0)) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "axis: zero (a %s needs a direction)", type_names[def->type]);
+    }
+    return status;
+}
+
+/* Limits, restitution and motor checked as values, before they are refused as unsupported. */
+static tb_status check_limits_and_motor(tb_scene *scene, const tb_joint_def *def)
+{
+    const bool axial = def->type == TB_JOINT_HINGE || def->type == TB_JOINT_SLIDER;
+    tb_status status = TB_STATUS_OK;
+    const double values[6] = {def->limits[0],   def->limits[1],    def->restitution,
+                              def->motor_speed, def->motor_target, def->motor_max_force};
+    static const char *const names[6] = {"limits[0]",   "limits[1]",    "restitution",
+                                         "motor_speed", "motor_target", "motor_max_force"};
+    for (int k = 0; k < 6 && status == TB_STATUS_OK; ++k) {
+        status = tb__validate_finite(scene->detail, values[k], names[k]);
+    }
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    if (def->has_limits && (!axial || def->limits[0] > def->limits[1])) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT, "limits: %s",
+                              axial ? "lower > upper" : "only a hinge or slider");
+    }
+    if (!(def->restitution >= 0.0 && def->restitution <= 1.0) ||
+        (def->restitution != 0.0 && !def->has_limits)) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "restitution: %g (within [0, 1], and only with limits)",
+                              def->restitution);
+    }
+    if ((unsigned)def->motor > TB_MOTOR_POSITION ||
+        (def->motor != TB_MOTOR_OFF && (!axial || !(def->motor_max_force > 0.0)))) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "motor: a known mode, on a hinge or slider, with motor_max_force "
+                              "> 0");
+    }
+    return TB_STATUS_OK;
+}
+
+/* Breaking and softness checked as values. */
+static tb_status check_breaking_and_softness(tb_scene *scene, const tb_joint_def *def)
+{
+    const double values[4] = {def->break_force, def->break_torque, def->soft_frequency,
+                              def->soft_damping_ratio};
+    static const char *const names[4] = {"break_force", "break_torque", "soft_frequency",
+                                         "soft_damping_ratio"};
+    for (int k = 0; k < 4; ++k) {
+        if (isnan(values[k]) || (k >= 2 && !isfinite(values[k]))) {
+            return tb__scene_fail(scene, TB_STATUS_NOT_FINITE, "%s: %g", names[k], values[k]);
+        }
+        if (!(values[k] >= 0.0) || (k < 2 && values[k] == 0.0)) {
+            return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT, "%s: %g (must be %s)",
+                                  names[k], values[k], k < 2 ? "> 0" : ">= 0");
+        }
+    }
+    return TB_STATUS_OK;
+}
+
+/* What is asked but not built yet: refused, never accepted and ignored. */
+static tb_status check_supported(tb_scene *scene, const tb_joint_def *def)
+{
+    const char *what = def->has_limits                ? "has_limits (joint limits)"
+                       : def->motor != TB_MOTOR_OFF   ? "motor (joint motors)"
+                       : !isinf(def->break_force)     ? "break_force (breaking joints)"
+                       : !isinf(def->break_torque)    ? "break_torque (breaking joints)"
+                       : def->soft_frequency != 0.0   ? "soft_frequency (soft joints)"
+                       : def->soft_damping_ratio != 0 ? "soft_damping_ratio (soft joints)"
+                                                      : NULL;
+    return what == NULL
+               ? TB_STATUS_OK
+               : tb__scene_fail(scene, TB_STATUS_UNSUPPORTED,
+                                "%s: not implemented yet (issue 21): leave the default", what);
+}
+
+static tb_status check_def(tb_scene *scene, const tb_joint_def *def)
+{
+    if (def == NULL) {
+        return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "def is NULL");
+    }
+    if (def->internal_cookie != TB__JOINT_COOKIE) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "def: not initialised by tb_joint_def_default()");
+    }
+    tb_status status = check_geometry(scene, def);
+    status = status != TB_STATUS_OK ? status : check_bodies(scene, def);
+    status = status != TB_STATUS_OK ? status : check_limits_and_motor(scene, def);
+    status = status != TB_STATUS_OK ? status : check_breaking_and_softness(scene, def);
+    status = status != TB_STATUS_OK ? status : check_supported(scene, def);
+    return status != TB_STATUS_OK ? status : tb__scene_check_idle(scene, "adding a joint");
+}
+
+/* The joint made from def at the scene's time and states. */
+static tb__joint make_joint(const tb_scene *scene, const tb_joint_def *def)
+{
+    tb__joint joint = {.def = *def, .body = {def->body_a, def->body_b}};
+    tb__motion m[2];
+    for (int s = 0; s < 2; ++s) {
+        tb__joint_motion(scene, scene->time, scene->states, joint.body[s], false, &m[s]);
+    }
+    tb__joint_frames(&joint, &m[0], &m[1]);
+    return joint;
+}
+
+/* The scene's joints with room for one more joint, made with its solver pattern; the scene
+ * keeps its old ones on failure. */
+static tb_status grow_joints(tb_scene *scene, const tb__joint *joint)
+{
+    tb__joints *js = scene->constraints;
+    const size_t count = js == NULL ? 1 : js->count + 1;
+    tb__joint *joints = tb__malloc_array(count, sizeof *joints);
+    tb__joint_eval *evals = tb__malloc_array(count, sizeof *evals);
+    tb__joints *grown = js != NULL ? js : calloc(1, sizeof *grown);
+    tb__joint_solver solver = {0};
+    tb_status status =
+        joints != NULL && evals != NULL && grown != NULL ? TB_STATUS_OK : TB_STATUS_OUT_OF_MEMORY;
+    if (status == TB_STATUS_OK) {
+        if (count > 1) {
+            memcpy(joints, js->joints, (count - 1) * sizeof *joints);
+        }
+        joints[count - 1] = *joint;
+        memset(evals, 0, count * sizeof *evals);
+        status = tb__joint_solver_build(scene, joints, count, &solver);
+    }
+    if (status != TB_STATUS_OK) {
+        free(joints);
+        free(evals);
+        if (grown != js) {
+            free(grown);
+        }
+        return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "room for %zu joints", count);
+    }
+    if (js != NULL) {
+        free(js->joints);
+        free(js->evals);
+        tb__joint_solver_free(&js->solver);
+    }
+    *grown = (tb__joints){.joints = joints, .count = count, .evals = evals, .solver = solver};
+    scene->constraints = grown;
+    scene->constraint_ops = &tb__joint_ops;
+    return TB_STATUS_OK;
+}
+
+tb_status tb_scene_add_joint(tb_scene *scene, const tb_joint_def *def, size_t *out_id)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    tb_status status = check_def(scene, def);
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    const tb__joint joint = make_joint(scene, def);
+    status = grow_joints(scene, &joint);
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    const size_t id = ((tb__joints *)scene->constraints)->count - 1;
+    tb__scene_layout_changed(scene, "joint %zu added", id);
+    tb__scene_wake_all(scene);
+    if (out_id != NULL) {
+        *out_id = id;
+    }
+    return TB_STATUS_OK;
+}
+
+size_t tb_scene_joint_count(const tb_scene *scene)
+{
+    return scene == NULL || scene->constraints == NULL
+               ? 0
+               : ((const tb__joints *)scene->constraints)->count;
+}
+
+/* The prologue of the read-outs: scene, joint index, the one required pointer. */
+static tb_status begin_joint_call(const tb_scene *scene, size_t joint, const void *pointer,
+                                  const char *what)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    if (pointer == NULL) {
+        return tb__scene_fail((tb_scene *)scene, TB_STATUS_NULL_POINTER, "%s is NULL", what);
+    }
+    return tb__validate_index(((tb_scene *)scene)->detail, joint, tb_scene_joint_count(scene),
+                              "joint", "joints");
+}
+
+tb_status tb_scene_joint_def(const tb_scene *scene, size_t joint, tb_joint_def *out_def)
+{
+    const tb_status status = begin_joint_call(scene, joint, out_def, "out_def");
+    if (status == TB_STATUS_OK) {
+        *out_def = ((const tb__joints *)scene->constraints)->joints[joint].def;
+    }
+    return status;
+}
+
+tb_status tb_scene_joint_broken(const tb_scene *scene, size_t joint, bool *out_broken)
+{
+    const tb_status status = begin_joint_call(scene, joint, out_broken, "out_broken");
+    if (status == TB_STATUS_OK) {
+        *out_broken = false; /* breaking is refused by tb_scene_add_joint for now */
+    }
+    return status;
+}
+
+tb_status tb_scene_joint_error(const tb_scene *scene, const double *y, size_t joint,
+                               double *out_position, double *out_velocity)
+{
+    const tb_status status = begin_joint_call(scene, joint, y, "y");
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    const tb__joints *js = scene->constraints;
+    const tb__joint *j = &js->joints[joint];
+    tb__joint_eval eval;
+    tb__motion m[2];
+    const tb__body *constants[2];
+    for (int s = 0; s < 2; ++s) {
+        tb__joint_motion(scene, scene->time, y, j->body[s], false, &m[s]);
+        constants[s] = tb__joint_body_constants(scene, j->body[s]);
+    }
+    tb__joint_rows(j, &m[0], &m[1], constants, &eval);
+    double velocity[TB__JOINT_ROWS], worst_c = 0.0, worst_v = 0.0;
+    tb__joint_row_velocities(j, &eval, &m[0], &m[1], velocity);
+    for (int r = 0; r < j->rows; ++r) {
+        worst_c = fmax(worst_c, fabs(eval.C[r]));
+        worst_v = fmax(worst_v, fabs(velocity[r]));
+    }
+    if (out_position != NULL) {
+        *out_position = worst_c;
+    }
+    if (out_velocity != NULL) {
+        *out_velocity = worst_v;
+    }
+    return TB_STATUS_OK;
+}
+
+/* Joint j's force on body_a and torque about its anchor, from the last solve's lambda. */
+static void reaction_of(const tb_scene *scene, const tb__joints *js, size_t j, double force[3],
+                        double torque[3])
+{
+    const tb__joint *joint = &js->joints[j];
+    const tb__joint_eval *eval = &js->evals[j];
+    tb__v3_set(force, 0.0, 0.0, 0.0);
+    tb__v3_set(torque, 0.0, 0.0, 0.0);
+    for (int r = 0; r < joint->rows; ++r) {
+        tb__v3_axpy(force, eval->lambda[r], eval->J[r].v[0]);
+        tb__v3_axpy(torque, eval->lambda[r], eval->J[r].w[0]);
+    }
+    double arm[3], moment[3];
+    tb__point_arm(tb__derivative_motion(scene, joint->body[0]), joint->anchor[0], arm);
+    tb__v3_cross(moment, arm, force); /* about the centre of mass -> about the anchor */
+    tb__v3_axpy(torque, -1.0, moment);
+}
+
+tb_status tb_scene_joint_reaction(tb_scene *scene, const double *y, size_t joint,
+                                  double out_force[3], double out_torque[3])
+{
+    tb_status status = begin_joint_call(scene, joint, y, "y");
+    if (status == TB_STATUS_OK && (out_force == NULL || out_torque == NULL)) {
+        status = tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "%s is NULL",
+                                out_force == NULL ? "out_force" : "out_torque");
+    }
+    status = status != TB_STATUS_OK ? status : tb__scene_check_idle(scene, "a joint reaction");
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    const size_t n = tb_scene_state_size(scene);
+    double *dydt = tb__malloc_array(n > 0 ? n : 1, sizeof(double));
+    if (dydt == NULL) {
+        return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "a derivative's scratch");
+    }
+    const int rc = tb_scene_derivative(scene->time, y, dydt, scene);
+    free(dydt);
+    if (rc != 0) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "the derivative failed at t = %g (%d)", scene->time, rc);
+    }
+    reaction_of(scene, scene->constraints, joint, out_force, out_torque);
+    return TB_STATUS_OK;
+}

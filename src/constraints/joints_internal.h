@@ -1,0 +1,124 @@
+/* Private: the joints the scene holds through its constraint row (scene_internal.h's
+ * tb__constraint_ops): each joint's frames in its bodies, its rows of the constraint Jacobian
+ * (joint_rows.c), the block-sparse solve of J M^-1 J^T lambda = b (joint_solver.c), the stage
+ * and projection (joint_stage.c) and the public calls (joints.c). */
+#ifndef TUMBLE_JOINTS_INTERNAL_H
+#define TUMBLE_JOINTS_INTERNAL_H
+
+#include "tumble/joints.h"
+
+#include "scene/scene_internal.h"
+
+/* A joint has at most 6 rows (fixed); its blocks of J M^-1 J^T are stored 6 x 6, row-major. */
+#define TB__JOINT_ROWS 6
+#define TB__BLOCK (TB__JOINT_ROWS * TB__JOINT_ROWS)
+
+/* One row of J: its coefficients on each body's velocity v (m/s) and angular velocity omega
+ * (rad/s, world); side 0 is body_a, side 1 body_b. The row's force on a body is lambda v-part
+ * (N) and its torque about the centre of mass lambda w-part (N m). */
+typedef struct tb__joint_row {
+    double v[2][3];
+    double w[2][3];
+} tb__joint_row;
+
+/* A joint as made: its def and its frames in each body's principal frame (the world's frame
+ * for TB_WORLD). */
+typedef struct tb__joint {
+    tb_joint_def def;
+    size_t body[2];        /* body_a, body_b (TB_WORLD) */
+    int rows;              /* 3, 5, 5, 6 */
+    double anchor[2][3];   /* the anchor from each centre of mass, m */
+    double axis_a[3];      /* the axis, unit, in a's frame */
+    double across_a[2][3]; /* two unit vectors across the axis, in a's frame (slider rows) */
+    double across_b[2][3]; /* the same, in b's frame (hinge rows) */
+    double relative[4];    /* q_b^* q_a when made: the held relative rotation (slider, fixed) */
+} tb__joint;
+
+/* One evaluation's scratch per joint: its rows at y, M^-1 J^T (the same shape), the part of
+ * the rows' acceleration that the velocities give (dJ/dt u), the position error C, the
+ * right-hand side and lambda of the solve. */
+typedef struct tb__joint_eval {
+    tb__joint_row J[TB__JOINT_ROWS];
+    tb__joint_row W[TB__JOINT_ROWS];
+    double bias[TB__JOINT_ROWS];
+    double C[TB__JOINT_ROWS];
+    double rhs[TB__JOINT_ROWS];
+    double lambda[TB__JOINT_ROWS];
+} tb__joint_eval;
+
+/* A contribution J_i,side_i M^-1 J_k,side_k^T of one shared body to the block (i, k) of
+ * J M^-1 J^T, i after k in the elimination order (i == k: the diagonal block). */
+typedef struct tb__joint_coupling {
+    size_t row_joint, column_joint;
+    int row_side, column_side;
+    size_t block; /* index into the solver's blocks */
+} tb__joint_coupling;
+
+/* L(target) -= L(first) L(second)^T: one update of the right-looking block Cholesky. */
+typedef struct tb__block_update {
+    size_t first, second, target;
+    size_t first_joint, second_joint; /* the row joints of first and second */
+} tb__block_update;
+
+/* The block-sparse Cholesky factor's pattern, made when a joint is added (joint_solver.c): the
+ * elimination order (minimum degree: the leaves of a tree first, so a chain or tree makes no
+ * fill), each column's blocks below the diagonal and the updates they make. Joint j's diagonal
+ * block is blocks[j]; off-diagonal ones follow. */
+typedef struct tb__joint_solver {
+    size_t count;
+    size_t *order;        /* position -> joint */
+    size_t *column_start; /* count + 1, by position: the column's blocks in below */
+    size_t *below;        /* off-diagonal block indices, by column */
+    size_t *below_joint;  /* the row joint of each */
+    size_t *update_start; /* count + 1, by position */
+    tb__block_update *updates;
+    tb__joint_coupling *couplings;
+    size_t coupling_count;
+    double *blocks; /* TB__BLOCK per block */
+    size_t block_count;
+} tb__joint_solver;
+
+/* The scene's joints (scene->constraints). */
+typedef struct tb__joints {
+    tb__joint *joints;
+    size_t count;
+    tb__joint_eval *evals; /* count */
+    tb__joint_solver solver;
+} tb__joints;
+
+/* The Baumgarte rate (1/s) under CVODE Adams (joint_stage.c explains it). */
+#define TB__JOINT_BAUMGARTE_RATE 20.0
+
+/* The joint's rows, M^-1 J^T, bias and position error at the motions of its bodies (ma, mb);
+ * inverse[s] the body constants of side s (zero inverse mass and inertia for a body that
+ * cannot move). */
+void tb__joint_rows(const tb__joint *joint, const tb__motion *ma, const tb__motion *mb,
+                    const tb__body *const inverse[2], tb__joint_eval *eval);
+/* J u: each row's velocity at the motions. */
+void tb__joint_row_velocities(const tb__joint *joint, const tb__joint_eval *eval,
+                              const tb__motion *ma, const tb__motion *mb, double out[]);
+/* The frames of a joint made from def at the motions of its bodies. */
+void tb__joint_frames(tb__joint *joint, const tb__motion *ma, const tb__motion *mb);
+/* Rows per type. */
+int tb__joint_row_count(tb_joint_type type);
+
+/* The solver's pattern for the joints (replacing out's on success, out untouched on failure);
+ * TB_STATUS_OUT_OF_MEMORY. */
+tb_status tb__joint_solver_build(const tb_scene *scene, const tb__joint *joints, size_t count,
+                                 tb__joint_solver *out);
+void tb__joint_solver_free(tb__joint_solver *solver);
+/* Assembles J M^-1 J^T from the evals, factors it and solves for every eval's lambda from its
+ * rhs. 0, or 1 when J M^-1 J^T is not positive definite (rows that repeat one another). */
+int tb__joint_solve(tb__joint_solver *solver, const tb__joint *joints, tb__joint_eval *evals);
+
+/* The motion of side s of a joint at (t, y): the accessor's, the world's at rest for
+ * TB_WORLD; in the derivative the kinematics' (derivative = true). */
+void tb__joint_motion(const tb_scene *scene, double t, const double *y, size_t body,
+                      bool derivative, tb__motion *out);
+/* The body constants of body (world: infinitely heavy). */
+const tb__body *tb__joint_body_constants(const tb_scene *scene, size_t body);
+
+/* The ops row the scene holds the joints by (joint_stage.c). */
+extern const tb__constraint_ops tb__joint_ops;
+
+#endif
