@@ -83,20 +83,27 @@ def test_the_reaction_of_a_hanging_rod_carries_its_weight():
 
 
 def test_the_builder_writes_the_joints_the_scene_describes():
-    b = rod_pendulum(0.0, limits=[-0.5, 0.5], restitution=0.3)
+    b = rod_pendulum(0.0)
     b.add_body("weight", shape={"type": "sphere", "radius": 0.05}, mass=2.0,
                position=[0, 0, -1.1])
-    b.add_joint("ball", ["weight", "rod"], anchor=np.array([0, 0, -1.0]), break_force=100.0)
+    b.add_joint("ball", ["weight", "rod"], anchor=np.array([0, 0, -1.0]))
     description = json.loads(json.dumps(b._description))
-    assert description["joints"][0] == {"type": "hinge", "bodies": ["rod"],
-                                        "anchor": [0.0, 0.0, 0.0], "axis": [0.0, 1.0, 0.0],
-                                        "limits": [-0.5, 0.5], "restitution": 0.3}
+    assert description["joints"] == [
+        {"type": "hinge", "bodies": ["rod"], "anchor": [0.0, 0.0, 0.0], "axis": [0.0, 1.0, 0.0]},
+        {"type": "ball", "bodies": ["weight", "rod"], "anchor": [0.0, 0.0, -1.0]}]
     scene = b.build()
     assert scene.joint_count == 2
     assert scene.joints[0]["type"] == "hinge" and scene.joints[0]["bodies"] == ["rod", "world"]
     assert scene.joints[1]["type"] == "ball" and scene.joints[1]["bodies"] == ["weight", "rod"]
     assert scene.joints[1]["anchor"] == [0.0, 0.0, -1.0]
     assert scene.joint_broken(1) is False
+    # the options go into the file in the scene format's words, as given
+    options = rod_pendulum(0.0, limits=[-0.5, 0.5], restitution=0.3, break_force=100.0,
+                           motor={"speed": 1.0, "max_torque": 2.0})
+    assert options._description["joints"][0] == {
+        "type": "hinge", "bodies": ["rod"], "anchor": [0.0, 0.0, 0.0], "axis": [0.0, 1.0, 0.0],
+        "limits": [-0.5, 0.5], "restitution": 0.3, "break_force": 100.0,
+        "motor": {"speed": 1.0, "max_torque": 2.0}}
 
 
 @pytest.mark.parametrize("joint, message", [
