@@ -146,6 +146,9 @@ tb_status tb__looks_load(tb__looks *looks, const tb_writer_def *def, const tb_sc
     if (status == TB_STATUS_OK && (def->scene_file != NULL || def->scene_text != NULL)) {
         status = tb__looks_file_meshes(looks, def, scene, error);
     }
+    if (status == TB_STATUS_OK) {
+        status = tb__looks_joints(looks, scene, error);
+    }
     return status;
 }
 
@@ -161,6 +164,7 @@ void tb__looks_free(tb__looks *looks, size_t body_count)
     }
     free(looks->bodies);
     free(looks->grounds);
+    free(looks->joints);
     memset(looks, 0, sizeof *looks);
 }
 
