@@ -10,15 +10,17 @@
 #include <math.h>
 #include <stdlib.h>
 
-/* A fifth of the body's largest radius of gyration sqrt(I_max / M): seen beside the body at any
- * scale, never hiding it (a ball's marker is 0.13 of its radius, a thin rod's 0.06 of its
- * length); 1 cm when the mass properties give no length. */
+/* 1.5 times the body's smallest principal radius of gyration sqrt(I_min / M), so that the
+ * sphere stands out of a thin body (a box's I_min is M (a^2 + b^2) / 12 for its two shorter
+ * sides: 1.5 sqrt of it passes half of the shortest, a / 2), at most half its largest (a plate
+ * would make it large); 1 cm when the mass properties give no length. */
 static double marker_radius(const tb__look *look)
 {
     const tb_mass_properties *m = &look->mass;
+    const double smallest = fmin(m->moments[0], fmin(m->moments[1], m->moments[2]));
     const double largest = fmax(m->moments[0], fmax(m->moments[1], m->moments[2]));
-    const double gyration = sqrt(largest / m->mass);
-    return isfinite(gyration) && gyration > 0 ? 0.2 * gyration : 0.01;
+    const double radius = fmin(1.5 * sqrt(smallest / m->mass), 0.5 * sqrt(largest / m->mass));
+    return isfinite(radius) && radius > 0 ? radius : 0.01;
 }
 
 tb_status tb__looks_joints(tb__looks *looks, const tb_scene *scene, tb_error *error)
