@@ -11,6 +11,8 @@
 
 #include "bodies.h"
 #include "counting_malloc.h"
+#include "fixtures.h"
+#include "joint_scenes.h"
 #include "tumble/tumble.h"
 
 #include <stdlib.h>
@@ -226,6 +228,23 @@ static void test_contact_between_bodies_allocates_nothing(void **state)
     }
 }
 
+/* The joints' stage and projection (a double pendulum on hinges): no allocation per step or
+ * derivative under any method, after a first advance (CVODE's own first-call set-up). */
+static void test_stepping_jointed_bodies_allocates_nothing(void **state)
+{
+    (void)state;
+    for (int m = 0; m < TB_METHOD_COUNT; ++m) {
+        tb_scene *scene = test_double_pendulum(1.0, 0.5, NULL);
+        tb_integrator *integrator = test_integrator_for(scene, (tb_method)m, 1.0 / 960.0, 1e-8);
+        assert_int_equal(tb_integrator_advance(integrator, 0.1), TB_STATUS_OK);
+        const long before = counted_allocations;
+        assert_int_equal(tb_integrator_advance(integrator, 1.0), TB_STATUS_OK);
+        assert_int_equal(counted_allocations, before);
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -234,6 +253,7 @@ int main(void)
         cmocka_unit_test(test_stepping_with_every_effect_allocates_nothing),
         cmocka_unit_test(test_building_a_scene_allocates_per_doubling_not_per_body),
         cmocka_unit_test(test_contact_between_bodies_allocates_nothing),
+        cmocka_unit_test(test_stepping_jointed_bodies_allocates_nothing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

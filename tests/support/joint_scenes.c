@@ -21,8 +21,14 @@ double test_rod_moment(double m, double length)
 
 size_t test_add_rod(tb_scene *scene, double m, double length, double theta, const double center[3])
 {
+    return test_add_bar(scene, m, length, ROD_WIDTH, theta, center);
+}
+
+size_t test_add_bar(tb_scene *scene, double m, double length, double width, double theta,
+                    const double center[3])
+{
     tb_body_def def = tb_body_def_default();
-    const double size[3] = {length, ROD_WIDTH, ROD_WIDTH};
+    const double size[3] = {length, width, width};
     assert_int_equal(tb_mass_from_box(TB_MASS_GIVEN, m, size, &def.mass, NULL), TB_STATUS_OK);
     /* the box's x axis turned about y by phi = pi/2 - theta: (cos phi, 0, -sin phi) */
     const double phi = 0.5 * TEST_PI - theta;
@@ -139,7 +145,7 @@ tb_scene *test_ball_chain(size_t n, double m, double l)
     size_t previous = TB_WORLD;
     for (size_t i = 0; i < n; ++i) {
         const double center[3] = {(i + 0.5) * l, 0.0, 0.0};
-        const size_t id = test_add_rod(scene, m, l, 0.5 * TEST_PI, center);
+        const size_t id = test_add_bar(scene, m, l, 0.1 * l, 0.5 * TEST_PI, center);
         add_joint(scene, TB_JOINT_BALL, id, previous, (double[]){i * l, 0.0, 0.0}, NULL);
         previous = id;
     }

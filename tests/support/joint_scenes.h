@@ -13,6 +13,10 @@
  * center. Returns its id. */
 size_t test_add_rod(tb_scene *scene, double m, double length, double theta, const double center[3]);
 
+/* The same with a square section of side width (m). */
+size_t test_add_bar(tb_scene *scene, double m, double length, double width, double theta,
+                    const double center[3]);
+
 /* The moment of inertia (kg m^2) of such a rod about its centre, across its length. */
 double test_rod_moment(double m, double length);
 
@@ -30,8 +34,10 @@ void test_double_pendulum_reference(double theta1, double theta2, double interva
 /* The angle from straight down (about +y) of rod id's long axis at state y. */
 double test_rod_angle(const tb_scene *scene, const double *y, size_t id);
 
-/* A chain of n rods (mass m, length l each) joined end to end by ball joints, the first hung
- * from the world at the origin, lying horizontally along +x at rest, under gravity. */
+/* A chain of n bars (mass m, length l, section 0.1 l: thin rods spinning end over end would
+ * meet the stability guard's limit for thin spinning bodies at 240 Hz) joined end to end by ball
+ * joints, the first hung from the world at the origin, lying horizontally along +x at rest, under
+ * gravity. */
 tb_scene *test_ball_chain(size_t n, double m, double l);
 
 /* Kinetic plus potential energy at the scene's states (J). */
