@@ -423,10 +423,12 @@ int cli_check_command(const cli_options *o)
     }
     if (code == CLI_EXIT_OK) {
         const size_t bodies = tb_scene_body_count(scene), effects = tb_scene_effect_count(scene);
-        fprintf(stderr, "tumble: %s: ok: %zu %s, %zu %s, %s, %.6g s at %.6g fps\n", o->scene,
+        char joints[48];
+        summary_joints(scene, joints, sizeof joints);
+        fprintf(stderr, "tumble: %s: ok: %zu %s, %zu %s%s, %s, %.6g s at %.6g fps\n", o->scene,
                 bodies, summary_plural(bodies, "body", "bodies"), effects,
-                summary_plural(effects, "effect", "effects"), tb_method_name(run.integrator.method),
-                run.duration, run.fps);
+                summary_plural(effects, "effect", "effects"), joints,
+                tb_method_name(run.integrator.method), run.duration, run.fps);
         cli_check_steps(scene);
         cli_check_contact(scene);
     }
