@@ -146,3 +146,29 @@ def test_a_joint_index_is_checked():
         sim.joint_error(-1)
     with pytest.raises(TypeError):
         sim.joint_broken("0")
+
+
+def test_the_reactions_of_a_run_are_newtons_for_the_swinging_rod():
+    # run(joint_reactions=True): at every frame the hinge's force on the rod is what moves its
+    # centre on its circle against gravity, F = m a - m g, with a = d (alpha t - omega^2 r)
+    # (r from the hinge to the centre, t its turn by +90 degrees in the swing, alpha =
+    # -(m g d / I) sin theta from the rod's equation of motion), and no torque (a planar swing
+    # about a principal axis). To 1e-9 N: the frames' state is on the joint to 1e-15 m and the
+    # solve exact to rounding.
+    frames = rod_pendulum(1.0).build(fps=50, duration=2.0).run(method="rk4", dt=1e-3,
+                                                               joint_reactions=True)
+    assert frames.joint_force.shape == (101, 1, 3) and frames.joint_broken.shape == (101, 1)
+    d = LENGTH / 2
+    inertia = MASS * (LENGTH**2 + WIDTH**2) / 12 + MASS * d**2
+    x, z = frames.position[:, 0, 0], frames.position[:, 0, 2]
+    theta = np.arctan2(x, -z)
+    r = np.stack([np.sin(theta), 0 * theta, -np.cos(theta)], axis=1)
+    t = np.stack([np.cos(theta), 0 * theta, np.sin(theta)], axis=1)
+    omega2 = frames.angular_velocity[:, 0, 1] ** 2
+    alpha = -(MASS * G * d / inertia) * np.sin(theta)
+    expected = MASS * d * (alpha[:, None] * t - omega2[:, None] * r) + [0, 0, MASS * G]
+    np.testing.assert_allclose(frames.joint_force[:, 0], expected, atol=1e-9)
+    np.testing.assert_allclose(frames.joint_torque[:, 0], 0.0, atol=1e-9)
+    assert not frames.joint_broken.any()
+    assert tumble.Scene.from_dict(json.loads(json.dumps(rod_pendulum(0.0)._description))) \
+        .run(duration=0.1).joint_force is None  # only when asked for

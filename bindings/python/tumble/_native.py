@@ -373,6 +373,9 @@ class _ByAddress:
         self.potential_energy = bind("tb_scene_potential_energy", ctypes.c_int, p, p, p)
         self.linear_momentum = bind("tb_scene_linear_momentum", ctypes.c_int, p, p, p)
         self.angular_momentum = bind("tb_scene_angular_momentum", ctypes.c_int, p, p, p, p)
+        self.joint_reaction = bind("tb_scene_joint_reaction", ctypes.c_int, p, p,
+                                   ctypes.c_size_t, p, p)
+        self.joint_broken = bind("tb_scene_joint_broken", ctypes.c_int, p, ctypes.c_size_t, p)
 
 
 def _check_version(lib, path):

@@ -31,6 +31,9 @@ class Frames:
     stats             what the integrator did (steps, derivative_evals, ...)
     events            the run's contact events (run(events=True)), a NumPy structured array of
                       EVENT_DTYPE in the order they happened; None when not asked for
+    joint_force       (F, J, 3) N, joint_torque (F, J, 3) N m (about the anchor) and
+                      joint_broken (F, J) bool: each joint's reaction on its first body, world
+                      frame (run(joint_reactions=True)); None when not asked for
 
     The per-body arrays are views of one (F, N, 13) block, the layout of
     tb_scene_frame_values (include/tumble/scene.h)."""
@@ -50,6 +53,9 @@ class Frames:
     #: the Scene the frames came from: its bodies' names and shapes, for the files below
     source: object = field(default=None, repr=False, compare=False)
     events: Optional[np.ndarray] = field(default=None, compare=False)
+    joint_force: Optional[np.ndarray] = field(default=None, compare=False)
+    joint_torque: Optional[np.ndarray] = field(default=None, compare=False)
+    joint_broken: Optional[np.ndarray] = field(default=None, compare=False)
 
     def angular_momentum_about(self, point) -> np.ndarray:
         """Total angular momentum (F, 3), kg m^2/s, about `point`: a world point (3,) in m, or
@@ -135,7 +141,7 @@ class _Recorder:
     frame count the library gives (tb_run_output_frames): a frame costs one call that fills it
     (tb_scene_frame_values) and four for the totals, and no copy."""
 
-    def __init__(self, handle, run, masses, on_frame=None):
+    def __init__(self, handle, run, masses, on_frame=None, joints=0):
         # the library bounds the frames kept (TB_RUN_MAX_BODY_FRAMES) before anything is allocated
         count, error = ctypes.c_size_t(), _native.Error()
         bodies = lib.tb_scene_body_count(handle)
@@ -154,6 +160,9 @@ class _Recorder:
         moving = np.asarray(masses)[self.dynamic] if self.dynamic else np.zeros(0)
         self.mass_fraction = moving / max(sum(moving), np.finfo(float).tiny)
         self.count = 0
+        # each joint's force and torque (6) and broken flag per frame, when asked for
+        self.joints = np.empty((frames, joints, 6)) if joints else None
+        self.broken = np.zeros((frames, joints), dtype=np.bool_) if joints else None
         self.on_frame = on_frame
         self.failure = None
         self.interrupt = None  # the run's deferred_interrupt
@@ -196,15 +205,33 @@ class _Recorder:
             array = np.frombuffer((ctypes.c_double * max(n, 1)).from_address(y), count=n)
             self._x = array.reshape(slots, _native.STATE_SIZE)[:, 0:3]
         self.totals[k, 8:11] = self.mass_fraction @ self._x
+        if self.joints is not None:
+            self._record_joints(k, scene, y)
         self.t[k] = t
         self.count = k + 1
+
+    def _record_joints(self, k, scene, y):
+        fast = _native.by_address
+        for j in range(self.joints.shape[1]):
+            row = self.joints[k, j]
+            status = fast.joint_reaction(scene, y, j, row.ctypes.data, row.ctypes.data + 24)
+            if status == 0:
+                status = fast.joint_broken(scene, j, self.broken[k].ctypes.data + j)
+            if status != 0:
+                raise failure(status, lib.tb_scene_detail(scene).decode())
 
     def frames(self, source, stats):
         k = self.count
         values, totals = self.values[:k], self.totals[:k]
-        return Frames(list(source.body_names), self.t[:k], values[..., 0:3], values[..., 3:7],
-                      values[..., 7:10], values[..., 10:13], totals[:, 0], totals[:, 1],
-                      totals[:, 2:5], totals[:, 5:8], totals[:, 8:11], stats_dict(stats), source)
+        frames = Frames(list(source.body_names), self.t[:k], values[..., 0:3], values[..., 3:7],
+                        values[..., 7:10], values[..., 10:13], totals[:, 0], totals[:, 1],
+                        totals[:, 2:5], totals[:, 5:8], totals[:, 8:11], stats_dict(stats),
+                        source)
+        if self.joints is not None:
+            frames.joint_force = self.joints[:k, :, 0:3]
+            frames.joint_torque = self.joints[:k, :, 3:6]
+            frames.joint_broken = self.broken[:k]
+        return frames
 
 
 class Scene:
@@ -354,7 +381,7 @@ class Scene:
             threads: Optional[int] = None, max_steps: Optional[int] = None,
             sleeping: Optional[bool] = None, events: bool = False,
             on_event: Optional[Callable[[dict], None]] = None,
-            hit_speed: float = 0.0) -> "Frames":
+            hit_speed: float = 0.0, joint_reactions: bool = False) -> "Frames":
         """Simulates the scene from its initial state for `duration` seconds (the file's settings
         unless given here: method "euler", "midpoint", "rk4", "cvode-adams" or "cvode-bdf"; dt in
         s for the fixed-step methods, rtol and atol for CVODE, frames per second fps) and returns
@@ -371,7 +398,9 @@ class Scene:
         events: keep the contact events (docs/events.md) in frames.events; on_event(event) is
         called with each as it happens (a dict of EVENT_DTYPE's fields), at a step boundary:
         an exception from it stops nothing, and is raised when the run ends. hit_speed (m/s):
-        hits closing slower are left out (begins and ends never).
+        hits closing slower are left out (begins and ends never). joint_reactions: keep each
+        joint's reaction on its first body at every frame in frames.joint_force, joint_torque
+        and joint_broken (tb_scene_joint_reaction: a derivative evaluation a joint a frame).
         Raises TumbleError if the integrator refuses the settings or the run fails;
         a KeyboardInterrupt (Ctrl-C, seen at the next frame) or an exception from on_frame stops
         the run, and the frames made so far are on the exception's `frames` attribute."""
@@ -381,7 +410,8 @@ class Scene:
             apply_settings(run, method, dt, rtol, atol, fps, duration, threads, max_steps)
             if sleeping is not None:
                 lib.tb_scene_set_sleeping(handle, bool(sleeping))
-            recorder = _Recorder(handle, run, self.masses, on_frame)
+            recorder = _Recorder(handle, run, self.masses, on_frame,
+                                 self.joint_count if joint_reactions else 0)
             listener = _events.Listener(handle, self.body_names, hit_speed, on_event) \
                 if events or on_event is not None else None
             stats, error = _native.IntegratorStats(), _native.Error()
