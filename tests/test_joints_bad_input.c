@@ -101,10 +101,10 @@ static void set_up(fixture *f)
     X("add_joint: a motor (not built)", UNSUPPORTED, "motor",                                      \
       (f->def.motor = TB_MOTOR_VELOCITY, f->def.motor_max_force = 2.0,                             \
        tb_scene_add_joint(f->scene, &f->def, NULL)))                                               \
-    X("add_joint: breaking (not built)", UNSUPPORTED, "break_force",                               \
-      (f->def.break_force = 50.0, tb_scene_add_joint(f->scene, &f->def, NULL)))                    \
-    X("add_joint: a soft joint (not built)", UNSUPPORTED, "soft",                                  \
-      (f->def.soft_frequency = 5.0, tb_scene_add_joint(f->scene, &f->def, NULL)))                  \
+    X("add_joint: damping on a rigid joint", INVALID_ARGUMENT, "soft_damping_ratio",               \
+      (f->def.soft_damping_ratio = 0.5, tb_scene_add_joint(f->scene, &f->def, NULL)))              \
+    X("add_joint: infinite soft_frequency", NOT_FINITE, "soft_frequency",                          \
+      (f->def.soft_frequency = INFINITY, tb_scene_add_joint(f->scene, &f->def, NULL)))             \
     X("joint_def: index out of range", OUT_OF_RANGE, "joint",                                      \
       tb_scene_joint_def(f->scene, 1, &f->out))                                                    \
     X("joint_def: NULL out_def", NULL_POINTER, "out_def", tb_scene_joint_def(f->scene, 0, NULL))   \

@@ -47,7 +47,7 @@ typedef enum tb_joint_motor_mode {
 /* How a joint is made. Fill with tb_joint_def_default(), then set the fields. */
 typedef struct tb_joint_def {
     tb_joint_type type; /* default TB_JOINT_BALL */
-    size_t body_a;      /* required: a body id */
+    size_t body_a;      /* required: a body id (the default, TB_WORLD, is refused) */
     size_t body_b;      /* a body id or TB_WORLD (default): the world; at least one of the two
                            bodies must be dynamic */
     double anchor[3];   /* m, world frame, at the bodies' current poses: the joint's point; each
@@ -66,13 +66,17 @@ typedef struct tb_joint_def {
     double motor_speed;     /* rad/s or m/s (TB_MOTOR_VELOCITY) */
     double motor_target;    /* rad or m (TB_MOTOR_POSITION) */
     double motor_max_force; /* > 0 with a motor */
-    /* Breaking: the joint breaks (its rows are dropped for good, an event is reported) when
-     * the magnitude of its reaction force (N) or torque (N m) on body_a exceeds these.
-     * INFINITY (default): never. */
+    /* Breaking: the joint breaks (its rows are dropped for good; tb_scene_joint_broken says so)
+     * when the magnitude of its reaction force (N) or torque (N m, about the anchor) on body_a
+     * exceeds these (> 0), at the first step boundary where it does (fixed-step methods: every
+     * step; CVODE: its outputs). INFINITY (default): never. */
     double break_force, break_torque;
     /* A soft joint: a spring-damper on the same rows instead of an exact constraint, for
-     * animators' wobbly rigs. frequency (Hz, > 0) and damping_ratio (>= 0) of the rows' modes
-     * at the bodies' effective mass. frequency 0 (default): rigid. */
+     * animators' wobbly rigs: each row r pulls with -m_r (w^2 C_r + 2 zeta w dC_r/dt), w = 2 pi
+     * frequency, m_r = 1 / (J_r M^-1 J_r^T) the row's effective mass, so a row alone rings at
+     * frequency (Hz, > 0) with damping_ratio (>= 0). Not projected; its spring's energy is not
+     * in tb_scene_potential_energy, and the stability guard does not see its rate (keep
+     * 2 pi frequency dt well inside the method's limit). frequency 0 (default): rigid. */
     double soft_frequency, soft_damping_ratio;
     int internal_cookie; /* set by tb_joint_def_default */
 } tb_joint_def;
@@ -82,11 +86,14 @@ TB_API tb_joint_def tb_joint_def_default(void);
 /* Adds a joint; its id (0, 1, ... in the order added) in *out_id (may be NULL). Refuses,
  * changing nothing, with a detail naming the field: a NULL scene or def
  * (TB_STATUS_NULL_POINTER), a def not from tb_joint_def_default, an unknown type, a body id out
- * of range (TB_STATUS_OUT_OF_RANGE), body_a == body_b, two bodies neither dynamic, a zero axis,
- * limits reversed, a restitution outside [0, 1], a motor without a positive max force
- * (TB_STATUS_INVALID_ARGUMENT), a non-finite value (TB_STATUS_NOT_FINITE); TB_STATUS_BUSY while
- * an integrator steps the scene. An integrator made before the joint refuses to advance
- * (TB_STATUS_LAYOUT_CHANGED). */
+ * of range or body_a TB_WORLD (TB_STATUS_OUT_OF_RANGE), body_a == body_b, two bodies neither
+ * dynamic, a hinge's or slider's zero axis, limits reversed, a restitution outside [0, 1] or
+ * without limits, a motor without a positive max force or on a ball or fixed joint, a break
+ * force or torque <= 0, a negative soft frequency or damping ratio, a damping ratio on a rigid
+ * joint (TB_STATUS_INVALID_ARGUMENT), a non-finite value (TB_STATUS_NOT_FINITE);
+ * TB_STATUS_BUSY while an integrator steps the scene. Not built yet, refused with
+ * TB_STATUS_UNSUPPORTED rather than ignored: limits and motors (docs/joints.md). An
+ * integrator made before the joint refuses to advance (TB_STATUS_LAYOUT_CHANGED). */
 TB_API tb_status tb_scene_add_joint(tb_scene *scene, const tb_joint_def *def, size_t *out_id);
 
 TB_API size_t tb_scene_joint_count(const tb_scene *scene);

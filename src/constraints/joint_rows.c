@@ -125,19 +125,22 @@ static void travel_rows(const tb__joint *joint, const frame *f, tb__joint_row *J
     }
 }
 
-/* M^-1 J^T: the row's v-part over the mass, its w-part through the world inverse inertia. */
-static void inverse_mass_row(const tb__body *const inverse[2], const tb__motion *const m[2],
-                             const tb__joint_row *row, tb__joint_row *out)
+/* M^-1 J^T: each row's v-part over the mass, its w-part through the world inverse inertia
+ * R diag(I_body^-1) R^T (made once per side); zero for a body that cannot move. */
+static void inverse_mass_rows(const tb__body *const inverse[2], const tb__motion *const m[2],
+                              int rows, const tb__joint_row *J, tb__joint_row *W)
 {
     for (int s = 0; s < 2; ++s) {
         const tb__body *body = inverse[s];
-        double principal[3];
-        tb__q_rotate_inverse(principal, m[s]->q, row->w[s]);
-        for (int k = 0; k < 3; ++k) {
-            out->v[s][k] = row->v[s][k] * body->inv_mass;
-            principal[k] *= body->inv_moments[k];
+        double R[9], inverse_inertia[9];
+        tb__q_to_matrix(R, m[s]->q);
+        tb__m3_rotate_diagonal(inverse_inertia, R, body->inv_moments);
+        for (int r = 0; r < rows; ++r) {
+            for (int k = 0; k < 3; ++k) {
+                W[r].v[s][k] = J[r].v[s][k] * body->inv_mass;
+            }
+            tb__m3_mul_v(W[r].w[s], inverse_inertia, J[r].w[s]);
         }
-        tb__q_rotate(out->w[s], m[s]->q, principal);
     }
 }
 
@@ -169,9 +172,7 @@ void tb__joint_rows(const tb__joint *joint, const tb__motion *ma, const tb__moti
         rotation_rows(joint, &f, J + 3, eval->bias + 3, eval->C + 3);
         break;
     }
-    for (int r = 0; r < joint->rows; ++r) {
-        inverse_mass_row(inverse, f.m, &J[r], &eval->W[r]);
-    }
+    inverse_mass_rows(inverse, f.m, joint->rows, J, eval->W);
 }
 
 void tb__joint_row_velocities(const tb__joint *joint, const tb__joint_eval *eval,
@@ -220,4 +221,5 @@ void tb__joint_frames(tb__joint *joint, const tb__motion *ma, const tb__motion *
     const double conj_b[4] = {mb->q[0], -mb->q[1], -mb->q[2], -mb->q[3]};
     tb__q_mul(joint->relative, conj_b, ma->q);
     joint->rows = tb__joint_row_count(def->type);
+    joint->solved_rows = def->soft_frequency > 0.0 ? 0 : joint->rows;
 }

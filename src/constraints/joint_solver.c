@@ -61,6 +61,9 @@ static bool dynamic(const tb_scene *scene, size_t body)
 
 static bool share_body(const tb_scene *scene, const tb__joint *a, const tb__joint *b)
 {
+    if (a->solved_rows == 0 || b->solved_rows == 0) { /* a soft joint: a load, not a row */
+        return false;
+    }
     for (int s = 0; s < 2; ++s) {
         for (int u = 0; u < 2; ++u) {
             if (a->body[s] == b->body[u] && dynamic(scene, a->body[s])) {
@@ -221,7 +224,7 @@ static bool list_couplings(const tb_scene *scene, tb__joint_solver *s, const tb_
     for (size_t p = 0; p < s->count; ++p) {
         const size_t k = s->order[p];
         for (int side = 0; side < 2; ++side) {
-            if (dynamic(scene, joints[k].body[side])) {
+            if (joints[k].solved_rows > 0 && dynamic(scene, joints[k].body[side])) {
                 s->couplings[n++] = (tb__joint_coupling){k, k, side, side, k};
             }
         }
@@ -308,16 +311,31 @@ static double row_dot(const tb__joint_row *a, int sa, const tb__joint_row *b, in
            a->w[sa][0] * b->w[sb][0] + a->w[sa][1] * b->w[sb][1] + a->w[sa][2] * b->w[sb][2];
 }
 
+static void zero_block(double *B, int rows, int columns)
+{
+    for (int r = 0; r < rows; ++r) {
+        memset(B + TB__JOINT_ROWS * r, 0, (size_t)columns * sizeof(double));
+    }
+}
+
 static void assemble(tb__joint_solver *s, const tb__joint *joints, const tb__joint_eval *evals)
 {
-    memset(s->blocks, 0, s->block_count * TB__BLOCK * sizeof(double));
+    for (size_t p = 0; p < s->count; ++p) { /* the parts of the blocks the joints' rows use */
+        const size_t v = s->order[p];
+        zero_block(s->blocks + TB__BLOCK * v, joints[v].solved_rows, joints[v].solved_rows);
+        for (size_t e = s->column_start[p]; e < s->column_start[p + 1]; ++e) {
+            zero_block(s->blocks + TB__BLOCK * s->below[e], joints[s->below_joint[e]].solved_rows,
+                       joints[v].solved_rows);
+        }
+    }
     for (size_t c = 0; c < s->coupling_count; ++c) {
         const tb__joint_coupling *cp = &s->couplings[c];
         double *B = s->blocks + TB__BLOCK * cp->block;
         const tb__joint_eval *ei = &evals[cp->row_joint], *ek = &evals[cp->column_joint];
-        const int mi = joints[cp->row_joint].rows, mk = joints[cp->column_joint].rows;
+        const int mi = joints[cp->row_joint].solved_rows, mk = joints[cp->column_joint].solved_rows;
+        const bool diagonal = cp->row_joint == cp->column_joint; /* its lower half is read */
         for (int r = 0; r < mi; ++r) {
-            for (int q = 0; q < mk; ++q) {
+            for (int q = 0; q < (diagonal ? r + 1 : mk); ++q) {
                 B[TB__JOINT_ROWS * r + q] +=
                     row_dot(&ei->J[r], cp->row_side, &ek->W[q], cp->column_side);
             }
@@ -325,8 +343,17 @@ static void assemble(tb__joint_solver *s, const tb__joint *joints, const tb__joi
     }
 }
 
-/* D = L L^T in place (lower), m x m; 0, or 1 for a pivot that is not positive. */
-static int factor_diagonal(double *D, int m)
+/* The kernels below take a column's row count m as a constant where they are inlined into the
+ * dispatch, so that the compiler unrolls their loops for 3, 5 and 6 rows. */
+#if defined(__GNUC__) || defined(__clang__)
+#define TB__UNROLLED static inline __attribute__((always_inline))
+#else
+#define TB__UNROLLED static inline
+#endif
+
+/* D = L L^T in place (lower), m x m, with 1 / L_jj kept on the diagonal (the substitutions
+ * multiply); 0, or 1 for a pivot that is not positive. */
+TB__UNROLLED int factor_diagonal(double *D, int m)
 {
     for (int j = 0; j < m; ++j) {
         double d = D[TB__JOINT_ROWS * j + j];
@@ -336,20 +363,21 @@ static int factor_diagonal(double *D, int m)
         if (!(d > 0.0)) {
             return 1;
         }
-        D[TB__JOINT_ROWS * j + j] = sqrt(d);
+        const double inverse = 1.0 / sqrt(d);
+        D[TB__JOINT_ROWS * j + j] = inverse;
         for (int i = j + 1; i < m; ++i) {
             double x = D[TB__JOINT_ROWS * i + j];
             for (int k = 0; k < j; ++k) {
                 x -= D[TB__JOINT_ROWS * i + k] * D[TB__JOINT_ROWS * j + k];
             }
-            D[TB__JOINT_ROWS * i + j] = x / D[TB__JOINT_ROWS * j + j];
+            D[TB__JOINT_ROWS * i + j] = x * inverse;
         }
     }
     return 0;
 }
 
 /* B <- B L^-T for B of rows x m. */
-static void right_solve(double *B, int rows, const double *L, int m)
+TB__UNROLLED void right_solve(double *B, int rows, const double *L, int m)
 {
     for (int i = 0; i < rows; ++i) {
         double *b = B + TB__JOINT_ROWS * i;
@@ -358,16 +386,17 @@ static void right_solve(double *B, int rows, const double *L, int m)
             for (int k = 0; k < j; ++k) {
                 x -= b[k] * L[TB__JOINT_ROWS * j + k];
             }
-            b[j] = x / L[TB__JOINT_ROWS * j + j];
+            b[j] = x * L[TB__JOINT_ROWS * j + j];
         }
     }
 }
 
-/* T -= F S^T, F of mf x m, S of ms x m. */
-static void subtract_product(double *T, const double *F, int mf, const double *S, int ms, int m)
+/* T -= F S^T, F of mf x m, S of ms x m; only T's lower half where F is S (a diagonal block). */
+TB__UNROLLED void subtract_product(double *T, const double *F, int mf, const double *S, int ms,
+                                   int m)
 {
     for (int i = 0; i < mf; ++i) {
-        for (int j = 0; j < ms; ++j) {
+        for (int j = 0; j < (F == S ? i + 1 : ms); ++j) {
             double x = 0.0;
             for (int k = 0; k < m; ++k) {
                 x += F[TB__JOINT_ROWS * i + k] * S[TB__JOINT_ROWS * j + k];
@@ -377,71 +406,111 @@ static void subtract_product(double *T, const double *F, int mf, const double *S
     }
 }
 
-static int factor(tb__joint_solver *s, const tb__joint *joints)
+TB__UNROLLED int factor_column(tb__joint_solver *s, const tb__joint *joints, size_t p, int m)
 {
-    for (size_t p = 0; p < s->count; ++p) {
-        const size_t v = s->order[p];
-        const int m = joints[v].rows;
-        double *D = s->blocks + TB__BLOCK * v;
-        if (factor_diagonal(D, m) != 0) {
-            return 1;
-        }
-        for (size_t e = s->column_start[p]; e < s->column_start[p + 1]; ++e) {
-            right_solve(s->blocks + TB__BLOCK * s->below[e], joints[s->below_joint[e]].rows, D, m);
-        }
-        for (size_t u = s->update_start[p]; u < s->update_start[p + 1]; ++u) {
-            const tb__block_update *up = &s->updates[u];
-            subtract_product(s->blocks + TB__BLOCK * up->target, s->blocks + TB__BLOCK * up->first,
-                             joints[up->first_joint].rows, s->blocks + TB__BLOCK * up->second,
-                             joints[up->second_joint].rows, m);
-        }
+    double *D = s->blocks + TB__BLOCK * s->order[p];
+    if (factor_diagonal(D, m) != 0) {
+        return 1;
+    }
+    for (size_t e = s->column_start[p]; e < s->column_start[p + 1]; ++e) {
+        right_solve(s->blocks + TB__BLOCK * s->below[e], joints[s->below_joint[e]].solved_rows, D,
+                    m);
+    }
+    for (size_t u = s->update_start[p]; u < s->update_start[p + 1]; ++u) {
+        const tb__block_update *up = &s->updates[u];
+        subtract_product(s->blocks + TB__BLOCK * up->target, s->blocks + TB__BLOCK * up->first,
+                         joints[up->first_joint].solved_rows, s->blocks + TB__BLOCK * up->second,
+                         joints[up->second_joint].solved_rows, m);
     }
     return 0;
+}
+
+static int factor(tb__joint_solver *s, const tb__joint *joints)
+{
+    int rc = 0;
+    for (size_t p = 0; p < s->count && rc == 0; ++p) {
+        switch (joints[s->order[p]].solved_rows) {
+        case 3:
+            rc = factor_column(s, joints, p, 3);
+            break;
+        case 5:
+            rc = factor_column(s, joints, p, 5);
+            break;
+        case 6:
+            rc = factor_column(s, joints, p, 6);
+            break;
+        default: /* a soft or broken joint: no rows */
+            break;
+        }
+    }
+    return rc;
+}
+
+/* L y = b for column p: y = L_pp^-1 b_p, then the rows below take their share. */
+TB__UNROLLED void forward_column(const tb__joint_solver *s, const tb__joint *joints,
+                                 tb__joint_eval *evals, size_t p, int m)
+{
+    const size_t v = s->order[p];
+    const double *L = s->blocks + TB__BLOCK * v;
+    double *y = evals[v].lambda;
+    for (int i = 0; i < m; ++i) {
+        for (int k = 0; k < i; ++k) {
+            y[i] -= L[TB__JOINT_ROWS * i + k] * y[k];
+        }
+        y[i] *= L[TB__JOINT_ROWS * i + i];
+    }
+    for (size_t e = s->column_start[p]; e < s->column_start[p + 1]; ++e) {
+        const double *B = s->blocks + TB__BLOCK * s->below[e];
+        double *b = evals[s->below_joint[e]].lambda;
+        for (int i = 0; i < joints[s->below_joint[e]].solved_rows; ++i) {
+            for (int k = 0; k < m; ++k) {
+                b[i] -= B[TB__JOINT_ROWS * i + k] * y[k];
+            }
+        }
+    }
+}
+
+/* L^T x = y for column p: the rows below give back their share, then x = L_pp^-T. */
+TB__UNROLLED void backward_column(const tb__joint_solver *s, const tb__joint *joints,
+                                  tb__joint_eval *evals, size_t p, int m)
+{
+    const size_t v = s->order[p];
+    const double *L = s->blocks + TB__BLOCK * v;
+    double *x = evals[v].lambda;
+    for (size_t e = s->column_start[p]; e < s->column_start[p + 1]; ++e) {
+        const double *B = s->blocks + TB__BLOCK * s->below[e];
+        const double *xw = evals[s->below_joint[e]].lambda;
+        for (int i = 0; i < joints[s->below_joint[e]].solved_rows; ++i) {
+            for (int k = 0; k < m; ++k) {
+                x[k] -= B[TB__JOINT_ROWS * i + k] * xw[i];
+            }
+        }
+    }
+    for (int i = m - 1; i >= 0; --i) {
+        for (int k = i + 1; k < m; ++k) {
+            x[i] -= L[TB__JOINT_ROWS * k + i] * x[k];
+        }
+        x[i] *= L[TB__JOINT_ROWS * i + i];
+    }
 }
 
 /* L L^T x = b, b in each eval's lambda (overwritten by x). */
 static void substitute(const tb__joint_solver *s, const tb__joint *joints, tb__joint_eval *evals)
 {
-    for (size_t p = 0; p < s->count; ++p) { /* L y = b */
-        const size_t v = s->order[p];
-        const int m = joints[v].rows;
-        const double *L = s->blocks + TB__BLOCK * v;
-        double *y = evals[v].lambda;
-        for (int i = 0; i < m; ++i) {
-            for (int k = 0; k < i; ++k) {
-                y[i] -= L[TB__JOINT_ROWS * i + k] * y[k];
-            }
-            y[i] /= L[TB__JOINT_ROWS * i + i];
-        }
-        for (size_t e = s->column_start[p]; e < s->column_start[p + 1]; ++e) {
-            const double *B = s->blocks + TB__BLOCK * s->below[e];
-            double *b = evals[s->below_joint[e]].lambda;
-            for (int i = 0; i < joints[s->below_joint[e]].rows; ++i) {
-                for (int k = 0; k < m; ++k) {
-                    b[i] -= B[TB__JOINT_ROWS * i + k] * y[k];
-                }
-            }
+    for (size_t p = 0; p < s->count; ++p) {
+        const int m = joints[s->order[p]].solved_rows;
+        if (m == 3) {
+            forward_column(s, joints, evals, p, 3);
+        } else if (m > 0) {
+            forward_column(s, joints, evals, p, m == 5 ? 5 : 6);
         }
     }
-    for (size_t p = s->count; p-- > 0;) { /* L^T x = y */
-        const size_t v = s->order[p];
-        const int m = joints[v].rows;
-        const double *L = s->blocks + TB__BLOCK * v;
-        double *x = evals[v].lambda;
-        for (size_t e = s->column_start[p]; e < s->column_start[p + 1]; ++e) {
-            const double *B = s->blocks + TB__BLOCK * s->below[e];
-            const double *xw = evals[s->below_joint[e]].lambda;
-            for (int i = 0; i < joints[s->below_joint[e]].rows; ++i) {
-                for (int k = 0; k < m; ++k) {
-                    x[k] -= B[TB__JOINT_ROWS * i + k] * xw[i];
-                }
-            }
-        }
-        for (int i = m - 1; i >= 0; --i) {
-            for (int k = i + 1; k < m; ++k) {
-                x[i] -= L[TB__JOINT_ROWS * k + i] * x[k];
-            }
-            x[i] /= L[TB__JOINT_ROWS * i + i];
+    for (size_t p = s->count; p-- > 0;) {
+        const int m = joints[s->order[p]].solved_rows;
+        if (m == 3) {
+            backward_column(s, joints, evals, p, 3);
+        } else if (m > 0) {
+            backward_column(s, joints, evals, p, m == 5 ? 5 : 6);
         }
     }
 }
@@ -453,7 +522,9 @@ int tb__joint_solve(tb__joint_solver *solver, const tb__joint *joints, tb__joint
         return 1;
     }
     for (size_t j = 0; j < solver->count; ++j) {
-        memcpy(evals[j].lambda, evals[j].rhs, sizeof evals[j].lambda);
+        if (joints[j].solved_rows > 0) { /* a soft joint's lambda is its own */
+            memcpy(evals[j].lambda, evals[j].rhs, sizeof evals[j].lambda);
+        }
     }
     substitute(solver, joints, evals);
     return 0;

@@ -147,19 +147,21 @@ static tb_status check_breaking_and_softness(tb_scene *scene, const tb_joint_def
                                   names[k], values[k], k < 2 ? "> 0" : ">= 0");
         }
     }
+    if (def->soft_damping_ratio != 0.0 && def->soft_frequency == 0.0) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "soft_damping_ratio: %g on a rigid joint (only with "
+                              "soft_frequency > 0)",
+                              def->soft_damping_ratio);
+    }
     return TB_STATUS_OK;
 }
 
 /* What is asked but not built yet: refused, never accepted and ignored. */
 static tb_status check_supported(tb_scene *scene, const tb_joint_def *def)
 {
-    const char *what = def->has_limits                ? "has_limits (joint limits)"
-                       : def->motor != TB_MOTOR_OFF   ? "motor (joint motors)"
-                       : !isinf(def->break_force)     ? "break_force (breaking joints)"
-                       : !isinf(def->break_torque)    ? "break_torque (breaking joints)"
-                       : def->soft_frequency != 0.0   ? "soft_frequency (soft joints)"
-                       : def->soft_damping_ratio != 0 ? "soft_damping_ratio (soft joints)"
-                                                      : NULL;
+    const char *what = def->has_limits              ? "has_limits (joint limits)"
+                       : def->motor != TB_MOTOR_OFF ? "motor (joint motors)"
+                                                    : NULL;
     return what == NULL
                ? TB_STATUS_OK
                : tb__scene_fail(scene, TB_STATUS_UNSUPPORTED,
@@ -228,7 +230,14 @@ static tb_status grow_joints(tb_scene *scene, const tb__joint *joint)
         free(js->evals);
         tb__joint_solver_free(&js->solver);
     }
-    *grown = (tb__joints){.joints = joints, .count = count, .evals = evals, .solver = solver};
+    const bool breakable = !isinf(joint->def.break_force) || !isinf(joint->def.break_torque);
+    *grown = (tb__joints){.joints = joints,
+                          .count = count,
+                          .evals = evals,
+                          .solver = solver,
+                          .breakable = (js != NULL ? js->breakable : 0) + (breakable ? 1 : 0),
+                          .scratch = js != NULL ? js->scratch : NULL,
+                          .scratch_size = js != NULL ? js->scratch_size : 0};
     scene->constraints = grown;
     scene->constraint_ops = &tb__joint_ops;
     return TB_STATUS_OK;
@@ -293,7 +302,7 @@ tb_status tb_scene_joint_broken(const tb_scene *scene, size_t joint, bool *out_b
 {
     const tb_status status = begin_joint_call(scene, joint, out_broken, "out_broken");
     if (status == TB_STATUS_OK) {
-        *out_broken = false; /* breaking is refused by tb_scene_add_joint for now */
+        *out_broken = ((const tb__joints *)scene->constraints)->joints[joint].broken;
     }
     return status;
 }
@@ -330,24 +339,6 @@ tb_status tb_scene_joint_error(const tb_scene *scene, const double *y, size_t jo
     return TB_STATUS_OK;
 }
 
-/* Joint j's force on body_a and torque about its anchor, from the last solve's lambda. */
-static void reaction_of(const tb_scene *scene, const tb__joints *js, size_t j, double force[3],
-                        double torque[3])
-{
-    const tb__joint *joint = &js->joints[j];
-    const tb__joint_eval *eval = &js->evals[j];
-    tb__v3_set(force, 0.0, 0.0, 0.0);
-    tb__v3_set(torque, 0.0, 0.0, 0.0);
-    for (int r = 0; r < joint->rows; ++r) {
-        tb__v3_axpy(force, eval->lambda[r], eval->J[r].v[0]);
-        tb__v3_axpy(torque, eval->lambda[r], eval->J[r].w[0]);
-    }
-    double arm[3], moment[3];
-    tb__point_arm(tb__derivative_motion(scene, joint->body[0]), joint->anchor[0], arm);
-    tb__v3_cross(moment, arm, force); /* about the centre of mass -> about the anchor */
-    tb__v3_axpy(torque, -1.0, moment);
-}
-
 tb_status tb_scene_joint_reaction(tb_scene *scene, const double *y, size_t joint,
                                   double out_force[3], double out_torque[3])
 {
@@ -371,6 +362,6 @@ tb_status tb_scene_joint_reaction(tb_scene *scene, const double *y, size_t joint
         return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
                               "the derivative failed at t = %g (%d)", scene->time, rc);
     }
-    reaction_of(scene, scene->constraints, joint, out_force, out_torque);
+    tb__joint_reaction(scene, scene->constraints, joint, out_force, out_torque);
     return TB_STATUS_OK;
 }

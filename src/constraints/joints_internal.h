@@ -27,21 +27,26 @@ typedef struct tb__joint {
     tb_joint_def def;
     size_t body[2];        /* body_a, body_b (TB_WORLD) */
     int rows;              /* 3, 5, 5, 6 */
+    int solved_rows;       /* rows in the exact solve: rows, or 0 for a soft joint */
     double anchor[2][3];   /* the anchor from each centre of mass, m */
     double axis_a[3];      /* the axis, unit, in a's frame */
     double across_a[2][3]; /* two unit vectors across the axis, in a's frame (slider rows) */
     double across_b[2][3]; /* the same, in b's frame (hinge rows) */
     double relative[4];    /* q_b^* q_a when made: the held relative rotation (slider, fixed) */
+    bool broken;           /* its reaction passed break_force or break_torque: rows dropped */
+    double broken_time;    /* s: the step boundary where it broke */
 } tb__joint;
 
 /* One evaluation's scratch per joint: its rows at y, M^-1 J^T (the same shape), the part of
  * the rows' acceleration that the velocities give (dJ/dt u), the position error C, the
- * right-hand side and lambda of the solve. */
+ * rows' rates J u where the projection reads them, the right-hand side and lambda of the
+ * solve. */
 typedef struct tb__joint_eval {
     tb__joint_row J[TB__JOINT_ROWS];
     tb__joint_row W[TB__JOINT_ROWS];
     double bias[TB__JOINT_ROWS];
     double C[TB__JOINT_ROWS];
+    double rate[TB__JOINT_ROWS]; /* J u (the projection's) */
     double rhs[TB__JOINT_ROWS];
     double lambda[TB__JOINT_ROWS];
 } tb__joint_eval;
@@ -84,7 +89,20 @@ typedef struct tb__joints {
     size_t count;
     tb__joint_eval *evals; /* count */
     tb__joint_solver solver;
+    size_t breakable; /* joints with a finite break_force or break_torque */
+    double *scratch;  /* a derivative's worth (scratch_size doubles) for the breaking check */
+    size_t scratch_size;
 } tb__joints;
+
+/* Joint j's force on body_a (N) and torque about its anchor (N m), world, from the last solve's
+ * lambda and the derivative's motions (joint_breaking.c). */
+void tb__joint_reaction(const tb_scene *scene, const tb__joints *js, size_t j, double force[3],
+                        double torque[3]);
+/* At a step boundary (the post-step hook, after the projection): the reactions at (t, y), and
+ * the breakable joints whose reaction passed a limit break there (their rows leave the solve
+ * for good; the scene's right-hand side changes, so CVODE restarts). 0, or the derivative's
+ * failure. */
+int tb__joints_check_breaking(tb__joints *js, const tb_scene *scene, double t, double *y);
 
 /* The Baumgarte rate (1/s) under CVODE Adams (joint_stage.c explains it). */
 #define TB__JOINT_BAUMGARTE_RATE 20.0

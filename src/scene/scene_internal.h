@@ -221,6 +221,11 @@ typedef struct tb__constraint_ops {
     void (*link_islands)(const void *constraints, const tb_scene *scene);
     /* Frees the constraints (tb_scene_destroy). */
     void (*destroy)(void *constraints);
+    /* An adaptive method's boundary: the start of each advance, at the state and time the last
+     * one handed out (accepted, unlike CVODE's projections, which run on trial steps too):
+     * decisions that change the right-hand side (a joint breaking) are taken there. 0, or the
+     * derivative's failure. */
+    int (*at_output)(void *constraints, const tb_scene *scene, double t, double *y);
 } tb__constraint_ops;
 
 struct tb_scene {

@@ -163,6 +163,12 @@ static tb_status acquire(void *ctx, unsigned long long generation, char *detail)
     if (status != TB_STATUS_OK) {
         return status;
     }
+    if (scene->constraint_ops != NULL && tb_method_is_adaptive(scene->guard_method) &&
+        scene->constraint_ops->at_output(scene->constraints, scene, scene->time, scene->states) !=
+            0) { /* joints breaking at the last output; CVODE restarts on it (rhs_generation) */
+        return tb__set_detail(detail, TB_STATUS_DERIVATIVE_FAILED,
+                              "the joints' check at t = %g: the derivative failed", scene->time);
+    }
     tb__scene_sleep_apply_pending(scene); /* CVODE restarts on it (rhs_generation) */
     scene->busy = true;
     return TB_STATUS_OK;
