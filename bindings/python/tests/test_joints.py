@@ -172,3 +172,26 @@ def test_the_reactions_of_a_run_are_newtons_for_the_swinging_rod():
     assert not frames.joint_broken.any()
     assert tumble.Scene.from_dict(json.loads(json.dumps(rod_pendulum(0.0)._description))) \
         .run(duration=0.1).joint_force is None  # only when asked for
+
+
+def test_a_joint_breaks_when_its_pull_passes_the_limit():
+    # A 2 kg ball on a 1 m rigid string passing the bottom at 2 m/s needs m (g + v^2 / L) =
+    # 27.62 N from it; with break_force 25 N the string breaks at the first step: from then on
+    # the joint reads broken with a zero reaction, and the ball flies free: from the frame at
+    # 0.02 s on, its centre follows the free parabola from that frame's position and velocity
+    # (RK4 is exact on a parabola: 1e-12 m).
+    b = tumble.SceneBuilder()
+    b.add_body("bob", shape={"type": "sphere", "radius": 0.05}, mass=2.0, position=[0, 0, 0],
+               velocity=[2, 0, 0], angular_velocity=[0, -2, 0])
+    b.add_effect("gravity")
+    b.add_joint("ball", "bob", anchor=[0, 0, 1], break_force=25.0)
+    sim = tumble.Simulation(b.build(), method="rk4", dt=1e-3)
+    assert sim.joint_broken(0) is False
+    frames = sim.run(duration=0.5, fps=50, joint_reactions=True)
+    assert frames.joint_broken[0, 0] == False  # noqa: E712 (a NumPy bool)
+    assert frames.joint_broken[1:, 0].all() and sim.joint_broken(0) is True
+    np.testing.assert_array_equal(frames.joint_force[1:, 0], 0.0)
+    dt = frames.t[1:] - frames.t[1]
+    free = frames.position[1, 0] + np.outer(dt, frames.velocity[1, 0])
+    free[:, 2] -= 0.5 * G * dt**2
+    np.testing.assert_allclose(frames.position[1:, 0], free, atol=1e-12)

@@ -222,17 +222,20 @@ class Simulation:
             raise failure(status, lib.tb_integrator_detail(self._integrator).decode())
 
     def run(self, duration: Optional[float] = None, fps: Optional[float] = None,
-            on_frame: Optional[Callable[[int, float, np.ndarray], None]] = None) -> Frames:
+            on_frame: Optional[Callable[[int, float, np.ndarray], None]] = None,
+            joint_reactions: bool = False) -> Frames:
         """Advances for `duration` seconds from the current time t0, recording a frame at
         t0 + k / fps for k = 0, 1, ... (the scene file's output settings unless given), and
         returns them as Frames (as Scene.run; from t0 = 0 and the initial state it gives the
         same frames, bit for bit). on_frame(k, t, values) is called after each frame. A
         KeyboardInterrupt (Ctrl-C) or an exception from on_frame or a user force stops the run,
-        and the frames so far are on the exception's `frames`."""
+        and the frames so far are on the exception's `frames`. joint_reactions: keep each
+        joint's reaction and broken flag at every frame (as Scene.run)."""
         run = _native.RunDef()
         ctypes.memmove(ctypes.byref(run), ctypes.byref(self._run), ctypes.sizeof(run))
         apply_settings(run, fps=fps, duration=duration)
-        recorder = _Recorder(self._handle, run, self.scene.masses)
+        recorder = _Recorder(self._handle, run, self.scene.masses,
+                             joints=self.joint_count if joint_reactions else 0)
         frame_count = len(recorder.t)
         t0 = self.t
         try:
