@@ -5,12 +5,30 @@
 
 #include "commands.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <sys/stat.h>
 
 static const char *body_name(const tb_scene *scene, size_t id)
 {
     return id == TB_WORLD ? "world" : tb_scene_body_name(scene, id);
+}
+
+/* ", soft 20 Hz (damping ratio 1), breaks above 50 N": what the joint has beside its rows. */
+static void describe_options(const tb_joint_def *def, char *out, size_t size)
+{
+    size_t used = 0;
+    out[0] = '\0';
+    if (def->soft_frequency > 0) {
+        used += (size_t)snprintf(out + used, size - used, ", soft %g Hz (damping ratio %g)",
+                                 def->soft_frequency, def->soft_damping_ratio);
+    }
+    if (used < size && isfinite(def->break_force)) {
+        used += (size_t)snprintf(out + used, size - used, ", breaks above %g N", def->break_force);
+    }
+    if (used < size && isfinite(def->break_torque)) {
+        snprintf(out + used, size - used, ", breaks above %g N m", def->break_torque);
+    }
 }
 
 int cli_check_joints(const char *scene_path, const tb_scene *scene)
@@ -29,9 +47,11 @@ int cli_check_joints(const char *scene_path, const tb_scene *scene)
             fprintf(stderr, "tumble: %s: joints[%zu]: %s\n", scene_path, j, tb_scene_detail(scene));
             return CLI_EXIT_INPUT;
         }
-        printf("  joints[%zu]: %s, %s - %s, position error %.3g, velocity error %.3g\n", j,
+        char options[TB_DETAIL_SIZE];
+        describe_options(&def, options, sizeof options);
+        printf("  joints[%zu]: %s, %s - %s%s, position error %.3g, velocity error %.3g\n", j,
                tb_joint_type_name(def.type), body_name(scene, def.body_a),
-               body_name(scene, def.body_b), position, velocity);
+               body_name(scene, def.body_b), options, position, velocity);
         /* !(<=): a NaN error is off the joint too */
         if (!(position <= CLI_JOINT_TOLERANCE) || !(velocity <= CLI_JOINT_TOLERANCE)) {
             const bool moved = position <= CLI_JOINT_TOLERANCE;
