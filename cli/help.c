@@ -32,6 +32,9 @@ static const char run_help[] =
     "  --events FILE     contact events (begin, hit, end of touching pairs) to FILE.csv or\n"
     "                    FILE.json: t,kind,body_a,body_b,x,y,z,nx,ny,nz,speed,impulse\n"
     "  --hit-speed V     with --events: leave out hits closing slower than V m/s (default 0)\n"
+    "  --joints FILE     each joint's reaction on its first body per frame, as CSV:\n"
+    "                    t,joint,fx,fy,fz,tx,ty,tz,broken (N and N m, world frame; the\n"
+    "                    torque about the anchor; broken 0 or 1)\n"
     "  -h, --help        this help\n"
     "\n"
     "The CSV (RFC 4180: a body name with a comma, quote or line break is quoted) has one row\n"
@@ -62,6 +65,8 @@ static const char check_help[] =
     "contact effect's bodies and material, the ground planes and the bodies they touch, the\n"
     "shapes, the pairs touching at the start (with their depth), and warnings (two contact\n"
     "effects on one pair, a deep overlap at the start, a named body without a shape).\n"
+    "On a scene with joints it prints each joint (type, bodies) and how far the start is off\n"
+    "it, and refuses a start off a joint by more than 1e-6 (m or rad, m/s or rad/s).\n"
     "Exit codes: 0 the scene would run, 2 it would be refused.\n";
 
 static const char accuracy_help[] =

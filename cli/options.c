@@ -45,6 +45,7 @@ static const option_info option_table[] = {
     TEXT("integrator", 0, RUN_OR_CHECK, method),
     TEXT("chart", 0, CLI_ACCURACY, chart),
     TEXT("events", 0, CLI_RUN, events),
+    TEXT("joints", 0, CLI_RUN, joints),
     NUMBER("dt", RUN_OR_CHECK, dt, has_dt, false),
     NUMBER("rtol", RUN_OR_CHECK, rtol, has_rtol, false),
     NUMBER("atol", RUN_OR_CHECK, atol, has_atol, true),

@@ -26,6 +26,7 @@ typedef struct cli_options {
     const char *method;   /* NULL: the scene's */
     const char *chart;    /* accuracy: an SVG chart to write, or NULL */
     const char *events;   /* run: a .csv or .json file of contact events, or NULL */
+    const char *joints;   /* run: a .csv file of the joints' reactions per frame, or NULL */
     double target_error;  /* accuracy: m */
     bool has_target;
     double dt, rtol, atol, fps, duration, max_steps;

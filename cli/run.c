@@ -8,6 +8,7 @@
 #include "commands.h"
 #include "events.h"
 #include "interrupt.h"
+#include "joints.h"
 #include "output.h"
 #include "summary.h"
 
@@ -83,7 +84,9 @@ typedef struct writer {
     bool frames_failed; /* a write of the library's writer failed */
     cli_events events;  /* --events: open when has_events */
     bool has_events;
-    bool gltf; /* frames is a glTF writer: the events go into it too */
+    bool gltf;         /* frames is a glTF writer: the events go into it too */
+    cli_joints joints; /* --joints: open when has_joints */
+    bool has_joints;
     double duration;
     double started, last_progress;
     int progress; /* stderr is a terminal */
@@ -141,7 +144,7 @@ static int on_frame(size_t frame, double t, const tb_scene *scene, void *ctx)
     for (size_t id = 0; w->frames == NULL && id < tb_scene_body_count(scene); ++id) {
         write_body(&w->output, t, scene, id);
     }
-    if (w->output.error != 0) {
+    if (w->output.error != 0 || (w->has_joints && !cli_joints_frame(&w->joints, t))) {
         return 1; /* stop: the frames are being lost */
     }
     if (frame == 0) {
@@ -224,11 +227,16 @@ static int simulate(const cli_options *o, tb_scene *scene, const tb_run_def *run
     if (!events_ok && !stopped) {
         fprintf(stderr, "tumble: %s: %s\n", o->scene, message);
     }
+    const bool joints_ok = !w->has_joints || cli_joints_close(&w->joints, status == TB_STATUS_OK,
+                                                              message, sizeof message);
+    if (!joints_ok && !stopped) {
+        fprintf(stderr, "tumble: %s: %s\n", o->scene, message);
+    }
     if (!close_output(w, status, message, sizeof message) && !stopped) {
         fprintf(stderr, "tumble: %s: %s\n", o->scene, message);
         return CLI_EXIT_SIMULATION;
     }
-    if (!events_ok && !stopped) {
+    if ((!events_ok || !joints_ok) && !stopped) {
         return CLI_EXIT_SIMULATION;
     }
     if (stopped) {
@@ -290,7 +298,7 @@ static bool choose_format(const cli_options *o, tb_writer_def *def, char *messag
     return true;
 }
 
-/* npz, glTF and USD go through the library's writer, which draws the scene file's shapes. */
+/* npz, glTF and USD go through the library's writer, which draws the scene's shapes. */
 static int open_frames_writer(const cli_options *o, tb_writer_def *def, const tb_scene *scene,
                               writer *w)
 {
@@ -299,7 +307,6 @@ static int open_frames_writer(const cli_options *o, tb_writer_def *def, const tb
                 o->scene);
         return CLI_EXIT_INPUT;
     }
-    def->scene_file = o->scene;
     tb_error error;
     if (tb_writer_open(o->out, def, scene, &w->frames, &error) != TB_STATUS_OK) {
         fprintf(stderr, "tumble: --out %s\n", error.message);
@@ -323,6 +330,27 @@ static int open_events(const cli_options *o, tb_scene *scene, writer *w)
     }
     fprintf(stderr, "tumble: %s\n", message);
     return CLI_EXIT_INPUT;
+}
+
+/* --joints FILE: never the frames' or the events' file; opened before the frames' file. */
+static int open_joints(const cli_options *o, tb_scene *scene, writer *w)
+{
+    char message[TB_DETAIL_SIZE];
+    const char *const others[2] = {o->out, o->events};
+    for (int k = 0; k < 2; ++k) {
+        if (others[k] != NULL &&
+            (strcmp(o->joints, others[k]) == 0 || cli_output_same_file(o->joints, others[k]))) {
+            fprintf(stderr, "tumble: --joints %s is the %s file\n", o->joints,
+                    k == 0 ? "--out" : "--events");
+            return CLI_EXIT_INPUT;
+        }
+    }
+    if (!cli_joints_open(&w->joints, o->joints, o->scene, scene, message, sizeof message)) {
+        fprintf(stderr, "tumble: --joints %s\n", message);
+        return CLI_EXIT_INPUT;
+    }
+    w->has_joints = true;
+    return CLI_EXIT_OK;
 }
 
 int cli_run_command(const cli_options *o)
@@ -355,6 +383,9 @@ int cli_run_command(const cli_options *o)
     if (code == CLI_EXIT_OK && o->events != NULL) {
         code = open_events(o, scene, &w);
     }
+    if (code == CLI_EXIT_OK && o->joints != NULL) {
+        code = open_joints(o, scene, &w);
+    }
     w.gltf = def.format == TB_OUTPUT_GLB || def.format == TB_OUTPUT_GLTF;
     if (code == CLI_EXIT_OK && def.format != TB_OUTPUT_CSV) {
         code = open_frames_writer(o, &def, scene, &w);
@@ -365,8 +396,13 @@ int cli_run_command(const cli_options *o)
     }
     if (code == CLI_EXIT_OK) {
         code = simulate(o, scene, &run, &w);
-    } else if (w.has_events) {
-        cli_events_close(&w.events, scene, false, message, sizeof message); /* removes it */
+    } else {
+        if (w.has_events) {
+            cli_events_close(&w.events, scene, false, message, sizeof message); /* removes it */
+        }
+        if (w.has_joints) {
+            cli_joints_close(&w.joints, false, message, sizeof message); /* removes it */
+        }
     }
     tb_scene_destroy(scene);
     cli_interrupt_finish();
@@ -382,11 +418,16 @@ int cli_check_command(const cli_options *o)
         code = cli_dry_run(o, scene, &run);
     }
     if (code == CLI_EXIT_OK) {
+        code = cli_check_joints(o->scene, scene);
+    }
+    if (code == CLI_EXIT_OK) {
         const size_t bodies = tb_scene_body_count(scene), effects = tb_scene_effect_count(scene);
-        fprintf(stderr, "tumble: %s: ok: %zu %s, %zu %s, %s, %.6g s at %.6g fps\n", o->scene,
+        char joints[48];
+        summary_joints(scene, joints, sizeof joints);
+        fprintf(stderr, "tumble: %s: ok: %zu %s, %zu %s%s, %s, %.6g s at %.6g fps\n", o->scene,
                 bodies, summary_plural(bodies, "body", "bodies"), effects,
-                summary_plural(effects, "effect", "effects"), tb_method_name(run.integrator.method),
-                run.duration, run.fps);
+                summary_plural(effects, "effect", "effects"), joints,
+                tb_method_name(run.integrator.method), run.duration, run.fps);
         cli_check_steps(scene);
         cli_check_contact(scene);
     }

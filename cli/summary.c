@@ -3,6 +3,8 @@
  * integrator, not the physics. */
 #include "summary.h"
 
+#include "tumble/joints.h"
+
 #include <math.h>
 #include <stdio.h>
 
@@ -51,6 +53,15 @@ void summary_measure(const tb_scene *scene, invariants *out)
 const char *summary_plural(size_t count, const char *one, const char *many)
 {
     return count == 1 ? one : many;
+}
+
+void summary_joints(const tb_scene *scene, char *out, size_t size)
+{
+    const size_t joints = tb_scene_joint_count(scene);
+    out[0] = '\0';
+    if (joints > 0) {
+        snprintf(out, size, ", %zu %s", joints, summary_plural(joints, "joint", "joints"));
+    }
 }
 
 /* hypot: a momentum of 1e200 kg m/s has a length, though its square overflows */
@@ -118,9 +129,11 @@ void summary_print(const char *path, const tb_scene *scene, const tb_run_def *ru
                    const invariants *last)
 {
     const size_t bodies = tb_scene_body_count(scene), effects = tb_scene_effect_count(scene);
-    fprintf(stderr, "tumble: %s: %zu %s, %zu %s, %.6g s at %.6g fps\n", path, bodies,
+    char joints[48];
+    summary_joints(scene, joints, sizeof joints);
+    fprintf(stderr, "tumble: %s: %zu %s, %zu %s%s, %.6g s at %.6g fps\n", path, bodies,
             summary_plural(bodies, "body", "bodies"), effects,
-            summary_plural(effects, "effect", "effects"), run->duration, run->fps);
+            summary_plural(effects, "effect", "effects"), joints, run->duration, run->fps);
     print_work(run, dt, stats, seconds);
     size_t asleep = 0;
     if (tb_scene_sleeping(scene) && tb_scene_asleep_count(scene, &asleep) == TB_STATUS_OK) {

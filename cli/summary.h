@@ -16,6 +16,9 @@ void summary_measure(const tb_scene *scene, invariants *out);
 /* "1 body", "2 bodies": count and the noun in the right number. */
 const char *summary_plural(size_t count, const char *one, const char *many);
 
+/* ", 2 joints" (", 1 joint") into out, or "" for a scene without joints. */
+void summary_joints(const tb_scene *scene, char *out, size_t size);
+
 /* The fixed step run takes on the scene at its current state: its integrator's dt, or for
  * dt 0 the scene's default step (tb_scene_default_step; ask before the run, at the start).
  * 0 for an adaptive method. */

@@ -53,3 +53,6 @@ render examples/scenes/dominoes.json "--still-time 0.6" "--every 0.0416667"
 # a keyframed collider: the bat sweeping the boxes off the static table at half speed (a picture
 # every 1/24 s, 8 samples: the GIF stays small)
 render examples/scenes/bat_sweep.json "--still-time 0.9" "--every 0.0416667 --samples 8"
+# joints (docs/joints.md): the chain of ten links on ball joints falling and whipping, half speed,
+# each joint a dark marker between the links
+render examples/scenes/chain.json "--still-time 0.6" "--every 0.0416667"

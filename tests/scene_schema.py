@@ -59,6 +59,11 @@ KEY_LISTS = {
     ("scene_file_run.c", "tb__load_integrator", "keys"): ["integrator"],
     ("scene_file_run.c", "tb__load_output", "keys"): ["output"],
     ("scene_file_keys.c", "load_key", "allowed"): ["body_key"],
+    ("scene_file_joints.c", "load_joint", "axis_keys"): ["joint_hinge", "joint_slider"],
+    ("scene_file_joints.c", "load_joint", "no_axis_keys"): ["joint_ball", "joint_fixed"],
+    ("scene_file_joints.c", "load_joint_motor", "hinge_keys"): ["joint_motor_hinge"],
+    ("scene_file_joints.c", "load_joint_motor", "slider_keys"): ["joint_motor_slider"],
+    ("scene_file_joints.c", "load_joint_soft", "keys"): ["joint_soft"],
 }
 # Keys the schema has before this branch's loader reads them (added on other branches): none now.
 PENDING: set = set()
@@ -151,6 +156,31 @@ INVALID = {
                                                angular_velocity_body=[0, 0, 1], keys=[KEY]),
     "keyframed, unknown interpolation": body(motion="keyframed", mass=None, position=None,
                                              keys=[KEY], interpolation="spline"),
+    "unknown joint type": scene(joints=[{"type": "rope", "bodies": ["ball"],
+                                         "anchor": [0, 0, 2]}]),
+    "joint of three bodies": scene(joints=[{"type": "ball", "bodies": ["ball"] * 3,
+                                            "anchor": [0, 0, 2]}]),
+    "joint without an anchor": scene(joints=[{"type": "ball", "bodies": ["ball"]}]),
+    "hinge without an axis": scene(joints=[{"type": "hinge", "bodies": ["ball"],
+                                            "anchor": [0, 0, 2]}]),
+    "hinge of zero axis": scene(joints=[{"type": "hinge", "bodies": ["ball"],
+                                         "anchor": [0, 0, 2], "axis": [0, 0, 0]}]),
+    "axis on a ball joint": scene(joints=[{"type": "ball", "bodies": ["ball"],
+                                           "anchor": [0, 0, 2], "axis": [0, 0, 1]}]),
+    "hinge motor with a force": scene(joints=[{"type": "hinge", "bodies": ["ball"],
+                                               "anchor": [0, 0, 2], "axis": [0, 0, 1],
+                                               "motor": {"speed": 1, "max_force": 1}}]),
+    "motor with speed and target": scene(joints=[{"type": "slider", "bodies": ["ball"],
+                                                  "anchor": [0, 0, 2], "axis": [0, 0, 1],
+                                                  "motor": {"speed": 1, "target": 1,
+                                                            "max_force": 1}}]),
+    "restitution without limits": scene(joints=[{"type": "hinge", "bodies": ["ball"],
+                                                 "anchor": [0, 0, 2], "axis": [0, 0, 1],
+                                                 "restitution": 0.5}]),
+    "soft of zero frequency": scene(joints=[{"type": "ball", "bodies": ["ball"],
+                                             "anchor": [0, 0, 2], "soft": {"frequency": 0}}]),
+    "break force 0": scene(joints=[{"type": "fixed", "bodies": ["ball"], "anchor": [0, 0, 2],
+                                    "break_force": 0}]),
 }
 
 

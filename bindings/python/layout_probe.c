@@ -2,6 +2,7 @@
  * ctypes, compiled against the real headers: tests/test_layout.py compares the two, so the
  * bindings cannot drift from the C library silently. The wheel ships this output
  * (tumble/layout.json) with the headers' version, and the package checks both at import. */
+#include "tumble/joints.h"
 #include "tumble/tumble.h"
 
 #include <stddef.h>
@@ -29,6 +30,25 @@ int main(void)
     FIELD(tb_contact_events_def, hit_threshold);
     FIELD(tb_contact_events_def, pair_capacity);
     FIELD(tb_contact_events_def, internal_cookie);
+    printf("\"_\": 0},\n");
+    printf("\"tb_joint_def\": {\"size\": %zu, ", sizeof(tb_joint_def));
+    FIELD(tb_joint_def, type);
+    FIELD(tb_joint_def, body_a);
+    FIELD(tb_joint_def, body_b);
+    FIELD(tb_joint_def, anchor);
+    FIELD(tb_joint_def, axis);
+    FIELD(tb_joint_def, has_limits);
+    FIELD(tb_joint_def, limits);
+    FIELD(tb_joint_def, restitution);
+    FIELD(tb_joint_def, motor);
+    FIELD(tb_joint_def, motor_speed);
+    FIELD(tb_joint_def, motor_target);
+    FIELD(tb_joint_def, motor_max_force);
+    FIELD(tb_joint_def, break_force);
+    FIELD(tb_joint_def, break_torque);
+    FIELD(tb_joint_def, soft_frequency);
+    FIELD(tb_joint_def, soft_damping_ratio);
+    FIELD(tb_joint_def, internal_cookie);
     printf("\"_\": 0},\n");
     printf("\"tb_error\": {\"size\": %zu, ", sizeof(tb_error));
     FIELD(tb_error, status);

@@ -5,11 +5,13 @@
  * dq/dt = 1/2 (0, omega) q, or LINEAR. The glTF 2.0 specification, Appendix C, defines the
  * spline: p(s) = (2s^3 - 3s^2 + 1) v_k + t_d (s^3 - 2s^2 + s) b_k + (-2s^3 + 3s^2) v_k+1
  * + t_d (s^3 - s^2) a_k+1 with t_d the key interval, so the tangents a, b are stored per
- * second: the derivative itself. */
+ * second: the derivative itself. Each joint is a small dark sphere at its anchor, a child of
+ * its first body's node (so it rides with that body), its extras naming the joint. */
 #include "export/writer_gltf_internal.h"
 
 #include "core/detail.h"
 #include "math/tb_math.h"
+#include "tumble/effects.h" /* TB_WORLD */
 
 #include <math.h>
 #include <stdlib.h>
@@ -119,6 +121,51 @@ static json_t *ground_node(tb__gltf *g, const tb_writer *w, size_t k)
     return json_pack("{s:s, s:i}", "name", name, "mesh", (json_int_t)index);
 }
 
+/* A marker node for joint j, its index in the nodes, made a child of body_a's node (node 1 +
+ * body_a: the bodies follow the root in order). */
+static void add_joint_node(tb__gltf *g, const tb_writer *w, size_t j, size_t material)
+{
+    const tb__joint_mark *mark = &w->looks.joints[j];
+    const tb__shape sphere = {.kind = TB__SHAPE_SPHERE, .size = {mark->radius, 0, 0}};
+    tb__mesh mesh = {0};
+    tb__mesh_of_shape(&mesh, &sphere);
+    char name[48];
+    snprintf(name, sizeof name, "joint %zu (%s)", j, mark->type);
+    const long index = mesh.failed ? -1 : add_mesh(g, &mesh, name, material);
+    g->failed |= mesh.failed || index < 0;
+    tb__mesh_free(&mesh);
+    const char *other = mark->body_b == TB_WORLD ? "world" : w->names[mark->body_b];
+    json_t *node = json_pack("{s:s, s:i, s:o, s:{s:{s:i, s:s, s:[s, s]}}}", "name", name, "mesh",
+                             (json_int_t)index, "translation", vector_json(mark->anchor, 3),
+                             "extras", "tumble_joint", "index", (json_int_t)j, "type", mark->type,
+                             "bodies", w->names[mark->body_a], other);
+    json_t *parent = json_array_get(g->nodes, 1 + mark->body_a);
+    json_t *children = json_object_get(parent, "children");
+    if (children == NULL) {
+        children = json_array();
+        json_object_set_new(parent, "children", children);
+    }
+    json_array_append_new(children, json_integer((json_int_t)json_array_size(g->nodes)));
+    json_array_append_new(g->nodes, node);
+}
+
+/* The joints' markers, with a material of their own after the others. */
+static void add_joints(tb__gltf *g, const tb_writer *w)
+{
+    if (w->looks.joint_count == 0) {
+        return;
+    }
+    const size_t material = json_array_size(g->materials);
+    const double color[4] = {0.08, 0.08, 0.08, 1.0};
+    json_array_append_new(g->materials, json_pack("{s:s, s:{s:o, s:f, s:f}}", "name", "joint",
+                                                  "pbrMetallicRoughness", "baseColorFactor",
+                                                  vector_json(color, 4), "metallicFactor", 0.8,
+                                                  "roughnessFactor", 0.3));
+    for (size_t j = 0; j < w->looks.joint_count; ++j) {
+        add_joint_node(g, w, j, material);
+    }
+}
+
 /* The root: tumble's world is z up, glTF's y up. Turning -90 degrees about x takes z to y
  * and y to -z: q = (x, y, z, w) = (-sin 45, 0, 0, cos 45). */
 static void add_nodes(tb__gltf *g, const tb_writer *w)
@@ -145,6 +192,7 @@ static json_t *document(tb__gltf *g, const tb_writer *w)
 {
     add_materials(g, w);
     add_nodes(g, w);
+    add_joints(g, w);
     tb__gltf_add_animation(g, w);
     char generator[64];
     snprintf(generator, sizeof generator, "tumble %s", tb_version());

@@ -59,10 +59,20 @@ typedef struct tb__ground {
     double offset;    /* plane normal . x = offset, m */
 } tb__ground;
 
+/* A joint as drawn (glTF): a marker at its anchor, a child of its first body's node. */
+typedef struct tb__joint_mark {
+    const char *type;      /* "ball", "hinge", ... (tb_joint_type_name) */
+    size_t body_a, body_b; /* body ids; body_b TB_WORLD for the world */
+    double anchor[3];      /* in body_a's shape frame, m (from the scene's state at open) */
+    double radius;         /* the marker sphere's, m */
+} tb__joint_mark;
+
 typedef struct tb__looks {
     tb__look *bodies; /* [body_count] */
     tb__ground *grounds;
     size_t ground_count;
+    tb__joint_mark *joints; /* [joint_count], NULL for none (writer_joints.c) */
+    size_t joint_count;
 } tb__looks;
 
 struct tb_writer {
@@ -87,6 +97,9 @@ struct tb_writer {
     tb_status failed; /* a write failed: every later call reports it */
     char detail[TB_DETAIL_SIZE];
 };
+
+/* The scene's joints into looks->joints (writer_joints.c); TB_STATUS_OUT_OF_MEMORY. */
+tb_status tb__looks_joints(tb__looks *looks, const tb_scene *scene, tb_error *error);
 
 tb_status tb__frames_init(tb__frames *frames, size_t body_count);
 /* The place of the next frame (room made for it): t[1], position[3 n], orientation[4 n],

@@ -173,6 +173,9 @@ tb_status tb__looks_load(tb__looks *looks, const tb_scene *scene, tb_error *erro
     if (status == TB_STATUS_OK) {
         status = ground_looks(scene, looks, error);
     }
+    if (status == TB_STATUS_OK) {
+        status = tb__looks_joints(looks, scene, error);
+    }
     return status;
 }
 
@@ -188,6 +191,7 @@ void tb__looks_free(tb__looks *looks, size_t body_count)
     }
     free(looks->bodies);
     free(looks->grounds);
+    free(looks->joints);
     memset(looks, 0, sizeof *looks);
 }
 

@@ -1,5 +1,6 @@
 /* Scene files: parsing with jansson, JSON helpers that name the place of every error, and the
- * top level, integrator and output sections. Bodies and effects have files of their own. */
+ * top level, integrator and output sections. Bodies, effects and joints have files of their
+ * own. */
 #include "io/scene_file_internal.h"
 
 #include "core/detail.h"
@@ -260,8 +261,8 @@ static tb_status load_sleeping(tb__loader *ld, const json_t *root)
 
 static tb_status load_document(tb__loader *ld, const json_t *root)
 {
-    static const char *const keys[] = {"description", "bodies",   "effects", "integrator",
-                                       "output",      "sleeping", NULL};
+    static const char *const keys[] = {"description", "bodies", "effects",  "joints",
+                                       "integrator",  "output", "sleeping", NULL};
     tb_status status = tb__json_object(ld, root, "", keys);
     const char *description = NULL;
     if (status == TB_STATUS_OK) {
@@ -278,6 +279,10 @@ static tb_status load_document(tb__loader *ld, const json_t *root)
     const json_t *section = json_object_get(root, "effects");
     if (status == TB_STATUS_OK && section != NULL) {
         status = tb__load_effects(ld, section);
+    }
+    section = json_object_get(root, "joints");
+    if (status == TB_STATUS_OK && section != NULL) {
+        status = tb__load_joints(ld, section);
     }
     section = json_object_get(root, "integrator");
     if (status == TB_STATUS_OK && section != NULL) {

@@ -116,6 +116,7 @@ void tb__free_pieces(tb__body_build *b);
 /* The sections. */
 tb_status tb__load_bodies(tb__loader *ld, const json_t *bodies);
 tb_status tb__load_effects(tb__loader *ld, const json_t *effects);
+tb_status tb__load_joints(tb__loader *ld, const json_t *joints); /* scene_file_joints.c */
 tb_status tb__load_integrator(tb__loader *ld, const json_t *integrator);
 tb_status tb__load_output(tb__loader *ld, const json_t *output);
 

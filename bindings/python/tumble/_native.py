@@ -136,6 +136,29 @@ class ContactEventsDef(ctypes.Structure):
                 ("internal_cookie", ctypes.c_int)]
 
 
+class JointDef(ctypes.Structure):
+    """tb_joint_def (include/tumble/joints.h)."""
+    _fields_ = [
+        ("type", ctypes.c_int),
+        ("body_a", ctypes.c_size_t),
+        ("body_b", ctypes.c_size_t),
+        ("anchor", ctypes.c_double * 3),
+        ("axis", ctypes.c_double * 3),
+        ("has_limits", ctypes.c_int),
+        ("limits", ctypes.c_double * 2),
+        ("restitution", ctypes.c_double),
+        ("motor", ctypes.c_int),
+        ("motor_speed", ctypes.c_double),
+        ("motor_target", ctypes.c_double),
+        ("motor_max_force", ctypes.c_double),
+        ("break_force", ctypes.c_double),
+        ("break_torque", ctypes.c_double),
+        ("soft_frequency", ctypes.c_double),
+        ("soft_damping_ratio", ctypes.c_double),
+        ("internal_cookie", ctypes.c_int),
+    ]
+
+
 STRUCTS = {
     "tb_error": Error,
     "tb_integrator_def": IntegratorDef,
@@ -150,6 +173,7 @@ STRUCTS = {
     "tb_body_state": BodyState,
     "tb_contact_event": ContactEvent,
     "tb_contact_events_def": ContactEventsDef,
+    "tb_joint_def": JointDef,
 }
 
 FRAME_FN = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_size_t, ctypes.c_double, ctypes.c_void_p,
@@ -317,6 +341,16 @@ def _declare(lib):
                                                ctypes.c_size_t, c_double_p, c_double_p]),
         "tb_effect_add_torque": (ctypes.c_int, [ctypes.c_void_p, c_double_p, ctypes.c_size_t,
                                                 c_double_p]),
+        "tb_joint_type_name": (ctypes.c_char_p, [ctypes.c_int]),
+        "tb_scene_joint_count": (ctypes.c_size_t, [ctypes.c_void_p]),
+        "tb_scene_joint_def": (ctypes.c_int, [ctypes.c_void_p, ctypes.c_size_t,
+                                              ctypes.POINTER(JointDef)]),
+        "tb_scene_joint_reaction": (ctypes.c_int, [ctypes.c_void_p, c_double_p, ctypes.c_size_t,
+                                                   c_double_p, c_double_p]),
+        "tb_scene_joint_error": (ctypes.c_int, [ctypes.c_void_p, c_double_p, ctypes.c_size_t,
+                                                c_double_p, c_double_p]),
+        "tb_scene_joint_broken": (ctypes.c_int, [ctypes.c_void_p, ctypes.c_size_t,
+                                                 ctypes.POINTER(ctypes.c_bool)]),
     }
     for name, (restype, argtypes) in signatures.items():
         function = getattr(lib, name)
@@ -342,6 +376,9 @@ class _ByAddress:
         self.potential_energy = bind("tb_scene_potential_energy", ctypes.c_int, p, p, p)
         self.linear_momentum = bind("tb_scene_linear_momentum", ctypes.c_int, p, p, p)
         self.angular_momentum = bind("tb_scene_angular_momentum", ctypes.c_int, p, p, p, p)
+        self.joint_reaction = bind("tb_scene_joint_reaction", ctypes.c_int, p, p,
+                                   ctypes.c_size_t, p, p)
+        self.joint_broken = bind("tb_scene_joint_broken", ctypes.c_int, p, ctypes.c_size_t, p)
 
 
 def _check_version(lib, path):

@@ -10,7 +10,7 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from . import _events, _export, _native
+from . import _events, _export, _joints, _native
 from ._core import (_PARSE_ERROR, TumbleError, apply_settings,
                     deferred_interrupt, failure, lib, method_code, number, stats_dict)
 
@@ -31,6 +31,9 @@ class Frames:
     stats             what the integrator did (steps, derivative_evals, ...)
     events            the run's contact events (run(events=True)), a NumPy structured array of
                       EVENT_DTYPE in the order they happened; None when not asked for
+    joint_force       (F, J, 3) N, joint_torque (F, J, 3) N m (about the anchor) and
+                      joint_broken (F, J) bool: each joint's reaction on its first body, world
+                      frame (run(joint_reactions=True)); None when not asked for
 
     The per-body arrays are views of one (F, N, 13) block, the layout of
     tb_scene_frame_values (include/tumble/scene.h)."""
@@ -50,6 +53,9 @@ class Frames:
     #: the Scene the frames came from: its bodies' names and shapes, for the files below
     source: object = field(default=None, repr=False, compare=False)
     events: Optional[np.ndarray] = field(default=None, compare=False)
+    joint_force: Optional[np.ndarray] = field(default=None, compare=False)
+    joint_torque: Optional[np.ndarray] = field(default=None, compare=False)
+    joint_broken: Optional[np.ndarray] = field(default=None, compare=False)
 
     def angular_momentum_about(self, point) -> np.ndarray:
         """Total angular momentum (F, 3), kg m^2/s, about `point`: a world point (3,) in m, or
@@ -134,7 +140,7 @@ class _Recorder:
     frame count the library gives (tb_run_output_frames): a frame costs one call that fills it
     (tb_scene_frame_values) and four for the totals, and no copy."""
 
-    def __init__(self, handle, run, masses, on_frame=None):
+    def __init__(self, handle, run, masses, on_frame=None, joints=0):
         # the library bounds the frames kept (TB_RUN_MAX_BODY_FRAMES) before anything is allocated
         count, error = ctypes.c_size_t(), _native.Error()
         bodies = lib.tb_scene_body_count(handle)
@@ -153,6 +159,9 @@ class _Recorder:
         moving = np.asarray(masses)[self.dynamic] if self.dynamic else np.zeros(0)
         self.mass_fraction = moving / max(sum(moving), np.finfo(float).tiny)
         self.count = 0
+        # each joint's force and torque (6) and broken flag per frame, when asked for
+        self.joints = np.empty((frames, joints, 6)) if joints else None
+        self.broken = np.zeros((frames, joints), dtype=np.bool_) if joints else None
         self.on_frame = on_frame
         self.failure = None
         self.interrupt = None  # the run's deferred_interrupt
@@ -195,15 +204,33 @@ class _Recorder:
             array = np.frombuffer((ctypes.c_double * max(n, 1)).from_address(y), count=n)
             self._x = array.reshape(slots, _native.STATE_SIZE)[:, 0:3]
         self.totals[k, 8:11] = self.mass_fraction @ self._x
+        if self.joints is not None:
+            self._record_joints(k, scene, y)
         self.t[k] = t
         self.count = k + 1
+
+    def _record_joints(self, k, scene, y):
+        fast = _native.by_address
+        for j in range(self.joints.shape[1]):
+            row = self.joints[k, j]
+            status = fast.joint_reaction(scene, y, j, row.ctypes.data, row.ctypes.data + 24)
+            if status == 0:
+                status = fast.joint_broken(scene, j, self.broken[k].ctypes.data + j)
+            if status != 0:
+                raise failure(status, lib.tb_scene_detail(scene).decode())
 
     def frames(self, source, stats):
         k = self.count
         values, totals = self.values[:k], self.totals[:k]
-        return Frames(list(source.body_names), self.t[:k], values[..., 0:3], values[..., 3:7],
-                      values[..., 7:10], values[..., 10:13], totals[:, 0], totals[:, 1],
-                      totals[:, 2:5], totals[:, 5:8], totals[:, 8:11], stats_dict(stats), source)
+        frames = Frames(list(source.body_names), self.t[:k], values[..., 0:3], values[..., 3:7],
+                        values[..., 7:10], values[..., 10:13], totals[:, 0], totals[:, 1],
+                        totals[:, 2:5], totals[:, 5:8], totals[:, 8:11], stats_dict(stats),
+                        source)
+        if self.joints is not None:
+            frames.joint_force = self.joints[:k, :, 0:3]
+            frames.joint_torque = self.joints[:k, :, 3:6]
+            frames.joint_broken = self.broken[:k]
+        return frames
 
 
 class Scene:
@@ -221,6 +248,8 @@ class Scene:
     inertia             each body's inertia tensor about its centre of mass in its shape
                         frame, (3, 3) kg m^2 (of a body of pieces: theirs combined)
     piece_counts        each body's number of convex pieces (0: no shape)
+    joint_count         how many joints; joints: each one's type, bodies, anchor and axis;
+                        joint_reaction(j), joint_error(j), joint_broken(j) at the start
     run_settings        the file's method, dt (s), rtol, atol, max_steps, fps and duration (s)
     """
 
@@ -283,6 +312,11 @@ class Scene:
             count = ctypes.c_size_t()
             lib.tb_scene_body_piece_count(handle, i, ctypes.byref(count))
             self.piece_counts.append(count.value)
+        #: how many joints the scene has (its "joints", docs/joints.md)
+        self.joint_count = _joints.count(handle)
+        #: each joint's type, bodies' names ("world" for the world), anchor and axis as given
+        self.joints = [_joints.describe(handle, self.body_names, j)
+                       for j in range(self.joint_count)]
         lib.tb_scene_destroy(handle)
 
     def __reduce__(self):  # pickled (Dask) as its text, reloaded and checked on arrival
@@ -328,6 +362,29 @@ class Scene:
             raise failure(status, error.message.decode())
         return handle, run
 
+    def _at_start(self, read):
+        handle, _ = self._load()
+        try:
+            return read(handle, lib.tb_scene_states(handle))
+        finally:
+            lib.tb_scene_destroy(handle)
+
+    def joint_reaction(self, joint: int) -> tuple:
+        """(force (3,) N, torque (3,) N m): what joint `joint` (an index, in the order of the
+        file's "joints") puts on its first body at the start, world frame, the torque about
+        the anchor (tb_scene_joint_reaction). Simulation.joint_reaction gives it as the
+        simulation goes. TumbleValueError (OUT_OF_RANGE) for a joint the scene has not."""
+        return self._at_start(lambda handle, y: _joints.reaction(handle, y, joint))
+
+    def joint_error(self, joint: int) -> tuple:
+        """(position error, velocity error) of the start on joint `joint`: the largest of its
+        rows, m (or rad, as the sine of an angle) and m/s (rad/s) (tb_scene_joint_error)."""
+        return self._at_start(lambda handle, y: _joints.error(handle, y, joint))
+
+    def joint_broken(self, joint: int) -> bool:
+        """Whether joint `joint` is broken at the start: never (tb_scene_joint_broken)."""
+        return self._at_start(lambda handle, y: _joints.broken(handle, joint))
+
     def run(self, method: Optional[str] = None, dt: Optional[float] = None,
             rtol: Optional[float] = None, atol: Optional[float] = None,
             fps: Optional[float] = None, duration: Optional[float] = None,
@@ -335,7 +392,7 @@ class Scene:
             threads: Optional[int] = None, max_steps: Optional[int] = None,
             sleeping: Optional[bool] = None, events: bool = False,
             on_event: Optional[Callable[[dict], None]] = None,
-            hit_speed: float = 0.0) -> "Frames":
+            hit_speed: float = 0.0, joint_reactions: bool = False) -> "Frames":
         """Simulates the scene from its initial state for `duration` seconds (the file's settings
         unless given here: method "euler", "midpoint", "rk4", "cvode-adams" or "cvode-bdf"; dt in
         s for the fixed-step methods, rtol and atol for CVODE, frames per second fps) and returns
@@ -352,7 +409,9 @@ class Scene:
         events: keep the contact events (docs/events.md) in frames.events; on_event(event) is
         called with each as it happens (a dict of EVENT_DTYPE's fields), at a step boundary:
         an exception from it stops nothing, and is raised when the run ends. hit_speed (m/s):
-        hits closing slower are left out (begins and ends never).
+        hits closing slower are left out (begins and ends never). joint_reactions: keep each
+        joint's reaction on its first body at every frame in frames.joint_force, joint_torque
+        and joint_broken (tb_scene_joint_reaction: a derivative evaluation a joint a frame).
         Raises TumbleError if the integrator refuses the settings or the run fails;
         a KeyboardInterrupt (Ctrl-C, seen at the next frame) or an exception from on_frame stops
         the run, and the frames made so far are on the exception's `frames` attribute."""
@@ -362,7 +421,8 @@ class Scene:
             apply_settings(run, method, dt, rtol, atol, fps, duration, threads, max_steps)
             if sleeping is not None:
                 lib.tb_scene_set_sleeping(handle, bool(sleeping))
-            recorder = _Recorder(handle, run, self.masses, on_frame)
+            recorder = _Recorder(handle, run, self.masses, on_frame,
+                                 self.joint_count if joint_reactions else 0)
             listener = _events.Listener(handle, self.body_names, hit_speed, on_event) \
                 if events or on_event is not None else None
             stats, error = _native.IntegratorStats(), _native.Error()
@@ -460,6 +520,7 @@ class SceneBuilder:
         b = tumble.SceneBuilder()
         b.add_body("ball", shape={"type": "sphere", "radius": 0.1}, mass=1, position=[0, 0, 2])
         b.add_effect("gravity")
+        b.add_joint("ball", "ball", anchor=[0, 0, 3])   # hung from the world by a rigid rod
         scene = b.build(method="rk4", dt=1/240, fps=60, duration=2)
     """
 
@@ -525,6 +586,23 @@ class SceneBuilder:
         """An effect with the scene format's fields: "gravity", "drag", "spring", "force",
         "torque", "ground", ... (docs/scene-format.md, "Effects")."""
         self._description["effects"].append({"type": type, **fields})
+        return self
+
+    def add_joint(self, type: str, bodies, anchor, axis=None, **fields) -> "SceneBuilder":
+        """A joint with the scene format's fields (docs/joints.md, "Joints in a scene file"):
+        type "ball", "hinge", "slider" or "fixed"; bodies one body's name (joined to the
+        world) or a list of one or two; anchor (3,) m and axis (3,) (hinge and slider: the axis
+        or the direction of travel), both in the world frame at the start; fields limits
+        ([lower, upper], rad or m from the start pose), restitution (at the limits),
+        motor ({"speed" or "target", "max_torque" for a hinge or "max_force" for a slider}),
+        break_force (N), break_torque (N m), soft ({"frequency": Hz, "damping_ratio"}). The
+        library checks it when the scene is built (TumbleError naming joints[k].field)."""
+        joint = {"type": type, "bodies": [bodies] if isinstance(bodies, str) else list(bodies),
+                 "anchor": np.asarray(anchor, dtype=float).tolist()}
+        if axis is not None:
+            joint["axis"] = np.asarray(axis, dtype=float).tolist()
+        joint.update(fields)
+        self._description.setdefault("joints", []).append(joint)
         return self
 
     def build(self, fps: Optional[float] = None, duration: Optional[float] = None,

@@ -6,7 +6,7 @@ from typing import Callable, Optional, Sequence, Union
 
 import numpy as np
 
-from . import _native
+from . import _joints, _native
 from ._core import (_active, apply_settings, as_pointer, deferred_interrupt, failure, lib,
                     number, stats_dict)
 from ._scene import Frames, Scene, SceneBuilder, _Recorder  # noqa: F401 (hints)
@@ -58,7 +58,8 @@ class Simulation:
     Derived read-outs (new arrays): velocity (N, 3) m/s of the centre of mass (P / M);
     angular_velocity (N, 3) rad/s (omega = R I_body^-1 R^T L); frame_values() the shape-frame
     pose and velocities of every body, static and keyframed ones included (bodies, 13), as a
-    Frames frame holds them; reaction(body) what the bodies put on a static or keyframed body.
+    Frames frame holds them; reaction(body) what the bodies put on a static or keyframed body;
+    joint_count, joint_reaction(j), joint_error(j), joint_broken(j) the scene's joints.
 
     Stepping releases the GIL while C runs. Ctrl-C raises KeyboardInterrupt when advance() or
     step() returns (at the next derivative evaluation when Python forces act) and at every
@@ -221,17 +222,20 @@ class Simulation:
             raise failure(status, lib.tb_integrator_detail(self._integrator).decode())
 
     def run(self, duration: Optional[float] = None, fps: Optional[float] = None,
-            on_frame: Optional[Callable[[int, float, np.ndarray], None]] = None) -> Frames:
+            on_frame: Optional[Callable[[int, float, np.ndarray], None]] = None,
+            joint_reactions: bool = False) -> Frames:
         """Advances for `duration` seconds from the current time t0, recording a frame at
         t0 + k / fps for k = 0, 1, ... (the scene file's output settings unless given), and
         returns them as Frames (as Scene.run; from t0 = 0 and the initial state it gives the
         same frames, bit for bit). on_frame(k, t, values) is called after each frame. A
         KeyboardInterrupt (Ctrl-C) or an exception from on_frame or a user force stops the run,
-        and the frames so far are on the exception's `frames`."""
+        and the frames so far are on the exception's `frames`. joint_reactions: keep each
+        joint's reaction and broken flag at every frame (as Scene.run)."""
         run = _native.RunDef()
         ctypes.memmove(ctypes.byref(run), ctypes.byref(self._run), ctypes.sizeof(run))
         apply_settings(run, fps=fps, duration=duration)
-        recorder = _Recorder(self._handle, run, self.scene.masses)
+        recorder = _Recorder(self._handle, run, self.scene.masses,
+                             joints=self.joint_count if joint_reactions else 0)
         frame_count = len(recorder.t)
         t0 = self.t
         try:
@@ -332,6 +336,31 @@ class Simulation:
         if status != 0:
             raise failure(status, lib.tb_scene_detail(self._handle).decode())
         return force, torque
+
+    # --- joints (include/tumble/joints.h) -------------------------------------------------
+
+    @property
+    def joint_count(self) -> int:
+        """How many joints the scene has (its "joints"; Scene.joints describes them)."""
+        return _joints.count(self._handle)
+
+    def joint_reaction(self, joint: int) -> tuple:
+        """(force (3,) N, torque (3,) N m): what joint `joint` (an index, in the order of the
+        scene's "joints") puts on its first body at the current state, world frame, the torque
+        about its anchor; the second body gets the opposite; 0 once broken
+        (tb_scene_joint_reaction). TumbleValueError (OUT_OF_RANGE) for a joint the scene has
+        not."""
+        return _joints.reaction(self._handle, self._y, joint)
+
+    def joint_error(self, joint: int) -> tuple:
+        """(position error, velocity error): how far the current state is off joint `joint`,
+        the largest of its rows, m (or rad, as the sine of an angle) and m/s (rad/s)
+        (tb_scene_joint_error)."""
+        return _joints.error(self._handle, self._y, joint)
+
+    def joint_broken(self, joint: int) -> bool:
+        """Whether joint `joint` has broken in the run so far (tb_scene_joint_broken)."""
+        return _joints.broken(self._handle, joint)
 
     def set_state(self, body: Body, position=None, quaternion=None, momentum=None,
                   angular_momentum=None) -> None:

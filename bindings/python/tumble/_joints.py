@@ -1,0 +1,64 @@
+"""Joints' read-outs (include/tumble/joints.h), shared by Scene (at the start) and Simulation
+(at its current state): each a library call, its refusal raised as TumbleError."""
+
+import ctypes
+
+import numpy as np
+
+from . import _native
+from ._core import as_pointer, failure, lib
+
+
+def _index(joint):
+    if isinstance(joint, bool) or not isinstance(joint, (int, np.integer)):
+        raise TypeError(f"a joint is an index, got {type(joint).__name__}")
+    if joint < 0:  # the library names an index out of range; a negative one is Python's
+        raise IndexError(f"joint {joint}: joints are numbered from 0 in the order added")
+    return int(joint)
+
+
+def _pointer(y):
+    """A NumPy state array as a double*; a pointer (the scene's own array) as it is."""
+    return as_pointer(y) if isinstance(y, np.ndarray) else y
+
+
+def _check(handle, status):
+    if status != 0:
+        raise failure(status, lib.tb_scene_detail(handle).decode())
+
+
+def count(handle) -> int:
+    return lib.tb_scene_joint_count(handle)
+
+
+def describe(handle, names, joint) -> dict:
+    """{"type", "bodies", "anchor", "axis"}: the joint's type, its bodies' names ("world" for
+    the world) and its anchor and axis as given (tb_scene_joint_def)."""
+    definition = _native.JointDef()
+    _check(handle, lib.tb_scene_joint_def(handle, _index(joint), ctypes.byref(definition)))
+    bodies = [names[i] if i < len(names) else "world"
+              for i in (definition.body_a, definition.body_b)]
+    return {"type": lib.tb_joint_type_name(definition.type).decode(), "bodies": bodies,
+            "anchor": list(definition.anchor), "axis": list(definition.axis)}
+
+
+def reaction(handle, y, joint):
+    """(force (3,) N, torque (3,) N m) on the joint's first body at state y, world frame."""
+    force, torque = np.empty(3), np.empty(3)
+    _check(handle, lib.tb_scene_joint_reaction(handle, _pointer(y), _index(joint),
+                                                as_pointer(force), as_pointer(torque)))
+    return force, torque
+
+
+def error(handle, y, joint):
+    """(position error (m, or rad as a sine), velocity error (m/s, rad/s)) at state y."""
+    position, velocity = ctypes.c_double(), ctypes.c_double()
+    _check(handle, lib.tb_scene_joint_error(handle, _pointer(y), _index(joint),
+                                             ctypes.byref(position), ctypes.byref(velocity)))
+    return position.value, velocity.value
+
+
+def broken(handle, joint) -> bool:
+    flag = ctypes.c_bool()
+    _check(handle, lib.tb_scene_joint_broken(handle, _index(joint), ctypes.byref(flag)))
+    return flag.value
