@@ -129,7 +129,7 @@ bool cli_events_close(cli_events *e, const tb_scene *scene, bool ok, char *messa
                  e->out_of_memory ? "events could not be kept" : tb_scene_detail(scene));
     }
     if (!ok || !written || e->out_of_memory || !whole) {
-        remove(e->output.name);
+        cli_output_remove_partial(e->output.name);
         return !ok; /* a failed run is reported as such; a failed write here */
     }
     return true;

@@ -7,7 +7,6 @@
 
 #include <math.h>
 #include <stdio.h>
-#include <sys/stat.h>
 
 static const char *body_name(const tb_scene *scene, size_t id)
 {
@@ -107,10 +106,8 @@ bool cli_joints_close(cli_joints *j, bool ok, char *message, size_t size)
         snprintf(message, size, "--joints %s: %s", j->output.name, j->detail);
     }
     const bool good = written && j->detail[0] == '\0';
-    /* only a regular file: never /dev/full or a pipe (the command may run as root) */
-    struct stat info;
-    if ((!ok || !good) && stat(j->output.name, &info) == 0 && S_ISREG(info.st_mode)) {
-        remove(j->output.name);
+    if (!ok || !good) {
+        cli_output_remove_partial(j->output.name);
     }
     return good;
 }

@@ -106,3 +106,11 @@ bool cli_output_close_stdout(char *message, size_t size)
     }
     return true;
 }
+
+void cli_output_remove_partial(const char *path)
+{
+    struct stat info;
+    if (path != NULL && stat(path, &info) == 0 && S_ISREG(info.st_mode)) {
+        remove(path);
+    }
+}

@@ -40,6 +40,10 @@ void cli_output_csv_field(cli_output *out, const char *text);
  * succeeded; otherwise message says which output and why (strerror). */
 bool cli_output_close(cli_output *out, char *message, size_t size);
 
+/* Removes path if it is a regular file (a partly written output); never a device such as
+ * /dev/full, a pipe or a directory (the command may run as root). NULL is ignored. */
+void cli_output_remove_partial(const char *path);
+
 /* Closes standard output at exit; false with message if that fails (main's last check). */
 bool cli_output_close_stdout(char *message, size_t size);
 

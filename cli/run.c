@@ -15,7 +15,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -186,11 +185,8 @@ static bool close_output(writer *w, tb_status status, char *message, size_t size
  * destroyed; a CSV written into a regular file holds the first frames only, and is removed). */
 static int interrupted(const cli_options *o, const writer *w)
 {
-    struct stat info;
-    const bool remove_csv =
-        w->frames == NULL && o->out != NULL && stat(o->out, &info) == 0 && S_ISREG(info.st_mode);
-    if (remove_csv) {
-        remove(o->out);
+    if (w->frames == NULL) {
+        cli_output_remove_partial(o->out);
     }
     fprintf(stderr, "tumble: %s: interrupted%s%s\n", o->scene,
             o->out != NULL ? ", nothing written to " : "", o->out != NULL ? o->out : "");
