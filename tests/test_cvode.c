@@ -626,7 +626,7 @@ static void test_a_changed_right_hand_side_restarts_cvode(void **state)
         tb_ode_system system = {.n = 1,
                                 .derivative = slope_derivative,
                                 .ctx = &ctx,
-                                .rhs_generation = slope_generation};
+                                .lifetime.rhs_generation = slope_generation};
         tb_integrator_def def = adaptive_def(adaptive[m], 1e-10);
         tb_integrator *integrator = NULL;
         assert_int_equal(tb_integrator_create(&system, &def, 0.0, y, &integrator, NULL),

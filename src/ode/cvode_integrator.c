@@ -58,7 +58,8 @@ static void capture_message(int code, const char *module, const char *function, 
 /* The system's right-hand-side generation; 0 for a system that does not have one. */
 static unsigned long long rhs_generation(const tb_ode_system *system)
 {
-    return system->rhs_generation != NULL ? system->rhs_generation(system->ctx) : 0;
+    return system->lifetime.rhs_generation != NULL ? system->lifetime.rhs_generation(system->ctx)
+                                                   : 0;
 }
 
 /* Formats CVODE's name for a return flag (CVodeGetReturnFlagName allocates it). */
@@ -196,7 +197,7 @@ static tb_status set_solvers(tb_integrator *integrator, const tb_integrator_def 
     const bool dense =
         def->linear_solver == TB_LINEAR_SOLVER_DENSE ||
         (def->linear_solver == TB_LINEAR_SOLVER_AUTO &&
-         n <= (integrator->system.block_size > 0 ? TB__DENSE_LIMIT : TB__DENSE_LIMIT_COUPLED));
+         n <= (integrator->system.blocks.size > 0 ? TB__DENSE_LIMIT : TB__DENSE_LIMIT_COUPLED));
     const int band =
         def->preconditioner_half_bandwidth < 0 ? 0 : def->preconditioner_half_bandwidth;
     if (dense) {
@@ -210,7 +211,7 @@ static tb_status set_solvers(tb_integrator *integrator, const tb_integrator_def 
         return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "linear solver for n = %zu", n);
     }
     int flag = CVodeSetLinearSolver(cvode->mem, cvode->linear, cvode->matrix);
-    const size_t block_size = integrator->system.block_size;
+    const size_t block_size = integrator->system.blocks.size;
     if (flag == CV_SUCCESS && (dense || block_size > 0)) {
         cvode->weights = N_VClone(cvode->y);
         flag = cvode->weights == NULL ? CV_MEM_FAIL : CV_SUCCESS;

@@ -307,7 +307,7 @@ struct tb_scene {
 void tb__scene_events_observe(tb_scene *scene, double t, const double *y, bool fixed);
 void tb__scene_events_start(tb_scene *scene, double t0, bool fixed);
 void tb__scene_events_free(tb_scene *scene);
-/* tb_ode_system.at_event of a scene with events: the watch, then the sleep's. */
+/* tb_ode_system.events.at_event of a scene with events: the watch, then the sleep's. */
 void tb__scene_at_event(double t, const double *y, void *ctx);
 
 /* Sleeping islands (sleep.c). Bodies linked at a step boundary (a pair the contact effect
@@ -365,7 +365,7 @@ void tb__scene_sleep_apply_pending(tb_scene *scene);
 /* Wakes body id's island (a user change of its state), or every body. */
 void tb__scene_wake_body(tb_scene *scene, size_t id);
 void tb__scene_wake_all(tb_scene *scene);
-/* The adaptive methods' event stop (tb_ode_system.at_event, ctx the scene): while a body
+/* The adaptive methods' event stop (tb_ode_system.events.at_event, ctx the scene): while a body
  * sleeps, the islands are decided from y at t (pairs within the margin, tb__effect_stepping
  * wake_links) and the decision applied at once, so that the integrator restarts there with
  * an island woken before the pair that stopped it touches. */
