@@ -73,7 +73,7 @@ bool tb__cvode_marches(const tb_integrator *integrator)
 {
     return integrator->system.events.root_count > 0 ||
            integrator->system.events.step_limit != NULL ||
-           integrator->system.events.next_break != NULL;
+           integrator->system.events.next_break != NULL || integrator->cvode->sparse != NULL;
 }
 
 /* CVODE stopped at an event at tau: counts it and names the lowest function that fired. */
@@ -163,6 +163,7 @@ int tb__cvode_march(tb_integrator *integrator, double tau_out, int mode, double 
             return CV_TOO_MUCH_WORK;
         }
         int flag = limit_next_step(integrator, tn);
+        flag = flag == CV_SUCCESS ? tb__cvode_sparse_refresh(integrator, tn) : flag;
         if (flag != CV_SUCCESS) {
             return flag;
         }

@@ -53,6 +53,12 @@ typedef struct tb__event_pair tb__event_pair; /* below */
 
 typedef struct tb__effect_stepping tb__effect_stepping;
 
+/* Visits one coupling for the Jacobian's pattern (scene_jacobian.c): the effect's states
+ * [first_state, first_state + state_count) of y depend on, and act on, bodies body_a and body_b
+ * (ids; TB_ALL_BODIES for none, body_b == body_a for one body). */
+typedef void (*tb__coupling_visit)(void *ctx, size_t first_state, size_t state_count, size_t body_a,
+                                   size_t body_b);
+
 /* One constant row per effect kind (the core row), defined in the kind's file in src/effects/:
  * every fact about the kind that the derivative, the read-outs, the stability guard and the
  * sleeping islands ask; nothing outside the effect's own files reads its parameters. An effect
@@ -93,6 +99,11 @@ typedef struct tb__effect_ops {
     /* The hooks of an effect that shapes the steps (events, step limits, impacts, step
      * boundaries, waking); NULL for an effect with none. */
     const tb__effect_stepping *stepping;
+    /* For an effect that owns states: which bodies each group of its states belongs to at a
+     * step boundary (scene_jacobian.c's pattern), visiting every state once. NULL: unknown (a
+     * scene holding such an effect offers no Jacobian). */
+    void (*state_owners)(const tb__effect *effect, const tb_scene *scene, tb__coupling_visit visit,
+                         void *ctx);
 } tb__effect_ops;
 
 /* The optional second row of an effect kind: what the events, the adaptive step limit, the
@@ -298,6 +309,8 @@ struct tb_scene {
     size_t states_left_size, states_left_capacity;
     /* Contact events (contact_event_watch.c): NULL until tb_scene_set_contact_events. */
     struct tb__event_watch *contact_events;
+    /* The contact Jacobian's pattern and scratch (scene_jacobian.c): NULL until asked. */
+    struct tb__scene_jacobian *jacobian;
 };
 
 /* Contact events (contact_event_watch.c): the scene's state at a step boundary at time t,
@@ -307,6 +320,14 @@ struct tb_scene {
 void tb__scene_events_observe(tb_scene *scene, double t, const double *y, bool fixed);
 void tb__scene_events_start(tb_scene *scene, double t0, bool fixed);
 void tb__scene_events_free(tb_scene *scene);
+
+/* The contact's sparse Jacobian (scene_jacobian.c): whether the scene offers one (bodies that
+ * interact, every effect's couplings known), its tb_ode_system.jacobian callbacks (ctx the
+ * scene), and the free at destruction. */
+bool tb__scene_has_jacobian(const tb_scene *scene);
+size_t tb__scene_jacobian_capacity(double t, const double *y, void *ctx);
+int tb__scene_jacobian(double t, const double *y, const double *fy, tb_ode_sparse *J, void *ctx);
+void tb__scene_jacobian_free(tb_scene *scene);
 /* tb_ode_system.events.at_event of a scene with events: the watch, then the sleep's. */
 void tb__scene_at_event(double t, const double *y, void *ctx);
 

@@ -213,6 +213,27 @@ static tb_ode_hook post_step_hook(const tb_scene *scene)
                : (scene->renormalize ? tb_scene_normalize_quaternions : NULL);
 }
 
+/* Contact: a gap per body for CVODE's root finding, and steps kept short near contacts
+ * (scene_events.c); bodies that can sleep add a second gap per body, to the nearest body of the
+ * other sleep state, so that CVODE stops before an awake body touches an asleep one and wakes it
+ * there (sleep.c). Bodies that interact: the contact's sparse Jacobian, its pattern their
+ * contact graph (scene_jacobian.c). */
+static void set_events_and_jacobian(const tb_scene *scene, tb_ode_system *out_system)
+{
+    if (tb__scene_has_events(scene)) {
+        const bool wake = scene->sleep != NULL;
+        out_system->events.root_count = (wake ? 2 : 1) * scene->body_count;
+        out_system->events.roots = wake ? tb__scene_event_and_wake_gaps : tb__scene_event_gaps;
+        out_system->events.step_limit = tb__scene_step_limit;
+        out_system->events.at_event =
+            wake || scene->contact_events != NULL ? tb__scene_at_event : NULL;
+    }
+    if (tb__scene_has_jacobian(scene)) {
+        out_system->jacobian.capacity = tb__scene_jacobian_capacity;
+        out_system->jacobian.evaluate = tb__scene_jacobian;
+    }
+}
+
 tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
 {
     if (scene == NULL) {
@@ -243,18 +264,7 @@ tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
     if (rooms != TB_STATUS_OK) {
         return rooms;
     }
-    /* Contact: a gap per body for CVODE's root finding, and steps kept short near contacts
-     * (scene_events.c); bodies that can sleep add a second gap per body, to the nearest body
-     * of the other sleep state, so that CVODE stops before an awake body touches an asleep
-     * one and wakes it there (sleep.c). */
-    if (tb__scene_has_events(scene)) {
-        const bool wake = scene->sleep != NULL;
-        out_system->events.root_count = (wake ? 2 : 1) * scene->body_count;
-        out_system->events.roots = wake ? tb__scene_event_and_wake_gaps : tb__scene_event_gaps;
-        out_system->events.step_limit = tb__scene_step_limit;
-        out_system->events.at_event =
-            wake || scene->contact_events != NULL ? tb__scene_at_event : NULL;
-    }
+    set_events_and_jacobian(scene, out_system);
     /* Bodies that do not interact are the system's blocks. */
     if (tb__scene_separable(scene)) {
         out_system->blocks.size = TB_STATE_SIZE;
