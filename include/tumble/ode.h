@@ -247,7 +247,9 @@ typedef enum tb_linear_solver {
                                   blocks (exact), banded otherwise: O(n) a setup */
     TB_LINEAR_SOLVER_SPARSE    /* the system's own sparse Jacobian (tb_ode_system.jacobian,
                                   required) and KLU's sparse LU: the cost of a setup follows
-                                  the entries, not n^3 */
+                                  the entries, not n^3. KLU analyses each new pattern anew,
+                                  which allocates: not chosen by auto (docs/integrators.md).
+                                  TB_STATUS_UNSUPPORTED in a build without KLU */
 } tb_linear_solver;
 
 typedef struct tb_integrator_def {
@@ -322,6 +324,11 @@ typedef struct tb_integrator_stats {
     int current_order;              /* order the next step will use */
     long reinitializations;         /* adaptive: restarts because the state was changed from
                                        outside or tb_integrator_reset was called */
+    long nonlinear_iterations;      /* adaptive: iterations of the implicit solve (BDF's Newton,
+                                       Adams' fixed point) */
+    long jacobian_evals;            /* BDF: Jacobians formed (difference quotients, or the
+                                       system's own with TB_LINEAR_SOLVER_SPARSE); preconditioner
+                                       set-ups of the Krylov solver not counted */
 } tb_integrator_stats;
 
 typedef struct tb_integrator tb_integrator;

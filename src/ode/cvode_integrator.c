@@ -319,6 +319,13 @@ static void read_counters(const tb_integrator *integrator, tb_integrator_stats *
     out->last_step = last;
     out->current_step = current;
     out->reinitializations = base->reinitializations;
+    long iterations_nl = 0, jacobians = 0;
+    CVodeGetNumNonlinSolvIters(mem, &iterations_nl);
+    if (cvode->matrix != NULL) {
+        CVodeGetNumJacEvals(mem, &jacobians);
+    }
+    out->nonlinear_iterations = base->nonlinear_iterations + iterations_nl;
+    out->jacobian_evals = base->jacobian_evals + jacobians;
 }
 
 static void cvode_get_stats(const tb_integrator *integrator, tb_integrator_stats *stats)

@@ -224,4 +224,5 @@ void tb__cvode_sparse_free(tb__cvode *cvode)
 {
     (void)cvode;
 }
+
 #endif
