@@ -1,16 +1,18 @@
-/* CVODE BDF on contact, by linear solver: the dense difference-quotient Jacobian (what auto picks
- * for these sizes), GMRES with a banded preconditioner, and the contact's sparse Jacobian with KLU
- * (TB_LINEAR_SOLVER_SPARSE). Three scenes:
- *   dice    examples/scenes/dice.json (twelve 16 mm dice thrown onto a table), its first 1 s;
+/* CVODE BDF on contact, by linear solver: the dense difference-quotient Jacobian, GMRES with a
+ * banded preconditioner (auto picks dense up to 512 unknowns for bodies that interact, Krylov
+ * above: the dice's 611), and the contact's sparse Jacobian with KLU (TB_LINEAR_SOLVER_SPARSE).
+ * Three scenes (their unknowns go to stderr):
+ *   dice    examples/scenes/dice.json (twelve 16 mm dice thrown onto a table), its first 0.25 s;
  *   column  ten 10 cm, 0.5 kg boxes standing on the ground, each on the one below, 1 s;
  *   impact  two 10 cm, 1 kg boxes meeting head-on at 1 m/s (slightly turned, no gravity), 0.05 s.
  * rtol 1e-6 (the scene's absolute tolerances), frames at 60 per second. Prints CSV: scene,
- * solver, status (ok or the failure), simulated s reached, steps, Newton iterations, Jacobians,
+ * solver, status (ok, the failure, or budget: stopped after the CPU budget), simulated s reached,
+ * steps, error-test failures, Newton convergence failures, Newton iterations, Jacobians,
  * derivative evaluations (CVODE's; the sparse Jacobian's own quotients are not among them), CPU
  * s, CPU s per simulated second. The processor and the load go to stderr.
  *
- * usage: bench_bdf_contact [--quick] [dice.json]   (--quick: 2% of each span, 2 s of CPU at
- * most a run; without it 60 s) */
+ * usage: bench_bdf_contact [--quick] [--solver dense|krylov|sparse] [dice.json]   (--quick: 2% of
+ * each span, 2 s of CPU at most a run; without it 20 s) */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include "bench_common.h"
 #include "tumble/tumble.h"
@@ -88,8 +90,8 @@ static tb_scene *make(const char *name, const char *dice)
     return strcmp(name, "column") == 0 ? column() : impact();
 }
 
-/* A run stops after budget CPU seconds (status "budget"): GMRES with a banded preconditioner
- * takes minutes a simulated second on the column. */
+/* A run stops at the first frame after budget CPU seconds (status "budget"): BDF takes minutes of
+ * CPU a simulated second on the dice with the dense and Krylov solvers. */
 static void run(const char *name, const char *dice, tb_linear_solver solver, const char *label,
                 double span, double budget)
 {
@@ -97,6 +99,10 @@ static void run(const char *name, const char *dice, tb_linear_solver solver, con
     if (scene == NULL) {
         fprintf(stderr, "bench_bdf_contact: cannot make %s\n", name);
         exit(1);
+    }
+    if (solver == TB_LINEAR_SOLVER_DENSE) { /* once a scene: what auto would pick */
+        fprintf(stderr, "bench_bdf_contact: %s has %zu unknowns\n", name,
+                tb_scene_state_size(scene));
     }
     tb_integrator_def def = tb_integrator_def_default();
     tb_integrator_def_set_method(&def, TB_METHOD_CVODE_BDF);
@@ -128,9 +134,9 @@ static void run(const char *name, const char *dice, tb_linear_solver solver, con
     if (integrator != NULL) {
         tb_integrator_get_stats(integrator, &stats);
     }
-    printf("%s,%s,%s,%.4g,%ld,%ld,%ld,%ld,%.4g,%.4g\n", name, label, what, t, stats.steps,
-           stats.nonlinear_iterations, stats.jacobian_evals, stats.derivative_evals, cpu,
-           t > 0.0 ? cpu / t : NAN);
+    printf("%s,%s,%s,%.4g,%ld,%ld,%ld,%ld,%ld,%ld,%.4g,%.4g\n", name, label, what, t, stats.steps,
+           stats.error_test_failures, stats.nonlinear_failures, stats.nonlinear_iterations,
+           stats.jacobian_evals, stats.derivative_evals, cpu, t > 0.0 ? cpu / t : NAN);
     fflush(stdout);
     tb_integrator_destroy(integrator);
     tb_scene_destroy(scene);
@@ -139,17 +145,23 @@ static void run(const char *name, const char *dice, tb_linear_solver solver, con
 int main(int argc, char **argv)
 {
     const int quick = argc > 1 && strcmp(argv[1], "--quick") == 0;
-    const char *dice = argc > 1 + quick ? argv[1 + quick] : BENCH_DICE_SCENE;
+    const char *only = NULL; /* --solver NAME: that solver's rows alone */
+    int next = 1 + quick;
+    if (argc > next + 1 && strcmp(argv[next], "--solver") == 0) {
+        only = argv[next + 1];
+        next += 2;
+    }
+    const char *dice = argc > next ? argv[next] : BENCH_DICE_SCENE;
     char model[256], extensions[256];
     bench_processor(model, extensions);
     fprintf(stderr, "bench_bdf_contact: processor %s; load average %.2f\n", model,
             bench_load_average());
-    printf("scene,solver,status,reached_s,steps,newton_iterations,jacobians,derivatives,cpu_s,"
-           "cpu_s_per_s\n");
+    printf("scene,solver,status,reached_s,steps,error_test_failures,newton_failures,"
+           "newton_iterations,jacobians,derivatives,cpu_s,cpu_s_per_s\n");
     static const struct {
         const char *name;
         double span;
-    } scenes[] = {{"dice", 1.0}, {"column", 1.0}, {"impact", 0.05}};
+    } scenes[] = {{"dice", 0.25}, {"column", 1.0}, {"impact", 0.05}};
     static const struct {
         tb_linear_solver solver;
         const char *label;
@@ -158,8 +170,11 @@ int main(int argc, char **argv)
                    {TB_LINEAR_SOLVER_SPARSE, "sparse"}};
     for (size_t s = 0; s < sizeof scenes / sizeof scenes[0]; ++s) {
         for (size_t k = 0; k < sizeof solvers / sizeof solvers[0]; ++k) {
+            if (only != NULL && strcmp(only, solvers[k].label) != 0) {
+                continue;
+            }
             run(scenes[s].name, dice, solvers[k].solver, solvers[k].label,
-                scenes[s].span * (quick ? 0.02 : 1.0), quick ? 2.0 : 60.0);
+                scenes[s].span * (quick ? 0.02 : 1.0), quick ? 2.0 : 20.0);
         }
     }
     return 0;

@@ -4,9 +4,10 @@
  * The state's components are grouped into nodes: each dynamic body's 13, and each group of an
  * effect's states that belongs to bodies (a ground point's deflection, a friction slot's).
  * Two nodes are coupled when an effect couples them at the boundary: a pair of bodies within
- * the contact's event lookahead (TB__EVENT_LOOKAHEAD) or joined by a spring, a state group and
- * the bodies that hold it. The pattern is every component of a node against every component of
- * each node coupled to it (and itself): the bodies' contact graph, dense 13 x 13 blocks. */
+ * 1 mm of each other (TB__JACOBIAN_GAP, among the contact's event pairs) or joined by a spring,
+ * a state group and the bodies that hold it. The pattern is every component of a node against every
+ * component of each node coupled to it (and itself): the bodies' contact graph, dense 13 x 13
+ * blocks. */
 #ifndef TUMBLE_SCENE_JACOBIAN_H
 #define TUMBLE_SCENE_JACOBIAN_H
 
