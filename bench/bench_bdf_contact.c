@@ -174,7 +174,7 @@ int main(int argc, char **argv)
                 continue;
             }
             run(scenes[s].name, dice, solvers[k].solver, solvers[k].label,
-                scenes[s].span * (quick ? 0.02 : 1.0), quick ? 2.0 : 20.0);
+                scenes[s].span * (quick ? 0.02 : 1.0), quick ? 0.5 : 20.0);
         }
     }
     return 0;

@@ -224,6 +224,50 @@ static void test_a_box_on_a_box_with_friction(void **state)
     check_scene(2, 1);
 }
 
+/* Three 10 cm, 0.5 kg boxes stacked on the ground under BDF with the sparse Jacobian. At rest
+ * each contact carries the weight above it and sinks that many penetrations (the law's
+ * stiffness is set so that a body sinks one penetration p under its own weight: the ground 3p
+ * under three boxes, the pairs 2p and p), so the top box stands 6p below its undeflected
+ * 0.25 m. Tolerance: 5% of 6p (the settling rings down in milliseconds; BDF's own error on a
+ * position is about rtol times the body's 4 cm scale, 1e-10 m). And BDF is not held to the
+ * contact's oscillation at rest: its last step exceeds 10 periods of omega = sqrt(g / p). */
+static void test_a_stack_rests_at_its_static_deflection_under_sparse_bdf(void **state)
+{
+    (void)state;
+    tb_scene *scene = test_empty_scene();
+    const double size[3] = {EDGE, EDGE, EDGE};
+    for (int k = 0; k < 3; ++k) {
+        const double x[3] = {0.0, 0.0, 0.5 * EDGE + EDGE * k};
+        test_add_box(scene, 0.5, size, x);
+    }
+    assert_int_equal(tb_scene_add_gravity(scene, (double[]){0.0, 0.0, -9.81}), TB_STATUS_OK);
+    tb_ground_def ground = tb_ground_def_default();
+    tb_contact_def contact = tb_contact_def_default();
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    tb_integrator_def def = test_integrator_def(TB_METHOD_CVODE_BDF, 0.0, 1e-6);
+    def.linear_solver = TB_LINEAR_SOLVER_SPARSE;
+    tb_integrator *integrator = NULL;
+    const tb_status created = tb_scene_integrator_create(scene, &def, 0.0, &integrator);
+    if (created == TB_STATUS_UNSUPPORTED) { /* built without KLU */
+        tb_scene_destroy(scene);
+        return;
+    }
+    assert_int_equal(created, TB_STATUS_OK);
+    for (int frame = 1; frame <= 60; ++frame) {
+        assert_int_equal(tb_integrator_advance(integrator, frame / 60.0), TB_STATUS_OK);
+    }
+    const double p = ground.penetration, *y = tb_scene_states(scene);
+    const double sunk = 2.5 * EDGE - y[2 * TB_STATE_SIZE + TB_STATE_X + 2];
+    print_message("top box sunk %.4g m (6p = %.4g m)\n", sunk, 6.0 * p);
+    assert_true(fabs(sunk - 6.0 * p) <= 0.05 * 6.0 * p);
+    tb_integrator_stats stats;
+    tb_integrator_get_stats(integrator, &stats);
+    assert_true(stats.last_step > 10.0 * 2.0 * 3.14159265358979 * sqrt(p / 9.81));
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -231,6 +275,7 @@ int main(void)
         cmocka_unit_test(test_a_box_on_the_ground_with_friction),
         cmocka_unit_test(test_a_box_on_a_box_without_friction),
         cmocka_unit_test(test_a_box_on_a_box_with_friction),
+        cmocka_unit_test(test_a_stack_rests_at_its_static_deflection_under_sparse_bdf),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
