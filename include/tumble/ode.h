@@ -134,9 +134,10 @@ typedef struct tb_ode_sparse {
  * or both set. */
 typedef struct tb_ode_jacobian {
     /* The most entries the Jacobian can have at the states the next step may visit from the
-     * accepted state (t, y), diagonal included: asked at creation (y the initial state) and
-     * before every step. The integrator allocates its matrices at creation and grows them only
-     * here, so evaluate allocates nothing. */
+     * accepted state (t, y), diagonal included: asked before every step (the first one too, y
+     * then the initial state). The integrator makes room for the diagonal at creation and grows
+     * it only here, so evaluate allocates nothing. A value below n fails the step
+     * (TB_STATUS_SOLVER_FAILED naming it). */
     size_t (*capacity)(double t, const double *y, void *ctx);
     /* Writes J = df/dy at (t, y) (fy = f(t, y)), pattern and values: every diagonal entry
      * (zero or not) and at most J->capacity entries (the last capacity asked). A pure function
@@ -338,7 +339,8 @@ typedef struct tb_integrator tb_integrator;
  * max_order and max_steps, BDF also linear_solver and preconditioner_half_bandwidth. A field the
  * method does not read that differs from tb_integrator_def_default()'s value was meant for another
  * method: creation refuses it (TB_STATUS_INVALID_ARGUMENT naming the field; rtol given to rk4, dt
- * to cvode-bdf). preconditioner_half_bandwidth is exempt (scenes fill it in for every method).
+ * to cvode-bdf). preconditioner_half_bandwidth is exempt (tb_scene_integrator_create fills it in
+ * for every method).
  *
  * Re-entrancy: an integrator's advance, step or reset called from inside its own derivative,
  * hook or acquire returns TB_STATUS_BUSY and changes nothing (its detail says why until the

@@ -89,13 +89,11 @@ tb_status tb__cvode_sparse_create(tb_integrator *integrator, tb_error *error)
     }
     sparse->J.n = n;
     sparse->analysed_entries = (size_t)-1;
-    const size_t capacity = system->jacobian.capacity(integrator->t, integrator->y, system->ctx);
-    if (capacity < n || !make_room(cvode, capacity)) {
-        return tb__set_error(error,
-                             capacity < n ? TB_STATUS_INVALID_ARGUMENT : TB_STATUS_OUT_OF_MEMORY,
-                             "system.jacobian.capacity: %zu entries for n = %zu (at least the "
-                             "diagonal; 0: the system could not build its pattern)",
-                             capacity, n);
+    /* room for the diagonal: y is not read before the first step, where the system's capacity
+     * is asked (tb__cvode_sparse_refresh) */
+    const size_t capacity = n;
+    if (!make_room(cvode, capacity)) {
+        return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "sparse Jacobian for n = %zu", n);
     }
     cvode->matrix = SUNSparseMatrix((sunindextype)n, (sunindextype)n, (sunindextype)capacity,
                                     CSR_MAT, cvode->context);
@@ -129,9 +127,9 @@ int tb__cvode_sparse_refresh(tb_integrator *integrator, sunrealtype tn)
     const size_t capacity = system->jacobian.capacity(cvode->t_origin + tn, state, system->ctx);
     if (capacity < sparse->J.n || (capacity > sparse->J.capacity && !make_room(cvode, capacity))) {
         snprintf(cvode->message, sizeof cvode->message,
-                 "system.jacobian.capacity: %zu entries (0: the system could not build its "
-                 "pattern; out of memory?)",
-                 capacity);
+                 "system.jacobian.capacity: %zu entries for n = %zu (at least the diagonal; 0: "
+                 "the system could not build its pattern) or out of memory for them",
+                 capacity, sparse->J.n);
         return CV_MEM_FAIL;
     }
     return CV_SUCCESS;
