@@ -4,14 +4,16 @@
  * Three scenes (their unknowns go to stderr):
  *   dice    examples/scenes/dice.json (twelve 16 mm dice thrown onto a table), its first 0.25 s;
  *   column  ten 10 cm, 0.5 kg boxes standing on the ground, each on the one below, 1 s;
- *   impact  two 10 cm, 1 kg boxes meeting head-on at 1 m/s (slightly turned, no gravity), 0.05 s.
+ *   impact  two 10 cm, 1 kg boxes meeting head-on at 1 m/s (slightly turned, no gravity), 0.05 s;
+ *   stack   examples/scenes/stack.json (five boxes stacked and settling), its first 0.05 s.
  * rtol 1e-6 (the scene's absolute tolerances), frames at 60 per second. Prints CSV: scene,
  * solver, status (ok, the failure, or budget: stopped after the CPU budget), simulated s reached,
  * steps, error-test failures, Newton convergence failures, Newton iterations, Jacobians,
  * derivative evaluations (CVODE's; the sparse Jacobian's own quotients are not among them), CPU
  * s, CPU s per simulated second. The processor and the load go to stderr.
  *
- * usage: bench_bdf_contact [--quick] [--solver dense|krylov|sparse] [dice.json]   (--quick: 2% of
+ * usage: bench_bdf_contact [--quick] [--solver dense|krylov|sparse] [--scene NAME] [EXAMPLES_DIR]
+ * (--quick: 2% of
  * each span, 2 s of CPU at most a run; without it 20 s) */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include "bench_common.h"
@@ -22,8 +24,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#ifndef BENCH_DICE_SCENE
-#define BENCH_DICE_SCENE "examples/scenes/dice.json"
+#ifndef BENCH_EXAMPLES
+#define BENCH_EXAMPLES "examples/scenes"
 #endif
 
 static size_t add_box(tb_scene *scene, double mass, double edge, const double x[3],
@@ -80,22 +82,25 @@ static tb_scene *impact(void)
     return scene;
 }
 
-static tb_scene *make(const char *name, const char *dice)
+/* The example scenes by name (dice, stack) from the folder examples; column and impact built. */
+static tb_scene *make(const char *name, const char *examples)
 {
-    if (strcmp(name, "dice") == 0) {
-        tb_scene *scene = NULL;
-        tb_run_def run;
-        return tb_scene_load_file(dice, &scene, &run, NULL) == TB_STATUS_OK ? scene : NULL;
+    if (strcmp(name, "column") == 0 || strcmp(name, "impact") == 0) {
+        return strcmp(name, "column") == 0 ? column() : impact();
     }
-    return strcmp(name, "column") == 0 ? column() : impact();
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s.json", examples, name);
+    tb_scene *scene = NULL;
+    tb_run_def run;
+    return tb_scene_load_file(path, &scene, &run, NULL) == TB_STATUS_OK ? scene : NULL;
 }
 
 /* A run stops at the first frame after budget CPU seconds (status "budget"): BDF takes minutes of
  * CPU a simulated second on the dice with the dense and Krylov solvers. */
-static void run(const char *name, const char *dice, tb_linear_solver solver, const char *label,
+static void run(const char *name, const char *examples, tb_linear_solver solver, const char *label,
                 double span, double budget)
 {
-    tb_scene *scene = make(name, dice);
+    tb_scene *scene = make(name, examples);
     if (scene == NULL) {
         fprintf(stderr, "bench_bdf_contact: cannot make %s\n", name);
         exit(1);
@@ -151,7 +156,12 @@ int main(int argc, char **argv)
         only = argv[next + 1];
         next += 2;
     }
-    const char *dice = argc > next ? argv[next] : BENCH_DICE_SCENE;
+    const char *scene_only = NULL; /* --scene NAME: that scene's rows alone */
+    if (argc > next + 1 && strcmp(argv[next], "--scene") == 0) {
+        scene_only = argv[next + 1];
+        next += 2;
+    }
+    const char *examples = argc > next ? argv[next] : BENCH_EXAMPLES;
     char model[256], extensions[256];
     bench_processor(model, extensions);
     fprintf(stderr, "bench_bdf_contact: processor %s; load average %.2f\n", model,
@@ -161,7 +171,7 @@ int main(int argc, char **argv)
     static const struct {
         const char *name;
         double span;
-    } scenes[] = {{"dice", 0.25}, {"column", 1.0}, {"impact", 0.05}};
+    } scenes[] = {{"dice", 0.25}, {"column", 1.0}, {"impact", 0.05}, {"stack", 0.05}};
     static const struct {
         tb_linear_solver solver;
         const char *label;
@@ -170,10 +180,11 @@ int main(int argc, char **argv)
                    {TB_LINEAR_SOLVER_SPARSE, "sparse"}};
     for (size_t s = 0; s < sizeof scenes / sizeof scenes[0]; ++s) {
         for (size_t k = 0; k < sizeof solvers / sizeof solvers[0]; ++k) {
-            if (only != NULL && strcmp(only, solvers[k].label) != 0) {
+            if ((only != NULL && strcmp(only, solvers[k].label) != 0) ||
+                (scene_only != NULL && strcmp(scene_only, scenes[s].name) != 0)) {
                 continue;
             }
-            run(scenes[s].name, dice, solvers[k].solver, solvers[k].label,
+            run(scenes[s].name, examples, solvers[k].solver, solvers[k].label,
                 scenes[s].span * (quick ? 0.02 : 1.0), quick ? 0.5 : 20.0);
         }
     }
