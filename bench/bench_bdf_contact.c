@@ -14,8 +14,8 @@
  * s, CPU s per simulated second. The processor and the load go to stderr.
  *
  * usage: bench_bdf_contact [--quick] [--solver dense|krylov|sparse] [--scene NAME] [EXAMPLES_DIR]
- * (--quick: 2% of
- * each span, 2 s of CPU at most a run; without it 20 s) */
+ * (--quick: 0.1% of each span, 0.5 s of CPU at most a run, checked at each frame; without it
+ * 20 s) */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include "bench_common.h"
 #include "tumble/tumble.h"
