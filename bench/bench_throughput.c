@@ -98,7 +98,7 @@ static tb_integrator *make_integrator(tb_scene *scene, const variant *v)
     }
     tb_ode_system system;
     tb_scene_ode_system(scene, &system);
-    system.block_size = 0;
+    system.blocks.size = 0;
     def.preconditioner_half_bandwidth = TB_STATE_SIZE - 1; /* as the scene would set */
     tb_integrator_create(&system, &def, 0.0, tb_scene_states(scene), &integrator, NULL);
     return integrator;

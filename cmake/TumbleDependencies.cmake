@@ -1,7 +1,25 @@
 # Every dependency comes from the distribution's packages (scripts/setup.sh installs them)
 # and is found the CMake way.
 find_package(GSL 2.6 REQUIRED)
-find_package(SUNDIALS 6 REQUIRED CONFIG COMPONENTS cvode nvecserial)
+find_package(SUNDIALS 6 REQUIRED CONFIG COMPONENTS cvode nvecserial
+  OPTIONAL_COMPONENTS sunlinsolklu sunmatrixsparse)
+# KLU (SuiteSparse's sparse LU through SUNDIALS' sunlinsolklu, klu.h from libsuitesparse-dev):
+# BDF's sparse linear solver (src/ode/cvode_sparse.c). Optional: without it that one solver is
+# refused (TB_STATUS_UNSUPPORTED) and the dense and Krylov solvers work as before.
+option(TUMBLE_WITH_KLU "BDF's sparse linear solver through SUNDIALS' KLU, when found" ON)
+set(TUMBLE_KLU OFF)
+if(TUMBLE_WITH_KLU AND TARGET SUNDIALS::sunlinsolklu AND TARGET SUNDIALS::sunmatrixsparse)
+  get_target_property(_tumble_klu_includes SUNDIALS::KLU INTERFACE_INCLUDE_DIRECTORIES)
+  find_path(TUMBLE_KLU_INCLUDE klu.h HINTS ${_tumble_klu_includes} PATH_SUFFIXES suitesparse)
+  if(TUMBLE_KLU_INCLUDE)
+    set(TUMBLE_KLU ON)
+  endif()
+endif()
+if(TUMBLE_KLU)
+  message(STATUS "KLU: found (BDF's sparse linear solver)")
+else()
+  message(STATUS "KLU: not found or TUMBLE_WITH_KLU off (BDF's sparse linear solver refused)")
+endif()
 find_package(Threads REQUIRED) # the npz writer's thread
 # jansson ships a pkg-config file on Debian (no CMake config).
 find_package(PkgConfig REQUIRED)

@@ -40,6 +40,10 @@ install(FILES ${PROJECT_BINARY_DIR}/tumbleConfig.cmake
 # only: never the absolute paths CMake found them at (/usr/lib/gcc/x86_64-linux-gnu/12/...),
 # which name one toolchain's private directory. The install_consumers test checks no path is left.
 set(TUMBLE_PC_PRIVATE_LIBS "-lsundials_cvode -lsundials_nvecserial")
+if(TUMBLE_KLU)
+  string(APPEND TUMBLE_PC_PRIVATE_LIBS
+    " -lsundials_sunlinsolklu -lsundials_sunmatrixsparse -lklu -lamd -lcolamd -lbtf -lsuitesparseconfig")
+endif()
 if(TUMBLE_OPENMP)
   foreach(library IN LISTS OpenMP_C_LIB_NAMES)
     string(APPEND TUMBLE_PC_PRIVATE_LIBS " -l${library}")

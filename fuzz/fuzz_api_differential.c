@@ -62,9 +62,10 @@ void fuzz_op_differential(fuzz_harness *h)
         tb_scene_set_sleeping(h->scene, sleeping);
         return;
     }
-    chunked.layout_generation = NULL, chunked.acquire = NULL, chunked.release = NULL;
+    chunked.lifetime.layout_generation = NULL, chunked.lifetime.acquire = NULL,
+    chunked.lifetime.release = NULL;
     tb_ode_system whole = chunked;
-    whole.block_size = 0, whole.block_derivative = NULL, whole.block_post_step = NULL;
+    whole.blocks.size = 0, whole.blocks.derivative = NULL, whole.blocks.post_step = NULL;
     tb_integrator_def def = tb_integrator_def_default();
     def.method = method, def.dt = dt, def.max_steps = FUZZ_MAX_STEPS;
     const size_t n = chunked.n;
@@ -77,7 +78,7 @@ void fuzz_op_differential(fuzz_harness *h)
     memcpy(a, start, n * sizeof(double)), memcpy(b, start, n * sizeof(double));
     fuzz_trace(h, "/* differential: %s dt %s to t = %s, separable (block_size %zu) and whole */",
                tb_method_name(method), fuzz_c_double(dt), fuzz_c_double(target),
-               chunked.block_size);
+               chunked.blocks.size);
     char detail_a[TB_DETAIL_SIZE], detail_b[TB_DETAIL_SIZE];
     const tb_status status_a = advance_copy(h, &chunked, &def, a, target, detail_a);
     const tb_status status_b = advance_copy(h, &whole, &def, b, target, detail_b);

@@ -7,7 +7,7 @@ set -euo pipefail
 # clang with its sanitizer and libFuzzer runtimes (libclang-rt-dev: Debian 12 ships them apart
 # from clang) and OpenMP (SUNDIALS' CMake package asks for it): the clang build of the test
 # command and scripts/fuzz.sh.
-packages=(cmake ninja-build gcc g++ pkg-config libgsl-dev libsundials-dev libcmocka-dev libjansson-dev libccd-dev libdeflate-dev valgrind clang-format
+packages=(cmake ninja-build gcc g++ pkg-config libgsl-dev libsundials-dev libsuitesparse-dev libcmocka-dev libjansson-dev libccd-dev libdeflate-dev valgrind clang-format
           python3 python3-venv python3-pip clang libclang-rt-dev libomp-dev "$@")
 
 if ! command -v dpkg-query >/dev/null 2>&1; then

@@ -46,7 +46,8 @@ static void test_roots_of_exponential_decay_are_found_at_ln2_and_ln4(void **unus
     (void)unused;
     for (int m = 0; m < 2; ++m) {
         double y = 1.0;
-        tb_ode_system system = {.n = 1, .derivative = decay, .root_count = 2, .roots = halves};
+        tb_ode_system system = {
+            .n = 1, .derivative = decay, .events = {.root_count = 2, .roots = halves}};
         tb_integrator_def def = tb_integrator_def_default();
         assert_int_equal(tb_integrator_def_set_method(&def, adaptive[m]), TB_STATUS_OK);
         def.rtol = 1e-10;
@@ -90,7 +91,7 @@ static void test_a_step_limit_bounds_every_adaptive_step(void **unused)
     (void)unused;
     for (int m = 0; m < 2; ++m) {
         double y = 1.0;
-        tb_ode_system system = {.n = 1, .derivative = decay, .step_limit = hundredth};
+        tb_ode_system system = {.n = 1, .derivative = decay, .events.step_limit = hundredth};
         tb_integrator_def def = tb_integrator_def_default();
         assert_int_equal(tb_integrator_def_set_method(&def, adaptive[m]), TB_STATUS_OK);
         tb_integrator *integrator = NULL;

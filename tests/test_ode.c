@@ -238,15 +238,15 @@ static int no_hook(double t, double *y, void *ctx)
 }
 static void block_size_not_dividing_n(tb_ode_system *s, tb_integrator_def *d)
 {
-    (void)d, s->block_size = 3, s->block_derivative = no_block_derivative;
+    (void)d, s->blocks.size = 3, s->blocks.derivative = no_block_derivative;
 }
 static void blocks_without_block_derivative(tb_ode_system *s, tb_integrator_def *d)
 {
-    (void)d, s->block_size = 1;
+    (void)d, s->blocks.size = 1;
 }
 static void hook_without_block_hook(tb_ode_system *s, tb_integrator_def *d)
 {
-    (void)d, s->block_size = 1, s->block_derivative = no_block_derivative, s->post_step = no_hook;
+    (void)d, s->blocks.size = 1, s->blocks.derivative = no_block_derivative, s->post_step = no_hook;
 }
 
 static void test_invalid_definitions_are_rejected_with_the_field_named(void **state)
@@ -259,11 +259,11 @@ static void test_invalid_definitions_are_rejected_with_the_field_named(void **st
         {"dt = NaN", nan_dt, TB_STATUS_NOT_FINITE, "def.dt"},
         {"method 99", bad_method, TB_STATUS_INVALID_ARGUMENT, "def.method"},
         {"no cookie", no_cookie, TB_STATUS_INVALID_ARGUMENT, "tb_integrator_def_default"},
-        {"block of 3", block_size_not_dividing_n, TB_STATUS_INVALID_ARGUMENT, "system.block_size"},
+        {"block of 3", block_size_not_dividing_n, TB_STATUS_INVALID_ARGUMENT, "system.blocks.size"},
         {"no block f", blocks_without_block_derivative, TB_STATUS_NULL_POINTER,
-         "system.block_derivative"},
+         "system.blocks.derivative"},
         {"no block hook", hook_without_block_hook, TB_STATUS_NULL_POINTER,
-         "system.block_post_step"},
+         "system.blocks.post_step"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         double y[2] = {1, 0};

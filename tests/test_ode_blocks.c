@@ -1,5 +1,5 @@
-/* Separable systems (tb_ode_system.block_size): fixed-step methods that finish each step a chunk
- * of blocks at a time, in the blocks' layout or in lane layout (tb_ode_system.lanes), on one
+/* Separable systems (tb_ode_system.blocks.size): fixed-step methods that finish each step a chunk
+ * of blocks at a time, in the blocks' layout or in lane layout (tb_ode_system.blocks.lanes), on one
  * thread or several, give what stepping the whole array gives, and a failure in any chunk
  * leaves every block as it was before the step. */
 #include <setjmp.h>
@@ -152,14 +152,14 @@ static tb_integrator *make_on(tb_method method, int layout, int threads, blocks 
     tb_ode_system system = {
         .n = SIZE * BLOCKS, .derivative = whole_derivative, .post_step = whole_hook, .ctx = setup};
     if (layout != WHOLE) {
-        system.block_size = SIZE;
-        system.block_derivative = block_derivative;
-        system.block_post_step = block_hook;
+        system.blocks.size = SIZE;
+        system.blocks.derivative = block_derivative;
+        system.blocks.post_step = block_hook;
     }
     if (layout == LANE_CHUNKS) {
-        system.lanes = LANES;
-        system.lanes_derivative = lanes_derivative;
-        system.lanes_post_step = lanes_hook;
+        system.blocks.lanes = LANES;
+        system.blocks.lanes_derivative = lanes_derivative;
+        system.blocks.lanes_post_step = lanes_hook;
     }
     tb_integrator_def def = tb_integrator_def_default();
     def.method = method;

@@ -128,17 +128,16 @@ static void make(setup *s, tb_method method, int chunked)
     for (int i = 0; i < 4; ++i) {
         s->y[i] = 1.0;
     }
-    s->system = (tb_ode_system){.n = 4,
-                                .derivative = decay,
-                                .post_step = hook,
-                                .ctx = &s->toy,
-                                .layout_generation = generation,
-                                .acquire = acquire,
-                                .release = release};
+    s->system = (tb_ode_system){
+        .n = 4,
+        .derivative = decay,
+        .post_step = hook,
+        .ctx = &s->toy,
+        .lifetime = {.layout_generation = generation, .acquire = acquire, .release = release}};
     if (chunked) {
-        s->system.block_size = 2;
-        s->system.block_derivative = decay_blocks;
-        s->system.block_post_step = block_hook;
+        s->system.blocks.size = 2;
+        s->system.blocks.derivative = decay_blocks;
+        s->system.blocks.post_step = block_hook;
     }
     tb_integrator_def def = tb_integrator_def_default();
     def.method = method;
@@ -248,13 +247,13 @@ static void test_lifetime_hooks_come_together(void **state)
     setup s;
     make(&s, TB_METHOD_RK4, 0);
     tb_integrator_destroy(s.integrator);
-    s.system.release = NULL;
+    s.system.lifetime.release = NULL;
     tb_integrator_def def = tb_integrator_def_default();
     tb_integrator *integrator = NULL;
     tb_error error;
     assert_int_equal(tb_integrator_create(&s.system, &def, 0.0, s.y, &integrator, &error),
                      TB_STATUS_NULL_POINTER);
-    assert_non_null(strstr(error.message, "system.release is NULL"));
+    assert_non_null(strstr(error.message, "system.lifetime.release is NULL"));
     assert_null(integrator);
 }
 

@@ -84,7 +84,7 @@ static size_t block_size(tb_scene *scene)
 {
     tb_ode_system system;
     assert_int_equal(tb_scene_ode_system(scene, &system), TB_STATUS_OK);
-    return system.block_size;
+    return system.blocks.size;
 }
 
 /* Both paths do the same arithmetic on every state in the same order (the same effects in the
@@ -104,7 +104,7 @@ static void test_bodies_that_do_not_interact_step_chunkwise_as_the_whole_array(v
         assert_int_equal(tb_scene_integrator_create(chunked, &def, 0.0, &a), TB_STATUS_OK);
         tb_ode_system system;
         assert_int_equal(tb_scene_ode_system(whole, &system), TB_STATUS_OK);
-        system.block_size = 0;
+        system.blocks.size = 0;
         assert_int_equal(tb_integrator_create(&system, &def, 0.0, tb_scene_states(whole), &b, NULL),
                          TB_STATUS_OK);
         assert_int_equal(tb_integrator_advance(a, 2.0), TB_STATUS_OK);
@@ -226,7 +226,7 @@ static void run(tb_scene *scene, const tb_integrator_def *def, int whole_array, 
     tb_ode_system system;
     assert_int_equal(tb_scene_ode_system(scene, &system), TB_STATUS_OK);
     if (whole_array) {
-        system.block_size = 0;
+        system.blocks.size = 0;
     }
     tb_integrator_def scene_def = *def;
     double atol[30 * TB_STATE_SIZE];

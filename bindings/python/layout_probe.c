@@ -98,6 +98,8 @@ int main(void)
     FIELD(tb_integrator_stats, last_order);
     FIELD(tb_integrator_stats, current_order);
     FIELD(tb_integrator_stats, reinitializations);
+    FIELD(tb_integrator_stats, nonlinear_iterations);
+    FIELD(tb_integrator_stats, jacobian_evals);
     printf("\"_\": 0},\n");
 
     printf("\"tb_accuracy_setting\": {\"size\": %zu, ", sizeof(tb_accuracy_setting));

@@ -18,14 +18,14 @@ extern "C" {
  * integrator may retry with a smaller step), < 0 for a fatal one. Must not change y. */
 typedef int (*tb_ode_derivative)(double t, const double *y, double *dydt, void *ctx);
 
-/* Post-step hook: may adjust a freshly accepted state y[0..n) at time t (the rigid-body scene
- * renormalises quaternions here). Returns 0 on success, non-zero to stop the run. */
+/* Post-step hook: may adjust a freshly accepted state y[0..n) at time t. Returns 0 on success,
+ * non-zero to stop the run. */
 typedef int (*tb_ode_hook)(double t, double *y, void *ctx);
 
-/* For a system made of independent blocks (bodies that do not interact): the derivative of the
- * blocks [first_block, first_block + block_count), each block_size components. y and dydt point
- * at the first of them (component first_block * block_size of the whole state) and hold
- * block_count * block_size components. Must give exactly what the whole derivative gives for
+/* For a system made of independent blocks: the derivative of the blocks
+ * [first_block, first_block + block_count), each tb_ode_blocks.size components. y and dydt point
+ * at the first of them (component first_block * size of the whole state) and hold
+ * block_count * size components. Must give exactly what the whole derivative gives for
  * those components; same return convention. */
 typedef int (*tb_ode_block_derivative)(double t, const double *y, double *dydt, size_t first_block,
                                        size_t block_count, void *ctx);
@@ -35,99 +35,137 @@ typedef int (*tb_ode_block_derivative)(double t, const double *y, double *dydt, 
 typedef int (*tb_ode_block_hook)(double t, double *y, size_t first_block, size_t block_count,
                                  void *ctx);
 
-/* An ODE system. The integrator borrows it: ctx must outlive the integrator. */
+/* Optional part of a system: independent blocks. size > 0 declares the system separable into
+ * n / size independent blocks (n must be a multiple), the derivative of each block depending on
+ * t and that block alone. Fixed-step methods then finish each step a cache-sized chunk of blocks
+ * at a time, so the state crosses memory once a step however large it is, with the same
+ * arithmetic as the whole-array path; BDF's Krylov solver preconditions block by block. All
+ * zero (default) for none. */
+typedef struct tb_ode_blocks {
+    size_t size;                        /* components per block; 0 for none */
+    tb_ode_block_derivative derivative; /* required with size */
+    tb_ode_block_hook post_step;        /* required with size if the system's post_step is set;
+                                           unused without it */
+    /* Optional, with size: the same block functions in lane layout, for the vector unit. A lane
+     * group is `lanes` blocks stored component by component: component c of the group's block
+     * j at y[c * lanes + j] (and dydt likewise). Fixed-step methods then step a group at a time
+     * in that layout (the caller's y keeps its layout). The functions get the group's real
+     * blocks [first_block, first_block + block_count), block_count <= lanes; the lanes past
+     * block_count hold copies of the last real block and their results are thrown away. They
+     * must give, component by component, the bits derivative and post_step give (the steps are
+     * then the same either way). lanes 0 (default): none. With integrator threads > 1 these and
+     * the block functions are called concurrently on distinct blocks. */
+    size_t lanes;
+    tb_ode_block_derivative lanes_derivative; /* required with lanes */
+    tb_ode_block_hook lanes_post_step;        /* required with lanes if post_step is set */
+} tb_ode_blocks;
+
+/* Optional part of a system: its lifetime, for a system that other code can change or step. */
+typedef struct tb_ode_lifetime {
+    /* The integrator calls acquire(ctx, generation) at the start of every advance, step and
+     * reset, and goes ahead only if it returns TB_STATUS_OK; release(ctx) when that call ends,
+     * whatever its outcome. generation is what layout_generation(ctx) returned when the
+     * integrator was made. acquire refuses with TB_STATUS_LAYOUT_CHANGED when the system's
+     * layout (its n, the meaning of its components) changed since then, and with
+     * TB_STATUS_BUSY while another call is stepping the system; it writes a message naming why
+     * into detail (TB_DETAIL_SIZE bytes). A refused call returns acquire's status and detail and
+     * changes nothing. release is called exactly once for every acquire that returned
+     * TB_STATUS_OK (also when the call then fails), never after a refusal. layout_generation is
+     * called once, at creation. All three NULL (default) for a system nobody else touches, or
+     * all three set (TB_STATUS_NULL_POINTER naming the missing one otherwise). */
+    unsigned long long (*layout_generation)(void *ctx);
+    tb_status (*acquire)(void *ctx, unsigned long long generation, char *detail);
+    void (*release)(void *ctx);
+    /* Optional, for a system whose right-hand side can change between calls without its layout
+     * changing: a number that changes whenever the derivative does. A multistep method (CVODE)
+     * compares it at the start of every advance and step and restarts from y when it moved,
+     * since its history is of the old right-hand side; one-step methods need nothing. NULL
+     * (default): the derivative never changes. */
+    unsigned long long (*rhs_generation)(void *ctx);
+    /* Optional: tb_integrator_reset(integrator, t)'s check of (t, y) as a state to start from,
+     * called after acquire and before the integrator changes anything (a scene refuses a time
+     * where keys put a keyframed body inside another). It returns TB_STATUS_OK to go ahead, the
+     * system then taking t as y's time, or a refusal with a message in detail (TB_DETAIL_SIZE
+     * bytes): the reset returns that status and detail and changes nothing. NULL (default):
+     * every finite time is accepted. */
+    tb_status (*check_reset)(double t, const double *y, void *ctx, char *detail);
+} tb_ode_lifetime;
+
+/* Optional part of a system: events and where the right-hand side loses smoothness. The
+ * adaptive methods read roots, step_limit and at_event (fixed-step methods ignore them); every
+ * method reads next_break. */
+typedef struct tb_ode_events {
+    /* root_count event functions g_0 .. g_{root_count-1}, written by roots(t, y, g, ctx) into
+     * g[0..root_count). Each must be continuous in t and y. CVODE checks their signs at the end
+     * of every step and locates a sign change (an event) to within about 100 rounding errors of
+     * t in the computed solution, whose own error is the integration error; every call then
+     * stops there internally, counts the event (tb_integrator_get_events) and goes on, so a
+     * step ends on each event. A root function that returns non-zero fails the call
+     * (TB_STATUS_SOLVER_FAILED naming it). 0 and NULL (default): none. */
+    size_t root_count;
+    int (*roots)(double t, const double *y, double *g, void *ctx);
+    /* The longest step (> 0, in the system's time unit) the method may take from the accepted
+     * state (t, y), whose derivative is dydt (CVODE's, from its history; NULL before the first
+     * step), asked before every step; INFINITY or 0 for no limit. Applies with
+     * tb_integrator_def.max_step (the tighter wins). NULL (default): none. */
+    double (*step_limit)(double t, const double *y, const double *dydt, void *ctx);
+    /* With roots: called where a call stops at an event (CVODE's root, inside an advance as
+     * well as at its end), with the state there, which it must not change. The system may
+     * change its right-hand side there; when lifetime.rhs_generation then moved, the integrator
+     * restarts from (t, y) at once, so that the new right-hand side holds from the event on (an
+     * event past the output time: from the output). NULL (default): none. */
+    void (*at_event)(double t, const double *y, void *ctx);
+    /* The first time after t where the right-hand side is only C1 in t, INFINITY for none. A
+     * fixed-step method shortens the step that would cross it so that the step ends on it (the
+     * steps after keep their grid), and a step that ends on it evaluates its stage at the end
+     * (RK4's last) at the largest double below it, so that the step sees the piece it lies in (a
+     * linear key's velocity jumps there); CVODE stops there (CVodeSetStopTime) and restarts from
+     * it, its history being of the curve before. NULL (default): none, and every method steps as
+     * before, bit for bit. */
+    double (*next_break)(double t, void *ctx);
+} tb_ode_events;
+
+/* A sparse n x n matrix in compressed-sparse-row form: row i's entries are
+ * values[row_starts[i] .. row_starts[i + 1]), in the columns columns[...] (ascending within a
+ * row); row_starts[0] = 0 and row_starts[n] is the number of entries, at most capacity. */
+typedef struct tb_ode_sparse {
+    size_t n;           /* rows and columns */
+    size_t capacity;    /* entries columns and values hold */
+    size_t *row_starts; /* n + 1 */
+    size_t *columns;    /* capacity */
+    double *values;     /* capacity */
+} tb_ode_sparse;
+
+/* Optional part of a system: the Jacobian df/dy of its right-hand side (for the IMEX method to
+ * come: of its implicit part) as a sparse matrix, for the implicit methods' Newton iteration
+ * (BDF with TB_LINEAR_SOLVER_SPARSE). The pattern may change from state to state (a contact
+ * graph does); the integrator re-analyses it only when it does. Both NULL (default) for none,
+ * or both set. */
+typedef struct tb_ode_jacobian {
+    /* The most entries the Jacobian can have at the states the next step may visit from the
+     * accepted state (t, y), diagonal included: asked before every step (the first one too, y
+     * then the initial state). The integrator makes room for the diagonal at creation and grows
+     * it only here, so evaluate allocates nothing. A value below n fails the step
+     * (TB_STATUS_SOLVER_FAILED naming it). */
+    size_t (*capacity)(double t, const double *y, void *ctx);
+    /* Writes J = df/dy at (t, y) (fy = f(t, y)), pattern and values: every diagonal entry
+     * (zero or not) and at most J->capacity entries (the last capacity asked). A pure function
+     * of (t, y), like the derivative; same return convention; must not change y. */
+    int (*evaluate)(double t, const double *y, const double *fy, tb_ode_sparse *J, void *ctx);
+} tb_ode_jacobian;
+
+/* An ODE system: a small core and optional parts, each all zero for none. The integrator
+ * borrows it (a copy: the parts are values): ctx must outlive the integrator. */
 typedef struct tb_ode_system {
     size_t n;                     /* dimension, > 0 */
     tb_ode_derivative derivative; /* required */
     tb_ode_hook post_step;        /* optional, NULL for none */
     void *ctx;                    /* passed to every callback */
 
-    /* Optional: block_size > 0 declares the system separable into n / block_size independent
-     * blocks (n must be a multiple), the derivative of each block depending on t and that
-     * block alone. Fixed-step methods then finish each step a cache-sized chunk of blocks at a
-     * time, so the state crosses memory once a step however large it is, with the same
-     * arithmetic as the whole-array path. 0 (default) for none; CVODE ignores it. */
-    size_t block_size;
-    tb_ode_block_derivative block_derivative; /* required with block_size */
-    tb_ode_block_hook block_post_step;        /* required with block_size if post_step is set;
-                                                 unused without post_step */
-
-    /* Optional, with block_size: the same block functions in lane layout, for the vector unit.
-     * A lane group is `lanes` blocks stored component by component: component c of the
-     * group's block j at y[c * lanes + j] (and dydt likewise). Fixed-step methods then step a
-     * group at a time in that layout (the caller's y keeps its layout). The functions get the
-     * group's real blocks [first_block, first_block + block_count), block_count <= lanes; the
-     * lanes past block_count hold copies of the last real block and their results are thrown
-     * away. They must give, component by component, the bits block_derivative and
-     * block_post_step give (the steps are then the same either way). lanes 0 (default): none.
-     * With integrator threads > 1 these and the block functions are called concurrently on
-     * distinct blocks. */
-    size_t lanes;
-    tb_ode_block_derivative lanes_derivative; /* required with lanes */
-    tb_ode_block_hook lanes_post_step;        /* required with lanes if post_step is set */
-
-    /* Optional, for a system that other code can change or step (a scene): the integrator
-     * calls acquire(ctx, generation) at the start of every advance, step and reset, and goes
-     * ahead only if it returns TB_STATUS_OK; release(ctx) when that call ends, whatever its
-     * outcome. generation is what layout_generation(ctx) returned when the integrator was
-     * made. acquire refuses with TB_STATUS_LAYOUT_CHANGED when the system's layout (its n, the
-     * meaning of its components) changed since then, and with TB_STATUS_BUSY while another
-     * call is stepping the system; it writes a message naming why into detail
-     * (TB_DETAIL_SIZE bytes). A refused call returns acquire's status and detail and changes
-     * nothing. release is called exactly once for every acquire that returned TB_STATUS_OK
-     * (also when the call then fails), never after a refusal. layout_generation is called
-     * once, at creation. All three NULL (default) for a system nobody else touches, or all
-     * three set (TB_STATUS_NULL_POINTER naming the missing one otherwise). */
-    unsigned long long (*layout_generation)(void *ctx);
-    tb_status (*acquire)(void *ctx, unsigned long long generation, char *detail);
-    void (*release)(void *ctx);
-
-    /* Optional, for a system whose right-hand side can change between calls without its layout
-     * changing (a scene given a new force or spring): a number that changes whenever the
-     * derivative does. A multistep method (CVODE) compares it at the start of every advance
-     * and step and restarts from y when it moved, since its history is of the old right-hand
-     * side; one-step methods need nothing. NULL (default): the derivative never changes. */
-    unsigned long long (*rhs_generation)(void *ctx);
-
-    /* Optional, for adaptive methods (fixed-step methods ignore them): root_count event
-     * functions g_0 .. g_{root_count-1}, written by roots(t, y, g, ctx) into g[0..root_count).
-     * Each must be continuous in t and y. CVODE checks their signs at the end of every step and
-     * locates a sign change (an event) to within about 100 rounding errors of t in the computed
-     * solution, whose own error is the integration error; every call then stops there
-     * internally, counts the event (tb_integrator_get_events) and goes on, so a step ends on
-     * each event. A root function that returns non-zero fails the call
-     * (TB_STATUS_SOLVER_FAILED naming it). 0 and NULL (default): none. */
-    size_t root_count;
-    int (*roots)(double t, const double *y, double *g, void *ctx);
-    /* Optional, for adaptive methods: the longest step (> 0, in the system's time unit) the
-     * method may take from the accepted state (t, y), whose derivative is dydt (CVODE's, from
-     * its history; NULL before the first step), asked before every step; INFINITY or 0 for
-     * no limit. Applies with
-     * tb_integrator_def.max_step (the tighter wins). The scene uses it to step long in free
-     * flight and short near a contact. NULL (default): none. */
-    double (*step_limit)(double t, const double *y, const double *dydt, void *ctx);
-    /* Optional, with roots: called where a call stops at an event (CVODE's root, inside an
-     * advance as well as at its end), with the state there, which it must not change. The
-     * system may change its right-hand side there (a scene wakes the sleeping bodies an awake
-     * one came near); when rhs_generation then moved, the integrator restarts from (t, y) at
-     * once, so that the new right-hand side holds from the event on (an event past the output
-     * time: from the output). NULL (default): none. */
-    void (*at_event)(double t, const double *y, void *ctx);
-    /* Optional: the first time after t where the right-hand side is only C1 in t (a keyframed
-     * body's key time), INFINITY for none. A fixed-step method shortens the step that would
-     * cross it so that the step ends on it (the steps after keep their grid), and a step that
-     * ends on it evaluates its stage at the end (RK4's last) at the largest double below it, so
-     * that the step sees the piece it lies in (a linear key's velocity jumps there); CVODE stops
-     * there (CVodeSetStopTime) and restarts from it, its history being of the curve before. NULL
-     * (default): none, and every method steps as before, bit for bit. */
-    double (*next_break)(double t, void *ctx);
-    /* Optional: tb_integrator_reset(integrator, t)'s check of (t, y) as a state to start from,
-     * called after acquire and before the integrator changes anything (a scene refuses a time
-     * where keys put a keyframed body inside another). It returns TB_STATUS_OK to go ahead,
-     * the system then taking t as y's time, or a refusal with a message in detail
-     * (TB_DETAIL_SIZE bytes): the reset returns that status and detail and changes nothing.
-     * NULL (default): every finite time is accepted. */
-    tb_status (*check_reset)(double t, const double *y, void *ctx, char *detail);
+    tb_ode_blocks blocks;     /* independent blocks and their lane layout */
+    tb_ode_lifetime lifetime; /* acquire and release by calls, generations */
+    tb_ode_events events;     /* roots, step limits, events, breaks */
+    tb_ode_jacobian jacobian; /* the sparse Jacobian */
 } tb_ode_system;
 
 /* How to integrate, chosen as data. */
@@ -214,17 +252,22 @@ TB_API tb_status tb_method_check_setting(tb_method method, const char *setting,
 typedef enum tb_linear_solver {
     TB_LINEAR_SOLVER_AUTO = 0, /* dense up to 64 unknowns (512 without blocks), Krylov above */
     TB_LINEAR_SOLVER_DENSE,    /* dense difference-quotient Jacobian and LU: O(n^3) a setup */
-    TB_LINEAR_SOLVER_KRYLOV    /* matrix-free GMRES with difference-quotient Jacobian-vector
+    TB_LINEAR_SOLVER_KRYLOV,   /* matrix-free GMRES with difference-quotient Jacobian-vector
                                   products, preconditioned block by block for a system with
-                                  block_size (exact), banded otherwise: O(n) a setup */
+                                  blocks (exact), banded otherwise: O(n) a setup */
+    TB_LINEAR_SOLVER_SPARSE    /* the system's own sparse Jacobian (tb_ode_system.jacobian,
+                                  required) and KLU's sparse LU: the cost of a setup follows
+                                  the entries, not n^3. KLU analyses each new pattern anew,
+                                  which allocates: not chosen by auto (docs/integrators.md).
+                                  TB_STATUS_UNSUPPORTED in a build without KLU */
 } tb_linear_solver;
 
 typedef struct tb_integrator_def {
     tb_method method; /* default TB_METHOD_RK4 */
 
     /* Fixed-step methods. */
-    double dt; /* step size in the system's time unit (s for scenes), > 0; default 1/240;
-                  0 for tb_scene_integrator_create: the scene's default step.
+    double dt; /* step size in the system's time unit > 0; default 1/240
+                  (tb_scene_integrator_create: 0 for the scene's default step).
                   The times a run reaches must resolve it: doubles near t must be at most
                   dt / 1024 apart (near t = 1e15 they are 0.125 apart), else creation, reset
                   or advance is refused (TB_STATUS_INVALID_ARGUMENT naming dt and the time) */
@@ -233,9 +276,8 @@ typedef struct tb_integrator_def {
      * rtol |y_i| + atol_i (weighted RMS norm). */
     double rtol;               /* relative tolerance, > 0; default 1e-6 */
     double atol;               /* absolute tolerance for every component, >= 0; default 0,
-                                  meaning automatic: scenes derive one per component from the
-                                  bodies' sizes and masses (tb_scene_absolute_tolerances),
-                                  other systems use rtol * 1e-3 */
+                                  meaning automatic: rtol * 1e-3 (tb_scene_integrator_create
+                                  derives its own, tb_scene_absolute_tolerances) */
     const double *atol_vector; /* n absolute tolerances, >= 0, overriding atol; copied at
                                   creation; default NULL */
     long max_steps;      /* every method: steps allowed in one advance or step call, > 0; default
@@ -243,19 +285,18 @@ typedef struct tb_integrator_def {
                             reached, y at the last good step. A fixed-step advance whose target is
                             more than max_steps steps of dt away is refused before any step */
     double initial_step; /* first step size; 0 (default) lets CVODE estimate it */
-    double max_step;     /* largest step size; 0 (default) for no limit. A scene with contact
-                            also limits each step near a contact (tb_ode_system.step_limit,
-                            docs/effects.md); the tighter limit wins */
+    double max_step;     /* largest step size; 0 (default) for no limit. With
+                            tb_ode_system.events.step_limit the tighter limit wins */
     int max_order;       /* 0 (default) for the method's largest (Adams 12, BDF 5);
                             CVODE keeps max_order + 1 history vectors, so Adams at 5
                             takes 7 state-sized vectors fewer (docs/performance.md) */
     tb_linear_solver linear_solver;    /* BDF only; default TB_LINEAR_SOLVER_AUTO */
-    int preconditioner_half_bandwidth; /* Krylov, systems without block_size: half-bandwidth
+    int preconditioner_half_bandwidth; /* Krylov, systems without blocks: half-bandwidth
                                           of the banded difference-quotient preconditioner;
-                                          < 0 (default) automatic: 12 for scenes (one body's
-                                          13 x 13 block exactly), 0 (diagonal) otherwise */
+                                          < 0 (default) automatic: 0 (diagonal; a scene's
+                                          integrator fills in its own) */
 
-    /* Fixed-step methods on separable systems (block_size > 0): threads the chunks of a step
+    /* Fixed-step methods on separable systems (blocks.size > 0): threads the chunks of a step
      * are shared among, >= 1, or 0 for one per processor; default 1, so an embedding program
      * keeps its threads to itself. The chunks are the same for any count, so is every bit of
      * the result. The library starts no more than this many (OpenMP, nested in none of the
@@ -293,6 +334,11 @@ typedef struct tb_integrator_stats {
     int current_order;              /* order the next step will use */
     long reinitializations;         /* adaptive: restarts because the state was changed from
                                        outside or tb_integrator_reset was called */
+    long nonlinear_iterations;      /* adaptive: iterations of the implicit solve (BDF's Newton,
+                                       Adams' fixed point) */
+    long jacobian_evals;            /* BDF: Jacobians formed (difference quotients, or the
+                                       system's own with TB_LINEAR_SOLVER_SPARSE); preconditioner
+                                       set-ups of the Krylov solver not counted */
 } tb_integrator_stats;
 
 typedef struct tb_integrator tb_integrator;
@@ -302,7 +348,8 @@ typedef struct tb_integrator tb_integrator;
  * max_order and max_steps, BDF also linear_solver and preconditioner_half_bandwidth. A field the
  * method does not read that differs from tb_integrator_def_default()'s value was meant for another
  * method: creation refuses it (TB_STATUS_INVALID_ARGUMENT naming the field; rtol given to rk4, dt
- * to cvode-bdf). preconditioner_half_bandwidth is exempt (scenes fill it in for every method).
+ * to cvode-bdf). preconditioner_half_bandwidth is exempt (tb_scene_integrator_create fills it in
+ * for every method).
  *
  * Re-entrancy: an integrator's advance, step or reset called from inside its own derivative,
  * hook or acquire returns TB_STATUS_BUSY and changes nothing (its detail says why until the
@@ -344,8 +391,8 @@ TB_API void tb_integrator_destroy(tb_integrator *integrator);
 TB_API tb_status tb_integrator_advance(tb_integrator *integrator, double t_target);
 
 /* Takes exactly one step: of size dt (fixed-step), or one internal CVODE step; with event
- * functions (tb_ode_system.roots) it stops at an event inside that step instead, and the next
- * call goes on to the step's end. */
+ * functions (tb_ode_system.events.roots) it stops at an event inside that step instead, and the
+ * next call goes on to the step's end. */
 TB_API tb_status tb_integrator_step(tb_integrator *integrator);
 
 /* Current time of y. */
@@ -356,17 +403,15 @@ TB_API double tb_integrator_time(const tb_integrator *integrator);
  * check_reset, when set, may refuse (t, y); a refused reset changes nothing. */
 TB_API tb_status tb_integrator_reset(tb_integrator *integrator, double t);
 
-/* The events an adaptive integrator found since it was created (tb_ode_system.roots). */
+/* The events an adaptive integrator found since it was created (tb_ode_system.events.roots). */
 typedef struct tb_integrator_events {
     long count;         /* events found: one per call-stopping sign change (several functions
                            changing sign at one time count once) */
     double last_time;   /* time of the last one, in the system's time unit; NAN before the first */
     long last_root;     /* the lowest index of the functions that changed sign at last_time, -1
-                           before the first (for a scene: the body whose gap did; n + i, n the
-                           body count: body i came within 0.5 mm of a body of the other sleep
-                           state, awake or asleep, and the island woke there) */
-    int last_direction; /* +1: that function rose through zero (a scene: separation), -1: it
-                           fell (a scene: contact onset); 0 before the first */
+                           before the first (a scene's: tb_scene_ode_system) */
+    int last_direction; /* +1: that function rose through zero, -1: it fell; 0 before the
+                           first */
 } tb_integrator_events;
 
 /* Copies the event counts into *out_events; fixed-step integrators report none (count 0).

@@ -215,11 +215,30 @@ TB_API size_t tb_scene_effect_count(const tb_scene *scene);
  * hook tb_scene_normalize_quaternions when renormalisation is on (with contact between bodies, a
  * scene hook that also updates the contact's friction slot map outside y: docs/effects.md). When no
  * effect couples bodies or owns states (springs between bodies, ground planes and user effects do),
- * the bodies are the system's blocks (block_size 13): fixed-step integrators step them a chunk at a
- * time and BDF's Krylov solver preconditions them body by body (docs/performance.md). The system
+ * the bodies are the system's blocks (blocks.size 13): fixed-step integrators step them a chunk at
+ * a time and BDF's Krylov solver preconditions them body by body (docs/performance.md). The system
  * describes the scene as it is, and its layout_generation/acquire/release hooks keep it so: an
  * integrator made from it claims the scene (older ones stop), and refuses to step once the layout
- * changed (see tb_scene_integrator_create). */
+ * changed (see tb_scene_integrator_create).
+ *
+ * The scene's parts of the system, in the terms of tumble/ode.h:
+ * - post_step renormalises the quaternions (and, where effects or sleep need it, keeps their
+ *   state outside y: friction slots, bodies without a state read at the scene's time).
+ * - blocks: bodies that do not interact (size 13, lanes for the vector unit).
+ * - lifetime: layout_generation claims the scene; acquire refuses a changed layout or a second
+ *   stepping call; rhs_generation moves when an effect is added (a force, a spring), so CVODE
+ *   restarts on the new right-hand side.
+ * - events (with contact): a gap per body as roots (CVODE stops at contact onset and
+ *   separation), and with sleeping a second gap per body to the nearest body of the other sleep
+ *   state (n + i: body i came within 0.5 mm of it, and the island woke there; at_event wakes
+ *   it); tb_integrator_events.last_root is then the body whose gap changed sign, last_direction
+ *   -1 a contact onset and +1 a separation. step_limit steps long in free flight and short near
+ *   a contact (docs/effects.md); next_break is a keyframed body's next key time.
+ * - jacobian (with contact, bodies not separable): the contact's sparse Jacobian, its pattern
+ *   the bodies' contact graph (docs/integrators.md, "BDF's sparse Jacobian").
+ * A scene's integrator also fills in the defaults tumble/ode.h leaves to the system: dt 0 is the
+ * scene's default step, atol 0 its tolerances per component (tb_scene_absolute_tolerances), and
+ * the Krylov preconditioner's automatic half-bandwidth 12 (one body's 13 x 13 block exactly). */
 TB_API tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system);
 
 /* How a separable scene's bodies are stepped by fixed-step methods (tb_scene_ode_system's

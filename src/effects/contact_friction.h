@@ -72,6 +72,12 @@ static inline double tb__contact_slip_velocity(double static_friction, double gr
     return fmax(TB__FRICTION_REGULARISATION, sqrt(static_friction * gravity * presliding));
 }
 
+/* Visits each slot's TB__FRICTION_SLOT_STATES states (first_state: the pool's first state in y)
+ * with the pair that claims it, TB_ALL_BODIES for a free slot (the Jacobian's pattern,
+ * scene_jacobian.c). A slot taken provisionally inside a step is free here. */
+void tb__friction_state_owners(const tb__friction_pool *pool, size_t first_state,
+                               tb__coupling_visit visit, void *ctx);
+
 /* What the pool did (include/tumble/effects.h). */
 const tb_contact_friction_stats *tb__friction_stats(const tb__friction_pool *pool);
 

@@ -313,6 +313,13 @@ static const tb__effect_stepping contact_stepping = {
     .event_pairs = tb__contact_event_pairs, /* effect_contact_event_pairs.c */
 };
 
+static void contact_state_owners(const tb__effect *effect, const tb_scene *scene,
+                                 tb__coupling_visit visit, void *ctx)
+{
+    (void)scene;
+    tb__friction_state_owners(tb__contact_of(effect)->friction, effect->state_offset, visit, ctx);
+}
+
 static const tb__effect_ops contact_ops = {
     .name = "contact",
     .apply = apply_contact,
@@ -323,6 +330,7 @@ static const tb__effect_ops contact_ops = {
     .check_start = tb__contact_check_start,
     .owns_states = true,
     .stepping = &contact_stepping,
+    .state_owners = contact_state_owners,
 };
 
 tb_contact_def tb_contact_def_default(void)

@@ -88,6 +88,17 @@ size_t tb__friction_pool_slots(const tb__friction_pool *pool)
     return pool->capacity;
 }
 
+void tb__friction_state_owners(const tb__friction_pool *pool, size_t first_state,
+                               tb__coupling_visit visit, void *ctx)
+{
+    for (size_t s = 0; s < pool->capacity; ++s) {
+        const tb__friction_slot *slot = &pool->slots[s];
+        const bool claimed = slot->body_a != TB__NO_SLOT;
+        visit(ctx, first_state + TB__FRICTION_SLOT_STATES * s, TB__FRICTION_SLOT_STATES,
+              claimed ? slot->body_a : TB_ALL_BODIES, claimed ? slot->body_b : TB_ALL_BODIES);
+    }
+}
+
 /* Whether slot s's pair comes before pair p's: by bodies, then by pieces (a compound body's
  * piece pairs each keep their own slots). */
 static bool pair_before(const tb__friction_slot *s, const tb__friction_slot *p)

@@ -363,6 +363,18 @@ static const tb__effect_stepping ground_stepping = {
     .event_pairs = tb__ground_event_pairs, /* effect_contact_event_pairs.c */
 };
 
+/* Each point's deflection belongs to its body; then the shapes' friction slots. */
+static void ground_state_owners(const tb__effect *effect, const tb_scene *scene,
+                                tb__coupling_visit visit, void *ctx)
+{
+    for (size_t j = 0; j < scene->contact_count; ++j) {
+        const size_t body = scene->contacts[j].body;
+        visit(ctx, effect->state_offset + effect->states_per_contact * j,
+              effect->states_per_contact, body, body);
+    }
+    tb__ground_shapes_state_owners(effect, scene, visit, ctx);
+}
+
 static const tb__effect_ops ground_ops = {
     .name = "ground",
     .apply = apply_ground,
@@ -373,6 +385,7 @@ static const tb__effect_ops ground_ops = {
     .stepping = &ground_stepping,
     /* the list and pool of the shapes of bodies without points (effect_ground_shapes.c) */
     .release = tb__ground_shapes_release,
+    .state_owners = ground_state_owners,
 };
 
 tb_ground_def tb_ground_def_default(void)

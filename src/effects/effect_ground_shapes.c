@@ -129,6 +129,16 @@ static size_t pool_first_state(const tb__effect *effect, const tb_scene *scene)
     return effect->state_offset + effect->states_per_contact * scene->contact_count;
 }
 
+void tb__ground_shapes_state_owners(const tb__effect *effect, const tb_scene *scene,
+                                    tb__coupling_visit visit, void *ctx)
+{
+    const tb__ground_shapes *shapes = tb__ground_of(effect)->shapes;
+    if (shapes != NULL && shapes->law.friction != NULL) {
+        tb__friction_state_owners(shapes->law.friction, pool_first_state(effect, scene), visit,
+                                  ctx);
+    }
+}
+
 void tb__ground_shapes_apply(const tb__effect *effect, const tb_scene *scene, double t,
                              const double *y, double *dydt)
 {

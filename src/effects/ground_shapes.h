@@ -43,6 +43,9 @@ void tb__ground_shapes_apply(const tb__effect *effect, const tb_scene *scene, do
                              const double *y, double *dydt);
 void tb__ground_shapes_rate(const tb__effect *effect, const tb_scene *scene, const double *y,
                             tb__effect_rate *out);
+/* The friction pool's states with the body each slot's pair holds (the Jacobian's pattern). */
+void tb__ground_shapes_state_owners(const tb__effect *effect, const tb_scene *scene,
+                                    tb__coupling_visit visit, void *ctx);
 /* Refuses a shape starting deeper than limit (m) in the plane, naming the body. */
 tb_status tb__ground_shapes_check_start(const tb__effect *effect, const tb_scene *scene,
                                         const double *y, double limit, char *detail);

@@ -14,15 +14,15 @@ static tb_status load_linear_solver(tb__loader *ld, const json_t *object, tb_int
     if (status != TB_STATUS_OK || name == NULL) {
         return status;
     }
-    static const char *const names[] = {"auto", "dense", "krylov"};
-    for (int k = 0; k < 3; ++k) {
+    static const char *const names[] = {"auto", "dense", "krylov", "sparse"};
+    for (int k = 0; k < 4; ++k) {
         if (strcmp(name, names[k]) == 0) {
             def->linear_solver = (tb_linear_solver)k;
             return TB_STATUS_OK;
         }
     }
     return tb__load_fail(ld, TB_STATUS_BAD_SCENE, "integrator.linear_solver",
-                         "must be one of auto, dense, krylov, got \"%s\"", name);
+                         "must be one of auto, dense, krylov, sparse, got \"%s\"", name);
 }
 
 /* A setting the method does not read (the method table's rule, tb_method_check_setting) is

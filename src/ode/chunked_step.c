@@ -1,9 +1,9 @@
-/* Fixed-step methods on separable systems (tb_ode_system.block_size): each step finishes a
+/* Fixed-step methods on separable systems (tb_ode_system.blocks.size): each step finishes a
  * cache-sized chunk of blocks at a time, every stage, the hook and the finiteness check of a
- * chunk while it is in cache; in the system's lane layout when it has one (tb_ode_system.lanes),
- * so that the arithmetic runs across blocks in the vector unit; and the chunks shared among
- * threads. A chunk is always the same blocks, whatever the thread count, and each block's
- * arithmetic is its own, so the result is the same bits for any thread count. */
+ * chunk while it is in cache; in the system's lane layout when it has one
+ * (tb_ode_system.blocks.lanes), so that the arithmetic runs across blocks in the vector unit; and
+ * the chunks shared among threads. A chunk is always the same blocks, whatever the thread count,
+ * and each block's arithmetic is its own, so the result is the same bits for any thread count. */
 #include "ode/integrator.h"
 
 #include <stdlib.h>
@@ -35,17 +35,17 @@
 void tb__chunk_layout(tb_integrator *integrator, int threads)
 {
     const tb_ode_system *system = &integrator->system;
-    const size_t blocks = system->n / system->block_size;
-    size_t per_chunk = system->lanes;
+    const size_t blocks = system->n / system->blocks.size;
+    size_t per_chunk = system->blocks.lanes;
     if (per_chunk == 0) {
-        per_chunk = TB__CHUNK_DOUBLES / system->block_size;
+        per_chunk = TB__CHUNK_DOUBLES / system->blocks.size;
         per_chunk = per_chunk == 0 ? 1 : per_chunk < blocks ? per_chunk : blocks;
     }
     integrator->chunk_blocks = per_chunk;
     /* a whole number of cache lines */
     const size_t per_line = TB__LINE / sizeof(double);
     integrator->chunk_work =
-        (TB__CHUNK_BUFFERS * per_chunk * system->block_size + per_line - 1) / per_line * per_line;
+        (TB__CHUNK_BUFFERS * per_chunk * system->blocks.size + per_line - 1) / per_line * per_line;
 #ifdef _OPENMP
     if (threads == 0) {
         threads = omp_get_num_procs();
@@ -73,25 +73,26 @@ typedef struct chunk {
 static int chunk_derivative(double t, const double *y, double *dydt, void *ctx)
 {
     const chunk *c = ctx;
-    return c->system->block_derivative(t, y, dydt, c->first_block, c->block_count, c->system->ctx);
+    return c->system->blocks.derivative(t, y, dydt, c->first_block, c->block_count, c->system->ctx);
 }
 
 static int chunk_hook(double t, double *y, void *ctx)
 {
     const chunk *c = ctx;
-    return c->system->block_post_step(t, y, c->first_block, c->block_count, c->system->ctx);
+    return c->system->blocks.post_step(t, y, c->first_block, c->block_count, c->system->ctx);
 }
 
 static int lanes_derivative(double t, const double *y, double *dydt, void *ctx)
 {
     const chunk *c = ctx;
-    return c->system->lanes_derivative(t, y, dydt, c->first_block, c->block_count, c->system->ctx);
+    return c->system->blocks.lanes_derivative(t, y, dydt, c->first_block, c->block_count,
+                                              c->system->ctx);
 }
 
 static int lanes_hook(double t, double *y, void *ctx)
 {
     const chunk *c = ctx;
-    return c->system->lanes_post_step(t, y, c->first_block, c->block_count, c->system->ctx);
+    return c->system->blocks.lanes_post_step(t, y, c->first_block, c->block_count, c->system->ctx);
 }
 
 /* count blocks of size components from y into the lane layout of `lanes` blocks, the lanes past
@@ -170,8 +171,8 @@ static const double *step_chunk(const tb_integrator *integrator, size_t first, s
                                 thread_range *range)
 {
     const tb_ode_system *system = &integrator->system;
-    const size_t size = system->block_size, offset = first * size;
-    const size_t lanes = system->lanes, length = (lanes > 0 ? lanes : count) * size;
+    const size_t size = system->blocks.size, offset = first * size;
+    const size_t lanes = system->blocks.lanes, length = (lanes > 0 ? lanes : count) * size;
     double *input = work, *fresh = work + length, *scratch = work + 2 * length;
     chunk c = {system, first, count};
     tb_ode_system part = {.n = length, .ctx = &c};
@@ -212,7 +213,7 @@ static void step_range(const tb_integrator *integrator, double *work, double h, 
                        double t_end, thread_range *range)
 {
     const tb_ode_system *system = &integrator->system;
-    const size_t size = system->block_size, blocks = system->n / size;
+    const size_t size = system->blocks.size, blocks = system->n / size;
     const size_t per_chunk = integrator->chunk_blocks;
     double *y = integrator->y, *before = integrator->y_new;
     range->written = 0;
@@ -228,8 +229,8 @@ static void step_range(const tb_integrator *integrator, double *work, double h, 
             return;
         }
         memcpy(before + offset, y + offset, length * sizeof(double));
-        if (system->lanes > 0) {
-            from_lanes(fresh, y + offset, size, count, system->lanes);
+        if (system->blocks.lanes > 0) {
+            from_lanes(fresh, y + offset, size, count, system->blocks.lanes);
         } else {
             memcpy(y + offset, fresh, length * sizeof(double));
         }
@@ -240,7 +241,7 @@ static void step_range(const tb_integrator *integrator, double *work, double h, 
 tb_status tb__take_chunked_step(tb_integrator *integrator, double h, double t_last, double t_end)
 {
     const tb_ode_system *system = &integrator->system;
-    const size_t blocks = system->n / system->block_size, per_chunk = integrator->chunk_blocks;
+    const size_t blocks = system->n / system->blocks.size, per_chunk = integrator->chunk_blocks;
     const size_t chunks = (blocks + per_chunk - 1) / per_chunk;
     const int threads =
         integrator->threads < TB__MAX_THREADS ? integrator->threads : TB__MAX_THREADS;
@@ -270,7 +271,7 @@ tb_status tb__take_chunked_step(tb_integrator *integrator, double h, double t_la
         return TB_STATUS_OK;
     }
     for (int k = 0; k < threads; ++k) {
-        const size_t offset = ranges[k].first_chunk * per_chunk * system->block_size;
+        const size_t offset = ranges[k].first_chunk * per_chunk * system->blocks.size;
         memcpy(integrator->y + offset, integrator->y_new + offset,
                ranges[k].written * sizeof(double));
     }

@@ -1,5 +1,5 @@
 /* Private: a block-diagonal preconditioner P = I - gamma J for CVODE's Krylov solver, for
- * systems that declare independent blocks (tb_ode_system.block_size). Their Jacobian is block
+ * systems that declare independent blocks (tb_ode_system.blocks.size). Their Jacobian is block
  * diagonal, so P is exact; it costs block_size derivative evaluations a setup and about
  * block_size + 2 doubles a component (the factors, the pivots, one vector), where a banded
  * preconditioner covering one block costs 2 block_size + 1 evaluations and about 5 block_size

@@ -1,6 +1,6 @@
 /* Events and step limits for the CVODE backend: the system's root functions registered with
  * CVodeRootInit, so that a step ends on each sign change, and a step limit asked of the system
- * after every step (tb_ode_system.step_limit), applied as CVODE's stop time: CVodeSetMaxStep
+ * after every step (tb_ode_system.events.step_limit), applied as CVODE's stop time: CVodeSetMaxStep
  * would act only from the step after next, since CVODE picks each step's size at the end of the
  * one before, while a stop time cuts the very next step. With either, an advance steps one CVODE
  * step at a time (CV_ONE_STEP) and interpolates the output, as the plain path does. */
@@ -21,20 +21,21 @@ static int roots(sunrealtype tau, N_Vector y, sunrealtype *g, void *user_data)
 {
     tb_integrator *integrator = user_data;
     const tb_ode_system *system = &integrator->system;
-    return system->roots(integrator->cvode->t_origin + tau, N_VGetArrayPointer(y), g, system->ctx);
+    return system->events.roots(integrator->cvode->t_origin + tau, N_VGetArrayPointer(y), g,
+                                system->ctx);
 }
 
 tb_status tb__cvode_events_init(tb_integrator *integrator, tb_error *error)
 {
     tb__cvode *cvode = integrator->cvode;
     const tb_ode_system *system = &integrator->system;
-    if (system->root_count > 0) {
-        cvode->roots_found = tb__malloc_array(system->root_count, sizeof(int));
+    if (system->events.root_count > 0) {
+        cvode->roots_found = tb__malloc_array(system->events.root_count, sizeof(int));
         if (cvode->roots_found == NULL) {
             return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "%zu root flags",
-                                 system->root_count);
+                                 system->events.root_count);
         }
-        int flag = CVodeRootInit(cvode->mem, (int)system->root_count, roots);
+        int flag = CVodeRootInit(cvode->mem, (int)system->events.root_count, roots);
         if (flag == CV_SUCCESS) {
             /* a function that starts at zero (a body set down touching) is not an error */
             flag = CVodeSetNoInactiveRootWarn(cvode->mem);
@@ -42,10 +43,10 @@ tb_status tb__cvode_events_init(tb_integrator *integrator, tb_error *error)
         if (flag != CV_SUCCESS) {
             return tb__set_error(error, TB_STATUS_SOLVER_FAILED,
                                  "CVODE set-up: CVodeRootInit for %zu functions returned %d: %s",
-                                 system->root_count, flag, cvode->message);
+                                 system->events.root_count, flag, cvode->message);
         }
     }
-    if (system->step_limit != NULL) {
+    if (system->events.step_limit != NULL) {
         cvode->y_step = N_VClone(cvode->y);
         cvode->dydt_step = N_VClone(cvode->y);
         if (cvode->y_step == NULL || cvode->dydt_step == NULL) {
@@ -70,8 +71,9 @@ void tb__cvode_events_free(tb__cvode *cvode)
 
 bool tb__cvode_marches(const tb_integrator *integrator)
 {
-    return integrator->system.root_count > 0 || integrator->system.step_limit != NULL ||
-           integrator->system.next_break != NULL;
+    return integrator->system.events.root_count > 0 ||
+           integrator->system.events.step_limit != NULL ||
+           integrator->system.events.next_break != NULL || integrator->cvode->sparse != NULL;
 }
 
 /* CVODE stopped at an event at tau: counts it and names the lowest function that fired. */
@@ -82,7 +84,7 @@ static void note_event(tb_integrator *integrator, double tau)
     CVodeGetRootInfo(cvode->mem, cvode->roots_found);
     events->count++;
     events->last_time = cvode->t_origin + tau;
-    for (size_t i = 0; i < integrator->system.root_count; ++i) {
+    for (size_t i = 0; i < integrator->system.events.root_count; ++i) {
         if (cvode->roots_found[i] != 0) {
             events->last_root = (long)i;
             events->last_direction = cvode->roots_found[i] > 0 ? 1 : -1;
@@ -98,11 +100,11 @@ static int limit_next_step(tb_integrator *integrator, sunrealtype tn)
     const tb_ode_system *system = &integrator->system;
     /* a break ahead: CVODE stops on it (and the march restarts there) */
     const double next =
-        system->next_break != NULL
-            ? system->next_break(cvode->t_origin + tn, system->ctx) - cvode->t_origin
+        system->events.next_break != NULL
+            ? system->events.next_break(cvode->t_origin + tn, system->ctx) - cvode->t_origin
             : INFINITY;
     cvode->break_stop = isfinite(next) && next > tn ? next : INFINITY;
-    if (system->step_limit == NULL) {
+    if (system->events.step_limit == NULL) {
         return CVodeSetStopTime(cvode->mem,
                                 isfinite(cvode->break_stop) ? cvode->break_stop : tn + 1e300);
     }
@@ -118,7 +120,7 @@ static int limit_next_step(tb_integrator *integrator, sunrealtype tn)
         state = N_VGetArrayPointer(cvode->y_step);
         rate = N_VGetArrayPointer(cvode->dydt_step);
     }
-    const double limit = system->step_limit(cvode->t_origin + tn, state, rate, system->ctx);
+    const double limit = system->events.step_limit(cvode->t_origin + tn, state, rate, system->ctx);
     /* no limit, or one below the time's resolution: a stop time far ahead (6.x cannot clear
      * one) */
     const double stop = limit > 0.0 && isfinite(limit) && tn + limit > tn ? tn + limit : tn + 1e300;
@@ -130,14 +132,15 @@ static int limit_next_step(tb_integrator *integrator, sunrealtype tn)
 static bool changed_at_event(tb_integrator *integrator, double tau)
 {
     const tb_ode_system *system = &integrator->system;
-    if (system->at_event == NULL) {
+    if (system->events.at_event == NULL) {
         return false;
     }
     const unsigned long long before =
-        system->rhs_generation != NULL ? system->rhs_generation(system->ctx) : 0;
-    system->at_event(integrator->cvode->t_origin + tau, N_VGetArrayPointer(integrator->cvode->y),
-                     system->ctx);
-    return system->rhs_generation != NULL && system->rhs_generation(system->ctx) != before;
+        system->lifetime.rhs_generation != NULL ? system->lifetime.rhs_generation(system->ctx) : 0;
+    system->events.at_event(integrator->cvode->t_origin + tau,
+                            N_VGetArrayPointer(integrator->cvode->y), system->ctx);
+    return system->lifetime.rhs_generation != NULL &&
+           system->lifetime.rhs_generation(system->ctx) != before;
 }
 
 int tb__cvode_march(tb_integrator *integrator, double tau_out, int mode, double horizon,
@@ -160,6 +163,7 @@ int tb__cvode_march(tb_integrator *integrator, double tau_out, int mode, double 
             return CV_TOO_MUCH_WORK;
         }
         int flag = limit_next_step(integrator, tn);
+        flag = flag == CV_SUCCESS ? tb__cvode_sparse_refresh(integrator, tn) : flag;
         if (flag != CV_SUCCESS) {
             return flag;
         }

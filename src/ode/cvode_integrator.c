@@ -24,15 +24,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* TB_LINEAR_SOLVER_AUTO picks the dense solver up to this many unknowns, and up to the coupled
- * limit for a system without blocks, whose Krylov solver gets only a banded preconditioner: a
- * box on a box on the ground with its contact's friction states (78 unknowns, the states at the
- * end of y coupled to the bodies outside the band) took it 80000 steps for 0.01 s, and the
- * dense solver 4400 for 1 s; the four head-on pairs of examples/scenes/head_on_pairs.json (248
- * unknowns) drifted 6.6e-4 in momentum over 16368 steps, dense: 260 steps, momentum to 5e-16. */
-#define TB__DENSE_LIMIT 64
-#define TB__DENSE_LIMIT_COUPLED 512
-
 /* --- messages ----------------------------------------------------------------------------- */
 
 #if SUNDIALS_VERSION_MAJOR >= 7
@@ -58,7 +49,8 @@ static void capture_message(int code, const char *module, const char *function, 
 /* The system's right-hand-side generation; 0 for a system that does not have one. */
 static unsigned long long rhs_generation(const tb_ode_system *system)
 {
-    return system->rhs_generation != NULL ? system->rhs_generation(system->ctx) : 0;
+    return system->lifetime.rhs_generation != NULL ? system->lifetime.rhs_generation(system->ctx)
+                                                   : 0;
 }
 
 /* Formats CVODE's name for a return flag (CVodeGetReturnFlagName allocates it). */
@@ -69,7 +61,7 @@ static void flag_name(int flag, char *out, size_t size)
     free(name);
 }
 
-static tb_status setup_failed(tb__cvode *cvode, const char *call, int flag, tb_error *error)
+tb_status tb__cvode_setup_failed(tb__cvode *cvode, const char *call, int flag, tb_error *error)
 {
     char name[64];
     flag_name(flag, name, sizeof name);
@@ -133,7 +125,7 @@ static tb_status validate(const tb_integrator *integrator, const tb_integrator_d
                              "def.max_order: must be in [0, %d] for %s, got %d", max_order,
                              integrator->entry->info.name, def->max_order);
     }
-    if ((int)def->linear_solver < 0 || def->linear_solver > TB_LINEAR_SOLVER_KRYLOV) {
+    if ((int)def->linear_solver < 0 || def->linear_solver > TB_LINEAR_SOLVER_SPARSE) {
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
                              "def.linear_solver: unknown solver %d", (int)def->linear_solver);
     }
@@ -162,7 +154,7 @@ static tb_status set_tolerances(tb__cvode *cvode, const tb_integrator_def *def, 
         flag = CVodeSStolerances(cvode->mem, def->rtol, atol);
     }
     return flag == CV_SUCCESS ? TB_STATUS_OK
-                              : setup_failed(cvode, "CVodeSetTolerances", flag, error);
+                              : tb__cvode_setup_failed(cvode, "CVodeSetTolerances", flag, error);
 }
 
 static tb_status set_options(tb__cvode *cvode, const tb_integrator_def *def, tb_error *error)
@@ -174,61 +166,8 @@ static tb_status set_options(tb__cvode *cvode, const tb_integrator_def *def, tb_
     if (flag == CV_SUCCESS && def->max_step > 0) {
         flag = CVodeSetMaxStep(cvode->mem, def->max_step);
     }
-    return flag == CV_SUCCESS ? TB_STATUS_OK : setup_failed(cvode, "CVodeSetOptions", flag, error);
-}
-
-/* Adams: fixed-point iteration, no linear algebra. BDF: Newton with a dense or Krylov
- * linear solver. */
-static tb_status set_solvers(tb_integrator *integrator, const tb_integrator_def *def,
-                             tb_error *error)
-{
-    tb__cvode *cvode = integrator->cvode;
-    const size_t n = integrator->system.n;
-    if (integrator->method == TB_METHOD_CVODE_ADAMS) {
-        cvode->nonlinear = SUNNonlinSol_FixedPoint(cvode->y, 0, cvode->context);
-        if (cvode->nonlinear == NULL) {
-            return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "fixed-point solver");
-        }
-        const int flag = CVodeSetNonlinearSolver(cvode->mem, cvode->nonlinear);
-        return flag == CV_SUCCESS ? TB_STATUS_OK
-                                  : setup_failed(cvode, "CVodeSetNonlinearSolver", flag, error);
-    }
-    const bool dense =
-        def->linear_solver == TB_LINEAR_SOLVER_DENSE ||
-        (def->linear_solver == TB_LINEAR_SOLVER_AUTO &&
-         n <= (integrator->system.block_size > 0 ? TB__DENSE_LIMIT : TB__DENSE_LIMIT_COUPLED));
-    const int band =
-        def->preconditioner_half_bandwidth < 0 ? 0 : def->preconditioner_half_bandwidth;
-    if (dense) {
-        cvode->matrix = SUNDenseMatrix((sunindextype)n, (sunindextype)n, cvode->context);
-        cvode->linear =
-            cvode->matrix == NULL ? NULL : SUNLinSol_Dense(cvode->y, cvode->matrix, cvode->context);
-    } else {
-        cvode->linear = SUNLinSol_SPGMR(cvode->y, SUN_PREC_LEFT, 0, cvode->context);
-    }
-    if (cvode->linear == NULL) {
-        return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "linear solver for n = %zu", n);
-    }
-    int flag = CVodeSetLinearSolver(cvode->mem, cvode->linear, cvode->matrix);
-    const size_t block_size = integrator->system.block_size;
-    if (flag == CV_SUCCESS && (dense || block_size > 0)) {
-        cvode->weights = N_VClone(cvode->y);
-        flag = cvode->weights == NULL ? CV_MEM_FAIL : CV_SUCCESS;
-    }
-    if (flag == CV_SUCCESS && dense) {
-        flag = CVodeSetJacFn(cvode->mem, tb__cvode_dense_jacobian);
-    } else if (flag == CV_SUCCESS && block_size > 0) {
-        cvode->block_preconditioner = tb__block_preconditioner_create(n, block_size);
-        flag =
-            cvode->block_preconditioner == NULL
-                ? CV_MEM_FAIL
-                : CVodeSetPreconditioner(cvode->mem, tb__cvode_block_setup, tb__cvode_block_solve);
-    } else if (flag == CV_SUCCESS) {
-        flag = CVBandPrecInit(cvode->mem, (sunindextype)n, band, band);
-        cvode->band_preconditioner = flag == CV_SUCCESS;
-    }
     return flag == CV_SUCCESS ? TB_STATUS_OK
-                              : setup_failed(cvode, "CVodeSetLinearSolver", flag, error);
+                              : tb__cvode_setup_failed(cvode, "CVodeSetOptions", flag, error);
 }
 
 static void cvode_destroy(tb_integrator *integrator)
@@ -245,6 +184,7 @@ static void cvode_destroy(tb_integrator *integrator)
         N_VDestroy(cvode->weights);
     }
     tb__block_preconditioner_destroy(cvode->block_preconditioner);
+    tb__cvode_sparse_free(cvode);
     tb__cvode_events_free(cvode);
     if (cvode->y != NULL) {
         N_VDestroy(cvode->y); /* made with N_VMake_Serial: the caller's data is not freed */
@@ -287,14 +227,15 @@ static tb_status create_memory(tb_integrator *integrator, const tb_integrator_de
     /* before CVodeInit, which allocates the history for the largest order */
     flag = def->max_order > 0 ? CVodeSetMaxOrd(cvode->mem, def->max_order) : CV_SUCCESS;
     if (flag != CV_SUCCESS) {
-        return setup_failed(cvode, "CVodeSetMaxOrd", flag, error);
+        return tb__cvode_setup_failed(cvode, "CVodeSetMaxOrd", flag, error);
     }
     cvode->t_origin = integrator->t;
     flag = CVodeInit(cvode->mem, tb__cvode_derivative, 0.0, cvode->y);
     if (flag == CV_SUCCESS) {
         flag = CVodeSetUserData(cvode->mem, integrator);
     }
-    return flag == CV_SUCCESS ? TB_STATUS_OK : setup_failed(cvode, "CVodeInit", flag, error);
+    return flag == CV_SUCCESS ? TB_STATUS_OK
+                              : tb__cvode_setup_failed(cvode, "CVodeInit", flag, error);
 }
 
 static tb_status cvode_create(tb_integrator *integrator, const tb_integrator_def *def,
@@ -317,7 +258,7 @@ static tb_status cvode_create(tb_integrator *integrator, const tb_integrator_def
         status = set_options(cvode, def, error);
     }
     if (status == TB_STATUS_OK) {
-        status = set_solvers(integrator, def, error);
+        status = tb__cvode_set_solvers(integrator, def, error);
     }
     if (status == TB_STATUS_OK) {
         status = tb__cvode_events_init(integrator, error);
@@ -329,8 +270,8 @@ static tb_status cvode_create(tb_integrator *integrator, const tb_integrator_def
         if (flag == CV_SUCCESS) {
             flag = CVodeSetProjErrEst(cvode->mem, SUNFALSE);
         }
-        status =
-            flag == CV_SUCCESS ? TB_STATUS_OK : setup_failed(cvode, "CVodeSetProjFn", flag, error);
+        status = flag == CV_SUCCESS ? TB_STATUS_OK
+                                    : tb__cvode_setup_failed(cvode, "CVodeSetProjFn", flag, error);
     }
     if (status != TB_STATUS_OK) {
         cvode_destroy(integrator);
@@ -378,6 +319,13 @@ static void read_counters(const tb_integrator *integrator, tb_integrator_stats *
     out->last_step = last;
     out->current_step = current;
     out->reinitializations = base->reinitializations;
+    long iterations_nl = 0, jacobians = 0;
+    CVodeGetNumNonlinSolvIters(mem, &iterations_nl);
+    if (cvode->matrix != NULL) {
+        CVodeGetNumJacEvals(mem, &jacobians);
+    }
+    out->nonlinear_iterations = base->nonlinear_iterations + iterations_nl;
+    out->jacobian_evals = base->jacobian_evals + jacobians;
 }
 
 static void cvode_get_stats(const tb_integrator *integrator, tb_integrator_stats *stats)

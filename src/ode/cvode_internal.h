@@ -15,6 +15,7 @@
 #include <stdbool.h>
 
 typedef struct tb__cvode tb__cvode;
+typedef struct tb__cvode_sparse tb__cvode_sparse;
 
 struct tb__cvode {
     SUNContext context;
@@ -27,10 +28,11 @@ struct tb__cvode {
     double *y_seen;           /* y as last handed out; a difference means the caller changed it */
     bool band_preconditioner; /* CVBandPrec attached (its counters exist) */
     tb__block_preconditioner *block_preconditioner; /* for systems of independent blocks */
-    bool started;      /* the first step since creation or restart has been taken */
-    double break_stop; /* the stop time set at the system's next break (INFINITY: none) */
-    bool stale;        /* CVODE's history went past the last good output (a non-finite
-                          output was refused): restart from y before the next step */
+    tb__cvode_sparse *sparse; /* BDF with the system's sparse Jacobian (cvode_sparse.c) */
+    bool started;             /* the first step since creation or restart has been taken */
+    double break_stop;        /* the stop time set at the system's next break (INFINITY: none) */
+    bool stale;               /* CVODE's history went past the last good output (a non-finite
+                                 output was refused): restart from y before the next step */
     unsigned long long rhs_generation; /* the system's, at the last (re)start */
     double t_origin;       /* CVODE integrates in tau = t - t_origin, from tau = 0 at creation
                               and every restart, so a start at t = 1e16 (where CVODE's first
@@ -65,6 +67,24 @@ int tb__cvode_block_setup(sunrealtype t, N_Vector y, N_Vector fy, sunbooleantype
                           sunbooleantype *jcur, sunrealtype gamma, void *user_data);
 int tb__cvode_block_solve(sunrealtype t, N_Vector y, N_Vector fy, N_Vector r, N_Vector z,
                           sunrealtype gamma, sunrealtype delta, int lr, void *user_data);
+
+/* CVODE set-up failed in call: TB_STATUS_SOLVER_FAILED naming the flag and CVODE's message. */
+tb_status tb__cvode_setup_failed(tb__cvode *cvode, const char *call, int flag, tb_error *error);
+
+/* The nonlinear and linear solvers for the def's method and linear_solver (cvode_linear.c). */
+tb_status tb__cvode_set_solvers(tb_integrator *integrator, const tb_integrator_def *def,
+                                tb_error *error);
+
+/* The sparse linear solver (cvode_sparse.c): create makes the matrix and KLU from the system's
+ * capacity at its start (cvode->matrix, cvode->linear); refresh asks the capacity again at
+ * CVODE's internal time tn before a step and grows the room (CVODE's flag); jacobian is CVODE's
+ * CVLsJacFn; analyses counts the symbolic analyses (pattern changes). */
+tb_status tb__cvode_sparse_create(tb_integrator *integrator, tb_error *error);
+int tb__cvode_sparse_refresh(tb_integrator *integrator, sunrealtype tn);
+int tb__cvode_sparse_jacobian(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, void *user_data,
+                              N_Vector tmp1, N_Vector tmp2, N_Vector tmp3);
+long tb__cvode_sparse_analyses(const tb__cvode *cvode);
+void tb__cvode_sparse_free(tb__cvode *cvode);
 
 /* Events and step limits (cvode_events.c). events_init registers the system's root functions
  * and makes what the step limit needs, at creation; events_free frees it. marches: the system

@@ -150,7 +150,7 @@ static tb_status fixed_create(tb_integrator *integrator, const tb_integrator_def
     /* whole-array path: the new state (n) and the stepper's scratch (2n); chunked path: the
      * state before the step, to undo a failed one (n), and each thread's chunk buffers */
     size_t size = 3 * n, chunk_buffers = 0;
-    if (integrator->system.block_size > 0) {
+    if (integrator->system.blocks.size > 0) {
         tb__chunk_layout(integrator, def->threads);
         chunk_buffers = (size_t)integrator->threads * integrator->chunk_work;
         size = chunk_buffers + n;
@@ -324,13 +324,14 @@ static tb_status take_whole_step(tb_integrator *integrator, double h, double t_l
 }
 
 /* The time of a step's stages at its end (c = 1, RK4's last): t + h, but the largest double
- * below t_end when the step ends on a break of the system (tb_ode_system.next_break), where the
- * right-hand side is only piecewise smooth in t (a linear key's velocity jumps): the step then
+ * below t_end when the step ends on a break of the system (tb_ode_system.events.next_break), where
+ * the right-hand side is only piecewise smooth in t (a linear key's velocity jumps): the step then
  * sees the piece it lies in, the left limit, and the step after starts on the next piece. */
 static double last_stage_time(const tb_integrator *integrator, double h, double t_end)
 {
     const tb_ode_system *system = &integrator->system;
-    if (system->next_break != NULL && system->next_break(integrator->t, system->ctx) == t_end) {
+    if (system->events.next_break != NULL &&
+        system->events.next_break(integrator->t, system->ctx) == t_end) {
         return nextafter(t_end, integrator->t);
     }
     return integrator->t + h;
@@ -340,7 +341,7 @@ static double last_stage_time(const tb_integrator *integrator, double h, double 
 static tb_status take_step(tb_integrator *integrator, double h, double t_end)
 {
     const double t_last = last_stage_time(integrator, h, t_end);
-    if (integrator->system.block_size == 0) {
+    if (integrator->system.blocks.size == 0) {
         return take_whole_step(integrator, h, t_last, t_end);
     }
     const tb_status status = tb__take_chunked_step(integrator, h, t_last, t_end);
@@ -350,13 +351,14 @@ static tb_status take_step(tb_integrator *integrator, double h, double t_end)
     return status;
 }
 
-/* t_end, or the system's first break after t when it comes before (tb_ode_system.next_break);
- * *cut tells which. */
+/* t_end, or the system's first break after t when it comes before
+ * (tb_ode_system.events.next_break); *cut tells which. */
 static double end_at_break(const tb_integrator *integrator, double t_end, bool *cut)
 {
     const tb_ode_system *system = &integrator->system;
-    const double next =
-        system->next_break != NULL ? system->next_break(integrator->t, system->ctx) : INFINITY;
+    const double next = system->events.next_break != NULL
+                            ? system->events.next_break(integrator->t, system->ctx)
+                            : INFINITY;
     *cut = next > integrator->t && next < t_end;
     return *cut ? next : t_end;
 }

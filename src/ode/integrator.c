@@ -94,31 +94,36 @@ tb_status tb_integrator_def_set_method(tb_integrator_def *def, tb_method method)
 
 static tb_status validate_blocks(const tb_ode_system *system, tb_error *error)
 {
-    if (system->n % system->block_size != 0) {
+    if (system->n % system->blocks.size != 0) {
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
-                             "system.block_size: %zu does not divide n = %zu", system->block_size,
+                             "system.blocks.size: %zu does not divide n = %zu", system->blocks.size,
                              system->n);
     }
-    if (system->block_derivative == NULL) {
+    if (system->blocks.derivative == NULL) {
         return tb__set_error(error, TB_STATUS_NULL_POINTER,
-                             "system.block_derivative is NULL but block_size is %zu",
-                             system->block_size);
+                             "system.blocks.derivative is NULL but blocks.size is %zu",
+                             system->blocks.size);
     }
-    if (system->post_step != NULL && system->block_post_step == NULL) {
+    if (system->post_step != NULL && system->blocks.post_step == NULL) {
+        return tb__set_error(
+            error, TB_STATUS_NULL_POINTER,
+            "system.blocks.post_step is NULL but post_step and blocks.size are set");
+    }
+    if (system->blocks.lanes > 0 && system->blocks.lanes_derivative == NULL) {
         return tb__set_error(error, TB_STATUS_NULL_POINTER,
-                             "system.block_post_step is NULL but post_step and block_size are set");
+                             "system.blocks.lanes_derivative is NULL but blocks.lanes is %zu",
+                             system->blocks.lanes);
     }
-    if (system->lanes > 0 && system->lanes_derivative == NULL) {
-        return tb__set_error(error, TB_STATUS_NULL_POINTER,
-                             "system.lanes_derivative is NULL but lanes is %zu", system->lanes);
+    if (system->blocks.lanes > 0 && system->post_step != NULL &&
+        system->blocks.lanes_post_step == NULL) {
+        return tb__set_error(
+            error, TB_STATUS_NULL_POINTER,
+            "system.blocks.lanes_post_step is NULL but post_step and blocks.lanes are set");
     }
-    if (system->lanes > 0 && system->post_step != NULL && system->lanes_post_step == NULL) {
-        return tb__set_error(error, TB_STATUS_NULL_POINTER,
-                             "system.lanes_post_step is NULL but post_step and lanes are set");
-    }
-    if (system->lanes > TB__MAX_LANES) {
-        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT, "system.lanes: at most %d, got %zu",
-                             TB__MAX_LANES, system->lanes);
+    if (system->blocks.lanes > TB__MAX_LANES) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "system.blocks.lanes: at most %d, got %zu", TB__MAX_LANES,
+                             system->blocks.lanes);
     }
     return TB_STATUS_OK;
 }
@@ -127,15 +132,16 @@ static tb_status validate_blocks(const tb_ode_system *system, tb_error *error)
  * what it acquired would leave the system busy for ever. */
 static tb_status validate_lifetime_hooks(const tb_ode_system *system, tb_error *error)
 {
-    const int set =
-        (system->layout_generation != NULL) + (system->acquire != NULL) + (system->release != NULL);
+    const int set = (system->lifetime.layout_generation != NULL) +
+                    (system->lifetime.acquire != NULL) + (system->lifetime.release != NULL);
     if (set != 0 && set != 3) {
-        return tb__set_error(error, TB_STATUS_NULL_POINTER,
-                             "system.%s is NULL: layout_generation, acquire and release are set "
-                             "together or not at all",
-                             system->layout_generation == NULL ? "layout_generation"
-                             : system->acquire == NULL         ? "acquire"
-                                                               : "release");
+        return tb__set_error(
+            error, TB_STATUS_NULL_POINTER,
+            "system.lifetime.%s is NULL: layout_generation, acquire and release are set "
+            "together or not at all",
+            system->lifetime.layout_generation == NULL ? "layout_generation"
+            : system->lifetime.acquire == NULL         ? "acquire"
+                                                       : "release");
     }
     return TB_STATUS_OK;
 }
@@ -149,18 +155,26 @@ static tb_status validate_system(const tb_ode_system *system, tb_error *error)
     if (system->derivative == NULL) {
         return tb__set_error(error, TB_STATUS_NULL_POINTER, "system.derivative is NULL");
     }
-    if (system->block_size > 0) {
+    if (system->blocks.size > 0) {
         const tb_status status = validate_blocks(system, error);
         if (status != TB_STATUS_OK) {
             return status;
         }
     }
-    if ((system->root_count > 0) != (system->roots != NULL) || system->root_count > INT_MAX) {
+    if ((system->events.root_count > 0) != (system->events.roots != NULL) ||
+        system->events.root_count > INT_MAX) {
         return tb__set_error(
-            error, system->roots == NULL ? TB_STATUS_NULL_POINTER : TB_STATUS_INVALID_ARGUMENT,
-            "system.roots and system.root_count (%zu) are set together (count "
+            error,
+            system->events.roots == NULL ? TB_STATUS_NULL_POINTER : TB_STATUS_INVALID_ARGUMENT,
+            "system.events.roots and system.events.root_count (%zu) are set together (count "
             "at most %d) or not at all",
-            system->root_count, INT_MAX);
+            system->events.root_count, INT_MAX);
+    }
+    if ((system->jacobian.capacity != NULL) != (system->jacobian.evaluate != NULL)) {
+        return tb__set_error(error, TB_STATUS_NULL_POINTER,
+                             "system.jacobian.%s is NULL: capacity and evaluate are set together "
+                             "or not at all",
+                             system->jacobian.capacity == NULL ? "capacity" : "evaluate");
     }
     return validate_lifetime_hooks(system, error);
 }
@@ -228,8 +242,8 @@ tb_status tb_integrator_create(const tb_ode_system *system, const tb_integrator_
     integrator->y = y;
     integrator->max_steps = def->max_steps;
     integrator->events = (tb_integrator_events){0, NAN, -1, 0};
-    if (system->layout_generation != NULL) {
-        integrator->generation = system->layout_generation(system->ctx);
+    if (system->lifetime.layout_generation != NULL) {
+        integrator->generation = system->lifetime.layout_generation(system->ctx);
     }
     status = integrator->entry->backend->create(integrator, def, out_error);
     if (status != TB_STATUS_OK) {
@@ -263,9 +277,9 @@ static tb_status enter(tb_integrator *integrator, const char *call)
     integrator->detail[0] = '\0';
     integrator->busy = true;
     const tb_ode_system *system = &integrator->system;
-    if (system->acquire != NULL) {
+    if (system->lifetime.acquire != NULL) {
         const tb_status status =
-            system->acquire(system->ctx, integrator->generation, integrator->detail);
+            system->lifetime.acquire(system->ctx, integrator->generation, integrator->detail);
         if (status != TB_STATUS_OK) {
             integrator->busy = false;
             if (integrator->detail[0] == '\0') {
@@ -282,8 +296,8 @@ static tb_status enter(tb_integrator *integrator, const char *call)
 static tb_status leave(tb_integrator *integrator, tb_status status)
 {
     const tb_ode_system *system = &integrator->system;
-    if (system->release != NULL) {
-        system->release(system->ctx);
+    if (system->lifetime.release != NULL) {
+        system->lifetime.release(system->ctx);
     }
     integrator->busy = false;
     if (status == TB_STATUS_OK) {
@@ -344,8 +358,8 @@ tb_status tb_integrator_reset(tb_integrator *integrator, double t)
     if (!isfinite(t)) {
         status = tb__set_detail(integrator->detail, TB_STATUS_NOT_FINITE,
                                 "t: must be finite, got %g", t);
-    } else if (system->check_reset != NULL) {
-        status = system->check_reset(t, integrator->y, system->ctx, integrator->detail);
+    } else if (system->lifetime.check_reset != NULL) {
+        status = system->lifetime.check_reset(t, integrator->y, system->ctx, integrator->detail);
     }
     if (status == TB_STATUS_OK) {
         status = integrator->entry->backend->reset(integrator, t);

@@ -107,7 +107,7 @@ size_t tb__first_non_finite(const double *y, size_t n);
 /* Bytes in a cache line, to which the fixed-step workspace is aligned. */
 #define TB__LINE 64
 
-/* The most blocks a lane group may hold (tb_ode_system.lanes). */
+/* The most blocks a lane group may hold (tb_ode_system.blocks.lanes). */
 #define TB__MAX_LANES 1024
 
 /* How a step of a part of the system (the whole, or a chunk) failed: status OK for none; rc is

@@ -28,7 +28,7 @@ tb_status tb__scene_set_body_motion_source(tb_scene *scene, size_t id, tb_body_m
 /* Releases every body's motion source (tb_scene_destroy). */
 void tb__scene_release_motion_sources(tb_scene *scene);
 /* The earliest break time of the keyframed bodies after t (INFINITY: none): the scene's
- * tb_ode_system.next_break (ctx the scene). */
+ * tb_ode_system.events.next_break (ctx the scene). */
 double tb__scene_next_break(double t, void *ctx);
 
 /* Body id's slot (the index of its 13 doubles in y), or TB_NO_SLOT. */

@@ -1,5 +1,5 @@
-/* Private: the scene's derivative and renormalisation in lane layout (tb_ode_system.lanes), for
- * the vector unit. A lane group holds the 13 states of up to TB__LANES bodies component by
+/* Private: the scene's derivative and renormalisation in lane layout (tb_ode_system.blocks.lanes),
+ * for the vector unit. A lane group holds the 13 states of up to TB__LANES bodies component by
  * component: component c of lane j at [c * lanes + j]. The kernels (lanes_kernels.c and the
  * effects' lane forms in effect_lanes.c) are compiled once per vector path the build targets,
  * with TB_LANES_TARGET naming it, and the scene picks one path's table at run time
@@ -45,8 +45,8 @@ tb_status tb__scene_prepare_lanes(tb_scene *scene);
 
 /* One vector path's kernels. */
 typedef struct tb__lanes_kernels {
-    tb_ode_block_derivative derivative; /* tb_ode_system.lanes_derivative */
-    tb_ode_block_hook normalize;        /* tb_ode_system.lanes_post_step */
+    tb_ode_block_derivative derivative; /* tb_ode_system.blocks.lanes_derivative */
+    tb_ode_block_hook normalize;        /* tb_ode_system.blocks.lanes_post_step */
 } tb__lanes_kernels;
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))

@@ -61,6 +61,12 @@ typedef struct tb__event_pair tb__event_pair; /* below */
 
 typedef struct tb__effect_stepping tb__effect_stepping;
 
+/* Visits one coupling for the Jacobian's pattern (scene_jacobian.c): the effect's states
+ * [first_state, first_state + state_count) of y depend on, and act on, bodies body_a and body_b
+ * (ids; TB_ALL_BODIES for none, body_b == body_a for one body). */
+typedef void (*tb__coupling_visit)(void *ctx, size_t first_state, size_t state_count, size_t body_a,
+                                   size_t body_b);
+
 /* One constant row per effect kind (the core row), defined in the kind's file in src/effects/:
  * every fact about the kind that the derivative, the read-outs, the stability guard and the
  * sleeping islands ask; nothing outside the effect's own files reads its parameters. An effect
@@ -101,6 +107,11 @@ typedef struct tb__effect_ops {
     /* The hooks of an effect that shapes the steps (events, step limits, impacts, step
      * boundaries, waking); NULL for an effect with none. */
     const tb__effect_stepping *stepping;
+    /* For an effect that owns states: which bodies each group of its states belongs to at a
+     * step boundary (scene_jacobian.c's pattern), visiting every state once. NULL: unknown (a
+     * scene holding such an effect offers no Jacobian). */
+    void (*state_owners)(const tb__effect *effect, const tb_scene *scene, tb__coupling_visit visit,
+                         void *ctx);
 } tb__effect_ops;
 
 /* The optional second row of an effect kind: what the events, the adaptive step limit, the
@@ -341,6 +352,8 @@ struct tb_scene {
     void *constraints;
     const tb__constraint_ops *constraint_ops;
     bool stabilise_constraints;
+    /* The contact Jacobian's pattern and scratch (scene_jacobian.c): NULL until asked. */
+    struct tb__scene_jacobian *jacobian;
 };
 
 /* Contact events (contact_event_watch.c): the scene's state at a step boundary at time t,
@@ -350,7 +363,15 @@ struct tb_scene {
 void tb__scene_events_observe(tb_scene *scene, double t, const double *y, bool fixed);
 void tb__scene_events_start(tb_scene *scene, double t0, bool fixed);
 void tb__scene_events_free(tb_scene *scene);
-/* tb_ode_system.at_event of a scene with events: the watch, then the sleep's. */
+
+/* The contact's sparse Jacobian (scene_jacobian.c): whether the scene offers one (bodies that
+ * interact, every effect's couplings known), its tb_ode_system.jacobian callbacks (ctx the
+ * scene), and the free at destruction. */
+bool tb__scene_has_jacobian(const tb_scene *scene);
+size_t tb__scene_jacobian_capacity(double t, const double *y, void *ctx);
+int tb__scene_jacobian(double t, const double *y, const double *fy, tb_ode_sparse *J, void *ctx);
+void tb__scene_jacobian_free(tb_scene *scene);
+/* tb_ode_system.events.at_event of a scene with events: the watch, then the sleep's. */
 void tb__scene_at_event(double t, const double *y, void *ctx);
 
 /* Sleeping islands (sleep.c). Bodies linked at a step boundary (a pair the contact effect
@@ -408,7 +429,7 @@ void tb__scene_sleep_apply_pending(tb_scene *scene);
 /* Wakes body id's island (a user change of its state), or every body. */
 void tb__scene_wake_body(tb_scene *scene, size_t id);
 void tb__scene_wake_all(tb_scene *scene);
-/* The adaptive methods' event stop (tb_ode_system.at_event, ctx the scene): while a body
+/* The adaptive methods' event stop (tb_ode_system.events.at_event, ctx the scene): while a body
  * sleeps, the islands are decided from y at t (pairs within the margin, tb__effect_stepping
  * wake_links) and the decision applied at once, so that the integrator restarts there with
  * an island woken before the pair that stopped it touches. */
@@ -564,50 +585,7 @@ tb_status tb__scene_check_impacts(const tb_scene *scene, const double *y, char *
 /* The step tb_scene_default_step describes, for the scene at state y (stability.c). */
 double tb__scene_default_step(const tb_scene *scene, const double *y, tb_method method);
 
-/* How body i moves, read from y once for an effect that looks at several of its points. */
-typedef struct tb__motion {
-    double x[3];     /* centre of mass, world */
-    double q[4];     /* unit, principal -> world */
-    double v[3];     /* centre-of-mass velocity */
-    double omega[3]; /* angular velocity, world */
-} tb__motion;
-
-/* A dynamic body's motion from its 13 states s (the hot loops' form). */
-void tb__body_motion(const tb__body *body, const double *s, tb__motion *out);
-
-/* Body id's motion at the y of the evaluation of tb_scene_derivative running now: for the
- * coupled effects' apply only (the derivative's kinematics filled it from that y), bit for bit
- * tb__body_motion's. */
-static inline const tb__motion *tb__derivative_motion(const tb_scene *scene, size_t id)
-{
-    return &scene->motions[id];
-}
-
-/* A body point r (principal frame, from the centre of mass): its lever arm R r (world),
- * and the velocity v + omega x arm of the material point at arm. */
-void tb__point_arm(const tb__motion *motion, const double r[3], double arm[3]);
-void tb__point_velocity(const tb__motion *motion, const double arm[3], double velocity[3]);
-
-/* The inverse mass (1/kg) that a force along the unit vector u at lever arm `arm` (world, from
- * the centre of mass) meets at its point: 1/M + (arm x u) . I^-1 (arm x u), with I^-1 the
- * world-frame inverse inertia of the body turned as motion says. */
-double tb__inverse_mass_along(const tb__body *body, const tb__motion *motion, const double arm[3],
-                              const double u[3]);
-/* The largest of tb__inverse_mass_along over the unit vectors u perpendicular to the unit n: the
- * lightest a tangential force at arm finds the body. */
-double tb__inverse_mass_across(const tb__body *body, const tb__motion *motion, const double arm[3],
-                               const double n[3]);
-
-/* M (1/M + max over unit u of (r x u) . I^-1 (r x u)) (>= 1), r in the principal frame from the
- * centre of mass (m): how much lighter than the body a force at r finds it in the worst
- * direction. At most tb__inverse_mass_at's M (1/M + |r|^2 / I_min), and far less for a thin
- * body, whose smallest moment only turns it about its long axis. */
-double tb__lightness_at(const tb__body *body, const double r[3]);
-
-/* dP += f and dL += arm x f for the body in slot `slot` (y's index, as the per-body effects'
- * ranges count). */
-void tb__add_load(double *dydt, size_t slot, const double arm[3], const double f[3]);
-
-#include "scene/body_motion.h" /* the body-motion accessor, by id */
+#include "scene/motion_loads.h" /* a body's motion and the loads on it, for effects */
+#include "scene/body_motion.h"  /* the body-motion accessor, by id */
 
 #endif

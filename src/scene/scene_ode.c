@@ -116,7 +116,7 @@ static tb_status check_changed_state(const tb_scene *scene, char *detail)
                           TB_DETAIL_SIZE - 96, found);
 }
 
-/* tb_ode_system.layout_generation: an integrator is being made on the scene. It claims the
+/* tb_ode_system.lifetime.layout_generation: an integrator is being made on the scene. It claims the
  * scene: the generation moves on, so integrators made before refuse to step (two integrators
  * stepping one scene would each take the other's steps as changes from outside). */
 static unsigned long long claim(void *ctx)
@@ -189,8 +189,8 @@ static bool fixed_poses_move(const tb_scene *scene, double t)
     return false;
 }
 
-/* tb_ode_system.check_reset: keys may put a keyframed body inside another at the new time, so
- * a reset that moves one gets the checks of a start there (as creation does at t0); the scene's
+/* tb_ode_system.lifetime.check_reset: keys may put a keyframed body inside another at the new time,
+ * so a reset that moves one gets the checks of a start there (as creation does at t0); the scene's
  * time becomes t, or stays on a refusal. */
 static tb_status check_reset(double t, const double *y, void *ctx, char *detail)
 {
@@ -211,8 +211,8 @@ static tb_status check_reset(double t, const double *y, void *ctx, char *detail)
     return TB_STATUS_OK;
 }
 
-/* tb_ode_system.rhs_generation: effects added since (a force, a drag) change the right-hand
- * side without changing the layout; CVODE restarts on them. */
+/* tb_ode_system.lifetime.rhs_generation: effects added since (a force, a drag) change the
+ * right-hand side without changing the layout; CVODE restarts on them. */
 static unsigned long long rhs_generation(void *ctx)
 {
     const tb_scene *scene = ctx;
@@ -256,6 +256,27 @@ static tb_ode_hook post_step_hook(const tb_scene *scene)
                : (scene->renormalize ? tb_scene_normalize_quaternions : NULL);
 }
 
+/* Contact: a gap per body for CVODE's root finding, and steps kept short near contacts
+ * (scene_events.c); bodies that can sleep add a second gap per body, to the nearest body of the
+ * other sleep state, so that CVODE stops before an awake body touches an asleep one and wakes it
+ * there (sleep.c). Bodies that interact: the contact's sparse Jacobian, its pattern their
+ * contact graph (scene_jacobian.c). */
+static void set_events_and_jacobian(const tb_scene *scene, tb_ode_system *out_system)
+{
+    if (tb__scene_has_events(scene)) {
+        const bool wake = scene->sleep != NULL;
+        out_system->events.root_count = (wake ? 2 : 1) * scene->body_count;
+        out_system->events.roots = wake ? tb__scene_event_and_wake_gaps : tb__scene_event_gaps;
+        out_system->events.step_limit = tb__scene_step_limit;
+        out_system->events.at_event =
+            wake || scene->contact_events != NULL ? tb__scene_at_event : NULL;
+    }
+    if (tb__scene_has_jacobian(scene)) {
+        out_system->jacobian.capacity = tb__scene_jacobian_capacity;
+        out_system->jacobian.evaluate = tb__scene_jacobian;
+    }
+}
+
 tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
 {
     if (scene == NULL) {
@@ -275,42 +296,32 @@ tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
         .derivative = tb_scene_derivative,
         .post_step = post_step_hook(scene),
         .ctx = scene,
-        .layout_generation = claim,
-        .acquire = acquire,
-        .release = release,
-        .rhs_generation = rhs_generation,
+        .lifetime = {.layout_generation = claim,
+                     .acquire = acquire,
+                     .release = release,
+                     .rhs_generation = rhs_generation,
+                     .check_reset = check_reset},
         /* the key times of bodies without a state */
-        .next_break = scene->slot_count < scene->body_count ? tb__scene_next_break : NULL,
-        .check_reset = check_reset,
+        .events.next_break = scene->slot_count < scene->body_count ? tb__scene_next_break : NULL,
     };
     const tb_status rooms = prepare_rooms(scene, out_system->n);
     if (rooms != TB_STATUS_OK) {
         return rooms;
     }
-    /* Contact: a gap per body for CVODE's root finding, and steps kept short near contacts
-     * (scene_events.c); bodies that can sleep add a second gap per body, to the nearest body
-     * of the other sleep state, so that CVODE stops before an awake body touches an asleep
-     * one and wakes it there (sleep.c). */
-    if (tb__scene_has_events(scene)) {
-        const bool wake = scene->sleep != NULL;
-        out_system->root_count = (wake ? 2 : 1) * scene->body_count;
-        out_system->roots = wake ? tb__scene_event_and_wake_gaps : tb__scene_event_gaps;
-        out_system->step_limit = tb__scene_step_limit;
-        out_system->at_event = wake || scene->contact_events != NULL ? tb__scene_at_event : NULL;
-    }
+    set_events_and_jacobian(scene, out_system);
     /* Bodies that do not interact are the system's blocks. */
     if (tb__scene_separable(scene)) {
-        out_system->block_size = TB_STATE_SIZE;
-        out_system->block_derivative = tb__scene_block_derivative;
-        out_system->block_post_step = scene->renormalize ? tb__scene_block_normalize : NULL;
+        out_system->blocks.size = TB_STATE_SIZE;
+        out_system->blocks.derivative = tb__scene_block_derivative;
+        out_system->blocks.post_step = scene->renormalize ? tb__scene_block_normalize : NULL;
         const tb__lanes_kernels *kernels = tb__scene_lanes_kernels(scene);
         if (kernels != NULL && tb__scene_prepare_lanes(scene) != TB_STATUS_OK) {
             return TB_STATUS_OUT_OF_MEMORY;
         }
         if (kernels != NULL) {
-            out_system->lanes = tb__lanes_for(scene->slot_count);
-            out_system->lanes_derivative = kernels->derivative;
-            out_system->lanes_post_step = scene->renormalize ? kernels->normalize : NULL;
+            out_system->blocks.lanes = tb__lanes_for(scene->slot_count);
+            out_system->blocks.lanes_derivative = kernels->derivative;
+            out_system->blocks.lanes_post_step = scene->renormalize ? kernels->normalize : NULL;
         }
     }
     return TB_STATUS_OK;

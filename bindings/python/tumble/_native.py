@@ -74,6 +74,8 @@ class IntegratorStats(ctypes.Structure):
         ("last_order", ctypes.c_int),
         ("current_order", ctypes.c_int),
         ("reinitializations", ctypes.c_long),
+        ("nonlinear_iterations", ctypes.c_long),
+        ("jacobian_evals", ctypes.c_long),
     ]
 
 

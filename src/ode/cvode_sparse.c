@@ -1,0 +1,230 @@
+/* BDF's sparse linear solver: the system's own Jacobian (tb_ode_system.jacobian) in a
+ * compressed-sparse-row SUNMatrix_Sparse, factorised by KLU. The system writes pattern and values
+ * at every evaluation; KLU keeps the symbolic analysis of the last pattern and redoes it only
+ * when the pattern changed (SUNLinSol_KLUReInit), since a refactorisation on another pattern
+ * would be wrong. The pattern must hold the diagonal, so that CVODE's I - gamma J keeps it.
+ * Room grows only before a step, when the system's capacity grew. */
+#include "ode/cvode_internal.h"
+
+#include "core/detail.h"
+#include "core/validate.h"
+
+#include <cvode/cvode.h>
+
+#ifdef TB_HAVE_KLU
+#include <sunlinsol/sunlinsol_klu.h>
+#include <sunmatrix/sunmatrix_sparse.h>
+
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct tb__cvode_sparse {
+    tb_ode_sparse J;         /* what the system writes */
+    sunindextype *analysed;  /* n + 1 row starts, then the columns, of the analysed pattern */
+    size_t analysed_entries; /* its entries; (size_t)-1 before the first */
+    N_Vector state;          /* the state at CVODE's internal time, for the capacity */
+    long analyses;           /* symbolic analyses (pattern changes) */
+};
+
+void tb__cvode_sparse_free(tb__cvode *cvode)
+{
+    tb__cvode_sparse *sparse = cvode->sparse;
+    if (sparse == NULL) {
+        return;
+    }
+    free(sparse->J.row_starts);
+    free(sparse->J.columns);
+    free(sparse->J.values);
+    free(sparse->analysed);
+    if (sparse->state != NULL) {
+        N_VDestroy(sparse->state);
+    }
+    free(sparse);
+    cvode->sparse = NULL;
+}
+
+/* Room for capacity entries in J, the analysed copy and the matrix (when it exists). */
+static bool make_room(tb__cvode *cvode, size_t capacity)
+{
+    tb__cvode_sparse *sparse = cvode->sparse;
+    const size_t n = sparse->J.n;
+    size_t *columns = tb__realloc_array(sparse->J.columns, capacity, sizeof(size_t));
+    sparse->J.columns = columns != NULL ? columns : sparse->J.columns;
+    double *values = tb__realloc_array(sparse->J.values, capacity, sizeof(double));
+    sparse->J.values = values != NULL ? values : sparse->J.values;
+    sunindextype *analysed =
+        n + 1 > SIZE_MAX - capacity
+            ? NULL
+            : tb__realloc_array(sparse->analysed, n + 1 + capacity, sizeof(sunindextype));
+    sparse->analysed = analysed != NULL ? analysed : sparse->analysed;
+    if (columns == NULL || values == NULL || analysed == NULL) {
+        return false;
+    }
+    if (cvode->matrix != NULL &&
+        SUNSparseMatrix_Reallocate(cvode->matrix, (sunindextype)capacity) != 0) {
+        return false;
+    }
+    sparse->J.capacity = capacity;
+    return true;
+}
+
+tb_status tb__cvode_sparse_create(tb_integrator *integrator, tb_error *error)
+{
+    tb__cvode *cvode = integrator->cvode;
+    const tb_ode_system *system = &integrator->system;
+    const size_t n = system->n;
+    if (system->jacobian.evaluate == NULL) {
+        return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
+                             "def.linear_solver: sparse needs the system's jacobian "
+                             "(tb_ode_system.jacobian), which this system has not");
+    }
+    cvode->sparse = calloc(1, sizeof *cvode->sparse);
+    tb__cvode_sparse *sparse = cvode->sparse;
+    if (sparse == NULL ||
+        (sparse->J.row_starts = tb__malloc_array(n + 1, sizeof(size_t))) == NULL ||
+        (sparse->state = N_VClone(cvode->y)) == NULL) {
+        return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "sparse Jacobian for n = %zu", n);
+    }
+    sparse->J.n = n;
+    sparse->analysed_entries = (size_t)-1;
+    /* room for the diagonal: y is not read before the first step, where the system's capacity
+     * is asked (tb__cvode_sparse_refresh) */
+    const size_t capacity = n;
+    if (!make_room(cvode, capacity)) {
+        return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "sparse Jacobian for n = %zu", n);
+    }
+    cvode->matrix = SUNSparseMatrix((sunindextype)n, (sunindextype)n, (sunindextype)capacity,
+                                    CSR_MAT, cvode->context);
+    cvode->linear =
+        cvode->matrix == NULL ? NULL : SUNLinSol_KLU(cvode->y, cvode->matrix, cvode->context);
+    /* AMD, for a pattern symmetric by blocks (a coupling goes both ways): KLU's default COLAMD
+     * spent 73% of BDF's time refactorising on the dice, AMD cut the run to a quarter */
+    const int ordering =
+        cvode->linear != NULL ? SUNLinSol_KLUSetOrdering(cvode->linear, 0) : SUNLS_SUCCESS;
+    return cvode->linear == NULL || ordering != SUNLS_SUCCESS
+               ? tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "KLU solver for n = %zu", n)
+               : TB_STATUS_OK;
+}
+
+int tb__cvode_sparse_refresh(tb_integrator *integrator, sunrealtype tn)
+{
+    tb__cvode *cvode = integrator->cvode;
+    tb__cvode_sparse *sparse = cvode->sparse;
+    if (sparse == NULL) {
+        return CV_SUCCESS;
+    }
+    const double *state = N_VGetArrayPointer(cvode->y);
+    if (cvode->started) { /* y may hold an interpolated output: take CVODE's own y_n */
+        const int flag = CVodeGetDky(cvode->mem, tn, 0, sparse->state);
+        if (flag != CV_SUCCESS) {
+            return flag;
+        }
+        state = N_VGetArrayPointer(sparse->state);
+    }
+    const tb_ode_system *system = &integrator->system;
+    const size_t capacity = system->jacobian.capacity(cvode->t_origin + tn, state, system->ctx);
+    if (capacity < sparse->J.n || (capacity > sparse->J.capacity && !make_room(cvode, capacity))) {
+        snprintf(cvode->message, sizeof cvode->message,
+                 "system.jacobian.capacity: %zu entries for n = %zu (at least the diagonal; 0: "
+                 "the system could not build its pattern) or out of memory for them",
+                 capacity, sparse->J.n);
+        return CV_MEM_FAIL;
+    }
+    return CV_SUCCESS;
+}
+
+/* Copies J into A; true when the pattern is the one KLU analysed. */
+static bool copy_into(tb__cvode_sparse *sparse, SUNMatrix A)
+{
+    const size_t n = sparse->J.n, entries = sparse->J.row_starts[n];
+    sunindextype *rows = SUNSparseMatrix_IndexPointers(A);
+    sunindextype *columns = SUNSparseMatrix_IndexValues(A);
+    double *data = SUNSparseMatrix_Data(A);
+    bool same = entries == sparse->analysed_entries;
+    for (size_t i = 0; i <= n; ++i) {
+        rows[i] = (sunindextype)sparse->J.row_starts[i];
+        same = same && sparse->analysed[i] == rows[i];
+    }
+    for (size_t e = 0; e < entries; ++e) {
+        columns[e] = (sunindextype)sparse->J.columns[e];
+        same = same && sparse->analysed[n + 1 + e] == columns[e];
+    }
+    memcpy(data, sparse->J.values, entries * sizeof(double));
+    if (!same) {
+        memcpy(sparse->analysed, rows, (n + 1) * sizeof(sunindextype));
+        memcpy(sparse->analysed + n + 1, columns, entries * sizeof(sunindextype));
+        sparse->analysed_entries = entries;
+    }
+    return same;
+}
+
+int tb__cvode_sparse_jacobian(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, void *user_data,
+                              N_Vector tmp1, N_Vector tmp2, N_Vector tmp3)
+{
+    (void)tmp1, (void)tmp2, (void)tmp3;
+    tb_integrator *integrator = user_data;
+    tb__cvode *cvode = integrator->cvode;
+    tb__cvode_sparse *sparse = cvode->sparse;
+    const tb_ode_system *system = &integrator->system;
+    const int rc = system->jacobian.evaluate(cvode->t_origin + t, N_VGetArrayPointer(y),
+                                             N_VGetArrayPointer(fy), &sparse->J, system->ctx);
+    const size_t entries = rc == 0 ? sparse->J.row_starts[sparse->J.n] : 0;
+    if (rc != 0 || entries > (size_t)SUNSparseMatrix_NNZ(A)) {
+        snprintf(cvode->message, sizeof cvode->message,
+                 "system.jacobian.evaluate returned %d at t = %.17g%s", rc,
+                 cvode->t_origin + (double)t,
+                 rc == 0 ? " with more entries than its capacity" : "");
+        return rc > 0 ? rc : -1;
+    }
+    if (!copy_into(sparse, A)) {
+        sparse->analyses++;
+        return SUNLinSol_KLUReInit(cvode->linear, A, SUNSparseMatrix_NNZ(A),
+                                   SUNKLU_REINIT_PARTIAL) == SUNLS_SUCCESS
+                   ? 0
+                   : -1;
+    }
+    return 0;
+}
+
+long tb__cvode_sparse_analyses(const tb__cvode *cvode)
+{
+    return cvode->sparse != NULL ? cvode->sparse->analyses : 0;
+}
+
+#else /* built without KLU (cmake/TumbleDependencies.cmake): the sparse solver is refused */
+
+tb_status tb__cvode_sparse_create(tb_integrator *integrator, tb_error *error)
+{
+    (void)integrator;
+    return tb__set_error(error, TB_STATUS_UNSUPPORTED,
+                         "def.linear_solver: sparse needs SUNDIALS' KLU solver, which this build "
+                         "of tumble has not (libsuitesparse-dev; cmake -DTUMBLE_WITH_KLU=ON)");
+}
+
+int tb__cvode_sparse_refresh(tb_integrator *integrator, sunrealtype tn)
+{
+    (void)integrator, (void)tn;
+    return CV_SUCCESS;
+}
+
+int tb__cvode_sparse_jacobian(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, void *user_data,
+                              N_Vector tmp1, N_Vector tmp2, N_Vector tmp3)
+{
+    (void)t, (void)y, (void)fy, (void)A, (void)user_data, (void)tmp1, (void)tmp2, (void)tmp3;
+    return -1;
+}
+
+long tb__cvode_sparse_analyses(const tb__cvode *cvode)
+{
+    (void)cvode;
+    return 0;
+}
+
+void tb__cvode_sparse_free(tb__cvode *cvode)
+{
+    (void)cvode;
+}
+
+#endif

@@ -1,0 +1,197 @@
+/* The contact Jacobian's values at (t, y), on the pattern scene_jacobian.c built:
+ *
+ * - the kinematic rows exactly: dx/dt = P / M gives 1/M against P; dq/dt = 1/2 (0, omega) (x) q
+ *   with omega = R I^-1 R^T L (R the rotation of q/|q|) gives, against q,
+ *   1/2 Omega(omega) + 1/2 Xi(q) d omega/dq and, against L, 1/2 Xi(q) R I^-1 R^T, where
+ *   (0, w) (x) q = Omega(w) q = Xi(q) w, and a change dq turns the body by
+ *   dtheta = (2/|q|) vec(dq (x) conj(q) / |q|) (world frame; the change along q turns nothing), so
+ *   d omega = -omega x dtheta + R I^-1 R^T (L x dtheta);
+ * - the loads' rows (dP, dL: the effects, contact among them) and the effects' own states'
+ *   rows by difference quotients of the derivative, a colour of columns at a time (Curtis,
+ *   Powell and Reid: the columns of one colour share no row, so one evaluation gives them all),
+ *   with the increment sqrt(eps) max(|y_j|, s_j), s_j the component's natural size
+ *   (tb_scene_absolute_tolerances at scale 1). A body's 13 columns cost 13 evaluations per
+ *   colour, shared by every body of the colour: resting dice take one or two colours.
+ * Allocates nothing: the scratch was made with the pattern. */
+#include "scene/scene_jacobian.h"
+
+#include "math/tb_math.h"
+
+#include <float.h>
+#include <math.h>
+#include <string.h>
+
+static size_t node_size(const tb__jacobian_room *j, size_t u)
+{
+    return j->node_start[u + 1] - j->node_start[u];
+}
+
+/* Where node u's columns start within each row of node v (u is v's neighbour or v). */
+static size_t columns_of(const tb__jacobian_room *j, size_t v, size_t u)
+{
+    size_t low = j->adjacent_start[v], high = j->adjacent_start[v + 1];
+    while (low < high) {
+        const size_t middle = low + (high - low) / 2;
+        if (j->adjacent[middle] < u) {
+            low = middle + 1;
+        } else {
+            high = middle;
+        }
+    }
+    return j->column_offset[low];
+}
+
+/* The entry of row r (a row of node v) at column offset within the row. */
+static size_t entry_of(const tb__jacobian_room *j, size_t v, size_t r, size_t offset)
+{
+    return j->row_base[v] + (r - j->node_start[v]) * j->row_length[v] + offset;
+}
+
+/* Column k of every node of colour c with more than k components, from one evaluation. */
+static int quotient_columns(tb_scene *scene, const tb__jacobian_room *j, size_t c, size_t k,
+                            double t, const double *y, const double *fy, double *values)
+{
+    bool any = false;
+    for (size_t i = j->color_first[c]; i < j->color_first[c + 1]; ++i) {
+        const size_t u = j->by_color[i], col = j->node_start[u] + k;
+        if (k < node_size(j, u)) {
+            const double h = sqrt(DBL_EPSILON) * fmax(fabs(y[col]), j->scale[col]);
+            j->y_work[col] = y[col] + (h > 0.0 ? h : sqrt(DBL_EPSILON));
+            any = true;
+        }
+    }
+    const int rc = any ? tb_scene_derivative(t, j->y_work, j->f_work, scene) : 0;
+    for (size_t i = j->color_first[c]; i < j->color_first[c + 1] && any; ++i) {
+        const size_t u = j->by_color[i], col = j->node_start[u] + k;
+        if (k >= node_size(j, u)) {
+            continue;
+        }
+        const double h = j->y_work[col] - y[col]; /* the increment as represented */
+        for (size_t e = j->adjacent_start[u]; e < j->adjacent_start[u + 1] && rc == 0; ++e) {
+            const size_t v = j->adjacent[e], offset = columns_of(j, v, u) + k;
+            for (size_t r = j->node_start[v]; r < j->node_start[v + 1]; ++r) {
+                values[entry_of(j, v, r, offset)] = (j->f_work[r] - fy[r]) / h;
+            }
+        }
+        j->y_work[col] = y[col];
+    }
+    return rc;
+}
+
+static void cross_matrix(const double a[3], double out[3][3])
+{
+    const double m[3][3] = {{0.0, -a[2], a[1]}, {a[2], 0.0, -a[0]}, {-a[1], a[0], 0.0}};
+    memcpy(out, m, sizeof m);
+}
+
+/* d omega / dq (3 x 4) and R I^-1 R^T (3 x 3) of the body whose state is s. */
+static void omega_derivatives(const tb__body *body, const double *s, double d_omega[3][4],
+                              double W[3][3])
+{
+    const double *q = s + TB_STATE_Q, *L = s + TB_STATE_L;
+    double R[9];
+    tb__q_to_matrix_any(R, q);
+    for (int a = 0; a < 3; ++a) {
+        for (int b = 0; b < 3; ++b) {
+            W[a][b] = 0.0;
+            for (int k = 0; k < 3; ++k) {
+                W[a][b] += R[3 * a + k] * body->inv_moments[k] * R[3 * b + k];
+            }
+        }
+    }
+    double omega[3] = {0.0, 0.0, 0.0}, wx[3][3], lx[3][3];
+    for (int a = 0; a < 3; ++a) {
+        omega[a] = W[a][0] * L[0] + W[a][1] * L[1] + W[a][2] * L[2];
+    }
+    cross_matrix(omega, wx);
+    cross_matrix(L, lx);
+    /* G: dtheta = G dq = (2/|q|) [-u | w 1 + [u]x] dq, (w, u) = q/|q| */
+    const double norm = tb__q_norm(q), w = q[0] / norm;
+    const double u[3] = {q[1] / norm, q[2] / norm, q[3] / norm};
+    double G[3][4], ux[3][3];
+    cross_matrix(u, ux);
+    for (int a = 0; a < 3; ++a) {
+        G[a][0] = -2.0 / norm * u[a];
+        for (int b = 0; b < 3; ++b) {
+            G[a][b + 1] = 2.0 / norm * ((a == b ? w : 0.0) + ux[a][b]);
+        }
+    }
+    for (int a = 0; a < 3; ++a) { /* (-[omega]x + W [L]x) G */
+        double M[3];
+        for (int k = 0; k < 3; ++k) {
+            M[k] = -wx[a][k] + W[a][0] * lx[0][k] + W[a][1] * lx[1][k] + W[a][2] * lx[2][k];
+        }
+        for (int b = 0; b < 4; ++b) {
+            d_omega[a][b] = M[0] * G[0][b] + M[1] * G[1][b] + M[2] * G[2][b];
+        }
+    }
+}
+
+/* The body's dq/dt rows against its own q and L: rows[4][13] by its state's components. */
+static void quaternion_rows(const tb__body *body, const double *s, double rows[4][TB_STATE_SIZE])
+{
+    double d_omega[3][4], W[3][3];
+    omega_derivatives(body, s, d_omega, W);
+    const double *q = s + TB_STATE_Q, *L = s + TB_STATE_L;
+    double omega[3];
+    for (int a = 0; a < 3; ++a) {
+        omega[a] = W[a][0] * L[0] + W[a][1] * L[1] + W[a][2] * L[2];
+    }
+    /* (0, w) (x) q = Omega(w) q = Xi(q) w, rows as kinematics() writes them */
+    const double Omega[4][4] = {{0.0, -omega[0], -omega[1], -omega[2]},
+                                {omega[0], 0.0, -omega[2], omega[1]},
+                                {omega[1], omega[2], 0.0, -omega[0]},
+                                {omega[2], -omega[1], omega[0], 0.0}};
+    const double Xi[4][3] = {
+        {-q[1], -q[2], -q[3]}, {q[0], q[3], -q[2]}, {-q[3], q[0], q[1]}, {q[2], -q[1], q[0]}};
+    memset(rows, 0, 4 * TB_STATE_SIZE * sizeof(double));
+    for (int a = 0; a < 4; ++a) {
+        for (int b = 0; b < 4; ++b) {
+            double sum = Omega[a][b];
+            for (int k = 0; k < 3; ++k) {
+                sum += Xi[a][k] * d_omega[k][b];
+            }
+            rows[a][TB_STATE_Q + b] = 0.5 * sum;
+        }
+        for (int b = 0; b < 3; ++b) {
+            rows[a][TB_STATE_L + b] =
+                0.5 * (Xi[a][0] * W[0][b] + Xi[a][1] * W[1][b] + Xi[a][2] * W[2][b]);
+        }
+    }
+}
+
+/* The kinematic rows (x and q) of slot s: only its own columns are not zero. */
+static void kinematic_rows(const tb_scene *scene, const tb__jacobian_room *j, size_t s,
+                           const double *y, double *values)
+{
+    const tb__body *body = &scene->bodies[s];
+    const size_t own = columns_of(j, s, s), first = TB_STATE_SIZE * s;
+    double rows[4][TB_STATE_SIZE];
+    quaternion_rows(body, y + first, rows);
+    for (size_t r = first; r < first + TB_STATE_P; ++r) {
+        double *row = values + entry_of(j, s, r, 0);
+        memset(row, 0, j->row_length[s] * sizeof(double));
+        if (r < first + TB_STATE_Q) {
+            row[own + TB_STATE_P + (r - first)] = body->inv_mass;
+        } else {
+            memcpy(row + own, rows[r - first - TB_STATE_Q], sizeof rows[0]);
+        }
+    }
+}
+
+int tb__scene_jacobian_values(tb_scene *scene, double t, const double *y, const double *fy,
+                              double *values)
+{
+    const tb__jacobian_room *j = scene->jacobian;
+    memcpy(j->y_work, y, j->n * sizeof(double));
+    int rc = 0;
+    for (size_t c = 0; c < j->color_count && rc == 0; ++c) {
+        for (size_t k = 0; k < TB_STATE_SIZE && rc == 0; ++k) {
+            rc = quotient_columns(scene, j, c, k, t, y, fy, values);
+        }
+    }
+    for (size_t s = 0; s < scene->slot_count && rc == 0; ++s) {
+        kinematic_rows(scene, j, s, y, values);
+    }
+    return rc;
+}
