@@ -4,7 +4,16 @@
  * tree the leaves go first, so no block fills in and the cost is linear in the joints; a loop
  * fills one block column per loop), each column's blocks below the diagonal, and the list of
  * updates L(i, k) -= L(i, j) L(k, j)^T the right-looking factorisation makes. Each solve then
- * assembles, factors and substitutes with no allocation. */
+ * assembles, factors and substitutes with no allocation.
+ *
+ * Rows that repeat one another (a door on two coaxial hinges, a planar loop of hinges) make
+ * J M^-1 J^T singular, positive semi-definite: the accelerations are unique, lambda is not.
+ * A row whose pivot, once the rows before it are eliminated, falls to TB__PIVOT_DROP of its
+ * own diagonal (round-off of a combination of the others) is dropped: its column of L is zero
+ * and its lambda 0. That is the factor of J M^-1 J^T without the row, so the other rows are
+ * solved exactly; the system is consistent (the dropped row is a combination of the others,
+ * and so is its right-hand side: the same accelerations' rows), so the dropped row holds too,
+ * and its share of the load goes to the rows it repeats (tests/test_joints_redundant.c). */
 #include "constraints/joints_internal.h"
 
 #include "core/validate.h"
@@ -12,6 +21,11 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+
+/* A pivot at most this fraction of its row's diagonal drops the row. A repeated row's pivot is
+ * round-off, about 1e-16 to 1e-14 of it; an independent row's is its squared sine to the span
+ * of the rows before it, so rows kept apart by more than 1e-5 rad stay in the solve. */
+#define TB__PIVOT_DROP 1e-10
 
 /* A growing list of joint indices (the graph's adjacency during the ordering). */
 typedef struct list {
@@ -254,6 +268,7 @@ void tb__joint_solver_free(tb__joint_solver *solver)
     free(solver->updates);
     free(solver->couplings);
     free(solver->blocks);
+    free(solver->scale);
     memset(solver, 0, sizeof *solver);
 }
 
@@ -276,7 +291,8 @@ static bool lay_out(const tb_scene *scene, const tb__joint *joints, tb__joint_so
         return false;
     }
     s->blocks = tb__malloc_array(s->block_count, TB__BLOCK * sizeof(double));
-    return s->blocks != NULL;
+    s->scale = tb__malloc_array(n > 0 ? n : 1, TB__JOINT_ROWS * sizeof(double));
+    return s->blocks != NULL && s->scale != NULL;
 }
 
 tb_status tb__joint_solver_build(const tb_scene *scene, const tb__joint *joints, size_t count,
@@ -341,6 +357,11 @@ static void assemble(tb__joint_solver *s, const tb__joint *joints, const tb__joi
             }
         }
     }
+    for (size_t j = 0; j < s->count; ++j) { /* each row's own scale, for dropping repeats */
+        for (int r = 0; r < joints[j].solved_rows; ++r) {
+            s->scale[TB__JOINT_ROWS * j + r] = s->blocks[TB__BLOCK * j + (TB__JOINT_ROWS + 1) * r];
+        }
+    }
 }
 
 /* The kernels below take a column's row count m as a constant where they are inlined into the
@@ -352,18 +373,19 @@ static void assemble(tb__joint_solver *s, const tb__joint *joints, const tb__joi
 #endif
 
 /* D = L L^T in place (lower), m x m, with 1 / L_jj kept on the diagonal (the substitutions
- * multiply); 0, or 1 for a pivot that is not positive. */
-TB__UNROLLED int factor_diagonal(double *D, int m)
+ * multiply); a row whose pivot is at most TB__PIVOT_DROP of its scale is dropped (1 / L_jj and
+ * its column 0). 0, or 1 for a pivot that is not a number. */
+TB__UNROLLED int factor_diagonal(double *D, const double *scale, int m)
 {
     for (int j = 0; j < m; ++j) {
         double d = D[TB__JOINT_ROWS * j + j];
         for (int k = 0; k < j; ++k) {
             d -= D[TB__JOINT_ROWS * j + k] * D[TB__JOINT_ROWS * j + k];
         }
-        if (!(d > 0.0)) {
+        if (isnan(d)) {
             return 1;
         }
-        const double inverse = 1.0 / sqrt(d);
+        const double inverse = d > TB__PIVOT_DROP * scale[j] ? 1.0 / sqrt(d) : 0.0;
         D[TB__JOINT_ROWS * j + j] = inverse;
         for (int i = j + 1; i < m; ++i) {
             double x = D[TB__JOINT_ROWS * i + j];
@@ -409,7 +431,7 @@ TB__UNROLLED void subtract_product(double *T, const double *F, int mf, const dou
 TB__UNROLLED int factor_column(tb__joint_solver *s, const tb__joint *joints, size_t p, int m)
 {
     double *D = s->blocks + TB__BLOCK * s->order[p];
-    if (factor_diagonal(D, m) != 0) {
+    if (factor_diagonal(D, s->scale + TB__JOINT_ROWS * s->order[p], m) != 0) {
         return 1;
     }
     for (size_t e = s->column_start[p]; e < s->column_start[p + 1]; ++e) {

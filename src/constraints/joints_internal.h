@@ -81,6 +81,7 @@ typedef struct tb__joint_solver {
     size_t coupling_count;
     double *blocks; /* TB__BLOCK per block */
     size_t block_count;
+    double *scale; /* TB__JOINT_ROWS per joint: each row's diagonal of J M^-1 J^T as assembled */
 } tb__joint_solver;
 
 /* The scene's joints (scene->constraints). */
@@ -126,7 +127,9 @@ tb_status tb__joint_solver_build(const tb_scene *scene, const tb__joint *joints,
                                  tb__joint_solver *out);
 void tb__joint_solver_free(tb__joint_solver *solver);
 /* Assembles J M^-1 J^T from the evals, factors it and solves for every eval's lambda from its
- * rhs. 0, or 1 when J M^-1 J^T is not positive definite (rows that repeat one another). */
+ * rhs. A row that repeats others (its pivot at round-off of its diagonal: a door's second
+ * hinge, a planar loop's out-of-plane rows) is dropped, its lambda 0, the others carrying its
+ * load. 0, or 1 when a pivot is not a number (a non-finite state). */
 int tb__joint_solve(tb__joint_solver *solver, const tb__joint *joints, tb__joint_eval *evals);
 
 /* The motion of side s of a joint at (t, y): the accessor's, the world's at rest for
