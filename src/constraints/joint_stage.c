@@ -308,12 +308,17 @@ static int project_momenta(tb__joints *js, const tb_scene *scene, double t, doub
     return 0;
 }
 
+int tb__joints_project(tb__joints *js, const tb_scene *scene, double t, double *y)
+{
+    bool current = false;
+    const int rc = project_positions(js, scene, t, y, &current);
+    return rc != 0 ? rc : project_momenta(js, scene, t, y, current);
+}
+
 static int project_joints(void *constraints, const tb_scene *scene, double t, double *y)
 {
     tb__joints *js = constraints;
-    bool current = false;
-    int rc = project_positions(js, scene, t, y, &current);
-    rc = rc != 0 ? rc : project_momenta(js, scene, t, y, current);
+    const int rc = tb__joints_project(js, scene, t, y);
     /* an adaptive method's projections run on trial steps too: it breaks joints at outputs */
     return rc != 0 || tb_method_is_adaptive(scene->guard_method)
                ? rc

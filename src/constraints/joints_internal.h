@@ -139,6 +139,11 @@ void tb__joint_motion(const tb_scene *scene, double t, const double *y, size_t b
 /* The body constants of body (world: infinitely heavy). */
 const tb__body *tb__joint_body_constants(const tb_scene *scene, size_t body);
 
+/* Projects y at t onto the joints' rows: positions (Newton's method, a few iterations), then
+ * momenta (J u = 0), as after each step, without the breaking check. 0, or 1 when the solve
+ * fails or an error is not finite (joint_stage.c). */
+int tb__joints_project(tb__joints *js, const tb_scene *scene, double t, double *y);
+
 /* The ops row the scene holds the joints by (joint_stage.c). */
 extern const tb__constraint_ops tb__joint_ops;
 
