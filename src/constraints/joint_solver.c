@@ -327,35 +327,79 @@ static double row_dot(const tb__joint_row *a, int sa, const tb__joint_row *b, in
            a->w[sa][0] * b->w[sb][0] + a->w[sa][1] * b->w[sb][1] + a->w[sa][2] * b->w[sb][2];
 }
 
-static void zero_block(double *B, int rows, int columns)
+/* The kernels below take their row counts as constants where they are inlined into a
+ * dispatch, so that the compiler unrolls their loops for 3, 5 and 6 rows (the assembly of the
+ * blocks was half of a chain's step with the counts read at run time). */
+#if defined(__GNUC__) || defined(__clang__)
+#define TB__UNROLLED static inline __attribute__((always_inline))
+#else
+#define TB__UNROLLED static inline
+#endif
+
+/* B += J_side W_side^T for the mi rows of J and mk of W (a diagonal block: its lower half). */
+TB__UNROLLED void add_product(double *B, const tb__joint_row *J, int js, const tb__joint_row *W,
+                              int ws, int mi, int mk, bool diagonal)
 {
-    for (int r = 0; r < rows; ++r) {
-        memset(B + TB__JOINT_ROWS * r, 0, (size_t)columns * sizeof(double));
+    for (int r = 0; r < mi; ++r) {
+        for (int q = 0; q < (diagonal ? r + 1 : mk); ++q) {
+            B[TB__JOINT_ROWS * r + q] += row_dot(&J[r], js, &W[q], ws);
+        }
     }
+}
+
+/* One shared body's part of a block, dispatched on the row counts. */
+static void add_coupling(double *B, const tb__joint_coupling *cp, const tb__joint_eval *ei,
+                         const tb__joint_eval *ek, int mi, int mk)
+{
+    const tb__joint_row *J = ei->J, *W = ek->W;
+    const int js = cp->row_side, ws = cp->column_side;
+    if (cp->row_joint == cp->column_joint) { /* its lower half is read */
+        switch (mi) {
+        case 3:
+            add_product(B, J, js, W, ws, 3, 3, true);
+            return;
+        case 5:
+            add_product(B, J, js, W, ws, 5, 5, true);
+            return;
+        default:
+            add_product(B, J, js, W, ws, 6, 6, true);
+            return;
+        }
+    }
+#define TB__CASE(a, b)                                                                             \
+    case 8 * (a) + (b):                                                                            \
+        add_product(B, J, js, W, ws, a, b, false);                                                 \
+        return;
+    switch (8 * mi + mk) {
+        TB__CASE(3, 3)
+        TB__CASE(3, 5)
+        TB__CASE(3, 6)
+        TB__CASE(5, 3)
+        TB__CASE(5, 5)
+        TB__CASE(5, 6)
+        TB__CASE(6, 3)
+        TB__CASE(6, 5)
+    default:
+        add_product(B, J, js, W, ws, 6, 6, false);
+        return;
+    }
+#undef TB__CASE
 }
 
 static void assemble(tb__joint_solver *s, const tb__joint *joints, const tb__joint_eval *evals)
 {
-    for (size_t p = 0; p < s->count; ++p) { /* the parts of the blocks the joints' rows use */
+    for (size_t p = 0; p < s->count; ++p) {
         const size_t v = s->order[p];
-        zero_block(s->blocks + TB__BLOCK * v, joints[v].solved_rows, joints[v].solved_rows);
+        memset(s->blocks + TB__BLOCK * v, 0, TB__BLOCK * sizeof(double));
         for (size_t e = s->column_start[p]; e < s->column_start[p + 1]; ++e) {
-            zero_block(s->blocks + TB__BLOCK * s->below[e], joints[s->below_joint[e]].solved_rows,
-                       joints[v].solved_rows);
+            memset(s->blocks + TB__BLOCK * s->below[e], 0, TB__BLOCK * sizeof(double));
         }
     }
     for (size_t c = 0; c < s->coupling_count; ++c) {
         const tb__joint_coupling *cp = &s->couplings[c];
-        double *B = s->blocks + TB__BLOCK * cp->block;
-        const tb__joint_eval *ei = &evals[cp->row_joint], *ek = &evals[cp->column_joint];
-        const int mi = joints[cp->row_joint].solved_rows, mk = joints[cp->column_joint].solved_rows;
-        const bool diagonal = cp->row_joint == cp->column_joint; /* its lower half is read */
-        for (int r = 0; r < mi; ++r) {
-            for (int q = 0; q < (diagonal ? r + 1 : mk); ++q) {
-                B[TB__JOINT_ROWS * r + q] +=
-                    row_dot(&ei->J[r], cp->row_side, &ek->W[q], cp->column_side);
-            }
-        }
+        add_coupling(s->blocks + TB__BLOCK * cp->block, cp, &evals[cp->row_joint],
+                     &evals[cp->column_joint], joints[cp->row_joint].solved_rows,
+                     joints[cp->column_joint].solved_rows);
     }
     for (size_t j = 0; j < s->count; ++j) { /* each row's own scale, for dropping repeats */
         for (int r = 0; r < joints[j].solved_rows; ++r) {
@@ -363,14 +407,6 @@ static void assemble(tb__joint_solver *s, const tb__joint *joints, const tb__joi
         }
     }
 }
-
-/* The kernels below take a column's row count m as a constant where they are inlined into the
- * dispatch, so that the compiler unrolls their loops for 3, 5 and 6 rows. */
-#if defined(__GNUC__) || defined(__clang__)
-#define TB__UNROLLED static inline __attribute__((always_inline))
-#else
-#define TB__UNROLLED static inline
-#endif
 
 /* D = L L^T in place (lower), m x m, with 1 / L_jj kept on the diagonal (the substitutions
  * multiply); a row whose pivot is at most TB__PIVOT_DROP of its scale is dropped (1 / L_jj and
