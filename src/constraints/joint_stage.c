@@ -358,4 +358,5 @@ const tb__constraint_ops tb__joint_ops = {
     .link_islands = link_joints,
     .destroy = destroy_joints,
     .at_output = joints_at_output,
+    .rate = tb__joints_rate,
 };

@@ -105,6 +105,15 @@ void tb__joint_reaction(const tb_scene *scene, const tb__joints *js, size_t j, d
  * failure. */
 int tb__joints_check_breaking(tb__joints *js, const tb_scene *scene, double t, double *y);
 
+/* Room for a derivative of the scene's state in js->scratch: made once per layout (the first
+ * boundary after a body or an effect's states were added), never per step; false when out of
+ * memory (joint_breaking.c). */
+bool tb__joints_reserve_scratch(tb__joints *js, size_t n);
+/* The jointed bodies' fastest modes at y and the scene's time, for the stability guard
+ * (tb__constraint_ops.rate, joint_rate.c): one derivative for the reactions. */
+int tb__joints_rate(void *constraints, const tb_scene *scene, const double *y,
+                    tb__effect_rate *out);
+
 /* The Baumgarte rate (1/s) under CVODE Adams (joint_stage.c explains it). */
 #define TB__JOINT_BAUMGARTE_RATE 20.0
 
