@@ -9,7 +9,9 @@
  * and the same with |tau| across tau for a joint's reaction torque. On a uniform chain that is
  * its alternating mode, sqrt(12 T / (m l)); with the neighbours' inertia the true highest mode
  * lies below it (the heavy chain's: 669 rad/s against 767, tests/test_joints_guard.c). The
- * forces are the reactions at the state (one derivative). Soft joints add their springs:
+ * forces are the reactions of the last derivative's solve (at most a step old: the guard runs
+ * before every step, and a derivative there would cost a fifth of a chain's step), or of one
+ * derivative at the state before the first. Soft joints add their springs:
  * w = 2 pi frequency and damping ratio zeta per row. Baumgarte's rate (20/s) acts only under
  * CVODE Adams, which the guard does not limit (error control chooses its steps). */
 #include "constraints/joints_internal.h"
@@ -17,6 +19,7 @@
 #include "math/tb_math.h"
 
 #include <math.h>
+#include <string.h>
 
 /* The largest eigenvalue (1/(kg m^2)) of the inverse inertia across the unit world vector u: of
  * I^-1 restricted to the plane perpendicular to u, in the body's principal frame. */
@@ -101,6 +104,24 @@ static void sum_stiffness(const tb__joints *js, const tb_scene *scene, double *a
     }
 }
 
+/* The fastest body's rate into out, from the reactions of the evals' lambda (scratch: its room
+ * sums the bodies, the derivative in it read out). */
+static void sum_stiffness_into(tb__joints *js, const tb_scene *scene, size_t n,
+                               tb__effect_rate *out)
+{
+    for (size_t k = 0; k < n; ++k) {
+        js->scratch[k] = 0.0;
+    }
+    sum_stiffness(js, scene, js->scratch);
+    for (size_t slot = 0; slot < scene->slot_count; ++slot) {
+        const double rate = sqrt(js->scratch[TB_STATE_SIZE * slot]);
+        if (rate > out->oscillation || isnan(rate)) {
+            out->oscillation = rate;
+            out->oscillation_body = scene->slot_ids[slot];
+        }
+    }
+}
+
 int tb__joints_rate(void *constraints, const tb_scene *scene, const double *y, tb__effect_rate *out)
 {
     tb__joints *js = constraints;
@@ -117,6 +138,13 @@ int tb__joints_rate(void *constraints, const tb_scene *scene, const double *y, t
     if (!tb__joints_reserve_scratch(js, n)) {
         return -1;
     }
+    if (js->has_last_lambda) { /* the rows are the projection's, at y: the last solve's lambda */
+        for (size_t j = 0; j < js->count; ++j) {
+            memcpy(js->evals[j].lambda, js->evals[j].last_lambda, sizeof js->evals[j].lambda);
+        }
+        sum_stiffness_into(js, scene, n, out);
+        return 0;
+    }
     /* busy while it runs, as in a step: a user effect's call that would change the scene is
      * refused there too */
     tb_scene *held = (tb_scene *)scene;
@@ -127,16 +155,6 @@ int tb__joints_rate(void *constraints, const tb_scene *scene, const double *y, t
     if (rc != 0) {
         return rc;
     }
-    for (size_t k = 0; k < n; ++k) { /* the derivative is read out: its room sums the bodies */
-        js->scratch[k] = 0.0;
-    }
-    sum_stiffness(js, scene, js->scratch);
-    for (size_t slot = 0; slot < scene->slot_count; ++slot) {
-        const double rate = sqrt(js->scratch[TB_STATE_SIZE * slot]);
-        if (rate > out->oscillation || isnan(rate)) {
-            out->oscillation = rate;
-            out->oscillation_body = scene->slot_ids[slot];
-        }
-    }
+    sum_stiffness_into(js, scene, n, out);
     return 0;
 }

@@ -28,6 +28,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 /* The projection's Newton iterations: at most this many, stopping when the largest |C| is
  * below the tolerance (m, or rad) or stops halving (round-off). One iteration from a step's
@@ -191,8 +192,10 @@ static int apply_joints(void *constraints, const tb_scene *scene, double t, cons
     for (size_t j = 0; j < js->count; ++j) {
         if (js->joints[j].solved_rows > 0) {
             add_row_loads(js, scene, j, dydt, false);
+            memcpy(js->evals[j].last_lambda, js->evals[j].lambda, sizeof js->evals[j].lambda);
         }
     }
+    js->has_last_lambda = true;
     return 0;
 }
 

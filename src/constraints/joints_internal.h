@@ -49,6 +49,7 @@ typedef struct tb__joint_eval {
     double rate[TB__JOINT_ROWS]; /* J u (the projection's) */
     double rhs[TB__JOINT_ROWS];
     double lambda[TB__JOINT_ROWS];
+    double last_lambda[TB__JOINT_ROWS]; /* the last derivative's lambda (joint_rate.c reads it) */
 } tb__joint_eval;
 
 /* A contribution J_i,side_i M^-1 J_k,side_k^T of one shared body to the block (i, k) of
@@ -93,6 +94,7 @@ typedef struct tb__joints {
     size_t breakable; /* joints with a finite break_force or break_torque */
     double *scratch;  /* a derivative's worth (scratch_size doubles) for the breaking check */
     size_t scratch_size;
+    bool has_last_lambda; /* a derivative has solved since the joints were made */
 } tb__joints;
 
 /* Joint j's force on body_a (N) and torque about its anchor (N m), world, from the last solve's
