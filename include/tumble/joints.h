@@ -75,8 +75,8 @@ typedef struct tb_joint_def {
      * animators' wobbly rigs: each row r pulls with -m_r (w^2 C_r + 2 zeta w dC_r/dt), w = 2 pi
      * frequency, m_r = 1 / (J_r M^-1 J_r^T) the row's effective mass, so a row alone rings at
      * frequency (Hz, > 0) with damping_ratio (>= 0). Not projected; its spring's energy is not
-     * in tb_scene_potential_energy, and the stability guard does not see its rate (keep
-     * 2 pi frequency dt well inside the method's limit). frequency 0 (default): rigid. */
+     * in tb_scene_potential_energy; the stability guard counts its rate, 2 pi frequency at
+     * damping_ratio. frequency 0 (default): rigid. */
     double soft_frequency, soft_damping_ratio;
     int internal_cookie; /* set by tb_joint_def_default */
 } tb_joint_def;

@@ -234,9 +234,7 @@ typedef struct tb__constraint_ops {
      * decisions that change the right-hand side (a joint breaking) are taken there. 0, or the
      * derivative's failure. */
     int (*at_output)(void *constraints, const tb_scene *scene, double t, double *y);
-    /* The fastest modes the constraints' forces give the bodies at y and the scene's time, for
-     * the stability guard (src/scene/stability.c); NULL: none. 0, or the derivative's failure
-     * (no estimate: *out zero). */
+    /* The stability guard's modes of the constrained bodies at y (NULL: none); 0 or failed */
     int (*rate)(void *constraints, const tb_scene *scene, const double *y, tb__effect_rate *out);
 } tb__constraint_ops;
 
