@@ -35,6 +35,7 @@ static const char run_help[] =
     "  --joints FILE     each joint's reaction on its first body per frame, as CSV:\n"
     "                    t,joint,fx,fy,fz,tx,ty,tz,broken (N and N m, world frame; the\n"
     "                    torque about the anchor; broken 0 or 1)\n"
+    "  --project-joints  project the start onto the joints first (tb_scene_project_joints)\n"
     "  -h, --help        this help\n"
     "\n"
     "The CSV (RFC 4180: a body name with a comma, quote or line break is quoted) has one row\n"
@@ -57,6 +58,8 @@ static const char check_help[] =
     "that does not apply to the method are refused here as they would be there.\n"
     "  --integrator M, --dt H, --rtol R, --atol A, --max-steps N, --fps F, --duration T\n"
     "                    as for tumble run\n"
+    "  --project-joints  project the start onto the joints first (positions, then velocities,\n"
+    "                    to 1e-12: tb_scene_project_joints), then check it\n"
     "  -h, --help        this help\n"
     "It prints, on standard error, the step each fixed-step method would take with dt 0 (the\n"
     "scene's default step), the steps per simulated second, and the stability limit with what\n"
@@ -66,7 +69,8 @@ static const char check_help[] =
     "shapes, the pairs touching at the start (with their depth), and warnings (two contact\n"
     "effects on one pair, a deep overlap at the start, a named body without a shape).\n"
     "On a scene with joints it prints each joint (type, bodies) and how far the start is off\n"
-    "it, and refuses a start off a joint by more than 1e-6 (m or rad, m/s or rad/s).\n"
+    "it, and refuses a start off a joint by more than 1e-6 (m or rad, m/s or rad/s) unless\n"
+    "--project-joints is given.\n"
     "Exit codes: 0 the scene would run, 2 it would be refused.\n";
 
 static const char accuracy_help[] =

@@ -56,8 +56,8 @@ int cli_check_joints(const char *scene_path, const tb_scene *scene)
             const bool moved = position <= CLI_JOINT_TOLERANCE;
             fprintf(stderr,
                     "tumble: %s: joints[%zu] (%s, %s - %s): the start is off the joint: its %s "
-                    "error is %.3g %s, more than %g; the library has no projection call, so "
-                    "give the bodies a start that keeps the joint\n",
+                    "error is %.3g %s, more than %g; give the bodies a start that keeps the "
+                    "joint, or --project-joints to project it onto the joints\n",
                     scene_path, j, tb_joint_type_name(def.type), body_name(scene, def.body_a),
                     body_name(scene, def.body_b), moved ? "velocity" : "position",
                     moved ? velocity : position, moved ? "m/s (or rad/s)" : "m (or rad)",

@@ -39,6 +39,7 @@ typedef struct option_info {
 
 static const option_info option_table[] = {
     FLAG("help", 'h', ALL_COMMANDS, help),
+    FLAG("project-joints", 0, RUN_OR_CHECK, project_joints),
     TEXT("out", 'o', CLI_RUN, out),
     TEXT("format", 0, CLI_RUN, format),
     TEXT("rotation", 0, CLI_RUN, rotation),

@@ -19,6 +19,7 @@ typedef struct cli_options {
     cli_command command;
     const char *command_name; /* "run", "check" or "accuracy" */
     bool help;                /* --help after the command: print that command's help */
+    bool project_joints;      /* run, check: project the start onto the joints first */
     const char *scene;
     const char *out;      /* NULL: standard output */
     const char *format;   /* run: csv, npz, glb or gltf; NULL: from --out's extension */

@@ -39,6 +39,13 @@ int cli_load(const cli_options *o, tb_scene **scene, tb_run_def *run)
         return CLI_EXIT_INPUT;
     }
     char message[256];
+    double error_left = 0.0;
+    if (o->project_joints && tb_scene_project_joints(*scene, 0.0, &error_left) != TB_STATUS_OK) {
+        fprintf(stderr, "tumble: %s: --project-joints: %s\n", o->scene, tb_scene_detail(*scene));
+        tb_scene_destroy(*scene);
+        *scene = NULL;
+        return CLI_EXIT_INPUT;
+    }
     if (!cli_apply(o, run, message, sizeof message)) {
         fprintf(stderr, "tumble: %s\n", message);
         tb_scene_destroy(*scene);

@@ -120,7 +120,12 @@ static void set_up(fixture *f)
       tb_scene_joint_broken(f->scene, 0, NULL))                                                    \
     X("joint_type_from_name: capitalised", INVALID_ARGUMENT, "",                                   \
       tb_joint_type_from_name("Ball", &f->type))                                                   \
-    X("joint_type_from_name: NULL", NULL_POINTER, "", tb_joint_type_from_name(NULL, &f->type))
+    X("joint_type_from_name: NULL", NULL_POINTER, "", tb_joint_type_from_name(NULL, &f->type))     \
+    X("project_joints: NULL scene", NULL_POINTER, "", tb_scene_project_joints(NULL, 0.0, NULL))    \
+    X("project_joints: negative tolerance", INVALID_ARGUMENT, "tolerance",                         \
+      tb_scene_project_joints(f->scene, -1e-9, &f->value))                                         \
+    X("project_joints: NaN tolerance", NOT_FINITE, "tolerance",                                    \
+      tb_scene_project_joints(f->scene, NAN, &f->value))
 
 static tb_status attempt(size_t i, fixture *f)
 {

@@ -75,8 +75,8 @@ typedef struct tb_joint_def {
      * animators' wobbly rigs: each row r pulls with -m_r (w^2 C_r + 2 zeta w dC_r/dt), w = 2 pi
      * frequency, m_r = 1 / (J_r M^-1 J_r^T) the row's effective mass, so a row alone rings at
      * frequency (Hz, > 0) with damping_ratio (>= 0). Not projected; its spring's energy is not
-     * in tb_scene_potential_energy, and the stability guard does not see its rate (keep
-     * 2 pi frequency dt well inside the method's limit). frequency 0 (default): rigid. */
+     * in tb_scene_potential_energy; the stability guard counts its rate, 2 pi frequency at
+     * damping_ratio. frequency 0 (default): rigid. */
     double soft_frequency, soft_damping_ratio;
     int internal_cookie; /* set by tb_joint_def_default */
 } tb_joint_def;
@@ -112,6 +112,21 @@ TB_API tb_status tb_scene_joint_reaction(tb_scene *scene, const double *y, size_
  * rad/s), at the scene's time. Either out pointer may be NULL. */
 TB_API tb_status tb_scene_joint_error(const tb_scene *scene, const double *y, size_t joint,
                                       double *out_position, double *out_velocity);
+
+/* Projects the scene's states (tb_scene_states) onto its joints at the scene's time, as after
+ * every step: positions first, by the mass-weighted least change (Newton's method on the rows),
+ * then velocities, so that each row's rate is 0; for a start off the joints (a scene file's
+ * rounded poses). Soft and broken joints are not projected, sleeping bodies not moved.
+ * tolerance (m or rad, and m/s or rad/s) is the largest joint error accepted after it; 0 asks
+ * for TB_JOINT_PROJECTION_TOLERANCE. *out_error (may be NULL) gets the largest error left
+ * (position or velocity). Refuses, changing nothing: a NULL scene (TB_STATUS_NULL_POINTER), a
+ * negative tolerance (TB_STATUS_INVALID_ARGUMENT), a non-finite one (TB_STATUS_NOT_FINITE), a call
+ * while an integrator steps the scene (TB_STATUS_BUSY), a start the projection does not bring
+ * within the tolerance (TB_STATUS_SOLVER_FAILED, the detail naming the joint and its error). A
+ * scene without joints is left as it is. Call it before making the integrator (CVODE keeps its own
+ * copy of the states). */
+#define TB_JOINT_PROJECTION_TOLERANCE 1e-12
+TB_API tb_status tb_scene_project_joints(tb_scene *scene, double tolerance, double *out_error);
 
 /* Whether the joint has broken (in the run so far). */
 TB_API tb_status tb_scene_joint_broken(const tb_scene *scene, size_t joint, bool *out_broken);

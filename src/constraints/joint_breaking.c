@@ -32,9 +32,7 @@ void tb__joint_reaction(const tb_scene *scene, const tb__joints *js, size_t j, d
     tb__v3_axpy(torque, -1.0, moment);
 }
 
-/* Room for a derivative of the scene's state: made once per layout (the first boundary after a
- * body or an effect's states were added), never per step. */
-static bool reserve_scratch(tb__joints *js, size_t n)
+bool tb__joints_reserve_scratch(tb__joints *js, size_t n)
 {
     if (n <= js->scratch_size) {
         return true;
@@ -53,7 +51,7 @@ int tb__joints_check_breaking(tb__joints *js, const tb_scene *scene, double t, d
     if (js->breakable == 0) {
         return 0;
     }
-    if (!reserve_scratch(js, tb_scene_state_size(scene))) {
+    if (!tb__joints_reserve_scratch(js, tb_scene_state_size(scene))) {
         return -1;
     }
     const int rc = tb_scene_derivative(t, y, js->scratch, (void *)scene);

@@ -4,7 +4,16 @@
  * tree the leaves go first, so no block fills in and the cost is linear in the joints; a loop
  * fills one block column per loop), each column's blocks below the diagonal, and the list of
  * updates L(i, k) -= L(i, j) L(k, j)^T the right-looking factorisation makes. Each solve then
- * assembles, factors and substitutes with no allocation. */
+ * assembles, factors and substitutes with no allocation.
+ *
+ * Rows that repeat one another (a door on two coaxial hinges, a planar loop of hinges) make
+ * J M^-1 J^T singular, positive semi-definite: the accelerations are unique, lambda is not.
+ * A row whose pivot, once the rows before it are eliminated, falls to TB__PIVOT_DROP of its
+ * own diagonal (round-off of a combination of the others) is dropped: its column of L is zero
+ * and its lambda 0. That is the factor of J M^-1 J^T without the row, so the other rows are
+ * solved exactly; the system is consistent (the dropped row is a combination of the others,
+ * and so is its right-hand side: the same accelerations' rows), so the dropped row holds too,
+ * and its share of the load goes to the rows it repeats (tests/test_joints_redundant.c). */
 #include "constraints/joints_internal.h"
 
 #include "core/validate.h"
@@ -12,6 +21,11 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+
+/* A pivot at most this fraction of its row's diagonal drops the row. A repeated row's pivot is
+ * round-off, about 1e-16 to 1e-14 of it; an independent row's is its squared sine to the span
+ * of the rows before it, so rows kept apart by more than 1e-5 rad stay in the solve. */
+#define TB__PIVOT_DROP 1e-10
 
 /* A growing list of joint indices (the graph's adjacency during the ordering). */
 typedef struct list {
@@ -254,6 +268,7 @@ void tb__joint_solver_free(tb__joint_solver *solver)
     free(solver->updates);
     free(solver->couplings);
     free(solver->blocks);
+    free(solver->scale);
     memset(solver, 0, sizeof *solver);
 }
 
@@ -276,7 +291,8 @@ static bool lay_out(const tb_scene *scene, const tb__joint *joints, tb__joint_so
         return false;
     }
     s->blocks = tb__malloc_array(s->block_count, TB__BLOCK * sizeof(double));
-    return s->blocks != NULL;
+    s->scale = tb__malloc_array(n > 0 ? n : 1, TB__JOINT_ROWS * sizeof(double));
+    return s->blocks != NULL && s->scale != NULL;
 }
 
 tb_status tb__joint_solver_build(const tb_scene *scene, const tb__joint *joints, size_t count,
@@ -311,59 +327,101 @@ static double row_dot(const tb__joint_row *a, int sa, const tb__joint_row *b, in
            a->w[sa][0] * b->w[sb][0] + a->w[sa][1] * b->w[sb][1] + a->w[sa][2] * b->w[sb][2];
 }
 
-static void zero_block(double *B, int rows, int columns)
-{
-    for (int r = 0; r < rows; ++r) {
-        memset(B + TB__JOINT_ROWS * r, 0, (size_t)columns * sizeof(double));
-    }
-}
-
-static void assemble(tb__joint_solver *s, const tb__joint *joints, const tb__joint_eval *evals)
-{
-    for (size_t p = 0; p < s->count; ++p) { /* the parts of the blocks the joints' rows use */
-        const size_t v = s->order[p];
-        zero_block(s->blocks + TB__BLOCK * v, joints[v].solved_rows, joints[v].solved_rows);
-        for (size_t e = s->column_start[p]; e < s->column_start[p + 1]; ++e) {
-            zero_block(s->blocks + TB__BLOCK * s->below[e], joints[s->below_joint[e]].solved_rows,
-                       joints[v].solved_rows);
-        }
-    }
-    for (size_t c = 0; c < s->coupling_count; ++c) {
-        const tb__joint_coupling *cp = &s->couplings[c];
-        double *B = s->blocks + TB__BLOCK * cp->block;
-        const tb__joint_eval *ei = &evals[cp->row_joint], *ek = &evals[cp->column_joint];
-        const int mi = joints[cp->row_joint].solved_rows, mk = joints[cp->column_joint].solved_rows;
-        const bool diagonal = cp->row_joint == cp->column_joint; /* its lower half is read */
-        for (int r = 0; r < mi; ++r) {
-            for (int q = 0; q < (diagonal ? r + 1 : mk); ++q) {
-                B[TB__JOINT_ROWS * r + q] +=
-                    row_dot(&ei->J[r], cp->row_side, &ek->W[q], cp->column_side);
-            }
-        }
-    }
-}
-
-/* The kernels below take a column's row count m as a constant where they are inlined into the
- * dispatch, so that the compiler unrolls their loops for 3, 5 and 6 rows. */
+/* The kernels below take their row counts as constants where they are inlined into a
+ * dispatch, so that the compiler unrolls their loops for 3, 5 and 6 rows (the assembly of the
+ * blocks was half of a chain's step with the counts read at run time). */
 #if defined(__GNUC__) || defined(__clang__)
 #define TB__UNROLLED static inline __attribute__((always_inline))
 #else
 #define TB__UNROLLED static inline
 #endif
 
+/* B += J_side W_side^T for the mi rows of J and mk of W (a diagonal block: its lower half). */
+TB__UNROLLED void add_product(double *B, const tb__joint_row *J, int js, const tb__joint_row *W,
+                              int ws, int mi, int mk, bool diagonal)
+{
+    for (int r = 0; r < mi; ++r) {
+        for (int q = 0; q < (diagonal ? r + 1 : mk); ++q) {
+            B[TB__JOINT_ROWS * r + q] += row_dot(&J[r], js, &W[q], ws);
+        }
+    }
+}
+
+/* One shared body's part of a block, dispatched on the row counts. */
+static void add_coupling(double *B, const tb__joint_coupling *cp, const tb__joint_eval *ei,
+                         const tb__joint_eval *ek, int mi, int mk)
+{
+    const tb__joint_row *J = ei->J, *W = ek->W;
+    const int js = cp->row_side, ws = cp->column_side;
+    if (cp->row_joint == cp->column_joint) { /* its lower half is read */
+        switch (mi) {
+        case 3:
+            add_product(B, J, js, W, ws, 3, 3, true);
+            return;
+        case 5:
+            add_product(B, J, js, W, ws, 5, 5, true);
+            return;
+        default:
+            add_product(B, J, js, W, ws, 6, 6, true);
+            return;
+        }
+    }
+#define TB__CASE(a, b)                                                                             \
+    case 8 * (a) + (b):                                                                            \
+        add_product(B, J, js, W, ws, a, b, false);                                                 \
+        return;
+    switch (8 * mi + mk) {
+        TB__CASE(3, 3)
+        TB__CASE(3, 5)
+        TB__CASE(3, 6)
+        TB__CASE(5, 3)
+        TB__CASE(5, 5)
+        TB__CASE(5, 6)
+        TB__CASE(6, 3)
+        TB__CASE(6, 5)
+    default:
+        add_product(B, J, js, W, ws, 6, 6, false);
+        return;
+    }
+#undef TB__CASE
+}
+
+static void assemble(tb__joint_solver *s, const tb__joint *joints, const tb__joint_eval *evals)
+{
+    for (size_t p = 0; p < s->count; ++p) {
+        const size_t v = s->order[p];
+        memset(s->blocks + TB__BLOCK * v, 0, TB__BLOCK * sizeof(double));
+        for (size_t e = s->column_start[p]; e < s->column_start[p + 1]; ++e) {
+            memset(s->blocks + TB__BLOCK * s->below[e], 0, TB__BLOCK * sizeof(double));
+        }
+    }
+    for (size_t c = 0; c < s->coupling_count; ++c) {
+        const tb__joint_coupling *cp = &s->couplings[c];
+        add_coupling(s->blocks + TB__BLOCK * cp->block, cp, &evals[cp->row_joint],
+                     &evals[cp->column_joint], joints[cp->row_joint].solved_rows,
+                     joints[cp->column_joint].solved_rows);
+    }
+    for (size_t j = 0; j < s->count; ++j) { /* each row's own scale, for dropping repeats */
+        for (int r = 0; r < joints[j].solved_rows; ++r) {
+            s->scale[TB__JOINT_ROWS * j + r] = s->blocks[TB__BLOCK * j + (TB__JOINT_ROWS + 1) * r];
+        }
+    }
+}
+
 /* D = L L^T in place (lower), m x m, with 1 / L_jj kept on the diagonal (the substitutions
- * multiply); 0, or 1 for a pivot that is not positive. */
-TB__UNROLLED int factor_diagonal(double *D, int m)
+ * multiply); a row whose pivot is at most TB__PIVOT_DROP of its scale is dropped (1 / L_jj and
+ * its column 0). 0, or 1 for a pivot that is not a number. */
+TB__UNROLLED int factor_diagonal(double *D, const double *scale, int m)
 {
     for (int j = 0; j < m; ++j) {
         double d = D[TB__JOINT_ROWS * j + j];
         for (int k = 0; k < j; ++k) {
             d -= D[TB__JOINT_ROWS * j + k] * D[TB__JOINT_ROWS * j + k];
         }
-        if (!(d > 0.0)) {
+        if (isnan(d)) {
             return 1;
         }
-        const double inverse = 1.0 / sqrt(d);
+        const double inverse = d > TB__PIVOT_DROP * scale[j] ? 1.0 / sqrt(d) : 0.0;
         D[TB__JOINT_ROWS * j + j] = inverse;
         for (int i = j + 1; i < m; ++i) {
             double x = D[TB__JOINT_ROWS * i + j];
@@ -409,7 +467,7 @@ TB__UNROLLED void subtract_product(double *T, const double *F, int mf, const dou
 TB__UNROLLED int factor_column(tb__joint_solver *s, const tb__joint *joints, size_t p, int m)
 {
     double *D = s->blocks + TB__BLOCK * s->order[p];
-    if (factor_diagonal(D, m) != 0) {
+    if (factor_diagonal(D, s->scale + TB__JOINT_ROWS * s->order[p], m) != 0) {
         return 1;
     }
     for (size_t e = s->column_start[p]; e < s->column_start[p + 1]; ++e) {

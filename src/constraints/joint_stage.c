@@ -28,6 +28,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 /* The projection's Newton iterations: at most this many, stopping when the largest |C| is
  * below the tolerance (m, or rad) or stops halving (round-off). One iteration from a step's
@@ -191,8 +192,10 @@ static int apply_joints(void *constraints, const tb_scene *scene, double t, cons
     for (size_t j = 0; j < js->count; ++j) {
         if (js->joints[j].solved_rows > 0) {
             add_row_loads(js, scene, j, dydt, false);
+            memcpy(js->evals[j].last_lambda, js->evals[j].lambda, sizeof js->evals[j].lambda);
         }
     }
+    js->has_last_lambda = true;
     return 0;
 }
 
@@ -308,12 +311,17 @@ static int project_momenta(tb__joints *js, const tb_scene *scene, double t, doub
     return 0;
 }
 
+int tb__joints_project(tb__joints *js, const tb_scene *scene, double t, double *y)
+{
+    bool current = false;
+    const int rc = project_positions(js, scene, t, y, &current);
+    return rc != 0 ? rc : project_momenta(js, scene, t, y, current);
+}
+
 static int project_joints(void *constraints, const tb_scene *scene, double t, double *y)
 {
     tb__joints *js = constraints;
-    bool current = false;
-    int rc = project_positions(js, scene, t, y, &current);
-    rc = rc != 0 ? rc : project_momenta(js, scene, t, y, current);
+    const int rc = tb__joints_project(js, scene, t, y);
     /* an adaptive method's projections run on trial steps too: it breaks joints at outputs */
     return rc != 0 || tb_method_is_adaptive(scene->guard_method)
                ? rc
@@ -353,4 +361,5 @@ const tb__constraint_ops tb__joint_ops = {
     .link_islands = link_joints,
     .destroy = destroy_joints,
     .at_output = joints_at_output,
+    .rate = tb__joints_rate,
 };

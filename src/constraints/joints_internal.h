@@ -49,6 +49,7 @@ typedef struct tb__joint_eval {
     double rate[TB__JOINT_ROWS]; /* J u (the projection's) */
     double rhs[TB__JOINT_ROWS];
     double lambda[TB__JOINT_ROWS];
+    double last_lambda[TB__JOINT_ROWS]; /* the last derivative's lambda (joint_rate.c reads it) */
 } tb__joint_eval;
 
 /* A contribution J_i,side_i M^-1 J_k,side_k^T of one shared body to the block (i, k) of
@@ -81,6 +82,7 @@ typedef struct tb__joint_solver {
     size_t coupling_count;
     double *blocks; /* TB__BLOCK per block */
     size_t block_count;
+    double *scale; /* TB__JOINT_ROWS per joint: each row's diagonal of J M^-1 J^T as assembled */
 } tb__joint_solver;
 
 /* The scene's joints (scene->constraints). */
@@ -92,6 +94,7 @@ typedef struct tb__joints {
     size_t breakable; /* joints with a finite break_force or break_torque */
     double *scratch;  /* a derivative's worth (scratch_size doubles) for the breaking check */
     size_t scratch_size;
+    bool has_last_lambda; /* a derivative has solved since the joints were made */
 } tb__joints;
 
 /* Joint j's force on body_a (N) and torque about its anchor (N m), world, from the last solve's
@@ -103,6 +106,15 @@ void tb__joint_reaction(const tb_scene *scene, const tb__joints *js, size_t j, d
  * for good; the scene's right-hand side changes, so CVODE restarts). 0, or the derivative's
  * failure. */
 int tb__joints_check_breaking(tb__joints *js, const tb_scene *scene, double t, double *y);
+
+/* Room for a derivative of the scene's state in js->scratch: made once per layout (the first
+ * boundary after a body or an effect's states were added), never per step; false when out of
+ * memory (joint_breaking.c). */
+bool tb__joints_reserve_scratch(tb__joints *js, size_t n);
+/* The jointed bodies' fastest modes at y and the scene's time, for the stability guard
+ * (tb__constraint_ops.rate, joint_rate.c): one derivative for the reactions. */
+int tb__joints_rate(void *constraints, const tb_scene *scene, const double *y,
+                    tb__effect_rate *out);
 
 /* The Baumgarte rate (1/s) under CVODE Adams (joint_stage.c explains it). */
 #define TB__JOINT_BAUMGARTE_RATE 20.0
@@ -126,7 +138,9 @@ tb_status tb__joint_solver_build(const tb_scene *scene, const tb__joint *joints,
                                  tb__joint_solver *out);
 void tb__joint_solver_free(tb__joint_solver *solver);
 /* Assembles J M^-1 J^T from the evals, factors it and solves for every eval's lambda from its
- * rhs. 0, or 1 when J M^-1 J^T is not positive definite (rows that repeat one another). */
+ * rhs. A row that repeats others (its pivot at round-off of its diagonal: a door's second
+ * hinge, a planar loop's out-of-plane rows) is dropped, its lambda 0, the others carrying its
+ * load. 0, or 1 when a pivot is not a number (a non-finite state). */
 int tb__joint_solve(tb__joint_solver *solver, const tb__joint *joints, tb__joint_eval *evals);
 
 /* The motion of side s of a joint at (t, y): the accessor's, the world's at rest for
@@ -135,6 +149,11 @@ void tb__joint_motion(const tb_scene *scene, double t, const double *y, size_t b
                       bool derivative, tb__motion *out);
 /* The body constants of body (world: infinitely heavy). */
 const tb__body *tb__joint_body_constants(const tb_scene *scene, size_t body);
+
+/* Projects y at t onto the joints' rows: positions (Newton's method, a few iterations), then
+ * momenta (J u = 0), as after each step, without the breaking check. 0, or 1 when the solve
+ * fails or an error is not finite (joint_stage.c). */
+int tb__joints_project(tb__joints *js, const tb_scene *scene, double t, double *y);
 
 /* The ops row the scene holds the joints by (joint_stage.c). */
 extern const tb__constraint_ops tb__joint_ops;

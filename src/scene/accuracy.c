@@ -357,10 +357,15 @@ static void describe_reference(const comparison *c, const tb_accuracy_result *ch
 }
 
 /* def for the BDF reference tried first (reference AUTO): its step budget per frame no larger
- * than the steps per frame of the RK4 reference that replaces it on failure. BDF's steps cost
- * more than RK4's, so past that budget RK4 is the cheaper reference; without the cap a scene
- * whose right-hand side has kinks kept BDF creeping towards the million steps a frame allows
- * (three dice: 100 000 steps, 64 s of CPU, before it gave up at t = 0.32 s). */
+ * than the steps per frame of the RK4 reference that replaces it on failure, on a scene with
+ * events (contact, ground: a right-hand side with kinks), where without the cap BDF crept
+ * towards the million steps a frame allows (three dice: 100 000 steps, 64 s of CPU, before it
+ * gave up at t = 0.32 s). On a smooth scene TB__SMOOTH_BDF_BUDGET times that: BDF's steps at
+ * rtol 1e-11 vary within a run far more than their mean (the jointed double pendulum: 21 a
+ * frame on average, 32 within its first frame, where BDF starts at order 1, and 110 were too
+ * few for the frame at t = 8.68 s), so RK4's 32 ended it at t = 0.003 s (CV_TOO_MUCH_WORK) and
+ * the reference fell back to RK4 (the cli test accuracy_double_pendulum). */
+#define TB__SMOOTH_BDF_BUDGET 4.0
 static tb_accuracy_def bdf_budget(tb_scene *scene, const tb_run_def *run, const double *start,
                                   const tb_accuracy_def *def)
 {
@@ -369,7 +374,8 @@ static tb_accuracy_def bdf_budget(tb_scene *scene, const tb_run_def *run, const 
     tb_error ignored;
     if (def->reference == TB_ACCURACY_REFERENCE_AUTO && run->fps > 0.0 &&
         rk4_pair(scene, start, def, rk4, &ignored) == TB_STATUS_OK) {
-        const double steps = ceil(rk4[0].setting / run->fps);
+        const double factor = tb__scene_has_events(scene) ? 1.0 : TB__SMOOTH_BDF_BUDGET;
+        const double steps = factor * ceil(rk4[0].setting / run->fps);
         if (steps < (double)capped.max_steps) {
             capped.max_steps = (long)steps;
         }

@@ -245,6 +245,8 @@ typedef struct tb__constraint_ops {
      * decisions that change the right-hand side (a joint breaking) are taken there. 0, or the
      * derivative's failure. */
     int (*at_output)(void *constraints, const tb_scene *scene, double t, double *y);
+    /* The stability guard's modes of the constrained bodies at y (NULL: none); 0 or failed */
+    int (*rate)(void *constraints, const tb_scene *scene, const double *y, tb__effect_rate *out);
 } tb__constraint_ops;
 
 struct tb_scene {

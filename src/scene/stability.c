@@ -118,6 +118,24 @@ static void effect_modes(guard *g, const tb_scene *scene, size_t k, const double
     }
 }
 
+/* The jointed bodies' modes (the constraints' rate op: src/constraints/joint_rate.c). */
+static void constraint_modes(guard *g, const tb_scene *scene, const double *y)
+{
+    tb__effect_rate rate;
+    if (scene->constraint_ops == NULL || scene->constraint_ops->rate == NULL ||
+        scene->constraint_ops->rate(scene->constraints, scene, y, &rate) != 0) {
+        return; /* a derivative that fails here fails the step too, which reports it */
+    }
+    const size_t bodies[2] = {rate.oscillation_body, rate.decay_body};
+    const double rates[2] = {rate.oscillation, rate.decay};
+    for (int axis = 0; axis < 2; ++axis) {
+        const size_t i = bodies[axis];
+        consider(g, rates[axis], axis == 0, "the joints on body %zu (\"%s\"), %s", i,
+                 i < scene->body_count ? scene->names[i] : "",
+                 axis == 0 ? "oscillating" : "decaying");
+    }
+}
+
 /* The largest stable step of method for the scene at state y, and what limits it. */
 static void stable_step(const tb_scene *scene, const double *y, tb_method method, guard *g)
 {
@@ -138,6 +156,7 @@ static void stable_step(const tb_scene *scene, const double *y, tb_method method
     for (size_t k = 0; k < scene->effect_count; ++k) {
         effect_modes(g, scene, k, y);
     }
+    constraint_modes(g, scene, y);
 }
 
 tb_status tb_scene_max_stable_step(const tb_scene *scene, tb_method method, double *out_dt,
