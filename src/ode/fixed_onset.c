@@ -6,8 +6,10 @@
  * that are smooth inside, as CVODE's roots give it; a step straddling the onset would integrate
  * the kink with an error of the step's order 1, which friction through an impact shows (a ball
  * landing with backspin: tests/test_contact_onset.c). Crossings the other way (separations,
- * rising through zero) end no step: the force there fades continuously to zero, and a step
- * across it keeps its order up to the kink's own, small, error. */
+ * rising through zero) end no step: the force reaches zero there continuously (its slope may
+ * jump), and a step across one keeps that kink's error, which the impact's outcome is far less
+ * sensitive to than to its start (the friction and the normal impulse are mostly spent by then);
+ * locating them too would double the searches. */
 #include "ode/integrator.h"
 
 #include "core/detail.h"
