@@ -92,16 +92,22 @@ typedef struct tb_ode_lifetime {
 } tb_ode_lifetime;
 
 /* Optional part of a system: events and where the right-hand side loses smoothness. The
- * adaptive methods read roots, step_limit and at_event (fixed-step methods ignore them); every
- * method reads next_break. */
+ * adaptive methods read roots, step_limit and at_event; the fixed-step methods read roots and
+ * at_event for onsets (below; they ignore step_limit); every method reads next_break. */
 typedef struct tb_ode_events {
     /* root_count event functions g_0 .. g_{root_count-1}, written by roots(t, y, g, ctx) into
      * g[0..root_count). Each must be continuous in t and y. CVODE checks their signs at the end
      * of every step and locates a sign change (an event) to within about 100 rounding errors of
      * t in the computed solution, whose own error is the integration error; every call then
      * stops there internally, counts the event (tb_integrator_get_events) and goes on, so a
-     * step ends on each event. A root function that returns non-zero fails the call
-     * (TB_STATUS_SOLVER_FAILED naming it). 0 and NULL (default): none. */
+     * step ends on each event. Fixed-step methods (on systems without blocks) compare the signs
+     * at each step's start and end and end the step at the first onset inside it, a function
+     * falling from above zero to zero or below (for a scene: a gap closing), located on the
+     * step's cubic Hermite interpolant to 6e-8 of the step, taking the step again to there
+     * (the later steps keep their grid, as at next_break); rising crossings end no step. Steps
+     * without an onset inside are those of a system without roots, bit for bit. A root
+     * function that returns non-zero fails the call (TB_STATUS_SOLVER_FAILED naming it). 0 and
+     * NULL (default): none. */
     size_t root_count;
     int (*roots)(double t, const double *y, double *g, void *ctx);
     /* The longest step (> 0, in the system's time unit) the method may take from the accepted
@@ -110,10 +116,10 @@ typedef struct tb_ode_events {
      * tb_integrator_def.max_step (the tighter wins). NULL (default): none. */
     double (*step_limit)(double t, const double *y, const double *dydt, void *ctx);
     /* With roots: called where a call stops at an event (CVODE's root, inside an advance as
-     * well as at its end), with the state there, which it must not change. The system may
-     * change its right-hand side there; when lifetime.rhs_generation then moved, the integrator
-     * restarts from (t, y) at once, so that the new right-hand side holds from the event on (an
-     * event past the output time: from the output). NULL (default): none. */
+     * well as at its end; a fixed step's onset), with the state there, which it must not change.
+     * The system may change its right-hand side there; when lifetime.rhs_generation then moved, the
+     * integrator restarts from (t, y) at once, so that the new right-hand side holds from the event
+     * on (an event past the output time: from the output). NULL (default): none. */
     void (*at_event)(double t, const double *y, void *ctx);
     /* The first time after t where the right-hand side is only C1 in t, INFINITY for none. A
      * fixed-step method shortens the step that would cross it so that the step ends on it (the
@@ -392,7 +398,8 @@ TB_API tb_status tb_integrator_advance(tb_integrator *integrator, double t_targe
 
 /* Takes exactly one step: of size dt (fixed-step), or one internal CVODE step; with event
  * functions (tb_ode_system.events.roots) it stops at an event inside that step instead, and the
- * next call goes on to the step's end. */
+ * next call goes on to the step's end (fixed-step: at an onset, and the next call takes dt from
+ * there). */
 TB_API tb_status tb_integrator_step(tb_integrator *integrator);
 
 /* Current time of y. */
@@ -414,7 +421,7 @@ typedef struct tb_integrator_events {
                            first */
 } tb_integrator_events;
 
-/* Copies the event counts into *out_events; fixed-step integrators report none (count 0).
+/* Copies the event counts into *out_events; fixed-step integrators count their onsets.
  * TB_STATUS_NULL_POINTER for a NULL argument. */
 TB_API tb_status tb_integrator_get_events(const tb_integrator *integrator,
                                           tb_integrator_events *out_events);

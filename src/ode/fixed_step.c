@@ -176,6 +176,11 @@ static tb_status fixed_create(tb_integrator *integrator, const tb_integrator_def
         integrator->work = buffer + n;
     }
     integrator->dt = def->dt;
+    const tb_status status = tb__onset_create(integrator, error);
+    if (status != TB_STATUS_OK) {
+        free(integrator->workspace);
+        return status;
+    }
     integrator->stats.last_order = integrator->stats.current_order = integrator->entry->info.order;
     integrator->stats.current_step = def->dt;
     return TB_STATUS_OK;
@@ -183,6 +188,7 @@ static tb_status fixed_create(tb_integrator *integrator, const tb_integrator_def
 
 static void fixed_destroy(tb_integrator *integrator)
 {
+    tb__onset_destroy(integrator);
     free(integrator->workspace);
 }
 
@@ -269,6 +275,12 @@ tb_status tb__fixed_report(tb_integrator *integrator, const tb__step_failure *fa
         return hook_failed(integrator, failure->rc, t_end);
     case TB_STATUS_STATE_NOT_FINITE:
         return not_finite(integrator, failure->index, failure->value, h, failure->hook_rc);
+    case TB_STATUS_SOLVER_FAILED:
+        ++integrator->stats.failed_steps;
+        return tb__set_detail(integrator->detail, TB_STATUS_SOLVER_FAILED,
+                              "a root function (tb_ode_system.events.roots) returned %d in the %s "
+                              "step from t = %.17g (h = %g), looking for an onset",
+                              failure->rc, integrator->entry->info.name, integrator->t, h);
     default:
         return failure->status;
     }
@@ -281,20 +293,50 @@ static void commit(tb_integrator *integrator, double h, double t_end)
     integrator->stats.last_step = h;
 }
 
-/* Steps the whole system from y into fresh, with 2n doubles of scratch, applies its post-step
- * hook and checks that every component is finite. */
+/* A system with roots: the trial step's end is checked for an onset inside it, and the step
+ * taken again, to the onset, if there is one (fixed_onset.c); *h and *t_end say where it ends. */
+static tb__step_failure end_at_onset(tb_integrator *integrator, const double *y, double *fresh,
+                                     double *scratch, double *h, double *t_end, long *evals)
+{
+    double h_onset = *h;
+    int rc = tb__onset_locate(integrator, y, fresh, *h, evals, &h_onset);
+    if (rc != 0) {
+        return (tb__step_failure){TB_STATUS_SOLVER_FAILED, rc, 0, 0, 0.0};
+    }
+    if (h_onset < *h) {
+        *h = h_onset;
+        *t_end = integrator->t + h_onset;
+        /* an onset ends the step before any break: its last stage is at its end */
+        rc = integrator->entry->step(&integrator->system, integrator->t, *h, *t_end, y, fresh,
+                                     scratch, evals);
+        if (rc != 0) {
+            return (tb__step_failure){TB_STATUS_DERIVATIVE_FAILED, rc, 0, 0, 0.0};
+        }
+    }
+    return (tb__step_failure){TB_STATUS_OK, 0, 0, 0, 0.0};
+}
+
+/* Steps the whole system from y into fresh, with 2n doubles of scratch (to an onset inside the
+ * step, if the system has roots: *h and *t_end shortened), applies its post-step hook and checks
+ * that every component is finite. */
 static tb__step_failure step_whole(tb_integrator *integrator, const double *y, double *fresh,
-                                   double *scratch, double h, double t_last, double t_end,
+                                   double *scratch, double *h, double t_last, double *t_end,
                                    long *evals)
 {
     const tb_ode_system *system = &integrator->system;
     tb__step_failure failure = {TB_STATUS_OK, 0, 0, 0, 0.0};
-    int rc = integrator->entry->step(system, integrator->t, h, t_last, y, fresh, scratch, evals);
+    int rc = integrator->entry->step(system, integrator->t, *h, t_last, y, fresh, scratch, evals);
     if (rc != 0) {
         return (tb__step_failure){TB_STATUS_DERIVATIVE_FAILED, rc, 0, 0, 0.0};
     }
+    if (integrator->onset != NULL) {
+        failure = end_at_onset(integrator, y, fresh, scratch, h, t_end, evals);
+        if (failure.status != TB_STATUS_OK) {
+            return failure;
+        }
+    }
     if (system->post_step != NULL) {
-        rc = system->post_step(t_end, fresh, system->ctx);
+        rc = system->post_step(*t_end, fresh, system->ctx);
         if (rc != 0) {
             /* a hook that fails on a state that is no longer finite (a scene cannot
              * normalise a NaN quaternion) reports the real cause */
@@ -309,17 +351,22 @@ static tb__step_failure step_whole(tb_integrator *integrator, const double *y, d
     return failure;
 }
 
-/* One step of size h over the whole array; commits to y only if everything succeeded. */
+/* One step of size h over the whole array, or to an onset inside it; commits to y only if
+ * everything succeeded. */
 static tb_status take_whole_step(tb_integrator *integrator, double h, double t_last, double t_end)
 {
+    const double h_asked = h;
     const tb__step_failure failure =
-        step_whole(integrator, integrator->y, integrator->y_new, integrator->work, h, t_last, t_end,
-                   &integrator->stats.derivative_evals);
+        step_whole(integrator, integrator->y, integrator->y_new, integrator->work, &h, t_last,
+                   &t_end, &integrator->stats.derivative_evals);
     if (failure.status != TB_STATUS_OK) {
         return tb__fixed_report(integrator, &failure, h, t_end);
     }
     memcpy(integrator->y, integrator->y_new, integrator->system.n * sizeof(double));
     commit(integrator, h, t_end);
+    if (h < h_asked) {
+        tb__onset_reached(integrator);
+    }
     return TB_STATUS_OK;
 }
 
@@ -365,6 +412,7 @@ static double end_at_break(const tb_integrator *integrator, double t_end, bool *
 
 static tb_status fixed_step(tb_integrator *integrator)
 {
+    tb__onset_forget(integrator); /* y may have been changed since */
     bool cut;
     const double t_end = end_at_break(integrator, integrator->t + integrator->dt, &cut);
     const tb_status status =
@@ -403,9 +451,11 @@ static tb_status fixed_advance(tb_integrator *integrator, double t_target)
     if (status != TB_STATUS_OK) {
         return status;
     }
+    tb__onset_forget(integrator); /* y may have been changed since */
     const double t_start = integrator->t, dt = integrator->dt;
     /* Step times are t_start + i dt rather than a running sum, so round-off does not
-     * accumulate over long runs; a step cut at a break leaves i for the rest of the way. */
+     * accumulate over long runs; a step cut at a break or an onset leaves i for the rest of the
+     * way. */
     for (long i = 1; integrator->t < t_target;) {
         double t_end = t_start + (double)i * dt;
         if (t_end >= t_target - TB__LANDING_SLACK * dt) {
@@ -420,7 +470,7 @@ static tb_status fixed_advance(tb_integrator *integrator, double t_target)
         if (status != TB_STATUS_OK) {
             return status;
         }
-        i += cut ? 0 : 1;
+        i += cut || integrator->t < t_end ? 0 : 1;
     }
     return TB_STATUS_OK;
 }
@@ -429,6 +479,7 @@ static tb_status fixed_reset(tb_integrator *integrator, double t)
 {
     const tb_status status = check_time_resolution(integrator->detail, integrator->dt, t, "t");
     if (status == TB_STATUS_OK) {
+        tb__onset_forget(integrator);
         integrator->t = t;
     }
     return status;

@@ -85,6 +85,7 @@ struct tb_integrator {
     size_t chunk_blocks; /* chunked: blocks per chunk (the lane group's size with lanes) */
     size_t chunk_work;   /* chunked: doubles of work per thread */
     int threads;         /* chunked: threads the chunks are shared among, >= 1 */
+    struct tb__onset *onset; /* systems with roots, not chunked: the onset search's buffers */
     /* CVODE */
     struct tb__cvode *cvode;
 };
@@ -129,5 +130,17 @@ tb_status tb__fixed_report(tb_integrator *integrator, const tb__step_failure *fa
  * chunk succeeded. */
 void tb__chunk_layout(tb_integrator *integrator, int threads);
 tb_status tb__take_chunked_step(tb_integrator *integrator, double h, double t_last, double t_end);
+
+/* Fixed steps ending at onsets (fixed_onset.c), for systems with roots that step whole: create
+ * allocates the search's buffers (nothing for other systems); forget drops the roots kept from
+ * the last step's end (y may have changed); locate writes into *h_onset the step from
+ * (t, y0) to the first onset inside the trial step to y1, h if none (a callback's non-zero
+ * return is returned); reached counts the event and calls at_event at the committed onset. */
+tb_status tb__onset_create(tb_integrator *integrator, tb_error *error);
+void tb__onset_destroy(tb_integrator *integrator);
+void tb__onset_forget(tb_integrator *integrator);
+int tb__onset_locate(tb_integrator *integrator, const double *y0, const double *y1, double h,
+                     long *evals, double *h_onset);
+void tb__onset_reached(tb_integrator *integrator);
 
 #endif
