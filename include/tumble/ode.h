@@ -107,7 +107,9 @@ typedef struct tb_ode_system {
      * flight and short near a contact. NULL (default): none. */
     double (*step_limit)(double t, const double *y, const double *dydt, void *ctx);
     /* Optional, with roots: called where a call stops at an event (CVODE's root, inside an
-     * advance as well as at its end), with the state there, which it must not change. The
+     * advance as well as at its end), with the state there, which it may change only where it
+     * also moves rhs_generation (an impact at a joint's stop): the restart then starts from the
+     * changed state (an event past the output time: from the output, interpolated before it). The
      * system may change its right-hand side there (a scene wakes the sleeping bodies an awake
      * one came near); when rhs_generation then moved, the integrator restarts from (t, y) at
      * once, so that the new right-hand side holds from the event on (an event past the output

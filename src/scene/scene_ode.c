@@ -298,6 +298,13 @@ tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
         out_system->step_limit = tb__scene_step_limit;
         out_system->at_event = wake || scene->contact_events != NULL ? tb__scene_at_event : NULL;
     }
+    /* Constraints' events (joint stops) after the effects' roots. */
+    if (tb__scene_constraint_root_count(scene) > 0) {
+        out_system->root_count =
+            tb__scene_effect_root_count(scene) + tb__scene_constraint_root_count(scene);
+        out_system->roots = tb__scene_roots;
+        out_system->at_event = tb__scene_at_event;
+    }
     /* Bodies that do not interact are the system's blocks. */
     if (tb__scene_separable(scene)) {
         out_system->block_size = TB_STATE_SIZE;
