@@ -477,7 +477,7 @@ void tb__scene_at_event(double t, const double *y, void *ctx)
     if (scene->sleep != NULL) {
         tb__scene_sleep_at_event(t, y, ctx);
     }
-    if (tb__scene_constraint_root_count(scene) > 0) {
+    if (scene->constraint_ops != NULL && scene->constraint_ops->at_event != NULL) {
         /* a joint's stop: an impact changes y, the integrator's own state at the event, and
          * moves the right-hand side's generation, so the integrator restarts from it
          * (include/tumble/ode.h, at_event) */

@@ -234,11 +234,8 @@ typedef struct tb__constraint_ops {
      * decisions that change the right-hand side (a joint breaking) are taken there. 0, or the
      * derivative's failure. */
     int (*at_output)(void *constraints, const tb_scene *scene, double t, double *y);
-    /* Events (adaptive methods): how many root functions the constraints have (NULL: none),
-     * written by roots at (t, y) into g, continuous in y between events; at_event is called
-     * at every event stop with the state there, which it may change (an impact) when it also
-     * moves effects_generation (the integrator then restarts from it). 0, or the derivative's
-     * failure. */
+    /* Adaptive methods' events: root_count functions written by roots into g; at_event at
+     * every event stop may change y (an impact) if it moves effects_generation. 0 or <0. */
     size_t (*root_count)(const void *constraints);
     int (*roots)(void *constraints, const tb_scene *scene, double t, const double *y, double *g);
     int (*at_event)(void *constraints, const tb_scene *scene, double t, double *y);
@@ -565,10 +562,9 @@ int tb__scene_event_gaps(double t, const double *y, double *gap, void *ctx);
  * g[n .. 2n): the root functions of a scene whose bodies can sleep. */
 int tb__scene_event_and_wake_gaps(double t, const double *y, double *g, void *ctx);
 double tb__scene_step_limit(double t, const double *y, const double *dydt, void *ctx);
-/* All the scene's root functions: the effects' gaps (and wake gaps), tb__scene_effect_root_count
- * of them, then the constraints' (tb__constraint_ops.roots), tb__scene_constraint_root_count. */
-size_t tb__scene_effect_root_count(const tb_scene *scene);
-size_t tb__scene_constraint_root_count(const tb_scene *scene);
+/* All the scene's root functions, how many: the effects' gaps (and wake gaps), then the
+ * constraints' (tb__constraint_ops.roots). */
+size_t tb__scene_root_count(const tb_scene *scene);
 int tb__scene_roots(double t, const double *y, double *g, void *ctx);
 double tb__scene_tunnel_step(const tb_scene *scene, const double *y, char *which);
 /* Every effect's check_impacts at y; the detail (TB_DETAIL_SIZE bytes) names the effect. */

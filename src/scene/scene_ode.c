@@ -256,6 +256,24 @@ static tb_ode_hook post_step_hook(const tb_scene *scene)
                : (scene->renormalize ? tb_scene_normalize_quaternions : NULL);
 }
 
+/* Contact: a gap per body for CVODE's root finding, and steps kept short near contacts
+ * (scene_events.c); bodies that can sleep add a second gap per body, to the nearest body of
+ * the other sleep state, so that CVODE stops before an awake body touches an asleep one and
+ * wakes it there (sleep.c). The constraints' events (joint stops) come after those. */
+static void set_events(const tb_scene *scene, tb_ode_system *out_system)
+{
+    if (tb__scene_has_events(scene)) {
+        out_system->step_limit = tb__scene_step_limit;
+        out_system->at_event =
+            scene->sleep != NULL || scene->contact_events != NULL ? tb__scene_at_event : NULL;
+    }
+    out_system->root_count = tb__scene_root_count(scene);
+    out_system->roots = out_system->root_count > 0 ? tb__scene_roots : NULL;
+    if (scene->constraint_ops != NULL && out_system->root_count > 0) {
+        out_system->at_event = tb__scene_at_event;
+    }
+}
+
 tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
 {
     if (scene == NULL) {
@@ -287,24 +305,7 @@ tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
     if (rooms != TB_STATUS_OK) {
         return rooms;
     }
-    /* Contact: a gap per body for CVODE's root finding, and steps kept short near contacts
-     * (scene_events.c); bodies that can sleep add a second gap per body, to the nearest body
-     * of the other sleep state, so that CVODE stops before an awake body touches an asleep
-     * one and wakes it there (sleep.c). */
-    if (tb__scene_has_events(scene)) {
-        const bool wake = scene->sleep != NULL;
-        out_system->root_count = (wake ? 2 : 1) * scene->body_count;
-        out_system->roots = wake ? tb__scene_event_and_wake_gaps : tb__scene_event_gaps;
-        out_system->step_limit = tb__scene_step_limit;
-        out_system->at_event = wake || scene->contact_events != NULL ? tb__scene_at_event : NULL;
-    }
-    /* Constraints' events (joint stops) after the effects' roots. */
-    if (tb__scene_constraint_root_count(scene) > 0) {
-        out_system->root_count =
-            tb__scene_effect_root_count(scene) + tb__scene_constraint_root_count(scene);
-        out_system->roots = tb__scene_roots;
-        out_system->at_event = tb__scene_at_event;
-    }
+    set_events(scene, out_system);
     /* Bodies that do not interact are the system's blocks. */
     if (tb__scene_separable(scene)) {
         out_system->block_size = TB_STATE_SIZE;
