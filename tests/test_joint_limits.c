@@ -16,8 +16,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#define DOOR_SPEED 2.0     /* rad/s, the push that opens it */
-#define DOOR_E 0.5         /* the stop's restitution */
+#define DOOR_SPEED 2.0 /* rad/s, the push that opens it */
+#define DOOR_E 0.5     /* the stop's restitution */
 #define DOOR_OPEN (TEST_PI / 2.0)
 
 /* A 20 kg door (1 m wide along x, 2 m tall, 5 cm thick) on one hinge about the vertical axis
@@ -64,9 +64,9 @@ static double door_speed(tb_scene *scene, size_t door)
 }
 
 typedef struct door_run {
-    double speed_error;  /* largest |omega - exact| away from the impact, rad/s */
-    double angle_error;  /* largest |angle - exact| after the impact, rad */
-    double overshoot;    /* largest angle past the stop at a frame, rad */
+    double speed_error; /* largest |omega - exact| away from the impact, rad/s */
+    double angle_error; /* largest |angle - exact| after the impact, rad */
+    double overshoot;   /* largest angle past the stop at a frame, rad */
 } door_run;
 
 /* Runs the door for 1.5 s (frames at 100 Hz): it swings at DOOR_SPEED to the stop at

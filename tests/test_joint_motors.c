@@ -160,8 +160,7 @@ static void test_position_motor_sags_to_where_statics_says_when_its_cap_is_short
     tb_scene *scene = lever_scene(0.5 * TEST_PI - star, -star, cap, &rod);
     tb_integrator *integrator = test_integrator_for(scene, TB_METHOD_RK4, 1.0 / 240.0, 0.0);
     assert_int_equal(tb_integrator_advance(integrator, 2.0), TB_STATUS_OK);
-    print_message("lever at statics: droop %.17g rad (statics %.17g)\n", droop(scene, rod),
-                  star);
+    print_message("lever at statics: droop %.17g rad (statics %.17g)\n", droop(scene, rod), star);
     assert_true(fabs(droop(scene, rod) - star) <= 1e-9);
     tb_integrator_destroy(integrator);
     tb_scene_destroy(scene);
