@@ -13,6 +13,7 @@
 #include "joint_scenes.h"
 
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -192,11 +193,70 @@ static void test_slider_stop_holds_a_block_with_its_weight_component(void **stat
     }
 }
 
+/* A 2 kg weight falls along a vertical slider onto its stop 0.3 m down (restitution 0); the
+ * slider breaks above break_force. In free fall along the axis the joint carries nothing;
+ * from the landing, t = sqrt(2 0.3 / g) = 0.2473 s, the stop holds the weight and statics
+ * says the reaction is m g = 19.62 N. With a 15 N limit the joint breaks there: at the end of
+ * the step that lands (RK4 at 1/240 s: within one step after the landing), or the first output
+ * after it (CVODE BDF read every 1/240 s: breaking is checked as an advance starts, so the read
+ * after that one shows it: within two reads); then the weight falls freely. With a 25 N limit it
+ * holds, the weight resting on the stop. */
+static void test_slider_breaks_when_a_falling_weight_lands_on_its_stop(void **state)
+{
+    (void)state;
+    const double m = 2.0, drop = 0.3, t_land = sqrt(2.0 * drop / TEST_G), dt = 1.0 / 240.0;
+    const tb_method methods[2] = {TB_METHOD_RK4, TB_METHOD_CVODE_BDF};
+    for (int k = 0; k < 4; ++k) {
+        tb_scene *scene = test_empty_scene();
+        const double size[3] = {0.1, 0.1, 0.1}, x[3] = {0.0, 0.0, 0.0};
+        const size_t weight = test_add_box(scene, m, size, x);
+        const double g[3] = {0.0, 0.0, -TEST_G};
+        assert_int_equal(tb_scene_add_gravity(scene, g), TB_STATUS_OK);
+        tb_joint_def def = tb_joint_def_default();
+        def.type = TB_JOINT_SLIDER;
+        def.body_a = weight;
+        def.axis[2] = -1.0;
+        def.has_limits = 1;
+        def.limits[0] = -1.0;
+        def.limits[1] = drop;
+        def.break_force = k < 2 ? 15.0 : 25.0;
+        assert_int_equal(tb_scene_add_joint(scene, &def, NULL), TB_STATUS_OK);
+        const tb_method method = methods[k % 2];
+        tb_integrator *integrator =
+            test_integrator_for(scene, method, method == TB_METHOD_RK4 ? dt : 0.0, 1e-8);
+        double broke = -1.0;
+        for (int frame = 1; frame <= 120; ++frame) {
+            assert_int_equal(tb_integrator_advance(integrator, frame * dt), TB_STATUS_OK);
+            bool broken = false;
+            assert_int_equal(tb_scene_joint_broken(scene, 0, &broken), TB_STATUS_OK);
+            broke = broken && broke < 0.0 ? frame * dt : broke;
+        }
+        double p[3];
+        assert_int_equal(tb_scene_body_point(scene, tb_scene_states(scene), weight, x, p, NULL),
+                         TB_STATUS_OK);
+        print_message("falling weight %s, break_force %g N: broke at %.6g s (lands at %.6g s), "
+                      "at z = %.6g m after 0.5 s\n",
+                      tb_method_name(method), def.break_force, broke, t_land, p[2]);
+        if (k < 2) {
+            /* CVODE breaks it at the output after the landing, the advance after that says so */
+            const double late = (method == TB_METHOD_RK4 ? 1.0 : 2.0) * dt * (1 + 1e-9);
+            assert_true(broke >= t_land && broke <= t_land + late);
+            assert_true(p[2] < -drop - 0.1); /* falling freely after */
+        } else {
+            assert_true(broke < 0.0);
+            assert_true(fabs(p[2] + drop) <= 1e-12);
+        }
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_door_stops_at_its_limit_and_bounces_back_at_e_times_its_speed),
         cmocka_unit_test(test_slider_stop_holds_a_block_with_its_weight_component),
+        cmocka_unit_test(test_slider_breaks_when_a_falling_weight_lands_on_its_stop),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -179,6 +179,28 @@ static double push(const tb__joints *js, size_t j)
     return stop_sign(joint->stop) * js->evals[j].lambda[joint->base_rows];
 }
 
+/* A stop switched at t (an event when gap > 0). */
+static void note_switch(tb__joint *joint, int before, double t, double gap, bool *changed)
+{
+    *changed = true;
+    if (gap > 0.0) {
+        joint->switched = true;
+        joint->stop_before = before;
+        joint->switched_at = t;
+    }
+}
+
+void tb__joints_undo_later_switches(tb__joints *js, double t)
+{
+    for (size_t j = 0; j < js->count; ++j) {
+        tb__joint *joint = &js->joints[j];
+        if (joint->switched && t < joint->switched_at) {
+            joint->stop = joint->stop_before;
+        }
+        joint->switched = joint->switched && t <= joint->switched_at;
+    }
+}
+
 /* Engages or releases the stops at (t, y); gap: how close a free joint must be to a stop
  * (negative: past it) to engage it, whatever its direction (fixed steps) or only moving into
  * it (events). *changed: whether one did. */
@@ -191,10 +213,11 @@ static int switch_stops(tb__joints *js, const tb_scene *scene, double t, const d
         if (!joint->def.has_limits || joint->broken) {
             continue;
         }
+        const int before = joint->stop;
         if (joint->stop != TB__STOP_NONE) {
             if (push(js, j) <= 0.0) {
                 joint->stop = TB__STOP_NONE;
-                *changed = true;
+                note_switch(joint, before, t, gap, changed);
             }
             continue;
         }
@@ -208,7 +231,7 @@ static int switch_stops(tb__joints *js, const tb_scene *scene, double t, const d
                 joint->stop = TB__STOP_NONE;
                 continue;
             }
-            *changed = true;
+            note_switch(joint, before, t, gap, changed);
         }
     }
     return rc;

@@ -335,6 +335,7 @@ int tb__joints_project(void *constraints, const tb_scene *scene, double t, doubl
 {
     tb__joints *js = constraints;
     bool current = false;
+    tb__joints_undo_later_switches(js, t);
     tb__joints_configure_rows(js, false);
     int rc = project_positions(js, scene, t, y, &current);
     rc = rc != 0 ? rc : project_momenta(js, scene, t, y, current);

@@ -43,6 +43,11 @@ typedef struct tb__joint {
     double impact_rate; /* the axial rate the next momenta projection sets (an impact), */
     bool impact;        /* while impact is true */
     int motor_state;    /* TB__MOTOR_ROW (in the solve), TB__MOTOR_CAPPED, or none */
+    /* An adaptive method's event switched the stop at switched_at from stop_before: an output
+     * interpolated before that time (the event was past it) undoes the switch. */
+    bool switched;
+    int stop_before;
+    double switched_at;
 } tb__joint;
 
 /* joint.stop */
@@ -163,6 +168,9 @@ bool tb__joints_cap_motors(tb__joints *js, const tb_scene *scene, double *dydt);
  * past a stop engages it (an impact), a held one whose stop would pull is released. 0, or the
  * derivative's failure. */
 int tb__joints_step_limits(tb__joints *js, const tb_scene *scene, double t, double *y);
+/* Before a projection at t: the stops switched at an event after t (an output interpolated
+ * before the event) are put back as they were; the event is found again. */
+void tb__joints_undo_later_switches(tb__joints *js, double t);
 /* After the momenta projection: a stop whose impact left the joint separating faster than
  * resting contact lets it go. */
 void tb__joints_after_impacts(tb__joints *js);
