@@ -50,17 +50,16 @@ void tb__joints_configure_rows(tb__joints *js, bool with_motors)
         const bool extra = has_axial_row(joint, with_motors);
         joint->rows = joint->base_rows + (extra ? 1 : 0);
         joint->solved_rows = joint->rows;
-        joint->motor_state = with_motors && joint->def.motor != TB_MOTOR_OFF ? TB__MOTOR_ROW
-                                                                           : TB__MOTOR_NONE;
-        joint->axial_zero = joint->stop == TB__STOP_LOWER   ? joint->def.limits[0]
-                            : joint->stop == TB__STOP_UPPER ? joint->def.limits[1]
+        joint->motor_state =
+            with_motors && joint->def.motor != TB_MOTOR_OFF ? TB__MOTOR_ROW : TB__MOTOR_NONE;
+        joint->axial_zero = joint->stop == TB__STOP_LOWER           ? joint->def.limits[0]
+                            : joint->stop == TB__STOP_UPPER         ? joint->def.limits[1]
                             : joint->def.motor == TB_MOTOR_POSITION ? joint->def.motor_target
                                                                     : 0.0;
     }
 }
 
-double tb__joint_motor_acceleration(const tb__joint *joint, const tb__joint_eval *eval,
-                                    double rate)
+double tb__joint_motor_acceleration(const tb__joint *joint, const tb__joint_eval *eval, double rate)
 {
     const double k = TB__JOINT_MOTOR_RATE;
     return joint->def.motor == TB_MOTOR_VELOCITY
@@ -96,8 +95,7 @@ static double stop_sign(int stop)
 }
 
 /* Joint j's axial rate at (t, y), its axial row in the evals (the stop already set). */
-static double axial_rate(tb__joints *js, const tb_scene *scene, double t, const double *y,
-                         size_t j)
+static double axial_rate(tb__joints *js, const tb_scene *scene, double t, const double *y, size_t j)
 {
     tb__joint *joint = &js->joints[j];
     tb__motion m[2];
@@ -135,8 +133,8 @@ void tb__joints_after_impacts(tb__joints *js)
     }
 }
 
-static double coordinate_at(const tb__joints *js, const tb_scene *scene, double t,
-                            const double *y, size_t j)
+static double coordinate_at(const tb__joints *js, const tb_scene *scene, double t, const double *y,
+                            size_t j)
 {
     const tb__joint *joint = &js->joints[j];
     tb__motion m[2];
@@ -253,8 +251,7 @@ size_t tb__joints_root_count(const void *constraints)
     return count;
 }
 
-int tb__joints_roots(void *constraints, const tb_scene *scene, double t, const double *y,
-                     double *g)
+int tb__joints_roots(void *constraints, const tb_scene *scene, double t, const double *y, double *g)
 {
     tb__joints *js = constraints;
     const int rc = any_held(js) ? held_lambdas(js, scene, t, y) : 0;

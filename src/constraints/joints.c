@@ -169,9 +169,8 @@ static tb_status check_supported(tb_scene *scene, const tb_joint_def *def)
     const bool motor = def->motor != TB_MOTOR_OFF, soft = def->soft_frequency > 0.0;
     const char *what = def->has_limits && motor ? "has_limits with motor (a motor on a joint "
                                                   "with limits)"
-                       : soft && (def->has_limits || motor)
-                           ? "has_limits or motor on a soft joint"
-                           : NULL;
+                       : soft && (def->has_limits || motor) ? "has_limits or motor on a soft joint"
+                                                            : NULL;
     return what == NULL
                ? TB_STATUS_OK
                : tb__scene_fail(scene, TB_STATUS_UNSUPPORTED,
