@@ -78,6 +78,12 @@ static void test_velocity_motor_spins_a_wheel_up_at_its_cap_then_holds_the_speed
         assert_true(ramp <= 1e-9);
         assert_true(hold <= 1e-9);
         assert_true(fabs(tau[2]) <= 1e-6); /* at speed a free wheel needs no torque */
+        /* the motor is no constraint: the wheel is on its hinge, whatever its speed */
+        double position = 1.0, velocity = 1.0;
+        assert_int_equal(
+            tb_scene_joint_error(scene, tb_scene_states(scene), 0, &position, &velocity),
+            TB_STATUS_OK);
+        assert_true(position <= 1e-12 && velocity <= 1e-12);
         tb_integrator_destroy(integrator);
         tb_scene_destroy(scene);
     }

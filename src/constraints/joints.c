@@ -324,7 +324,9 @@ tb_status tb_scene_joint_error(const tb_scene *scene, const double *y, size_t jo
         return status;
     }
     const tb__joints *js = scene->constraints;
-    const tb__joint *j = &js->joints[joint];
+    tb__joint held = js->joints[joint]; /* its rows and a stop that holds it; a motor is none */
+    held.rows = held.base_rows + (held.stop != TB__STOP_NONE && !held.broken ? 1 : 0);
+    const tb__joint *j = &held;
     tb__joint_eval eval;
     tb__motion m[2];
     const tb__body *constants[2];
