@@ -102,7 +102,8 @@ static void set_up(fixture *f)
       (f->def.has_limits = 1, f->def.limits[1] = 1.0, f->def.soft_frequency = 5.0,                 \
        tb_scene_add_joint(f->scene, &f->def, NULL)))                                               \
     X("add_joint: a hinge's limit past pi", INVALID_ARGUMENT, "limits",                            \
-      (f->def.has_limits = 1, f->def.limits[1] = 4.0, tb_scene_add_joint(f->scene, &f->def, NULL))) \
+      (f->def.has_limits = 1, f->def.limits[1] = 4.0,                                              \
+       tb_scene_add_joint(f->scene, &f->def, NULL)))                                               \
     X("add_joint: damping on a rigid joint", INVALID_ARGUMENT, "soft_damping_ratio",               \
       (f->def.soft_damping_ratio = 0.5, tb_scene_add_joint(f->scene, &f->def, NULL)))              \
     X("add_joint: infinite soft_frequency", NOT_FINITE, "soft_frequency",                          \
