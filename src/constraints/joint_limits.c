@@ -5,13 +5,14 @@
  * coordinate reaches the bound moving into it: an impact, the axial rate reversed times the
  * restitution e by the momenta projection (the impulse J^T mu through every joint's rows with
  * the axial row's rate set to -e times its rate before, exact), after the position projection
- * has put the coordinate on the bound. If the joint then separates faster than
- * TB__STOP_REST_RATE it is free again (a bounce); else the stop holds it (the row in the
- * solve, its position and rate projected to the bound and 0) while its lambda pushes, and
- * releases it where lambda would pull. Fixed-step methods take these decisions at every step's
- * end (a crossing is found to a step, its overshoot projected back onto the bound); adaptive
- * ones at the roots of one function per limited joint: the gap to the nearer stop while free,
- * the stop's push while held (CVODE locates both).
+ * has put the coordinate on the bound (or where it would be after the bounce, below). If the joint
+ * then separates faster than TB__STOP_REST_RATE it is free again (a bounce); else the stop holds it
+ * (the row in the solve, its position and rate projected to the bound and 0) while its lambda
+ * pushes, and releases it where lambda would pull. Fixed-step methods take these decisions at every
+ * step's end (a crossing is found to a step; its overshoot d is projected back to e d short of the
+ * bound, where the joint would be at its speed); adaptive ones at the roots of one function per
+ * limited joint: the gap to the nearer stop while free, the stop's push while held (CVODE
+ * locates both).
  *
  * A motor's row asks the axial acceleration TB__JOINT_MOTOR_RATE (speed - rate) (velocity) or
  * K^2 (target - coordinate) - 2 K rate with K = TB__JOINT_MOTOR_RATE (position, critically
@@ -56,6 +57,7 @@ void tb__joints_configure_rows(tb__joints *js, bool with_motors)
                             : joint->stop == TB__STOP_UPPER         ? joint->def.limits[1]
                             : joint->def.motor == TB_MOTOR_POSITION ? joint->def.motor_target
                                                                     : 0.0;
+        joint->axial_zero += joint->impact ? joint->impact_back : 0.0;
     }
 }
 
@@ -111,15 +113,19 @@ static double axial_rate(tb__joints *js, const tb_scene *scene, double t, const 
     return rate[joint->base_rows];
 }
 
-/* Joint j engages stop: an impact when it moves into it. */
+/* Joint j, at coordinate c, engages stop: an impact when it moves into it. A fixed step finds
+ * it past the stop by c - bound; at its speed, it would have come back e (c - bound) by the
+ * step's end, which is where the position projection puts it (exact for a constant speed). */
 static void engage(tb__joints *js, const tb_scene *scene, double t, const double *y, size_t j,
-                   int stop)
+                   int stop, double c)
 {
     tb__joint *joint = &js->joints[j];
     joint->stop = stop;
+    joint->impact = false;
     const double rate = axial_rate(js, scene, t, y, j);
     joint->impact = stop_sign(stop) * rate < 0.0;
     joint->impact_rate = joint->impact ? -joint->def.restitution * rate : 0.0;
+    joint->impact_back = -joint->def.restitution * (c - joint->def.limits[stop - 1]);
 }
 
 void tb__joints_after_impacts(tb__joints *js)
@@ -130,6 +136,7 @@ void tb__joints_after_impacts(tb__joints *js)
             joint->stop = TB__STOP_NONE; /* a bounce */
         }
         joint->impact = false;
+        joint->impact_back = 0.0;
     }
 }
 
@@ -224,7 +231,7 @@ static int switch_stops(tb__joints *js, const tb_scene *scene, double t, const d
                          : joint->def.limits[1] - c < gap ? TB__STOP_UPPER
                                                           : TB__STOP_NONE;
         if (stop != TB__STOP_NONE) {
-            engage(js, scene, t, y, j, stop);
+            engage(js, scene, t, y, j, stop, c);
             if (gap > 0.0 && !joint->impact) { /* at an event, leaving the stop: stays free */
                 joint->stop = TB__STOP_NONE;
                 continue;

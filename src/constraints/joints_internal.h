@@ -41,6 +41,7 @@ typedef struct tb__joint {
     int stop;           /* TB__STOP_NONE, or the stop that holds the joint (lower, upper) */
     double axial_zero;  /* the axial row's C is its coordinate minus this (the stop's bound) */
     double impact_rate; /* the axial rate the next momenta projection sets (an impact), */
+    double impact_back; /* and how far from the bound the position projection puts it, */
     bool impact;        /* while impact is true */
     int motor_state;    /* TB__MOTOR_ROW (in the solve), TB__MOTOR_CAPPED, or none */
     /* An adaptive method's event switched the stop at switched_at from stop_before: an output
