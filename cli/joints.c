@@ -13,7 +13,8 @@ static const char *body_name(const tb_scene *scene, size_t id)
     return id == TB_WORLD ? "world" : tb_scene_body_name(scene, id);
 }
 
-/* ", soft 20 Hz (damping ratio 1), breaks above 50 N": what the joint has beside its rows. */
+/* ", soft 20 Hz (damping ratio 1), limits [0, 1.57] rad (restitution 0.2), motor to 6.28 rad/s
+ * (at most 2 N m), breaks above 50 N": what the joint has beside its rows. */
 static void describe_options(const tb_joint_def *def, char *out, size_t size)
 {
     size_t used = 0;
@@ -21,6 +22,19 @@ static void describe_options(const tb_joint_def *def, char *out, size_t size)
     if (def->soft_frequency > 0) {
         used += (size_t)snprintf(out + used, size - used, ", soft %g Hz (damping ratio %g)",
                                  def->soft_frequency, def->soft_damping_ratio);
+    }
+    const bool hinge = def->type == TB_JOINT_HINGE;
+    if (used < size && def->has_limits) {
+        used +=
+            (size_t)snprintf(out + used, size - used, ", limits [%g, %g] %s (restitution %g)",
+                             def->limits[0], def->limits[1], hinge ? "rad" : "m", def->restitution);
+    }
+    if (used < size && def->motor != TB_MOTOR_OFF) {
+        const bool speed = def->motor == TB_MOTOR_VELOCITY;
+        used += (size_t)snprintf(out + used, size - used, ", motor to %g %s (at most %g %s)",
+                                 speed ? def->motor_speed : def->motor_target,
+                                 speed ? (hinge ? "rad/s" : "m/s") : (hinge ? "rad" : "m"),
+                                 def->motor_max_force, hinge ? "N m" : "N");
     }
     if (used < size && isfinite(def->break_force)) {
         used += (size_t)snprintf(out + used, size - used, ", breaks above %g N", def->break_force);

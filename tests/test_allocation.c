@@ -16,6 +16,7 @@
 #include "tumble/tumble.h"
 
 #include <stdlib.h>
+#include <string.h>
 
 /* The counter is live: creating a scene is seen to allocate, so a zero below means
  * something. */
@@ -245,6 +246,45 @@ static void test_stepping_jointed_bodies_allocates_nothing(void **state)
     }
 }
 
+/* A block resting on a slider's stop (held: the stop's row in the solve, its push checked at
+ * every boundary or root) and a wheel driven by a capped motor: once the stop holds (by 0.5 s),
+ * stepping allocates nothing under any method. */
+static void test_stepping_stops_and_motors_allocates_nothing(void **state)
+{
+    (void)state;
+    for (int m = 0; m < TB_METHOD_COUNT; ++m) {
+        tb_scene *scene = test_empty_scene();
+        const double size[3] = {0.2, 0.2, 0.2}, x[3] = {0.0, 0.0, 0.0}, far[3] = {3.0, 0.0, 0.0};
+        const size_t block = test_add_box(scene, 2.0, size, x);
+        const size_t wheel = test_add_box(scene, 6.0, size, far);
+        const double g[3] = {0.0, 0.0, -9.81};
+        assert_int_equal(tb_scene_add_gravity(scene, g), TB_STATUS_OK);
+        tb_joint_def def = tb_joint_def_default();
+        def.type = TB_JOINT_SLIDER;
+        def.body_a = block;
+        def.axis[2] = -1.0;
+        def.has_limits = 1;
+        def.limits[0] = -1.0;
+        def.limits[1] = 0.1;
+        assert_int_equal(tb_scene_add_joint(scene, &def, NULL), TB_STATUS_OK);
+        def = tb_joint_def_default();
+        def.type = TB_JOINT_HINGE;
+        def.body_a = wheel;
+        memcpy(def.anchor, far, sizeof far);
+        def.motor = TB_MOTOR_VELOCITY;
+        def.motor_speed = 100.0; /* capped all along */
+        def.motor_max_force = 0.1;
+        assert_int_equal(tb_scene_add_joint(scene, &def, NULL), TB_STATUS_OK);
+        tb_integrator *integrator = test_integrator_for(scene, (tb_method)m, 1.0 / 960.0, 1e-8);
+        assert_int_equal(tb_integrator_advance(integrator, 0.5), TB_STATUS_OK);
+        const long before = counted_allocations;
+        assert_int_equal(tb_integrator_advance(integrator, 1.5), TB_STATUS_OK);
+        assert_int_equal(counted_allocations, before);
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -254,6 +294,7 @@ int main(void)
         cmocka_unit_test(test_building_a_scene_allocates_per_doubling_not_per_body),
         cmocka_unit_test(test_contact_between_bodies_allocates_nothing),
         cmocka_unit_test(test_stepping_jointed_bodies_allocates_nothing),
+        cmocka_unit_test(test_stepping_stops_and_motors_allocates_nothing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

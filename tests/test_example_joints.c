@@ -3,8 +3,8 @@
  *   test_example_joints NAME [METHOD]
  * NAME: double_pendulum (METHOD rk4, its file's: energy and joint error; or cvode-bdf: the
  * angles against the pendulum's Lagrange equations in generalised coordinates), chain,
- * heavy_chain, newtons_cradle_joints. Frames are taken at every step of a fixed-step method, so an
- * error is seen at its worst. */
+ * heavy_chain, newtons_cradle_joints, door_ball (rk4 or cvode-bdf), motor_wheel. Frames are taken
+ * at every step of a fixed-step method, so an error is seen at its worst. */
 #include "examples.h"
 #include "tumble/joints.h"
 #include "tumble/tumble.h"
@@ -413,12 +413,135 @@ static void newtons_cradle_joints(void)
     tb_scene_destroy(scene);
 }
 
+/* --- door_ball: a door on a limited hinge, hit by a ball ------------------------------------ */
+
+#define DOOR_MASS 20.0
+#define DOOR_STOP_E 0.5 /* the stop's restitution, as the file says */
+
+typedef struct door_watch {
+    double L0;        /* door and ball's angular momentum about the hinge axis at the start */
+    double L_error;   /* its largest change at a frame after the hit, relative */
+    double opening;   /* the door's speed after the hit, read at 1 s (rad/s) */
+    double closing;   /* its speed after the stop, read at 3 s */
+    double overshoot; /* largest angle past 90 degrees (rad) */
+    double lowest;    /* smallest angle (rad) */
+} door_watch;
+
+/* (x x P)_z + L_z of body id: its angular momentum about the z axis through the origin. */
+static double axial_momentum(const double *y, size_t id)
+{
+    const double *s = &y[TB_STATE_SIZE * id];
+    return s[TB_STATE_X] * s[TB_STATE_P + 1] - s[TB_STATE_X + 1] * s[TB_STATE_P] +
+           s[TB_STATE_L + 2];
+}
+
+static int watch_door(size_t frame, double t, const tb_scene *scene, void *ctx)
+{
+    (void)frame;
+    door_watch *w = ctx;
+    const double *y = tb_scene_states_const(scene);
+    const double L = axial_momentum(y, 0) + axial_momentum(y, 1), edge[3] = {0.5, 0.0, 0.0};
+    double p[3], omega[3];
+    tb_scene_body_point(scene, y, 0, edge, p, NULL);
+    tb_scene_body_angular_velocity(scene, y, 0, omega);
+    const double angle = atan2(p[1], p[0]);
+    if (t == 0.0) {
+        w->L0 = L;
+    } else if (t > 0.2 && t < 1.5) { /* after the hit (at 0.04 s), before the stop (1.9 s) */
+        w->L_error = fmax(w->L_error, fabs(L / w->L0 - 1));
+    }
+    w->opening = fabs(t - 1.0) < 1e-9 ? omega[2] : w->opening;
+    w->closing = fabs(t - 3.0) < 1e-9 ? omega[2] : w->closing;
+    w->overshoot = fmax(w->overshoot, angle - PI / 2);
+    w->lowest = fmin(w->lowest, angle);
+    return 0;
+}
+
+/* The ball (1 kg, 5 m/s) hits the door 0.8 m from its hinge. Neither gravity nor the hinge
+ * has a torque about the hinge's own axis, so the door and ball keep their angular momentum
+ * about it through the hit: to 1e-6 of it (the integration's error through the contact's
+ * push). The door then opens at the rigid impact's (1 + e) m v / (m + I / d^2) / d = 0.8207
+ * rad/s (I = 6.67 kg m^2 about the hinge, d = 0.8 m, e = 0.5), met to 2% by the contact law's
+ * restitution (test_example_contact_scenes: 0.6% a collision); swings at that speed to its
+ * stop at 90 degrees (1.9 s) and comes back at the stop's restitution times it: to 1e-9 rad/s
+ * under RK4 (a free rotation keeps its speed to round-off, and the impulse is exact; the swing
+ * back is before the door reaches the other stop at 5.7 s), 1e-6 under CVODE at rtol 1e-8
+ * (its error over the 3 s between the readings).
+ * No frame has the door past the stop (1e-12 rad, the projection's) or behind its frame. */
+static void door_ball(void)
+{
+    tb_run_def run;
+    tb_scene *scene = load("door_ball", &run);
+    run.fps = 60.0;
+    const bool adaptive = tb_method_is_adaptive(run.integrator.method);
+    run.integrator.rtol = adaptive ? 1e-8 : run.integrator.rtol;
+    static door_watch w;
+    run_scene(scene, &run, watch_door, &w);
+    const double d = 0.8, m = 1.0, v = 5.0, e = 0.5;
+    const double I = DOOR_MASS * (1.0 + 0.05 * 0.05) / 12.0 + DOOR_MASS * 0.25;
+    const double rigid = (1 + e) * m * v / (m + I / (d * d)) / d;
+    printf("    opens at %.9f rad/s (rigid impact %.9f), back at %.12f rad/s\n", w.opening, rigid,
+           w.closing);
+    test_check(w.L_error < 1e-6, "angular momentum about the hinge through the hit, relative",
+               w.L_error, 1e-6);
+    test_check(fabs(w.opening / rigid - 1) < 0.02, "opening speed / rigid impact's - 1",
+               w.opening / rigid - 1, 0.02);
+    const double bounce = fabs(w.closing + DOOR_STOP_E * w.opening);
+    test_check(bounce < (adaptive ? 1e-6 : 1e-9), "|speed after the stop + e speed before| (rad/s)",
+               bounce, adaptive ? 1e-6 : 1e-9);
+    test_check(w.overshoot < 1e-12, "largest angle past the stop (rad)", w.overshoot, 1e-12);
+    test_check(w.lowest > -1e-12, "smallest angle (rad)", w.lowest, -1e-12);
+    tb_scene_destroy(scene);
+}
+
+/* --- motor_wheel: a wheel spun up by a capped velocity motor ---------------------------------- */
+
+typedef struct wheel_watch {
+    double ramp, hold; /* largest |omega - exact| while capped (t <= 2.25 s) and from 3.5 s */
+} wheel_watch;
+
+static int watch_wheel(size_t frame, double t, const tb_scene *scene, void *ctx)
+{
+    (void)frame;
+    wheel_watch *w = ctx;
+    double omega[3];
+    tb_scene_body_angular_velocity(scene, tb_scene_states_const(scene), 0, omega);
+    const double alpha = 2.0 / 0.75; /* the cap over I = m r^2 / 2 */
+    if (t <= 2.25) {
+        w->ramp = fmax(w->ramp, fabs(omega[1] - alpha * t));
+    } else if (t >= 3.5) {
+        w->hold = fmax(w->hold, fabs(omega[1] - 6.28));
+    }
+    return 0;
+}
+
+/* The motor asks 20/s times the speed error, more than the 2 N m cap gives the 0.75 kg m^2
+ * wheel (2.67 rad/s^2) until the error is 2 / (20 0.75) = 0.133 rad/s: the speed is the cap's
+ * 2.67 t to round-off until 2.30 s (checked to 1e-9 rad/s up to 2.25 s), then its error decays
+ * as e^(-20 (t - 2.30)), below 1e-11 rad/s from 3.5 s (checked to 1e-9 rad/s). */
+static void motor_wheel(void)
+{
+    tb_run_def run;
+    tb_scene *scene = load("motor_wheel", &run);
+    run.fps = 60.0;
+    if (tb_method_is_adaptive(run.integrator.method)) {
+        run.integrator.rtol = 1e-11; /* the decay to the speed tracked far below 1e-9 rad/s */
+    }
+    static wheel_watch w;
+    run_scene(scene, &run, watch_wheel, &w);
+    test_check(w.ramp < 1e-9, "spin-up: |omega - (cap / I) t| (rad/s)", w.ramp, 1e-9);
+    test_check(w.hold < 1e-9, "at speed: |omega - 6.28| (rad/s)", w.hold, 1e-9);
+    tb_scene_destroy(scene);
+}
+
 int main(int argc, char **argv)
 {
     static const test_example scenes[] = {{"double_pendulum", double_pendulum},
                                           {"chain", chain},
                                           {"heavy_chain", heavy_chain},
-                                          {"newtons_cradle_joints", newtons_cradle_joints}};
+                                          {"newtons_cradle_joints", newtons_cradle_joints},
+                                          {"door_ball", door_ball},
+                                          {"motor_wheel", motor_wheel}};
     if (argc == 3) {
         method_arg = argv[2];
     }

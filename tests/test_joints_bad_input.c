@@ -95,11 +95,14 @@ static void set_up(fixture *f)
       (f->def.break_torque = 0.0, tb_scene_add_joint(f->scene, &f->def, NULL)))                    \
     X("add_joint: negative soft_frequency", INVALID_ARGUMENT, "soft_frequency",                    \
       (f->def.soft_frequency = -1.0, tb_scene_add_joint(f->scene, &f->def, NULL)))                 \
-    X("add_joint: limits (not built)", UNSUPPORTED, "limits",                                      \
-      (f->def.has_limits = 1, f->def.limits[1] = 1.0,                                              \
+    X("add_joint: a motor with limits (not built)", UNSUPPORTED, "motor",                          \
+      (f->def.has_limits = 1, f->def.limits[1] = 1.0, f->def.motor = TB_MOTOR_VELOCITY,            \
+       f->def.motor_max_force = 2.0, tb_scene_add_joint(f->scene, &f->def, NULL)))                 \
+    X("add_joint: limits on a soft joint (not built)", UNSUPPORTED, "soft",                        \
+      (f->def.has_limits = 1, f->def.limits[1] = 1.0, f->def.soft_frequency = 5.0,                 \
        tb_scene_add_joint(f->scene, &f->def, NULL)))                                               \
-    X("add_joint: a motor (not built)", UNSUPPORTED, "motor",                                      \
-      (f->def.motor = TB_MOTOR_VELOCITY, f->def.motor_max_force = 2.0,                             \
+    X("add_joint: a hinge's limit past pi", INVALID_ARGUMENT, "limits",                            \
+      (f->def.has_limits = 1, f->def.limits[1] = 4.0,                                              \
        tb_scene_add_joint(f->scene, &f->def, NULL)))                                               \
     X("add_joint: damping on a rigid joint", INVALID_ARGUMENT, "soft_damping_ratio",               \
       (f->def.soft_damping_ratio = 0.5, tb_scene_add_joint(f->scene, &f->def, NULL)))              \

@@ -57,11 +57,15 @@ typedef struct tb_joint_def {
                            Default (0, 0, 1) */
     /* Limits (hinge and slider): the angle about the axis (rad) or the travel along it (m),
      * measured from the pose when the joint is made, kept within [lower, upper] by a stop with
-     * the given restitution. has_limits 0 (default): none. */
+     * the given restitution: at a stop the axial rate is reversed times restitution, and the
+     * stop then holds the joint while it pushes (docs/joints.md, Limits). has_limits 0
+     * (default): none. */
     int has_limits;
     double limits[2];   /* lower <= upper; a hinge's within [-pi, pi] */
     double restitution; /* [0, 1] at a stop; default 0 */
-    /* A motor (hinge and slider), at most motor_max_force (N for a slider, N m for a hinge). */
+    /* A motor (hinge and slider), at most motor_max_force (N for a slider, N m for a hinge):
+     * it asks the axial acceleration 20/s (speed - rate) (velocity) or (20/s)^2 (target -
+     * coordinate) - 2 (20/s) rate (position), capped (docs/joints.md, Motors). */
     tb_joint_motor_mode motor;
     double motor_speed;     /* rad/s or m/s (TB_MOTOR_VELOCITY) */
     double motor_target;    /* rad or m (TB_MOTOR_POSITION) */
@@ -92,7 +96,8 @@ TB_API tb_joint_def tb_joint_def_default(void);
  * force or torque <= 0, a negative soft frequency or damping ratio, a damping ratio on a rigid
  * joint (TB_STATUS_INVALID_ARGUMENT), a non-finite value (TB_STATUS_NOT_FINITE);
  * TB_STATUS_BUSY while an integrator steps the scene. Not built yet, refused with
- * TB_STATUS_UNSUPPORTED rather than ignored: limits and motors (docs/joints.md). An
+ * TB_STATUS_UNSUPPORTED rather than ignored: a motor on a joint with limits, limits or a motor
+ * on a soft joint (docs/joints.md). An
  * integrator made before the joint refuses to advance (TB_STATUS_LAYOUT_CHANGED). */
 TB_API tb_status tb_scene_add_joint(tb_scene *scene, const tb_joint_def *def, size_t *out_id);
 

@@ -116,10 +116,13 @@ typedef struct tb_ode_events {
      * tb_integrator_def.max_step (the tighter wins). NULL (default): none. */
     double (*step_limit)(double t, const double *y, const double *dydt, void *ctx);
     /* With roots: called where a call stops at an event (CVODE's root, inside an advance as
-     * well as at its end; a fixed step's onset), with the state there, which it must not change.
-     * The system may change its right-hand side there; when lifetime.rhs_generation then moved, the
-     * integrator restarts from (t, y) at once, so that the new right-hand side holds from the event
-     * on (an event past the output time: from the output). NULL (default): none. */
+     * well as at its end; a fixed step's onset), with the state there, which it may change only
+     * where it also moves lifetime.rhs_generation (an impact at a joint's stop): the restart then
+     * starts from the changed state (an event past the output time: from the output,
+     * interpolated before it). The system may change its right-hand side there; when
+     * lifetime.rhs_generation then moved, the integrator restarts from (t, y) at once, so that
+     * the new right-hand side holds from the event on (an event past the output time: from the
+     * output). NULL (default): none. */
     void (*at_event)(double t, const double *y, void *ctx);
     /* The first time after t where the right-hand side is only C1 in t, INFINITY for none. A
      * fixed-step method shortens the step that would cross it so that the step ends on it (the

@@ -22,7 +22,8 @@ void tb__joint_reaction(const tb_scene *scene, const tb__joints *js, size_t j, d
     const tb__joint_eval *eval = &js->evals[j];
     tb__v3_set(force, 0.0, 0.0, 0.0);
     tb__v3_set(torque, 0.0, 0.0, 0.0);
-    for (int r = 0; r < joint->rows && !joint->broken; ++r) {
+    const int rows = joint->rows + (joint->motor_state == TB__MOTOR_CAPPED ? 1 : 0);
+    for (int r = 0; r < rows && !joint->broken; ++r) {
         tb__v3_axpy(force, eval->lambda[r], eval->J[r].v[0]);
         tb__v3_axpy(torque, eval->lambda[r], eval->J[r].w[0]);
     }

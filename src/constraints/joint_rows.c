@@ -13,6 +13,7 @@
 
 #include "math/tb_math.h"
 
+#include <math.h>
 #include <string.h>
 
 int tb__joint_row_count(tb_joint_type type)
@@ -98,8 +99,9 @@ static void rotation_rows(const tb__joint *joint, const frame *f, tb__joint_row 
     }
 }
 
-static void travel_rows(const tb__joint *joint, const frame *f, tb__joint_row *J, double *bias,
-                        double *C)
+/* The travel row along dir, a unit vector fixed in body a given in a's frame. */
+static void travel_row(const frame *f, const double dir_a[3], tb__joint_row *J, double *bias,
+                       double *C)
 {
     const tb__motion *ma = f->m[0], *mb = f->m[1];
     double d[3], pa_dot[3], pb_dot[3], d_dot[3], arm[3], ca[3], cb[3], c[3];
@@ -111,18 +113,75 @@ static void travel_rows(const tb__joint *joint, const frame *f, tb__joint_row *J
     centripetal(ma->omega, f->r[0], ca);
     centripetal(mb->omega, f->r[1], cb);
     tb__v3_set(c, ca[0] - cb[0], ca[1] - cb[1], ca[2] - cb[2]);
+    double t[3], dt[3], tt[3];
+    tb__q_rotate(t, ma->q, dir_a);
+    tb__v3_cross(dt, ma->omega, t);
+    centripetal(ma->omega, t, tt);
+    tb__v3_copy(J->v[0], t);
+    tb__v3_cross(J->w[0], arm, t);
+    tb__v3_set(J->v[1], -t[0], -t[1], -t[2]);
+    tb__v3_cross(J->w[1], t, f->r[1]);
+    *bias = tb__v3_dot(c, t) + 2.0 * tb__v3_dot(d_dot, dt) + tb__v3_dot(d, tt);
+    *C = tb__v3_dot(d, t);
+}
+
+static void travel_rows(const tb__joint *joint, const frame *f, tb__joint_row *J, double *bias,
+                        double *C)
+{
     for (int k = 0; k < 2; ++k) {
-        double t[3], dt[3], tt[3];
-        tb__q_rotate(t, ma->q, joint->across_a[k]);
-        tb__v3_cross(dt, ma->omega, t);
-        centripetal(ma->omega, t, tt);
-        tb__v3_copy(J[k].v[0], t);
-        tb__v3_cross(J[k].w[0], arm, t);
-        tb__v3_set(J[k].v[1], -t[0], -t[1], -t[2]);
-        tb__v3_cross(J[k].w[1], t, f->r[1]);
-        bias[k] = tb__v3_dot(c, t) + 2.0 * tb__v3_dot(d_dot, dt) + tb__v3_dot(d, tt);
-        C[k] = tb__v3_dot(d, t);
+        travel_row(f, joint->across_a[k], &J[k], &bias[k], &C[k]);
     }
+}
+
+/* The hinge's angle of a about n relative to b: t1 (fixed in a) against t1, t2 (fixed in b). */
+static double hinge_angle(const tb__joint *joint, const tb__motion *ma, const tb__motion *mb)
+{
+    double t1a[3], t1b[3], t2b[3];
+    tb__q_rotate(t1a, ma->q, joint->across_a[0]);
+    tb__q_rotate(t1b, mb->q, joint->across_b[0]);
+    tb__q_rotate(t2b, mb->q, joint->across_b[1]);
+    return atan2(tb__v3_dot(t1a, t2b), tb__v3_dot(t1a, t1b));
+}
+
+/* The axial row: a hinge's angle (J u = (w_a - w_b) . n, n = R_a axis turning with a, so
+ * dJ/dt u = (w_a - w_b) . (w_a x n)), a slider's travel along its axis (a travel row). C is the
+ * coordinate less axial_zero. */
+static void axial_row(const tb__joint *joint, const frame *f, tb__joint_row *J, double *bias,
+                      double *C)
+{
+    if (joint->def.type == TB_JOINT_SLIDER) {
+        travel_row(f, joint->axis_a, J, bias, C);
+        *C -= joint->axial_zero;
+        return;
+    }
+    const double *wa = f->m[0]->omega, *wb = f->m[1]->omega;
+    double n[3], dn[3];
+    tb__q_rotate(n, f->m[0]->q, joint->axis_a);
+    tb__v3_cross(dn, wa, n);
+    memset(J, 0, sizeof *J);
+    tb__v3_copy(J->w[0], n);
+    tb__v3_set(J->w[1], -n[0], -n[1], -n[2]);
+    *bias = (wa[0] - wb[0]) * dn[0] + (wa[1] - wb[1]) * dn[1] + (wa[2] - wb[2]) * dn[2];
+    *C = hinge_angle(joint, f->m[0], f->m[1]) - joint->axial_zero;
+}
+
+double tb__joint_axial_coordinate(const tb__joint *joint, const tb__motion *ma,
+                                  const tb__motion *mb)
+{
+    if (joint->def.type == TB_JOINT_HINGE) {
+        return hinge_angle(joint, ma, mb);
+    }
+    frame f = {.m = {ma, mb}};
+    for (int s = 0; s < 2; ++s) {
+        tb__point_arm(f.m[s], joint->anchor[s], f.r[s]);
+        for (int k = 0; k < 3; ++k) {
+            f.p[s][k] = f.m[s]->x[k] + f.r[s][k];
+        }
+    }
+    double d[3], n[3];
+    tb__v3_set(d, f.p[0][0] - f.p[1][0], f.p[0][1] - f.p[1][1], f.p[0][2] - f.p[1][2]);
+    tb__q_rotate(n, ma->q, joint->axis_a);
+    return tb__v3_dot(d, n);
 }
 
 /* M^-1 J^T: each row's v-part over the mass, its w-part through the world inverse inertia
@@ -171,6 +230,10 @@ void tb__joint_rows(const tb__joint *joint, const tb__motion *ma, const tb__moti
         ball_rows(&f, J, eval->bias, eval->C);
         rotation_rows(joint, &f, J + 3, eval->bias + 3, eval->C + 3);
         break;
+    }
+    if (joint->rows > joint->base_rows) { /* a stop or a motor: the axial row */
+        const int r = joint->base_rows;
+        axial_row(joint, &f, J + r, eval->bias + r, eval->C + r);
     }
     inverse_mass_rows(inverse, f.m, joint->rows, J, eval->W);
 }
@@ -221,5 +284,6 @@ void tb__joint_frames(tb__joint *joint, const tb__motion *ma, const tb__motion *
     const double conj_b[4] = {mb->q[0], -mb->q[1], -mb->q[2], -mb->q[3]};
     tb__q_mul(joint->relative, conj_b, ma->q);
     joint->rows = tb__joint_row_count(def->type);
+    joint->base_rows = joint->rows;
     joint->solved_rows = def->soft_frequency > 0.0 ? 0 : joint->rows;
 }

@@ -117,7 +117,24 @@ static void stage_rhs(const tb__joints *js, const tb_scene *scene, double t, con
         for (int s = 0; s < 2; ++s) {
             free += tb__v3_dot(eval->J[r].v[s], a[s]) + tb__v3_dot(eval->J[r].w[s], alpha[s]);
         }
-        eval->rhs[r] = -free - 2.0 * b * velocity[r] - b * b * eval->C[r];
+        eval->rhs[r] = joint->motor_state == TB__MOTOR_ROW && r == joint->base_rows
+                           ? -free + tb__joint_motor_acceleration(joint, eval, velocity[r])
+                           : -free - 2.0 * b * velocity[r] - b * b * eval->C[r];
+    }
+}
+
+void tb__joint_add_row_load(const tb__joints *js, const tb_scene *scene, size_t j, int r,
+                            double value, double *base)
+{
+    const tb__joint *joint = &js->joints[j];
+    const tb__joint_eval *eval = &js->evals[j];
+    for (int s = 0; s < 2; ++s) {
+        const size_t body = joint->body[s];
+        if (body != TB_WORLD && tb__body_slot(scene, body) != TB_NO_SLOT) {
+            double *state = base + TB_STATE_SIZE * tb__body_slot(scene, body);
+            tb__v3_axpy(state + TB_STATE_P, value, eval->J[r].v[s]);
+            tb__v3_axpy(state + TB_STATE_L, value, eval->J[r].w[s]);
+        }
     }
 }
 
@@ -181,14 +198,18 @@ static int apply_joints(void *constraints, const tb_scene *scene, double t, cons
             add_row_loads(js, scene, j, dydt, false);
         }
     }
-    for (size_t j = 0; j < js->count; ++j) {
-        if (js->joints[j].solved_rows > 0) {
-            stage_rhs(js, scene, t, y, dydt, j);
+    /* a motor past its cap is fixed there and the rest solved again (joint_limits.c) */
+    tb__joints_configure_rows(js, true);
+    do {
+        for (size_t j = 0; j < js->count; ++j) {
+            if (js->joints[j].solved_rows > 0) {
+                stage_rhs(js, scene, t, y, dydt, j);
+            }
         }
-    }
-    if (tb__joint_solve(&js->solver, js->joints, js->evals) != 0) {
-        return 1; /* rows that repeat one another: recoverable, a smaller step may pass */
-    }
+        if (tb__joint_solve(&js->solver, js->joints, js->evals) != 0) {
+            return 1; /* rows that repeat one another: recoverable, a smaller step may pass */
+        }
+    } while (tb__joints_cap_motors(js, scene, dydt));
     for (size_t j = 0; j < js->count; ++j) {
         if (js->joints[j].solved_rows > 0) {
             add_row_loads(js, scene, j, dydt, false);
@@ -296,8 +317,10 @@ static int project_momenta(tb__joints *js, const tb_scene *scene, double t, doub
         position_rhs(js, scene, t, y);
     }
     for (size_t j = 0; j < js->count; ++j) {
-        for (int r = 0; r < js->joints[j].solved_rows; ++r) {
-            js->evals[j].rhs[r] = -js->evals[j].rate[r];
+        const tb__joint *joint = &js->joints[j];
+        for (int r = 0; r < joint->solved_rows; ++r) { /* an impact sets its stop's rate */
+            const bool impact = joint->impact && r == joint->base_rows;
+            js->evals[j].rhs[r] = (impact ? joint->impact_rate : 0.0) - js->evals[j].rate[r];
         }
     }
     if (tb__joint_solve(&js->solver, js->joints, js->evals) != 0) {
@@ -314,18 +337,22 @@ static int project_momenta(tb__joints *js, const tb_scene *scene, double t, doub
 int tb__joints_project(tb__joints *js, const tb_scene *scene, double t, double *y)
 {
     bool current = false;
-    const int rc = project_positions(js, scene, t, y, &current);
-    return rc != 0 ? rc : project_momenta(js, scene, t, y, current);
+    tb__joints_undo_later_switches(js, t);
+    tb__joints_configure_rows(js, false);
+    int rc = project_positions(js, scene, t, y, &current);
+    rc = rc != 0 ? rc : project_momenta(js, scene, t, y, current);
+    tb__joints_after_impacts(js);
+    return rc;
 }
 
 static int project_joints(void *constraints, const tb_scene *scene, double t, double *y)
 {
-    tb__joints *js = constraints;
-    const int rc = tb__joints_project(js, scene, t, y);
-    /* an adaptive method's projections run on trial steps too: it breaks joints at outputs */
-    return rc != 0 || tb_method_is_adaptive(scene->guard_method)
-               ? rc
-               : tb__joints_check_breaking(js, scene, t, y);
+    /* an adaptive method's projections run on trial steps too: its stops switch at events
+     * (tb__joints_at_event), its joints break at outputs */
+    const bool fixed = !tb_method_is_adaptive(scene->guard_method);
+    int rc = fixed ? tb__joints_step_limits(constraints, scene, t, y) : 0;
+    rc = rc != 0 ? rc : tb__joints_project(constraints, scene, t, y);
+    return rc != 0 || !fixed ? rc : tb__joints_check_breaking(constraints, scene, t, y);
 }
 
 static void link_joints(const void *constraints, const tb_scene *scene)
@@ -362,4 +389,7 @@ const tb__constraint_ops tb__joint_ops = {
     .destroy = destroy_joints,
     .at_output = joints_at_output,
     .rate = tb__joints_rate,
+    .root_count = tb__joints_root_count,
+    .roots = tb__joints_roots,
+    .at_event = tb__joints_at_event,
 };

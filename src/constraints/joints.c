@@ -97,7 +97,7 @@ static tb_status check_geometry(tb_scene *scene, const tb_joint_def *def)
     return status;
 }
 
-/* Limits, restitution and motor checked as values, before they are refused as unsupported. */
+/* Limits, restitution and motor checked as values. */
 static tb_status check_limits_and_motor(tb_scene *scene, const tb_joint_def *def)
 {
     const bool axial = def->type == TB_JOINT_HINGE || def->type == TB_JOINT_SLIDER;
@@ -115,6 +115,13 @@ static tb_status check_limits_and_motor(tb_scene *scene, const tb_joint_def *def
     if (def->has_limits && (!axial || def->limits[0] > def->limits[1])) {
         return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT, "limits: %s",
                               axial ? "lower > upper" : "only a hinge or slider");
+    }
+    const double pi = 3.14159265358979323846; /* a hinge's angle is read in (-pi, pi] */
+    if (def->has_limits && def->type == TB_JOINT_HINGE &&
+        (def->limits[0] < -pi || def->limits[1] > pi)) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "limits: [%g, %g] (a hinge's within [-pi, pi])", def->limits[0],
+                              def->limits[1]);
     }
     if (!(def->restitution >= 0.0 && def->restitution <= 1.0) ||
         (def->restitution != 0.0 && !def->has_limits)) {
@@ -159,9 +166,11 @@ static tb_status check_breaking_and_softness(tb_scene *scene, const tb_joint_def
 /* What is asked but not built yet: refused, never accepted and ignored. */
 static tb_status check_supported(tb_scene *scene, const tb_joint_def *def)
 {
-    const char *what = def->has_limits              ? "has_limits (joint limits)"
-                       : def->motor != TB_MOTOR_OFF ? "motor (joint motors)"
-                                                    : NULL;
+    const bool motor = def->motor != TB_MOTOR_OFF, soft = def->soft_frequency > 0.0;
+    const char *what = def->has_limits && motor ? "has_limits with motor (a motor on a joint "
+                                                  "with limits)"
+                       : soft && (def->has_limits || motor) ? "has_limits or motor on a soft joint"
+                                                            : NULL;
     return what == NULL
                ? TB_STATUS_OK
                : tb__scene_fail(scene, TB_STATUS_UNSUPPORTED,
@@ -315,7 +324,9 @@ tb_status tb_scene_joint_error(const tb_scene *scene, const double *y, size_t jo
         return status;
     }
     const tb__joints *js = scene->constraints;
-    const tb__joint *j = &js->joints[joint];
+    tb__joint held = js->joints[joint]; /* its rows and a stop that holds it; a motor is none */
+    held.rows = held.base_rows + (held.stop != TB__STOP_NONE && !held.broken ? 1 : 0);
+    const tb__joint *j = &held;
     tb__joint_eval eval;
     tb__motion m[2];
     const tb__body *constants[2];

@@ -35,7 +35,37 @@ typedef struct tb__joint {
     double relative[4];    /* q_b^* q_a when made: the held relative rotation (slider, fixed) */
     bool broken;           /* its reaction passed break_force or break_torque: rows dropped */
     double broken_time;    /* s: the step boundary where it broke */
+    /* Limits and motors (joint_limits.c): the axial row (row base_rows, the hinge's angle or
+     * the slider's travel) in the solve while a stop holds the joint or a motor drives it. */
+    int base_rows;      /* the type's rows (tb__joint_row_count) */
+    int stop;           /* TB__STOP_NONE, or the stop that holds the joint (lower, upper) */
+    double axial_zero;  /* the axial row's C is its coordinate minus this (the stop's bound) */
+    double impact_rate; /* the axial rate the next momenta projection sets (an impact), */
+    double impact_back; /* and how far from the bound the position projection puts it, */
+    bool impact;        /* while impact is true */
+    int motor_state;    /* TB__MOTOR_ROW (in the solve), TB__MOTOR_CAPPED, or none */
+    /* An adaptive method's event switched the stop at switched_at from stop_before: an output
+     * interpolated before that time (the event was past it) undoes the switch. */
+    bool switched;
+    int stop_before;
+    double switched_at;
 } tb__joint;
+
+/* joint.stop */
+#define TB__STOP_NONE 0
+#define TB__STOP_LOWER 1
+#define TB__STOP_UPPER 2
+/* joint.motor_state */
+#define TB__MOTOR_NONE 0
+#define TB__MOTOR_ROW 1
+#define TB__MOTOR_CAPPED 2
+
+/* The rate (1/s) at which a motor drives its error out: a velocity motor's axial
+ * acceleration is TB__JOINT_MOTOR_RATE (speed - rate) (a first-order approach, time constant
+ * 50 ms), a position motor's TB__JOINT_MOTOR_RATE^2 (target - coordinate) - 2
+ * TB__JOINT_MOTOR_RATE rate (critically damped); the stability guard sees it as a decay at this
+ * rate, the same as the Baumgarte rate. */
+#define TB__JOINT_MOTOR_RATE 20.0
 
 /* One evaluation's scratch per joint: its rows at y, M^-1 J^T (the same shape), the part of
  * the rows' acceleration that the velocities give (dJ/dt u), the position error C, the
@@ -131,6 +161,43 @@ void tb__joint_row_velocities(const tb__joint *joint, const tb__joint_eval *eval
 void tb__joint_frames(tb__joint *joint, const tb__motion *ma, const tb__motion *mb);
 /* Rows per type. */
 int tb__joint_row_count(tb_joint_type type);
+/* The axial coordinate of a hinge (the angle of a about the axis relative to b from the start,
+ * rad, in (-pi, pi]) or a slider (the travel of a's anchor from b's along the axis, m). */
+double tb__joint_axial_coordinate(const tb__joint *joint, const tb__motion *ma,
+                                  const tb__motion *mb);
+
+/* Limits and motors (joint_limits.c). The rows each joint has in the solve: its type's, plus
+ * the axial row while a stop holds it, or (in the derivative, with_motors) while its motor
+ * drives it uncapped. */
+void tb__joints_configure_rows(tb__joints *js, bool with_motors);
+/* The axial acceleration the motor of joint asks for at its rows' state (1/s^2 or m/s^2). */
+double tb__joint_motor_acceleration(const tb__joint *joint, const tb__joint_eval *eval,
+                                    double rate);
+/* The derivative's motor caps: after a solve, each motor row whose |lambda| exceeds
+ * motor_max_force is fixed at the cap (its load written into dydt) and left out; true when one
+ * was, so that the stage solves again without it. */
+bool tb__joints_cap_motors(tb__joints *js, const tb_scene *scene, double *dydt);
+/* Step boundaries of fixed-step methods (the post-step hook, before the projection): a joint
+ * past a stop engages it (an impact), a held one whose stop would pull is released. 0, or the
+ * derivative's failure. */
+int tb__joints_step_limits(tb__joints *js, const tb_scene *scene, double t, double *y);
+/* Before a projection at t: the stops switched at an event after t (an output interpolated
+ * before the event) are put back as they were; the event is found again. */
+void tb__joints_undo_later_switches(tb__joints *js, double t);
+/* After the momenta projection: a stop whose impact left the joint separating faster than
+ * resting contact lets it go. */
+void tb__joints_after_impacts(tb__joints *js);
+/* Root functions under adaptive methods: one per joint with limits (the gap to the nearer
+ * stop while free, the stop's push while held). */
+size_t tb__joints_root_count(const void *constraints);
+int tb__joints_roots(void *constraints, const tb_scene *scene, double t, const double *y,
+                     double *g);
+/* An adaptive method's event: the stops engage or release at (t, y), y receiving the impact;
+ * the right-hand side's generation moves when one did. */
+int tb__joints_at_event(void *constraints, const tb_scene *scene, double t, double *y);
+/* Adds value times row r of joint j into dP, dL of its dynamic bodies at base. */
+void tb__joint_add_row_load(const tb__joints *js, const tb_scene *scene, size_t j, int r,
+                            double value, double *base);
 
 /* The solver's pattern for the joints (replacing out's on success, out untouched on failure);
  * TB_STATUS_OUT_OF_MEMORY. */

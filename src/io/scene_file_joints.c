@@ -37,7 +37,7 @@ static tb_status load_joint_bodies(tb__loader *ld, const json_t *joint, const ch
     for (size_t k = 0; k < count; ++k) {
         const json_t *name = json_array_get(names, k);
         char item[176];
-        snprintf(item, sizeof item, "%s[%zu]", where, k);
+        tb__path_index(item, sizeof item, where, "", k);
         if (!json_is_string(name)) {
             return tb__load_fail(ld, TB_STATUS_BAD_SCENE, item, "must be a body's name, got %s",
                                  tb__json_kind(name));

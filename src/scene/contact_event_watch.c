@@ -477,4 +477,10 @@ void tb__scene_at_event(double t, const double *y, void *ctx)
     if (scene->sleep != NULL) {
         tb__scene_sleep_at_event(t, y, ctx);
     }
+    if (scene->constraint_ops != NULL && scene->constraint_ops->at_event != NULL) {
+        /* a joint's stop: an impact changes y, the integrator's own state at the event, and
+         * moves the right-hand side's generation, so the integrator restarts from it
+         * (include/tumble/ode.h, at_event) */
+        (void)scene->constraint_ops->at_event(scene->constraints, scene, t, (double *)y);
+    }
 }

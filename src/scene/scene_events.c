@@ -68,6 +68,36 @@ int tb__scene_event_and_wake_gaps(double t, const double *y, double *g, void *ct
     return tb__scene_event_gaps(t, y, g, ctx);
 }
 
+static size_t constraint_root_count(const tb_scene *scene)
+{
+    const tb__constraint_ops *ops = scene->constraint_ops;
+    return ops != NULL && ops->root_count != NULL ? ops->root_count(scene->constraints) : 0;
+}
+
+static size_t effect_root_count(const tb_scene *scene)
+{
+    return tb__scene_has_events(scene) ? (scene->sleep != NULL ? 2 : 1) * scene->body_count : 0;
+}
+
+size_t tb__scene_root_count(const tb_scene *scene)
+{
+    return effect_root_count(scene) + constraint_root_count(scene);
+}
+
+int tb__scene_roots(double t, const double *y, double *g, void *ctx)
+{
+    tb_scene *scene = ctx;
+    const size_t effects = effect_root_count(scene);
+    int rc = effects == 0                  ? 0
+             : effects > scene->body_count ? tb__scene_event_and_wake_gaps(t, y, g, ctx)
+                                           : tb__scene_event_gaps(t, y, g, ctx);
+    if (rc == 0 && constraint_root_count(scene) > 0) {
+        scene->time = t; /* bodies without a state, at t */
+        rc = scene->constraint_ops->roots(scene->constraints, scene, t, y, g + effects);
+    }
+    return rc;
+}
+
 double tb__scene_step_limit(double t, const double *y, const double *dydt, void *ctx)
 {
     tb_scene *scene = ctx;

@@ -225,29 +225,7 @@ typedef struct tb__contact {
     double share;  /* 1 / (number of the body's contact points) */
 } tb__contact;
 
-/* The constraints the scene holds (src/constraints/: the joints), by pointer and one row of
- * operations, as it holds effect rows: the scene names no constraint kind. NULL row: none. */
-typedef struct tb__constraint_ops {
-    /* The derivative's last stage: adds the constraint forces into dP and dL of dydt, after the
-     * applied loads (the effects) wrote theirs, the motions filled by kinematics. 0, >0
-     * recoverable (a singular solve), <0 fatal. Pure but for the rows' own scratch. */
-    int (*apply)(void *constraints, const tb_scene *scene, double t, const double *y, double *dydt);
-    /* The post-step projection of y at t onto the constraints (positions, then momenta); 0 or
-     * >0 when it cannot solve. Leaves asleep bodies as they are. */
-    int (*project)(void *constraints, const tb_scene *scene, double t, double *y);
-    /* Links the bodies the constraints hold together into one sleeping island
-     * (tb__scene_sleep_link). */
-    void (*link_islands)(const void *constraints, const tb_scene *scene);
-    /* Frees the constraints (tb_scene_destroy). */
-    void (*destroy)(void *constraints);
-    /* An adaptive method's boundary: the start of each advance, at the state and time the last
-     * one handed out (accepted, unlike CVODE's projections, which run on trial steps too):
-     * decisions that change the right-hand side (a joint breaking) are taken there. 0, or the
-     * derivative's failure. */
-    int (*at_output)(void *constraints, const tb_scene *scene, double t, double *y);
-    /* The stability guard's modes of the constrained bodies at y (NULL: none); 0 or failed */
-    int (*rate)(void *constraints, const tb_scene *scene, const double *y, tb__effect_rate *out);
-} tb__constraint_ops;
+#include "scene/constraint_ops.h" /* the row the scene holds its constraints by */
 
 struct tb_scene {
     size_t body_count;
@@ -580,6 +558,10 @@ int tb__scene_event_gaps(double t, const double *y, double *gap, void *ctx);
  * g[n .. 2n): the root functions of a scene whose bodies can sleep. */
 int tb__scene_event_and_wake_gaps(double t, const double *y, double *g, void *ctx);
 double tb__scene_step_limit(double t, const double *y, const double *dydt, void *ctx);
+/* All the scene's root functions, how many: the effects' gaps (and wake gaps), then the
+ * constraints' (tb__constraint_ops.roots). */
+size_t tb__scene_root_count(const tb_scene *scene);
+int tb__scene_roots(double t, const double *y, double *g, void *ctx);
 double tb__scene_tunnel_step(const tb_scene *scene, const double *y, char *which);
 /* Every effect's check_impacts at y; the detail (TB_DETAIL_SIZE bytes) names the effect. */
 tb_status tb__scene_check_impacts(const tb_scene *scene, const double *y, char *detail);

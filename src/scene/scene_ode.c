@@ -259,17 +259,19 @@ static tb_ode_hook post_step_hook(const tb_scene *scene)
 /* Contact: a gap per body for CVODE's root finding, and steps kept short near contacts
  * (scene_events.c); bodies that can sleep add a second gap per body, to the nearest body of the
  * other sleep state, so that CVODE stops before an awake body touches an asleep one and wakes it
- * there (sleep.c). Bodies that interact: the contact's sparse Jacobian, its pattern their
- * contact graph (scene_jacobian.c). */
+ * there (sleep.c). The constraints' events (joint stops) come after those. Bodies that interact:
+ * the contact's sparse Jacobian, its pattern their contact graph (scene_jacobian.c). */
 static void set_events_and_jacobian(const tb_scene *scene, tb_ode_system *out_system)
 {
     if (tb__scene_has_events(scene)) {
-        const bool wake = scene->sleep != NULL;
-        out_system->events.root_count = (wake ? 2 : 1) * scene->body_count;
-        out_system->events.roots = wake ? tb__scene_event_and_wake_gaps : tb__scene_event_gaps;
         out_system->events.step_limit = tb__scene_step_limit;
         out_system->events.at_event =
-            wake || scene->contact_events != NULL ? tb__scene_at_event : NULL;
+            scene->sleep != NULL || scene->contact_events != NULL ? tb__scene_at_event : NULL;
+    }
+    out_system->events.root_count = tb__scene_root_count(scene);
+    out_system->events.roots = out_system->events.root_count > 0 ? tb__scene_roots : NULL;
+    if (scene->constraint_ops != NULL && out_system->events.root_count > 0) {
+        out_system->events.at_event = tb__scene_at_event;
     }
     if (tb__scene_has_jacobian(scene)) {
         out_system->jacobian.capacity = tb__scene_jacobian_capacity;

@@ -195,3 +195,38 @@ def test_a_joint_breaks_when_its_pull_passes_the_limit():
     free = frames.position[1, 0] + np.outer(dt, frames.velocity[1, 0])
     free[:, 2] -= 0.5 * G * dt**2
     np.testing.assert_allclose(frames.position[1:, 0], free, atol=1e-12)
+
+
+def test_a_door_stops_at_its_limit_and_comes_back_at_the_restitution():
+    # A 20 kg door on a vertical hinge, limits [0, 90 deg] with restitution 0.5, pushed open
+    # at 2 rad/s: nothing turns it but the stop, so it swings at 2 rad/s to 90 degrees (0.785
+    # s) and comes back at -1 rad/s; RK4 keeps a constant rotation to round-off and the stop's
+    # impulse is exact (1e-9 rad/s); no frame is past the stop (1e-12 rad, the projection's).
+    b = tumble.SceneBuilder()
+    b.add_body("door", shape={"type": "box", "size": [1.0, 0.05, 2.0]}, mass=20.0,
+               position=[0.5, 0, 0], velocity=[0, 1.0, 0], angular_velocity=[0, 0, 2.0])
+    b.add_joint("hinge", "door", anchor=[0, 0, 0], axis=[0, 0, 1], limits=[0, math.pi / 2],
+                restitution=0.5)
+    frames = b.build(fps=100, duration=1.5).run(method="rk4", dt=1 / 240)
+    t, spin = frames.t, frames.angular_velocity[:, 0, 2]
+    angle = np.arctan2(frames.position[:, 0, 1], frames.position[:, 0, 0])
+    hit = (math.pi / 2) / 2.0
+    np.testing.assert_allclose(spin[t < hit - 0.02], 2.0, atol=1e-9)
+    np.testing.assert_allclose(spin[t > hit + 0.02], -1.0, atol=1e-9)
+    assert angle.max() <= math.pi / 2 + 1e-12
+
+
+def test_a_hinge_motor_spins_a_wheel_up_at_its_cap_then_holds_the_speed():
+    # A 6 kg, 1 x 1 x 0.2 m wheel (I = 1 kg m^2 about z) with a velocity motor toward 10 rad/s
+    # under 2 N m: the speed is the cap's 2 t until the motor's own approach (20/s times the
+    # error) asks less than the cap (at 9.9 rad/s, 4.95 s), then reaches 10 rad/s within
+    # 0.1 e^(-20 (t - 4.95)): 1e-9 rad/s on both, RK4 at 1/240 s (docs/joints.md, "Motors").
+    b = tumble.SceneBuilder()
+    b.add_body("wheel", shape={"type": "box", "size": [1.0, 1.0, 0.2]}, mass=6.0,
+               position=[0, 0, 0])
+    b.add_joint("hinge", "wheel", anchor=[0, 0, 0], axis=[0, 0, 1],
+                motor={"speed": 10.0, "max_torque": 2.0})
+    frames = b.build(fps=10, duration=8.0).run(method="rk4", dt=1 / 240)
+    t, spin = frames.t, frames.angular_velocity[:, 0, 2]
+    np.testing.assert_allclose(spin[t <= 4.9 + 1e-9], 2.0 * t[t <= 4.9 + 1e-9], atol=1e-9)
+    np.testing.assert_allclose(spin[t >= 6.5 - 1e-9], 10.0, atol=1e-9)
