@@ -171,7 +171,10 @@ TB_API tb_status tb_scene_potential_energy(const tb_scene *scene, const double *
  * between two bodies), angular momentum about any point (the same), and angular momentum
  * about the centre of mass of all bodies (no torque about it from outside: springs between
  * two bodies and uniform gravity, whose torque sum (x_i - c) x M_i g is zero about the centre
- * of mass c). User effects are assumed to conserve nothing. */
+ * of mass c). User effects are assumed to conserve nothing. Joints (joints.h) between two
+ * dynamic bodies keep all four; a joint to the world or to a static or keyframed body takes
+ * momentum; a keyframed support, a motor, a soft joint or a stop with restitution below 1 does
+ * work (tests/test_joints.c). */
 typedef struct tb_conserved {
     int energy;
     int linear_momentum;

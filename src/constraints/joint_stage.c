@@ -392,4 +392,5 @@ const tb__constraint_ops tb__joint_ops = {
     .root_count = tb__joints_root_count,
     .roots = tb__joints_roots,
     .at_event = tb__joints_at_event,
+    .conserved = tb__joints_conserved,
 };

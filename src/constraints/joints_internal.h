@@ -222,6 +222,11 @@ const tb__body *tb__joint_body_constants(const tb_scene *scene, size_t body);
  * fails or an error is not finite (joint_stage.c). */
 int tb__joints_project(tb__joints *js, const tb_scene *scene, double t, double *y);
 
+/* tb__constraint_ops.conserved (joint_projection.c): an ideal joint between two dynamic bodies
+ * keeps momentum and energy; one to the world or a body without a state takes momentum; a
+ * keyframed support, a motor, a soft joint or a stop with restitution below 1 does work. */
+void tb__joints_conserved(const void *constraints, const tb_scene *scene, tb_conserved *c);
+
 /* The ops row the scene holds the joints by (joint_stage.c). */
 extern const tb__constraint_ops tb__joint_ops;
 

@@ -30,6 +30,9 @@ typedef struct tb__constraint_ops {
     size_t (*root_count)(const void *constraints);
     int (*roots)(void *constraints, const tb_scene *scene, double t, const double *y, double *g);
     int (*at_event)(void *constraints, const tb_scene *scene, double t, double *y);
+    /* What the constraints keep of what the effects conserve: clears the fields of c that they
+     * break (tb_scene_conserved). */
+    void (*conserved)(const void *constraints, const tb_scene *scene, tb_conserved *c);
 } tb__constraint_ops;
 
 #endif

@@ -250,6 +250,10 @@ tb_status tb_scene_conserved(const tb_scene *scene, tb_conserved *out_conserved)
         c.angular_momentum_about_center_of_mass &=
             ops->conserves_momentum || ops->no_torque_about_center_of_mass;
     }
+    const tb__constraint_ops *constraints = scene->constraint_ops;
+    if (constraints != NULL && constraints->conserved != NULL) {
+        constraints->conserved(scene->constraints, scene, &c);
+    }
     *out_conserved = c;
     return TB_STATUS_OK;
 }
