@@ -80,7 +80,8 @@ static void report_drift(const char *what, int conserved, double change, double 
                          const char *unit, const char *about)
 {
     if (!conserved) {
-        fprintf(stderr, "  %-24s not conserved by this scene's effects%s\n", what, about);
+        fprintf(stderr, "  %-24s not conserved by this scene's effects and joints%s\n", what,
+                about);
     } else if (!isfinite(scale) || !isfinite(change)) {
         /* an energy past 1.8e308 J is infinite in doubles, and inf - inf is NaN */
         fprintf(stderr, "  %-24s drift n/a (not finite: %g %s at the start%s)%s\n", what, scale,
