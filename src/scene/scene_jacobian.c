@@ -201,7 +201,9 @@ static int compare_edges(const void *a, const void *b)
 /* Each node's closed neighbourhood, ascending, from the sorted edges. */
 static bool build_adjacency(tb__jacobian_room *j)
 {
-    qsort(j->edges, j->edge_count, 2 * sizeof(size_t), compare_edges);
+    if (j->edge_count > 0) { /* no edge (bodies apart): edges may still be NULL */
+        qsort(j->edges, j->edge_count, 2 * sizeof(size_t), compare_edges);
+    }
     const size_t most = j->edge_count + j->node_count;
     if (most > j->capacity_adjacent) {
         if (!grow(&j->adjacent, most, sizeof(size_t)) ||
