@@ -83,10 +83,9 @@ tb_status tb_scene_project_joints(tb_scene *scene, double tolerance, double *out
     return status;
 }
 
-/* Whether body is held from outside the bodies: the world, a static or a keyframed body. */
-static bool held_from_outside(const tb_scene *scene, size_t body)
+static bool keyframed(const tb_scene *scene, size_t body)
 {
-    return body == TB_WORLD || tb__body_slot(scene, body) == TB_NO_SLOT;
+    return body != TB_WORLD && tb__body_fixed(scene, body) && !tb__body_static(scene, body);
 }
 
 void tb__joints_conserved(const void *constraints, const tb_scene *scene, tb_conserved *c)
@@ -97,19 +96,14 @@ void tb__joints_conserved(const void *constraints, const tb_scene *scene, tb_con
         const tb_joint_def *def = &joint->def;
         /* An ideal joint between two dynamic bodies puts equal and opposite loads on them about
          * one point (its rows' torques are couples): it keeps momentum and does no work. */
-        if (held_from_outside(scene, joint->body[0]) || held_from_outside(scene, joint->body[1])) {
+        if (!tb__joint_side_moves(scene, joint->body[0]) ||
+            !tb__joint_side_moves(scene, joint->body[1])) {
             c->linear_momentum = c->angular_momentum = 0;
             c->angular_momentum_about_center_of_mass = 0;
         }
-        tb_body_motion kind[2] = {TB_MOTION_STATIC, TB_MOTION_STATIC};
-        for (int s = 0; s < 2; ++s) {
-            if (joint->body[s] != TB_WORLD) {
-                (void)tb_scene_body_motion_kind(scene, joint->body[s], &kind[s]);
-            }
-        }
         /* work: a moving support, a motor, a soft joint (its spring's energy is not counted, its
          * damper takes energy), a stop that is not perfectly elastic */
-        if (kind[0] == TB_MOTION_KEYFRAMED || kind[1] == TB_MOTION_KEYFRAMED ||
+        if (keyframed(scene, joint->body[0]) || keyframed(scene, joint->body[1]) ||
             def->motor != TB_MOTOR_OFF || def->soft_frequency > 0.0 ||
             (def->has_limits && def->restitution < 1.0)) {
             c->energy = 0;

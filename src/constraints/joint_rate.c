@@ -55,7 +55,7 @@ static double side_stiffness(const tb_scene *scene, const tb__joint *joint, int 
                              const double force[3], const double torque[3])
 {
     const size_t body = joint->body[side];
-    if (body == TB_WORLD || tb__body_slot(scene, body) == TB_NO_SLOT) {
+    if (!tb__joint_side_moves(scene, body)) {
         return 0.0;
     }
     const tb__motion *m = tb__derivative_motion(scene, body);

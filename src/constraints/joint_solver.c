@@ -68,11 +68,6 @@ static void list_remove(list *l, size_t item)
     }
 }
 
-static bool dynamic(const tb_scene *scene, size_t body)
-{
-    return body != TB_WORLD && tb__body_slot(scene, body) != TB_NO_SLOT;
-}
-
 static bool share_body(const tb_scene *scene, const tb__joint *a, const tb__joint *b)
 {
     if (a->solved_rows == 0 || b->solved_rows == 0) { /* a soft joint: a load, not a row */
@@ -80,7 +75,7 @@ static bool share_body(const tb_scene *scene, const tb__joint *a, const tb__join
     }
     for (int s = 0; s < 2; ++s) {
         for (int u = 0; u < 2; ++u) {
-            if (a->body[s] == b->body[u] && dynamic(scene, a->body[s])) {
+            if (a->body[s] == b->body[u] && tb__joint_side_moves(scene, a->body[s])) {
                 return true;
             }
         }
@@ -238,7 +233,7 @@ static bool list_couplings(const tb_scene *scene, tb__joint_solver *s, const tb_
     for (size_t p = 0; p < s->count; ++p) {
         const size_t k = s->order[p];
         for (int side = 0; side < 2; ++side) {
-            if (joints[k].solved_rows > 0 && dynamic(scene, joints[k].body[side])) {
+            if (joints[k].solved_rows > 0 && tb__joint_side_moves(scene, joints[k].body[side])) {
                 s->couplings[n++] = (tb__joint_coupling){k, k, side, side, k};
             }
         }
@@ -247,7 +242,7 @@ static bool list_couplings(const tb_scene *scene, tb__joint_solver *s, const tb_
             for (int si = 0; si < 2; ++si) {
                 for (int sk = 0; sk < 2; ++sk) {
                     if (joints[i].body[si] == joints[k].body[sk] &&
-                        dynamic(scene, joints[k].body[sk])) {
+                        tb__joint_side_moves(scene, joints[k].body[sk])) {
                         s->couplings[n++] = (tb__joint_coupling){i, k, si, sk, s->below[e]};
                     }
                 }

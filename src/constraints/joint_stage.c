@@ -130,7 +130,7 @@ void tb__joint_add_row_load(const tb__joints *js, const tb_scene *scene, size_t 
     const tb__joint_eval *eval = &js->evals[j];
     for (int s = 0; s < 2; ++s) {
         const size_t body = joint->body[s];
-        if (body != TB_WORLD && tb__body_slot(scene, body) != TB_NO_SLOT) {
+        if (tb__joint_side_moves(scene, body)) {
             double *state = base + TB_STATE_SIZE * tb__body_slot(scene, body);
             tb__v3_axpy(state + TB_STATE_P, value, eval->J[r].v[s]);
             tb__v3_axpy(state + TB_STATE_L, value, eval->J[r].w[s]);
@@ -150,7 +150,7 @@ static void add_row_loads(const tb__joints *js, const tb_scene *scene, size_t j,
         if (body == TB_WORLD || (skip_asleep && tb__body_asleep(scene, body))) {
             continue;
         }
-        const bool fixed = tb__body_slot(scene, body) == TB_NO_SLOT;
+        const bool fixed = tb__body_fixed(scene, body);
         if (fixed && (skip_asleep || scene->reactions == NULL)) {
             continue;
         }
@@ -245,8 +245,7 @@ static void move_bodies(const tb__joints *js, const tb_scene *scene, size_t j, d
     const tb__joint_eval *eval = &js->evals[j];
     for (int s = 0; s < 2 && joint->solved_rows > 0; ++s) {
         const size_t body = joint->body[s];
-        if (body == TB_WORLD || tb__body_slot(scene, body) == TB_NO_SLOT ||
-            tb__body_asleep(scene, body)) {
+        if (!tb__joint_side_moves(scene, body) || tb__body_asleep(scene, body)) {
             continue;
         }
         double *state = y + TB_STATE_SIZE * tb__body_slot(scene, body);
@@ -269,8 +268,7 @@ static void normalise_joint_bodies(const tb__joints *js, const tb_scene *scene, 
     for (size_t j = 0; j < js->count; ++j) {
         for (int s = 0; s < 2; ++s) {
             const size_t body = js->joints[j].body[s];
-            if (body != TB_WORLD && tb__body_slot(scene, body) != TB_NO_SLOT &&
-                !tb__body_asleep(scene, body)) {
+            if (tb__joint_side_moves(scene, body) && !tb__body_asleep(scene, body)) {
                 double *q = y + TB_STATE_SIZE * tb__body_slot(scene, body) + TB_STATE_Q;
                 const double inverse = 1.0 / tb__q_norm(q);
                 for (int k = 0; k < 4; ++k) {

@@ -227,6 +227,13 @@ int tb__joints_project(tb__joints *js, const tb_scene *scene, double t, double *
  * keyframed support, a motor, a soft joint or a stop with restitution below 1 does work. */
 void tb__joints_conserved(const void *constraints, const tb_scene *scene, tb_conserved *c);
 
+/* Whether a joint's side moves under the joint's loads: a dynamic body, not the world nor a
+ * body without a state (static, keyframed). */
+static inline bool tb__joint_side_moves(const tb_scene *scene, size_t body)
+{
+    return body != TB_WORLD && !tb__body_fixed(scene, body);
+}
+
 /* The ops row the scene holds the joints by (joint_stage.c). */
 extern const tb__constraint_ops tb__joint_ops;
 
