@@ -124,11 +124,33 @@ python_part() {
 # suites have their own cuts under TUMBLE_SANITIZE (tests/CMakeLists.txt). The style checks
 # (label style: clang-format, the sizes) read the sources, the same in every build: the static
 # build runs them.
-sanitized_ctest() { # build directory, [more ctest arguments]
+#
+# LeakSanitizer's own stop-the-world tracer sometimes crashes at a test's exit after every check
+# passed ("Tracer caught signal 11 ... LeakSanitizer has encountered a fatal error": a known
+# intermittent fault of the sanitizer runtime, google/sanitizers#1353, not a leak report; CI met
+# it once in visual_mesh). When every failed test of a run failed that way and no other, those
+# tests run once more and must pass then; any other failure fails at once.
+sanitized_ctest_once() { # build directory, [more ctest arguments]
     local build=$1
     shift
     ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
         TUMBLE_TEST_SHORT=1 ctest --test-dir "$build" --output-on-failure -j "$(nproc)" -LE style "$@"
+}
+sanitized_ctest() { # build directory, [more ctest arguments]
+    local build=$1 log failed crashes
+    log="$build/sanitized-ctest.log"
+    if sanitized_ctest_once "$@" 2>&1 | tee "$log"; then
+        return 0
+    fi
+    failed=$(grep -c . "$build/Testing/Temporary/LastTestsFailed.log" || true)
+    crashes=$(grep -c "LeakSanitizer has encountered a fatal error" "$log" || true)
+    if [ "$failed" -gt 0 ] && [ "$failed" = "$crashes" ]; then
+        echo "test.sh: LeakSanitizer's tracer crashed in $failed test(s) after their checks;" \
+            "running them once more" >&2
+        sanitized_ctest_once "$build" --rerun-failed
+        return
+    fi
+    return 1
 }
 
 # Blender first, when it is to be tested (~70 s on a fresh machine): the exports part imports
