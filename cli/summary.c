@@ -75,13 +75,12 @@ static double length(const double a[3])
     return hypot(hypot(a[0], a[1]), a[2]);
 }
 
-/* about: where a moment is taken, "" for none */
+/* about: where a moment is taken, "" for none; by: what in the scene may change it */
 static void report_drift(const char *what, int conserved, double change, double scale,
-                         const char *unit, const char *about)
+                         const char *unit, const char *about, const char *by)
 {
     if (!conserved) {
-        fprintf(stderr, "  %-24s not conserved by this scene's effects and joints%s\n", what,
-                about);
+        fprintf(stderr, "  %-24s not conserved by this scene's %s%s\n", what, by, about);
     } else if (!isfinite(scale) || !isfinite(change)) {
         /* an energy past 1.8e308 J is infinite in doubles, and inf - inf is NaN */
         fprintf(stderr, "  %-24s drift n/a (not finite: %g %s at the start%s)%s\n", what, scale,
@@ -143,11 +142,13 @@ void summary_print(const char *path, const tb_scene *scene, const tb_run_def *ru
     }
     tb_conserved c;
     tb_scene_conserved(scene, &c);
+    const char *by = tb_scene_joint_count(scene) > 0 ? "effects and joints" : "effects";
     report_drift("energy", c.energy, fabs(last->energy - first->energy), fabs(first->energy), "J",
-                 "");
+                 "", by);
     report_drift("linear momentum", c.linear_momentum, distance(last->P, first->P),
-                 length(first->P), "kg m/s", "");
+                 length(first->P), "kg m/s", "", by);
     report_drift("angular momentum", c.angular_momentum_about_center_of_mass,
                  distance(last->L, first->L), length(first->L), "kg m^2/s",
-                 bodies == 1 ? ", about the centre of mass" : ", about the bodies' centre of mass");
+                 bodies == 1 ? ", about the centre of mass" : ", about the bodies' centre of mass",
+                 by);
 }
