@@ -1,9 +1,9 @@
 """Reads the joints of tumble's USD exports with usd-core (Pixar's USD library, from PyPI) and
 checks them against the scene files that made them.
 
-    check_usd_joints.py TUMBLE OUT_DIR SCENE.json...
+    check_usd_joints.py TUMBLE OUT_DIR SCENE.json[@SECONDS]...
 
-For each scene, `tumble run SCENE --duration 0.1 --out OUT_DIR/<name>.usda`, then:
+For each scene, `tumble run SCENE --duration SECONDS (0.1) --out OUT_DIR/<name>.usda`, then:
   * the stage opens and UsdUtils.ComplianceChecker reports no error, failed check or warning
     (nor do UsdValidation's validators, where usd-core has them);
   * one UsdPhysics joint prim per joint of the file, of the type its "type" maps to
@@ -18,7 +18,13 @@ For each scene, `tumble run SCENE --duration 0.1 --out OUT_DIR/<name>.usda`, the
     bodies' origins (two roundings of a float's 2^-24), plus 1e-9 m for the doubles; the axes
     to 1e-6 (a quatf's rounding, 6e-8 a component, turns a unit vector by about 1e-7);
   * limits in the schema's units: a hinge's in degrees, a slider's in metres; break force and
-    torque as the file's (N, N m: the stage's kilogramsPerUnit and metersPerUnit are 1).
+    torque as the file's (N, N m: the stage's kilogramsPerUnit and metersPerUnit are 1);
+  * the schema's coordinate of each limited joint (body1's joint frame against body0's: a turn
+    about x, a travel along x) stays within the limits written at every time sample, and with
+    SCENE.json@SECONDS comes to one of them (within 0.5 degree, a frame's swing at a bouncing
+    stop, or 1 mm): the coordinate the limits are written in is the one tumble's stops hold,
+    not its negative (the hinge of joint_frames.json swings to its upper stop, 57.3 degrees,
+    past where its negative's lower one, -28.6, would have stopped it).
 The largest anchor gap is printed for the docs.
 """
 import json
@@ -106,6 +112,41 @@ def check_joint(stage, prim, joint, time):
     return gap
 
 
+def joint_frame_rows(stage, prim, k, time):
+    """(rows: the joint frame's x, y, z in the world, origin) of the frame in body k at time."""
+    physics = UsdPhysics.Joint(prim)
+    matrix, _ = body_frame(stage, physics, k, time)
+    rotation = Gf.Rotation(Gf.Quatd(prim.GetAttribute(f"physics:localRot{k}").Get()))
+    local = np.array(Gf.Matrix4d().SetRotate(rotation).ExtractRotationMatrix())
+    rows = local @ np.array(matrix.ExtractRotationMatrix())  # Gf's row vectors: local, then body
+    origin = np.array(matrix.Transform(Gf.Vec3d(prim.GetAttribute(f"physics:localPos{k}").Get())))
+    return rows, origin
+
+
+def coordinate(stage, prim, kind, time):
+    """The schema's joint coordinate, body1's joint frame against body0's: a revolute joint's
+    turn about x (degrees), a prismatic joint's travel along x (m)."""
+    (rows0, origin0), (rows1, origin1) = (joint_frame_rows(stage, prim, k, time) for k in (0, 1))
+    if kind == "hinge":
+        return math.degrees(math.atan2(rows1[1] @ rows0[2], rows1[1] @ rows0[1]))
+    return float((origin1 - origin0) @ rows0[0])
+
+
+def check_coordinates(stage, prim, joint):
+    """At every time sample the schema's coordinate of a limited hinge or slider is within the
+    limits written (so the coordinate and the limits are tumble's: body_a against body_b);
+    returns how near it came to a bound (0: it reached one), in the limit's units."""
+    kind = joint["type"]
+    lower, upper = (prim.GetAttribute(f"physics:{end}Limit").Get() for end in ("lower", "upper"))
+    slack = 1e-4 if kind == "hinge" else 1e-6  # float rounding of the frames and the limits
+    nearest = math.inf
+    for code in range(int(stage.GetStartTimeCode()), int(stage.GetEndTimeCode()) + 1):
+        value = coordinate(stage, prim, kind, Usd.TimeCode(code))
+        assert lower - slack <= value <= upper + slack, (prim.GetPath(), code, value)
+        nearest = min(nearest, value - lower, upper - value)
+    return max(nearest, 0.0)
+
+
 def check_limits(prim, joint):
     lower, upper = (prim.GetAttribute(f"physics:{end}Limit").Get() for end in ("lower", "upper"))
     if "limits" not in joint:
@@ -117,12 +158,15 @@ def check_limits(prim, joint):
             prim.GetPath(), value, limit * scale)
 
 
-def check_scene(tumble, out, path):
+def check_scene(tumble, out, argument):
+    """argument: SCENE.json, or SCENE.json@SECONDS to run that long and require every limited
+    joint to reach one of its stops (else 0.1 s)."""
+    path, _, seconds = argument.partition("@")
     with open(path) as f:
         scene = json.load(f)
     usd = os.path.join(out, os.path.splitext(os.path.basename(path))[0] + ".usda")
-    subprocess.run([tumble, "run", path, "--duration", "0.1", "--out", usd], check=True,
-                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    subprocess.run([tumble, "run", path, "--duration", seconds or "0.1", "--out", usd],
+                   check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     check_compliance(usd)
     stage = Usd.Stage.Open(usd)
     assert stage, f"{usd}: does not open"
@@ -135,6 +179,15 @@ def check_scene(tumble, out, path):
     gap = max(check_joint(stage, joints[j], joint, time)
               for j, joint in enumerate(scene["joints"]))
     print(f"{usd}: {len(joints)} joints; the frames meet the file's anchors to {gap:.3g} m")
+    for j, joint in enumerate(scene["joints"]):
+        if "limits" in joint:
+            nearest = check_coordinates(stage, joints[j], joint)
+            print(f"{usd}: joints[{j}] ({joint['type']}): within its limits at every frame, "
+                  f"{nearest:.3g} from a stop at the nearest")
+            # a stop that bounces (restitution) is met between frames: the nearest frame's
+            # coordinate is within a frame's swing of it (0.25 degree at 30 fps here)
+            reach = 0.5 if joint["type"] == "hinge" else 1e-3
+            assert not seconds or nearest <= reach, (j, "never reached a stop", nearest)
 
 
 def main():
