@@ -51,8 +51,10 @@ void tb__joints_configure_rows(tb__joints *js, bool with_motors)
         const bool extra = has_axial_row(joint, with_motors);
         joint->rows = joint->base_rows + (extra ? 1 : 0);
         joint->solved_rows = joint->rows;
-        joint->motor_state =
-            with_motors && joint->def.motor != TB_MOTOR_OFF ? TB__MOTOR_ROW : TB__MOTOR_NONE;
+        joint->motor_state = !with_motors || joint->def.motor == TB_MOTOR_OFF ? TB__MOTOR_NONE
+                             : joint->stop != TB__STOP_NONE                   ? TB__MOTOR_AT_STOP
+                                                                              : TB__MOTOR_ROW;
+        js->evals[j].motor_load = 0.0;
         joint->axial_zero = joint->stop == TB__STOP_LOWER           ? joint->def.limits[0]
                             : joint->stop == TB__STOP_UPPER         ? joint->def.limits[1]
                             : joint->def.motor == TB_MOTOR_POSITION ? joint->def.motor_target
@@ -90,12 +92,6 @@ bool tb__joints_cap_motors(tb__joints *js, const tb_scene *scene, double *dydt)
     return capped;
 }
 
-/* +1 at a lower stop (its push raises the coordinate), -1 at an upper one. */
-static double stop_sign(int stop)
-{
-    return stop == TB__STOP_UPPER ? -1.0 : 1.0;
-}
-
 /* Joint j's axial rate at (t, y), its axial row in the evals (the stop already set). */
 static double axial_rate(tb__joints *js, const tb_scene *scene, double t, const double *y, size_t j)
 {
@@ -123,7 +119,7 @@ static void engage(tb__joints *js, const tb_scene *scene, double t, const double
     joint->stop = stop;
     joint->impact = false;
     const double rate = axial_rate(js, scene, t, y, j);
-    joint->impact = stop_sign(stop) * rate < 0.0;
+    joint->impact = tb__stop_sign(stop) * rate < 0.0;
     joint->impact_rate = joint->impact ? -joint->def.restitution * rate : 0.0;
     joint->impact_back = -joint->def.restitution * (c - joint->def.limits[stop - 1]);
 }
@@ -132,7 +128,7 @@ void tb__joints_after_impacts(tb__joints *js)
 {
     for (size_t j = 0; j < js->count; ++j) {
         tb__joint *joint = &js->joints[j];
-        if (joint->impact && stop_sign(joint->stop) * joint->impact_rate > TB__STOP_REST_RATE) {
+        if (joint->impact && tb__stop_sign(joint->stop) * joint->impact_rate > TB__STOP_REST_RATE) {
             joint->stop = TB__STOP_NONE; /* a bounce */
         }
         joint->impact = false;
@@ -153,7 +149,7 @@ static double coordinate_at(const tb__joints *js, const tb_scene *scene, double 
 
 /* The derivative at (t, y) into the joints' scratch, for the held stops' lambdas; 0 or its
  * failure. */
-static int held_lambdas(tb__joints *js, const tb_scene *scene, double t, const double *y)
+int tb__joints_held_lambdas(tb__joints *js, const tb_scene *scene, double t, const double *y)
 {
     const size_t n = tb_scene_state_size(scene);
     if (n > js->scratch_size) {
@@ -180,8 +176,7 @@ static bool any_held(const tb__joints *js)
 /* The stop's push (N or N m, positive while it pushes) from the last derivative. */
 static double push(const tb__joints *js, size_t j)
 {
-    const tb__joint *joint = &js->joints[j];
-    return stop_sign(joint->stop) * js->evals[j].lambda[joint->base_rows];
+    return js->joints[j].stop_push;
 }
 
 /* A stop switched at t (an event when gap > 0). */
@@ -212,7 +207,7 @@ void tb__joints_undo_later_switches(tb__joints *js, double t)
 static int switch_stops(tb__joints *js, const tb_scene *scene, double t, const double *y,
                         double gap, bool *changed)
 {
-    const int rc = any_held(js) ? held_lambdas(js, scene, t, y) : 0;
+    const int rc = any_held(js) ? tb__joints_held_lambdas(js, scene, t, y) : 0;
     for (size_t j = 0; j < js->count && rc == 0; ++j) {
         tb__joint *joint = &js->joints[j];
         if (!joint->def.has_limits || joint->broken) {
@@ -261,7 +256,7 @@ size_t tb__joints_root_count(const void *constraints)
 int tb__joints_roots(void *constraints, const tb_scene *scene, double t, const double *y, double *g)
 {
     tb__joints *js = constraints;
-    const int rc = any_held(js) ? held_lambdas(js, scene, t, y) : 0;
+    const int rc = any_held(js) ? tb__joints_held_lambdas(js, scene, t, y) : 0;
     size_t k = 0;
     for (size_t j = 0; j < js->count && rc == 0; ++j) {
         const tb__joint *joint = &js->joints[j];

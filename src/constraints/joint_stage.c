@@ -117,7 +117,10 @@ static void stage_rhs(const tb__joints *js, const tb_scene *scene, double t, con
         for (int s = 0; s < 2; ++s) {
             free += tb__v3_dot(eval->J[r].v[s], a[s]) + tb__v3_dot(eval->J[r].w[s], alpha[s]);
         }
-        eval->rhs[r] = joint->motor_state == TB__MOTOR_ROW && r == joint->base_rows
+        const bool motor =
+            joint->motor_state == TB__MOTOR_ROW || joint->motor_state == TB__MOTOR_AWAY;
+        eval->rate[r] = velocity[r]; /* a motor at a stop reads it (joint_motor_stops.c) */
+        eval->rhs[r] = motor && r == joint->base_rows
                            ? -free + tb__joint_motor_acceleration(joint, eval, velocity[r])
                            : -free - 2.0 * b * velocity[r] - b * b * eval->C[r];
     }
@@ -209,7 +212,8 @@ static int apply_joints(void *constraints, const tb_scene *scene, double t, cons
         if (tb__joint_solve(&js->solver, js->joints, js->evals) != 0) {
             return 1; /* rows that repeat one another: recoverable, a smaller step may pass */
         }
-    } while (tb__joints_cap_motors(js, scene, dydt));
+    } while (tb__joints_cap_motors(js, scene, dydt) || tb__joints_motors_at_stops(js, scene, dydt));
+    tb__joints_note_pushes(js);
     for (size_t j = 0; j < js->count; ++j) {
         if (js->joints[j].solved_rows > 0) {
             add_row_loads(js, scene, j, dydt, false);
@@ -377,7 +381,8 @@ static void destroy_joints(void *constraints)
 
 static int joints_at_output(void *constraints, const tb_scene *scene, double t, double *y)
 {
-    return tb__joints_check_breaking(constraints, scene, t, y);
+    const int rc = tb__joints_release_at_output(constraints, scene, t, y);
+    return rc != 0 ? rc : tb__joints_check_breaking(constraints, scene, t, y);
 }
 
 const tb__constraint_ops tb__joint_ops = {

@@ -43,7 +43,10 @@ typedef struct tb__joint {
     double impact_rate; /* the axial rate the next momenta projection sets (an impact), */
     double impact_back; /* and how far from the bound the position projection puts it, */
     bool impact;        /* while impact is true */
-    int motor_state;    /* TB__MOTOR_ROW (in the solve), TB__MOTOR_CAPPED, or none */
+    int motor_state;    /* TB__MOTOR_ROW (in the solve), TB__MOTOR_CAPPED, ... or none */
+    double stop_push;   /* the held stop's push at the last derivative (N or N m, > 0 while it
+                           pushes; with a motor, what it would push with the motor as it acts) */
+    double held_push;   /* a motor at a stop: the push the stop needs without the motor */
     /* An adaptive method's event switched the stop at switched_at from stop_before: an output
      * interpolated before that time (the event was past it) undoes the switch. */
     bool switched;
@@ -59,6 +62,13 @@ typedef struct tb__joint {
 #define TB__MOTOR_NONE 0
 #define TB__MOTOR_ROW 1
 #define TB__MOTOR_CAPPED 2
+/* A motor on a joint its stop holds (joint_limits.c, Motors at a stop): first not in the solve
+ * (AT_STOP, the stop's row solved alone), then driving into the stop (LOAD: fixed at its cap
+ * beside the stop's row, eval.motor_load) or away from it (AWAY: the motor's row instead of the
+ * stop's, capped like a free motor's). */
+#define TB__MOTOR_AT_STOP 3
+#define TB__MOTOR_LOAD 4
+#define TB__MOTOR_AWAY 5
 
 /* The rate (1/s) at which a motor drives its error out: a velocity motor's axial
  * acceleration is TB__JOINT_MOTOR_RATE (speed - rate) (a first-order approach, time constant
@@ -80,6 +90,7 @@ typedef struct tb__joint_eval {
     double rhs[TB__JOINT_ROWS];
     double lambda[TB__JOINT_ROWS];
     double last_lambda[TB__JOINT_ROWS]; /* the last derivative's lambda (joint_rate.c reads it) */
+    double motor_load; /* TB__MOTOR_LOAD: the capped motor's lambda on the axial row */
 } tb__joint_eval;
 
 /* A contribution J_i,side_i M^-1 J_k,side_k^T of one shared body to the block (i, k) of
@@ -177,6 +188,16 @@ double tb__joint_motor_acceleration(const tb__joint *joint, const tb__joint_eval
  * motor_max_force is fixed at the cap (its load written into dydt) and left out; true when one
  * was, so that the stage solves again without it. */
 bool tb__joints_cap_motors(tb__joints *js, const tb_scene *scene, double *dydt);
+/* The derivative's motors on joints their stops hold, after a solve: each decides whether it
+ * drives into its stop (fixed at its cap as a load, the stop's row kept) or away from it (its
+ * row instead of the stop's, capped; the stop's row back if the capped motor cannot lift the
+ * joint off). True when one changed, so that the stage solves again. */
+bool tb__joints_motors_at_stops(tb__joints *js, const tb_scene *scene, double *dydt);
+/* After the derivative's last solve: each held stop's push (joint.stop_push). */
+void tb__joints_note_pushes(tb__joints *js);
+/* An adaptive method's boundary: a held stop whose motor pulls the joint off it is released
+ * (a motor set between advances); true when one was. 0 or the derivative's failure. */
+int tb__joints_release_at_output(tb__joints *js, const tb_scene *scene, double t, double *y);
 /* Step boundaries of fixed-step methods (the post-step hook, before the projection): a joint
  * past a stop engages it (an impact), a held one whose stop would pull is released. 0, or the
  * derivative's failure. */
@@ -187,6 +208,14 @@ void tb__joints_undo_later_switches(tb__joints *js, double t);
 /* After the momenta projection: a stop whose impact left the joint separating faster than
  * resting contact lets it go. */
 void tb__joints_after_impacts(tb__joints *js);
+/* The derivative at (t, y) into the joints' scratch, for the held stops' pushes; 0 or its
+ * failure. */
+int tb__joints_held_lambdas(tb__joints *js, const tb_scene *scene, double t, const double *y);
+/* +1 at a lower stop (its push raises the coordinate), -1 at an upper one. */
+static inline double tb__stop_sign(int stop)
+{
+    return stop == TB__STOP_UPPER ? -1.0 : 1.0;
+}
 /* Root functions under adaptive methods: one per joint with limits (the gap to the nearer
  * stop while free, the stop's push while held). */
 size_t tb__joints_root_count(const void *constraints);
