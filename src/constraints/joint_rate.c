@@ -12,7 +12,9 @@
  * forces are the reactions of the last derivative's solve (at most a step old: the guard runs
  * before every step, and a derivative there would cost a fifth of a chain's step), or of one
  * derivative at the state before the first. Soft joints add their springs:
- * w = 2 pi frequency and damping ratio zeta per row. Baumgarte's rate (20/s) acts only under
+ * w = 2 pi frequency and damping ratio zeta per row; motors their servo, a real decay at
+ * TB__JOINT_MOTOR_RATE (20/s: an explicit step beyond real_limit / 20, 0.139 s for RK4, 0.1 s
+ * for Euler and midpoint, makes the servo itself unstable). Baumgarte's rate (20/s) acts only under
  * CVODE Adams, which the guard does not limit (error control chooses its steps). */
 #include "constraints/joints_internal.h"
 
@@ -132,6 +134,12 @@ int tb__joints_rate(void *constraints, const tb_scene *scene, const double *y, t
             tb__effect_rate_add_damped_mode(
                 out, 2.0 * 3.14159265358979323846 * joint->def.soft_frequency,
                 joint->def.soft_damping_ratio, joint->def.body_a);
+        } else if (joint->def.motor != TB_MOTOR_OFF && !joint->broken) {
+            /* a motor's servo: d(error)/dt = -K error (velocity), or a double root at -K
+             * (position, critically damped): a real decay at K either way, even while capped */
+            const size_t body =
+                tb__joint_side_moves(scene, joint->body[0]) ? joint->body[0] : joint->body[1];
+            tb__effect_rate_add_decay(out, TB__JOINT_MOTOR_RATE, body);
         }
     }
     const size_t n = tb_scene_state_size(scene);
