@@ -76,11 +76,14 @@ typedef struct tb_joint_def {
      * step; CVODE: its outputs). INFINITY (default): never. */
     double break_force, break_torque;
     /* A soft joint: a spring-damper on the same rows instead of an exact constraint, for
-     * animators' wobbly rigs: each row r pulls with -m_r (w^2 C_r + 2 zeta w dC_r/dt), w = 2 pi
-     * frequency, m_r = 1 / (J_r M^-1 J_r^T) the row's effective mass, so a row alone rings at
-     * frequency (Hz, > 0) with damping_ratio (>= 0). Not projected; its spring's energy is not
-     * in tb_scene_potential_energy; the stability guard counts its rate, 2 pi frequency at
-     * damping_ratio. frequency 0 (default): rigid. */
+     * animators' wobbly rigs: each row r pulls with -m_g (w^2 C_r + 2 zeta w dC_r/dt), w = 2 pi
+     * frequency, m_g the mean effective mass (1 / (J_r M^-1 J_r^T)) of its group of rows (the
+     * anchors' gap, a hinge's tilt, the relative rotation, a slider's sideways gap) when the
+     * joint is made, so a row alone rings at frequency (Hz, > 0) with damping_ratio (>= 0).
+     * Constant and isotropic, the spring is conservative: its energy is in
+     * tb_scene_potential_energy, and an undamped one keeps the scene's energy and momenta.
+     * Not projected (it is a spring); the stability guard counts its rate, 2 pi frequency at
+     * damping_ratio. No limits or motor (refused). frequency 0 (default): rigid. */
     double soft_frequency, soft_damping_ratio;
     int internal_cookie; /* set by tb_joint_def_default */
 } tb_joint_def;

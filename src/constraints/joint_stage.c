@@ -168,27 +168,15 @@ static void add_row_loads(const tb__joints *js, const tb_scene *scene, size_t j,
     }
 }
 
-/* A soft joint's rows as springs with dampers: lambda_r = -m_r (w^2 C_r + 2 zeta w J_r u),
- * m_r = 1 / (J_r M^-1 J_r^T) the row's effective mass, w = 2 pi soft_frequency. */
+/* A soft joint's rows as springs with dampers (joint_soft.c). */
 static void soft_loads(const tb__joints *js, const tb_scene *scene, double t, const double *y,
                        size_t j)
 {
-    const tb__joint *joint = &js->joints[j];
     tb__joint_eval *eval = &js->evals[j];
     tb__motion m[2];
     evaluate(js, scene, t, y, true, j, m);
-    tb__joint_row_velocities(joint, eval, &m[0], &m[1], eval->rate);
-    const double w = 2.0 * 3.14159265358979323846 * joint->def.soft_frequency;
-    const double zeta = joint->def.soft_damping_ratio;
-    for (int r = 0; r < joint->rows; ++r) {
-        double inverse_mass = 0.0;
-        for (int s = 0; s < 2; ++s) {
-            inverse_mass += tb__v3_dot(eval->J[r].v[s], eval->W[r].v[s]) +
-                            tb__v3_dot(eval->J[r].w[s], eval->W[r].w[s]);
-        }
-        const double mass = inverse_mass > 0.0 ? 1.0 / inverse_mass : 0.0;
-        eval->lambda[r] = -mass * (w * w * eval->C[r] + 2.0 * zeta * w * eval->rate[r]);
-    }
+    tb__joint_row_velocities(&js->joints[j], eval, &m[0], &m[1], eval->rate);
+    tb__joint_soft_lambdas(&js->joints[j], eval);
 }
 
 static int apply_joints(void *constraints, const tb_scene *scene, double t, const double *y,
@@ -396,4 +384,5 @@ const tb__constraint_ops tb__joint_ops = {
     .roots = tb__joints_roots,
     .at_event = tb__joints_at_event,
     .conserved = tb__joints_conserved,
+    .potential_energy = tb__joints_potential_energy,
 };

@@ -205,6 +205,7 @@ static tb__joint make_joint(const tb_scene *scene, const tb_joint_def *def)
         tb__joint_motion(scene, scene->time, scene->states, joint.body[s], false, &m[s]);
     }
     tb__joint_frames(&joint, &m[0], &m[1]);
+    tb__joint_soft_masses(&joint, scene);
     return joint;
 }
 

@@ -33,8 +33,10 @@ typedef struct tb__joint {
     double across_a[2][3]; /* two unit vectors across the axis, in a's frame (slider rows) */
     double across_b[2][3]; /* the same, in b's frame (hinge rows) */
     double relative[4];    /* q_b^* q_a when made: the held relative rotation (slider, fixed) */
-    bool broken;           /* its reaction passed break_force or break_torque: rows dropped */
-    double broken_time;    /* s: the step boundary where it broke */
+    double soft_mass[TB__JOINT_ROWS]; /* a soft joint's spring masses per row, kg or kg m^2
+                                         (joint_soft.c) */
+    bool broken;        /* its reaction passed break_force or break_torque: rows dropped */
+    double broken_time; /* s: the step boundary where it broke */
     /* Limits and motors (joint_limits.c): the axial row (row base_rows, the hinge's angle or
      * the slider's travel) in the solve while a stop holds the joint or a motor drives it. */
     int base_rows;      /* the type's rows (tb__joint_row_count) */
@@ -262,6 +264,13 @@ static inline bool tb__joint_side_moves(const tb_scene *scene, size_t body)
 {
     return body != TB_WORLD && !tb__body_fixed(scene, body);
 }
+
+/* Soft joints (joint_soft.c): the constant spring masses of a soft joint's rows, from its rows at
+ * the scene's states (when made); its rows' lambdas from eval's C and rate; the springs'
+ * potential energy at y (J; tb__constraint_ops.potential_energy). */
+void tb__joint_soft_masses(tb__joint *joint, const tb_scene *scene);
+void tb__joint_soft_lambdas(const tb__joint *joint, tb__joint_eval *eval);
+double tb__joints_potential_energy(const void *constraints, const tb_scene *scene, const double *y);
 
 /* The ops row the scene holds the joints by (joint_stage.c). */
 extern const tb__constraint_ops tb__joint_ops;
