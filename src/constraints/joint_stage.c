@@ -200,8 +200,11 @@ static int apply_joints(void *constraints, const tb_scene *scene, double t, cons
         if (tb__joint_solve(&js->solver, js->joints, js->evals) != 0) {
             return 1; /* rows that repeat one another: recoverable, a smaller step may pass */
         }
-    } while (tb__joints_cap_motors(js, scene, dydt) || tb__joints_motors_at_stops(js, scene, dydt));
-    tb__joints_note_pushes(js);
+    } while (tb__joints_cap_motors(js, scene, dydt) ||
+             (js->limited > 0 && tb__joints_motors_at_stops(js, scene, dydt)));
+    if (js->limited > 0) {
+        tb__joints_note_pushes(js);
+    }
     for (size_t j = 0; j < js->count; ++j) {
         if (js->joints[j].solved_rows > 0) {
             add_row_loads(js, scene, j, dydt, false);

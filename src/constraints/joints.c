@@ -243,13 +243,15 @@ static tb_status grow_joints(tb_scene *scene, const tb__joint *joint)
         tb__joint_solver_free(&js->solver);
     }
     const bool breakable = !isinf(joint->def.break_force) || !isinf(joint->def.break_torque);
-    *grown = (tb__joints){.joints = joints,
-                          .count = count,
-                          .evals = evals,
-                          .solver = solver,
-                          .breakable = (js != NULL ? js->breakable : 0) + (breakable ? 1 : 0),
-                          .scratch = js != NULL ? js->scratch : NULL,
-                          .scratch_size = js != NULL ? js->scratch_size : 0};
+    *grown =
+        (tb__joints){.joints = joints,
+                     .count = count,
+                     .evals = evals,
+                     .solver = solver,
+                     .breakable = (js != NULL ? js->breakable : 0) + (breakable ? 1 : 0),
+                     .limited = (js != NULL ? js->limited : 0) + (joint->def.has_limits ? 1 : 0),
+                     .scratch = js != NULL ? js->scratch : NULL,
+                     .scratch_size = js != NULL ? js->scratch_size : 0};
     scene->constraints = grown;
     scene->constraint_ops = &tb__joint_ops;
     return TB_STATUS_OK;

@@ -135,6 +135,7 @@ typedef struct tb__joints {
     tb__joint_eval *evals; /* count */
     tb__joint_solver solver;
     size_t breakable; /* joints with a finite break_force or break_torque */
+    size_t limited;   /* joints with limits (the only ones a stop holds) */
     double *scratch;  /* a derivative's worth (scratch_size doubles) for the breaking check */
     size_t scratch_size;
     bool has_last_lambda; /* a derivative has solved since the joints were made */
