@@ -45,12 +45,16 @@ void tb__joints_configure_rows(tb__joints *js, bool with_motors)
 {
     for (size_t j = 0; j < js->count; ++j) {
         tb__joint *joint = &js->joints[j];
-        if (joint->broken || joint->def.soft_frequency > 0.0) {
+        if (joint->broken || (joint->def.soft_frequency > 0.0 && !joint->axial_first)) {
             continue;
         }
         const bool extra = has_axial_row(joint, with_motors);
-        joint->rows = joint->base_rows + (extra ? 1 : 0);
-        joint->solved_rows = joint->rows;
+        if (joint->axial_first) { /* its rows stay laid out; the axial row alone is solved */
+            joint->solved_rows = extra ? 1 : 0;
+        } else {
+            joint->rows = joint->base_rows + (extra ? 1 : 0);
+            joint->solved_rows = joint->rows;
+        }
         joint->motor_state = !with_motors || joint->def.motor == TB_MOTOR_OFF ? TB__MOTOR_NONE
                              : joint->stop != TB__STOP_NONE                   ? TB__MOTOR_AT_STOP
                                                                               : TB__MOTOR_ROW;
@@ -68,7 +72,7 @@ double tb__joint_motor_acceleration(const tb__joint *joint, const tb__joint_eval
     const double k = TB__JOINT_MOTOR_RATE;
     return joint->def.motor == TB_MOTOR_VELOCITY
                ? k * (joint->def.motor_speed - rate)
-               : -k * k * eval->C[joint->base_rows] - 2.0 * k * rate;
+               : -k * k * eval->C[joint->axial_row] - 2.0 * k * rate;
 }
 
 bool tb__joints_cap_motors(tb__joints *js, const tb_scene *scene, double *dydt)
@@ -77,14 +81,14 @@ bool tb__joints_cap_motors(tb__joints *js, const tb_scene *scene, double *dydt)
     for (size_t j = 0; j < js->count; ++j) {
         tb__joint *joint = &js->joints[j];
         tb__joint_eval *eval = &js->evals[j];
-        const int r = joint->base_rows;
+        const int r = joint->axial_row;
         if (joint->motor_state != TB__MOTOR_ROW || joint->broken ||
             !(fabs(eval->lambda[r]) > joint->def.motor_max_force)) {
             continue;
         }
         const double cap = copysign(joint->def.motor_max_force, eval->lambda[r]);
         joint->motor_state = TB__MOTOR_CAPPED;
-        joint->rows = joint->solved_rows = joint->base_rows;
+        tb__joint_drop_axial_row(joint);
         eval->lambda[r] = eval->rhs[r] = cap; /* the solve copies rhs into lambda: keep it */
         tb__joint_add_row_load(js, scene, j, r, cap, dydt);
         capped = true;
@@ -106,7 +110,7 @@ static double axial_rate(tb__joints *js, const tb_scene *scene, double t, const 
     tb__joint_rows(joint, &m[0], &m[1], constants, &js->evals[j]);
     double rate[TB__JOINT_ROWS];
     tb__joint_row_velocities(joint, &js->evals[j], &m[0], &m[1], rate);
-    return rate[joint->base_rows];
+    return rate[joint->axial_row];
 }
 
 /* Joint j, at coordinate c, engages stop: an impact when it moves into it. A fixed step finds

@@ -24,7 +24,7 @@
 /* The motor's asked axial acceleration at a stop (the row's C is measured from the bound). */
 static double asked_at_stop(const tb__joint *joint, const tb__joint_eval *eval)
 {
-    const int r = joint->base_rows;
+    const int r = joint->axial_row;
     const double k = TB__JOINT_MOTOR_RATE, rate = eval->rate[r];
     if (joint->def.motor == TB_MOTOR_VELOCITY) {
         return k * (joint->def.motor_speed - rate);
@@ -39,7 +39,7 @@ static void decide(tb__joints *js, const tb_scene *scene, size_t j, double *dydt
 {
     tb__joint *joint = &js->joints[j];
     tb__joint_eval *eval = &js->evals[j];
-    const int r = joint->base_rows;
+    const int r = joint->axial_row;
     const double s = tb__stop_sign(joint->stop);
     joint->held_push = s * eval->lambda[r];
     if (s * asked_at_stop(joint, eval) < 0.0) {
@@ -58,7 +58,7 @@ static void cap_away(tb__joints *js, const tb_scene *scene, size_t j, double *dy
 {
     tb__joint *joint = &js->joints[j];
     tb__joint_eval *eval = &js->evals[j];
-    const int r = joint->base_rows;
+    const int r = joint->axial_row;
     const double cap = copysign(joint->def.motor_max_force, eval->lambda[r]);
     tb__joint_add_row_load(js, scene, j, r, cap, dydt);
     if (tb__stop_sign(joint->stop) * cap < joint->held_push) {
@@ -67,7 +67,7 @@ static void cap_away(tb__joints *js, const tb_scene *scene, size_t j, double *dy
         joint->axial_zero = joint->def.limits[joint->stop - 1];
     } else {
         joint->motor_state = TB__MOTOR_CAPPED;
-        joint->rows = joint->solved_rows = joint->base_rows;
+        tb__joint_drop_axial_row(joint);
         eval->lambda[r] = eval->rhs[r] = cap; /* the solve copies rhs into lambda: keep it */
     }
 }
@@ -84,7 +84,7 @@ bool tb__joints_motors_at_stops(tb__joints *js, const tb_scene *scene, double *d
             decide(js, scene, j, dydt);
             changed = true;
         } else if (joint->motor_state == TB__MOTOR_AWAY &&
-                   fabs(js->evals[j].lambda[joint->base_rows]) > joint->def.motor_max_force) {
+                   fabs(js->evals[j].lambda[joint->axial_row]) > joint->def.motor_max_force) {
             cap_away(js, scene, j, dydt);
             changed = true;
         }
@@ -100,7 +100,7 @@ void tb__joints_note_pushes(tb__joints *js)
             joint->stop_push = 0.0;
             continue;
         }
-        const double axial = tb__stop_sign(joint->stop) * js->evals[j].lambda[joint->base_rows];
+        const double axial = tb__stop_sign(joint->stop) * js->evals[j].lambda[joint->axial_row];
         const bool motor_row =
             joint->motor_state == TB__MOTOR_AWAY || joint->motor_state == TB__MOTOR_CAPPED;
         joint->stop_push = motor_row ? joint->held_push - axial : axial;

@@ -21,7 +21,8 @@ static void largest_error(const tb_scene *scene, const tb__joints *js, const dou
     *worst_joint = 0;
     for (size_t j = 0; j < js->count; ++j) {
         double position = 0.0, velocity = 0.0;
-        if (js->joints[j].solved_rows == 0) { /* soft or broken: not projected */
+        if (js->joints[j].solved_rows == 0 || js->joints[j].def.soft_frequency > 0.0) {
+            /* broken, or soft (a spring: not projected, but for its stop's axial row) */
             continue;
         }
         (void)tb_scene_joint_error(scene, y, j, &position, &velocity);

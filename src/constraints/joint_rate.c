@@ -88,7 +88,7 @@ static void sum_stiffness(const tb__joints *js, const tb_scene *scene, double *a
 {
     for (size_t j = 0; j < js->count; ++j) {
         const tb__joint *joint = &js->joints[j];
-        if (joint->solved_rows == 0) { /* soft (their springs below) or broken */
+        if (joint->solved_rows == 0 || joint->def.soft_frequency > 0.0) { /* springs below */
             continue;
         }
         double force[2][3], torque[2][3];
@@ -130,11 +130,12 @@ int tb__joints_rate(void *constraints, const tb_scene *scene, const double *y, t
     *out = (tb__effect_rate){0.0, 0, 0.0, 0};
     for (size_t j = 0; j < js->count; ++j) {
         const tb__joint *joint = &js->joints[j];
-        if (joint->solved_rows == 0 && !joint->broken) {
+        if (joint->def.soft_frequency > 0.0 && !joint->broken) {
             tb__effect_rate_add_damped_mode(
                 out, 2.0 * 3.14159265358979323846 * joint->def.soft_frequency,
                 joint->def.soft_damping_ratio, joint->def.body_a);
-        } else if (joint->def.motor != TB_MOTOR_OFF && !joint->broken) {
+        }
+        if (joint->def.motor != TB_MOTOR_OFF && !joint->broken) {
             /* a motor's servo: d(error)/dt = -K error (velocity), or a double root at -K
              * (position, critically damped): a real decay at K either way, even while capped */
             const size_t body =

@@ -54,8 +54,9 @@ void tb__joint_soft_masses(tb__joint *joint, const tb_scene *scene)
     }
     tb__joint_eval eval;
     tb__joint_rows(joint, &m[0], &m[1], constants, &eval);
-    int rows[2], rotation_group = -1, first = 0;
+    int rows[2], rotation_group = -1, first = tb__joint_first_spring(joint);
     groups(joint->def.type, rows, &rotation_group);
+    joint->soft_mass[0] = 0.0; /* an axial row kept first: not a spring */
     for (int g = 0; g < 2; ++g) {
         double trace = 0.0;
         for (int r = first; r < first + rows[g]; ++r) {
@@ -80,7 +81,7 @@ static void spring_factors(const tb__joint *joint, const double *C, double facto
         factor[r] = 1.0;
     }
     if (rotation_group >= 0) {
-        const int first = rotation_group == 0 ? 0 : rows[0];
+        const int first = tb__joint_first_spring(joint) + (rotation_group == 0 ? 0 : rows[0]);
         const double *c = C + first;
         const double e0 = sqrt(fmax(0.0, 1.0 - 0.25 * (c[0] * c[0] + c[1] * c[1] + c[2] * c[2])));
         for (int r = first; r < first + 3; ++r) {
@@ -95,7 +96,8 @@ void tb__joint_soft_lambdas(const tb__joint *joint, tb__joint_eval *eval)
     const double zeta = joint->def.soft_damping_ratio;
     double factor[TB__JOINT_ROWS];
     spring_factors(joint, eval->C, factor);
-    for (int r = 0; r < joint->rows; ++r) {
+    eval->lambda[0] = joint->axial_first ? 0.0 : eval->lambda[0]; /* its axial row: solved */
+    for (int r = tb__joint_first_spring(joint); r < joint->rows; ++r) {
         const double mass = joint->soft_mass[r];
         eval->lambda[r] = -mass * (w * w * factor[r] * eval->C[r] + 2.0 * zeta * w * eval->rate[r]);
     }
@@ -119,7 +121,7 @@ double tb__joints_potential_energy(const void *constraints, const tb_scene *scen
         tb__joint_eval eval;
         tb__joint_rows(joint, &m[0], &m[1], constants, &eval);
         const double w = TB__TWO_PI * joint->def.soft_frequency;
-        for (int r = 0; r < joint->rows; ++r) {
+        for (int r = tb__joint_first_spring(joint); r < joint->rows; ++r) {
             energy += 0.5 * joint->soft_mass[r] * w * w * eval.C[r] * eval.C[r];
         }
     }

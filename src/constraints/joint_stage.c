@@ -120,7 +120,7 @@ static void stage_rhs(const tb__joints *js, const tb_scene *scene, double t, con
         const bool motor =
             joint->motor_state == TB__MOTOR_ROW || joint->motor_state == TB__MOTOR_AWAY;
         eval->rate[r] = velocity[r]; /* a motor at a stop reads it (joint_motor_stops.c) */
-        eval->rhs[r] = motor && r == joint->base_rows
+        eval->rhs[r] = motor && r == joint->axial_row
                            ? -free + tb__joint_motor_acceleration(joint, eval, velocity[r])
                            : -free - 2.0 * b * velocity[r] - b * b * eval->C[r];
     }
@@ -141,10 +141,10 @@ void tb__joint_add_row_load(const tb__joints *js, const tb_scene *scene, size_t 
     }
 }
 
-/* Adds J^T lambda (or, for momenta, the impulse J^T mu) of joint j into the P and L of the
- * dynamic bodies at base (dydt or y). */
+/* Adds J^T lambda (or, for momenta, the impulse J^T mu) of joint j's rows [first, last) into the
+ * P and L of the dynamic bodies at base (dydt or y). */
 static void add_row_loads(const tb__joints *js, const tb_scene *scene, size_t j, double *base,
-                          bool skip_asleep)
+                          bool skip_asleep, int first, int last)
 {
     const tb__joint *joint = &js->joints[j];
     const tb__joint_eval *eval = &js->evals[j];
@@ -161,7 +161,7 @@ static void add_row_loads(const tb__joints *js, const tb_scene *scene, size_t j,
         double *force = fixed ? scene->reactions + 6 * body
                               : base + TB_STATE_SIZE * tb__body_slot(scene, body) + TB_STATE_P;
         double *torque = fixed ? force + 3 : force + (TB_STATE_L - TB_STATE_P);
-        for (int r = 0; r < joint->rows; ++r) {
+        for (int r = first; r < last; ++r) {
             tb__v3_axpy(force, eval->lambda[r], eval->J[r].v[s]);
             tb__v3_axpy(torque, eval->lambda[r], eval->J[r].w[s]);
         }
@@ -184,9 +184,10 @@ static int apply_joints(void *constraints, const tb_scene *scene, double t, cons
 {
     tb__joints *js = constraints;
     for (size_t j = 0; j < js->count; ++j) { /* soft joints first: loads the solve sees */
-        if (js->joints[j].solved_rows == 0 && !js->joints[j].broken) {
+        const tb__joint *joint = &js->joints[j];
+        if (joint->def.soft_frequency > 0.0 && !joint->broken) {
             soft_loads(js, scene, t, y, j);
-            add_row_loads(js, scene, j, dydt, false);
+            add_row_loads(js, scene, j, dydt, false, tb__joint_first_spring(joint), joint->rows);
         }
     }
     /* a motor past its cap is fixed there and the rest solved again (joint_limits.c) */
@@ -207,7 +208,7 @@ static int apply_joints(void *constraints, const tb_scene *scene, double t, cons
     }
     for (size_t j = 0; j < js->count; ++j) {
         if (js->joints[j].solved_rows > 0) {
-            add_row_loads(js, scene, j, dydt, false);
+            add_row_loads(js, scene, j, dydt, false, 0, js->joints[j].solved_rows);
             memcpy(js->evals[j].last_lambda, js->evals[j].lambda, sizeof js->evals[j].lambda);
         }
     }
@@ -245,7 +246,7 @@ static void move_bodies(const tb__joints *js, const tb_scene *scene, size_t j, d
         }
         double *state = y + TB_STATE_SIZE * tb__body_slot(scene, body);
         double turn[3] = {0.0, 0.0, 0.0};
-        for (int r = 0; r < joint->rows; ++r) {
+        for (int r = 0; r < joint->solved_rows; ++r) {
             tb__v3_axpy(state + TB_STATE_X, eval->lambda[r], eval->W[r].v[s]);
             tb__v3_axpy(turn, eval->lambda[r], eval->W[r].w[s]);
         }
@@ -312,7 +313,7 @@ static int project_momenta(tb__joints *js, const tb_scene *scene, double t, doub
     for (size_t j = 0; j < js->count; ++j) {
         const tb__joint *joint = &js->joints[j];
         for (int r = 0; r < joint->solved_rows; ++r) { /* an impact sets its stop's rate */
-            const bool impact = joint->impact && r == joint->base_rows;
+            const bool impact = joint->impact && r == joint->axial_row;
             js->evals[j].rhs[r] = (impact ? joint->impact_rate : 0.0) - js->evals[j].rate[r];
         }
     }
@@ -321,7 +322,7 @@ static int project_momenta(tb__joints *js, const tb_scene *scene, double t, doub
     }
     for (size_t j = 0; j < js->count; ++j) {
         if (js->joints[j].solved_rows > 0) {
-            add_row_loads(js, scene, j, y, true);
+            add_row_loads(js, scene, j, y, true, 0, js->joints[j].solved_rows);
         }
     }
     return 0;

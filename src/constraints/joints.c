@@ -163,22 +163,6 @@ static tb_status check_breaking_and_softness(tb_scene *scene, const tb_joint_def
     return TB_STATUS_OK;
 }
 
-/* What is not built: refused, never accepted and ignored. A soft joint's rows are springs,
- * loads applied before the exact solve, and the solver holds none of its rows for a stop's or a
- * motor's row to join (docs/joints.md, Soft joints). */
-static tb_status check_supported(tb_scene *scene, const tb_joint_def *def)
-{
-    const bool motor = def->motor != TB_MOTOR_OFF, soft = def->soft_frequency > 0.0;
-    if (soft && (def->has_limits || motor)) {
-        return tb__scene_fail(scene, TB_STATUS_UNSUPPORTED,
-                              "%s on a soft joint (soft_frequency %g Hz): not built (a soft "
-                              "joint's rows are springs, outside the exact solve a stop or a "
-                              "motor acts in): make the joint rigid, or leave the default",
-                              def->has_limits ? "has_limits" : "motor", def->soft_frequency);
-    }
-    return TB_STATUS_OK;
-}
-
 static tb_status check_def(tb_scene *scene, const tb_joint_def *def)
 {
     if (def == NULL) {
@@ -192,7 +176,6 @@ static tb_status check_def(tb_scene *scene, const tb_joint_def *def)
     status = status != TB_STATUS_OK ? status : check_bodies(scene, def);
     status = status != TB_STATUS_OK ? status : check_limits_and_motor(scene, def);
     status = status != TB_STATUS_OK ? status : check_breaking_and_softness(scene, def);
-    status = status != TB_STATUS_OK ? status : check_supported(scene, def);
     return status != TB_STATUS_OK ? status : tb__scene_check_idle(scene, "adding a joint");
 }
 
@@ -330,7 +313,8 @@ tb_status tb_scene_joint_error(const tb_scene *scene, const double *y, size_t jo
     }
     const tb__joints *js = scene->constraints;
     tb__joint held = js->joints[joint]; /* its rows and a stop that holds it; a motor is none */
-    held.rows = held.base_rows + (held.stop != TB__STOP_NONE && !held.broken ? 1 : 0);
+    const bool stop = held.stop != TB__STOP_NONE && !held.broken;
+    held.rows = held.base_rows + (stop || held.axial_first ? 1 : 0);
     const tb__joint *j = &held;
     tb__joint_eval eval;
     tb__motion m[2];
@@ -342,7 +326,7 @@ tb_status tb_scene_joint_error(const tb_scene *scene, const double *y, size_t jo
     tb__joint_rows(j, &m[0], &m[1], constants, &eval);
     double velocity[TB__JOINT_ROWS], worst_c = 0.0, worst_v = 0.0;
     tb__joint_row_velocities(j, &eval, &m[0], &m[1], velocity);
-    for (int r = 0; r < j->rows; ++r) {
+    for (int r = held.axial_first && !stop ? 1 : 0; r < j->rows; ++r) { /* a free axial row: no */
         worst_c = fmax(worst_c, fabs(eval.C[r]));
         worst_v = fmax(worst_v, fabs(velocity[r]));
     }
@@ -391,7 +375,7 @@ static void axial_loads(const tb__joint *joint, const tb__joint_eval *eval, doub
                         double *stop)
 {
     const int state = joint->motor_state;
-    const double lambda = eval->lambda[joint->base_rows];
+    const double lambda = eval->lambda[joint->axial_row];
     const bool motor_row =
         state == TB__MOTOR_ROW || state == TB__MOTOR_AWAY || state == TB__MOTOR_CAPPED;
     *motor = joint->broken             ? 0.0
@@ -458,7 +442,13 @@ tb_status tb_scene_set_joint_motor(tb_scene *scene, size_t joint, tb_joint_motor
                  : tb__validate_finite(scene->detail, value,
                                        mode == TB_MOTOR_POSITION ? "motor_target" : "motor_speed");
     status = status != TB_STATUS_OK ? status : check_limits_and_motor(scene, &def);
-    status = status != TB_STATUS_OK ? status : check_supported(scene, &def);
+    if (status == TB_STATUS_OK && def.motor != TB_MOTOR_OFF && def.soft_frequency > 0.0 &&
+        !j->axial_first) { /* its rows were laid out without the axial row */
+        status = tb__scene_fail(scene, TB_STATUS_UNSUPPORTED,
+                                "motor: joint %zu is a soft joint made without limits or a motor "
+                                "(its rows have no axial row): give it a motor when adding it",
+                                joint);
+    }
     status = status != TB_STATUS_OK ? status : tb__scene_check_idle(scene, "setting a motor");
     if (status != TB_STATUS_OK) {
         return status;

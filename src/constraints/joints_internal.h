@@ -40,6 +40,10 @@ typedef struct tb__joint {
     /* Limits and motors (joint_limits.c): the axial row (row base_rows, the hinge's angle or
      * the slider's travel) in the solve while a stop holds the joint or a motor drives it. */
     int base_rows;      /* the type's rows (tb__joint_row_count) */
+    int axial_row;      /* the axial row's index: base_rows, or 0 where axial_first */
+    bool axial_first;   /* a soft joint with limits or a motor: its axial row first (an exact
+                           row, in the solve while a stop holds or its motor drives), its springs
+                           after it (rows 1 .. base_rows); always base_rows + 1 rows */
     int stop;           /* TB__STOP_NONE, or the stop that holds the joint (lower, upper) */
     double axial_zero;  /* the axial row's C is its coordinate minus this (the stop's bound) */
     double impact_rate; /* the axial rate the next momenta projection sets (an impact), */
@@ -219,6 +223,16 @@ static inline double tb__stop_sign(int stop)
 {
     return stop == TB__STOP_UPPER ? -1.0 : 1.0;
 }
+/* The axial row leaves the solve (a capped motor): rows = solved_rows = base_rows, or, where
+ * axial_first, no row solved (the layout kept). */
+static inline void tb__joint_drop_axial_row(tb__joint *joint)
+{
+    if (joint->axial_first) {
+        joint->solved_rows = 0;
+    } else {
+        joint->rows = joint->solved_rows = joint->base_rows;
+    }
+}
 /* Root functions under adaptive methods: one per joint with limits (the gap to the nearer
  * stop while free, the stop's push while held). */
 size_t tb__joints_root_count(const void *constraints);
@@ -258,6 +272,18 @@ int tb__joints_project(tb__joints *js, const tb_scene *scene, double t, double *
  * keeps momentum and energy; one to the world or a body without a state takes momentum; a
  * keyframed support, a motor, a soft joint or a stop with restitution below 1 does work. */
 void tb__joints_conserved(const void *constraints, const tb_scene *scene, tb_conserved *c);
+
+/* Whether a joint may have rows in the exact solve (the solver's pattern holds it). */
+static inline bool tb__joint_in_pattern(const tb__joint *joint)
+{
+    return joint->solved_rows > 0 || joint->axial_first;
+}
+
+/* The first spring row of a soft joint (after an axial row kept first). */
+static inline int tb__joint_first_spring(const tb__joint *joint)
+{
+    return joint->axial_first ? 1 : 0;
+}
 
 /* Whether a joint's side moves under the joint's loads: a dynamic body, not the world nor a
  * body without a state (static, keyframed). */
