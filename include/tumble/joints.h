@@ -83,7 +83,8 @@ typedef struct tb_joint_def {
      * Constant and isotropic, the spring is conservative: its energy is in
      * tb_scene_potential_energy, and an undamped one keeps the scene's energy and momenta.
      * Not projected (it is a spring); the stability guard counts its rate, 2 pi frequency at
-     * damping_ratio. No limits or motor (refused). frequency 0 (default): rigid. */
+     * damping_ratio. Limits and a motor (hinge, slider) act as on a rigid joint, through an
+     * exact axial row beside the springs. frequency 0 (default): rigid. */
     double soft_frequency, soft_damping_ratio;
     int internal_cookie; /* set by tb_joint_def_default */
 } tb_joint_def;
@@ -98,11 +99,10 @@ TB_API tb_joint_def tb_joint_def_default(void);
  * without limits, a motor without a positive max force or on a ball or fixed joint, a break
  * force or torque <= 0, a negative soft frequency or damping ratio, a damping ratio on a rigid
  * joint (TB_STATUS_INVALID_ARGUMENT), a non-finite value (TB_STATUS_NOT_FINITE);
- * TB_STATUS_BUSY while an integrator steps the scene. Not built, refused with
- * TB_STATUS_UNSUPPORTED rather than ignored: limits or a motor on a soft joint (its rows are
- * springs, outside the exact solve a stop or a motor acts in; docs/joints.md). A motor and
- * limits on one joint work together: at a stop the stop wins, the motor pushing into it at its
- * cap. An integrator made before the joint refuses to advance (TB_STATUS_LAYOUT_CHANGED). */
+ * TB_STATUS_BUSY while an integrator steps the scene. A motor and limits on one joint work
+ * together, on rigid and soft joints: at a stop the stop wins, the motor pushing into it at its
+ * cap (docs/joints.md). An integrator made before the joint refuses to advance
+ * (TB_STATUS_LAYOUT_CHANGED). */
 TB_API tb_status tb_scene_add_joint(tb_scene *scene, const tb_joint_def *def, size_t *out_id);
 
 TB_API size_t tb_scene_joint_count(const tb_scene *scene);
@@ -152,7 +152,8 @@ TB_API tb_status tb_scene_joint_axial(tb_scene *scene, const double *y, size_t j
  * changed): mode, value (motor_speed for TB_MOTOR_VELOCITY, motor_target for
  * TB_MOTOR_POSITION, ignored for TB_MOTOR_OFF) and max_force (> 0, ignored for TB_MOTOR_OFF),
  * checked as tb_scene_add_joint checks them (the detail naming the field), nothing changed on a
- * refusal. The right-hand side changes from the scene's time on (CVODE restarts); the
+ * refusal; a motor on a soft joint made without limits or a motor is refused
+ * (TB_STATUS_UNSUPPORTED: its rows have no axial row). The right-hand side changes from the scene's time on (CVODE restarts); the
  * integrator keeps stepping. TB_STATUS_BUSY while an integrator steps the scene. */
 TB_API tb_status tb_scene_set_joint_motor(tb_scene *scene, size_t joint, tb_joint_motor_mode mode,
                                           double value, double max_force);
