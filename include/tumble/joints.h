@@ -153,8 +153,9 @@ TB_API tb_status tb_scene_joint_axial(tb_scene *scene, const double *y, size_t j
  * TB_MOTOR_POSITION, ignored for TB_MOTOR_OFF) and max_force (> 0, ignored for TB_MOTOR_OFF),
  * checked as tb_scene_add_joint checks them (the detail naming the field), nothing changed on a
  * refusal; a motor on a soft joint made without limits or a motor is refused
- * (TB_STATUS_UNSUPPORTED: its rows have no axial row). The right-hand side changes from the scene's time on (CVODE restarts); the
- * integrator keeps stepping. TB_STATUS_BUSY while an integrator steps the scene. */
+ * (TB_STATUS_UNSUPPORTED: its rows have no axial row). The right-hand side changes from the scene's
+ * time on (CVODE restarts); the integrator keeps stepping. TB_STATUS_BUSY while an integrator steps
+ * the scene. */
 TB_API tb_status tb_scene_set_joint_motor(tb_scene *scene, size_t joint, tb_joint_motor_mode mode,
                                           double value, double max_force);
 
