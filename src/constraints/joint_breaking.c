@@ -29,8 +29,8 @@ void tb__joint_reaction(const tb_scene *scene, const tb__joints *js, size_t j, d
         tb__v3_axpy(torque, eval->lambda[r], eval->J[r].w[0]);
     }
     if (joint->motor_state == TB__MOTOR_LOAD && !joint->broken) { /* a motor into its stop */
-        tb__v3_axpy(force, eval->motor_load, eval->J[joint->axial_row].v[0]);
-        tb__v3_axpy(torque, eval->motor_load, eval->J[joint->axial_row].w[0]);
+        tb__v3_axpy(force, joint->motor_load, eval->J[joint->axial_row].v[0]);
+        tb__v3_axpy(torque, joint->motor_load, eval->J[joint->axial_row].w[0]);
     }
     double arm[3], moment[3];
     tb__point_arm(tb__derivative_motion(scene, joint->body[0]), joint->anchor[0], arm);

@@ -45,7 +45,10 @@ void tb__joints_configure_rows(tb__joints *js, bool with_motors)
 {
     for (size_t j = 0; j < js->count; ++j) {
         tb__joint *joint = &js->joints[j];
-        if (joint->broken || (joint->def.soft_frequency > 0.0 && !joint->axial_first)) {
+        const bool plain = !joint->def.has_limits && joint->def.motor == TB_MOTOR_OFF &&
+                           joint->motor_state == TB__MOTOR_NONE && !joint->axial_first;
+        if (joint->broken || (joint->def.soft_frequency > 0.0 && !joint->axial_first) ||
+            (plain && joint->rows == joint->base_rows)) { /* nothing to change */
             continue;
         }
         const bool extra = has_axial_row(joint, with_motors);
@@ -58,7 +61,7 @@ void tb__joints_configure_rows(tb__joints *js, bool with_motors)
         joint->motor_state = !with_motors || joint->def.motor == TB_MOTOR_OFF ? TB__MOTOR_NONE
                              : joint->stop != TB__STOP_NONE                   ? TB__MOTOR_AT_STOP
                                                                               : TB__MOTOR_ROW;
-        js->evals[j].motor_load = 0.0;
+        joint->motor_load = 0.0;
         joint->axial_zero = joint->stop == TB__STOP_LOWER           ? joint->def.limits[0]
                             : joint->stop == TB__STOP_UPPER         ? joint->def.limits[1]
                             : joint->def.motor == TB_MOTOR_POSITION ? joint->def.motor_target

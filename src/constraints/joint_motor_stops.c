@@ -44,8 +44,8 @@ static void decide(tb__joints *js, const tb_scene *scene, size_t j, double *dydt
     joint->held_push = s * eval->lambda[r];
     if (s * asked_at_stop(joint, eval) < 0.0) {
         joint->motor_state = TB__MOTOR_LOAD;
-        eval->motor_load = -s * joint->def.motor_max_force;
-        tb__joint_add_row_load(js, scene, j, r, eval->motor_load, dydt);
+        joint->motor_load = -s * joint->def.motor_max_force;
+        tb__joint_add_row_load(js, scene, j, r, joint->motor_load, dydt);
     } else {
         joint->motor_state = TB__MOTOR_AWAY;
         joint->axial_zero = joint->def.motor == TB_MOTOR_POSITION ? joint->def.motor_target : 0.0;
@@ -63,7 +63,7 @@ static void cap_away(tb__joints *js, const tb_scene *scene, size_t j, double *dy
     tb__joint_add_row_load(js, scene, j, r, cap, dydt);
     if (tb__stop_sign(joint->stop) * cap < joint->held_push) {
         joint->motor_state = TB__MOTOR_LOAD;
-        eval->motor_load = cap;
+        joint->motor_load = cap;
         joint->axial_zero = joint->def.limits[joint->stop - 1];
     } else {
         joint->motor_state = TB__MOTOR_CAPPED;

@@ -351,9 +351,6 @@ static void add_coupling(double *B, const tb__joint_coupling *cp, const tb__join
     const int js = cp->row_side, ws = cp->column_side;
     if (cp->row_joint == cp->column_joint) { /* its lower half is read */
         switch (mi) {
-        case 1:
-            add_product(B, J, js, W, ws, 1, 1, true);
-            return;
         case 3:
             add_product(B, J, js, W, ws, 3, 3, true);
             return;
@@ -370,10 +367,6 @@ static void add_coupling(double *B, const tb__joint_coupling *cp, const tb__join
         add_product(B, J, js, W, ws, a, b, false);                                                 \
         return;
     switch (8 * mi + mk) {
-        TB__CASE(1, 3) /* a soft joint's axial row beside a ball's or a hinge's rows */
-        TB__CASE(1, 5)
-        TB__CASE(3, 1)
-        TB__CASE(5, 1)
         TB__CASE(3, 3)
         TB__CASE(3, 5)
         TB__CASE(3, 6)
@@ -590,8 +583,10 @@ int tb__joint_solve(tb__joint_solver *solver, const tb__joint *joints, tb__joint
         return 1;
     }
     for (size_t j = 0; j < solver->count; ++j) {
-        if (joints[j].solved_rows > 0) { /* the rest (a soft joint's springs) are their own */
-            memcpy(evals[j].lambda, evals[j].rhs, (size_t)joints[j].solved_rows * sizeof(double));
+        if (joints[j].axial_first) { /* its springs' lambdas are their own */
+            evals[j].lambda[0] = joints[j].solved_rows > 0 ? evals[j].rhs[0] : evals[j].lambda[0];
+        } else if (joints[j].solved_rows > 0) {
+            memcpy(evals[j].lambda, evals[j].rhs, sizeof evals[j].lambda);
         }
     }
     substitute(solver, joints, evals);

@@ -85,17 +85,24 @@ static void free_acceleration(const tb_scene *scene, double t, const double *y, 
     tb__q_rotate(alpha, m->q, principal);
 }
 
-/* Joint j's rows at (t, y), its motions in m. */
+/* Joint j's rows at (t, y), its motions in m: the kinematics' own in the derivative (a dynamic
+ * body's, not copied), else made in store. */
 static void evaluate(const tb__joints *js, const tb_scene *scene, double t, const double *y,
-                     bool derivative, size_t j, tb__motion m[2])
+                     bool derivative, size_t j, const tb__motion *m[2], tb__motion store[2])
 {
     const tb__joint *joint = &js->joints[j];
     const tb__body *constants[2];
     for (int s = 0; s < 2; ++s) {
-        tb__joint_motion(scene, t, y, joint->body[s], derivative, &m[s]);
-        constants[s] = tb__joint_body_constants(scene, joint->body[s]);
+        const size_t body = joint->body[s];
+        if (derivative && body != TB_WORLD) {
+            m[s] = tb__derivative_motion(scene, body);
+        } else {
+            tb__joint_motion(scene, t, y, body, derivative, &store[s]);
+            m[s] = &store[s];
+        }
+        constants[s] = tb__joint_body_constants(scene, body);
     }
-    tb__joint_rows(joint, &m[0], &m[1], constants, &js->evals[j]);
+    tb__joint_rows(joint, m[0], m[1], constants, &js->evals[j]);
 }
 
 /* The right-hand side -(J a_free + dJ/dt u), with Baumgarte's terms when stabilising. */
@@ -104,13 +111,14 @@ static void stage_rhs(const tb__joints *js, const tb_scene *scene, double t, con
 {
     const tb__joint *joint = &js->joints[j];
     tb__joint_eval *eval = &js->evals[j];
-    tb__motion m[2];
-    evaluate(js, scene, t, y, true, j, m);
+    const tb__motion *m[2];
+    tb__motion store[2];
+    evaluate(js, scene, t, y, true, j, m, store);
     double a[2][3], alpha[2][3], velocity[TB__JOINT_ROWS];
     for (int s = 0; s < 2; ++s) {
-        free_acceleration(scene, t, y, dydt, joint->body[s], &m[s], a[s], alpha[s]);
+        free_acceleration(scene, t, y, dydt, joint->body[s], m[s], a[s], alpha[s]);
     }
-    tb__joint_row_velocities(joint, eval, &m[0], &m[1], velocity);
+    tb__joint_row_velocities(joint, eval, m[0], m[1], velocity);
     const double b = scene->stabilise_constraints ? TB__JOINT_BAUMGARTE_RATE : 0.0;
     for (int r = 0; r < joint->rows; ++r) {
         double free = eval->bias[r];
@@ -141,10 +149,10 @@ void tb__joint_add_row_load(const tb__joints *js, const tb_scene *scene, size_t 
     }
 }
 
-/* Adds J^T lambda (or, for momenta, the impulse J^T mu) of joint j's rows [first, last) into the
- * P and L of the dynamic bodies at base (dydt or y). */
+/* Adds J^T lambda (or, for momenta, the impulse J^T mu) of joint j's solved rows into the P and
+ * L of the dynamic bodies at base (dydt or y). */
 static void add_row_loads(const tb__joints *js, const tb_scene *scene, size_t j, double *base,
-                          bool skip_asleep, int first, int last)
+                          bool skip_asleep)
 {
     const tb__joint *joint = &js->joints[j];
     const tb__joint_eval *eval = &js->evals[j];
@@ -161,7 +169,29 @@ static void add_row_loads(const tb__joints *js, const tb_scene *scene, size_t j,
         double *force = fixed ? scene->reactions + 6 * body
                               : base + TB_STATE_SIZE * tb__body_slot(scene, body) + TB_STATE_P;
         double *torque = fixed ? force + 3 : force + (TB_STATE_L - TB_STATE_P);
-        for (int r = first; r < last; ++r) {
+        for (int r = 0; r < joint->solved_rows; ++r) {
+            tb__v3_axpy(force, eval->lambda[r], eval->J[r].v[s]);
+            tb__v3_axpy(torque, eval->lambda[r], eval->J[r].w[s]);
+        }
+    }
+}
+
+/* A soft joint's springs' loads (its rows after an axial row kept first) into dydt; a body
+ * without a state gets its reaction, while tb_scene_body_reaction reads it. */
+static void add_spring_loads(const tb__joints *js, const tb_scene *scene, size_t j, double *dydt)
+{
+    const tb__joint *joint = &js->joints[j];
+    const tb__joint_eval *eval = &js->evals[j];
+    for (int s = 0; s < 2; ++s) {
+        const size_t body = joint->body[s];
+        const bool fixed = body != TB_WORLD && tb__body_fixed(scene, body);
+        if (body == TB_WORLD || (fixed && scene->reactions == NULL)) {
+            continue;
+        }
+        double *force = fixed ? scene->reactions + 6 * body
+                              : dydt + TB_STATE_SIZE * tb__body_slot(scene, body) + TB_STATE_P;
+        double *torque = fixed ? force + 3 : force + (TB_STATE_L - TB_STATE_P);
+        for (int r = tb__joint_first_spring(joint); r < joint->rows; ++r) {
             tb__v3_axpy(force, eval->lambda[r], eval->J[r].v[s]);
             tb__v3_axpy(torque, eval->lambda[r], eval->J[r].w[s]);
         }
@@ -173,9 +203,10 @@ static void soft_loads(const tb__joints *js, const tb_scene *scene, double t, co
                        size_t j)
 {
     tb__joint_eval *eval = &js->evals[j];
-    tb__motion m[2];
-    evaluate(js, scene, t, y, true, j, m);
-    tb__joint_row_velocities(&js->joints[j], eval, &m[0], &m[1], eval->rate);
+    const tb__motion *m[2];
+    tb__motion store[2];
+    evaluate(js, scene, t, y, true, j, m, store);
+    tb__joint_row_velocities(&js->joints[j], eval, m[0], m[1], eval->rate);
     tb__joint_soft_lambdas(&js->joints[j], eval);
 }
 
@@ -187,7 +218,7 @@ static int apply_joints(void *constraints, const tb_scene *scene, double t, cons
         const tb__joint *joint = &js->joints[j];
         if (joint->def.soft_frequency > 0.0 && !joint->broken) {
             soft_loads(js, scene, t, y, j);
-            add_row_loads(js, scene, j, dydt, false, tb__joint_first_spring(joint), joint->rows);
+            add_spring_loads(js, scene, j, dydt);
         }
     }
     /* a motor past its cap is fixed there and the rest solved again (joint_limits.c) */
@@ -208,7 +239,7 @@ static int apply_joints(void *constraints, const tb_scene *scene, double t, cons
     }
     for (size_t j = 0; j < js->count; ++j) {
         if (js->joints[j].solved_rows > 0) {
-            add_row_loads(js, scene, j, dydt, false, 0, js->joints[j].solved_rows);
+            add_row_loads(js, scene, j, dydt, false);
             memcpy(js->evals[j].last_lambda, js->evals[j].lambda, sizeof js->evals[j].lambda);
         }
     }
@@ -220,11 +251,12 @@ static int apply_joints(void *constraints, const tb_scene *scene, double t, cons
 static double position_rhs(const tb__joints *js, const tb_scene *scene, double t, const double *y)
 {
     double worst = 0.0;
-    tb__motion m[2];
+    const tb__motion *m[2];
+    tb__motion store[2];
     for (size_t j = 0; j < js->count; ++j) {
-        evaluate(js, scene, t, y, false, j, m);
+        evaluate(js, scene, t, y, false, j, m, store);
         tb__joint_eval *eval = &js->evals[j];
-        tb__joint_row_velocities(&js->joints[j], eval, &m[0], &m[1], eval->rate);
+        tb__joint_row_velocities(&js->joints[j], eval, m[0], m[1], eval->rate);
         for (int r = 0; r < js->joints[j].solved_rows; ++r) { /* soft joints: not projected */
             eval->rhs[r] = -eval->C[r];
             worst = fmax(worst, fabs(eval->C[r]));
@@ -322,7 +354,7 @@ static int project_momenta(tb__joints *js, const tb_scene *scene, double t, doub
     }
     for (size_t j = 0; j < js->count; ++j) {
         if (js->joints[j].solved_rows > 0) {
-            add_row_loads(js, scene, j, y, true, 0, js->joints[j].solved_rows);
+            add_row_loads(js, scene, j, y, true);
         }
     }
     return 0;

@@ -380,7 +380,7 @@ static void axial_loads(const tb__joint *joint, const tb__joint_eval *eval, doub
         state == TB__MOTOR_ROW || state == TB__MOTOR_AWAY || state == TB__MOTOR_CAPPED;
     *motor = joint->broken             ? 0.0
              : motor_row               ? lambda
-             : state == TB__MOTOR_LOAD ? eval->motor_load
+             : state == TB__MOTOR_LOAD ? joint->motor_load
                                        : 0.0;
     *stop = joint->broken || motor_row || joint->stop == TB__STOP_NONE ? 0.0 : lambda;
 }

@@ -50,6 +50,7 @@ typedef struct tb__joint {
     double impact_back; /* and how far from the bound the position projection puts it, */
     bool impact;        /* while impact is true */
     int motor_state;    /* TB__MOTOR_ROW (in the solve), TB__MOTOR_CAPPED, ... or none */
+    double motor_load;  /* TB__MOTOR_LOAD: the capped motor's lambda on the axial row */
     double stop_push;   /* the held stop's push at the last derivative (N or N m, > 0 while it
                            pushes; with a motor, what it would push with the motor as it acts) */
     double held_push;   /* a motor at a stop: the push the stop needs without the motor */
@@ -58,7 +59,12 @@ typedef struct tb__joint {
     bool switched;
     int stop_before;
     double switched_at;
+    /* Padding to 576 bytes, 9 x 64: the solve's loops index joints[] by a run-time index, and
+     * at 544 bytes each index cost three instructions (bench_joints: 1% of a chain's step);
+     * shorten it when adding a field (the assertion below keeps the size a multiple of 64). */
+    double pad_[3];
 } tb__joint;
+_Static_assert(sizeof(tb__joint) % 64 == 0, "tb__joint: adjust pad_ to a multiple of 64 bytes");
 
 /* joint.stop */
 #define TB__STOP_NONE 0
@@ -96,7 +102,6 @@ typedef struct tb__joint_eval {
     double rhs[TB__JOINT_ROWS];
     double lambda[TB__JOINT_ROWS];
     double last_lambda[TB__JOINT_ROWS]; /* the last derivative's lambda (joint_rate.c reads it) */
-    double motor_load; /* TB__MOTOR_LOAD: the capped motor's lambda on the axial row */
 } tb__joint_eval;
 
 /* A contribution J_i,side_i M^-1 J_k,side_k^T of one shared body to the block (i, k) of
