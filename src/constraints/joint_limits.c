@@ -33,6 +33,10 @@
 /* rad or m: under adaptive methods a free joint this close to a stop at an event (CVODE's
  * root, located to about 100 roundings) is on it. */
 #define TB__STOP_ENGAGE_GAP 1e-7
+/* rad or m: where an event's impact leaves a joint, inside its bound (engage); far below what
+ * a frame shows (the tests ask 1e-12 past a stop at most) and far above the projection's 1e-13
+ * tolerance, so that the gap's sign after the event is certain. */
+#define TB__STOP_EVENT_INSIDE 1e-12
 /* what an exactly zero root becomes (scene_events.c's TB__GAP_FOR_ZERO, same reason) */
 #define TB__ROOT_FOR_ZERO 1e-150
 
@@ -118,9 +122,14 @@ static double axial_rate(tb__joints *js, const tb_scene *scene, double t, const 
 
 /* Joint j, at coordinate c, engages stop: an impact when it moves into it. A fixed step finds
  * it past the stop by c - bound; at its speed, it would have come back e (c - bound) by the
- * step's end, which is where the position projection puts it (exact for a constant speed). */
+ * step's end, which is where the position projection puts it (exact for a constant speed). At an
+ * event (CVODE's root or a fixed step's located onset, within roundings of the bound) it goes at
+ * least TB__STOP_EVENT_INSIDE inside the bound: a joint that bounces off a stop while a load pushes
+ * it back (a motor's door) leaves it by ever smaller bounces, and one left on the bound to the
+ * rounding, its root function of either sign, could cross no root on its way back and go through
+ * the stop. */
 static void engage(tb__joints *js, const tb_scene *scene, double t, const double *y, size_t j,
-                   int stop, double c)
+                   int stop, double c, bool event)
 {
     tb__joint *joint = &js->joints[j];
     joint->stop = stop;
@@ -128,17 +137,25 @@ static void engage(tb__joints *js, const tb_scene *scene, double t, const double
     const double rate = axial_rate(js, scene, t, y, j);
     joint->impact = tb__stop_sign(stop) * rate < 0.0;
     joint->impact_rate = joint->impact ? -joint->def.restitution * rate : 0.0;
-    joint->impact_back = -joint->def.restitution * (c - joint->def.limits[stop - 1]);
+    const double back = -joint->def.restitution * (c - joint->def.limits[stop - 1]);
+    const double s = tb__stop_sign(stop); /* an event's: at least TB__STOP_EVENT_INSIDE inside */
+    joint->impact_back =
+        event && !(s * back > TB__STOP_EVENT_INSIDE) ? s * TB__STOP_EVENT_INSIDE : back;
+    if (event && !joint->impact) { /* leaving the stop: it stays free, its rate as it is, put */
+        joint->impact = joint->leaving = true; /* inside the bound all the same */
+        joint->impact_rate = rate;
+    }
 }
 
 void tb__joints_after_impacts(tb__joints *js)
 {
     for (size_t j = 0; j < js->count; ++j) {
         tb__joint *joint = &js->joints[j];
-        if (joint->impact && tb__stop_sign(joint->stop) * joint->impact_rate > TB__STOP_REST_RATE) {
-            joint->stop = TB__STOP_NONE; /* a bounce */
+        if (joint->impact && (joint->leaving || tb__stop_sign(joint->stop) * joint->impact_rate >
+                                                    TB__STOP_REST_RATE)) {
+            joint->stop = TB__STOP_NONE; /* a bounce, or leaving it */
         }
-        joint->impact = false;
+        joint->impact = joint->leaving = false;
         joint->impact_back = 0.0;
     }
 }
@@ -233,9 +250,12 @@ static int switch_stops(tb__joints *js, const tb_scene *scene, double t, const d
                          : joint->def.limits[1] - c < gap ? TB__STOP_UPPER
                                                           : TB__STOP_NONE;
         if (stop != TB__STOP_NONE) {
-            engage(js, scene, t, y, j, stop, c);
-            if (gap > 0.0 && !joint->impact) { /* at an event, leaving the stop: stays free */
+            const bool inside =
+                tb__stop_sign(stop) * (c - joint->def.limits[stop - 1]) >= TB__STOP_EVENT_INSIDE;
+            engage(js, scene, t, y, j, stop, c, gap > 0.0);
+            if (joint->leaving && inside) { /* leaving, its gap's sign certain: as it is */
                 joint->stop = TB__STOP_NONE;
+                joint->impact = joint->leaving = false;
                 continue;
             }
             note_switch(joint, before, t, gap, changed);

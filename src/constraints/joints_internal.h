@@ -49,6 +49,7 @@ typedef struct tb__joint {
     double impact_rate; /* the axial rate the next momenta projection sets (an impact), */
     double impact_back; /* and how far from the bound the position projection puts it, */
     bool impact;        /* while impact is true */
+    bool leaving;       /* an event's impact that leaves the joint free, its rate unchanged */
     int motor_state;    /* TB__MOTOR_ROW (in the solve), TB__MOTOR_CAPPED, ... or none */
     double motor_load;  /* TB__MOTOR_LOAD: the capped motor's lambda on the axial row */
     double stop_push;   /* the held stop's push at the last derivative (N or N m, > 0 while it
