@@ -162,7 +162,8 @@ TB_API tb_status tb_scene_frame_values(const tb_scene *scene, const double *y, d
 TB_API tb_status tb_scene_kinetic_energy(const tb_scene *scene, const double *y,
                                          double *out_energy);
 /* Potential energy of the scene's conservative effects, J: gravity (-M g . x per body) and
- * springs (k (|d| - rest)^2 / 2). Other effects have none. */
+ * springs (k (|d| - rest)^2 / 2), and soft joints' springs (joints.h). Other effects have
+ * none. */
 TB_API tb_status tb_scene_potential_energy(const tb_scene *scene, const double *y,
                                            double *out_energy);
 
@@ -173,8 +174,9 @@ TB_API tb_status tb_scene_potential_energy(const tb_scene *scene, const double *
  * two bodies and uniform gravity, whose torque sum (x_i - c) x M_i g is zero about the centre
  * of mass c). User effects are assumed to conserve nothing. Joints (joints.h) between two
  * dynamic bodies keep all four; a joint to the world or to a static or keyframed body takes
- * momentum; a keyframed support, a motor, a soft joint or a stop with restitution below 1 does
- * work (tests/test_joints.c). */
+ * momentum; a keyframed support, a motor, a soft joint's damper (soft_damping_ratio > 0) or a
+ * stop with restitution below 1 does work (tests/test_joints.c); an undamped soft joint's
+ * spring keeps energy, its energy in tb_scene_potential_energy (tests/test_joints_soft.c). */
 typedef struct tb_conserved {
     int energy;
     int linear_momentum;
