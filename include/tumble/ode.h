@@ -145,9 +145,12 @@ typedef struct tb_ode_sparse {
     double *values;     /* capacity */
 } tb_ode_sparse;
 
-/* Optional part of a system: the Jacobian df/dy of its right-hand side (for the IMEX method to
- * come: of its implicit part) as a sparse matrix, for the implicit methods' Newton iteration
- * (BDF with TB_LINEAR_SOLVER_SPARSE). The pattern may change from state to state (a contact
+/* Optional part of a system: the Jacobian df/dy of its right-hand side as a sparse matrix, for the
+ * implicit methods' Newton iteration (BDF and ark-imex with TB_LINEAR_SOLVER_SPARSE). With a split
+ * (tb_ode_split) ark-imex's Newton iteration is of the implicit part f_I = f - f_E; this Jacobian
+ * of the whole f then stands in for df_I/dy: the difference, df_E/dy, is of the non-stiff part,
+ * small against 1/(gamma h), so it slows Newton's convergence a little and changes no result
+ * (the residual is of f_I itself). The pattern may change from state to state (a contact
  * graph does); the integrator re-analyses it only when it does. Both NULL (default) for none,
  * or both set. */
 typedef struct tb_ode_jacobian {
@@ -163,6 +166,18 @@ typedef struct tb_ode_jacobian {
     int (*evaluate)(double t, const double *y, const double *fy, tb_ode_sparse *J, void *ctx);
 } tb_ode_jacobian;
 
+/* Optional part of a system: a split of its right-hand side f = f_E + f_I for the implicit-explicit
+ * method (TB_METHOD_ARK_IMEX): f_E, the non-stiff part, is given here and taken explicitly; the
+ * rest, f_I = f - f_E (the derivative less f_E, at the same t and y), implicitly. The kinematic
+ * rows of a mechanical system (dx/dt = v) belong to f_I when its stiff forces are there: a stiff
+ * oscillation couples both. Other methods ignore the split. NULL (default): no split, ark-imex
+ * takes all of f implicitly. */
+typedef struct tb_ode_split {
+    /* f_E: same signature and return convention as the derivative, writes every component (zero
+     * where f_E has none) */
+    tb_ode_derivative explicit_part;
+} tb_ode_split;
+
 /* An ODE system: a small core and optional parts, each all zero for none. The integrator
  * borrows it (a copy: the parts are values): ctx must outlive the integrator. */
 typedef struct tb_ode_system {
@@ -175,6 +190,7 @@ typedef struct tb_ode_system {
     tb_ode_lifetime lifetime; /* acquire and release by calls, generations */
     tb_ode_events events;     /* roots, step limits, events, breaks */
     tb_ode_jacobian jacobian; /* the sparse Jacobian */
+    tb_ode_split split;       /* explicit and implicit parts, for ark-imex */
 } tb_ode_system;
 
 /* How to integrate, chosen as data. */
@@ -186,6 +202,9 @@ typedef enum tb_method {
                               iteration: adaptive, for non-stiff problems */
     TB_METHOD_CVODE_BDF,   /* SUNDIALS CVODE, BDF orders 1-5, Newton iteration: adaptive,
                               for stiff problems (stiff springs, heavy damping) */
+    TB_METHOD_ARK_IMEX,    /* SUNDIALS ARKODE's ARKStep, additive Runge-Kutta of order 4 (2-5
+                              by max_order): the system's split (tb_ode_split) explicit, the
+                              rest implicit by Newton; adaptive, one-step, for stiff contact */
     TB_METHOD_COUNT
 } tb_method;
 

@@ -59,26 +59,27 @@ tb_status tb__cvode_set_solvers(tb_integrator *integrator, const tb_integrator_d
     if (cvode->linear == NULL) {
         return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "linear solver for n = %zu", n);
     }
-    int flag = CVodeSetLinearSolver(cvode->mem, cvode->linear, cvode->matrix);
+    const tb__sundials_ops *ops = cvode->ops;
+    int flag = ops->set_linear_solver(cvode->mem, cvode->linear, cvode->matrix);
     const size_t block_size = integrator->system.blocks.size;
     if (flag == CV_SUCCESS && (dense || block_size > 0)) {
         cvode->weights = N_VClone(cvode->y);
         flag = cvode->weights == NULL ? CV_MEM_FAIL : CV_SUCCESS;
     }
     if (flag == CV_SUCCESS && cvode->sparse != NULL) {
-        flag = CVodeSetJacFn(cvode->mem, tb__cvode_sparse_jacobian);
+        flag = ops->set_jac_fn(cvode->mem, tb__cvode_sparse_jacobian);
     } else if (flag == CV_SUCCESS && dense) {
-        flag = CVodeSetJacFn(cvode->mem, tb__cvode_dense_jacobian);
+        flag = ops->set_jac_fn(cvode->mem, tb__cvode_dense_jacobian);
     } else if (flag == CV_SUCCESS && block_size > 0) {
         cvode->block_preconditioner = tb__block_preconditioner_create(n, block_size);
         flag =
             cvode->block_preconditioner == NULL
                 ? CV_MEM_FAIL
-                : CVodeSetPreconditioner(cvode->mem, tb__cvode_block_setup, tb__cvode_block_solve);
+                : ops->set_preconditioner(cvode->mem, tb__cvode_block_setup, tb__cvode_block_solve);
     } else if (flag == CV_SUCCESS) {
-        flag = CVBandPrecInit(cvode->mem, (sunindextype)n, band, band);
+        flag = ops->band_prec_init(cvode->mem, (sunindextype)n, band, band);
         cvode->band_preconditioner = flag == CV_SUCCESS;
     }
     return flag == CV_SUCCESS ? TB_STATUS_OK
-                              : tb__cvode_setup_failed(cvode, "CVodeSetLinearSolver", flag, error);
+                              : tb__cvode_setup_failed(cvode, "SetLinearSolver", flag, error);
 }

@@ -117,7 +117,7 @@ int tb__cvode_sparse_refresh(tb_integrator *integrator, sunrealtype tn)
     }
     const double *state = N_VGetArrayPointer(cvode->y);
     if (cvode->started) { /* y may hold an interpolated output: take CVODE's own y_n */
-        const int flag = CVodeGetDky(cvode->mem, tn, 0, sparse->state);
+        const int flag = cvode->ops->get_dky(cvode->mem, tn, 0, sparse->state);
         if (flag != CV_SUCCESS) {
             return flag;
         }
