@@ -129,9 +129,22 @@ int tb__cvode_dense_jacobian(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J
     return 0;
 }
 
+/* What Newton's matrix is of: f, or ARKStep's f_I = f - f_E with a split (the fy the
+ * preconditioner's difference quotients subtract is then f_I). */
 static int block_rhs(double t, double *y, double *f_out, void *ctx)
 {
-    return evaluate(ctx, t, y, f_out);
+    tb_integrator *integrator = ctx;
+    N_Vector split = integrator->cvode->split_work;
+    int rc = evaluate(integrator, t, y, f_out);
+    if (rc != 0 || split == NULL) {
+        return rc;
+    }
+    double *explicit_part = N_VGetArrayPointer(split);
+    rc = evaluate_part(integrator, integrator->system.split.explicit_part, t, y, explicit_part);
+    for (size_t i = 0; rc == 0 && i < integrator->system.n; ++i) {
+        f_out[i] -= explicit_part[i];
+    }
+    return rc;
 }
 
 /* The block-diagonal preconditioner (systems of independent blocks). J is not kept between
