@@ -1,5 +1,6 @@
-/* CVODE's nonlinear and linear solvers, chosen at creation: Adams' fixed-point iteration, BDF's
- * Newton iteration with a dense, Krylov or sparse (cvode_sparse.c) linear solver. */
+/* The SUNDIALS backends' nonlinear and linear solvers, chosen at creation: Adams' fixed-point
+ * iteration; BDF's and ark-imex's Newton iteration (ARKStep's default nonlinear solver) with a
+ * dense, Krylov or sparse (cvode_sparse.c) linear solver, attached through tb__sundials_ops. */
 #include "ode/cvode_internal.h"
 
 #include "core/detail.h"
@@ -21,8 +22,8 @@
 #define TB__DENSE_LIMIT 64
 #define TB__DENSE_LIMIT_COUPLED 512
 
-/* Adams: fixed-point iteration, no linear algebra. BDF: Newton with a dense or Krylov
- * linear solver. */
+/* Adams: fixed-point iteration, no linear algebra. BDF, ark-imex: Newton with a dense, Krylov or
+ * sparse linear solver. */
 tb_status tb__cvode_set_solvers(tb_integrator *integrator, const tb_integrator_def *def,
                                 tb_error *error)
 {
