@@ -241,6 +241,9 @@ TB_API size_t tb_scene_effect_count(const tb_scene *scene);
  *   a contact (docs/effects.md); next_break is a keyframed body's next key time.
  * - jacobian (with contact, bodies not separable): the contact's sparse Jacobian, its pattern
  *   the bodies' contact graph (docs/integrators.md, "BDF's sparse Jacobian").
+ * - split (always): ark-imex's explicit part, the loads of the effects without a mode of their
+ *   own (gravity, constant forces, user callbacks); contact, ground, springs, drag, the
+ *   kinematic rows and the joints' forces are the implicit rest (docs/integrators.md, "ark-imex").
  * A scene's integrator also fills in the defaults tumble/ode.h leaves to the system: dt 0 is the
  * scene's default step, atol 0 its tolerances per component (tb_scene_absolute_tolerances), and
  * the Krylov preconditioner's automatic half-bandwidth 12 (one body's 13 x 13 block exactly). */

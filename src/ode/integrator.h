@@ -1,4 +1,4 @@
-/* Private: the integrator object and its backends (fixed-step, CVODE). */
+/* Private: the integrator object and its backends (fixed-step, CVODE, ARKStep). */
 #ifndef TUMBLE_INTEGRATOR_H
 #define TUMBLE_INTEGRATOR_H
 
@@ -63,6 +63,7 @@ bool tb__method_reads(tb_method method, const char *setting);
 void tb__setting_readers(tb_method method, const char *setting, char *out, size_t size);
 extern const tb__backend tb__fixed_step_backend;
 extern const tb__backend tb__cvode_backend;
+extern const tb__backend tb__arkode_backend;
 
 struct tb_integrator {
     tb_ode_system system;
@@ -86,7 +87,7 @@ struct tb_integrator {
     size_t chunk_work;   /* chunked: doubles of work per thread */
     int threads;         /* chunked: threads the chunks are shared among, >= 1 */
     struct tb__onset *onset; /* systems with roots, not chunked: the onset search's buffers */
-    /* CVODE */
+    /* CVODE and ARKStep (cvode_internal.h) */
     struct tb__cvode *cvode;
 };
 

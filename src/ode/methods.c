@@ -47,6 +47,10 @@ const tb__method_entry tb__methods[TB_METHOD_COUNT] = {
                              TB__READS_TOLERANCES | TB__READS_LINEAR_SOLVER | TB__READS_MAX_STEPS,
                              &tb__cvode_backend,
                              NULL},
+    [TB_METHOD_ARK_IMEX] = {{"ark-imex", 5, 1, 0, 0, INFINITY, 1.0, INFINITY},
+                            TB__READS_TOLERANCES | TB__READS_LINEAR_SOLVER | TB__READS_MAX_STEPS,
+                            &tb__arkode_backend,
+                            NULL},
 };
 
 static bool is_method(tb_method method)
