@@ -186,6 +186,9 @@ typedef enum tb_method {
                               iteration: adaptive, for non-stiff problems */
     TB_METHOD_CVODE_BDF,   /* SUNDIALS CVODE, BDF orders 1-5, Newton iteration: adaptive,
                               for stiff problems (stiff springs, heavy damping) */
+    TB_METHOD_ROSENBROCK,  /* linearly implicit fixed step (ROS2, Rosenbrock-W), order 2,
+                              L-stable: 2 derivatives, one Jacobian and one factorisation of
+                              I - gamma h J per step; for stiff contact at a user's step */
     TB_METHOD_COUNT
 } tb_method;
 

@@ -1,0 +1,48 @@
+/* Private: the linearly implicit (Rosenbrock) fixed-step method. The stepper (rosenbrock.c) is
+ * SUNDIALS-free; its linear algebra, the matrix I - h gamma J factorised once a step and solved
+ * once a stage, is in rosenbrock_linear.c, the only one of the two that includes SUNDIALS. */
+#ifndef TUMBLE_ROSENBROCK_H
+#define TUMBLE_ROSENBROCK_H
+
+#include "ode/integrator.h"
+
+#include <stddef.h>
+
+/* The largest n whose Jacobian is a dense matrix: difference quotients (n derivatives a step)
+ * for a system without tb_ode_system.jacobian, or the system's own in a build without KLU.
+ * Past it creation is refused (TB_STATUS_UNSUPPORTED naming n). */
+#define TB__ROSENBROCK_DENSE_MAX 512
+
+/* What tb__rosenbrock_factor and tb__rosenbrock_solve return when the linear algebra failed (a
+ * singular matrix, a capacity below n, memory): its message is in tb__rosenbrock_message. Not
+ * a derivative's return (those are passed on as they are). */
+#define TB__ROSENBROCK_LINEAR_FAILED (-0x7f5eb00c)
+
+typedef struct tb__rosenbrock tb__rosenbrock;
+
+/* Allocates the solver for the integrator's system (integrator->rosenbrock): everything but the
+ * growth of a sparse Jacobian's room, which happens in tb__rosenbrock_factor only when the
+ * system's capacity grows. On failure frees what it took. */
+tb_status tb__rosenbrock_create(tb_integrator *integrator, tb_error *error);
+void tb__rosenbrock_destroy(tb_integrator *integrator);
+
+/* Evaluates J = df/dy at (t, y), where f(t, y) = fy (the system's own, speculative for a contact
+ * switching in the step of size h, or difference quotients), and factorises I - h gamma J. Counts
+ * the Jacobian and its derivatives in the integrator's stats. 0, a derivative's or the Jacobian's
+ * non-zero return, or TB__ROSENBROCK_LINEAR_FAILED. */
+int tb__rosenbrock_factor(tb_integrator *integrator, double t, double h, double gamma,
+                          const double *y, const double *fy);
+
+/* Overwrites x[0..n) with (I - h_gamma J)^-1 x, the last factorisation's. 0 or
+ * TB__ROSENBROCK_LINEAR_FAILED. */
+int tb__rosenbrock_solve(tb_integrator *integrator, double *x);
+
+/* Why the last TB__ROSENBROCK_LINEAR_FAILED ("" if none). */
+const char *tb__rosenbrock_message(const tb_integrator *integrator);
+
+/* One step of the method from (t, y) into y_new, as a tb__step_fn (fixed_step.c calls it for the
+ * row whose linearly_implicit is set), with the integrator for its solver. work: 2n doubles. */
+int tb__rosenbrock_step(tb_integrator *integrator, double t, double h, double t_last,
+                        const double *y, double *y_new, double *work, long *evals);
+
+#endif
