@@ -394,7 +394,7 @@ class Scene:
             on_event: Optional[Callable[[dict], None]] = None,
             hit_speed: float = 0.0, joint_reactions: bool = False) -> "Frames":
         """Simulates the scene from its initial state for `duration` seconds (the file's settings
-        unless given here: method "euler", "midpoint", "rk4", "cvode-adams" or "cvode-bdf"; dt in
+        unless given here: method "euler", "midpoint", "rk4", "cvode-adams", "cvode-bdf" or "rosenbrock"; dt in
         s for the fixed-step methods, rtol and atol for CVODE, frames per second fps) and returns
         every frame (t = k / fps, k = 0, 1, ...) as Frames. The whole run is one library call
         (tb_scene_run) that fills each frame in one more (tb_scene_frame_values); Python runs

@@ -32,7 +32,8 @@ class Simulation:
 
     Construction: scene is a Scene, a SceneBuilder, a scene-file path or a dict in the
     scene-file format;
-    method one of tumble.METHODS ("euler", "midpoint", "rk4", "cvode-adams", "cvode-bdf"),
+    method one of tumble.METHODS ("euler", "midpoint", "rk4", "cvode-adams", "cvode-bdf",
+    "rosenbrock"),
     dt (s) for the fixed-step methods, rtol and atol for CVODE (the scene file's integrator
     unless given; an option the method does not read is a ValueError, as in the CLI); threads
     (fixed-step methods, bodies that do not interact) shares each step among threads, with the
