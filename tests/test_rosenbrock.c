@@ -153,12 +153,13 @@ static tb_scene *run_example(const char *name, double dt, double t_end, tb_integ
     return scene;
 }
 
-/* head_on_balls (1 kg at 2 m/s on 3 kg at rest, e = 0.8) at 1/1000 s. The issue's target, e
- * within 10%, is NOT met: the measured separation is 0.011 of the approach speed (the contact's
- * rate at this impact is so high that the impact is shorter than the step, and the L-stable step
- * damps the unresolved bounce: docs/integrators.md). What holds and is checked: momentum is kept
- * to 1e-9 kg m/s (equal and opposite loads, round-off of the solve) and the contact stores no
- * energy: the kinetic energy after is not above the start's 2 J (to 1e-9 J). */
+/* head_on_balls (1 kg at 2 m/s on 3 kg at rest, e = 0.8) at 1/1000 s. The contact's fastest
+ * oscillation is 9.08e3 rad/s (tumble check), so an impact lasts pi / 9.08e3 = 0.35 ms, a third of
+ * a step: the restitution cannot be resolved at this step (the issue's 10% target is not met;
+ * measured 0.29, and within 10% only from dt = 2.5e-5 s, docs/integrators.md). What holds and is
+ * checked: momentum is kept to 1e-9 kg m/s (equal and opposite loads, round-off of the solve)
+ * and the unresolved impact stores no energy: the kinetic energy after is not above the start's
+ * 2 J (to 1e-9 J). */
 static void test_head_on_at_a_millisecond_keeps_momentum_and_stores_no_energy(void **state)
 {
     (void)state;
@@ -179,10 +180,9 @@ static void test_head_on_at_a_millisecond_keeps_momentum_and_stores_no_energy(vo
 }
 
 /* box_on_slope (a box set on a 20 degree slope, static friction 0.6 > tan 20) at 1/240 s: after
- * 2 s it has not blown up, its state is finite and it slides slower than 0.05 m/s. The issue's
- * rest target (creep below 1e-6 m/s) is NOT met: it creeps at 1.0e-2 m/s (printed; RK4 at its
- * default step holds it), docs/integrators.md. */
-static void test_a_box_on_a_slope_stays_bounded_at_240_hz(void **state)
+ * 2 s static friction holds it inside the cone: its centre moves slower than 1e-6 m/s (the
+ * issue's rest target; measured 9e-16 m/s). */
+static void test_a_box_on_a_slope_rests_at_240_hz(void **state)
 {
     (void)state;
     tb_integrator *integrator = NULL;
@@ -191,7 +191,25 @@ static void test_a_box_on_a_slope_stays_bounded_at_240_hz(void **state)
     tb_scene_body_velocity(scene, tb_scene_states(scene), 0, v);
     const double speed = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     print_message("speed after 2 s: %.3e m/s\n", speed);
-    assert_true(speed < 0.05);
+    assert_true(speed < 1e-6);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
+/* chain (ten 1 kg links on ball joints, falling and whipping) at 1/240 s: the scene gives no
+ * sparse Jacobian for jointed bodies (the joints' solve couples a whole chain), so the method
+ * takes dense difference quotients (130 unknowns) and runs 2 s without failing; before, the
+ * contact pattern without the joints' couplings made the step blow up at 0.4 s. The energy
+ * drift is not checked: the step damps the whip (L-stable; tumble run reports 14 J lost in 2 s). */
+static void test_a_jointed_chain_runs_at_240_hz(void **state)
+{
+    (void)state;
+    tb_integrator *integrator = NULL;
+    tb_scene *scene = run_example("chain", 1.0 / 240.0, 2.0, &integrator);
+    tb_integrator_stats stats;
+    tb_integrator_get_stats(integrator, &stats);
+    print_message("steps %ld, derivatives %ld\n", stats.steps, stats.derivative_evals);
+    assert_int_equal(stats.failed_steps, 0);
     tb_integrator_destroy(integrator);
     tb_scene_destroy(scene);
 }
@@ -202,7 +220,8 @@ int main(void)
         cmocka_unit_test(test_rosenbrock_is_of_order_two_on_the_oscillator),
         cmocka_unit_test(test_rosenbrock_is_stable_far_past_rk4s_limit),
         cmocka_unit_test(test_head_on_at_a_millisecond_keeps_momentum_and_stores_no_energy),
-        cmocka_unit_test(test_a_box_on_a_slope_stays_bounded_at_240_hz),
+        cmocka_unit_test(test_a_box_on_a_slope_rests_at_240_hz),
+        cmocka_unit_test(test_a_jointed_chain_runs_at_240_hz),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -6,6 +6,7 @@
 
 #include "ode/integrator.h"
 
+#include <stdbool.h>
 #include <stddef.h>
 
 /* The largest n whose Jacobian is a dense matrix: difference quotients (n derivatives a step)
@@ -33,9 +34,19 @@ void tb__rosenbrock_destroy(tb_integrator *integrator);
 int tb__rosenbrock_factor(tb_integrator *integrator, double t, double h, double gamma,
                           const double *y, const double *fy);
 
+/* After a step to (t, y) with the last factorisation: the Jacobian there, entry by entry where it
+ * is more than twice the matrix's (and matters at this step, above 1 / (gamma h)), replaces the
+ * matrix's, refactorised; *changed says whether any did (a contact the step made). 0, a
+ * derivative's or the Jacobian's non-zero return, or TB__ROSENBROCK_LINEAR_FAILED. */
+int tb__rosenbrock_refine(tb_integrator *integrator, double t, double h, double gamma,
+                          const double *y, bool *changed);
+
 /* Overwrites x[0..n) with (I - h_gamma J)^-1 x, the last factorisation's. 0 or
  * TB__ROSENBROCK_LINEAR_FAILED. */
 int tb__rosenbrock_solve(tb_integrator *integrator, double *x);
+
+/* n doubles of the solver's for f(t, y) at the step's start, kept through the step. */
+double *tb__rosenbrock_start_rate(tb_integrator *integrator);
 
 /* Why the last TB__ROSENBROCK_LINEAR_FAILED ("" if none). */
 const char *tb__rosenbrock_message(const tb_integrator *integrator);

@@ -34,6 +34,10 @@
  * an LU of a 26 x 26 matrix (two bodies) */
 #define TB__ROSENBROCK_SMALL 32
 
+/* tb__rosenbrock_refine takes an entry of the end's Jacobian that is this many times the
+ * matrix's */
+#define TB__ROSENBROCK_REFINE_RATIO 2.0
+
 struct tb__rosenbrock {
     SUNContext context;
     SUNMatrix matrix; /* M: CSR sparse or dense */
@@ -44,9 +48,11 @@ struct tb__rosenbrock {
     tb_ode_sparse J;     /* what the system writes at (t, y) */
     tb_ode_sparse ahead; /* ... at the predictor y + h f(t, y) (speculative, below) */
     double *predicted, *predicted_rate; /* the predictor and its derivative, n each */
+    double *start_rate;                 /* f(t, y) at the step's start, n */
     long long *analysed; /* n + 1 row starts then the columns of the pattern KLU analysed */
     size_t analysed_entries;
     double *shifted, *column; /* difference quotients: y with one component moved, its f */
+    double *dense_ahead;      /* difference quotients at the predictor, n x n */
     char message[TB_DETAIL_SIZE];
 };
 
@@ -120,19 +126,26 @@ static tb_status make_jacobian(tb__rosenbrock *r, size_t n, tb_error *error)
 {
     r->J.n = r->ahead.n = n;
     r->analysed_entries = (size_t)-1;
+    r->start_rate = tb__malloc_array(n, sizeof(double));
+    if (r->start_rate == NULL) {
+        return rosenbrock_fail(error, "state", n);
+    }
+    r->predicted = tb__malloc_array(n, sizeof(double));
+    r->predicted_rate = tb__malloc_array(n, sizeof(double));
+    if (r->predicted == NULL || r->predicted_rate == NULL) {
+        return rosenbrock_fail(error, "predictor", n);
+    }
     if (r->own_jacobian) {
         r->J.row_starts = tb__malloc_array(n + 1, sizeof(size_t));
         r->ahead.row_starts = tb__malloc_array(n + 1, sizeof(size_t));
-        r->predicted = tb__malloc_array(n, sizeof(double));
-        r->predicted_rate = tb__malloc_array(n, sizeof(double));
-        return r->J.row_starts != NULL && r->ahead.row_starts != NULL && r->predicted != NULL &&
-                       r->predicted_rate != NULL && make_room(r, n)
+        return r->J.row_starts != NULL && r->ahead.row_starts != NULL && make_room(r, n)
                    ? TB_STATUS_OK
                    : rosenbrock_fail(error, "Jacobian", n);
     }
     r->shifted = tb__malloc_array(n, sizeof(double));
     r->column = tb__malloc_array(n, sizeof(double));
-    return r->shifted != NULL && r->column != NULL
+    r->dense_ahead = tb__malloc_array(n * n, sizeof(double));
+    return r->shifted != NULL && r->column != NULL && r->dense_ahead != NULL
                ? TB_STATUS_OK
                : rosenbrock_fail(error, "difference quotients", n);
 }
@@ -202,8 +215,10 @@ void tb__rosenbrock_destroy(tb_integrator *integrator)
     free(r->ahead.values);
     free(r->predicted);
     free(r->predicted_rate);
+    free(r->start_rate);
     free(r->analysed);
     free(r->shifted);
+    free(r->dense_ahead);
     free(r->column);
     free(r);
     integrator->rosenbrock = NULL;
@@ -216,10 +231,10 @@ static int linear_failed(tb__rosenbrock *r, const char *what, long flag, double 
     return TB__ROSENBROCK_LINEAR_FAILED;
 }
 
-/* Dense M = I - h_gamma J from difference quotients: column j is
+/* Dense J (column-major, n x n, into out) from difference quotients: column j is
  * (f(t, y + d e_j) - f(t, y)) / d with d = sqrt(eps) max(|y_j|, 1), one derivative each. */
 static int dense_quotients(tb_integrator *integrator, double t, const double *y, const double *fy,
-                           double h_gamma)
+                           double *out)
 {
     tb__rosenbrock *r = integrator->rosenbrock;
     const tb_ode_system *system = &integrator->system;
@@ -236,11 +251,9 @@ static int dense_quotients(tb_integrator *integrator, double t, const double *y,
         if (rc != 0) {
             return rc;
         }
-        double *m = SUNDenseMatrix_Column(r->matrix, (sunindextype)j);
         for (size_t i = 0; i < n; ++i) {
-            m[i] = -h_gamma * (r->column[i] - fy[i]) / d;
+            out[j * n + i] = (r->column[i] - fy[i]) / d;
         }
-        m[j] += 1.0;
     }
     return 0;
 }
@@ -308,39 +321,88 @@ static int evaluate(tb_integrator *integrator, double t, const double *y, const 
 }
 
 /* Speculative activation. A contact's force is k d for depth d > 0 and nothing before, so the
- * Jacobian at a step's start has no stiffness for a contact that switches on in the step (a step
- * starts at each onset, fixed_onset.c, where d = 0) and the step is explicit in it: at
- * omega h = 14 (a die at 1/240 s) it multiplies the impact speed by about (omega h)^2 / 2 and
- * blows up. The matrix is therefore the Jacobian at (t, y) or at the explicit Euler predictor
- * y + h f(t, y), entry by entry whichever is larger in magnitude: a contact in force at the
- * start or at the predicted end (switching on or off in the step) is implicit. ROS2 keeps its
- * order 2 with any matrix (a W-method); the patterns must agree (the system builds its pattern
- * at the capacity asked from (t, y)), else the start's Jacobian is kept. */
-static int speculate(tb_integrator *integrator, double t, double h, const double *y,
-                     const double *fy)
+ * Jacobian at a step's start has no stiffness for a contact that switches on in the step, and the
+ * step is explicit in it: at omega h = 14 (a die at 1/240 s) that multiplies the impact speed by
+ * about (omega h)^2 / 2. The matrix is therefore the Jacobian at (t, y) or at a predictor of the
+ * step's end, the explicit midpoint y + h f(t + h/2, y + h/2 f(t, y)) (second order, so that it
+ * carries a body's fall through gravity, h^2 g / 2), entry by entry whichever is larger in
+ * magnitude: a contact in force at the start or at the predicted end is implicit. ROS2 keeps its
+ * order 2 with any matrix (a W-method). The predictor is only a probe: it may overshoot. */
+static int predict(tb_integrator *integrator, double t, double h, const double *y, const double *fy)
 {
     tb__rosenbrock *r = integrator->rosenbrock;
     const tb_ode_system *system = &integrator->system;
     const size_t n = system->n;
     for (size_t i = 0; i < n; ++i) {
-        r->predicted[i] = y[i] + h * fy[i];
+        r->predicted[i] = y[i] + 0.5 * h * fy[i];
     }
-    integrator->stats.derivative_evals++;
-    integrator->stats.jacobian_derivative_evals++;
-    int rc = system->derivative(t + h, r->predicted, r->predicted_rate, system->ctx);
-    if (rc == 0) {
-        rc = evaluate(integrator, t + h, r->predicted, r->predicted_rate, &r->ahead);
+    integrator->stats.derivative_evals += 2;
+    integrator->stats.jacobian_derivative_evals += 2;
+    int rc = system->derivative(t + 0.5 * h, r->predicted, r->predicted_rate, system->ctx);
+    for (size_t i = 0; rc == 0 && i < n; ++i) {
+        r->predicted[i] = y[i] + h * r->predicted_rate[i];
     }
-    const size_t entries = r->J.row_starts[n];
-    if (rc != 0 || r->ahead.row_starts[n] != entries ||
-        memcmp(r->ahead.row_starts, r->J.row_starts, (n + 1) * sizeof(size_t)) != 0 ||
-        memcmp(r->ahead.columns, r->J.columns, entries * sizeof(size_t)) != 0) {
-        return rc > 0 ? 0 : rc; /* a derivative that fails ahead leaves the start's Jacobian */
-    }
-    for (size_t e = 0; e < entries; ++e) {
-        if (fabs(r->ahead.values[e]) > fabs(r->J.values[e])) {
-            r->J.values[e] = r->ahead.values[e];
+    return rc != 0 ? rc : system->derivative(t + h, r->predicted, r->predicted_rate, system->ctx);
+}
+
+/* into[e] = from[e] where that is larger in magnitude; how many were. */
+static size_t merge_larger(double *into, const double *from, size_t count, double ratio,
+                           double floor)
+{
+    size_t taken = 0;
+    for (size_t e = 0; e < count; ++e) {
+        if (fabs(from[e]) > ratio * fabs(into[e]) && fabs(from[e]) > floor) {
+            into[e] = from[e];
+            ++taken;
         }
+    }
+    return taken;
+}
+
+/* Whether the system wrote the same pattern into ahead as into J. */
+static bool same_pattern(const tb__rosenbrock *r)
+{
+    const size_t n = r->J.n, entries = r->J.row_starts[n];
+    return r->ahead.row_starts[n] == entries &&
+           memcmp(r->ahead.row_starts, r->J.row_starts, (n + 1) * sizeof(size_t)) == 0 &&
+           memcmp(r->ahead.columns, r->J.columns, entries * sizeof(size_t)) == 0;
+}
+
+/* The system's Jacobian ahead merged into r->J (the system builds its pattern at the capacity
+ * asked from (t, y); a predictor whose pattern differs leaves the start's Jacobian). */
+static int speculate(tb_integrator *integrator, double t, double h, const double *y,
+                     const double *fy)
+{
+    tb__rosenbrock *r = integrator->rosenbrock;
+    int rc = predict(integrator, t, h, y, fy);
+    rc = rc != 0 ? rc : evaluate(integrator, t + h, r->predicted, r->predicted_rate, &r->ahead);
+    if (rc == 0 && same_pattern(r)) {
+        merge_larger(r->J.values, r->ahead.values, r->J.row_starts[r->J.n], 1.0, 0.0);
+    }
+    return rc > 0 ? 0 : rc; /* a derivative that fails ahead leaves the start's Jacobian */
+}
+
+/* Dense M = I - h_gamma J, J the difference quotients at (t, y) and ahead (speculate). */
+static int dense_speculative(tb_integrator *integrator, double t, double h, const double *y,
+                             const double *fy, double h_gamma)
+{
+    tb__rosenbrock *r = integrator->rosenbrock;
+    const size_t n = integrator->system.n;
+    double *m = SUNDenseMatrix_Data(r->matrix);
+    int rc = dense_quotients(integrator, t, y, fy, m);
+    rc = rc != 0 ? rc : predict(integrator, t, h, y, fy);
+    if (rc == 0 &&
+        dense_quotients(integrator, t + h, r->predicted, r->predicted_rate, r->dense_ahead) == 0) {
+        merge_larger(m, r->dense_ahead, n * n, 1.0, 0.0);
+    }
+    if (rc != 0) {
+        return rc;
+    }
+    for (size_t e = 0; e < n * n; ++e) {
+        m[e] *= -h_gamma;
+    }
+    for (size_t j = 0; j < n; ++j) {
+        m[j * n + j] += 1.0;
     }
     return 0;
 }
@@ -363,19 +425,10 @@ static int own_jacobian(tb_integrator *integrator, double t, double h, const dou
     return rc != 0 ? rc : speculate(integrator, t, h, y, fy);
 }
 
-int tb__rosenbrock_factor(tb_integrator *integrator, double t, double h, double gamma,
-                          const double *y, const double *fy)
+/* M = I - h_gamma J from r->J (the system's), factorised. */
+static int factor_own(tb__rosenbrock *r, double t, double h_gamma)
 {
-    const double h_gamma = h * gamma;
-    tb__rosenbrock *r = integrator->rosenbrock;
-    r->message[0] = '\0';
-    integrator->stats.jacobian_evals++;
-    int rc = r->own_jacobian ? own_jacobian(integrator, t, h, y, fy)
-                             : dense_quotients(integrator, t, y, fy, h_gamma);
-    if (rc != 0) {
-        return rc;
-    }
-    if (r->own_jacobian && !r->sparse) {
+    if (!r->sparse) {
         dense_from_sparse(r, h_gamma);
     }
 #ifdef TB_HAVE_KLU
@@ -391,12 +444,63 @@ int tb__rosenbrock_factor(tb_integrator *integrator, double t, double h, double 
                : linear_failed(r, "I - h gamma J is singular: SUNLinSolSetup returned", flag, t);
 }
 
+int tb__rosenbrock_factor(tb_integrator *integrator, double t, double h, double gamma,
+                          const double *y, const double *fy)
+{
+    const double h_gamma = h * gamma;
+    tb__rosenbrock *r = integrator->rosenbrock;
+    r->message[0] = '\0';
+    integrator->stats.jacobian_evals++;
+    if (!r->own_jacobian) {
+        const int rc = dense_speculative(integrator, t, h, y, fy, h_gamma);
+        const int flag = rc != 0 ? SUNLS_SUCCESS : SUNLinSolSetup(r->linear, r->matrix);
+        return rc != 0 ? rc
+               : flag == SUNLS_SUCCESS
+                   ? 0
+                   : linear_failed(r, "I - h gamma J is singular: SUNLinSolSetup returned", flag,
+                                   t);
+    }
+    const int rc = own_jacobian(integrator, t, h, y, fy);
+    return rc != 0 ? rc : factor_own(r, t, h_gamma);
+}
+
+int tb__rosenbrock_refine(tb_integrator *integrator, double t, double h, double gamma,
+                          const double *y, bool *changed)
+{
+    tb__rosenbrock *r = integrator->rosenbrock;
+    const tb_ode_system *system = &integrator->system;
+    const size_t n = system->n;
+    *changed = false;
+    if (!r->own_jacobian) {
+        return 0;
+    }
+    integrator->stats.derivative_evals++;
+    integrator->stats.jacobian_derivative_evals++;
+    int rc = system->derivative(t, y, r->predicted_rate, system->ctx);
+    rc = rc != 0 ? rc : evaluate(integrator, t, y, r->predicted_rate, &r->ahead);
+    if (rc != 0 || !same_pattern(r)) {
+        return rc > 0 ? 0 : rc;
+    }
+    *changed = merge_larger(r->J.values, r->ahead.values, r->J.row_starts[n],
+                            TB__ROSENBROCK_REFINE_RATIO, 1.0 / (gamma * h)) > 0;
+    if (!*changed) {
+        return 0;
+    }
+    integrator->stats.jacobian_evals++;
+    return factor_own(r, t, h * gamma);
+}
+
 int tb__rosenbrock_solve(tb_integrator *integrator, double *x)
 {
     tb__rosenbrock *r = integrator->rosenbrock;
     N_VSetArrayPointer(x, r->x);
     const int flag = SUNLinSolSolve(r->linear, r->matrix, r->x, r->x, 0.0);
     return flag == SUNLS_SUCCESS ? 0 : linear_failed(r, "SUNLinSolSolve returned", flag, NAN);
+}
+
+double *tb__rosenbrock_start_rate(tb_integrator *integrator)
+{
+    return integrator->rosenbrock->start_rate;
 }
 
 const char *tb__rosenbrock_message(const tb_integrator *integrator)
