@@ -3,7 +3,7 @@
  *   - sparse (a system with tb_ode_system.jacobian, in a build with KLU, n above
  *     TB__ROSENBROCK_SMALL): the system's CSR pattern in a SUNMatrix_Sparse, factorised by
  *     SUNDIALS' KLU; its symbolic analysis is redone only when the pattern changed (a contact
- *     made or broken), as in cvode_sparse.c;
+ *     made or broken), as in cvode_sparse.c, and allocates;
  *   - dense from the system's Jacobian (small n, or no KLU, up to TB__ROSENBROCK_DENSE_MAX);
  *   - dense difference quotients, n derivatives a step, for a system without a Jacobian.
  * Dense factorisations are SUNDIALS' SUNLinSol_Dense (LU with partial pivoting). Nothing is
@@ -30,9 +30,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Up to this n a system's own Jacobian is factorised dense: KLU's bookkeeping costs more than
- * an LU of a 26 x 26 matrix (two bodies) */
-#define TB__ROSENBROCK_SMALL 32
+/* Up to this n a system's own Jacobian is factorised dense too: KLU analyses each new pattern
+ * (a contact made or broken) anew, which allocates, where a dense LU allocates nothing after
+ * creation (test_allocation, test_contact_events_memory); six balls with their friction slots
+ * are 186 unknowns, an LU of 2e6 flops. Above it, KLU (allocating at pattern changes, as BDF's
+ * sparse solver does, docs/integrators.md). */
+#define TB__ROSENBROCK_SMALL TB__ROSENBROCK_DENSE_MAX
 
 /* tb__rosenbrock_refine takes an entry of the end's Jacobian that is this many times the
  * matrix's */
