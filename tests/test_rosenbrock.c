@@ -156,7 +156,7 @@ static tb_scene *run_example(const char *name, double dt, double t_end, tb_integ
 /* head_on_balls (1 kg at 2 m/s on 3 kg at rest, e = 0.8) at 1/1000 s. The contact's fastest
  * oscillation is 9.08e3 rad/s (tumble check), so an impact lasts pi / 9.08e3 = 0.35 ms, a third of
  * a step: the restitution cannot be resolved at this step (the issue's 10% target is not met;
- * measured 0.29, and within 10% only from dt = 2.5e-5 s, docs/integrators.md). What holds and is
+ * measured 0.014, and within 10% only from dt = 2.5e-5 s, docs/integrators.md). What holds and is
  * checked: momentum is kept to 1e-9 kg m/s (equal and opposite loads, round-off of the solve)
  * and the unresolved impact stores no energy: the kinetic energy after is not above the start's
  * 2 J (to 1e-9 J). */
@@ -214,6 +214,28 @@ static void test_a_jointed_chain_runs_at_240_hz(void **state)
     tb_scene_destroy(scene);
 }
 
+/* stack (five boxes stacked, each turned 3 degrees) at 1/240 s, where the step without halving
+ * threw box2 off at t = 0.033 s: after 0.25 s the top box is where RK4 at its default step puts
+ * it (z = 0.4499878 m: 12 micrometres of settling) to 1e-6 m, and moves slower than 1e-4 m/s
+ * (measured 7e-6 m/s; RK4: 2e-6 m/s). Not at the issue's rest target (1e-6 m/s): the halved steps
+ * leave a jitter (3.6e-5 m/s at 0.5 s), docs/integrators.md. */
+static void test_a_stack_of_boxes_stands_at_240_hz(void **state)
+{
+    (void)state;
+    tb_integrator *integrator = NULL;
+    tb_scene *scene = run_example("stack", 1.0 / 240.0, 0.25, &integrator);
+    tb_body_state top;
+    double v[3];
+    assert_int_equal(tb_scene_get_state(scene, 4, &top), TB_STATUS_OK);
+    tb_scene_body_velocity(scene, tb_scene_states(scene), 4, v);
+    const double speed = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    print_message("top box z %.7f m, speed %.3e m/s\n", top.x[2], speed);
+    assert_true(fabs(top.x[2] - 0.4499878) < 1e-6);
+    assert_true(speed < 1e-4);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -222,6 +244,7 @@ int main(void)
         cmocka_unit_test(test_head_on_at_a_millisecond_keeps_momentum_and_stores_no_energy),
         cmocka_unit_test(test_a_box_on_a_slope_rests_at_240_hz),
         cmocka_unit_test(test_a_jointed_chain_runs_at_240_hz),
+        cmocka_unit_test(test_a_stack_of_boxes_stands_at_240_hz),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

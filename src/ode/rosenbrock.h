@@ -48,6 +48,14 @@ int tb__rosenbrock_solve(tb_integrator *integrator, double *x);
 /* n doubles of the solver's for f(t, y) at the step's start, kept through the step. */
 double *tb__rosenbrock_start_rate(tb_integrator *integrator);
 
+/* n doubles of the solver's for the middle of a step halved at depth (< TB__ROSENBROCK_LEVELS). */
+double *tb__rosenbrock_level(tb_integrator *integrator, int depth);
+#define TB__ROSENBROCK_LEVELS 8
+/* Whether tb__rosenbrock_factor merges the predictor's Jacobian in (default true). */
+void tb__rosenbrock_speculate(tb_integrator *integrator, bool on);
+/* Counts a halved step. */
+void tb__rosenbrock_count_split(tb_integrator *integrator);
+
 /* Why the last TB__ROSENBROCK_LINEAR_FAILED ("" if none). */
 const char *tb__rosenbrock_message(const tb_integrator *integrator);
 

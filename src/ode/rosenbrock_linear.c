@@ -35,7 +35,7 @@
  * creation (test_allocation, test_contact_events_memory); six balls with their friction slots
  * are 186 unknowns, an LU of 2e6 flops. Above it, KLU (allocating at pattern changes, as BDF's
  * sparse solver does, docs/integrators.md). */
-#define TB__ROSENBROCK_SMALL TB__ROSENBROCK_DENSE_MAX
+#define TB__ROSENBROCK_SMALL 32
 
 /* tb__rosenbrock_refine takes an entry of the end's Jacobian that is this many times the
  * matrix's */
@@ -52,6 +52,9 @@ struct tb__rosenbrock {
     tb_ode_sparse ahead; /* ... at the predictor y + h f(t, y) (speculative, below) */
     double *predicted, *predicted_rate; /* the predictor and its derivative, n each */
     double *start_rate;                 /* f(t, y) at the step's start, n */
+    double *levels;                     /* TB__ROSENBROCK_LEVELS middles of halved steps, n each */
+    long splits;                        /* halved steps */
+    bool plain;                         /* no speculation (tb__rosenbrock_speculate) */
     long long *analysed; /* n + 1 row starts then the columns of the pattern KLU analysed */
     size_t analysed_entries;
     double *shifted, *column; /* difference quotients: y with one component moved, its f */
@@ -130,7 +133,8 @@ static tb_status make_jacobian(tb__rosenbrock *r, size_t n, tb_error *error)
     r->J.n = r->ahead.n = n;
     r->analysed_entries = (size_t)-1;
     r->start_rate = tb__malloc_array(n, sizeof(double));
-    if (r->start_rate == NULL) {
+    r->levels = tb__malloc_array(n, TB__ROSENBROCK_LEVELS * sizeof(double));
+    if (r->start_rate == NULL || r->levels == NULL) {
         return rosenbrock_fail(error, "state", n);
     }
     r->predicted = tb__malloc_array(n, sizeof(double));
@@ -219,6 +223,7 @@ void tb__rosenbrock_destroy(tb_integrator *integrator)
     free(r->predicted);
     free(r->predicted_rate);
     free(r->start_rate);
+    free(r->levels);
     free(r->analysed);
     free(r->shifted);
     free(r->dense_ahead);
@@ -393,8 +398,8 @@ static int dense_speculative(tb_integrator *integrator, double t, double h, cons
     const size_t n = integrator->system.n;
     double *m = SUNDenseMatrix_Data(r->matrix);
     int rc = dense_quotients(integrator, t, y, fy, m);
-    rc = rc != 0 ? rc : predict(integrator, t, h, y, fy);
-    if (rc == 0 &&
+    rc = rc != 0 || r->plain ? rc : predict(integrator, t, h, y, fy);
+    if (rc == 0 && !r->plain &&
         dense_quotients(integrator, t + h, r->predicted, r->predicted_rate, r->dense_ahead) == 0) {
         merge_larger(m, r->dense_ahead, n * n, 1.0, 0.0);
     }
@@ -425,7 +430,7 @@ static int own_jacobian(tb_integrator *integrator, double t, double h, const dou
                              (long)capacity, t);
     }
     const int rc = evaluate(integrator, t, y, fy, &r->J);
-    return rc != 0 ? rc : speculate(integrator, t, h, y, fy);
+    return rc != 0 || r->plain ? rc : speculate(integrator, t, h, y, fy);
 }
 
 /* M = I - h_gamma J from r->J (the system's), factorised. */
@@ -504,6 +509,21 @@ int tb__rosenbrock_solve(tb_integrator *integrator, double *x)
 double *tb__rosenbrock_start_rate(tb_integrator *integrator)
 {
     return integrator->rosenbrock->start_rate;
+}
+
+double *tb__rosenbrock_level(tb_integrator *integrator, int depth)
+{
+    return integrator->rosenbrock->levels + (size_t)depth * integrator->system.n;
+}
+
+void tb__rosenbrock_speculate(tb_integrator *integrator, bool on)
+{
+    integrator->rosenbrock->plain = !on;
+}
+
+void tb__rosenbrock_count_split(tb_integrator *integrator)
+{
+    integrator->rosenbrock->splits++;
 }
 
 const char *tb__rosenbrock_message(const tb_integrator *integrator)
