@@ -235,8 +235,9 @@ TB_API const char *tb_method_name(tb_method method);
 
 /* Parses a method name, ignoring ASCII case ("RK4", "CVODE-BDF"). An unknown name gives
  * TB_STATUS_INVALID_ARGUMENT and, in out_error (may be NULL), a message naming it and listing
- * the methods: `unknown method "rk5"; methods: euler, midpoint, rk4, cvode-adams, cvode-bdf, rosenbrock`.
- * NULL name or out_method: TB_STATUS_NULL_POINTER. *out_method is written only on success. */
+ * the methods: `unknown method "rk5"; methods: euler, midpoint, rk4, cvode-adams, cvode-bdf,
+ * rosenbrock`. NULL name or out_method: TB_STATUS_NULL_POINTER. *out_method is written only on
+ * success. */
 TB_API tb_status tb_method_parse(const char *name, tb_method *out_method, tb_error *out_error);
 
 /* tb_method_parse without the message. */
