@@ -106,6 +106,30 @@ double summary_step(const tb_scene *scene, const tb_run_def *run)
     return dt;
 }
 
+double summary_resolving_step(const tb_scene *scene, const tb_run_def *run)
+{
+    tb_method_info info;
+    double dt = INFINITY;
+    if (tb_method_get_info(run->integrator.method, &info) != TB_STATUS_OK || info.adaptive ||
+        !isinf(info.imaginary_limit) ||
+        tb_scene_default_step(scene, run->integrator.method, &dt) != TB_STATUS_OK) {
+        return INFINITY;
+    }
+    return dt;
+}
+
+void summary_print_resolution(const tb_run_def *run, double dt, double resolving)
+{
+    if (dt > resolving * (1.0 + 1e-9)) {
+        fprintf(stderr,
+                "  %-24s not resolved: dt %g s is longer than %g s, where %s resolves the "
+                "scene's fastest oscillation (its default step, dt 0); impacts shorter than "
+                "a few steps are damped by the step and bounce back less than their restitution "
+                "says (docs/integrators.md)\n",
+                "restitution", dt, resolving, tb_method_name(run->integrator.method));
+    }
+}
+
 static void print_work(const tb_run_def *run, double dt, const tb_integrator_stats *stats,
                        double seconds)
 {

@@ -309,7 +309,7 @@ static void test_an_unknown_method_name_is_named_with_the_list_of_methods(void *
     assert_int_equal(error.status, TB_STATUS_INVALID_ARGUMENT);
     assert_string_equal(error.message,
                         "unknown method \"rk5\"; methods: euler, midpoint, rk4, cvode-adams, "
-                        "cvode-bdf, ark-imex");
+                        "cvode-bdf, rosenbrock, ark-imex");
     assert_int_equal(parsed, TB_METHOD_COUNT);
     /* a NULL argument after that failure leaves no stale message */
     assert_int_equal(tb_method_parse(NULL, &parsed, &error), TB_STATUS_NULL_POINTER);
@@ -329,7 +329,8 @@ static void test_the_method_table_states_each_methods_kind_and_cost(void **state
     } expected[TB_METHOD_COUNT] = {
         [TB_METHOD_EULER] = {1, 0, 0, 1},     [TB_METHOD_MIDPOINT] = {2, 0, 0, 2},
         [TB_METHOD_RK4] = {4, 0, 0, 4},       [TB_METHOD_CVODE_ADAMS] = {12, 1, 1, 0},
-        [TB_METHOD_CVODE_BDF] = {5, 1, 1, 0}, [TB_METHOD_ARK_IMEX] = {5, 1, 0, 0},
+        [TB_METHOD_CVODE_BDF] = {5, 1, 1, 0}, [TB_METHOD_ROSENBROCK] = {2, 0, 0, 2},
+        [TB_METHOD_ARK_IMEX] = {5, 1, 0, 0},
     };
     for (int m = 0; m < TB_METHOD_COUNT; ++m) {
         tb_method_info info;

@@ -147,7 +147,8 @@ static const struct {
     {"dt for cvode",
      "{\"bodies\": [" BODY "], \"integrator\": {\"method\": \"cvode-bdf\", \"dt\": 0.01}}",
      TB_STATUS_BAD_SCENE,
-     "integrator.dt: applies to fixed-step methods (euler, midpoint, rk4), not to cvode-bdf"},
+     "integrator.dt: applies to fixed-step methods (euler, midpoint, rk4, rosenbrock), not to "
+     "cvode-bdf"},
     {"rtol for rk4",
      "{\"bodies\": [" BODY "], \"integrator\": {\"method\": \"rk4\", \"rtol\": 1e-8}}",
      TB_STATUS_BAD_SCENE,

@@ -202,6 +202,10 @@ typedef enum tb_method {
                               iteration: adaptive, for non-stiff problems */
     TB_METHOD_CVODE_BDF,   /* SUNDIALS CVODE, BDF orders 1-5, Newton iteration: adaptive,
                               for stiff problems (stiff springs, heavy damping) */
+    TB_METHOD_ROSENBROCK,  /* linearly implicit fixed step (ROS2, Rosenbrock-W), order 2,
+                              L-stable: reads dt; the system's Jacobian (tb_ode_system.jacobian)
+                              or dense difference quotients (n <= 512); a step its rates do not
+                              explain is halved inside, down to 1/128 (docs/integrators.md) */
     TB_METHOD_ARK_IMEX,    /* SUNDIALS ARKODE's ARKStep, additive Runge-Kutta of order 4 (2-5
                               by max_order): the system's split (tb_ode_split) explicit, the
                               rest implicit by Newton; adaptive, one-step, for stiff contact */
@@ -244,14 +248,16 @@ typedef struct tb_method_info {
  * untouched). */
 TB_API tb_status tb_method_get_info(tb_method method, tb_method_info *out_info);
 
-/* "euler", "midpoint", "rk4", "cvode-adams", "cvode-bdf", "ark-imex"; NULL for an unknown
+/* "euler", "midpoint", "rk4", "cvode-adams", "cvode-bdf", "rosenbrock", "ark-imex"; NULL for an
+ * unknown
  * method. */
 TB_API const char *tb_method_name(tb_method method);
 
 /* Parses a method name, ignoring ASCII case ("RK4", "CVODE-BDF"). An unknown name gives
  * TB_STATUS_INVALID_ARGUMENT and, in out_error (may be NULL), a message naming it and listing
- * the methods: `unknown method "rk5"; methods: euler, midpoint, rk4, cvode-adams, cvode-bdf`.
- * NULL name or out_method: TB_STATUS_NULL_POINTER. *out_method is written only on success. */
+ * the methods: `unknown method "rk5"; methods: euler, midpoint, rk4, cvode-adams, cvode-bdf,
+ * rosenbrock`. NULL name or out_method: TB_STATUS_NULL_POINTER. *out_method is written only on
+ * success. */
 TB_API tb_status tb_method_parse(const char *name, tb_method *out_method, tb_error *out_error);
 
 /* tb_method_parse without the message. */

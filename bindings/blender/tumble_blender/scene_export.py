@@ -18,7 +18,7 @@ import numpy as np
 
 from .shapes import ShapeError, dimensions, f32, hull, shape_of, vec, volume_moments
 
-METHODS = ("rk4", "midpoint", "euler", "cvode-adams", "cvode-bdf", "ark-imex")
+METHODS = ("rk4", "midpoint", "euler", "cvode-adams", "cvode-bdf", "rosenbrock", "ark-imex")
 FLAT = 1e-6  # a ground plane's normal must be within this of the world's z (radians)
 
 

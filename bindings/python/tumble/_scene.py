@@ -395,9 +395,9 @@ class Scene:
             hit_speed: float = 0.0, joint_reactions: bool = False,
             project_joints: bool = False) -> "Frames":
         """Simulates the scene from its initial state for `duration` seconds (the file's settings
-        unless given here: method "euler", "midpoint", "rk4", "cvode-adams", "cvode-bdf" or
-        "ark-imex"; dt in s for the fixed-step methods, rtol and atol for the adaptive ones,
-        frames per second fps) and returns
+        unless given here: method "euler", "midpoint", "rk4", "rosenbrock", "cvode-adams",
+        "cvode-bdf" or "ark-imex"; dt in s for the fixed-step methods, rtol and atol for the
+        adaptive ones, frames per second fps) and returns
         every frame (t = k / fps, k = 0, 1, ...) as Frames. The whole run is one library call
         (tb_scene_run) that fills each frame in one more (tb_scene_frame_values); Python runs
         only between frames, where on_frame(k, t, values) is called if given (values: the frame's

@@ -33,8 +33,9 @@ class Simulation:
     Construction: scene is a Scene, a SceneBuilder, a scene-file path or a dict in the
     scene-file format;
     method one of tumble.METHODS ("euler", "midpoint", "rk4", "cvode-adams", "cvode-bdf",
-    "ark-imex"), dt (s) for the fixed-step methods, rtol and atol for the adaptive ones (the scene
-    file's integrator unless given; an option the method does not read is a ValueError, as in the CLI); threads
+    "rosenbrock", "ark-imex"), dt (s) for the fixed-step methods, rtol and atol for the adaptive
+    ones (the scene file's integrator unless given; an option the method does not read is a
+    ValueError, as in the CLI); threads
     (fixed-step methods, bodies that do not interact) shares each step among threads, with the
     same bits for any count (0: one per processor; default 1); max_steps (every method) the
     steps one advance() or step() may take (the scene file's, default 100000: advance(5.0) at
