@@ -16,7 +16,8 @@ static const char program_help[] =
 static const char run_help[] =
     "usage: tumble run SCENE.json [options]\n"
     "Simulates the scene and writes its frames (each option overrides the scene file):\n"
-    "  --integrator M    euler, midpoint, rk4 (fixed step) or cvode-adams, cvode-bdf (adaptive)\n"
+    "  --integrator M    euler, midpoint, rk4, rosenbrock (linearly implicit) (fixed step) or\n"
+    "                    cvode-adams, cvode-bdf, ark-imex (adaptive)\n"
     "  --dt H            step size in seconds, for fixed-step methods\n"
     "  --rtol R          relative tolerance, for adaptive methods (e.g. 1e-6)\n"
     "  --atol A          absolute tolerance, for adaptive methods (0: derived from the bodies)\n"

@@ -12,6 +12,7 @@
 #include "output.h"
 #include "summary.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -210,6 +211,7 @@ static int simulate(const cli_options *o, tb_scene *scene, const tb_run_def *run
     tb_integrator_stats stats;
     tb_error error;
     const double dt = summary_step(scene, run); /* at the start, where the run chooses it */
+    const double resolving = summary_resolving_step(scene, run);
     w->started = now();
     const tb_status status = tb_scene_run(scene, run, on_frame, w, &stats, &error);
     const double seconds = now() - w->started;
@@ -252,6 +254,7 @@ static int simulate(const cli_options *o, tb_scene *scene, const tb_run_def *run
     invariants last;
     summary_measure(scene, &last);
     summary_print(o->scene, scene, run, dt, &stats, seconds, &w->first, &last);
+    summary_print_resolution(run, dt, fmin(resolving, summary_resolving_step(scene, run)));
     return CLI_EXIT_OK;
 }
 

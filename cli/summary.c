@@ -75,13 +75,12 @@ static double length(const double a[3])
     return hypot(hypot(a[0], a[1]), a[2]);
 }
 
-/* about: where a moment is taken, "" for none */
+/* about: where a moment is taken, "" for none; by: what in the scene may change it */
 static void report_drift(const char *what, int conserved, double change, double scale,
-                         const char *unit, const char *about)
+                         const char *unit, const char *about, const char *by)
 {
     if (!conserved) {
-        fprintf(stderr, "  %-24s not conserved by this scene's effects and joints%s\n", what,
-                about);
+        fprintf(stderr, "  %-24s not conserved by this scene's %s%s\n", what, by, about);
     } else if (!isfinite(scale) || !isfinite(change)) {
         /* an energy past 1.8e308 J is infinite in doubles, and inf - inf is NaN */
         fprintf(stderr, "  %-24s drift n/a (not finite: %g %s at the start%s)%s\n", what, scale,
@@ -105,6 +104,30 @@ double summary_step(const tb_scene *scene, const tb_run_def *run)
         return 0.0; /* the run refuses it and says why */
     }
     return dt;
+}
+
+double summary_resolving_step(const tb_scene *scene, const tb_run_def *run)
+{
+    tb_method_info info;
+    double dt = INFINITY;
+    if (tb_method_get_info(run->integrator.method, &info) != TB_STATUS_OK || info.adaptive ||
+        !isinf(info.imaginary_limit) ||
+        tb_scene_default_step(scene, run->integrator.method, &dt) != TB_STATUS_OK) {
+        return INFINITY;
+    }
+    return dt;
+}
+
+void summary_print_resolution(const tb_run_def *run, double dt, double resolving)
+{
+    if (dt > resolving * (1.0 + 1e-9)) {
+        fprintf(stderr,
+                "  %-24s not resolved: dt %g s is longer than %g s, where %s resolves the "
+                "scene's fastest oscillation (its default step, dt 0); impacts shorter than "
+                "a few steps are damped by the step and bounce back less than their restitution "
+                "says (docs/integrators.md)\n",
+                "restitution", dt, resolving, tb_method_name(run->integrator.method));
+    }
 }
 
 static void print_work(const tb_run_def *run, double dt, const tb_integrator_stats *stats,
@@ -143,11 +166,13 @@ void summary_print(const char *path, const tb_scene *scene, const tb_run_def *ru
     }
     tb_conserved c;
     tb_scene_conserved(scene, &c);
+    const char *by = tb_scene_joint_count(scene) > 0 ? "effects and joints" : "effects";
     report_drift("energy", c.energy, fabs(last->energy - first->energy), fabs(first->energy), "J",
-                 "");
+                 "", by);
     report_drift("linear momentum", c.linear_momentum, distance(last->P, first->P),
-                 length(first->P), "kg m/s", "");
+                 length(first->P), "kg m/s", "", by);
     report_drift("angular momentum", c.angular_momentum_about_center_of_mass,
                  distance(last->L, first->L), length(first->L), "kg m^2/s",
-                 bodies == 1 ? ", about the centre of mass" : ", about the bodies' centre of mass");
+                 bodies == 1 ? ", about the centre of mass" : ", about the bodies' centre of mass",
+                 by);
 }

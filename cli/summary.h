@@ -24,6 +24,14 @@ void summary_joints(const tb_scene *scene, char *out, size_t size);
  * 0 for an adaptive method. */
 double summary_step(const tb_scene *scene, const tb_run_def *run);
 
+/* For a fixed-step method stable on the whole imaginary axis (rosenbrock): the scene's default
+ * step, the one that resolves its fastest oscillation, at the scene's current state; INFINITY
+ * for the other methods (the explicit ones' guard and default step already hold them to it). */
+double summary_resolving_step(const tb_scene *scene, const tb_run_def *run);
+
+/* Says, when dt is longer than resolving, that bounces are not resolved. */
+void summary_print_resolution(const tb_run_def *run, double dt, double resolving);
+
 /* dt: the fixed step the run took (summary_step before it), unused for an adaptive method. */
 void summary_print(const char *path, const tb_scene *scene, const tb_run_def *run, double dt,
                    const tb_integrator_stats *stats, double seconds, const invariants *first,

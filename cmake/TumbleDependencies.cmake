@@ -1,7 +1,7 @@
 # Every dependency comes from the distribution's packages (scripts/setup.sh installs them)
 # and is found the CMake way.
 find_package(GSL 2.6 REQUIRED)
-find_package(SUNDIALS 6 REQUIRED CONFIG COMPONENTS cvode nvecserial
+find_package(SUNDIALS 6 REQUIRED CONFIG COMPONENTS cvode arkode nvecserial
   OPTIONAL_COMPONENTS sunlinsolklu sunmatrixsparse)
 # KLU (SuiteSparse's sparse LU through SUNDIALS' sunlinsolklu, klu.h from libsuitesparse-dev):
 # BDF's sparse linear solver (src/ode/cvode_sparse.c). Optional: without it that one solver is

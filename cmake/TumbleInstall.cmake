@@ -39,7 +39,7 @@ install(FILES ${PROJECT_BINARY_DIR}/tumbleConfig.cmake
 # tumble.pc.in); SUNDIALS ships none, so it and the compiler's OpenMP runtime are named by -l
 # only: never the absolute paths CMake found them at (/usr/lib/gcc/x86_64-linux-gnu/12/...),
 # which name one toolchain's private directory. The install_consumers test checks no path is left.
-set(TUMBLE_PC_PRIVATE_LIBS "-lsundials_cvode -lsundials_nvecserial")
+set(TUMBLE_PC_PRIVATE_LIBS "-lsundials_cvode -lsundials_arkode -lsundials_nvecserial")
 if(TUMBLE_KLU)
   string(APPEND TUMBLE_PC_PRIVATE_LIBS
     " -lsundials_sunlinsolklu -lsundials_sunmatrixsparse -lklu -lamd -lcolamd -lbtf -lsuitesparseconfig")

@@ -262,7 +262,7 @@ def check_keys(schema, source, failures):
 
 
 def check_value_lists(schema, source, shape_keys, failures):
-    methods = re.findall(r'\[TB_METHOD_\w+\]\s*=\s*\{\{"([\w-]+)"',
+    methods = re.findall(r'\[TB_METHOD_\w+\]\s*=\s*\{(?:\{|\.info\s*=\s*\{\s*\.name\s*=\s*)"([\w-]+)"',
                          (source / "src" / "ode" / "methods.c").read_text())
     effects = set(re.findall(r'strcmp\(type, "(\w+)"\)',
                              (source / "src" / "io" / "scene_file_effects.c").read_text()))

@@ -38,7 +38,7 @@ static void test_a_stiff_scene_sweeps_its_own_stable_steps(void **state)
     tb_accuracy_setting settings[32];
     size_t count = 0;
     assert_int_equal(tb_accuracy_scene_sweep(scene, settings, 32, &count), TB_STATUS_OK);
-    assert_int_equal(count, 17); /* 3 Euler, 3 midpoint, 3 RK4, 4 Adams, 4 BDF */
+    assert_int_equal(count, 21); /* 3 Euler, 3 midpoint, 3 RK4, 4 Adams, 4 BDF, 4 ark-imex */
     for (size_t k = 0; k < 9; ++k) {
         double dt = 0.0;
         tb_scene_default_step(scene, settings[k].method, &dt);

@@ -95,12 +95,18 @@ static void set_up(fixture *f)
       (f->def.break_torque = 0.0, tb_scene_add_joint(f->scene, &f->def, NULL)))                    \
     X("add_joint: negative soft_frequency", INVALID_ARGUMENT, "soft_frequency",                    \
       (f->def.soft_frequency = -1.0, tb_scene_add_joint(f->scene, &f->def, NULL)))                 \
-    X("add_joint: a motor with limits (not built)", UNSUPPORTED, "motor",                          \
-      (f->def.has_limits = 1, f->def.limits[1] = 1.0, f->def.motor = TB_MOTOR_VELOCITY,            \
-       f->def.motor_max_force = 2.0, tb_scene_add_joint(f->scene, &f->def, NULL)))                 \
-    X("add_joint: limits on a soft joint (not built)", UNSUPPORTED, "soft",                        \
-      (f->def.has_limits = 1, f->def.limits[1] = 1.0, f->def.soft_frequency = 5.0,                 \
-       tb_scene_add_joint(f->scene, &f->def, NULL)))                                               \
+    X("set_joint_motor: on a ball joint", INVALID_ARGUMENT, "motor",                               \
+      tb_scene_set_joint_motor(f->scene, 0, TB_MOTOR_VELOCITY, 1.0, 1.0))                          \
+    X("set_joint_motor: unknown mode", INVALID_ARGUMENT, "motor",                                  \
+      tb_scene_set_joint_motor(f->scene, 0, (tb_joint_motor_mode)7, 1.0, 1.0))                     \
+    X("set_joint_motor: NaN speed", NOT_FINITE, "motor_speed",                                     \
+      tb_scene_set_joint_motor(f->scene, 0, TB_MOTOR_VELOCITY, NAN, 1.0))                          \
+    X("set_joint_motor: index out of range", OUT_OF_RANGE, "joint",                                \
+      tb_scene_set_joint_motor(f->scene, 4, TB_MOTOR_VELOCITY, 1.0, 1.0))                          \
+    X("joint_axial: a ball joint", INVALID_ARGUMENT, "hinge or slider",                            \
+      tb_scene_joint_axial(f->scene, tb_scene_states_const(f->scene), 0, &f->value, NULL, NULL))   \
+    X("joint_axial: NULL y", NULL_POINTER, "y",                                                    \
+      tb_scene_joint_axial(f->scene, NULL, 0, &f->value, NULL, NULL))                              \
     X("add_joint: a hinge's limit past pi", INVALID_ARGUMENT, "limits",                            \
       (f->def.has_limits = 1, f->def.limits[1] = 4.0,                                              \
        tb_scene_add_joint(f->scene, &f->def, NULL)))                                               \

@@ -211,6 +211,63 @@ static void test_guard_sees_a_soft_joint_spring(void **state)
     tb_scene_destroy(scene);
 }
 
+/* A motor is a velocity servo, d omega/dt = 20/s (speed - omega) while under its cap: a real
+ * decay at 20/s, which the guard counts (RK4's largest stable step real_limit / 20 = 0.139 s, to
+ * round-off) and names (the joints, decaying). The refusal is the servo's own: on this linear
+ * equation each RK4 step multiplies the speed error by R(-20 h) = 1 - z + z^2/2 - z^3/6 + z^4/24
+ * (z = 20 h) exactly, 1/3 at h = 0.1 s (accepted: the error after 10 steps is 3^-10 of the
+ * start's to round-off) and 5 at h = 0.2 s (refused; forced, the error grows 5^10-fold). A
+ * 1 kg m^2 wheel (a 6 kg 1 x 1 x 0.2 m box) toward 1 rad/s under a 1e12 N m cap, which RK4's
+ * stages never reach (a capped stage would break the linear equation: 100 N m is passed by the
+ * last stage at h = 0.2 s). */
+static void test_guard_sees_a_motor_servo(void **state)
+{
+    (void)state;
+    tb_method_info info;
+    assert_int_equal(tb_method_get_info(TB_METHOD_RK4, &info), TB_STATUS_OK);
+    const double steps[2] = {0.1, 0.2};
+    for (int k = 0; k < 2; ++k) {
+        tb_scene *scene = test_empty_scene();
+        const size_t wheel =
+            test_add_box(scene, 6.0, (double[]){1.0, 1.0, 0.2}, (double[]){0.0, 0.0, 0.0});
+        tb_joint_def def = tb_joint_def_default();
+        def.type = TB_JOINT_HINGE;
+        def.body_a = wheel;
+        def.motor = TB_MOTOR_VELOCITY;
+        def.motor_speed = 1.0;
+        def.motor_max_force = 1e12;
+        assert_int_equal(tb_scene_add_joint(scene, &def, NULL), TB_STATUS_OK);
+        double dt = 0.0;
+        char which[TB_DETAIL_SIZE];
+        assert_int_equal(tb_scene_max_stable_step(scene, TB_METHOD_RK4, &dt, which), TB_STATUS_OK);
+        assert_true(fabs(info.real_limit / dt - 20.0) <= 1e-12 * 20.0);
+        assert_non_null(strstr(which, "joints"));
+        tb_integrator *integrator = NULL;
+        tb_integrator_def idef = test_integrator_def(TB_METHOD_RK4, steps[k], 0.0);
+        assert_int_equal(tb_scene_integrator_create(scene, &idef, 0.0, &integrator),
+                         k == 0 ? TB_STATUS_OK : TB_STATUS_UNSTABLE_STEP);
+        tb_scene_set_allow_unstable(scene, true);
+        if (k == 1) {
+            assert_int_equal(tb_scene_integrator_create(scene, &idef, 0.0, &integrator),
+                             TB_STATUS_OK);
+        }
+        assert_int_equal(tb_integrator_advance(integrator, 10.0 * steps[k]), TB_STATUS_OK);
+        double omega[3];
+        assert_int_equal(
+            tb_scene_body_angular_velocity(scene, tb_scene_states(scene), wheel, omega),
+            TB_STATUS_OK);
+        const double z = 20.0 * steps[k];
+        const double growth = 1.0 - z + z * z / 2.0 - z * z * z / 6.0 + z * z * z * z / 24.0;
+        const double expected = pow(growth, 10.0); /* the error (omega - 1) / (0 - 1) */
+        print_message("motor servo rk4 at %.2g s: guard step %.4g s (%s); error ratio %.17g, "
+                      "R^10 %.17g\n",
+                      steps[k], dt, which, 1.0 - omega[2], expected);
+        assert_true(fabs((1.0 - omega[2]) - expected) <= 1e-12 * fmax(1.0, fabs(expected)));
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
 /* The double pendulum (1 m rods, hinges) keeps its steps: its links' sway under their own
  * weight is slow (sqrt(12 T / (m l)) ~ 15 rad/s at most), so the default step stays 1/240 s and
  * RK4 at 1/240 s is accepted. */
@@ -233,6 +290,7 @@ int main(void)
         cmocka_unit_test(test_guard_sees_the_light_links_sway_under_the_weight),
         cmocka_unit_test(test_default_step_keeps_the_heavy_chain_energy),
         cmocka_unit_test(test_guard_sees_a_soft_joint_spring),
+        cmocka_unit_test(test_guard_sees_a_motor_servo),
         cmocka_unit_test(test_double_pendulum_keeps_its_steps),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -309,7 +309,7 @@ static void test_an_unknown_method_name_is_named_with_the_list_of_methods(void *
     assert_int_equal(error.status, TB_STATUS_INVALID_ARGUMENT);
     assert_string_equal(error.message,
                         "unknown method \"rk5\"; methods: euler, midpoint, rk4, cvode-adams, "
-                        "cvode-bdf");
+                        "cvode-bdf, rosenbrock, ark-imex");
     assert_int_equal(parsed, TB_METHOD_COUNT);
     /* a NULL argument after that failure leaves no stale message */
     assert_int_equal(tb_method_parse(NULL, &parsed, &error), TB_STATUS_NULL_POINTER);
@@ -329,7 +329,8 @@ static void test_the_method_table_states_each_methods_kind_and_cost(void **state
     } expected[TB_METHOD_COUNT] = {
         [TB_METHOD_EULER] = {1, 0, 0, 1},     [TB_METHOD_MIDPOINT] = {2, 0, 0, 2},
         [TB_METHOD_RK4] = {4, 0, 0, 4},       [TB_METHOD_CVODE_ADAMS] = {12, 1, 1, 0},
-        [TB_METHOD_CVODE_BDF] = {5, 1, 1, 0},
+        [TB_METHOD_CVODE_BDF] = {5, 1, 1, 0}, [TB_METHOD_ROSENBROCK] = {2, 0, 0, 2},
+        [TB_METHOD_ARK_IMEX] = {5, 1, 0, 0},
     };
     for (int m = 0; m < TB_METHOD_COUNT; ++m) {
         tb_method_info info;
@@ -596,8 +597,9 @@ static void test_a_null_argument_after_a_failure_leaves_no_stale_detail(void **s
 
 /* Which settings each method reads, as include/tumble/ode.h states it: fixed steps read dt,
  * threads and the scene's allow_unstable; CVODE the tolerances, the step bounds and max_order;
- * BDF alone the linear solver's; every method max_steps. The loader, the CLI and the bindings
- * ask this one rule (before, the loader refused max_steps for rk4, which the library reads). */
+ * BDF and ark-imex the linear solver's; every method max_steps. The loader, the CLI and the
+ * bindings ask this one rule (before, the loader refused max_steps for rk4, which the library
+ * reads). */
 static void test_each_method_reads_the_settings_its_header_names(void **state)
 {
     (void)state;
@@ -619,13 +621,16 @@ static void test_each_method_reads_the_settings_its_header_names(void **state)
         }
         for (size_t k = 0; k < 2; ++k) {
             assert_int_equal(tb_method_check_setting((tb_method)m, bdf[k], &error),
-                             m == TB_METHOD_CVODE_BDF ? TB_STATUS_OK : TB_STATUS_UNSUPPORTED);
+                             m == TB_METHOD_CVODE_BDF || m == TB_METHOD_ARK_IMEX
+                                 ? TB_STATUS_OK
+                                 : TB_STATUS_UNSUPPORTED);
         }
     }
     tb_error error;
     assert_int_equal(tb_method_check_setting(TB_METHOD_RK4, "rtol", &error), TB_STATUS_UNSUPPORTED);
-    assert_string_equal(error.message,
-                        "applies to adaptive methods (cvode-adams, cvode-bdf), not to rk4");
+    assert_string_equal(
+        error.message,
+        "applies to adaptive methods (cvode-adams, cvode-bdf, ark-imex), not to rk4");
     assert_int_equal(tb_method_check_setting(TB_METHOD_RK4, "step", &error),
                      TB_STATUS_INVALID_ARGUMENT);
     assert_non_null(strstr(error.message, "unknown setting \"step\"; settings: dt,"));

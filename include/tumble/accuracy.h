@@ -23,7 +23,8 @@ typedef struct tb_accuracy_setting {
 } tb_accuracy_setting;
 
 /* The default sweep: Euler at 240, 1000, 4000 steps/s; midpoint at 60, 240, 1000; RK4 at 60,
- * 240, 1000, 4000; CVODE Adams and BDF at rtol 1e-3, 1e-5, 1e-7, 1e-9. A constant array of
+ * 240, 1000, 4000; CVODE Adams and BDF and ark-imex at rtol 1e-3, 1e-5, 1e-7, 1e-9. A constant
+ * array of
  * *out_count settings. */
 TB_API const tb_accuracy_setting *tb_accuracy_default_sweep(size_t *out_count);
 

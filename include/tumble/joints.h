@@ -76,11 +76,15 @@ typedef struct tb_joint_def {
      * step; CVODE: its outputs). INFINITY (default): never. */
     double break_force, break_torque;
     /* A soft joint: a spring-damper on the same rows instead of an exact constraint, for
-     * animators' wobbly rigs: each row r pulls with -m_r (w^2 C_r + 2 zeta w dC_r/dt), w = 2 pi
-     * frequency, m_r = 1 / (J_r M^-1 J_r^T) the row's effective mass, so a row alone rings at
-     * frequency (Hz, > 0) with damping_ratio (>= 0). Not projected; its spring's energy is not
-     * in tb_scene_potential_energy; the stability guard counts its rate, 2 pi frequency at
-     * damping_ratio. frequency 0 (default): rigid. */
+     * animators' wobbly rigs: each row r pulls with -m_g (w^2 C_r + 2 zeta w dC_r/dt), w = 2 pi
+     * frequency, m_g the mean effective mass (1 / (J_r M^-1 J_r^T)) of its group of rows (the
+     * anchors' gap, a hinge's tilt, the relative rotation, a slider's sideways gap) when the
+     * joint is made, so a row alone rings at frequency (Hz, > 0) with damping_ratio (>= 0).
+     * Constant and isotropic, the spring is conservative: its energy is in
+     * tb_scene_potential_energy, and an undamped one keeps the scene's energy and momenta.
+     * Not projected (it is a spring); the stability guard counts its rate, 2 pi frequency at
+     * damping_ratio. Limits and a motor (hinge, slider) act as on a rigid joint, through an
+     * exact axial row beside the springs. frequency 0 (default): rigid. */
     double soft_frequency, soft_damping_ratio;
     int internal_cookie; /* set by tb_joint_def_default */
 } tb_joint_def;
@@ -95,10 +99,10 @@ TB_API tb_joint_def tb_joint_def_default(void);
  * without limits, a motor without a positive max force or on a ball or fixed joint, a break
  * force or torque <= 0, a negative soft frequency or damping ratio, a damping ratio on a rigid
  * joint (TB_STATUS_INVALID_ARGUMENT), a non-finite value (TB_STATUS_NOT_FINITE);
- * TB_STATUS_BUSY while an integrator steps the scene. Not built yet, refused with
- * TB_STATUS_UNSUPPORTED rather than ignored: a motor on a joint with limits, limits or a motor
- * on a soft joint (docs/joints.md). An
- * integrator made before the joint refuses to advance (TB_STATUS_LAYOUT_CHANGED). */
+ * TB_STATUS_BUSY while an integrator steps the scene. A motor and limits on one joint work
+ * together, on rigid and soft joints: at a stop the stop wins, the motor pushing into it at its
+ * cap (docs/joints.md). An integrator made before the joint refuses to advance
+ * (TB_STATUS_LAYOUT_CHANGED). */
 TB_API tb_status tb_scene_add_joint(tb_scene *scene, const tb_joint_def *def, size_t *out_id);
 
 TB_API size_t tb_scene_joint_count(const tb_scene *scene);
@@ -132,6 +136,28 @@ TB_API tb_status tb_scene_joint_error(const tb_scene *scene, const double *y, si
  * copy of the states). */
 #define TB_JOINT_PROJECTION_TOLERANCE 1e-12
 TB_API tb_status tb_scene_project_joints(tb_scene *scene, double tolerance, double *out_error);
+
+/* A hinge's or slider's axial read-outs at state y and the scene's time (evaluates the
+ * derivative once): its coordinate (the angle of body_a about the axis relative to body_b, rad,
+ * or the travel along it, m, from the pose when the joint was made), and the motor's and the
+ * stop's lambda on the axial row (N m for a hinge, N for a slider; positive drives the
+ * coordinate up on body_a), each 0 when not acting. A motor driving the joint into a stop that
+ * holds it pushes at its cap (docs/joints.md, Motors at a stop). Any out pointer may be NULL.
+ * Refuses a joint of another type (TB_STATUS_INVALID_ARGUMENT), a NULL y, a joint out of range,
+ * a call while an integrator steps the scene (TB_STATUS_BUSY). */
+TB_API tb_status tb_scene_joint_axial(tb_scene *scene, const double *y, size_t joint,
+                                      double *out_coordinate, double *out_motor, double *out_stop);
+
+/* Sets a hinge's or slider's motor between steps (a door's motor reversed, a wheel's speed
+ * changed): mode, value (motor_speed for TB_MOTOR_VELOCITY, motor_target for
+ * TB_MOTOR_POSITION, ignored for TB_MOTOR_OFF) and max_force (> 0, ignored for TB_MOTOR_OFF),
+ * checked as tb_scene_add_joint checks them (the detail naming the field), nothing changed on a
+ * refusal; a motor on a soft joint made without limits or a motor is refused
+ * (TB_STATUS_UNSUPPORTED: its rows have no axial row). The right-hand side changes from the scene's
+ * time on (CVODE restarts); the integrator keeps stepping. TB_STATUS_BUSY while an integrator steps
+ * the scene. */
+TB_API tb_status tb_scene_set_joint_motor(tb_scene *scene, size_t joint, tb_joint_motor_mode mode,
+                                          double value, double max_force);
 
 /* Whether the joint has broken (in the run so far). */
 TB_API tb_status tb_scene_joint_broken(const tb_scene *scene, size_t joint, bool *out_broken);

@@ -145,9 +145,12 @@ typedef struct tb_ode_sparse {
     double *values;     /* capacity */
 } tb_ode_sparse;
 
-/* Optional part of a system: the Jacobian df/dy of its right-hand side (for the IMEX method to
- * come: of its implicit part) as a sparse matrix, for the implicit methods' Newton iteration
- * (BDF with TB_LINEAR_SOLVER_SPARSE). The pattern may change from state to state (a contact
+/* Optional part of a system: the Jacobian df/dy of its right-hand side as a sparse matrix, for the
+ * implicit methods' Newton iteration (BDF and ark-imex with TB_LINEAR_SOLVER_SPARSE). With a split
+ * (tb_ode_split) ark-imex's Newton iteration is of the implicit part f_I = f - f_E; this Jacobian
+ * of the whole f then stands in for df_I/dy: the difference, df_E/dy, is of the non-stiff part,
+ * small against 1/(gamma h), so it slows Newton's convergence a little and changes no result
+ * (the residual is of f_I itself). The pattern may change from state to state (a contact
  * graph does); the integrator re-analyses it only when it does. Both NULL (default) for none,
  * or both set. */
 typedef struct tb_ode_jacobian {
@@ -163,6 +166,18 @@ typedef struct tb_ode_jacobian {
     int (*evaluate)(double t, const double *y, const double *fy, tb_ode_sparse *J, void *ctx);
 } tb_ode_jacobian;
 
+/* Optional part of a system: a split of its right-hand side f = f_E + f_I for the implicit-explicit
+ * method (TB_METHOD_ARK_IMEX): f_E, the non-stiff part, is given here and taken explicitly; the
+ * rest, f_I = f - f_E (the derivative less f_E, at the same t and y), implicitly. The kinematic
+ * rows of a mechanical system (dx/dt = v) belong to f_I when its stiff forces are there: a stiff
+ * oscillation couples both. Other methods ignore the split. NULL (default): no split, ark-imex
+ * takes all of f implicitly. */
+typedef struct tb_ode_split {
+    /* f_E: same signature and return convention as the derivative, writes every component (zero
+     * where f_E has none) */
+    tb_ode_derivative explicit_part;
+} tb_ode_split;
+
 /* An ODE system: a small core and optional parts, each all zero for none. The integrator
  * borrows it (a copy: the parts are values): ctx must outlive the integrator. */
 typedef struct tb_ode_system {
@@ -175,6 +190,7 @@ typedef struct tb_ode_system {
     tb_ode_lifetime lifetime; /* acquire and release by calls, generations */
     tb_ode_events events;     /* roots, step limits, events, breaks */
     tb_ode_jacobian jacobian; /* the sparse Jacobian */
+    tb_ode_split split;       /* explicit and implicit parts, for ark-imex */
 } tb_ode_system;
 
 /* How to integrate, chosen as data. */
@@ -186,6 +202,13 @@ typedef enum tb_method {
                               iteration: adaptive, for non-stiff problems */
     TB_METHOD_CVODE_BDF,   /* SUNDIALS CVODE, BDF orders 1-5, Newton iteration: adaptive,
                               for stiff problems (stiff springs, heavy damping) */
+    TB_METHOD_ROSENBROCK,  /* linearly implicit fixed step (ROS2, Rosenbrock-W), order 2,
+                              L-stable: reads dt; the system's Jacobian (tb_ode_system.jacobian)
+                              or dense difference quotients (n <= 512); a step its rates do not
+                              explain is halved inside, down to 1/128 (docs/integrators.md) */
+    TB_METHOD_ARK_IMEX,    /* SUNDIALS ARKODE's ARKStep, additive Runge-Kutta of order 4 (2-5
+                              by max_order): the system's split (tb_ode_split) explicit, the
+                              rest implicit by Newton; adaptive, one-step, for stiff contact */
     TB_METHOD_COUNT
 } tb_method;
 
@@ -199,10 +222,10 @@ typedef enum tb_method {
 typedef struct tb_method_info {
     const char *name; /* "rk4": tb_method_name's spelling (tb_method_from_name takes any case) */
     int order;        /* classical order of a fixed-step method (1, 2, 4); the largest order
-                         of an adaptive one (Adams 12, BDF 5) */
+                         of an adaptive one (Adams 12, BDF 5, ark-imex 5) */
     int adaptive;     /* 1: error-controlled steps; reads rtol, atol, atol_vector,
-                         initial_step, max_step, max_order, max_steps (BDF also linear_solver,
-                         preconditioner_half_bandwidth), never dt.
+                         initial_step, max_step, max_order, max_steps (BDF and ark-imex also
+                         linear_solver, preconditioner_half_bandwidth), never dt.
                          0: fixed step; reads dt and max_steps only */
     int multistep;    /* 1: the step uses past steps' history (Adams, BDF), so a state changed
                          from outside costs a restart at order 1; 0: one-step method */
@@ -225,13 +248,16 @@ typedef struct tb_method_info {
  * untouched). */
 TB_API tb_status tb_method_get_info(tb_method method, tb_method_info *out_info);
 
-/* "euler", "midpoint", "rk4", "cvode-adams", "cvode-bdf"; NULL for an unknown method. */
+/* "euler", "midpoint", "rk4", "cvode-adams", "cvode-bdf", "rosenbrock", "ark-imex"; NULL for an
+ * unknown
+ * method. */
 TB_API const char *tb_method_name(tb_method method);
 
 /* Parses a method name, ignoring ASCII case ("RK4", "CVODE-BDF"). An unknown name gives
  * TB_STATUS_INVALID_ARGUMENT and, in out_error (may be NULL), a message naming it and listing
- * the methods: `unknown method "rk5"; methods: euler, midpoint, rk4, cvode-adams, cvode-bdf`.
- * NULL name or out_method: TB_STATUS_NULL_POINTER. *out_method is written only on success. */
+ * the methods: `unknown method "rk5"; methods: euler, midpoint, rk4, cvode-adams, cvode-bdf,
+ * rosenbrock`. NULL name or out_method: TB_STATUS_NULL_POINTER. *out_method is written only on
+ * success. */
 TB_API tb_status tb_method_parse(const char *name, tb_method *out_method, tb_error *out_error);
 
 /* tb_method_parse without the message. */
@@ -240,7 +266,7 @@ TB_API tb_status tb_method_from_name(const char *name, tb_method *out_method);
 /* tb_method_info.order; 0 for an unknown method. */
 TB_API int tb_method_order(tb_method method);
 
-/* tb_method_info.adaptive: non-zero for the error-controlled CVODE methods, which take
+/* tb_method_info.adaptive: non-zero for the error-controlled methods (CVODE, ark-imex), which take
  * rtol/atol instead of dt; 0 for an unknown method. */
 TB_API int tb_method_is_adaptive(tb_method method);
 
@@ -257,7 +283,7 @@ TB_API int tb_method_is_adaptive(tb_method method);
 TB_API tb_status tb_method_check_setting(tb_method method, const char *setting,
                                          tb_error *out_error);
 
-/* Linear solver for the Newton iteration of TB_METHOD_CVODE_BDF. */
+/* Linear solver for the Newton iteration of TB_METHOD_CVODE_BDF and TB_METHOD_ARK_IMEX. */
 typedef enum tb_linear_solver {
     TB_LINEAR_SOLVER_AUTO = 0, /* dense up to 64 unknowns (512 without blocks), Krylov above */
     TB_LINEAR_SOLVER_DENSE,    /* dense difference-quotient Jacobian and LU: O(n^3) a setup */
@@ -296,10 +322,11 @@ typedef struct tb_integrator_def {
     double initial_step; /* first step size; 0 (default) lets CVODE estimate it */
     double max_step;     /* largest step size; 0 (default) for no limit. With
                             tb_ode_system.events.step_limit the tighter limit wins */
-    int max_order;       /* 0 (default) for the method's largest (Adams 12, BDF 5);
+    int max_order;       /* 0 (default) for the method's largest (Adams 12, BDF 5; ark-imex:
+                            its tables' order, 2-5, 0 for 4);
                             CVODE keeps max_order + 1 history vectors, so Adams at 5
                             takes 7 state-sized vectors fewer (docs/performance.md) */
-    tb_linear_solver linear_solver;    /* BDF only; default TB_LINEAR_SOLVER_AUTO */
+    tb_linear_solver linear_solver;    /* BDF and ark-imex; default TB_LINEAR_SOLVER_AUTO */
     int preconditioner_half_bandwidth; /* Krylov, systems without blocks: half-bandwidth
                                           of the banded difference-quotient preconditioner;
                                           < 0 (default) automatic: 0 (diagonal; a scene's
@@ -329,7 +356,9 @@ TB_API tb_status tb_integrator_def_set_method(tb_integrator_def *def, tb_method 
 typedef struct tb_integrator_stats {
     long steps;                     /* accepted steps */
     long derivative_evals;          /* all calls of the derivative, including those made to
-                                       approximate Jacobians and preconditioners */
+                                       approximate Jacobians and preconditioners (ark-imex with
+                                       a split: calls of the whole derivative, f_E's not
+                                       counted) */
     long jacobian_derivative_evals; /* the part of derivative_evals spent on Jacobians and
                                        preconditioners (BDF) */
     long failed_steps;              /* steps rejected: error-test or nonlinear-solver failures
@@ -339,13 +368,14 @@ typedef struct tb_integrator_stats {
     long linear_iterations;         /* Krylov iterations (BDF with the Krylov solver) */
     double last_step;               /* size of the last accepted step */
     double current_step;            /* size the next step will try */
-    int last_order;                 /* order of the last step (fixed-step: the method's) */
+    int last_order;                 /* order of the last step (fixed-step: the method's;
+                                       ark-imex: its tables') */
     int current_order;              /* order the next step will use */
     long reinitializations;         /* adaptive: restarts because the state was changed from
                                        outside or tb_integrator_reset was called */
     long nonlinear_iterations;      /* adaptive: iterations of the implicit solve (BDF's Newton,
                                        Adams' fixed point) */
-    long jacobian_evals;            /* BDF: Jacobians formed (difference quotients, or the
+    long jacobian_evals;            /* BDF, ark-imex: Jacobians formed (difference quotients, or the
                                        system's own with TB_LINEAR_SOLVER_SPARSE); preconditioner
                                        set-ups of the Krylov solver not counted */
 } tb_integrator_stats;

@@ -162,7 +162,8 @@ TB_API tb_status tb_scene_frame_values(const tb_scene *scene, const double *y, d
 TB_API tb_status tb_scene_kinetic_energy(const tb_scene *scene, const double *y,
                                          double *out_energy);
 /* Potential energy of the scene's conservative effects, J: gravity (-M g . x per body) and
- * springs (k (|d| - rest)^2 / 2). Other effects have none. */
+ * springs (k (|d| - rest)^2 / 2), and soft joints' springs (joints.h). Other effects have
+ * none. */
 TB_API tb_status tb_scene_potential_energy(const tb_scene *scene, const double *y,
                                            double *out_energy);
 
@@ -173,8 +174,9 @@ TB_API tb_status tb_scene_potential_energy(const tb_scene *scene, const double *
  * two bodies and uniform gravity, whose torque sum (x_i - c) x M_i g is zero about the centre
  * of mass c). User effects are assumed to conserve nothing. Joints (joints.h) between two
  * dynamic bodies keep all four; a joint to the world or to a static or keyframed body takes
- * momentum; a keyframed support, a motor, a soft joint or a stop with restitution below 1 does
- * work (tests/test_joints.c). */
+ * momentum; a keyframed support, a motor, a soft joint's damper (soft_damping_ratio > 0) or a
+ * stop with restitution below 1 does work (tests/test_joints.c); an undamped soft joint's
+ * spring keeps energy, its energy in tb_scene_potential_energy (tests/test_joints_soft.c). */
 typedef struct tb_conserved {
     int energy;
     int linear_momentum;
@@ -239,6 +241,9 @@ TB_API size_t tb_scene_effect_count(const tb_scene *scene);
  *   a contact (docs/effects.md); next_break is a keyframed body's next key time.
  * - jacobian (with contact, bodies not separable): the contact's sparse Jacobian, its pattern
  *   the bodies' contact graph (docs/integrators.md, "BDF's sparse Jacobian").
+ * - split (always): ark-imex's explicit part, the loads of the effects without a mode of their
+ *   own (gravity, constant forces, user callbacks); contact, ground, springs, drag, the
+ *   kinematic rows and the joints' forces are the implicit rest (docs/integrators.md, "ark-imex").
  * A scene's integrator also fills in the defaults tumble/ode.h leaves to the system: dt 0 is the
  * scene's default step, atol 0 its tolerances per component (tb_scene_absolute_tolerances), and
  * the Krylov preconditioner's automatic half-bandwidth 12 (one body's 13 x 13 block exactly). */

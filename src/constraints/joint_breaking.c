@@ -22,10 +22,15 @@ void tb__joint_reaction(const tb_scene *scene, const tb__joints *js, size_t j, d
     const tb__joint_eval *eval = &js->evals[j];
     tb__v3_set(force, 0.0, 0.0, 0.0);
     tb__v3_set(torque, 0.0, 0.0, 0.0);
-    const int rows = joint->rows + (joint->motor_state == TB__MOTOR_CAPPED ? 1 : 0);
+    /* a capped motor's lambda stays on its row, past rows unless the layout keeps it */
+    const int rows = joint->rows + (joint->motor_state == TB__MOTOR_CAPPED && !joint->axial_first);
     for (int r = 0; r < rows && !joint->broken; ++r) {
         tb__v3_axpy(force, eval->lambda[r], eval->J[r].v[0]);
         tb__v3_axpy(torque, eval->lambda[r], eval->J[r].w[0]);
+    }
+    if (joint->motor_state == TB__MOTOR_LOAD && !joint->broken) { /* a motor into its stop */
+        tb__v3_axpy(force, joint->motor_load, eval->J[joint->axial_row].v[0]);
+        tb__v3_axpy(torque, joint->motor_load, eval->J[joint->axial_row].w[0]);
     }
     double arm[3], moment[3];
     tb__point_arm(tb__derivative_motion(scene, joint->body[0]), joint->anchor[0], arm);

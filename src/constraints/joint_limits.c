@@ -33,6 +33,10 @@
 /* rad or m: under adaptive methods a free joint this close to a stop at an event (CVODE's
  * root, located to about 100 roundings) is on it. */
 #define TB__STOP_ENGAGE_GAP 1e-7
+/* rad or m: where an event's impact leaves a joint, inside its bound (engage); far below what
+ * a frame shows (the tests ask 1e-12 past a stop at most) and far above the projection's 1e-13
+ * tolerance, so that the gap's sign after the event is certain. */
+#define TB__STOP_EVENT_INSIDE 1e-12
 /* what an exactly zero root becomes (scene_events.c's TB__GAP_FOR_ZERO, same reason) */
 #define TB__ROOT_FOR_ZERO 1e-150
 
@@ -45,14 +49,23 @@ void tb__joints_configure_rows(tb__joints *js, bool with_motors)
 {
     for (size_t j = 0; j < js->count; ++j) {
         tb__joint *joint = &js->joints[j];
-        if (joint->broken || joint->def.soft_frequency > 0.0) {
+        const bool plain = !joint->def.has_limits && joint->def.motor == TB_MOTOR_OFF &&
+                           joint->motor_state == TB__MOTOR_NONE && !joint->axial_first;
+        if (joint->broken || (joint->def.soft_frequency > 0.0 && !joint->axial_first) ||
+            (plain && joint->rows == joint->base_rows)) { /* nothing to change */
             continue;
         }
         const bool extra = has_axial_row(joint, with_motors);
-        joint->rows = joint->base_rows + (extra ? 1 : 0);
-        joint->solved_rows = joint->rows;
-        joint->motor_state =
-            with_motors && joint->def.motor != TB_MOTOR_OFF ? TB__MOTOR_ROW : TB__MOTOR_NONE;
+        if (joint->axial_first) { /* its rows stay laid out; the axial row alone is solved */
+            joint->solved_rows = extra ? 1 : 0;
+        } else {
+            joint->rows = joint->base_rows + (extra ? 1 : 0);
+            joint->solved_rows = joint->rows;
+        }
+        joint->motor_state = !with_motors || joint->def.motor == TB_MOTOR_OFF ? TB__MOTOR_NONE
+                             : joint->stop != TB__STOP_NONE                   ? TB__MOTOR_AT_STOP
+                                                                              : TB__MOTOR_ROW;
+        joint->motor_load = 0.0;
         joint->axial_zero = joint->stop == TB__STOP_LOWER           ? joint->def.limits[0]
                             : joint->stop == TB__STOP_UPPER         ? joint->def.limits[1]
                             : joint->def.motor == TB_MOTOR_POSITION ? joint->def.motor_target
@@ -66,7 +79,7 @@ double tb__joint_motor_acceleration(const tb__joint *joint, const tb__joint_eval
     const double k = TB__JOINT_MOTOR_RATE;
     return joint->def.motor == TB_MOTOR_VELOCITY
                ? k * (joint->def.motor_speed - rate)
-               : -k * k * eval->C[joint->base_rows] - 2.0 * k * rate;
+               : -k * k * eval->C[joint->axial_row] - 2.0 * k * rate;
 }
 
 bool tb__joints_cap_motors(tb__joints *js, const tb_scene *scene, double *dydt)
@@ -75,25 +88,19 @@ bool tb__joints_cap_motors(tb__joints *js, const tb_scene *scene, double *dydt)
     for (size_t j = 0; j < js->count; ++j) {
         tb__joint *joint = &js->joints[j];
         tb__joint_eval *eval = &js->evals[j];
-        const int r = joint->base_rows;
+        const int r = joint->axial_row;
         if (joint->motor_state != TB__MOTOR_ROW || joint->broken ||
             !(fabs(eval->lambda[r]) > joint->def.motor_max_force)) {
             continue;
         }
         const double cap = copysign(joint->def.motor_max_force, eval->lambda[r]);
         joint->motor_state = TB__MOTOR_CAPPED;
-        joint->rows = joint->solved_rows = joint->base_rows;
+        tb__joint_drop_axial_row(joint);
         eval->lambda[r] = eval->rhs[r] = cap; /* the solve copies rhs into lambda: keep it */
         tb__joint_add_row_load(js, scene, j, r, cap, dydt);
         capped = true;
     }
     return capped;
-}
-
-/* +1 at a lower stop (its push raises the coordinate), -1 at an upper one. */
-static double stop_sign(int stop)
-{
-    return stop == TB__STOP_UPPER ? -1.0 : 1.0;
 }
 
 /* Joint j's axial rate at (t, y), its axial row in the evals (the stop already set). */
@@ -110,32 +117,45 @@ static double axial_rate(tb__joints *js, const tb_scene *scene, double t, const 
     tb__joint_rows(joint, &m[0], &m[1], constants, &js->evals[j]);
     double rate[TB__JOINT_ROWS];
     tb__joint_row_velocities(joint, &js->evals[j], &m[0], &m[1], rate);
-    return rate[joint->base_rows];
+    return rate[joint->axial_row];
 }
 
 /* Joint j, at coordinate c, engages stop: an impact when it moves into it. A fixed step finds
  * it past the stop by c - bound; at its speed, it would have come back e (c - bound) by the
- * step's end, which is where the position projection puts it (exact for a constant speed). */
+ * step's end, which is where the position projection puts it (exact for a constant speed). At an
+ * event (CVODE's root or a fixed step's located onset, within roundings of the bound) it goes at
+ * least TB__STOP_EVENT_INSIDE inside the bound: a joint that bounces off a stop while a load pushes
+ * it back (a motor's door) leaves it by ever smaller bounces, and one left on the bound to the
+ * rounding, its root function of either sign, could cross no root on its way back and go through
+ * the stop. */
 static void engage(tb__joints *js, const tb_scene *scene, double t, const double *y, size_t j,
-                   int stop, double c)
+                   int stop, double c, bool event)
 {
     tb__joint *joint = &js->joints[j];
     joint->stop = stop;
     joint->impact = false;
     const double rate = axial_rate(js, scene, t, y, j);
-    joint->impact = stop_sign(stop) * rate < 0.0;
+    joint->impact = tb__stop_sign(stop) * rate < 0.0;
     joint->impact_rate = joint->impact ? -joint->def.restitution * rate : 0.0;
-    joint->impact_back = -joint->def.restitution * (c - joint->def.limits[stop - 1]);
+    const double back = -joint->def.restitution * (c - joint->def.limits[stop - 1]);
+    const double s = tb__stop_sign(stop); /* an event's: at least TB__STOP_EVENT_INSIDE inside */
+    joint->impact_back =
+        event && !(s * back > TB__STOP_EVENT_INSIDE) ? s * TB__STOP_EVENT_INSIDE : back;
+    if (event && !joint->impact) { /* leaving the stop: it stays free, its rate as it is, put */
+        joint->impact = joint->leaving = true; /* inside the bound all the same */
+        joint->impact_rate = rate;
+    }
 }
 
 void tb__joints_after_impacts(tb__joints *js)
 {
     for (size_t j = 0; j < js->count; ++j) {
         tb__joint *joint = &js->joints[j];
-        if (joint->impact && stop_sign(joint->stop) * joint->impact_rate > TB__STOP_REST_RATE) {
-            joint->stop = TB__STOP_NONE; /* a bounce */
+        if (joint->impact && (joint->leaving || tb__stop_sign(joint->stop) * joint->impact_rate >
+                                                    TB__STOP_REST_RATE)) {
+            joint->stop = TB__STOP_NONE; /* a bounce, or leaving it */
         }
-        joint->impact = false;
+        joint->impact = joint->leaving = false;
         joint->impact_back = 0.0;
     }
 }
@@ -153,7 +173,7 @@ static double coordinate_at(const tb__joints *js, const tb_scene *scene, double 
 
 /* The derivative at (t, y) into the joints' scratch, for the held stops' lambdas; 0 or its
  * failure. */
-static int held_lambdas(tb__joints *js, const tb_scene *scene, double t, const double *y)
+int tb__joints_held_lambdas(tb__joints *js, const tb_scene *scene, double t, const double *y)
 {
     const size_t n = tb_scene_state_size(scene);
     if (n > js->scratch_size) {
@@ -180,8 +200,7 @@ static bool any_held(const tb__joints *js)
 /* The stop's push (N or N m, positive while it pushes) from the last derivative. */
 static double push(const tb__joints *js, size_t j)
 {
-    const tb__joint *joint = &js->joints[j];
-    return stop_sign(joint->stop) * js->evals[j].lambda[joint->base_rows];
+    return js->joints[j].stop_push;
 }
 
 /* A stop switched at t (an event when gap > 0). */
@@ -212,7 +231,7 @@ void tb__joints_undo_later_switches(tb__joints *js, double t)
 static int switch_stops(tb__joints *js, const tb_scene *scene, double t, const double *y,
                         double gap, bool *changed)
 {
-    const int rc = any_held(js) ? held_lambdas(js, scene, t, y) : 0;
+    const int rc = any_held(js) ? tb__joints_held_lambdas(js, scene, t, y) : 0;
     for (size_t j = 0; j < js->count && rc == 0; ++j) {
         tb__joint *joint = &js->joints[j];
         if (!joint->def.has_limits || joint->broken) {
@@ -231,9 +250,12 @@ static int switch_stops(tb__joints *js, const tb_scene *scene, double t, const d
                          : joint->def.limits[1] - c < gap ? TB__STOP_UPPER
                                                           : TB__STOP_NONE;
         if (stop != TB__STOP_NONE) {
-            engage(js, scene, t, y, j, stop, c);
-            if (gap > 0.0 && !joint->impact) { /* at an event, leaving the stop: stays free */
+            const bool inside =
+                tb__stop_sign(stop) * (c - joint->def.limits[stop - 1]) >= TB__STOP_EVENT_INSIDE;
+            engage(js, scene, t, y, j, stop, c, gap > 0.0);
+            if (joint->leaving && inside) { /* leaving, its gap's sign certain: as it is */
                 joint->stop = TB__STOP_NONE;
+                joint->impact = joint->leaving = false;
                 continue;
             }
             note_switch(joint, before, t, gap, changed);
@@ -261,7 +283,7 @@ size_t tb__joints_root_count(const void *constraints)
 int tb__joints_roots(void *constraints, const tb_scene *scene, double t, const double *y, double *g)
 {
     tb__joints *js = constraints;
-    const int rc = any_held(js) ? held_lambdas(js, scene, t, y) : 0;
+    const int rc = any_held(js) ? tb__joints_held_lambdas(js, scene, t, y) : 0;
     size_t k = 0;
     for (size_t j = 0; j < js->count && rc == 0; ++j) {
         const tb__joint *joint = &js->joints[j];

@@ -21,7 +21,8 @@ static void largest_error(const tb_scene *scene, const tb__joints *js, const dou
     *worst_joint = 0;
     for (size_t j = 0; j < js->count; ++j) {
         double position = 0.0, velocity = 0.0;
-        if (js->joints[j].solved_rows == 0) { /* soft or broken: not projected */
+        if (js->joints[j].solved_rows == 0 || js->joints[j].def.soft_frequency > 0.0) {
+            /* broken, or soft (a spring: not projected, but for its stop's axial row) */
             continue;
         }
         (void)tb_scene_joint_error(scene, y, j, &position, &velocity);
@@ -101,10 +102,10 @@ void tb__joints_conserved(const void *constraints, const tb_scene *scene, tb_con
             c->linear_momentum = c->angular_momentum = 0;
             c->angular_momentum_about_center_of_mass = 0;
         }
-        /* work: a moving support, a motor, a soft joint (its spring's energy is not counted, its
-         * damper takes energy), a stop that is not perfectly elastic */
+        /* work: a moving support, a motor, a soft joint's damper (its spring's energy is in
+         * tb_scene_potential_energy), a stop that is not perfectly elastic */
         if (keyframed(scene, joint->body[0]) || keyframed(scene, joint->body[1]) ||
-            def->motor != TB_MOTOR_OFF || def->soft_frequency > 0.0 ||
+            def->motor != TB_MOTOR_OFF || def->soft_damping_ratio > 0.0 ||
             (def->has_limits && def->restitution < 1.0)) {
             c->energy = 0;
         }

@@ -11,8 +11,12 @@
  * lies below it (the heavy chain's: 669 rad/s against 767, tests/test_joints_guard.c). The
  * forces are the reactions of the last derivative's solve (at most a step old: the guard runs
  * before every step, and a derivative there would cost a fifth of a chain's step), or of one
- * derivative at the state before the first. Soft joints add their springs:
- * w = 2 pi frequency and damping ratio zeta per row. Baumgarte's rate (20/s) acts only under
+ * derivative at the state before the first. The arm's direction is read in the body's frame,
+ * where the anchor is fixed, and a ball joint's reaction torque about its anchor, which is
+ * round-off, is left out. Soft joints add their springs:
+ * w = 2 pi frequency and damping ratio zeta per row; motors their servo, a real decay at
+ * TB__JOINT_MOTOR_RATE (20/s: an explicit step beyond real_limit / 20, 0.139 s for RK4, 0.1 s
+ * for Euler and midpoint, makes the servo itself unstable). Baumgarte's rate (20/s) acts only under
  * CVODE Adams, which the guard does not limit (error control chooses its steps). */
 #include "constraints/joints_internal.h"
 
@@ -21,12 +25,11 @@
 #include <math.h>
 #include <string.h>
 
-/* The largest eigenvalue (1/(kg m^2)) of the inverse inertia across the unit world vector u: of
- * I^-1 restricted to the plane perpendicular to u, in the body's principal frame. */
-static double inverse_inertia_across(const tb__body *body, const double q[4], const double u[3])
+/* The largest eigenvalue (1/(kg m^2)) of the inverse inertia across the unit vector w of the
+ * body's principal frame: of I^-1 restricted to the plane perpendicular to w. */
+static double inverse_inertia_across_body(const tb__body *body, const double w[3])
 {
-    double w[3], e1[3], e2[3];
-    tb__q_rotate_inverse(w, q, u);
+    double e1[3], e2[3];
     int k = 0; /* the principal axis least along u, crossed with u: a vector across it */
     for (int i = 1; i < 3; ++i) {
         k = fabs(w[i]) < fabs(w[k]) ? i : k;
@@ -49,6 +52,14 @@ static double inverse_inertia_across(const tb__body *body, const double q[4], co
     return 0.5 * (a11 + a22) + sqrt(half * half + a12 * a12);
 }
 
+/* The same across the unit world vector u, the body turned by q. */
+static double inverse_inertia_across(const tb__body *body, const double q[4], const double u[3])
+{
+    double w[3];
+    tb__q_rotate_inverse(w, q, u);
+    return inverse_inertia_across_body(body, w);
+}
+
 /* |F| |r| lambda_max(P I^-1 P) + |tau| lambda_max(P_tau I^-1 P_tau) for one side of a joint
  * (1/s^2), F and tau its reaction on that side. */
 static double side_stiffness(const tb_scene *scene, const tb__joint *joint, int side,
@@ -58,24 +69,25 @@ static double side_stiffness(const tb_scene *scene, const tb__joint *joint, int 
     if (!tb__joint_side_moves(scene, body)) {
         return 0.0;
     }
-    const tb__motion *m = tb__derivative_motion(scene, body);
     const tb__body *constants = tb__body_constants(scene, body);
-    double arm[3], u[3];
-    tb__point_arm(m, joint->anchor[side], arm);
-    double sum = 0.0;
+    /* the arm r is the anchor, fixed in the body: its direction read there, not turned out to
+     * the world and back */
+    const double *arm = joint->anchor[side];
+    double u[3], sum = 0.0;
     const double arm_length = tb__v3_norm(arm), f = tb__v3_norm(force);
     if (arm_length > 0.0 && f > 0.0) {
         for (int i = 0; i < 3; ++i) {
             u[i] = arm[i] / arm_length;
         }
-        sum += f * arm_length * inverse_inertia_across(constants, m->q, u);
+        sum += f * arm_length * inverse_inertia_across_body(constants, u);
     }
-    const double t = tb__v3_norm(torque);
+    /* a ball joint puts no torque about its anchor: its reaction's is round-off, 1e-16 N m */
+    const double t = joint->def.type == TB_JOINT_BALL ? 0.0 : tb__v3_norm(torque);
     if (t > 0.0) {
         for (int i = 0; i < 3; ++i) {
             u[i] = torque[i] / t;
         }
-        sum += t * inverse_inertia_across(constants, m->q, u);
+        sum += t * inverse_inertia_across(constants, tb__derivative_motion(scene, body)->q, u);
     }
     return sum;
 }
@@ -86,7 +98,7 @@ static void sum_stiffness(const tb__joints *js, const tb_scene *scene, double *a
 {
     for (size_t j = 0; j < js->count; ++j) {
         const tb__joint *joint = &js->joints[j];
-        if (joint->solved_rows == 0) { /* soft (their springs below) or broken */
+        if (joint->solved_rows == 0 || joint->def.soft_frequency > 0.0) { /* springs below */
             continue;
         }
         double force[2][3], torque[2][3];
@@ -128,10 +140,17 @@ int tb__joints_rate(void *constraints, const tb_scene *scene, const double *y, t
     *out = (tb__effect_rate){0.0, 0, 0.0, 0};
     for (size_t j = 0; j < js->count; ++j) {
         const tb__joint *joint = &js->joints[j];
-        if (joint->solved_rows == 0 && !joint->broken) {
+        if (joint->def.soft_frequency > 0.0 && !joint->broken) {
             tb__effect_rate_add_damped_mode(
                 out, 2.0 * 3.14159265358979323846 * joint->def.soft_frequency,
                 joint->def.soft_damping_ratio, joint->def.body_a);
+        }
+        if (joint->def.motor != TB_MOTOR_OFF && !joint->broken) {
+            /* a motor's servo: d(error)/dt = -K error (velocity), or a double root at -K
+             * (position, critically damped): a real decay at K either way, even while capped */
+            const size_t body =
+                tb__joint_side_moves(scene, joint->body[0]) ? joint->body[0] : joint->body[1];
+            tb__effect_rate_add_decay(out, TB__JOINT_MOTOR_RATE, body);
         }
     }
     const size_t n = tb_scene_state_size(scene);

@@ -213,29 +213,31 @@ void tb__joint_rows(const tb__joint *joint, const tb__motion *ma, const tb__moti
             f.p[s][k] = f.m[s]->x[k] + f.r[s][k];
         }
     }
-    tb__joint_row *J = eval->J;
+    const int first = tb__joint_first_spring(joint); /* the type's rows from here */
+    tb__joint_row *J = eval->J + first;
+    double *bias = eval->bias + first, *C = eval->C + first;
     switch (joint->def.type) {
     case TB_JOINT_BALL:
-        ball_rows(&f, J, eval->bias, eval->C);
+        ball_rows(&f, J, bias, C);
         break;
     case TB_JOINT_HINGE:
-        ball_rows(&f, J, eval->bias, eval->C);
-        axis_rows(joint, &f, J + 3, eval->bias + 3, eval->C + 3);
+        ball_rows(&f, J, bias, C);
+        axis_rows(joint, &f, J + 3, bias + 3, C + 3);
         break;
     case TB_JOINT_SLIDER:
-        rotation_rows(joint, &f, J, eval->bias, eval->C);
-        travel_rows(joint, &f, J + 3, eval->bias + 3, eval->C + 3);
+        rotation_rows(joint, &f, J, bias, C);
+        travel_rows(joint, &f, J + 3, bias + 3, C + 3);
         break;
     default: /* fixed */
-        ball_rows(&f, J, eval->bias, eval->C);
-        rotation_rows(joint, &f, J + 3, eval->bias + 3, eval->C + 3);
+        ball_rows(&f, J, bias, C);
+        rotation_rows(joint, &f, J + 3, bias + 3, C + 3);
         break;
     }
     if (joint->rows > joint->base_rows) { /* a stop or a motor: the axial row */
-        const int r = joint->base_rows;
-        axial_row(joint, &f, J + r, eval->bias + r, eval->C + r);
+        const int r = joint->axial_row;
+        axial_row(joint, &f, eval->J + r, eval->bias + r, eval->C + r);
     }
-    inverse_mass_rows(inverse, f.m, joint->rows, J, eval->W);
+    inverse_mass_rows(inverse, f.m, joint->rows, eval->J, eval->W);
 }
 
 void tb__joint_row_velocities(const tb__joint *joint, const tb__joint_eval *eval,
@@ -283,7 +285,10 @@ void tb__joint_frames(tb__joint *joint, const tb__motion *ma, const tb__motion *
     }
     const double conj_b[4] = {mb->q[0], -mb->q[1], -mb->q[2], -mb->q[3]};
     tb__q_mul(joint->relative, conj_b, ma->q);
-    joint->rows = tb__joint_row_count(def->type);
-    joint->base_rows = joint->rows;
+    joint->base_rows = tb__joint_row_count(def->type);
+    joint->axial_first =
+        def->soft_frequency > 0.0 && (def->has_limits || def->motor != TB_MOTOR_OFF);
+    joint->axial_row = joint->axial_first ? 0 : joint->base_rows;
+    joint->rows = joint->base_rows + (joint->axial_first ? 1 : 0);
     joint->solved_rows = def->soft_frequency > 0.0 ? 0 : joint->rows;
 }

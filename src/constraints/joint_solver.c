@@ -70,7 +70,7 @@ static void list_remove(list *l, size_t item)
 
 static bool share_body(const tb_scene *scene, const tb__joint *a, const tb__joint *b)
 {
-    if (a->solved_rows == 0 || b->solved_rows == 0) { /* a soft joint: a load, not a row */
+    if (!tb__joint_in_pattern(a) || !tb__joint_in_pattern(b)) { /* a soft joint: loads */
         return false;
     }
     for (int s = 0; s < 2; ++s) {
@@ -233,7 +233,8 @@ static bool list_couplings(const tb_scene *scene, tb__joint_solver *s, const tb_
     for (size_t p = 0; p < s->count; ++p) {
         const size_t k = s->order[p];
         for (int side = 0; side < 2; ++side) {
-            if (joints[k].solved_rows > 0 && tb__joint_side_moves(scene, joints[k].body[side])) {
+            if (tb__joint_in_pattern(&joints[k]) &&
+                tb__joint_side_moves(scene, joints[k].body[side])) {
                 s->couplings[n++] = (tb__joint_coupling){k, k, side, side, k};
             }
         }
@@ -483,6 +484,9 @@ static int factor(tb__joint_solver *s, const tb__joint *joints)
     int rc = 0;
     for (size_t p = 0; p < s->count && rc == 0; ++p) {
         switch (joints[s->order[p]].solved_rows) {
+        case 1: /* a soft joint's axial row */
+            rc = factor_column(s, joints, p, 1);
+            break;
         case 3:
             rc = factor_column(s, joints, p, 3);
             break;
@@ -554,6 +558,8 @@ static void substitute(const tb__joint_solver *s, const tb__joint *joints, tb__j
         const int m = joints[s->order[p]].solved_rows;
         if (m == 3) {
             forward_column(s, joints, evals, p, 3);
+        } else if (m == 1) {
+            forward_column(s, joints, evals, p, 1);
         } else if (m > 0) {
             forward_column(s, joints, evals, p, m == 5 ? 5 : 6);
         }
@@ -562,6 +568,8 @@ static void substitute(const tb__joint_solver *s, const tb__joint *joints, tb__j
         const int m = joints[s->order[p]].solved_rows;
         if (m == 3) {
             backward_column(s, joints, evals, p, 3);
+        } else if (m == 1) {
+            backward_column(s, joints, evals, p, 1);
         } else if (m > 0) {
             backward_column(s, joints, evals, p, m == 5 ? 5 : 6);
         }
@@ -575,7 +583,9 @@ int tb__joint_solve(tb__joint_solver *solver, const tb__joint *joints, tb__joint
         return 1;
     }
     for (size_t j = 0; j < solver->count; ++j) {
-        if (joints[j].solved_rows > 0) { /* a soft joint's lambda is its own */
+        if (joints[j].axial_first) { /* its springs' lambdas are their own */
+            evals[j].lambda[0] = joints[j].solved_rows > 0 ? evals[j].rhs[0] : evals[j].lambda[0];
+        } else if (joints[j].solved_rows > 0) {
             memcpy(evals[j].lambda, evals[j].rhs, sizeof evals[j].lambda);
         }
     }

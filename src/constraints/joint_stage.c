@@ -85,17 +85,24 @@ static void free_acceleration(const tb_scene *scene, double t, const double *y, 
     tb__q_rotate(alpha, m->q, principal);
 }
 
-/* Joint j's rows at (t, y), its motions in m. */
+/* Joint j's rows at (t, y), its motions in m: the kinematics' own in the derivative (a dynamic
+ * body's, not copied), else made in store. */
 static void evaluate(const tb__joints *js, const tb_scene *scene, double t, const double *y,
-                     bool derivative, size_t j, tb__motion m[2])
+                     bool derivative, size_t j, const tb__motion *m[2], tb__motion store[2])
 {
     const tb__joint *joint = &js->joints[j];
     const tb__body *constants[2];
     for (int s = 0; s < 2; ++s) {
-        tb__joint_motion(scene, t, y, joint->body[s], derivative, &m[s]);
-        constants[s] = tb__joint_body_constants(scene, joint->body[s]);
+        const size_t body = joint->body[s];
+        if (derivative && body != TB_WORLD) {
+            m[s] = tb__derivative_motion(scene, body);
+        } else {
+            tb__joint_motion(scene, t, y, body, derivative, &store[s]);
+            m[s] = &store[s];
+        }
+        constants[s] = tb__joint_body_constants(scene, body);
     }
-    tb__joint_rows(joint, &m[0], &m[1], constants, &js->evals[j]);
+    tb__joint_rows(joint, m[0], m[1], constants, &js->evals[j]);
 }
 
 /* The right-hand side -(J a_free + dJ/dt u), with Baumgarte's terms when stabilising. */
@@ -104,20 +111,24 @@ static void stage_rhs(const tb__joints *js, const tb_scene *scene, double t, con
 {
     const tb__joint *joint = &js->joints[j];
     tb__joint_eval *eval = &js->evals[j];
-    tb__motion m[2];
-    evaluate(js, scene, t, y, true, j, m);
+    const tb__motion *m[2];
+    tb__motion store[2];
+    evaluate(js, scene, t, y, true, j, m, store);
     double a[2][3], alpha[2][3], velocity[TB__JOINT_ROWS];
     for (int s = 0; s < 2; ++s) {
-        free_acceleration(scene, t, y, dydt, joint->body[s], &m[s], a[s], alpha[s]);
+        free_acceleration(scene, t, y, dydt, joint->body[s], m[s], a[s], alpha[s]);
     }
-    tb__joint_row_velocities(joint, eval, &m[0], &m[1], velocity);
+    tb__joint_row_velocities(joint, eval, m[0], m[1], velocity);
     const double b = scene->stabilise_constraints ? TB__JOINT_BAUMGARTE_RATE : 0.0;
     for (int r = 0; r < joint->rows; ++r) {
         double free = eval->bias[r];
         for (int s = 0; s < 2; ++s) {
             free += tb__v3_dot(eval->J[r].v[s], a[s]) + tb__v3_dot(eval->J[r].w[s], alpha[s]);
         }
-        eval->rhs[r] = joint->motor_state == TB__MOTOR_ROW && r == joint->base_rows
+        const bool motor =
+            joint->motor_state == TB__MOTOR_ROW || joint->motor_state == TB__MOTOR_AWAY;
+        eval->rate[r] = velocity[r]; /* a motor at a stop reads it (joint_motor_stops.c) */
+        eval->rhs[r] = motor && r == joint->axial_row
                            ? -free + tb__joint_motor_acceleration(joint, eval, velocity[r])
                            : -free - 2.0 * b * velocity[r] - b * b * eval->C[r];
     }
@@ -138,8 +149,8 @@ void tb__joint_add_row_load(const tb__joints *js, const tb_scene *scene, size_t 
     }
 }
 
-/* Adds J^T lambda (or, for momenta, the impulse J^T mu) of joint j into the P and L of the
- * dynamic bodies at base (dydt or y). */
+/* Adds J^T lambda (or, for momenta, the impulse J^T mu) of joint j's solved rows into the P and
+ * L of the dynamic bodies at base (dydt or y). */
 static void add_row_loads(const tb__joints *js, const tb_scene *scene, size_t j, double *base,
                           bool skip_asleep)
 {
@@ -158,34 +169,45 @@ static void add_row_loads(const tb__joints *js, const tb_scene *scene, size_t j,
         double *force = fixed ? scene->reactions + 6 * body
                               : base + TB_STATE_SIZE * tb__body_slot(scene, body) + TB_STATE_P;
         double *torque = fixed ? force + 3 : force + (TB_STATE_L - TB_STATE_P);
-        for (int r = 0; r < joint->rows; ++r) {
+        for (int r = 0; r < joint->solved_rows; ++r) {
             tb__v3_axpy(force, eval->lambda[r], eval->J[r].v[s]);
             tb__v3_axpy(torque, eval->lambda[r], eval->J[r].w[s]);
         }
     }
 }
 
-/* A soft joint's rows as springs with dampers: lambda_r = -m_r (w^2 C_r + 2 zeta w J_r u),
- * m_r = 1 / (J_r M^-1 J_r^T) the row's effective mass, w = 2 pi soft_frequency. */
+/* A soft joint's springs' loads (its rows after an axial row kept first) into dydt; a body
+ * without a state gets its reaction, while tb_scene_body_reaction reads it. */
+static void add_spring_loads(const tb__joints *js, const tb_scene *scene, size_t j, double *dydt)
+{
+    const tb__joint *joint = &js->joints[j];
+    const tb__joint_eval *eval = &js->evals[j];
+    for (int s = 0; s < 2; ++s) {
+        const size_t body = joint->body[s];
+        const bool fixed = body != TB_WORLD && tb__body_fixed(scene, body);
+        if (body == TB_WORLD || (fixed && scene->reactions == NULL)) {
+            continue;
+        }
+        double *force = fixed ? scene->reactions + 6 * body
+                              : dydt + TB_STATE_SIZE * tb__body_slot(scene, body) + TB_STATE_P;
+        double *torque = fixed ? force + 3 : force + (TB_STATE_L - TB_STATE_P);
+        for (int r = tb__joint_first_spring(joint); r < joint->rows; ++r) {
+            tb__v3_axpy(force, eval->lambda[r], eval->J[r].v[s]);
+            tb__v3_axpy(torque, eval->lambda[r], eval->J[r].w[s]);
+        }
+    }
+}
+
+/* A soft joint's rows as springs with dampers (joint_soft.c). */
 static void soft_loads(const tb__joints *js, const tb_scene *scene, double t, const double *y,
                        size_t j)
 {
-    const tb__joint *joint = &js->joints[j];
     tb__joint_eval *eval = &js->evals[j];
-    tb__motion m[2];
-    evaluate(js, scene, t, y, true, j, m);
-    tb__joint_row_velocities(joint, eval, &m[0], &m[1], eval->rate);
-    const double w = 2.0 * 3.14159265358979323846 * joint->def.soft_frequency;
-    const double zeta = joint->def.soft_damping_ratio;
-    for (int r = 0; r < joint->rows; ++r) {
-        double inverse_mass = 0.0;
-        for (int s = 0; s < 2; ++s) {
-            inverse_mass += tb__v3_dot(eval->J[r].v[s], eval->W[r].v[s]) +
-                            tb__v3_dot(eval->J[r].w[s], eval->W[r].w[s]);
-        }
-        const double mass = inverse_mass > 0.0 ? 1.0 / inverse_mass : 0.0;
-        eval->lambda[r] = -mass * (w * w * eval->C[r] + 2.0 * zeta * w * eval->rate[r]);
-    }
+    const tb__motion *m[2];
+    tb__motion store[2];
+    evaluate(js, scene, t, y, true, j, m, store);
+    tb__joint_row_velocities(&js->joints[j], eval, m[0], m[1], eval->rate);
+    tb__joint_soft_lambdas(&js->joints[j], eval);
 }
 
 static int apply_joints(void *constraints, const tb_scene *scene, double t, const double *y,
@@ -193,9 +215,10 @@ static int apply_joints(void *constraints, const tb_scene *scene, double t, cons
 {
     tb__joints *js = constraints;
     for (size_t j = 0; j < js->count; ++j) { /* soft joints first: loads the solve sees */
-        if (js->joints[j].solved_rows == 0 && !js->joints[j].broken) {
+        const tb__joint *joint = &js->joints[j];
+        if (joint->def.soft_frequency > 0.0 && !joint->broken) {
             soft_loads(js, scene, t, y, j);
-            add_row_loads(js, scene, j, dydt, false);
+            add_spring_loads(js, scene, j, dydt);
         }
     }
     /* a motor past its cap is fixed there and the rest solved again (joint_limits.c) */
@@ -209,7 +232,11 @@ static int apply_joints(void *constraints, const tb_scene *scene, double t, cons
         if (tb__joint_solve(&js->solver, js->joints, js->evals) != 0) {
             return 1; /* rows that repeat one another: recoverable, a smaller step may pass */
         }
-    } while (tb__joints_cap_motors(js, scene, dydt));
+    } while (tb__joints_cap_motors(js, scene, dydt) ||
+             (js->limited > 0 && tb__joints_motors_at_stops(js, scene, dydt)));
+    if (js->limited > 0) {
+        tb__joints_note_pushes(js);
+    }
     for (size_t j = 0; j < js->count; ++j) {
         if (js->joints[j].solved_rows > 0) {
             add_row_loads(js, scene, j, dydt, false);
@@ -224,11 +251,12 @@ static int apply_joints(void *constraints, const tb_scene *scene, double t, cons
 static double position_rhs(const tb__joints *js, const tb_scene *scene, double t, const double *y)
 {
     double worst = 0.0;
-    tb__motion m[2];
+    const tb__motion *m[2];
+    tb__motion store[2];
     for (size_t j = 0; j < js->count; ++j) {
-        evaluate(js, scene, t, y, false, j, m);
+        evaluate(js, scene, t, y, false, j, m, store);
         tb__joint_eval *eval = &js->evals[j];
-        tb__joint_row_velocities(&js->joints[j], eval, &m[0], &m[1], eval->rate);
+        tb__joint_row_velocities(&js->joints[j], eval, m[0], m[1], eval->rate);
         for (int r = 0; r < js->joints[j].solved_rows; ++r) { /* soft joints: not projected */
             eval->rhs[r] = -eval->C[r];
             worst = fmax(worst, fabs(eval->C[r]));
@@ -250,7 +278,7 @@ static void move_bodies(const tb__joints *js, const tb_scene *scene, size_t j, d
         }
         double *state = y + TB_STATE_SIZE * tb__body_slot(scene, body);
         double turn[3] = {0.0, 0.0, 0.0};
-        for (int r = 0; r < joint->rows; ++r) {
+        for (int r = 0; r < joint->solved_rows; ++r) {
             tb__v3_axpy(state + TB_STATE_X, eval->lambda[r], eval->W[r].v[s]);
             tb__v3_axpy(turn, eval->lambda[r], eval->W[r].w[s]);
         }
@@ -317,7 +345,7 @@ static int project_momenta(tb__joints *js, const tb_scene *scene, double t, doub
     for (size_t j = 0; j < js->count; ++j) {
         const tb__joint *joint = &js->joints[j];
         for (int r = 0; r < joint->solved_rows; ++r) { /* an impact sets its stop's rate */
-            const bool impact = joint->impact && r == joint->base_rows;
+            const bool impact = joint->impact && r == joint->axial_row;
             js->evals[j].rhs[r] = (impact ? joint->impact_rate : 0.0) - js->evals[j].rate[r];
         }
     }
@@ -377,7 +405,8 @@ static void destroy_joints(void *constraints)
 
 static int joints_at_output(void *constraints, const tb_scene *scene, double t, double *y)
 {
-    return tb__joints_check_breaking(constraints, scene, t, y);
+    const int rc = tb__joints_release_at_output(constraints, scene, t, y);
+    return rc != 0 ? rc : tb__joints_check_breaking(constraints, scene, t, y);
 }
 
 const tb__constraint_ops tb__joint_ops = {
@@ -391,4 +420,5 @@ const tb__constraint_ops tb__joint_ops = {
     .roots = tb__joints_roots,
     .at_event = tb__joints_at_event,
     .conserved = tb__joints_conserved,
+    .potential_energy = tb__joints_potential_energy,
 };

@@ -163,20 +163,6 @@ static tb_status check_breaking_and_softness(tb_scene *scene, const tb_joint_def
     return TB_STATUS_OK;
 }
 
-/* What is asked but not built yet: refused, never accepted and ignored. */
-static tb_status check_supported(tb_scene *scene, const tb_joint_def *def)
-{
-    const bool motor = def->motor != TB_MOTOR_OFF, soft = def->soft_frequency > 0.0;
-    const char *what = def->has_limits && motor ? "has_limits with motor (a motor on a joint "
-                                                  "with limits)"
-                       : soft && (def->has_limits || motor) ? "has_limits or motor on a soft joint"
-                                                            : NULL;
-    return what == NULL
-               ? TB_STATUS_OK
-               : tb__scene_fail(scene, TB_STATUS_UNSUPPORTED,
-                                "%s: not implemented yet (issue 21): leave the default", what);
-}
-
 static tb_status check_def(tb_scene *scene, const tb_joint_def *def)
 {
     if (def == NULL) {
@@ -190,7 +176,6 @@ static tb_status check_def(tb_scene *scene, const tb_joint_def *def)
     status = status != TB_STATUS_OK ? status : check_bodies(scene, def);
     status = status != TB_STATUS_OK ? status : check_limits_and_motor(scene, def);
     status = status != TB_STATUS_OK ? status : check_breaking_and_softness(scene, def);
-    status = status != TB_STATUS_OK ? status : check_supported(scene, def);
     return status != TB_STATUS_OK ? status : tb__scene_check_idle(scene, "adding a joint");
 }
 
@@ -203,6 +188,7 @@ static tb__joint make_joint(const tb_scene *scene, const tb_joint_def *def)
         tb__joint_motion(scene, scene->time, scene->states, joint.body[s], false, &m[s]);
     }
     tb__joint_frames(&joint, &m[0], &m[1]);
+    tb__joint_soft_masses(&joint, scene);
     return joint;
 }
 
@@ -240,13 +226,15 @@ static tb_status grow_joints(tb_scene *scene, const tb__joint *joint)
         tb__joint_solver_free(&js->solver);
     }
     const bool breakable = !isinf(joint->def.break_force) || !isinf(joint->def.break_torque);
-    *grown = (tb__joints){.joints = joints,
-                          .count = count,
-                          .evals = evals,
-                          .solver = solver,
-                          .breakable = (js != NULL ? js->breakable : 0) + (breakable ? 1 : 0),
-                          .scratch = js != NULL ? js->scratch : NULL,
-                          .scratch_size = js != NULL ? js->scratch_size : 0};
+    *grown =
+        (tb__joints){.joints = joints,
+                     .count = count,
+                     .evals = evals,
+                     .solver = solver,
+                     .breakable = (js != NULL ? js->breakable : 0) + (breakable ? 1 : 0),
+                     .limited = (js != NULL ? js->limited : 0) + (joint->def.has_limits ? 1 : 0),
+                     .scratch = js != NULL ? js->scratch : NULL,
+                     .scratch_size = js != NULL ? js->scratch_size : 0};
     scene->constraints = grown;
     scene->constraint_ops = &tb__joint_ops;
     return TB_STATUS_OK;
@@ -325,7 +313,8 @@ tb_status tb_scene_joint_error(const tb_scene *scene, const double *y, size_t jo
     }
     const tb__joints *js = scene->constraints;
     tb__joint held = js->joints[joint]; /* its rows and a stop that holds it; a motor is none */
-    held.rows = held.base_rows + (held.stop != TB__STOP_NONE && !held.broken ? 1 : 0);
+    const bool stop = held.stop != TB__STOP_NONE && !held.broken;
+    held.rows = held.base_rows + (stop || held.axial_first ? 1 : 0);
     const tb__joint *j = &held;
     tb__joint_eval eval;
     tb__motion m[2];
@@ -337,7 +326,7 @@ tb_status tb_scene_joint_error(const tb_scene *scene, const double *y, size_t jo
     tb__joint_rows(j, &m[0], &m[1], constants, &eval);
     double velocity[TB__JOINT_ROWS], worst_c = 0.0, worst_v = 0.0;
     tb__joint_row_velocities(j, &eval, &m[0], &m[1], velocity);
-    for (int r = 0; r < j->rows; ++r) {
+    for (int r = held.axial_first && !stop ? 1 : 0; r < j->rows; ++r) { /* a free axial row: no */
         worst_c = fmax(worst_c, fabs(eval.C[r]));
         worst_v = fmax(worst_v, fabs(velocity[r]));
     }
@@ -350,6 +339,21 @@ tb_status tb_scene_joint_error(const tb_scene *scene, const double *y, size_t jo
     return TB_STATUS_OK;
 }
 
+/* The derivative at y and the scene's time, for the read-outs of its solve's lambda. */
+static tb_status derivative_at(tb_scene *scene, const double *y)
+{
+    const size_t n = tb_scene_state_size(scene);
+    double *dydt = tb__malloc_array(n > 0 ? n : 1, sizeof(double));
+    if (dydt == NULL) {
+        return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "a derivative's scratch");
+    }
+    const int rc = tb_scene_derivative(scene->time, y, dydt, scene);
+    free(dydt);
+    return rc == 0 ? TB_STATUS_OK
+                   : tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                                    "the derivative failed at t = %g (%d)", scene->time, rc);
+}
+
 tb_status tb_scene_joint_reaction(tb_scene *scene, const double *y, size_t joint,
                                   double out_force[3], double out_torque[3])
 {
@@ -359,20 +363,98 @@ tb_status tb_scene_joint_reaction(tb_scene *scene, const double *y, size_t joint
                                 out_force == NULL ? "out_force" : "out_torque");
     }
     status = status != TB_STATUS_OK ? status : tb__scene_check_idle(scene, "a joint reaction");
+    status = status != TB_STATUS_OK ? status : derivative_at(scene, y);
+    if (status == TB_STATUS_OK) {
+        tb__joint_reaction(scene, scene->constraints, joint, out_force, out_torque);
+    }
+    return status;
+}
+
+/* The motor's and the stop's lambda on the axial row after a derivative (joint_motor_stops.c). */
+static void axial_loads(const tb__joint *joint, const tb__joint_eval *eval, double *motor,
+                        double *stop)
+{
+    const int state = joint->motor_state;
+    const double lambda = eval->lambda[joint->axial_row];
+    const bool motor_row =
+        state == TB__MOTOR_ROW || state == TB__MOTOR_AWAY || state == TB__MOTOR_CAPPED;
+    *motor = joint->broken             ? 0.0
+             : motor_row               ? lambda
+             : state == TB__MOTOR_LOAD ? joint->motor_load
+                                       : 0.0;
+    *stop = joint->broken || motor_row || joint->stop == TB__STOP_NONE ? 0.0 : lambda;
+}
+
+tb_status tb_scene_joint_axial(tb_scene *scene, const double *y, size_t joint,
+                               double *out_coordinate, double *out_motor, double *out_stop)
+{
+    tb_status status = begin_joint_call(scene, joint, y, "y");
+    const tb__joints *js = status == TB_STATUS_OK ? scene->constraints : NULL;
+    const tb__joint *j = js != NULL ? &js->joints[joint] : NULL;
+    if (j != NULL && j->def.type != TB_JOINT_HINGE && j->def.type != TB_JOINT_SLIDER) {
+        status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                                "joint %zu: a %s (only a hinge or slider has an axial coordinate)",
+                                joint, type_names[j->def.type]);
+    }
+    status = status != TB_STATUS_OK ? status : tb__scene_check_idle(scene, "a joint's axial loads");
+    status = status != TB_STATUS_OK ? status : derivative_at(scene, y);
     if (status != TB_STATUS_OK) {
         return status;
     }
-    const size_t n = tb_scene_state_size(scene);
-    double *dydt = tb__malloc_array(n > 0 ? n : 1, sizeof(double));
-    if (dydt == NULL) {
-        return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "a derivative's scratch");
+    tb__motion m[2];
+    for (int s = 0; s < 2; ++s) {
+        tb__joint_motion(scene, scene->time, y, j->body[s], false, &m[s]);
     }
-    const int rc = tb_scene_derivative(scene->time, y, dydt, scene);
-    free(dydt);
-    if (rc != 0) {
-        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
-                              "the derivative failed at t = %g (%d)", scene->time, rc);
+    double motor = 0.0, stop = 0.0;
+    axial_loads(j, &js->evals[joint], &motor, &stop);
+    if (out_coordinate != NULL) {
+        *out_coordinate = tb__joint_axial_coordinate(j, &m[0], &m[1]);
     }
-    tb__joint_reaction(scene, scene->constraints, joint, out_force, out_torque);
+    if (out_motor != NULL) {
+        *out_motor = motor;
+    }
+    if (out_stop != NULL) {
+        *out_stop = stop;
+    }
+    return TB_STATUS_OK;
+}
+
+tb_status tb_scene_set_joint_motor(tb_scene *scene, size_t joint, tb_joint_motor_mode mode,
+                                   double value, double max_force)
+{
+    if (scene == NULL) {
+        return TB_STATUS_NULL_POINTER;
+    }
+    tb__scene_clear_detail(scene);
+    tb_status status =
+        tb__validate_index(scene->detail, joint, tb_scene_joint_count(scene), "joint", "joints");
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    tb__joint *j = &((tb__joints *)scene->constraints)->joints[joint];
+    tb_joint_def def = j->def;
+    def.motor = mode;
+    def.motor_speed = mode == TB_MOTOR_VELOCITY ? value : 0.0;
+    def.motor_target = mode == TB_MOTOR_POSITION ? value : 0.0;
+    def.motor_max_force = mode == TB_MOTOR_OFF ? 0.0 : max_force;
+    status = mode == TB_MOTOR_OFF
+                 ? TB_STATUS_OK
+                 : tb__validate_finite(scene->detail, value,
+                                       mode == TB_MOTOR_POSITION ? "motor_target" : "motor_speed");
+    status = status != TB_STATUS_OK ? status : check_limits_and_motor(scene, &def);
+    if (status == TB_STATUS_OK && def.motor != TB_MOTOR_OFF && def.soft_frequency > 0.0 &&
+        !j->axial_first) { /* its rows were laid out without the axial row */
+        status = tb__scene_fail(scene, TB_STATUS_UNSUPPORTED,
+                                "motor: joint %zu is a soft joint made without limits or a motor "
+                                "(its rows have no axial row): give it a motor when adding it",
+                                joint);
+    }
+    status = status != TB_STATUS_OK ? status : tb__scene_check_idle(scene, "setting a motor");
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
+    j->def = def;
+    scene->effects_generation++; /* the right-hand side changed: CVODE restarts */
+    tb__scene_wake_all(scene);
     return TB_STATUS_OK;
 }

@@ -33,23 +33,39 @@ typedef struct tb__joint {
     double across_a[2][3]; /* two unit vectors across the axis, in a's frame (slider rows) */
     double across_b[2][3]; /* the same, in b's frame (hinge rows) */
     double relative[4];    /* q_b^* q_a when made: the held relative rotation (slider, fixed) */
-    bool broken;           /* its reaction passed break_force or break_torque: rows dropped */
-    double broken_time;    /* s: the step boundary where it broke */
+    double soft_mass[TB__JOINT_ROWS]; /* a soft joint's spring masses per row, kg or kg m^2
+                                         (joint_soft.c) */
+    bool broken;        /* its reaction passed break_force or break_torque: rows dropped */
+    double broken_time; /* s: the step boundary where it broke */
     /* Limits and motors (joint_limits.c): the axial row (row base_rows, the hinge's angle or
      * the slider's travel) in the solve while a stop holds the joint or a motor drives it. */
     int base_rows;      /* the type's rows (tb__joint_row_count) */
+    int axial_row;      /* the axial row's index: base_rows, or 0 where axial_first */
+    bool axial_first;   /* a soft joint with limits or a motor: its axial row first (an exact
+                           row, in the solve while a stop holds or its motor drives), its springs
+                           after it (rows 1 .. base_rows); always base_rows + 1 rows */
     int stop;           /* TB__STOP_NONE, or the stop that holds the joint (lower, upper) */
     double axial_zero;  /* the axial row's C is its coordinate minus this (the stop's bound) */
     double impact_rate; /* the axial rate the next momenta projection sets (an impact), */
     double impact_back; /* and how far from the bound the position projection puts it, */
     bool impact;        /* while impact is true */
-    int motor_state;    /* TB__MOTOR_ROW (in the solve), TB__MOTOR_CAPPED, or none */
+    bool leaving;       /* an event's impact that leaves the joint free, its rate unchanged */
+    int motor_state;    /* TB__MOTOR_ROW (in the solve), TB__MOTOR_CAPPED, ... or none */
+    double motor_load;  /* TB__MOTOR_LOAD: the capped motor's lambda on the axial row */
+    double stop_push;   /* the held stop's push at the last derivative (N or N m, > 0 while it
+                           pushes; with a motor, what it would push with the motor as it acts) */
+    double held_push;   /* a motor at a stop: the push the stop needs without the motor */
     /* An adaptive method's event switched the stop at switched_at from stop_before: an output
      * interpolated before that time (the event was past it) undoes the switch. */
     bool switched;
     int stop_before;
     double switched_at;
+    /* Padding to 576 bytes, 9 x 64: the solve's loops index joints[] by a run-time index, and
+     * at 544 bytes each index cost three instructions (bench_joints: 1% of a chain's step);
+     * shorten it when adding a field (the assertion below keeps the size a multiple of 64). */
+    double pad_[3];
 } tb__joint;
+_Static_assert(sizeof(tb__joint) % 64 == 0, "tb__joint: adjust pad_ to a multiple of 64 bytes");
 
 /* joint.stop */
 #define TB__STOP_NONE 0
@@ -59,6 +75,13 @@ typedef struct tb__joint {
 #define TB__MOTOR_NONE 0
 #define TB__MOTOR_ROW 1
 #define TB__MOTOR_CAPPED 2
+/* A motor on a joint its stop holds (joint_limits.c, Motors at a stop): first not in the solve
+ * (AT_STOP, the stop's row solved alone), then driving into the stop (LOAD: fixed at its cap
+ * beside the stop's row, eval.motor_load) or away from it (AWAY: the motor's row instead of the
+ * stop's, capped like a free motor's). */
+#define TB__MOTOR_AT_STOP 3
+#define TB__MOTOR_LOAD 4
+#define TB__MOTOR_AWAY 5
 
 /* The rate (1/s) at which a motor drives its error out: a velocity motor's axial
  * acceleration is TB__JOINT_MOTOR_RATE (speed - rate) (a first-order approach, time constant
@@ -122,6 +145,7 @@ typedef struct tb__joints {
     tb__joint_eval *evals; /* count */
     tb__joint_solver solver;
     size_t breakable; /* joints with a finite break_force or break_torque */
+    size_t limited;   /* joints with limits (the only ones a stop holds) */
     double *scratch;  /* a derivative's worth (scratch_size doubles) for the breaking check */
     size_t scratch_size;
     bool has_last_lambda; /* a derivative has solved since the joints were made */
@@ -177,6 +201,16 @@ double tb__joint_motor_acceleration(const tb__joint *joint, const tb__joint_eval
  * motor_max_force is fixed at the cap (its load written into dydt) and left out; true when one
  * was, so that the stage solves again without it. */
 bool tb__joints_cap_motors(tb__joints *js, const tb_scene *scene, double *dydt);
+/* The derivative's motors on joints their stops hold, after a solve: each decides whether it
+ * drives into its stop (fixed at its cap as a load, the stop's row kept) or away from it (its
+ * row instead of the stop's, capped; the stop's row back if the capped motor cannot lift the
+ * joint off). True when one changed, so that the stage solves again. */
+bool tb__joints_motors_at_stops(tb__joints *js, const tb_scene *scene, double *dydt);
+/* After the derivative's last solve: each held stop's push (joint.stop_push). */
+void tb__joints_note_pushes(tb__joints *js);
+/* An adaptive method's boundary: a held stop whose motor pulls the joint off it is released
+ * (a motor set between advances); true when one was. 0 or the derivative's failure. */
+int tb__joints_release_at_output(tb__joints *js, const tb_scene *scene, double t, double *y);
 /* Step boundaries of fixed-step methods (the post-step hook, before the projection): a joint
  * past a stop engages it (an impact), a held one whose stop would pull is released. 0, or the
  * derivative's failure. */
@@ -187,6 +221,24 @@ void tb__joints_undo_later_switches(tb__joints *js, double t);
 /* After the momenta projection: a stop whose impact left the joint separating faster than
  * resting contact lets it go. */
 void tb__joints_after_impacts(tb__joints *js);
+/* The derivative at (t, y) into the joints' scratch, for the held stops' pushes; 0 or its
+ * failure. */
+int tb__joints_held_lambdas(tb__joints *js, const tb_scene *scene, double t, const double *y);
+/* +1 at a lower stop (its push raises the coordinate), -1 at an upper one. */
+static inline double tb__stop_sign(int stop)
+{
+    return stop == TB__STOP_UPPER ? -1.0 : 1.0;
+}
+/* The axial row leaves the solve (a capped motor): rows = solved_rows = base_rows, or, where
+ * axial_first, no row solved (the layout kept). */
+static inline void tb__joint_drop_axial_row(tb__joint *joint)
+{
+    if (joint->axial_first) {
+        joint->solved_rows = 0;
+    } else {
+        joint->rows = joint->solved_rows = joint->base_rows;
+    }
+}
 /* Root functions under adaptive methods: one per joint with limits (the gap to the nearer
  * stop while free, the stop's push while held). */
 size_t tb__joints_root_count(const void *constraints);
@@ -227,12 +279,31 @@ int tb__joints_project(tb__joints *js, const tb_scene *scene, double t, double *
  * keyframed support, a motor, a soft joint or a stop with restitution below 1 does work. */
 void tb__joints_conserved(const void *constraints, const tb_scene *scene, tb_conserved *c);
 
+/* Whether a joint may have rows in the exact solve (the solver's pattern holds it). */
+static inline bool tb__joint_in_pattern(const tb__joint *joint)
+{
+    return joint->solved_rows > 0 || joint->axial_first;
+}
+
+/* The first spring row of a soft joint (after an axial row kept first). */
+static inline int tb__joint_first_spring(const tb__joint *joint)
+{
+    return joint->axial_first ? 1 : 0;
+}
+
 /* Whether a joint's side moves under the joint's loads: a dynamic body, not the world nor a
  * body without a state (static, keyframed). */
 static inline bool tb__joint_side_moves(const tb_scene *scene, size_t body)
 {
     return body != TB_WORLD && !tb__body_fixed(scene, body);
 }
+
+/* Soft joints (joint_soft.c): the constant spring masses of a soft joint's rows, from its rows at
+ * the scene's states (when made); its rows' lambdas from eval's C and rate; the springs'
+ * potential energy at y (J; tb__constraint_ops.potential_energy). */
+void tb__joint_soft_masses(tb__joint *joint, const tb_scene *scene);
+void tb__joint_soft_lambdas(const tb__joint *joint, tb__joint_eval *eval);
+double tb__joints_potential_energy(const void *constraints, const tb_scene *scene, const double *y);
 
 /* The ops row the scene holds the joints by (joint_stage.c). */
 extern const tb__constraint_ops tb__joint_ops;

@@ -2,6 +2,7 @@
 #ifndef TUMBLE_WRITER_INTERNAL_H
 #define TUMBLE_WRITER_INTERNAL_H
 
+#include "tumble/joints.h"
 #include "tumble/writer.h"
 
 #include <stdbool.h>
@@ -59,12 +60,18 @@ typedef struct tb__ground {
     double offset;    /* plane normal . x = offset, m */
 } tb__ground;
 
-/* A joint as drawn (glTF): a marker at its anchor, a child of its first body's node. */
+/* A joint as drawn (glTF: a marker at its anchor, a child of its first body's node) and as
+ * described (USD: a UsdPhysics joint prim). Frames from the scene's state at open. */
 typedef struct tb__joint_mark {
     const char *type;      /* "ball", "hinge", ... (tb_joint_type_name) */
     size_t body_a, body_b; /* body ids; body_b TB_WORLD for the world */
-    double anchor[3];      /* in body_a's shape frame, m (from the scene's state at open) */
-    double radius;         /* the marker sphere's, m */
+    double anchor[3];      /* in body_a's shape frame, m */
+    double anchor_b[3];    /* in body_b's shape frame (the world's for TB_WORLD), m */
+    /* The joint's frame, its x along def.axis, in each body's shape frame (the world's for
+     * TB_WORLD): unit (w, x, y, z), joint frame -> body shape frame. */
+    double frame_a[4], frame_b[4];
+    double radius;    /* the marker sphere's, m */
+    tb_joint_def def; /* as given (tb_scene_joint_def): limits, breaking */
 } tb__joint_mark;
 
 typedef struct tb__looks {
@@ -126,6 +133,10 @@ tb_status tb__usd_names(const char *const *sources, size_t count, char (*out)[TB
 double tb__usd_time_code(double t, double fps);
 /* Body id's xformOp:translate and xformOp:orient time samples into the writer's file. */
 void tb__usd_put_pose_samples(const tb_writer *w, size_t id);
+/* Joint j as a UsdPhysics joint prim named prim under /world, its bodies the prims body_prims
+ * (writer_usd_joints.c). */
+void tb__usd_put_joint(const tb_writer *w, size_t j, const char *prim,
+                       char (*body_prims)[TB__USD_NAME_SIZE]);
 
 /* Shapes and ground planes for glTF and USD, from the scene alone: each body's pieces
  * (tb_scene_body_piece; a piece with a visual mesh as that mesh, tb_scene_body_visual_mesh; a

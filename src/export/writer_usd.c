@@ -40,7 +40,8 @@ static void put_header(const tb_writer *w)
     fprintf(w->file,
             "#usda 1.0\n(\n    defaultPrim = \"world\"\n"
             "    doc = \"tumble %s: bodies %zu, frames %zu; tumble's world is z up, SI units\"\n"
-            "    endTimeCode = %.17g\n    framesPerSecond = %.17g\n    metersPerUnit = 1\n"
+            "    endTimeCode = %.17g\n    framesPerSecond = %.17g\n    kilogramsPerUnit = 1\n"
+            "    metersPerUnit = 1\n"
             "    startTimeCode = %.17g\n    timeCodesPerSecond = %.17g\n    upAxis = \"Z\"\n)\n\n"
             "def Xform \"world\"\n{\n",
             tb_version(), w->body_count, f->count, end, w->fps, start, w->fps);
@@ -227,22 +228,27 @@ static bool put_body(const tb_writer *w, size_t id, const char *prim)
     return done;
 }
 
-/* Prim names for the bodies, then the grounds ("ground_1", ...), unique together. */
+/* Prim names for the bodies, then the grounds ("ground_1", ...), then the joints ("joint_0",
+ * ... by index), unique together. */
 static char (*prim_names(const tb_writer *w))[TB__USD_NAME_SIZE]
 {
-    const size_t count = w->body_count + w->looks.ground_count;
+    const size_t others = w->looks.ground_count + w->looks.joint_count;
+    const size_t count = w->body_count + others;
     char(*names)[TB__USD_NAME_SIZE] = malloc((count + 1) * sizeof *names);
-    char(*grounds)[TB_NAME_SIZE] = malloc((w->looks.ground_count + 1) * sizeof *grounds);
+    char(*made)[TB_NAME_SIZE] = malloc((others + 1) * sizeof *made);
     const char **sources = malloc((count + 1) * sizeof *sources);
-    bool done = names != NULL && grounds != NULL && sources != NULL;
+    bool done = names != NULL && made != NULL && sources != NULL;
     for (size_t k = 0; done && k < count; ++k) {
-        if (k >= w->body_count) {
-            snprintf(grounds[k - w->body_count], TB_NAME_SIZE, "ground_%zu", k - w->body_count + 1);
+        const size_t g = k - w->body_count, j = g - w->looks.ground_count;
+        if (k >= w->body_count && g < w->looks.ground_count) {
+            snprintf(made[g], TB_NAME_SIZE, "ground_%zu", g + 1);
+        } else if (k >= w->body_count) {
+            snprintf(made[g], TB_NAME_SIZE, "joint_%zu", j);
         }
-        sources[k] = k < w->body_count ? w->names[k] : grounds[k - w->body_count];
+        sources[k] = k < w->body_count ? w->names[k] : made[g];
     }
     done = done && tb__usd_names(sources, count, names) == TB_STATUS_OK;
-    free(grounds);
+    free(made);
     free(sources);
     if (!done) {
         free(names);
@@ -280,6 +286,10 @@ tb_status tb__usd_write(tb_writer *w)
         tb__mesh mesh = {0};
         tb__mesh_of_ground(&mesh, &w->looks.grounds[k], center, half_size);
         done = put_tessellated(w->file, "    ", names[w->body_count + k], &mesh);
+    }
+    const size_t first_joint = w->body_count + w->looks.ground_count;
+    for (size_t j = 0; done && j < w->looks.joint_count; ++j) {
+        tb__usd_put_joint(w, j, names[first_joint + j], names);
     }
     if (done) {
         fputs("}\n", w->file);

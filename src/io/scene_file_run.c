@@ -105,8 +105,8 @@ tb_status tb__load_integrator(tb__loader *ld, const json_t *object)
     if (status == TB_STATUS_OK && method != NULL &&
         tb_method_from_name(method, &def->method) != TB_STATUS_OK) {
         status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, "integrator.method",
-                               "must be one of euler, midpoint, rk4, cvode-adams, cvode-bdf, got "
-                               "\"%s\"",
+                               "must be one of euler, midpoint, rk4, cvode-adams, cvode-bdf, "
+                               "rosenbrock, ark-imex, got \"%s\"",
                                method);
     }
     if (status == TB_STATUS_OK) {

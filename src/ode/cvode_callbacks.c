@@ -1,4 +1,4 @@
-/* What CVODE calls back: the right-hand side, the projection, the dense Jacobian and the
+/* What CVODE and ARKStep call back: the right-hand side, the projection, the dense Jacobian and the
  * block-diagonal preconditioner. user_data is always the tb_integrator. */
 #include "ode/cvode_internal.h"
 
@@ -8,8 +8,10 @@
 
 #include <math.h>
 
-/* The system's derivative at CVODE's time tau (t = t_origin + tau), keeping its failures. */
-static int evaluate(tb_integrator *integrator, double tau, const double *y, double *dydt)
+/* f (the system's derivative, or its split's explicit part) at the solver's time tau
+ * (t = t_origin + tau), keeping its failures. */
+static int evaluate_part(tb_integrator *integrator, tb_ode_derivative f, double tau,
+                         const double *y, double *dydt)
 {
     tb__cvode *cvode = integrator->cvode;
     const double t = cvode->t_origin + tau;
@@ -20,7 +22,7 @@ static int evaluate(tb_integrator *integrator, double tau, const double *y, doub
         return cvode->derivative_status;
     }
     const tb_ode_system *system = &integrator->system;
-    const int rc = system->derivative(t, y, dydt, system->ctx);
+    const int rc = f(t, y, dydt, system->ctx);
     if (rc != 0) {
         cvode->derivative_status = rc;
         cvode->derivative_time = t;
@@ -38,9 +40,33 @@ static int evaluate(tb_integrator *integrator, double tau, const double *y, doub
     return 0;
 }
 
+static int evaluate(tb_integrator *integrator, double tau, const double *y, double *dydt)
+{
+    return evaluate_part(integrator, integrator->system.derivative, tau, y, dydt);
+}
+
 int tb__cvode_derivative(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
 {
     return evaluate(user_data, t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
+}
+
+int tb__sundials_explicit_part(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
+{
+    tb_integrator *integrator = user_data;
+    return evaluate_part(integrator, integrator->system.split.explicit_part, t,
+                         N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
+}
+
+int tb__sundials_implicit_part(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
+{
+    tb_integrator *integrator = user_data;
+    N_Vector explicit_part = integrator->cvode->split_work;
+    int rc = tb__cvode_derivative(t, y, ydot, user_data);
+    rc = rc != 0 ? rc : tb__sundials_explicit_part(t, y, explicit_part, user_data);
+    if (rc == 0) {
+        N_VLinearSum(1.0, ydot, -1.0, explicit_part, ydot);
+    }
+    return rc;
 }
 
 /* The post-step hook as a CVODE projection (BDF): corr = hook(ycur) - ycur. */
@@ -66,8 +92,8 @@ int tb__cvode_project(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype e
 static double increment_floor(tb__cvode *cvode, N_Vector fy)
 {
     sunrealtype h = 0.0;
-    CVodeGetCurrentStep(cvode->mem, &h);
-    CVodeGetErrWeights(cvode->mem, cvode->weights);
+    cvode->ops->current_step(cvode->mem, &h);
+    cvode->ops->err_weights(cvode->mem, cvode->weights);
     const double f_norm = N_VWrmsNorm(fy, cvode->weights);
     return f_norm != 0.0 ? 1000.0 * fabs(h) * SUN_UNIT_ROUNDOFF * (double)N_VGetLength(fy) * f_norm
                          : 1.0;
@@ -89,7 +115,7 @@ int tb__cvode_dense_jacobian(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J
         const double saved = y_data[j];
         const double increment = tb__difference_increment(saved, min_increment, w[j]);
         y_data[j] = saved + increment;
-        const int rc = tb__cvode_derivative(t, y, tmp1, user_data);
+        const int rc = cvode->implicit_rhs(t, y, tmp1, user_data);
         cvode->jacobian_evals++;
         y_data[j] = saved;
         if (rc != 0) {
@@ -103,9 +129,22 @@ int tb__cvode_dense_jacobian(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J
     return 0;
 }
 
+/* What Newton's matrix is of: f, or ARKStep's f_I = f - f_E with a split (the fy the
+ * preconditioner's difference quotients subtract is then f_I). */
 static int block_rhs(double t, double *y, double *f_out, void *ctx)
 {
-    return evaluate(ctx, t, y, f_out);
+    tb_integrator *integrator = ctx;
+    N_Vector split = integrator->cvode->split_work;
+    int rc = evaluate(integrator, t, y, f_out);
+    if (rc != 0 || split == NULL) {
+        return rc;
+    }
+    double *explicit_part = N_VGetArrayPointer(split);
+    rc = evaluate_part(integrator, integrator->system.split.explicit_part, t, y, explicit_part);
+    for (size_t i = 0; rc == 0 && i < integrator->system.n; ++i) {
+        f_out[i] -= explicit_part[i];
+    }
+    return rc;
 }
 
 /* The block-diagonal preconditioner (systems of independent blocks). J is not kept between

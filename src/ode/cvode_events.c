@@ -1,4 +1,5 @@
-/* Events and step limits for the CVODE backend: the system's root functions registered with
+/* Events and step limits for the SUNDIALS backends (CVODE and ARKStep alike, through
+ * tb__sundials_ops; CVODE's names below): the system's root functions registered with
  * CVodeRootInit, so that a step ends on each sign change, and a step limit asked of the system
  * after every step (tb_ode_system.events.step_limit), applied as CVODE's stop time: CVodeSetMaxStep
  * would act only from the step after next, since CVODE picks each step's size at the end of the
@@ -35,15 +36,15 @@ tb_status tb__cvode_events_init(tb_integrator *integrator, tb_error *error)
             return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "%zu root flags",
                                  system->events.root_count);
         }
-        int flag = CVodeRootInit(cvode->mem, (int)system->events.root_count, roots);
+        int flag = cvode->ops->root_init(cvode->mem, (int)system->events.root_count, roots);
         if (flag == CV_SUCCESS) {
             /* a function that starts at zero (a body set down touching) is not an error */
-            flag = CVodeSetNoInactiveRootWarn(cvode->mem);
+            flag = cvode->ops->no_inactive_root_warn(cvode->mem);
         }
         if (flag != CV_SUCCESS) {
             return tb__set_error(error, TB_STATUS_SOLVER_FAILED,
-                                 "CVODE set-up: CVodeRootInit for %zu functions returned %d: %s",
-                                 system->events.root_count, flag, cvode->message);
+                                 "%s set-up: RootInit for %zu functions returned %d: %s",
+                                 cvode->ops->name, system->events.root_count, flag, cvode->message);
         }
     }
     if (system->events.step_limit != NULL) {
@@ -81,7 +82,7 @@ static void note_event(tb_integrator *integrator, double tau)
 {
     tb__cvode *cvode = integrator->cvode;
     tb_integrator_events *events = &integrator->events;
-    CVodeGetRootInfo(cvode->mem, cvode->roots_found);
+    cvode->ops->root_info(cvode->mem, cvode->roots_found);
     events->count++;
     events->last_time = cvode->t_origin + tau;
     for (size_t i = 0; i < integrator->system.events.root_count; ++i) {
@@ -105,14 +106,14 @@ static int limit_next_step(tb_integrator *integrator, sunrealtype tn)
             : INFINITY;
     cvode->break_stop = isfinite(next) && next > tn ? next : INFINITY;
     if (system->events.step_limit == NULL) {
-        return CVodeSetStopTime(cvode->mem,
-                                isfinite(cvode->break_stop) ? cvode->break_stop : tn + 1e300);
+        return cvode->ops->set_stop_time(cvode->mem, isfinite(cvode->break_stop) ? cvode->break_stop
+                                                                                 : tn + 1e300);
     }
     const double *state = N_VGetArrayPointer(cvode->y), *rate = NULL;
     if (cvode->started) { /* y may hold an interpolated output: take CVODE's own y_n, y'_n */
-        int flag = CVodeGetDky(cvode->mem, tn, 0, cvode->y_step);
+        int flag = cvode->ops->get_dky(cvode->mem, tn, 0, cvode->y_step);
         if (flag == CV_SUCCESS) {
-            flag = CVodeGetDky(cvode->mem, tn, 1, cvode->dydt_step);
+            flag = cvode->ops->get_dky(cvode->mem, tn, 1, cvode->dydt_step);
         }
         if (flag != CV_SUCCESS) {
             return flag;
@@ -124,7 +125,7 @@ static int limit_next_step(tb_integrator *integrator, sunrealtype tn)
     /* no limit, or one below the time's resolution: a stop time far ahead (6.x cannot clear
      * one) */
     const double stop = limit > 0.0 && isfinite(limit) && tn + limit > tn ? tn + limit : tn + 1e300;
-    return CVodeSetStopTime(cvode->mem, fmin(stop, cvode->break_stop));
+    return cvode->ops->set_stop_time(cvode->mem, fmin(stop, cvode->break_stop));
 }
 
 /* The system's at_event at the event CVODE stopped at (y there): whether it changed the
@@ -150,10 +151,10 @@ int tb__cvode_march(tb_integrator *integrator, double tau_out, int mode, double 
     for (long calls = 0;; ++calls) {
         sunrealtype tn = *tau_reached;
         if (cvode->started) {
-            CVodeGetCurrentTime(cvode->mem, &tn);
+            cvode->ops->current_time(cvode->mem, &tn);
         }
         if (mode == CV_NORMAL && cvode->started && tn >= tau_out) {
-            return CVodeGetDky(cvode->mem, tau_out, 0, cvode->y);
+            return cvode->ops->get_dky(cvode->mem, tau_out, 0, cvode->y);
         }
         if (calls == integrator->max_steps) {
             snprintf(cvode->message, sizeof cvode->message,
@@ -169,7 +170,7 @@ int tb__cvode_march(tb_integrator *integrator, double tau_out, int mode, double 
         }
         cvode->started = true;
         /* in one-step mode tout only sets the first step's estimate and the direction */
-        flag = CVode(cvode->mem, horizon, cvode->y, tau_reached, CV_ONE_STEP);
+        flag = cvode->ops->evolve(cvode->mem, horizon, cvode->y, tau_reached, CV_ONE_STEP);
         if (flag == CV_ROOT_RETURN) {
             note_event(integrator, *tau_reached);
             /* an event past tau_out: the output is interpolated before it, and the changed
@@ -192,7 +193,7 @@ int tb__cvode_march(tb_integrator *integrator, double tau_out, int mode, double 
         }
         if (*tau_reached >= tau_out && flag == CV_ROOT_RETURN) {
             return *tau_reached == tau_out ? CV_SUCCESS
-                                           : CVodeGetDky(cvode->mem, tau_out, 0, cvode->y);
+                                           : cvode->ops->get_dky(cvode->mem, tau_out, 0, cvode->y);
         }
     }
 }

@@ -1,5 +1,7 @@
-/* Private: the CVODE backend's state, shared by cvode_integrator.c (creation, stepping,
- * statistics) and cvode_callbacks.c (what CVODE calls back). */
+/* Private: the state of the SUNDIALS backends, CVODE (cvode_integrator.c) and ARKODE's ARKStep
+ * (arkode_integrator.c). The two differ only in a table of calls (tb__sundials_ops): the
+ * stepping, outputs and restarts (cvode_run.c), events (cvode_events.c), linear solvers
+ * (cvode_linear.c, cvode_sparse.c) and callbacks (cvode_callbacks.c) serve both through it. */
 #ifndef TUMBLE_CVODE_INTERNAL_H
 #define TUMBLE_CVODE_INTERNAL_H
 
@@ -7,6 +9,7 @@
 #include "ode/integrator.h"
 
 #include <nvector/nvector_serial.h>
+#include <sundials/sundials_config.h>
 #include <sundials/sundials_context.h>
 #include <sundials/sundials_linearsolver.h>
 #include <sundials/sundials_matrix.h>
@@ -17,7 +20,55 @@
 typedef struct tb__cvode tb__cvode;
 typedef struct tb__cvode_sparse tb__cvode_sparse;
 
+/* SUNDIALS' callback shapes, the same for CVODE and ARKStep (CVRhsFn and ARKRhsFn, ...). */
+typedef int (*tb__sun_rhs)(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data);
+typedef int (*tb__sun_roots)(sunrealtype t, N_Vector y, sunrealtype *g, void *user_data);
+typedef int (*tb__sun_jacobian)(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J,
+                                void *user_data, N_Vector tmp1, N_Vector tmp2, N_Vector tmp3);
+typedef int (*tb__sun_prec_setup)(sunrealtype t, N_Vector y, N_Vector fy, sunbooleantype jok,
+                                  sunbooleantype *jcur, sunrealtype gamma, void *user_data);
+typedef int (*tb__sun_prec_solve)(sunrealtype t, N_Vector y, N_Vector fy, N_Vector r, N_Vector z,
+                                  sunrealtype gamma, sunrealtype delta, int lr, void *user_data);
+
+/* The calls in which CVODE and ARKStep differ by name only: same arguments, same return flags
+ * (ARK_SUCCESS = CV_SUCCESS, ARK_ROOT_RETURN = CV_ROOT_RETURN, ARK_ONE_STEP = CV_ONE_STEP, ...),
+ * and the backend's own restart, counters and freeing. */
+typedef struct tb__sundials_ops tb__sundials_ops;
+struct tb__sundials_ops {
+    const char *name; /* "CVODE", "ARKODE", in messages */
+    int (*evolve)(void *mem, sunrealtype tout, N_Vector yout, sunrealtype *tret, int mode);
+    int (*get_dky)(void *mem, sunrealtype t, int k, N_Vector dky);
+    int (*current_time)(void *mem, sunrealtype *tn);
+    int (*current_step)(void *mem, sunrealtype *h);
+    int (*err_weights)(void *mem, N_Vector weights);
+    int (*set_stop_time)(void *mem, sunrealtype tstop);
+    int (*root_init)(void *mem, int count, tb__sun_roots g);
+    int (*no_inactive_root_warn)(void *mem);
+    int (*root_info)(void *mem, int *found);
+    int (*ss_tolerances)(void *mem, sunrealtype rtol, sunrealtype atol);
+    int (*sv_tolerances)(void *mem, sunrealtype rtol, N_Vector atol);
+    int (*set_max_num_steps)(void *mem, long steps);
+    int (*set_init_step)(void *mem, sunrealtype h);
+    int (*set_max_step)(void *mem, sunrealtype h);
+    int (*set_linear_solver)(void *mem, SUNLinearSolver solver, SUNMatrix matrix);
+    int (*set_jac_fn)(void *mem, tb__sun_jacobian jacobian);
+    int (*set_preconditioner)(void *mem, tb__sun_prec_setup setup, tb__sun_prec_solve solve);
+    int (*band_prec_init)(void *mem, sunindextype n, sunindextype upper, sunindextype lower);
+    int (*band_prec_rhs_evals)(void *mem, long *evals);
+    char *(*flag_name)(long flag); /* allocated: the caller frees it */
+    int hook_flags[2];             /* the flags that say the post-step hook failed (these differ) */
+    /* the backend's own: restart from y at tau = 0 (counters zeroed), read its counters (the
+     * base not added), free its memory */
+    int (*reinit)(tb_integrator *integrator);
+    void (*read_counters)(const tb_integrator *integrator, tb_integrator_stats *out);
+    void (*free_mem)(void **mem);
+};
+
 struct tb__cvode {
+    const tb__sundials_ops *ops;
+    tb__sun_rhs implicit_rhs; /* what Newton's Jacobian is of: f (CVODE), ARKStep's f_I */
+    int order;                /* ARKStep's tables' order (stats); 0 for CVODE */
+    N_Vector split_work;      /* ARKStep with a split: f_E at the implicit part's state */
     SUNContext context;
     void *mem;
     N_Vector y;       /* wraps the caller's array: no copy */
@@ -50,9 +101,42 @@ struct tb__cvode {
     char message[TB_DETAIL_SIZE]; /* CVODE's last message, captured instead of printed */
 };
 
+/* The shared creation (cvode_setup.c): create allocates integrator->cvode with the context, the
+ * vector over y and the copy of y (the backend then makes its memory, and calls
+ * set_tolerances_and_options, the solvers and events_init); created remembers y and the
+ * generation once all is made; destroy frees what either made. validate checks the def's
+ * adaptive fields. capture_message is the error handler that keeps SUNDIALS' last message. */
+tb_status tb__sundials_create(tb_integrator *integrator, const tb__sundials_ops *ops,
+                              tb_error *error);
+tb_status tb__sundials_validate(const tb_integrator *integrator, const tb_integrator_def *def,
+                                tb_error *error);
+tb_status tb__sundials_set_tolerances_and_options(tb_integrator *integrator,
+                                                  const tb_integrator_def *def, tb_error *error);
+void tb__sundials_created(tb_integrator *integrator);
+void tb__sundials_destroy(tb_integrator *integrator);
+#if SUNDIALS_VERSION_MAJOR >= 7
+void tb__sundials_capture_message(int line, const char *function, const char *file, const char *msg,
+                                  SUNErrCode code, void *data, SUNContext context);
+#else
+void tb__sundials_capture_message(int code, const char *module, const char *function, char *msg,
+                                  void *data);
+#endif
+unsigned long long tb__sundials_rhs_generation(const tb_ode_system *system);
+void tb__sundials_flag_name(const tb__cvode *cvode, int flag, char *out, size_t size);
+
+/* The shared stepping (cvode_run.c): the backends' advance, step, reset and get_stats. */
+tb_status tb__sundials_advance(tb_integrator *integrator, double t_target);
+tb_status tb__sundials_step(tb_integrator *integrator);
+tb_status tb__sundials_reset(tb_integrator *integrator, double t);
+void tb__sundials_get_stats(const tb_integrator *integrator, tb_integrator_stats *stats);
+
 /* CVODE's right-hand side (user_data is the tb_integrator): the system's derivative, keeping
  * its failures in derivative_status. */
 int tb__cvode_derivative(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data);
+
+/* ARKStep's split (tb_ode_system.split): f_E, and f_I = f - f_E (f_E into cvode->split_work). */
+int tb__sundials_explicit_part(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data);
+int tb__sundials_implicit_part(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data);
 
 /* The post-step hook as a CVODE projection (BDF). */
 int tb__cvode_project(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype eps, N_Vector err,

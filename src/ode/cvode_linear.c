@@ -1,5 +1,6 @@
-/* CVODE's nonlinear and linear solvers, chosen at creation: Adams' fixed-point iteration, BDF's
- * Newton iteration with a dense, Krylov or sparse (cvode_sparse.c) linear solver. */
+/* The SUNDIALS backends' nonlinear and linear solvers, chosen at creation: Adams' fixed-point
+ * iteration; BDF's and ark-imex's Newton iteration (ARKStep's default nonlinear solver) with a
+ * dense, Krylov or sparse (cvode_sparse.c) linear solver, attached through tb__sundials_ops. */
 #include "ode/cvode_internal.h"
 
 #include "core/detail.h"
@@ -21,8 +22,8 @@
 #define TB__DENSE_LIMIT 64
 #define TB__DENSE_LIMIT_COUPLED 512
 
-/* Adams: fixed-point iteration, no linear algebra. BDF: Newton with a dense or Krylov
- * linear solver. */
+/* Adams: fixed-point iteration, no linear algebra. BDF, ark-imex: Newton with a dense, Krylov or
+ * sparse linear solver. */
 tb_status tb__cvode_set_solvers(tb_integrator *integrator, const tb_integrator_def *def,
                                 tb_error *error)
 {
@@ -59,26 +60,27 @@ tb_status tb__cvode_set_solvers(tb_integrator *integrator, const tb_integrator_d
     if (cvode->linear == NULL) {
         return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "linear solver for n = %zu", n);
     }
-    int flag = CVodeSetLinearSolver(cvode->mem, cvode->linear, cvode->matrix);
+    const tb__sundials_ops *ops = cvode->ops;
+    int flag = ops->set_linear_solver(cvode->mem, cvode->linear, cvode->matrix);
     const size_t block_size = integrator->system.blocks.size;
     if (flag == CV_SUCCESS && (dense || block_size > 0)) {
         cvode->weights = N_VClone(cvode->y);
         flag = cvode->weights == NULL ? CV_MEM_FAIL : CV_SUCCESS;
     }
     if (flag == CV_SUCCESS && cvode->sparse != NULL) {
-        flag = CVodeSetJacFn(cvode->mem, tb__cvode_sparse_jacobian);
+        flag = ops->set_jac_fn(cvode->mem, tb__cvode_sparse_jacobian);
     } else if (flag == CV_SUCCESS && dense) {
-        flag = CVodeSetJacFn(cvode->mem, tb__cvode_dense_jacobian);
+        flag = ops->set_jac_fn(cvode->mem, tb__cvode_dense_jacobian);
     } else if (flag == CV_SUCCESS && block_size > 0) {
         cvode->block_preconditioner = tb__block_preconditioner_create(n, block_size);
         flag =
             cvode->block_preconditioner == NULL
                 ? CV_MEM_FAIL
-                : CVodeSetPreconditioner(cvode->mem, tb__cvode_block_setup, tb__cvode_block_solve);
+                : ops->set_preconditioner(cvode->mem, tb__cvode_block_setup, tb__cvode_block_solve);
     } else if (flag == CV_SUCCESS) {
-        flag = CVBandPrecInit(cvode->mem, (sunindextype)n, band, band);
+        flag = ops->band_prec_init(cvode->mem, (sunindextype)n, band, band);
         cvode->band_preconditioner = flag == CV_SUCCESS;
     }
     return flag == CV_SUCCESS ? TB_STATUS_OK
-                              : tb__cvode_setup_failed(cvode, "CVodeSetLinearSolver", flag, error);
+                              : tb__cvode_setup_failed(cvode, "SetLinearSolver", flag, error);
 }

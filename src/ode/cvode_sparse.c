@@ -117,7 +117,7 @@ int tb__cvode_sparse_refresh(tb_integrator *integrator, sunrealtype tn)
     }
     const double *state = N_VGetArrayPointer(cvode->y);
     if (cvode->started) { /* y may hold an interpolated output: take CVODE's own y_n */
-        const int flag = CVodeGetDky(cvode->mem, tn, 0, sparse->state);
+        const int flag = cvode->ops->get_dky(cvode->mem, tn, 0, sparse->state);
         if (flag != CV_SUCCESS) {
             return flag;
         }
@@ -163,12 +163,20 @@ static bool copy_into(tb__cvode_sparse *sparse, SUNMatrix A)
 int tb__cvode_sparse_jacobian(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, void *user_data,
                               N_Vector tmp1, N_Vector tmp2, N_Vector tmp3)
 {
-    (void)tmp1, (void)tmp2, (void)tmp3;
+    (void)tmp2, (void)tmp3;
     tb_integrator *integrator = user_data;
     tb__cvode *cvode = integrator->cvode;
     tb__cvode_sparse *sparse = cvode->sparse;
     const tb_ode_system *system = &integrator->system;
-    const int rc = system->jacobian.evaluate(cvode->t_origin + t, N_VGetArrayPointer(y),
+    /* ARKStep with a split passes f_I = f - f_E; the system's Jacobian is of f and takes f (its
+     * difference quotients subtract it: with f_I they were off by f_E / increment) */
+    int rc = cvode->split_work != NULL ? tb__sundials_explicit_part(t, y, tmp1, user_data) : 0;
+    if (rc == 0 && cvode->split_work != NULL) {
+        N_VLinearSum(1.0, fy, 1.0, tmp1, tmp1);
+        fy = tmp1;
+    }
+    rc = rc != 0 ? rc
+                 : system->jacobian.evaluate(cvode->t_origin + t, N_VGetArrayPointer(y),
                                              N_VGetArrayPointer(fy), &sparse->J, system->ctx);
     const size_t entries = rc == 0 ? sparse->J.row_starts[sparse->J.n] : 0;
     if (rc != 0 || entries > (size_t)SUNSparseMatrix_NNZ(A)) {

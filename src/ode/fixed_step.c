@@ -1,7 +1,9 @@
 /* Fixed-step explicit Runge-Kutta methods: Euler, midpoint (RK2) and classical RK4 (their rows
- * are in methods.c), and the backend that advances with them. Each stepper writes the new state
- * into y_new and never touches y, so a failed step loses nothing. */
+ * are in methods.c), and the backend that advances with them and with the linearly implicit
+ * Rosenbrock method (rosenbrock.c), which takes the same onsets, breaks, budget and hooks. Each
+ * stepper writes the new state into y_new and never touches y, so a failed step loses nothing. */
 #include "ode/integrator.h"
+#include "ode/rosenbrock.h"
 
 #include "core/detail.h"
 #include "core/validate.h"
@@ -131,6 +133,21 @@ static tb_status check_time_resolution(char *detail, double dt, double t, const 
     return TB_STATUS_OK;
 }
 
+/* The onset search's buffers and the Rosenbrock method's solver; on failure frees them and the
+ * workspace. */
+static tb_status create_onsets_and_solver(tb_integrator *integrator, tb_error *error)
+{
+    tb_status status = tb__onset_create(integrator, error);
+    if (status == TB_STATUS_OK && integrator->entry->linearly_implicit) {
+        status = tb__rosenbrock_create(integrator, error);
+    }
+    if (status != TB_STATUS_OK) {
+        tb__onset_destroy(integrator);
+        free(integrator->workspace);
+    }
+    return status;
+}
+
 static tb_status fixed_create(tb_integrator *integrator, const tb_integrator_def *def,
                               tb_error *error)
 {
@@ -145,6 +162,10 @@ static tb_status fixed_create(tb_integrator *integrator, const tb_integrator_def
     char detail[TB_DETAIL_SIZE];
     if (check_time_resolution(detail, def->dt, integrator->t, "t0") != TB_STATUS_OK) {
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT, "def.%s", detail);
+    }
+    if (integrator->entry->linearly_implicit) {
+        /* its solve couples the whole state: a separable system steps whole too */
+        integrator->system.blocks = (tb_ode_blocks){0};
     }
     const size_t n = integrator->system.n;
     /* whole-array path: the new state (n) and the stepper's scratch (2n); chunked path: the
@@ -176,9 +197,8 @@ static tb_status fixed_create(tb_integrator *integrator, const tb_integrator_def
         integrator->work = buffer + n;
     }
     integrator->dt = def->dt;
-    const tb_status status = tb__onset_create(integrator, error);
+    const tb_status status = create_onsets_and_solver(integrator, error);
     if (status != TB_STATUS_OK) {
-        free(integrator->workspace);
         return status;
     }
     integrator->stats.last_order = integrator->stats.current_order = integrator->entry->info.order;
@@ -188,6 +208,7 @@ static tb_status fixed_create(tb_integrator *integrator, const tb_integrator_def
 
 static void fixed_destroy(tb_integrator *integrator)
 {
+    tb__rosenbrock_destroy(integrator);
     tb__onset_destroy(integrator);
     free(integrator->workspace);
 }
@@ -277,6 +298,11 @@ tb_status tb__fixed_report(tb_integrator *integrator, const tb__step_failure *fa
         return not_finite(integrator, failure->index, failure->value, h, failure->hook_rc);
     case TB_STATUS_SOLVER_FAILED:
         ++integrator->stats.failed_steps;
+        if (failure->rc == TB__ROSENBROCK_LINEAR_FAILED &&
+            tb__rosenbrock_message(integrator)[0] != '\0') {
+            return tb__set_detail(integrator->detail, TB_STATUS_SOLVER_FAILED, "%s (h = %g)",
+                                  tb__rosenbrock_message(integrator), h);
+        }
         return tb__set_detail(integrator->detail, TB_STATUS_SOLVER_FAILED,
                               "a root function (tb_ode_system.events.roots) returned %d in the %s "
                               "step from t = %.17g (h = %g), looking for an onset",
@@ -284,6 +310,26 @@ tb_status tb__fixed_report(tb_integrator *integrator, const tb__step_failure *fa
     default:
         return failure->status;
     }
+}
+
+/* The method's step over the whole system: the row's explicit stepper, or the Rosenbrock one. */
+static int step_method(tb_integrator *integrator, double h, double t_last, const double *y,
+                       double *fresh, double *scratch, long *evals)
+{
+    if (integrator->entry->linearly_implicit) {
+        return tb__rosenbrock_step(integrator, integrator->t, h, t_last, y, fresh, scratch, evals);
+    }
+    return integrator->entry->step(&integrator->system, integrator->t, h, t_last, y, fresh, scratch,
+                                   evals);
+}
+
+/* A failed step_method: the derivative's return, or the Rosenbrock solve's. */
+static tb__step_failure step_failed(int rc)
+{
+    if (rc == TB__ROSENBROCK_LINEAR_FAILED) {
+        return (tb__step_failure){TB_STATUS_SOLVER_FAILED, rc, 0, 0, 0.0};
+    }
+    return (tb__step_failure){TB_STATUS_DERIVATIVE_FAILED, rc, 0, 0, 0.0};
 }
 
 static void commit(tb_integrator *integrator, double h, double t_end)
@@ -307,10 +353,9 @@ static tb__step_failure end_at_onset(tb_integrator *integrator, const double *y,
         *h = h_onset;
         *t_end = integrator->t + h_onset;
         /* an onset ends the step before any break: its last stage is at its end */
-        rc = integrator->entry->step(&integrator->system, integrator->t, *h, *t_end, y, fresh,
-                                     scratch, evals);
+        rc = step_method(integrator, *h, *t_end, y, fresh, scratch, evals);
         if (rc != 0) {
-            return (tb__step_failure){TB_STATUS_DERIVATIVE_FAILED, rc, 0, 0, 0.0};
+            return step_failed(rc);
         }
     }
     return (tb__step_failure){TB_STATUS_OK, 0, 0, 0, 0.0};
@@ -325,9 +370,9 @@ static tb__step_failure step_whole(tb_integrator *integrator, const double *y, d
 {
     const tb_ode_system *system = &integrator->system;
     tb__step_failure failure = {TB_STATUS_OK, 0, 0, 0, 0.0};
-    int rc = integrator->entry->step(system, integrator->t, *h, t_last, y, fresh, scratch, evals);
+    int rc = step_method(integrator, *h, t_last, y, fresh, scratch, evals);
     if (rc != 0) {
-        return (tb__step_failure){TB_STATUS_DERIVATIVE_FAILED, rc, 0, 0, 0.0};
+        return step_failed(rc);
     }
     if (integrator->onset != NULL) {
         failure = end_at_onset(integrator, y, fresh, scratch, h, t_end, evals);

@@ -1,4 +1,4 @@
-/* Private: the integrator object and its backends (fixed-step, CVODE). */
+/* Private: the integrator object and its backends (fixed-step, CVODE, ARKStep). */
 #ifndef TUMBLE_INTEGRATOR_H
 #define TUMBLE_INTEGRATOR_H
 
@@ -49,7 +49,8 @@ typedef struct tb__method_entry {
     tb_method_info info;
     unsigned reads; /* TB__READS_* */
     const tb__backend *backend;
-    tb__step_fn step; /* fixed-step methods only */
+    tb__step_fn step;       /* explicit fixed-step methods only */
+    bool linearly_implicit; /* fixed-step, stepped by tb__rosenbrock_step (rosenbrock.h) */
 } tb__method_entry;
 
 extern const tb__method_entry tb__methods[TB_METHOD_COUNT];
@@ -63,6 +64,7 @@ bool tb__method_reads(tb_method method, const char *setting);
 void tb__setting_readers(tb_method method, const char *setting, char *out, size_t size);
 extern const tb__backend tb__fixed_step_backend;
 extern const tb__backend tb__cvode_backend;
+extern const tb__backend tb__arkode_backend;
 
 struct tb_integrator {
     tb_ode_system system;
@@ -86,7 +88,8 @@ struct tb_integrator {
     size_t chunk_work;   /* chunked: doubles of work per thread */
     int threads;         /* chunked: threads the chunks are shared among, >= 1 */
     struct tb__onset *onset; /* systems with roots, not chunked: the onset search's buffers */
-    /* CVODE */
+    struct tb__rosenbrock *rosenbrock; /* linearly implicit: the solver (rosenbrock_linear.c) */
+    /* CVODE and ARKStep (cvode_internal.h) */
     struct tb__cvode *cvode;
 };
 
@@ -112,8 +115,10 @@ size_t tb__first_non_finite(const double *y, size_t n);
 #define TB__MAX_LANES 1024
 
 /* How a step of a part of the system (the whole, or a chunk) failed: status OK for none; rc is
- * the derivative's or the hook's return, index and value the first non-finite component (of the
- * whole state). tb__fixed_report writes the detail and counts the failed step. */
+ * the derivative's or the hook's return (TB_STATUS_SOLVER_FAILED: the root function's, or
+ * TB__ROSENBROCK_LINEAR_FAILED for the Rosenbrock method's linear algebra), index and value the
+ * first non-finite component (of the whole state). tb__fixed_report writes the detail and counts
+ * the failed step. */
 typedef struct tb__step_failure {
     tb_status status;
     int rc, hook_rc;

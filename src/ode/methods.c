@@ -47,6 +47,22 @@ const tb__method_entry tb__methods[TB_METHOD_COUNT] = {
                              TB__READS_TOLERANCES | TB__READS_LINEAR_SOLVER | TB__READS_MAX_STEPS,
                              &tb__cvode_backend,
                              NULL},
+    /* ROS2 (rosenbrock.c): R(z) = (1 + (1 - 2 gamma) z) / (1 - gamma z)^2 is A- and L-stable */
+    [TB_METHOD_ROSENBROCK] = {.info = {.name = "rosenbrock",
+                                       .order = 2,
+                                       .adaptive = 0,
+                                       .multistep = 0,
+                                       .derivative_evals_per_step = 2,
+                                       .imaginary_limit = INFINITY,
+                                       .imaginary_growth = 1.0,
+                                       .real_limit = INFINITY},
+                              .reads = TB__READS_DT | TB__READS_MAX_STEPS,
+                              .backend = &tb__fixed_step_backend,
+                              .linearly_implicit = true},
+    [TB_METHOD_ARK_IMEX] = {{"ark-imex", 5, 1, 0, 0, INFINITY, 1.0, INFINITY},
+                            TB__READS_TOLERANCES | TB__READS_LINEAR_SOLVER | TB__READS_MAX_STEPS,
+                            &tb__arkode_backend,
+                            NULL},
 };
 
 static bool is_method(tb_method method)

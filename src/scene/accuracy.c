@@ -24,6 +24,8 @@ static const tb_accuracy_setting default_sweep[] = {
     {TB_METHOD_RK4, 4000},         {TB_METHOD_CVODE_ADAMS, 1e-3}, {TB_METHOD_CVODE_ADAMS, 1e-5},
     {TB_METHOD_CVODE_ADAMS, 1e-7}, {TB_METHOD_CVODE_ADAMS, 1e-9}, {TB_METHOD_CVODE_BDF, 1e-3},
     {TB_METHOD_CVODE_BDF, 1e-5},   {TB_METHOD_CVODE_BDF, 1e-7},   {TB_METHOD_CVODE_BDF, 1e-9},
+    {TB_METHOD_ARK_IMEX, 1e-3},    {TB_METHOD_ARK_IMEX, 1e-5},    {TB_METHOD_ARK_IMEX, 1e-7},
+    {TB_METHOD_ARK_IMEX, 1e-9},
 };
 
 const tb_accuracy_setting *tb_accuracy_default_sweep(size_t *out_count)

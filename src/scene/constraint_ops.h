@@ -33,6 +33,8 @@ typedef struct tb__constraint_ops {
     /* What the constraints keep of what the effects conserve: clears the fields of c that they
      * break (tb_scene_conserved). */
     void (*conserved)(const void *constraints, const tb_scene *scene, tb_conserved *c);
+    /* The constraints' potential energy at y (J: soft joints' springs); NULL: none. */
+    double (*potential_energy)(const void *constraints, const tb_scene *scene, const double *y);
 } tb__constraint_ops;
 
 #endif

@@ -127,12 +127,10 @@ static int constraint_forces(const tb_scene *scene, double t, const double *y, d
                : scene->constraint_ops->apply(scene->constraints, scene, t, y, dydt);
 }
 
-int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
+/* The first stage: every body's motion (dynamic bodies' from y, into dydt's x and q rows too;
+ * the others' from their kinds at t) for the loads to read. */
+static int motions(const tb_scene *scene, double t, const double *y, double *dydt)
 {
-    const tb_scene *scene = ctx;
-    if (scene == NULL || y == NULL || dydt == NULL) {
-        return -1;
-    }
     const size_t n = scene->slot_count;
     kinematics(scene->bodies, y, dydt, n, scene->motions, scene->slot_ids);
     int rc = 0;
@@ -140,6 +138,17 @@ int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
         const size_t id = scene->fixed_ids[k];
         rc = tb__body_motion_at(scene, t, y, id, &scene->motions[id]) != 0 ? -1 : 0;
     }
+    return rc;
+}
+
+int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
+{
+    const tb_scene *scene = ctx;
+    if (scene == NULL || y == NULL || dydt == NULL) {
+        return -1;
+    }
+    const size_t n = scene->slot_count;
+    int rc = motions(scene, t, y, dydt);
     rc = rc != 0 ? rc : apply_per_body_effects(scene, t, y, dydt, 0, n);
     /* then the coupled effects, last in effect_order */
     const size_t first_coupled = scene->effect_count - scene->coupled_effect_count;
@@ -148,6 +157,44 @@ int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
         rc = effect->ops->apply(effect, scene, t, y, dydt);
     }
     rc = rc != 0 ? rc : constraint_forces(scene, t, y, dydt);
+    tb__scene_sleep_zero(scene, dydt);
+    return rc;
+}
+
+/* An effect ark-imex takes explicitly: one with no mode of its own (no rate: constant loads, and
+ * user callbacks, which cannot state one) that makes nothing touch and owns no states. The rest
+ * (contact, ground, springs, drag), the kinematic rows and the joints' forces are the implicit
+ * part: f_I = f - f_E costs a whole derivative whatever the split, so whatever has a mode that
+ * may be stiff goes where its stiffness costs no stability. */
+static bool explicit_effect(const tb__effect_ops *ops)
+{
+    return ops->rate == NULL && ops->stepping == NULL && !ops->owns_states && !ops->couples_bodies;
+}
+
+int tb__scene_explicit_part(double t, const double *y, double *dydt, void *ctx)
+{
+    const tb_scene *scene = ctx;
+    if (scene == NULL || y == NULL || dydt == NULL) {
+        return -1;
+    }
+    const size_t n = scene->slot_count;
+    int rc = motions(scene, t, y, dydt);
+    for (size_t i = 0; i < n; ++i) { /* kinematic rows: implicit */
+        for (int k = 0; k < TB_STATE_P; ++k) {
+            dydt[TB_STATE_SIZE * i + k] = 0.0;
+        }
+    }
+    for (size_t k = TB_STATE_SIZE * n; k < TB_STATE_SIZE * n + scene->extra_count; ++k) {
+        dydt[k] = 0.0; /* effects' own states: implicit */
+    }
+    for (size_t k = 0; k < scene->effect_count && rc == 0; ++k) {
+        const tb__effect *effect = &scene->effects[scene->effect_order[k]];
+        if (explicit_effect(effect->ops)) {
+            rc = effect->ops->apply_bodies != NULL
+                     ? effect->ops->apply_bodies(effect, scene, t, y, dydt, 0, n)
+                     : effect->ops->apply(effect, scene, t, y, dydt);
+        }
+    }
     tb__scene_sleep_zero(scene, dydt);
     return rc;
 }

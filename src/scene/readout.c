@@ -227,6 +227,10 @@ tb_status tb_scene_potential_energy(const tb_scene *scene, const double *y, doub
             energy += effect->ops->potential_energy(effect, scene, y);
         }
     }
+    const tb__constraint_ops *constraints = scene->constraint_ops;
+    if (constraints != NULL && constraints->potential_energy != NULL) {
+        energy += constraints->potential_energy(scene->constraints, scene, y);
+    }
     *out_energy = energy;
     return TB_STATUS_OK;
 }

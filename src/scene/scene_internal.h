@@ -537,6 +537,11 @@ void tb__scene_single_body_effects(const tb_scene *scene, size_t first, size_t c
 void tb__scene_note_drift(tb_scene *scene, double drift);
 
 /* The tb_ode_system block functions of a separable scene (ctx is the scene). */
+/* ark-imex's explicit part of tb_scene_derivative (tb_ode_system.split): the loads of the
+ * effects without a mode of their own (gravity, constant forces, user callbacks), zero in the
+ * kinematic rows and the effects' states; the same signature and convention. */
+int tb__scene_explicit_part(double t, const double *y, double *dydt, void *ctx);
+
 int tb__scene_block_derivative(double t, const double *y, double *dydt, size_t first, size_t count,
                                void *ctx);
 int tb__scene_block_normalize(double t, double *y, size_t first, size_t count, void *ctx);

@@ -6,6 +6,7 @@
 
 #include "core/validate.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -13,7 +14,9 @@
  * states through state_owners. A user effect that couples bodies says nothing: no Jacobian. */
 bool tb__scene_has_jacobian(const tb_scene *scene)
 {
-    if (tb__scene_separable(scene)) {
+    /* joints: their solve (the derivative's last stage) couples every body of a jointed chain,
+     * which the pattern does not hold; the colours would then mix the chain's columns */
+    if (tb__scene_separable(scene) || scene->constraint_ops != NULL) {
         return false;
     }
     for (size_t k = 0; k < scene->effect_count; ++k) {
@@ -147,7 +150,18 @@ static bool add_edge(tb__jacobian_room *j, size_t u, size_t v)
  * dense block, whose factorisation then costs what the dense solver's does. */
 #define TB__JACOBIAN_GAP 1e-3
 
-/* The pairs of bodies the effect's events see within TB__JACOBIAN_GAP at y. */
+/* m: how far beyond TB__JACOBIAN_GAP a pair may be and still enter the pattern. A fixed step
+ * (scene->guard_dt > 0: the linearly implicit method, whose matrix must hold every contact the
+ * step may make, since no event ends a fixed step at a second contact of a body already
+ * touching) covers twice what the pair's closing speed and acceleration can close in one step;
+ * adaptive methods (guard_dt 0) keep the pattern above. */
+static double pair_reach(const tb_scene *scene, const tb__event_pair *pair)
+{
+    const double dt = scene->guard_dt;
+    return dt > 0.0 ? 2.0 * dt * (fmax(-pair->gap_rate, 0.0) + 0.5 * pair->gravity * dt) : 0.0;
+}
+
+/* The pairs of bodies the effect's events see within TB__JACOBIAN_GAP (and pair_reach) at y. */
 static bool add_pair_edges(tb__jacobian_room *j, const tb__effect *effect, const tb_scene *scene,
                            const double *y)
 {
@@ -163,7 +177,7 @@ static bool add_pair_edges(tb__jacobian_room *j, const tb__effect *effect, const
     bool ok = true;
     for (size_t k = 0; k < count && ok; ++k) {
         const tb__event_pair *pair = &j->pairs[k];
-        ok = pair->gap > TB__JACOBIAN_GAP ||
+        ok = pair->gap > TB__JACOBIAN_GAP + pair_reach(scene, pair) ||
              add_edge(j, body_node(scene, pair->body_a), body_node(scene, pair->body_b));
     }
     return ok;

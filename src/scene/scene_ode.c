@@ -260,7 +260,8 @@ static tb_ode_hook post_step_hook(const tb_scene *scene)
  * (scene_events.c); bodies that can sleep add a second gap per body, to the nearest body of the
  * other sleep state, so that CVODE stops before an awake body touches an asleep one and wakes it
  * there (sleep.c). The constraints' events (joint stops) come after those. Bodies that interact:
- * the contact's sparse Jacobian, its pattern their contact graph (scene_jacobian.c). */
+ * the contact's sparse Jacobian, its pattern their contact graph (scene_jacobian.c). ark-imex
+ * takes the loads without a mode of their own explicitly (tb__scene_explicit_part). */
 static void set_events_and_jacobian(const tb_scene *scene, tb_ode_system *out_system)
 {
     if (tb__scene_has_events(scene)) {
@@ -273,6 +274,7 @@ static void set_events_and_jacobian(const tb_scene *scene, tb_ode_system *out_sy
     if (scene->constraint_ops != NULL && out_system->events.root_count > 0) {
         out_system->events.at_event = tb__scene_at_event;
     }
+    out_system->split.explicit_part = tb__scene_explicit_part;
     if (tb__scene_has_jacobian(scene)) {
         out_system->jacobian.capacity = tb__scene_jacobian_capacity;
         out_system->jacobian.evaluate = tb__scene_jacobian;

@@ -18,7 +18,7 @@ import numpy as np
 
 from .shapes import ShapeError, dimensions, f32, hull, shape_of, vec, volume_moments
 
-METHODS = ("rk4", "midpoint", "euler", "cvode-adams", "cvode-bdf")
+METHODS = ("rk4", "midpoint", "euler", "cvode-adams", "cvode-bdf", "rosenbrock", "ark-imex")
 FLAT = 1e-6  # a ground plane's normal must be within this of the world's z (radians)
 
 
@@ -208,13 +208,15 @@ def contact(bodies, pair_material, g):
     return effect
 
 
-def contacts(colliders, g):
-    """One contact effect when every pair has the same material, else one per pair (tumble
-    takes one material per effect, and a pair in no more than one effect)."""
+def contacts(colliders, g, apart=()):
+    """One contact effect when every pair has the same material and none is kept apart (a
+    constraint's Disable Collisions), else one per pair (tumble takes one material per effect,
+    and a pair in no more than one effect)."""
     pairs = [(a, b) for i, a in enumerate(colliders) for b in colliders[i + 1:]
-             if "dynamic" in (motion_of(a), motion_of(b))]
+             if "dynamic" in (motion_of(a), motion_of(b)) and
+             frozenset((a.name, b.name)) not in apart]
     materials = {material(a, b) for a, b in pairs}
-    if len(materials) <= 1:
+    if len(materials) <= 1 and not apart:
         return [contact([o.name for o in colliders], materials.pop(), g)] if pairs else []
     return [contact([a.name, b.name], material(a, b), g) for a, b in pairs]
 
@@ -292,11 +294,6 @@ def read_scene(scene, depsgraph, method="rk4", passive="AUTO", static_supported=
                          f"after the start")
     world = scene.rigidbody_world
     objects = rigid_objects(scene)
-    joints = world.constraints.objects if world.constraints is not None else []
-    for joint in joints:
-        if joint.rigid_body_constraint is not None:
-            raise ShapeError(f"'{joint.name}': a rigid body constraint "
-                             f"({joint.rigid_body_constraint.type}); tumble has no joints yet")
     if not objects:
         raise ShapeError("the rigid body world holds no rigid bodies")
     use_ground = passive == "GROUND" or (passive == "AUTO" and not static_supported)
@@ -311,6 +308,8 @@ def read_scene(scene, depsgraph, method="rk4", passive="AUTO", static_supported=
 
 
 def fill(plan, scene, depsgraph, objects, method, use_ground, world):
+    from .joints import read_joints  # joints.py reads poses with this module's helpers
+
     g_vector = gravity_of(scene)
     g = math.sqrt(sum(x * x for x in g_vector))
     plan.active = [o for o in objects if motion_of(o) == "dynamic"]
@@ -354,12 +353,16 @@ def fill(plan, scene, depsgraph, objects, method, use_ground, world):
         raise ShapeError("no active rigid body: nothing for tumble to simulate")
     if g > 0:
         effects.insert(0, {"type": "gravity", "g": g_vector})
-    effects += contacts(colliders, g) + grounds
+    joints, apart = read_joints(world, plan.objects, plan.fps, plan.notes)
+    effects += contacts(colliders, g, apart) + grounds
     duration = (plan.frame_end - plan.frame_start) / plan.fps
     plan.scene = {"description": f"Blender scene '{scene.name}', frames {plan.frame_start} to "
                                  f"{plan.frame_end} at {plan.fps:g} fps (tumble for Blender)",
-                  "bodies": bodies, "effects": effects, "integrator": {"method": method},
-                  "output": {"fps": plan.fps, "duration": duration}}
+                  "bodies": bodies, "effects": effects}
+    if joints:
+        plan.scene["joints"] = joints
+    plan.scene.update({"integrator": {"method": method},
+                       "output": {"fps": plan.fps, "duration": duration}})
     if world.time_scale != 1:
         plan.notes.append(f"the world's speed {world.time_scale:g} has no counterpart: ignored")
     return plan

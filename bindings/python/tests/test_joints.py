@@ -230,3 +230,97 @@ def test_a_hinge_motor_spins_a_wheel_up_at_its_cap_then_holds_the_speed():
     t, spin = frames.t, frames.angular_velocity[:, 0, 2]
     np.testing.assert_allclose(spin[t <= 4.9 + 1e-9], 2.0 * t[t <= 4.9 + 1e-9], atol=1e-9)
     np.testing.assert_allclose(spin[t >= 6.5 - 1e-9], 10.0, atol=1e-9)
+
+
+STRING = 1.0  # m: a bob hung from the world 1 m above its centre by a ball joint
+
+
+def bob_on_a_string(velocity=(0.0, 0.0, 0.0)):
+    b = tumble.SceneBuilder()
+    b.add_body("bob", shape={"type": "sphere", "radius": 0.05}, mass=2.0, position=[0, 0, 0],
+               velocity=list(velocity))
+    b.add_effect("gravity")
+    b.add_joint("ball", "bob", anchor=[0, 0, STRING])
+    return b.build()
+
+
+def rotate(q, v):
+    """v turned by the unit quaternion q = (w, x, y, z)."""
+    w, u = q[0], np.asarray(q[1:])
+    return v + 2 * np.cross(u, np.cross(u, v) + w * v)
+
+
+def string_end(sim):
+    """Where the bob's end of the string is and how fast it moves, from the bob's state alone
+    (its centre, orientation, velocity and angular velocity): the point 1 m above the centre in
+    the bob's frame at the start, where the joint was made with the bob's frame the world's."""
+    arm = rotate(sim.quaternion[0], np.array([0.0, 0.0, STRING]))
+    velocity = sim.velocity[0] + np.cross(sim.angular_velocity[0], arm)
+    return sim.position[0] + arm, velocity
+
+
+def test_project_joints_puts_a_start_off_the_joint_back_on_it():
+    # The bob moved 1 mm sideways and 2 mm up, and given 0.3 m/s along the string: its end of
+    # the string is off the anchor. The projection (tb_scene_project_joints, the CLI's
+    # --project-joints) puts the string's end back on the anchor (0, 0, 1) and its velocity to
+    # 0 (a ball joint to the world holds the point still), each to the library's 1e-12,
+    # checked here from the bob's own state, not from the library's joint error.
+    sim = tumble.Simulation(bob_on_a_string(), method="rk4", dt=1e-3)
+    sim.set_state("bob", position=[1e-3, 0.0, 2e-3], momentum=[0.0, 0.0, -0.6])
+    before = sim.joint_error(0)
+    assert before[0] > 1e-3 and before[1] > 0.2  # off by about 2.2 mm and 0.3 m/s
+    left = sim.project_joints()
+    assert left < 1e-12
+    end, velocity = string_end(sim)
+    np.testing.assert_allclose(end, [0.0, 0.0, STRING], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(velocity, 0.0, rtol=0, atol=1e-12)
+    position_error, velocity_error = sim.joint_error(0)
+    assert position_error < 1e-12 and velocity_error < 1e-12
+    sim.advance(0.1)  # and it steps from there, on the joint
+    assert max(sim.joint_error(0)) < 1e-12
+
+
+def test_project_joints_refuses_a_tolerance_it_cannot_meet_and_changes_nothing():
+    # As the C library refuses (SOLVER_FAILED, naming the joint): 1e-300 is below the
+    # round-off a hinge's rows leave (about 1e-19 here); the state is left as it was, to the
+    # bit. Without a projection the start stays off.
+    sim = tumble.Simulation(rod_pendulum(0.3).build(), method="rk4", dt=1e-3)
+    sim.set_state("rod", position=sim.position[0] + [1.3e-3, 0.7e-3, -0.9e-3])
+    saved = sim.state.copy()
+    with pytest.raises(tumble.TumbleError) as caught:
+        sim.project_joints(1e-300)
+    assert caught.value.status == "SOLVER_FAILED"
+    assert caught.value.message.startswith("joints[0]: the projection left an error"), \
+        caught.value.message
+    assert sim.state.tobytes() == saved.tobytes()
+    assert sim.joint_error(0)[0] > 1e-3
+    with pytest.raises(tumble.TumbleValueError):
+        sim.project_joints(-1.0)
+    with pytest.raises(TypeError):
+        sim.project_joints("0")
+
+
+def test_project_joints_at_the_start_of_a_run_and_a_simulation():
+    # A scene file's positions are on its joints; its velocities need not be: the bob starts
+    # at 1 m/s down the string and 0.5 m/s sideways without turning (the string's end moves;
+    # tests/scenes/joint_off_start.json, which `tumble check` refuses, is the first half).
+    # Asked to, Scene.run and Simulation project the start first, by the least change of
+    # M |dv|^2 + I |dw|^2 that stops the string's end: the speed along the string goes, and
+    # the sideways speed u splits between the bob's centre and its turn about it as the
+    # inverse mass and inertia say, v_x = u (L^2 / I) / (1 / M + L^2 / I) and w_y = -v_x / L
+    # (I = 2/5 M r^2 = 0.002 kg m^2: v_x = 0.4995 m/s). Without it the first frame is the
+    # file's start.
+    scene = bob_on_a_string(velocity=(0.5, 0.0, -1.0))
+    plain = scene.run(method="rk4", dt=1e-3, fps=100, duration=0.05)
+    np.testing.assert_array_equal(plain.velocity[0, 0], [0.5, 0.0, -1.0])
+    mass, inertia = 2.0, 0.4 * 2.0 * 0.05**2
+    v_x = 0.5 * (STRING**2 / inertia) / (1 / mass + STRING**2 / inertia)
+    projected = scene.run(method="rk4", dt=1e-3, fps=100, duration=0.05, project_joints=True)
+    np.testing.assert_allclose(projected.velocity[0, 0], [v_x, 0.0, 0.0], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(projected.angular_velocity[0, 0], [0.0, -v_x / STRING, 0.0],
+                               rtol=0, atol=1e-12)
+    sim = tumble.Simulation(scene, method="rk4", dt=1e-3, project_joints=True)
+    assert max(sim.joint_error(0)) < 1e-12
+    np.testing.assert_allclose(sim.velocity[0], [v_x, 0.0, 0.0], rtol=0, atol=1e-12)
+    sim.advance(0.05)
+    np.testing.assert_allclose(sim.position, projected.position[-1], rtol=0, atol=1e-15)

@@ -25,7 +25,8 @@ _PARSE_ERROR = -14  # TB_STATUS_PARSE_ERROR (include/tumble/status.h)
 
 library_version = lib.tb_version().decode()
 
-METHODS = ("euler", "midpoint", "rk4", "cvode-adams", "cvode-bdf")
+METHODS = ("euler", "midpoint", "rk4", "cvode-adams", "cvode-bdf", "rosenbrock",
+           "ark-imex")
 
 
 class TumbleError(Exception):

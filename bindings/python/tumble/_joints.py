@@ -62,3 +62,15 @@ def broken(handle, joint) -> bool:
     flag = ctypes.c_bool()
     _check(handle, lib.tb_scene_joint_broken(handle, _index(joint), ctypes.byref(flag)))
     return flag.value
+
+
+def project(handle, tolerance=0.0) -> float:
+    """Projects the scene's states onto its joints, positions then velocities
+    (tb_scene_project_joints); returns the largest joint error left (m or rad, m/s or rad/s).
+    tolerance: the largest accepted, 0 for the library's 1e-12. A start the projection cannot
+    bring within it raises TumbleError (SOLVER_FAILED, naming the joint), the states unchanged."""
+    if isinstance(tolerance, bool) or not isinstance(tolerance, (int, float, np.floating)):
+        raise TypeError(f"tolerance must be a number, got {type(tolerance).__name__}")
+    left = ctypes.c_double()
+    _check(handle, lib.tb_scene_project_joints(handle, float(tolerance), ctypes.byref(left)))
+    return left.value

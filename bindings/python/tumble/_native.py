@@ -355,6 +355,8 @@ def _declare(lib):
                                                 c_double_p, c_double_p]),
         "tb_scene_joint_broken": (ctypes.c_int, [ctypes.c_void_p, ctypes.c_size_t,
                                                  ctypes.POINTER(ctypes.c_bool)]),
+        "tb_scene_project_joints": (ctypes.c_int, [ctypes.c_void_p, ctypes.c_double,
+                                                   c_double_p]),
     }
     for name, (restype, argtypes) in signatures.items():
         function = getattr(lib, name)

@@ -392,10 +392,12 @@ class Scene:
             threads: Optional[int] = None, max_steps: Optional[int] = None,
             sleeping: Optional[bool] = None, events: bool = False,
             on_event: Optional[Callable[[dict], None]] = None,
-            hit_speed: float = 0.0, joint_reactions: bool = False) -> "Frames":
+            hit_speed: float = 0.0, joint_reactions: bool = False,
+            project_joints: bool = False) -> "Frames":
         """Simulates the scene from its initial state for `duration` seconds (the file's settings
-        unless given here: method "euler", "midpoint", "rk4", "cvode-adams" or "cvode-bdf"; dt in
-        s for the fixed-step methods, rtol and atol for CVODE, frames per second fps) and returns
+        unless given here: method "euler", "midpoint", "rk4", "rosenbrock", "cvode-adams",
+        "cvode-bdf" or "ark-imex"; dt in s for the fixed-step methods, rtol and atol for the
+        adaptive ones, frames per second fps) and returns
         every frame (t = k / fps, k = 0, 1, ...) as Frames. The whole run is one library call
         (tb_scene_run) that fills each frame in one more (tb_scene_frame_values); Python runs
         only between frames, where on_frame(k, t, values) is called if given (values: the frame's
@@ -412,13 +414,17 @@ class Scene:
         hits closing slower are left out (begins and ends never). joint_reactions: keep each
         joint's reaction on its first body at every frame in frames.joint_force, joint_torque
         and joint_broken (tb_scene_joint_reaction: a derivative evaluation a joint a frame).
-        Raises TumbleError if the integrator refuses the settings or the run fails;
+        project_joints: project the start onto the joints first (positions, then velocities, to
+        1e-12: tb_scene_project_joints, the CLI's --project-joints; TumbleError SOLVER_FAILED if
+        it cannot). Raises TumbleError if the integrator refuses the settings or the run fails;
         a KeyboardInterrupt (Ctrl-C, seen at the next frame) or an exception from on_frame stops
         the run, and the frames made so far are on the exception's `frames` attribute."""
         handle, run = self._load()
         asleep = ctypes.c_size_t()
         try:
             apply_settings(run, method, dt, rtol, atol, fps, duration, threads, max_steps)
+            if project_joints:
+                _joints.project(handle)
             if sleeping is not None:
                 lib.tb_scene_set_sleeping(handle, bool(sleeping))
             recorder = _Recorder(handle, run, self.masses, on_frame,

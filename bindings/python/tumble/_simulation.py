@@ -32,15 +32,18 @@ class Simulation:
 
     Construction: scene is a Scene, a SceneBuilder, a scene-file path or a dict in the
     scene-file format;
-    method one of tumble.METHODS ("euler", "midpoint", "rk4", "cvode-adams", "cvode-bdf"),
-    dt (s) for the fixed-step methods, rtol and atol for CVODE (the scene file's integrator
-    unless given; an option the method does not read is a ValueError, as in the CLI); threads
+    method one of tumble.METHODS ("euler", "midpoint", "rk4", "cvode-adams", "cvode-bdf",
+    "rosenbrock", "ark-imex"), dt (s) for the fixed-step methods, rtol and atol for the adaptive
+    ones (the scene file's integrator unless given; an option the method does not read is a
+    ValueError, as in the CLI); threads
     (fixed-step methods, bodies that do not interact) shares each step among threads, with the
     same bits for any count (0: one per processor; default 1); max_steps (every method) the
     steps one advance() or step() may take (the scene file's, default 100000: advance(5.0) at
     a step of 1e-5 s needs max_steps=500000 or more, else TumbleError TOO_MANY_STEPS before any
     step). A fixed step beyond the scene's stability limit is refused (TumbleValueError,
-    UNSTABLE_STEP).
+    UNSTABLE_STEP). project_joints: project the start onto the joints first, positions then
+    velocities, to 1e-12 (tb_scene_project_joints; the CLI's --project-joints), TumbleError
+    SOLVER_FAILED if it cannot; project_joints(tolerance) does it at any time.
 
     State (N bodies with a state, the dynamic ones, in the order of dynamic_bodies, their ids:
     every body but the static and keyframed ones, which have no state; world frame, z up, SI
@@ -73,7 +76,8 @@ class Simulation:
     def __init__(self, scene: Union[Scene, "SceneBuilder", str, dict], method: Optional[str] = None,
                  dt: Optional[float] = None, rtol: Optional[float] = None,
                  atol: Optional[float] = None, forces: Sequence[ForceFunction] = (),
-                 threads: Optional[int] = None, max_steps: Optional[int] = None):
+                 threads: Optional[int] = None, max_steps: Optional[int] = None,
+                 project_joints: bool = False):
         self.scene = Scene.coerce(scene)
         self._handle, run = self.scene._load()
         self._integrator = ctypes.c_void_p()
@@ -86,6 +90,8 @@ class Simulation:
             self._views()
             for force in forces:
                 self._add_user_effect(force)
+            if project_joints:  # before the integrator, which keeps its own copy (CVODE)
+                _joints.project(self._handle)
             self._create_integrator(0.0)
         except BaseException:
             self._free()
@@ -361,6 +367,17 @@ class Simulation:
     def joint_broken(self, joint: int) -> bool:
         """Whether joint `joint` has broken in the run so far (tb_scene_joint_broken)."""
         return _joints.broken(self._handle, joint)
+
+    def project_joints(self, tolerance: float = 0.0) -> float:
+        """Projects the current state onto the joints, positions by the mass-weighted least
+        change, then velocities, as after every step (tb_scene_project_joints), and restarts
+        the integrator from it; returns the largest joint error left (m or rad, m/s or rad/s).
+        tolerance: the largest error accepted, 0 for the library's 1e-12. A state the
+        projection cannot bring within it raises TumbleError (SOLVER_FAILED, naming the joint
+        and its error) and changes nothing."""
+        left = _joints.project(self._handle, tolerance)
+        self._restart(self.t)
+        return left
 
     def set_state(self, body: Body, position=None, quaternion=None, momentum=None,
                   angular_momentum=None) -> None:

