@@ -29,9 +29,11 @@
  * it got and at what cost.
  *
  * usage: bench_peer_contact [--quick] [--case NAME] [--engine tumble|mujoco] [--no-bdf]
- *                           [--repeats N]
+ *                           [--implicit] [--repeats N]
  *        bench_peer_contact --describe [--quick] [--case NAME]   (the worlds as a JSON array)
- * --no-bdf: tumble's RK4 rows only (the spheres and the cloud have none in any case: run_case). */
+ * --no-bdf: tumble's RK4 rows only (the spheres and the cloud have none in any case: run_case).
+ * --implicit: also rosenbrock at 1/240 s and ark-imex (sparse Jacobian) at rtol 1e-6, where
+ * BDF runs. */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include "bench_common.h"
 #include "bench_peer_cases.h"
@@ -50,6 +52,7 @@
 #define MUJOCO_STIFF_STEP 0.001
 #define MUJOCO_STIFF_SOLREF 0.002
 #define BDF_RTOL 1e-6
+#define ROSENBROCK_STEP (1.0 / 240.0) /* --implicit: the fixed step an animator asks for */
 #define CPU_BUDGET 120.0 /* s: a tumble run stops at the first sample past it (its row nan) */
 /* CVODE's steps between two samples (10 ms) at most: 2e6 steps per simulated second, 40 times
  * what BDF takes on the dice; past it BDF has stalled (on the spheres its steps fall to 1e-13 s),
@@ -346,7 +349,7 @@ static void row(kind k, const char *engine, size_t bodies, const char *method, d
 }
 
 typedef struct options {
-    int quick, describe, repeats, tumble, mujoco, bdf;
+    int quick, describe, repeats, tumble, mujoco, bdf, implicit;
     int cases[CASES];
 } options;
 
@@ -358,16 +361,22 @@ static void run_case(kind k, const options *o)
         fprintf(stderr, "bench_peer_contact: cannot make %s\n", case_names[k]);
         exit(1);
     }
-    enum { SETTINGS = 4 };
+    enum { SETTINGS = 6, TUMBLE_SETTINGS = 4 };
     const double dt = tumble_default_step(k, o->quick);
-    static const char *const engine[] = {"tumble", "tumble", "mujoco", "mujoco"};
-    static const char *const method[] = {"rk4", "cvode-bdf-sparse", "euler", "euler-stiff"};
-    const double settings[] = {dt, BDF_RTOL, MUJOCO_DEFAULT_STEP, MUJOCO_STIFF_STEP};
+    static const char *const engine[] = {"tumble", "tumble", "tumble",
+                                         "tumble", "mujoco", "mujoco"};
+    static const char *const method[] = {
+        "rk4", "cvode-bdf-sparse", "rosenbrock", "ark-imex-sparse", "euler", "euler-stiff"};
+    static const tb_method methods[] = {TB_METHOD_RK4, TB_METHOD_CVODE_BDF, TB_METHOD_ROSENBROCK,
+                                        TB_METHOD_ARK_IMEX};
+    const double settings[] = {
+        dt, BDF_RTOL, ROSENBROCK_STEP, BDF_RTOL, MUJOCO_DEFAULT_STEP, MUJOCO_STIFF_STEP};
     /* BDF not on the spheres, where it spends minutes of CPU in KLU's refactorisations within
      * one 10 ms sample (its steps fall to 1e-13 s) before any budget is checked, nor on the
      * cloud, where it stops at t = 0.017 s after 2 minutes, its steps for a sample spent */
     const int bdf = o->tumble && o->bdf && !o->quick && k != CASE_SPHERES && k != CASE_CLOUD;
-    const int on[] = {o->tumble, bdf, o->mujoco, o->mujoco};
+    const int implicit = bdf && o->implicit;
+    const int on[] = {o->tumble, bdf, implicit, implicit, o->mujoco, o->mujoco};
     double times[SETTINGS][MAX_REPEATS];
     result runs[SETTINGS];
     const double duration = case_duration(k, o->quick);
@@ -376,11 +385,10 @@ static void run_case(kind k, const options *o)
             if (!on[e]) {
                 continue;
             }
-            if (e < 2) {
-                runs[e] = tumble_run(k, &w, e == 0 ? TB_METHOD_RK4 : TB_METHOD_CVODE_BDF,
-                                     settings[e], o->quick);
+            if (e < TUMBLE_SETTINGS) {
+                runs[e] = tumble_run(k, &w, methods[e], settings[e], o->quick);
             } else {
-                runs[e] = mujoco_run(&w, settings[e], e == 3 ? MUJOCO_STIFF_SOLREF : 0.0, duration,
+                runs[e] = mujoco_run(&w, settings[e], e == 5 ? MUJOCO_STIFF_SOLREF : 0.0, duration,
                                      case_sample(k));
             }
             times[e][j] = runs[e].seconds;
@@ -425,6 +433,8 @@ static void parse(int argc, char **argv, options *o)
             o->describe = 1;
         } else if (strcmp(argv[a], "--no-bdf") == 0) {
             o->bdf = 0;
+        } else if (strcmp(argv[a], "--implicit") == 0) {
+            o->implicit = 1;
         } else if (strcmp(argv[a], "--repeats") == 0 && a + 1 < argc) {
             o->repeats = atoi(argv[++a]);
         } else if (strcmp(argv[a], "--engine") == 0 && a + 1 < argc) {
@@ -439,7 +449,7 @@ static void parse(int argc, char **argv, options *o)
             chosen = 1;
         } else {
             fprintf(stderr, "usage: bench_peer_contact [--quick] [--describe] [--case NAME] "
-                            "[--engine tumble|mujoco] [--no-bdf] [--repeats N]\n");
+                            "[--engine tumble|mujoco] [--no-bdf] [--implicit] [--repeats N]\n");
             exit(2);
         }
     }
