@@ -142,7 +142,12 @@ typedef int (*tb_accuracy_fn)(size_t index, const tb_accuracy_result *result, vo
  * states are as they were on return, success or not. Fails (with out_error naming the cause) on
  * bad arguments, or when the reference or check run fails (under AUTO: when RK4 fails too): then
  * the status and detail are the run's, prefixed with which run it was. A setting whose run
- * fails is not a failure of the sweep: its result says why. No printing. */
+ * fails is not a failure of the sweep: its result says why. Budgets that keep a sweep on
+ * contact short: on a scene with events an adaptive setting may take at most 4 times the RK4
+ * reference's steps a frame (more would cost more derivatives than the reference), and where
+ * the reference is RK4 a setting stops at the first frame past 1.5 times the reference run's
+ * CPU time (it would cost more than the more accurate reference; which rows finish can then
+ * depend on the machine's load); both fail the row with TB_STATUS_TOO_MANY_STEPS. No printing. */
 TB_API tb_status tb_scene_accuracy_sweep(tb_scene *scene, const tb_run_def *run,
                                          const tb_accuracy_def *def, tb_accuracy_fn on_result,
                                          void *ctx, tb_accuracy_result *out_results,
