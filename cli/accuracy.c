@@ -1,17 +1,37 @@
 /* tumble accuracy: the library's sweep (tb_scene_accuracy_sweep) on the user's scene, printed
  * as a table as each setting finishes, with the cheapest setting for the error budget and an
  * optional chart. */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include "chart.h"
 #include "commands.h"
 #include "output.h"
 
 #include <stdio.h>
 #include <string.h>
+#include <time.h>
+
+/* Seconds between progress lines (wall clock): a line when a setting is done, and within a run
+ * one whenever the last line is this old, naming the run and how far it got; so a sweep of
+ * minutes says where it is and a short one prints a line per setting. */
+#define PROGRESS_INTERVAL 5.0
+
+/* The sweep's progress on standard error (the table stays alone on standard output). */
+typedef struct progress {
+    double started, last; /* wall clock, s: the sweep's start, the last line */
+} progress;
 
 typedef struct table {
     cli_output *out;
     size_t count;
+    progress *progress;
 } table;
+
+static double wall_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
 
 static void format_setting(char *out, size_t size, tb_method method, double setting)
 {
@@ -22,13 +42,44 @@ static void format_setting(char *out, size_t size, tb_method method, double sett
     }
 }
 
+/* Which run a report is about: "reference rk4 dt 1/309120", "[ 3/17] euler dt 1/336000". */
+static void describe_run(char *out, size_t size, const tb_accuracy_progress *p)
+{
+    char setting[32];
+    format_setting(setting, sizeof setting, p->method, p->setting);
+    if (p->kind == TB_ACCURACY_RUN_SETTING) {
+        snprintf(out, size, "[%2zu/%zu] %s %s", p->index + 1, p->count, tb_method_name(p->method),
+                 setting);
+    } else {
+        snprintf(out, size, "%s %s %s",
+                 p->kind == TB_ACCURACY_RUN_REFERENCE ? "reference" : "check",
+                 tb_method_name(p->method), setting);
+    }
+}
+
+static void show_progress(const tb_accuracy_progress *p, void *ctx)
+{
+    progress *w = ctx;
+    const double clock = wall_seconds();
+    if (clock - w->last < PROGRESS_INTERVAL) {
+        return;
+    }
+    w->last = clock;
+    char what[96];
+    describe_run(what, sizeof what, p);
+    fprintf(stderr, "tumble accuracy: %s: t = %.4g of %.4g s, %.0f s elapsed\n", what, p->t,
+            p->duration, clock - w->started);
+}
+
 static int print_row(size_t index, const tb_accuracy_result *r, void *ctx)
 {
     table *t = ctx;
     char setting[32];
     format_setting(setting, sizeof setting, r->method, r->setting);
-    fprintf(stderr, "  [%2zu/%zu] %s %s\n", index + 1, t->count, tb_method_name(r->method),
-            setting);
+    fprintf(stderr, "tumble accuracy: [%2zu/%zu] %s %s: done in %.2f s of CPU, %.0f s elapsed\n",
+            index + 1, t->count, tb_method_name(r->method), setting, r->cpu_seconds,
+            wall_seconds() - t->progress->started);
+    t->progress->last = wall_seconds();
     if (r->status == TB_STATUS_OK) {
         cli_output_printf(t->out, "%-12s %-12s %10.3e  %12.3e  %11.3e  %8.2f  %11ld  %10.3e\n",
                           tb_method_name(r->method), setting, r->error, r->position_error,
@@ -107,9 +158,12 @@ static int sweep(const cli_options *o, tb_scene *scene, const tb_run_def *run, c
     def.settings = settings;
     const double target = o->has_target ? o->target_error : 1e-3;
     def.horizon_tolerance = 0.1 * target; /* the reference known to a tenth of the budget */
+    progress shown = {wall_seconds(), wall_seconds()};
+    def.progress = show_progress;
+    def.progress_ctx = &shown;
     tb_accuracy_result results[32];
     tb_accuracy_reference reference;
-    table t = {out, def.setting_count};
+    table t = {out, def.setting_count, &shown};
     tb_error error;
     fprintf(stderr,
             "tumble accuracy: %s: reference runs (cvode-bdf at rtol %g and %g; if they fail, rk4 "

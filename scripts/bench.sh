@@ -21,6 +21,10 @@ if [ ! -x build/bench-venv/bin/python ]; then
 fi
 build/bench-venv/bin/python -c "import matplotlib" 2>/dev/null ||
     build/bench-venv/bin/pip install --quiet matplotlib
+# PyBullet for bench_peer_pybullet.py (bench_peer_contact's worlds in the third engine).
+build/bench-venv/bin/python -c "import pybullet, numpy" 2>/dev/null ||
+    build/bench-venv/bin/pip install --quiet pybullet numpy ||
+    echo "bench: pybullet could not be installed: bench_peer_pybullet is skipped" >&2
 ls build/bench-venv/lib/python3*/site-packages/mujoco/libmujoco.so* >/dev/null 2>&1 ||
     build/bench-venv/bin/pip install --quiet mujoco-core ||
     echo "bench: mujoco-core could not be installed: bench_peer runs tumble alone" >&2
@@ -33,6 +37,13 @@ for bench in bench_work_precision bench_torque_free_top bench_bdf_scaling bench_
     echo "bench: $bench" >&2
     "build/bench/$bench" "${quick[@]}" >"$out/$bench.csv"
 done
+echo "bench: bench_peer_pybullet" >&2
+status=0
+build/bench-venv/bin/python bench/bench_peer_pybullet.py "${quick[@]}" \
+    --describe-with build/bench/bench_peer_contact >"$out/bench_peer_pybullet.csv" || status=$?
+if [ "$status" != 0 ] && [ "$status" != 77 ]; then # 77: pybullet missing, said on stderr
+    exit "$status"
+fi
 build/bench-venv/bin/python bench/plot_work_precision.py "$out/bench_work_precision.csv" \
     "$out/work_precision.png"
 echo "bench: results in $out" >&2

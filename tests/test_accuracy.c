@@ -128,6 +128,56 @@ static void test_the_callback_can_stop_the_sweep(void **state)
     tb_scene_destroy(scene);
 }
 
+/* Progress reports: every run (reference, check, each setting in order) reported from t = 0 to
+ * its end at each of its frames (1 s at 5 fps: 6 frames, t = 0 to 1 s exactly). */
+typedef struct progress_log {
+    size_t reports, starts, ends;
+    tb_accuracy_run_kind kinds[8];
+    size_t indices[8];
+} progress_log;
+
+static void log_progress(const tb_accuracy_progress *p, void *ctx)
+{
+    progress_log *log = ctx;
+    log->reports += 1;
+    assert_true(p->t >= 0.0 && p->t <= p->duration);
+    assert_int_equal(p->count, 2);
+    if (p->t == 0.0 && log->starts < 8) {
+        log->kinds[log->starts] = p->kind;
+        log->indices[log->starts] = p->index;
+        log->starts += 1;
+    }
+    log->ends += p->t == p->duration;
+}
+
+static void test_progress_is_reported_for_every_run(void **state)
+{
+    (void)state;
+    tb_run_def run;
+    tb_scene *scene = top(&run);
+    const tb_accuracy_setting settings[] = {{TB_METHOD_RK4, 60}, {TB_METHOD_CVODE_ADAMS, 1e-6}};
+    tb_accuracy_def def = tb_accuracy_def_default();
+    def.settings = settings;
+    def.setting_count = 2;
+    progress_log log = {0};
+    def.progress = log_progress;
+    def.progress_ctx = &log;
+    tb_accuracy_result r[2];
+    assert_int_equal(tb_scene_accuracy_sweep(scene, &run, &def, NULL, NULL, r, NULL, NULL),
+                     TB_STATUS_OK);
+    assert_int_equal(log.starts, 4);
+    assert_int_equal(log.ends, 4);
+    assert_int_equal(log.reports, 4 * 6);
+    const tb_accuracy_run_kind kinds[4] = {TB_ACCURACY_RUN_REFERENCE, TB_ACCURACY_RUN_CHECK,
+                                           TB_ACCURACY_RUN_SETTING, TB_ACCURACY_RUN_SETTING};
+    for (int k = 0; k < 4; ++k) {
+        assert_int_equal(log.kinds[k], kinds[k]);
+    }
+    assert_int_equal(log.indices[2], 0);
+    assert_int_equal(log.indices[3], 1);
+    tb_scene_destroy(scene);
+}
+
 static void test_bad_input_is_refused_by_kind(void **state)
 {
     (void)state;
@@ -169,6 +219,7 @@ int main(void)
         cmocka_unit_test(test_the_scene_is_left_as_it_was),
         cmocka_unit_test(test_a_failed_reference_says_which_run_and_why),
         cmocka_unit_test(test_the_callback_can_stop_the_sweep),
+        cmocka_unit_test(test_progress_is_reported_for_every_run),
         cmocka_unit_test(test_bad_input_is_refused_by_kind),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

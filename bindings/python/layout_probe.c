@@ -116,6 +116,8 @@ int main(void)
     FIELD(tb_accuracy_def, reference);
     FIELD(tb_accuracy_def, reference_step_fraction);
     FIELD(tb_accuracy_def, horizon_tolerance);
+    FIELD(tb_accuracy_def, progress);
+    FIELD(tb_accuracy_def, progress_ctx);
     FIELD(tb_accuracy_def, internal_cookie);
     printf("\"_\": 0},\n");
 

@@ -46,6 +46,28 @@ typedef enum tb_accuracy_reference_kind {
     TB_ACCURACY_REFERENCE_RK4,
 } tb_accuracy_reference_kind;
 
+/* Which run of the sweep a progress report is about. */
+typedef enum tb_accuracy_run_kind {
+    TB_ACCURACY_RUN_REFERENCE = 0, /* the reference run (under AUTO: BDF, then RK4 if it failed) */
+    TB_ACCURACY_RUN_CHECK,         /* the check run that bounds the reference's own error */
+    TB_ACCURACY_RUN_SETTING        /* a setting of the sweep */
+} tb_accuracy_run_kind;
+
+/* How far the sweep has got: reported at the start of every run (t = 0) and at each of its
+ * frames, so that a front end can show progress on a long sweep (`tumble accuracy`). */
+typedef struct tb_accuracy_progress {
+    tb_accuracy_run_kind kind;
+    size_t index;     /* the setting's index (TB_ACCURACY_RUN_SETTING), else 0 */
+    size_t count;     /* the settings in the sweep */
+    tb_method method; /* the run's method and its setting, as tb_accuracy_setting */
+    double setting;
+    double t;        /* s: the frame the run has reached */
+    double duration; /* s: where the run ends */
+} tb_accuracy_progress;
+
+/* Called with the sweep's progress (see tb_accuracy_progress); it must not change the scene. */
+typedef void (*tb_accuracy_progress_fn)(const tb_accuracy_progress *progress, void *ctx);
+
 typedef struct tb_accuracy_def {
     const tb_accuracy_setting *settings; /* NULL: the default sweep */
     size_t setting_count;                /* settings' length (ignored for the default) */
@@ -64,6 +86,8 @@ typedef struct tb_accuracy_def {
      * horizon_tolerance (m, the error's measure) from the reference, where the reference is still
      * known to that tolerance. 0 or INFINITY: every frame. Default 1e-4 m. */
     double horizon_tolerance;
+    tb_accuracy_progress_fn progress; /* NULL (the default): no progress reports */
+    void *progress_ctx;               /* passed to progress */
     int internal_cookie;
 } tb_accuracy_def;
 
@@ -118,7 +142,12 @@ typedef int (*tb_accuracy_fn)(size_t index, const tb_accuracy_result *result, vo
  * states are as they were on return, success or not. Fails (with out_error naming the cause) on
  * bad arguments, or when the reference or check run fails (under AUTO: when RK4 fails too): then
  * the status and detail are the run's, prefixed with which run it was. A setting whose run
- * fails is not a failure of the sweep: its result says why. No printing. */
+ * fails is not a failure of the sweep: its result says why. Budgets that keep a sweep on
+ * contact short: on a scene with events an adaptive setting may take at most 4 times the RK4
+ * reference's steps a frame (more would cost more derivatives than the reference), and where
+ * the reference is RK4 a setting stops at the first frame past 1.5 times the reference run's
+ * CPU time (it would cost more than the more accurate reference; which rows finish can then
+ * depend on the machine's load); both fail the row with TB_STATUS_TOO_MANY_STEPS. No printing. */
 TB_API tb_status tb_scene_accuracy_sweep(tb_scene *scene, const tb_run_def *run,
                                          const tb_accuracy_def *def, tb_accuracy_fn on_result,
                                          void *ctx, tb_accuracy_result *out_results,

@@ -16,6 +16,8 @@
 
 #define TB__ACCURACY_COOKIE 0x5ac1
 #define TB__POSE 7 /* x[3], q[4] */
+/* A setting's CPU budget in RK4 reference runs (see sweep) */
+#define TB__REFERENCE_CPU_FACTOR 1.5
 
 static const tb_accuracy_setting default_sweep[] = {
     {TB_METHOD_EULER, 240},        {TB_METHOD_EULER, 1000},       {TB_METHOD_EULER, 4000},
@@ -104,7 +106,22 @@ typedef struct comparison {
     double horizon;   /* s: the last frame compared */
     double position, angle, displacement;
     double energy, reference_energy; /* J, at the latest frame of the run and of the reference */
+    tb_accuracy_progress_fn progress_fn; /* the def's, NULL for none */
+    void *progress_ctx;
+    tb_accuracy_progress progress; /* the run under way: kind and index set before run_one */
+    /* A setting's run stops at the frame past cpu_limit s of CPU (0: none; see sweep) */
+    double cpu_limit, reference_cpu; /* s; the reference run's CPU time */
+    clock_t started;
+    int over; /* the run under way passed cpu_limit */
 } comparison;
+
+static void report(comparison *c, double t)
+{
+    if (c->progress_fn != NULL) {
+        c->progress.t = t;
+        c->progress_fn(&c->progress, c->progress_ctx);
+    }
+}
 
 static int record(comparison *c, const double *y)
 {
@@ -177,6 +194,7 @@ static int on_frame(size_t frame, double t, const tb_scene *scene, void *ctx)
 {
     comparison *c = ctx;
     const double *y = tb_scene_states_const(scene);
+    report(c, t);
     if (c->recording) {
         c->reference_energy = energy(scene, y);
         return record(c, y);
@@ -184,6 +202,10 @@ static int on_frame(size_t frame, double t, const tb_scene *scene, void *ctx)
     c->energy = energy(scene, y);
     if (frame < c->frames && frame < c->limit) {
         compare(c, frame, t, y);
+    }
+    if (c->cpu_limit > 0.0 && (double)(clock() - c->started) / CLOCKS_PER_SEC > c->cpu_limit) {
+        c->over = 1;
+        return 1; /* the run stops here (TB_STATUS_CANCELLED, turned into the budget's status) */
     }
     return 0;
 }
@@ -206,9 +228,14 @@ static tb_status run_one(tb_scene *scene, const tb_run_def *base, const double *
     }
     memcpy(tb_scene_states(scene), start, tb_scene_state_size(scene) * sizeof(double));
     c->position = c->angle = c->displacement = 0.0;
+    c->progress.method = setting->method;
+    c->progress.setting = setting->setting;
+    c->progress.duration = run.duration; /* reported from on_frame, t = 0 first */
     tb_integrator_stats stats;
     tb_error error;
     const clock_t started = clock();
+    c->started = started;
+    c->over = 0;
     const tb_status status = tb_scene_run(scene, &run, on_frame, c, &stats, &error);
     memset(out, 0, sizeof *out);
     out->method = setting->method;
@@ -223,6 +250,11 @@ static tb_status run_one(tb_scene *scene, const tb_run_def *base, const double *
             out->status = TB_STATUS_OUT_OF_MEMORY;
             tb__set_detail(out->detail, out->status, "no memory for the reference's %zu frames",
                            c->frames);
+        } else if (status == TB_STATUS_CANCELLED && c->over) {
+            out->status = TB_STATUS_TOO_MANY_STEPS;
+            tb__set_detail(out->detail, out->status,
+                           "stopped at t = %g s: more than %g s of CPU, %g times the reference's",
+                           c->progress.t, c->cpu_limit, TB__REFERENCE_CPU_FACTOR);
         }
     }
     out->error = c->displacement;
@@ -311,7 +343,12 @@ static tb_status reference_pair(tb_scene *scene, const tb_run_def *run, const do
     for (int k = 0; k < 2; ++k) {
         c->recording = k == 0;
         c->checking = k == 1;
+        c->progress.kind = k == 0 ? TB_ACCURACY_RUN_REFERENCE : TB_ACCURACY_RUN_CHECK;
+        c->progress.index = 0;
         const tb_status status = run_one(scene, run, start, def, &pair[k], c, result);
+        if (k == 0) {
+            c->reference_cpu = result->cpu_seconds;
+        }
         if (status != TB_STATUS_OK) {
             char what[80];
             describe(what, sizeof what, &pair[k]);
@@ -420,6 +457,31 @@ static tb_status reference_runs(tb_scene *scene, const tb_run_def *run, const do
     return status;
 }
 
+/* def for the sweep's adaptive settings on a scene with events (contact, ground): their step
+ * budget per frame no larger than TB__DERIVATIVES_PER_RK4_STEP times the RK4 reference's steps
+ * per frame. A CVODE step costs at least one derivative and an RK4 step four, so a setting past
+ * that budget spends more derivatives on the frame than the reference itself; it fails
+ * (TB_STATUS_TOO_MANY_STEPS, in its row) instead of creeping: on the twelve example dice over
+ * 0.5 s BDF at rtol 1e-5 crept at the first landings for more than 16 minutes of one core with
+ * the million steps a frame allows (docs/accuracy.md has the sweep's cost now). Elsewhere def's
+ * budget. */
+#define TB__DERIVATIVES_PER_RK4_STEP 4.0
+static tb_accuracy_def adaptive_budget(tb_scene *scene, const tb_run_def *run, const double *start,
+                                       const tb_accuracy_def *def)
+{
+    tb_accuracy_def capped = *def;
+    tb_accuracy_setting rk4[2];
+    tb_error ignored;
+    if (tb__scene_has_events(scene) && run->fps > 0.0 &&
+        rk4_pair(scene, start, def, rk4, &ignored) == TB_STATUS_OK) {
+        const double steps = TB__DERIVATIVES_PER_RK4_STEP * ceil(rk4[0].setting / run->fps);
+        if (steps < (double)capped.max_steps) {
+            capped.max_steps = (long)steps;
+        }
+    }
+    return capped;
+}
+
 static tb_status sweep(tb_scene *scene, const tb_run_def *run, const tb_accuracy_def *def,
                        tb_accuracy_fn on_result, void *ctx, comparison *c, const double *start,
                        tb_accuracy_result *out_results, tb_accuracy_reference *out_reference,
@@ -430,8 +492,22 @@ static tb_status sweep(tb_scene *scene, const tb_run_def *run, const tb_accuracy
     if (out_reference != NULL) {
         *out_reference = reference;
     }
+    const tb_accuracy_def adaptive = adaptive_budget(scene, run, start, def);
+    /* Where the reference is RK4 (BDF could not be one: kinks, chaos), a setting that has spent
+     * more CPU than the reference run costs more than the reference, the more accurate by
+     * construction: past TB__REFERENCE_CPU_FACTOR times it (a margin for the machine's noise:
+     * Adams at rtol 1e-9 on the dice costs 1.25 times the reference) it stops at the next frame,
+     * its row failed (TB_STATUS_TOO_MANY_STEPS).
+     * On the twelve example dice ark-imex at rtol 1e-3 took 110 s of CPU without it (the
+     * reference about 9 s), and the sweep over 250 s. */
+    c->cpu_limit = status == TB_STATUS_OK && reference.method == TB_METHOD_RK4
+                       ? TB__REFERENCE_CPU_FACTOR * c->reference_cpu
+                       : 0.0;
     for (size_t k = 0; k < def->setting_count && status == TB_STATUS_OK; ++k) {
-        run_one(scene, run, start, def, &def->settings[k], c, &out_results[k]);
+        c->progress.kind = TB_ACCURACY_RUN_SETTING;
+        c->progress.index = k;
+        const bool capped = tb_method_is_adaptive(def->settings[k].method);
+        run_one(scene, run, start, capped ? &adaptive : def, &def->settings[k], c, &out_results[k]);
         if (on_result != NULL && on_result(k, &out_results[k], ctx) != 0) {
             status = tb__set_error(error, TB_STATUS_CANCELLED,
                                    "the result callback stopped the sweep after setting %zu", k);
@@ -471,7 +547,11 @@ tb_status tb_scene_accuracy_sweep(tb_scene *scene, const tb_run_def *run,
         const double largest = fmax(mass.moments[0], fmax(mass.moments[1], mass.moments[2]));
         length[i] = sqrt(largest / mass.mass);
     }
-    comparison c = {.bodies = bodies, .length = length};
+    comparison c = {.bodies = bodies,
+                    .length = length,
+                    .progress_fn = chosen.progress,
+                    .progress_ctx = chosen.progress_ctx,
+                    .progress = {.count = chosen.setting_count}};
     status = sweep(scene, run, &chosen, on_result, ctx, &c, start, out_results, out_reference,
                    out_error);
     memcpy(tb_scene_states(scene), start, size * sizeof(double));

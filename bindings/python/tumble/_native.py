@@ -93,6 +93,8 @@ class AccuracyDef(ctypes.Structure):
         ("reference", ctypes.c_int),
         ("reference_step_fraction", ctypes.c_double),
         ("horizon_tolerance", ctypes.c_double),
+        ("progress", ctypes.c_void_p),
+        ("progress_ctx", ctypes.c_void_p),
         ("internal_cookie", ctypes.c_int),
     ]
 
