@@ -21,7 +21,8 @@ TITLES = {
     "drag": "projectile with linear drag",
     "chain": "chain of three boxes on springs",
 }
-STYLE = {"euler": "o-", "midpoint": "s-", "rk4": "^-", "cvode-adams": "D-", "cvode-bdf": "v-"}
+STYLE = {"euler": "o-", "midpoint": "s-", "rk4": "^-", "cvode-adams": "D-", "cvode-bdf": "v-",
+         "rosenbrock": "P-", "ark-imex": "X-"}
 
 
 def main(source, target):
@@ -37,7 +38,7 @@ def main(source, target):
                 quantity = r["quantity"]
         for method, points in lines.items():
             points.sort()
-            axis.loglog([p[0] for p in points], [p[1] for p in points], STYLE[method],
+            axis.loglog([p[0] for p in points], [p[1] for p in points], STYLE.get(method, "x-"),
                         label=method, markersize=4)
         axis.set_title(TITLES.get(problem, problem))
         axis.set_xlabel("CPU time (ms)")
