@@ -211,7 +211,7 @@ tb_status tb__scene_check_step(const tb_scene *scene, const double *y, tb_method
         return tb__set_detail(
             detail, TB_STATUS_UNSTABLE_STEP,
             "dt: no fixed step is stable: the rate of %s is not a number; use "
-            "an adaptive method (cvode-adams, cvode-bdf), rosenbrock or allow_unstable",
+            "an adaptive method (cvode-adams, cvode-bdf, ark-imex), rosenbrock or allow_unstable",
             g.which);
     }
     if (!(dt > g.dt)) {
@@ -221,7 +221,7 @@ tb_status tb__scene_check_step(const tb_scene *scene, const double *y, tb_method
         detail, TB_STATUS_UNSTABLE_STEP,
         "dt: %g s is beyond %s's stability limit for %s: use dt <= %.3g s (dt = 0: "
         "the scene's default step, %.3g s), an adaptive method (cvode-adams, "
-        "cvode-bdf), rosenbrock, or allow_unstable",
+        "cvode-bdf, ark-imex), rosenbrock, or allow_unstable",
         dt, tb_method_name(method), g.which, g.dt, tb__scene_default_step(scene, y, method));
 }
 
