@@ -165,28 +165,7 @@ static tb_status create_memory(tb_integrator *integrator, const tb_integrator_de
 static tb_status arkode_create(tb_integrator *integrator, const tb_integrator_def *def,
                                tb_error *error)
 {
-    tb_status status = tb__sundials_validate(integrator, def, error);
-    if (status == TB_STATUS_OK) {
-        status = tb__sundials_create(integrator, &arkode_ops, error);
-    }
-    if (status == TB_STATUS_OK) {
-        status = create_memory(integrator, def, error);
-    }
-    if (status == TB_STATUS_OK) {
-        status = tb__sundials_set_tolerances_and_options(integrator, def, error);
-    }
-    if (status == TB_STATUS_OK) {
-        status = tb__cvode_set_solvers(integrator, def, error);
-    }
-    if (status == TB_STATUS_OK) {
-        status = tb__cvode_events_init(integrator, error);
-    }
-    if (status != TB_STATUS_OK) {
-        tb__sundials_destroy(integrator);
-        return status;
-    }
-    tb__sundials_created(integrator);
-    return TB_STATUS_OK;
+    return tb__sundials_make(integrator, def, &arkode_ops, create_memory, NULL, error);
 }
 
 const tb__backend tb__arkode_backend = {

@@ -116,8 +116,10 @@ static tb_status create_memory(tb_integrator *integrator, const tb_integrator_de
 }
 
 /* SUNDIALS 6 projects with BDF only; Adams outputs are renormalised instead. */
-static tb_status set_projection(tb_integrator *integrator, tb_error *error)
+static tb_status set_projection(tb_integrator *integrator, const tb_integrator_def *def,
+                                tb_error *error)
 {
+    (void)def;
     tb__cvode *cvode = integrator->cvode;
     if (integrator->system.post_step == NULL || integrator->method != TB_METHOD_CVODE_BDF) {
         return TB_STATUS_OK;
@@ -133,31 +135,7 @@ static tb_status set_projection(tb_integrator *integrator, tb_error *error)
 static tb_status cvode_create(tb_integrator *integrator, const tb_integrator_def *def,
                               tb_error *error)
 {
-    tb_status status = tb__sundials_validate(integrator, def, error);
-    if (status == TB_STATUS_OK) {
-        status = tb__sundials_create(integrator, &cvode_ops, error);
-    }
-    if (status == TB_STATUS_OK) {
-        status = create_memory(integrator, def, error);
-    }
-    if (status == TB_STATUS_OK) {
-        status = tb__sundials_set_tolerances_and_options(integrator, def, error);
-    }
-    if (status == TB_STATUS_OK) {
-        status = tb__cvode_set_solvers(integrator, def, error);
-    }
-    if (status == TB_STATUS_OK) {
-        status = tb__cvode_events_init(integrator, error);
-    }
-    if (status == TB_STATUS_OK) {
-        status = set_projection(integrator, error);
-    }
-    if (status != TB_STATUS_OK) {
-        tb__sundials_destroy(integrator);
-        return status;
-    }
-    tb__sundials_created(integrator);
-    return TB_STATUS_OK;
+    return tb__sundials_make(integrator, def, &cvode_ops, create_memory, set_projection, error);
 }
 
 const tb__backend tb__cvode_backend = {

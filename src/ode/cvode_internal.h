@@ -114,6 +114,16 @@ tb_status tb__sundials_set_tolerances_and_options(tb_integrator *integrator,
                                                   const tb_integrator_def *def, tb_error *error);
 void tb__sundials_created(tb_integrator *integrator);
 void tb__sundials_destroy(tb_integrator *integrator);
+
+/* A stage of a backend's creation: its own memory (CVodeCreate or ARKStepCreate and what only it
+ * sets), or its last settings. */
+typedef tb_status (*tb__sundials_stage)(tb_integrator *integrator, const tb_integrator_def *def,
+                                        tb_error *error);
+/* The whole creation in its order (validate, create, memory, tolerances and options, solvers,
+ * events, finish when not NULL, created); on a failure frees what was made. */
+tb_status tb__sundials_make(tb_integrator *integrator, const tb_integrator_def *def,
+                            const tb__sundials_ops *ops, tb__sundials_stage memory,
+                            tb__sundials_stage finish, tb_error *error);
 #if SUNDIALS_VERSION_MAJOR >= 7
 void tb__sundials_capture_message(int line, const char *function, const char *file, const char *msg,
                                   SUNErrCode code, void *data, SUNContext context);

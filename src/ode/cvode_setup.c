@@ -238,3 +238,34 @@ void tb__sundials_created(tb_integrator *integrator)
     memcpy(cvode->y_seen, integrator->y, integrator->system.n * sizeof(double));
     cvode->rhs_generation = tb__sundials_rhs_generation(&integrator->system);
 }
+
+tb_status tb__sundials_make(tb_integrator *integrator, const tb_integrator_def *def,
+                            const tb__sundials_ops *ops, tb__sundials_stage memory,
+                            tb__sundials_stage finish, tb_error *error)
+{
+    tb_status status = tb__sundials_validate(integrator, def, error);
+    if (status == TB_STATUS_OK) {
+        status = tb__sundials_create(integrator, ops, error);
+    }
+    if (status == TB_STATUS_OK) {
+        status = memory(integrator, def, error);
+    }
+    if (status == TB_STATUS_OK) {
+        status = tb__sundials_set_tolerances_and_options(integrator, def, error);
+    }
+    if (status == TB_STATUS_OK) {
+        status = tb__cvode_set_solvers(integrator, def, error);
+    }
+    if (status == TB_STATUS_OK) {
+        status = tb__cvode_events_init(integrator, error);
+    }
+    if (status == TB_STATUS_OK && finish != NULL) {
+        status = finish(integrator, def, error);
+    }
+    if (status != TB_STATUS_OK) {
+        tb__sundials_destroy(integrator);
+        return status;
+    }
+    tb__sundials_created(integrator);
+    return TB_STATUS_OK;
+}
