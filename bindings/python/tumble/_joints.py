@@ -6,7 +6,7 @@ import ctypes
 import numpy as np
 
 from . import _native
-from ._core import as_pointer, failure, lib
+from ._core import as_pointer, failure, lib, number
 
 
 def _index(joint):
@@ -56,6 +56,34 @@ def error(handle, y, joint):
     _check(handle, lib.tb_scene_joint_error(handle, _pointer(y), _index(joint),
                                              ctypes.byref(position), ctypes.byref(velocity)))
     return position.value, velocity.value
+
+
+def axial(handle, y, joint):
+    """(coordinate, motor, stop) of a hinge or slider at state y (tb_scene_joint_axial): the
+    angle about the axis (rad) or the travel along it (m) from the pose when the joint was made,
+    and the motor's and the stop's load on the axial row (N m for a hinge, N for a slider;
+    positive drives the coordinate up on the first body), each 0 when not acting."""
+    values = [ctypes.c_double() for _ in range(3)]
+    _check(handle, lib.tb_scene_joint_axial(handle, _pointer(y), _index(joint),
+                                             *(ctypes.byref(v) for v in values)))
+    return tuple(v.value for v in values)
+
+
+def set_motor(handle, joint, mode, value, max_force):
+    """Sets a hinge's or slider's motor (tb_scene_set_joint_motor): mode "off", "velocity"
+    (value the speed, rad/s or m/s) or "position" (value the target, rad or m); max_force
+    (N m or N, > 0) None for the joint's cap as it is. The library's refusal raised, nothing
+    changed."""
+    if not isinstance(mode, str) or mode not in _native.MOTOR_MODES:
+        raise ValueError(f"mode must be one of {', '.join(map(repr, _native.MOTOR_MODES))}, "
+                         f"got {mode!r}")
+    index, value = _index(joint), number("value", value)
+    if max_force is None:  # the cap the joint has (0 without a motor: the library refuses it)
+        definition = _native.JointDef()
+        _check(handle, lib.tb_scene_joint_def(handle, index, ctypes.byref(definition)))
+        max_force = 0.0 if mode == "off" else definition.motor_max_force
+    _check(handle, lib.tb_scene_set_joint_motor(handle, index, _native.MOTOR_MODES[mode], value,
+                                                 number("max_force", max_force)))
 
 
 def broken(handle, joint) -> bool:

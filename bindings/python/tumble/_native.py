@@ -163,6 +163,10 @@ class JointDef(ctypes.Structure):
     ]
 
 
+#: tb_joint_motor_mode (include/tumble/joints.h) by the name Simulation.set_joint_motor takes
+MOTOR_MODES = {"off": 0, "velocity": 1, "position": 2}
+
+
 STRUCTS = {
     "tb_error": Error,
     "tb_integrator_def": IntegratorDef,
@@ -357,6 +361,11 @@ def _declare(lib):
                                                  ctypes.POINTER(ctypes.c_bool)]),
         "tb_scene_project_joints": (ctypes.c_int, [ctypes.c_void_p, ctypes.c_double,
                                                    c_double_p]),
+        "tb_scene_joint_axial": (ctypes.c_int, [ctypes.c_void_p, c_double_p, ctypes.c_size_t,
+                                                c_double_p, c_double_p, c_double_p]),
+        "tb_scene_set_joint_motor": (ctypes.c_int, [ctypes.c_void_p, ctypes.c_size_t,
+                                                    ctypes.c_int, ctypes.c_double,
+                                                    ctypes.c_double]),
     }
     for name, (restype, argtypes) in signatures.items():
         function = getattr(lib, name)

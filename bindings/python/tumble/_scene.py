@@ -249,7 +249,8 @@ class Scene:
                         frame, (3, 3) kg m^2 (of a body of pieces: theirs combined)
     piece_counts        each body's number of convex pieces (0: no shape)
     joint_count         how many joints; joints: each one's type, bodies, anchor and axis;
-                        joint_reaction(j), joint_error(j), joint_broken(j) at the start
+                        joint_reaction(j), joint_error(j), joint_broken(j), joint_axial(j)
+                        at the start
     run_settings        the file's method, dt (s), rtol, atol, max_steps, fps and duration (s)
     """
 
@@ -384,6 +385,11 @@ class Scene:
     def joint_broken(self, joint: int) -> bool:
         """Whether joint `joint` is broken at the start: never (tb_scene_joint_broken)."""
         return self._at_start(lambda handle, y: _joints.broken(handle, joint))
+
+    def joint_axial(self, joint: int) -> tuple:
+        """(coordinate rad or m, motor and stop loads N m or N) of hinge or slider `joint` at
+        the start (tb_scene_joint_axial; Simulation.joint_axial tells more)."""
+        return self._at_start(lambda handle, y: _joints.axial(handle, y, joint))
 
     def run(self, method: Optional[str] = None, dt: Optional[float] = None,
             rtol: Optional[float] = None, atol: Optional[float] = None,

@@ -62,7 +62,8 @@ class Simulation:
     angular_velocity (N, 3) rad/s (omega = R I_body^-1 R^T L); frame_values() the shape-frame
     pose and velocities of every body, static and keyframed ones included (bodies, 13), as a
     Frames frame holds them; reaction(body) what the bodies put on a static or keyframed body;
-    joint_count, joint_reaction(j), joint_error(j), joint_broken(j) the scene's joints.
+    joint_count, joint_reaction(j), joint_error(j), joint_broken(j), joint_axial(j) the scene's
+    joints; set_joint_motor(j, mode, value, max_force) changes a hinge's or slider's motor.
 
     Stepping releases the GIL while C runs. Ctrl-C raises KeyboardInterrupt when advance() or
     step() returns (at the next derivative evaluation when Python forces act) and at every
@@ -367,6 +368,28 @@ class Simulation:
     def joint_broken(self, joint: int) -> bool:
         """Whether joint `joint` has broken in the run so far (tb_scene_joint_broken)."""
         return _joints.broken(self._handle, joint)
+
+    def joint_axial(self, joint: int) -> tuple:
+        """(coordinate, motor, stop) of hinge or slider `joint` at the current state
+        (tb_scene_joint_axial): its angle about the axis, rad, or travel along it, m, from the
+        pose when the joint was made; the motor's and the stop's load on that axis, N m for a
+        hinge, N for a slider, positive driving the coordinate up on the first body, each 0
+        when not acting (a motor pushing into a stop that holds pushes at its cap, the stop
+        taking it). TumbleValueError (INVALID_ARGUMENT) for a ball or fixed joint."""
+        return _joints.axial(self._handle, self._y, joint)
+
+    def set_joint_motor(self, joint: int, mode: str, value: float = 0.0,
+                        max_force: Optional[float] = None) -> None:
+        """Sets hinge or slider `joint`'s motor from the current time on
+        (tb_scene_set_joint_motor): mode "off", "velocity" (value the speed, rad/s or m/s,
+        the scene file's motor "speed") or "position" (value the target, rad or m from the pose
+        when the joint was made, its "target"), at most max_force (N m for a hinge, N for a
+        slider, > 0; None keeps the joint's cap). The integrator goes on stepping (CVODE
+        restarts itself); reset() puts back the state, not the motor. A refusal raises
+        TumbleValueError with the library's detail naming the field (motor_max_force,
+        motor_speed, motor_target), TumbleError UNSUPPORTED for a soft joint made without limits
+        or a motor, ValueError for an unknown mode; nothing changes."""
+        _joints.set_motor(self._handle, joint, mode, value, max_force)
 
     def project_joints(self, tolerance: float = 0.0) -> float:
         """Projects the current state onto the joints, positions by the mass-weighted least
