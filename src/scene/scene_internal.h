@@ -409,6 +409,10 @@ void tb__scene_sleep_apply_pending(tb_scene *scene);
 /* Wakes body id's island (a user change of its state), or every body. */
 void tb__scene_wake_body(tb_scene *scene, size_t id);
 void tb__scene_wake_all(tb_scene *scene);
+/* An integrator made or reset at t: before the sleep clock's last boundary (a run again from
+ * an earlier time) the stillness counted belongs to another history, so every body wakes and
+ * the clock restarts at t; at or after it (a run continued) nothing changes. */
+void tb__scene_sleep_restart(tb_scene *scene, double t);
 /* The adaptive methods' event stop (tb_ode_system.events.at_event, ctx the scene): while a body
  * sleeps, the islands are decided from y at t (pairs within the margin, tb__effect_stepping
  * wake_links) and the decision applied at once, so that the integrator restarts there with

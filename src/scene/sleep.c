@@ -314,6 +314,16 @@ void tb__scene_wake_all(tb_scene *scene)
     wake_where(scene, 0, true);
 }
 
+void tb__scene_sleep_restart(tb_scene *scene, double t)
+{
+    /* the clock counts forward only (tb__scene_sleep_end): left at a later run's end, it would
+     * count no stillness in this run until it passed that time */
+    if (scene->sleep != NULL && isfinite(scene->sleep->last_t) && t < scene->sleep->last_t) {
+        tb__scene_wake_all(scene);
+        scene->sleep->last_t = NAN;
+    }
+}
+
 void tb__scene_sleep_zero(const tb_scene *scene, double *dydt)
 {
     const tb__sleep *sleep = scene->sleep;
