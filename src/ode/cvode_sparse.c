@@ -5,6 +5,7 @@
  * would be wrong. The pattern must hold the diagonal, so that CVODE's I - gamma J keeps it.
  * Room grows only before a step, when the system's capacity grew. */
 #include "ode/cvode_internal.h"
+#include "ode/sparse_copy.h"
 
 #include "core/detail.h"
 #include "core/validate.h"
@@ -21,11 +22,10 @@
 #include <string.h>
 
 struct tb__cvode_sparse {
-    tb_ode_sparse J;         /* what the system writes */
-    sunindextype *analysed;  /* n + 1 row starts, then the columns, of the analysed pattern */
-    size_t analysed_entries; /* its entries; (size_t)-1 before the first */
-    N_Vector state;          /* the state at CVODE's internal time, for the capacity */
-    long analyses;           /* symbolic analyses (pattern changes) */
+    tb_ode_sparse J;          /* what the system writes */
+    tb__klu_pattern analysed; /* the pattern KLU analysed last */
+    N_Vector state;           /* the state at CVODE's internal time, for the capacity */
+    long analyses;            /* symbolic analyses (pattern changes) */
 };
 
 void tb__cvode_sparse_free(tb__cvode *cvode)
@@ -37,7 +37,7 @@ void tb__cvode_sparse_free(tb__cvode *cvode)
     free(sparse->J.row_starts);
     free(sparse->J.columns);
     free(sparse->J.values);
-    free(sparse->analysed);
+    free(sparse->analysed.analysed);
     if (sparse->state != NULL) {
         N_VDestroy(sparse->state);
     }
@@ -49,25 +49,11 @@ void tb__cvode_sparse_free(tb__cvode *cvode)
 static bool make_room(tb__cvode *cvode, size_t capacity)
 {
     tb__cvode_sparse *sparse = cvode->sparse;
-    const size_t n = sparse->J.n;
-    size_t *columns = tb__realloc_array(sparse->J.columns, capacity, sizeof(size_t));
-    sparse->J.columns = columns != NULL ? columns : sparse->J.columns;
-    double *values = tb__realloc_array(sparse->J.values, capacity, sizeof(double));
-    sparse->J.values = values != NULL ? values : sparse->J.values;
-    sunindextype *analysed =
-        n + 1 > SIZE_MAX - capacity
-            ? NULL
-            : tb__realloc_array(sparse->analysed, n + 1 + capacity, sizeof(sunindextype));
-    sparse->analysed = analysed != NULL ? analysed : sparse->analysed;
-    if (columns == NULL || values == NULL || analysed == NULL) {
-        return false;
-    }
-    if (cvode->matrix != NULL &&
-        SUNSparseMatrix_Reallocate(cvode->matrix, (sunindextype)capacity) != 0) {
-        return false;
-    }
-    sparse->J.capacity = capacity;
-    return true;
+    /* J's capacity grows last, once everything else has room */
+    return tb__klu_pattern_reserve(&sparse->analysed, sparse->J.n, capacity) &&
+           (cvode->matrix == NULL ||
+            SUNSparseMatrix_Reallocate(cvode->matrix, (sunindextype)capacity) == 0) &&
+           tb__ode_sparse_reserve(&sparse->J, capacity);
 }
 
 tb_status tb__cvode_sparse_create(tb_integrator *integrator, tb_error *error)
@@ -88,7 +74,7 @@ tb_status tb__cvode_sparse_create(tb_integrator *integrator, tb_error *error)
         return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "sparse Jacobian for n = %zu", n);
     }
     sparse->J.n = n;
-    sparse->analysed_entries = (size_t)-1;
+    sparse->analysed.entries = (size_t)-1;
     /* room for the diagonal: y is not read before the first step, where the system's capacity
      * is asked (tb__cvode_sparse_refresh) */
     const size_t capacity = n;
@@ -135,31 +121,6 @@ int tb__cvode_sparse_refresh(tb_integrator *integrator, sunrealtype tn)
     return CV_SUCCESS;
 }
 
-/* Copies J into A; true when the pattern is the one KLU analysed. */
-static bool copy_into(tb__cvode_sparse *sparse, SUNMatrix A)
-{
-    const size_t n = sparse->J.n, entries = sparse->J.row_starts[n];
-    sunindextype *rows = SUNSparseMatrix_IndexPointers(A);
-    sunindextype *columns = SUNSparseMatrix_IndexValues(A);
-    double *data = SUNSparseMatrix_Data(A);
-    bool same = entries == sparse->analysed_entries;
-    for (size_t i = 0; i <= n; ++i) {
-        rows[i] = (sunindextype)sparse->J.row_starts[i];
-        same = same && sparse->analysed[i] == rows[i];
-    }
-    for (size_t e = 0; e < entries; ++e) {
-        columns[e] = (sunindextype)sparse->J.columns[e];
-        same = same && sparse->analysed[n + 1 + e] == columns[e];
-    }
-    memcpy(data, sparse->J.values, entries * sizeof(double));
-    if (!same) {
-        memcpy(sparse->analysed, rows, (n + 1) * sizeof(sunindextype));
-        memcpy(sparse->analysed + n + 1, columns, entries * sizeof(sunindextype));
-        sparse->analysed_entries = entries;
-    }
-    return same;
-}
-
 int tb__cvode_sparse_jacobian(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix A, void *user_data,
                               N_Vector tmp1, N_Vector tmp2, N_Vector tmp3)
 {
@@ -186,7 +147,7 @@ int tb__cvode_sparse_jacobian(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix 
                  rc == 0 ? " with more entries than its capacity" : "");
         return rc > 0 ? rc : -1;
     }
-    if (!copy_into(sparse, A)) {
+    if (!tb__klu_copy(&sparse->J, false, 0.0, A, &sparse->analysed)) {
         sparse->analyses++;
         return SUNLinSol_KLUReInit(cvode->linear, A, SUNSparseMatrix_NNZ(A),
                                    SUNKLU_REINIT_PARTIAL) == SUNLS_SUCCESS

@@ -9,6 +9,7 @@
  * Dense factorisations are SUNDIALS' SUNLinSol_Dense (LU with partial pivoting). Nothing is
  * allocated after creation except the sparse room, when the system's capacity grows. */
 #include "ode/rosenbrock.h"
+#include "ode/sparse_copy.h"
 
 #include "core/detail.h"
 #include "core/validate.h"
@@ -30,10 +31,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Up to this n a system's own Jacobian is factorised dense too: KLU analyses each new pattern
- * (a contact made or broken) anew, which allocates, where a dense LU allocates nothing after
- * creation (test_allocation, test_contact_events_memory); six balls with their friction slots
- * are 186 unknowns, an LU of 2e6 flops. Above it, KLU (allocating at pattern changes, as BDF's
+/* Up to this n a system's own Jacobian is factorised dense, in a build with KLU too: KLU
+ * analyses each new pattern (a contact made or broken) anew, which allocates, where a dense LU
+ * allocates nothing after creation; above it, KLU (allocating at pattern changes, as BDF's
  * sparse solver does, docs/integrators.md). */
 #define TB__ROSENBROCK_SMALL 32
 
@@ -55,8 +55,9 @@ struct tb__rosenbrock {
     double *levels;                     /* TB__ROSENBROCK_LEVELS middles of halved steps, n each */
     long splits;                        /* halved steps */
     bool plain;                         /* no speculation (tb__rosenbrock_speculate) */
-    long long *analysed; /* n + 1 row starts then the columns of the pattern KLU analysed */
-    size_t analysed_entries;
+#ifdef TB_HAVE_KLU
+    tb__klu_pattern analysed; /* the pattern KLU analysed last */
+#endif
     double *shifted, *column; /* difference quotients: y with one component moved, its f */
     double *dense_ahead;      /* difference quotients at the predictor, n x n */
     char message[TB_DETAIL_SIZE];
@@ -67,30 +68,15 @@ static tb_status rosenbrock_fail(tb_error *error, const char *what, size_t n)
     return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "rosenbrock: %s for n = %zu", what, n);
 }
 
-/* Room for capacity entries in one CSR matrix. */
-static bool make_sparse_room(tb_ode_sparse *J, size_t capacity)
-{
-    size_t *columns = tb__realloc_array(J->columns, capacity, sizeof(size_t));
-    J->columns = columns != NULL ? columns : J->columns;
-    double *values = tb__realloc_array(J->values, capacity, sizeof(double));
-    J->values = values != NULL ? values : J->values;
-    if (columns == NULL || values == NULL) {
-        return false;
-    }
-    J->capacity = capacity;
-    return true;
-}
-
 /* Room for capacity entries in both Jacobians, the analysed copy and the sparse matrix. */
 static bool make_room(tb__rosenbrock *r, size_t capacity)
 {
-    const size_t n = r->J.n;
-    long long *analysed = n + 1 > SIZE_MAX - capacity
-                              ? NULL
-                              : tb__realloc_array(r->analysed, n + 1 + capacity, sizeof(long long));
-    r->analysed = analysed != NULL ? analysed : r->analysed;
-    if (analysed == NULL || !make_sparse_room(&r->J, capacity) ||
-        !make_sparse_room(&r->ahead, capacity)) {
+#ifdef TB_HAVE_KLU
+    if (!tb__klu_pattern_reserve(&r->analysed, r->J.n, capacity)) {
+        return false;
+    }
+#endif
+    if (!tb__ode_sparse_reserve(&r->J, capacity) || !tb__ode_sparse_reserve(&r->ahead, capacity)) {
         return false;
     }
 #ifdef TB_HAVE_KLU
@@ -131,7 +117,9 @@ static tb_status make_solver(tb__rosenbrock *r, size_t n, tb_error *error)
 static tb_status make_jacobian(tb__rosenbrock *r, size_t n, tb_error *error)
 {
     r->J.n = r->ahead.n = n;
-    r->analysed_entries = (size_t)-1;
+#ifdef TB_HAVE_KLU
+    r->analysed.entries = (size_t)-1;
+#endif
     r->start_rate = tb__malloc_array(n, sizeof(double));
     r->levels = tb__malloc_array(n, TB__ROSENBROCK_LEVELS * sizeof(double));
     if (r->start_rate == NULL || r->levels == NULL) {
@@ -224,7 +212,9 @@ void tb__rosenbrock_destroy(tb_integrator *integrator)
     free(r->predicted_rate);
     free(r->start_rate);
     free(r->levels);
-    free(r->analysed);
+#ifdef TB_HAVE_KLU
+    free(r->analysed.analysed);
+#endif
     free(r->shifted);
     free(r->dense_ahead);
     free(r->column);
@@ -279,40 +269,6 @@ static void dense_from_sparse(tb__rosenbrock *r, double h_gamma)
         SUNDenseMatrix_Column(r->matrix, (sunindextype)i)[i] += 1.0;
     }
 }
-
-#ifdef TB_HAVE_KLU
-/* Sparse M from the system's CSR J (the diagonal is in its pattern); true when the pattern is
- * the one KLU analysed. */
-static bool sparse_from_sparse(tb__rosenbrock *r, double h_gamma)
-{
-    const size_t n = r->J.n, entries = r->J.row_starts[n];
-    sunindextype *rows = SUNSparseMatrix_IndexPointers(r->matrix);
-    sunindextype *columns = SUNSparseMatrix_IndexValues(r->matrix);
-    double *data = SUNSparseMatrix_Data(r->matrix);
-    bool same = entries == r->analysed_entries;
-    for (size_t i = 0; i <= n; ++i) {
-        rows[i] = (sunindextype)r->J.row_starts[i];
-        same = same && r->analysed[i] == (long long)rows[i];
-    }
-    for (size_t i = 0; i < n; ++i) {
-        for (size_t e = r->J.row_starts[i]; e < r->J.row_starts[i + 1]; ++e) {
-            columns[e] = (sunindextype)r->J.columns[e];
-            data[e] = -h_gamma * r->J.values[e] + (r->J.columns[e] == i ? 1.0 : 0.0);
-            same = same && r->analysed[n + 1 + e] == (long long)columns[e];
-        }
-    }
-    if (!same) {
-        for (size_t k = 0; k <= n; ++k) {
-            r->analysed[k] = (long long)rows[k];
-        }
-        for (size_t e = 0; e < entries; ++e) {
-            r->analysed[n + 1 + e] = (long long)columns[e];
-        }
-        r->analysed_entries = entries;
-    }
-    return same;
-}
-#endif
 
 /* One evaluation of the system's Jacobian at (t, y) into J, checked against its room. */
 static int evaluate(tb_integrator *integrator, double t, const double *y, const double *fy,
@@ -440,7 +396,7 @@ static int factor_own(tb__rosenbrock *r, double t, double h_gamma)
         dense_from_sparse(r, h_gamma);
     }
 #ifdef TB_HAVE_KLU
-    if (r->sparse && !sparse_from_sparse(r, h_gamma) &&
+    if (r->sparse && !tb__klu_copy(&r->J, true, h_gamma, r->matrix, &r->analysed) &&
         SUNLinSol_KLUReInit(r->linear, r->matrix, SUNSparseMatrix_NNZ(r->matrix),
                             SUNKLU_REINIT_PARTIAL) != SUNLS_SUCCESS) {
         return linear_failed(r, "SUNLinSol_KLUReInit failed on a new pattern", 0, t);
