@@ -6,7 +6,9 @@
 
 #include <stdbool.h>
 
-/* Candidate points before the manifold is filled (a clipped face gives up to 8). */
+/* Candidate points before the manifold is filled (a clipped face gives up to 8). A list starts
+ * with count = 0 alone: the points past count are never read, and zeroing them all (`= {0}`,
+ * half a kilobyte) was a fifth of a sphere pair's cost and a sixth of a box pair's. */
 #define TB__CANDIDATES_MAX 16
 
 typedef struct tb__candidates {

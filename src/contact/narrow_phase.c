@@ -86,7 +86,8 @@ int tb__spheres(const double c_a[3], double r_a, const double c_b[3], double r_b
     } else {
         tb__v3_copy(n, fallback);
     }
-    tb__candidates c = {0};
+    tb__candidates c;
+    c.count = 0;
     double p_a[3];
     tb__v3_copy(p_a, c_a);
     tb__v3_axpy(p_a, r_a, n);
@@ -160,7 +161,9 @@ static int sphere_capsule(const double c[3], double r, const tb__collision_shape
 static int capsule_ends(const double *ends[4], double radii, double radius_a, double margin,
                         tb__contact_manifold *out)
 {
-    tb__candidates c = {.count = 1, .points = {out->points[0]}};
+    tb__candidates c;
+    c.count = 1;
+    c.points[0] = out->points[0];
     const double *n = out->normal, *p0 = ends[2], *p1 = ends[3], *q0 = ends[0], *q1 = ends[1];
     for (int e = 0; e < 4; ++e) {
         const double *end = ends[e];
