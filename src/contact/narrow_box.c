@@ -179,8 +179,8 @@ static double separation(const box_pose *a, const box_pose *b, const double T[3]
     return fabs(tb__v3_dot(T, L)) - projected_radius(a, L) - projected_radius(b, L);
 }
 
-/* Clips the polygon (count points) to u . (x - o) <= limit; returns the new count. Each
- * point's distance is computed once, as (u . p - u . o) - limit, the same bits whichever edge
+/* Clips the polygon (count points; room for 12) to u . (x - o) <= limit; returns the new count.
+ * Each point's distance is computed once, as (u . p - u . o) - limit, the same bits whichever edge
  * asks (the clip was a sixth of a box pile's derivative when it recomputed them per edge). */
 static int clip(double poly[][3], int count, const double o[3], const double u[3], double limit)
 {
@@ -203,7 +203,7 @@ static int clip(double poly[][3], int count, const double o[3], const double u[3
                        p[2] + s * (q[2] - p[2]));
         }
     }
-    memcpy(poly, out, (size_t)w * sizeof out[0]);
+    memcpy(poly, out, sizeof out); /* all 12: a fixed size copies inline, no library call */
     return w;
 }
 
@@ -318,7 +318,8 @@ static double frame_defect(double gram[3][3], const box_pose *box)
     double cross[3], defect = 1e-15;
     for (int k = 0; k < 3; ++k) {
         for (int l = 0; l < 3; ++l) {
-            defect = fmax(defect, fabs(gram[k][l] - (k == l ? 1.0 : 0.0)));
+            const double off = fabs(gram[k][l] - (k == l ? 1.0 : 0.0));
+            defect = off > defect || off != off ? off : defect; /* NaN: no bound */
         }
     }
     tb__v3_cross(cross, box->axis[0], box->axis[1]);
@@ -351,7 +352,8 @@ static void face_separations(const box_pose *a, const box_pose *b, const double 
         out[1][i] = along_b - (ha[0] * ab[0][i] + ha[1] * ab[1][i] + ha[2] * ab[2][i]) -
                     (hb[0] * bb[0][i] + hb[1] * bb[1][i] + hb[2] * bb[2][i]);
     }
-    dots->defect = fmax(frame_defect(aa, a), frame_defect(bb, b));
+    const double defect_a = frame_defect(aa, a), defect_b = frame_defect(bb, b);
+    dots->defect = defect_a > defect_b || defect_a != defect_a ? defect_a : defect_b;
 }
 
 /* Whether edge axis a_i x b_j surely separates by no more than `threshold` (so consider() would
@@ -373,8 +375,14 @@ static bool edge_cannot_win(const box_pose *a, const box_pose *b, const pair_dot
     const double along = fabs(d->t[i2] * d->ab[i1][j] - d->t[i1] * d->ab[i2][j]);
     const double r_a = a->half[i1] * fabs(d->ab[i2][j]) + a->half[i2] * fabs(d->ab[i1][j]);
     const double r_b = b->half[j1] * fabs(d->ab[i][j2]) + b->half[j2] * fabs(d->ab[i][j1]);
-    const double slack = 1e3 * d->defect * scale / length2;
-    return (along - r_a - r_b) / sqrt(length2) + slack < threshold;
+    /* (along - r_a - r_b) / sqrt(length2) + slack < threshold, without the square root */
+    const double x = along - r_a - r_b, room = threshold - 1e3 * d->defect * scale / length2;
+    if (x <= 0.0 && room > 0.0) {
+        return true;
+    }
+    const double x2 = x * x, room2 = room * room * length2;
+    return x > 0.0 ? room > 0.0 && x2 < room2 * (1.0 - 1e-12)
+                   : room <= 0.0 && x2 > room2 * (1.0 + 1e-12);
 }
 
 /* Stops after the face axes when one of them already parts the boxes by more than margin plus
