@@ -179,7 +179,7 @@ static double separation(const box_pose *a, const box_pose *b, const double T[3]
     return fabs(tb__v3_dot(T, L)) - projected_radius(a, L) - projected_radius(b, L);
 }
 
-/* Clips the polygon (count points; room for 12) to u . (x - o) <= limit; returns the new count.
+/* Clips the polygon (count points, room for 12) to u . (x - o) <= limit; returns the new count.
  * Each point's distance is computed once, as (u . p - u . o) - limit, the same bits whichever edge
  * asks (the clip was a sixth of a box pile's derivative when it recomputed them per edge). */
 static int clip(double poly[][3], int count, const double o[3], const double u[3], double limit)
@@ -203,7 +203,9 @@ static int clip(double poly[][3], int count, const double o[3], const double u[3
                        p[2] + s * (q[2] - p[2]));
         }
     }
-    memcpy(poly, out, sizeof out); /* all 12: a fixed size copies inline, no library call */
+    for (int i = 0; i < w; ++i) {
+        tb__v3_copy(poly[i], out[i]);
+    }
     return w;
 }
 
@@ -305,7 +307,7 @@ static void consider(best_axis *best, double separation, int kind, int index, co
 }
 
 /* What the face axes leave for the edge axes' bound: a_k . b_j, T . a_k, and how far the two
- * frames are from orthonormal and right-handed (the largest |a_k . a_l - delta_kl| and
+ * frames are from orthonormal and right-handed (the sums of |a_k . a_l - delta_kl| and
  * |b_k . b_l - delta_kl|, plus the round-off of those dots; infinite when either frame is
  * left-handed), which the bound's slack grows with. */
 typedef struct pair_dots {
@@ -315,13 +317,10 @@ typedef struct pair_dots {
 
 static double frame_defect(double gram[3][3], const box_pose *box)
 {
-    double cross[3], defect = 1e-15;
-    for (int k = 0; k < 3; ++k) {
-        for (int l = 0; l < 3; ++l) {
-            const double off = fabs(gram[k][l] - (k == l ? 1.0 : 0.0));
-            defect = off > defect || off != off ? off : defect; /* NaN: no bound */
-        }
-    }
+    double cross[3];
+    /* the sum of the off-identity entries bounds their largest (NaN stays NaN: no bound) */
+    const double defect = 1e-15 + fabs(gram[0][0] - 1.0) + fabs(gram[1][1] - 1.0) +
+                          fabs(gram[2][2] - 1.0) + 2.0 * (gram[0][1] + gram[0][2] + gram[1][2]);
     tb__v3_cross(cross, box->axis[0], box->axis[1]);
     return tb__v3_dot(cross, box->axis[2]) > 0.5 ? defect : INFINITY;
 }
@@ -353,7 +352,7 @@ static void face_separations(const box_pose *a, const box_pose *b, const double 
                     (hb[0] * bb[0][i] + hb[1] * bb[1][i] + hb[2] * bb[2][i]);
     }
     const double defect_a = frame_defect(aa, a), defect_b = frame_defect(bb, b);
-    dots->defect = defect_a > defect_b || defect_a != defect_a ? defect_a : defect_b;
+    dots->defect = defect_a + defect_b;
 }
 
 /* Whether edge axis a_i x b_j surely separates by no more than `threshold` (so consider() would
