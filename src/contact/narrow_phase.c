@@ -80,7 +80,14 @@ int tb__spheres(const double c_a[3], double r_a, const double c_b[3], double r_b
                 const double fallback[3], double margin, tb__contact_manifold *out)
 {
     double n[3] = {c_b[0] - c_a[0], c_b[1] - c_a[1], c_b[2] - c_a[2]};
-    const double distance = tb__v3_norm(n);
+    const double reach = r_a + r_b + margin, distance2 = tb__v3_dot(n, n);
+    if (distance2 > reach * reach * (1.0 + 1e-12)) {
+        /* farther apart than the margin by more than round-off (the depth computed below would
+         * be at most -margin): no point, and the normal, unspecified then, is not worked out */
+        out->count = 0;
+        return 0;
+    }
+    const double distance = sqrt(distance2);
     if (distance > 0.0) {
         tb__v3_set(n, n[0] / distance, n[1] / distance, n[2] / distance);
     } else {
