@@ -375,7 +375,9 @@ static bool edge_cannot_win(const box_pose *a, const box_pose *b, const pair_dot
     const double r_a = a->half[i1] * fabs(d->ab[i2][j]) + a->half[i2] * fabs(d->ab[i1][j]);
     const double r_b = b->half[j1] * fabs(d->ab[i][j2]) + b->half[j2] * fabs(d->ab[i][j1]);
     /* (along - r_a - r_b) / sqrt(length2) + slack < threshold, without the square root */
-    const double x = along - r_a - r_b, room = threshold - 1e3 * d->defect * scale / length2;
+    const double slack = 1e3 * d->defect * scale;
+    const double x = along - r_a - r_b,
+                 room = threshold - (length2 >= 0.25 ? 4.0 * slack : slack / length2);
     if (x <= 0.0 && room > 0.0) {
         return true;
     }
