@@ -186,8 +186,13 @@ static int clip(double poly[][3], int count, const double o[3], const double u[3
 {
     double out[12][3], distance[12];
     const double uo = tb__v3_dot(u, o);
+    bool inside = true;
     for (int i = 0; i < count; ++i) {
         distance[i] = tb__v3_dot(u, poly[i]) - uo - limit;
+        inside = inside && distance[i] <= 0.0;
+    }
+    if (inside) {
+        return count; /* every point kept, none added: the polygon as it was */
     }
     int w = 0;
     for (int i = 0; i < count; ++i) {
