@@ -1,7 +1,8 @@
 /* The box-box test's bound on the edge axes (narrow_box.c, edge_cannot_win) skips an axis only
  * where the full separating axis test would pass it over, so every manifold is the same to the
  * bit: this test compiles narrow_box.c a second time with the bound off (its functions renamed
- * ref_*) and compares the library's box pairs against it, bit for bit (no tolerance: the bound
+ * ref_*) and compares the library's box pairs against it, with the frames worked out per pair
+ * and given beforehand as the pair finder gives them, bit for bit (no tolerance: the bound
  * must change nothing), on the configurations where the bound is tight or loose:
  *   - boxes of unequal sizes resting face on face, aligned or turned about the normal, at depths
  *     of 1e-9 to 1e-3 m and gaps within the margin (the pile's pairs, where the bound skips);
@@ -25,14 +26,23 @@
 #define tb__box_sphere ref_box_sphere
 #define tb__box_capsule ref_box_capsule
 #define tb__box_box ref_box_box
+#define tb__box_box_framed ref_box_box_framed
+#define tb__box_frame_at ref_box_frame_at
 #include "contact/narrow_box.c"
 #undef tb__box_sphere_candidate
 #undef tb__box_sphere
 #undef tb__box_capsule
 #undef tb__box_box
+#undef tb__box_box_framed
+#undef tb__box_frame_at
 int tb__box_box(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
                 const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE], double margin,
                 tb__contact_manifold *out);
+int tb__box_box_framed(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                       const tb__box_frame *frame_a, const tb__collision_shape *b,
+                       const double pose_b[TB__POSE_SIZE], const tb__box_frame *frame_b,
+                       double margin, tb__contact_manifold *out);
+void tb__box_frame_at(const double pose[TB__POSE_SIZE], tb__box_frame *out);
 
 #include "geometry.h"
 
@@ -57,13 +67,21 @@ static int check_pair(const tb__collision_shape *a, const double pa[TB__POSE_SIZ
     for (int order = 0; order < 2; ++order) {
         const tb__collision_shape *first = order == 0 ? a : b, *second = order == 0 ? b : a;
         const double *p1 = order == 0 ? pa : pb, *p2 = order == 0 ? pb : pa;
-        const int n = tb__box_box(first, p1, second, p2, MARGIN, &got);
-        assert_int_equal(n, ref_box_box(first, p1, second, p2, MARGIN, &want));
-        if (!same_manifold(&got, &want)) {
-            fail_msg(
-                "manifolds differ: a at (%a %a %a | %a %a %a %a), b at (%a %a %a | %a %a %a %a)",
-                p1[0], p1[1], p1[2], p1[3], p1[4], p1[5], p1[6], p2[0], p2[1], p2[2], p2[3], p2[4],
-                p2[5], p2[6]);
+        const int n = ref_box_box(first, p1, second, p2, MARGIN, &want);
+        tb__box_frame f1, f2; /* the pair finder's way: frames worked out beforehand */
+        tb__box_frame_at(p1, &f1);
+        tb__box_frame_at(p2, &f2);
+        for (int framed = 0; framed < 2; ++framed) {
+            assert_int_equal(framed
+                                 ? tb__box_box_framed(first, p1, &f1, second, p2, &f2, MARGIN, &got)
+                                 : tb__box_box(first, p1, second, p2, MARGIN, &got),
+                             n);
+            if (!same_manifold(&got, &want)) {
+                fail_msg("manifolds differ: a at (%a %a %a | %a %a %a %a), b at (%a %a %a | %a "
+                         "%a %a %a)",
+                         p1[0], p1[1], p1[2], p1[3], p1[4], p1[5], p1[6], p2[0], p2[1], p2[2],
+                         p2[3], p2[4], p2[5], p2[6]);
+            }
         }
     }
     return got.count;
@@ -174,15 +192,21 @@ static void test_the_bound_skips_at_rest_and_stands_aside_when_mirrored(void **s
     (void)state;
     const double half[3] = {0.05, 0.05, 0.05}, center_a[3] = {0, 0, 0};
     const double center_b[3] = {0.03, 0.02, 0.1 - 1e-6};
-    box_pose A = {.center = center_a, .half = half}, B = {.center = center_b, .half = half};
+    tb__box_frame frame_a, frame_b;
+    box_pose A = {.center = center_a, .half = half, .frame = &frame_a};
+    box_pose B = {.center = center_b, .half = half, .frame = &frame_b};
     for (int i = 0; i < 3; ++i) {
         for (int k = 0; k < 3; ++k) {
             A.axis[i][k] = B.axis[i][k] = i == k ? 1.0 : 0.0;
         }
     }
+    memcpy(frame_a.axis, A.axis, sizeof A.axis);
+    frame_from_axes(&frame_a);
     const double size = 0.3, scale = 0.05 + 0.1 + 2.0 * size;
     for (int mirrored = 0; mirrored < 2; ++mirrored) {
         B.axis[2][2] = mirrored ? -1.0 : 1.0;
+        memcpy(frame_b.axis, B.axis, sizeof B.axis);
+        frame_from_axes(&frame_b);
         double faces[2][3];
         pair_dots dots;
         face_separations(&A, &B, center_b, faces, &dots);

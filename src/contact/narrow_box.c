@@ -164,6 +164,7 @@ typedef struct box_pose {
     const double *center;
     double axis[3][3];
     const double *half;
+    const tb__box_frame *frame; /* axis, with |a_k . a_l| and the defect (tb__box_frame_at) */
 } box_pose;
 
 static double projected_radius(const box_pose *b, const double L[3])
@@ -320,31 +321,41 @@ typedef struct pair_dots {
     double defect;
 } pair_dots;
 
-static double frame_defect(double gram[3][3], const box_pose *box)
+/* out's gram and defect from its axes. */
+static void frame_from_axes(tb__box_frame *out)
 {
+    for (int k = 0; k < 3; ++k) {
+        for (int j = 0; j <= k; ++j) {
+            out->gram[k][j] = out->gram[j][k] = fabs(tb__v3_dot(out->axis[k], out->axis[j]));
+        }
+    }
     double cross[3];
     /* the sum of the off-identity entries bounds their largest (NaN stays NaN: no bound) */
-    const double defect = 1e-15 + fabs(gram[0][0] - 1.0) + fabs(gram[1][1] - 1.0) +
-                          fabs(gram[2][2] - 1.0) + 2.0 * (gram[0][1] + gram[0][2] + gram[1][2]);
-    tb__v3_cross(cross, box->axis[0], box->axis[1]);
-    return tb__v3_dot(cross, box->axis[2]) > 0.5 ? defect : INFINITY;
+    double(*g)[3] = out->gram;
+    const double defect = 1e-15 + fabs(g[0][0] - 1.0) + fabs(g[1][1] - 1.0) + fabs(g[2][2] - 1.0) +
+                          2.0 * (g[0][1] + g[0][2] + g[1][2]);
+    tb__v3_cross(cross, out->axis[0], out->axis[1]);
+    out->defect = tb__v3_dot(cross, out->axis[2]) > 0.5 ? defect : INFINITY;
+}
+
+void tb__box_frame_at(const double pose[TB__POSE_SIZE], tb__box_frame *out)
+{
+    box_axes(pose, out->axis);
+    frame_from_axes(out);
 }
 
 /* separation() along each face axis, a's (out[0]) and b's (out[1]): the same bits, from the
  * 21 dot products among the six axes computed once (a_k . b_j and b_j . a_k multiply the same
- * numbers in the same order) instead of 36. */
+ * numbers in the same order; a_k . a_l come with the frames) instead of 36. */
 static void face_separations(const box_pose *a, const box_pose *b, const double T[3],
                              double out[2][3], pair_dots *dots)
 {
-    double ab[3][3], aa[3][3], bb[3][3];
+    double ab[3][3];
+    const double(*aa)[3] = a->frame->gram, (*bb)[3] = b->frame->gram;
     for (int k = 0; k < 3; ++k) {
         for (int j = 0; j < 3; ++j) {
             dots->ab[k][j] = tb__v3_dot(a->axis[k], b->axis[j]);
             ab[k][j] = fabs(dots->ab[k][j]);
-        }
-        for (int j = 0; j <= k; ++j) {
-            aa[k][j] = aa[j][k] = fabs(tb__v3_dot(a->axis[k], a->axis[j]));
-            bb[k][j] = bb[j][k] = fabs(tb__v3_dot(b->axis[k], b->axis[j]));
         }
     }
     const double *ha = a->half, *hb = b->half;
@@ -356,8 +367,7 @@ static void face_separations(const box_pose *a, const box_pose *b, const double 
         out[1][i] = along_b - (ha[0] * ab[0][i] + ha[1] * ab[1][i] + ha[2] * ab[2][i]) -
                     (hb[0] * bb[0][i] + hb[1] * bb[1][i] + hb[2] * bb[2][i]);
     }
-    const double defect_a = frame_defect(aa, a), defect_b = frame_defect(bb, b);
-    dots->defect = defect_a + defect_b;
+    dots->defect = a->frame->defect + b->frame->defect;
 }
 
 /* Whether edge axis a_i x b_j surely separates by no more than `threshold` (so consider() would
@@ -435,9 +445,27 @@ int tb__box_box(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE]
                 const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE], double margin,
                 tb__contact_manifold *out)
 {
-    box_pose A = {.center = pose_a, .half = a->half}, B = {.center = pose_b, .half = b->half};
-    box_axes(pose_a, A.axis);
-    box_axes(pose_b, B.axis);
+    return tb__box_box_framed(a, pose_a, NULL, b, pose_b, NULL, margin, out);
+}
+
+int tb__box_box_framed(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                       const tb__box_frame *frame_a, const tb__collision_shape *b,
+                       const double pose_b[TB__POSE_SIZE], const tb__box_frame *frame_b,
+                       double margin, tb__contact_manifold *out)
+{
+    tb__box_frame own_a, own_b;
+    if (frame_a == NULL) {
+        tb__box_frame_at(pose_a, &own_a);
+        frame_a = &own_a;
+    }
+    if (frame_b == NULL) {
+        tb__box_frame_at(pose_b, &own_b);
+        frame_b = &own_b;
+    }
+    box_pose A = {.center = pose_a, .half = a->half, .frame = frame_a};
+    box_pose B = {.center = pose_b, .half = b->half, .frame = frame_b};
+    memcpy(A.axis, frame_a->axis, sizeof A.axis);
+    memcpy(B.axis, frame_b->axis, sizeof B.axis);
     const double T[3] = {pose_b[0] - pose_a[0], pose_b[1] - pose_a[1], pose_b[2] - pose_a[2]};
     best_axis best = find_axis(&A, &B, T, margin);
     tb__candidates c;

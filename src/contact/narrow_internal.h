@@ -96,5 +96,10 @@ int tb__box_capsule(const tb__collision_shape *box, const double pose_box[TB__PO
 int tb__box_box(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
                 const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE], double margin,
                 tb__contact_manifold *out);
+/* tb__box_box with each box's frame at its pose (tb__box_frame_at; NULL: worked out here). */
+int tb__box_box_framed(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                       const tb__box_frame *frame_a, const tb__collision_shape *b,
+                       const double pose_b[TB__POSE_SIZE], const tb__box_frame *frame_b,
+                       double margin, tb__contact_manifold *out);
 
 #endif

@@ -358,7 +358,8 @@ static const pair_function pair_table[TB_SHAPE_POINTS + 1][TB_SHAPE_POINTS + 1] 
 #undef GENERAL
 
 static int ordered(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
-                   const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE], double margin,
+                   const tb__box_frame *frame_a, const tb__collision_shape *b,
+                   const double pose_b[TB__POSE_SIZE], const tb__box_frame *frame_b, double margin,
                    tb__contact_manifold *out)
 {
     const bool known = a->type > TB_SHAPE_NONE && a->type <= TB_SHAPE_POINTS &&
@@ -368,17 +369,28 @@ static int ordered(const tb__collision_shape *a, const double pose_a[TB__POSE_SI
         out->count = 0; /* no shape: nothing touches */
         return 0;
     }
+    if (solve == tb__box_box) { /* the frames given, if any */
+        return tb__box_box_framed(a, pose_a, frame_a, b, pose_b, frame_b, margin, out);
+    }
     return solve(a, pose_a, b, pose_b, margin, out);
+}
+
+int tb__collide_framed(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                       const tb__box_frame *frame_a, const tb__collision_shape *b,
+                       const double pose_b[TB__POSE_SIZE], const tb__box_frame *frame_b,
+                       double margin, tb__contact_manifold *out)
+{
+    if (!solve_swapped(a, pose_a, b, pose_b)) {
+        return ordered(a, pose_a, frame_a, b, pose_b, frame_b, margin, out);
+    }
+    const int count = ordered(b, pose_b, frame_b, a, pose_a, frame_a, margin, out);
+    tb__v3_set(out->normal, -out->normal[0], -out->normal[1], -out->normal[2]);
+    return count;
 }
 
 int tb__collide(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
                 const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE], double margin,
                 tb__contact_manifold *out)
 {
-    if (!solve_swapped(a, pose_a, b, pose_b)) {
-        return ordered(a, pose_a, b, pose_b, margin, out);
-    }
-    const int count = ordered(b, pose_b, a, pose_a, margin, out);
-    tb__v3_set(out->normal, -out->normal[0], -out->normal[1], -out->normal[2]);
-    return count;
+    return tb__collide_framed(a, pose_a, NULL, b, pose_b, NULL, margin, out);
 }
