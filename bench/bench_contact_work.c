@@ -139,7 +139,8 @@ int main(int argc, char **argv)
     repeats = repeats > 0 ? (repeats < MAX_REPEATS ? repeats : MAX_REPEATS) : (quick ? 1 : 3);
     char model[256], extensions[256];
     bench_processor(model, extensions);
-    fprintf(stderr, "processor: %s; load average %.2f\n", model, bench_load_average());
+    fprintf(stderr, "bench_contact_work: processor %s; load average %.2f\n", model,
+            bench_load_average());
     printf("case,bodies,step,steps,span,cpu_per_simulated_s,checksum\n");
     for (int k = 0; k < WORK_CASES; ++k) {
         if (only < 0 || only == k) {
