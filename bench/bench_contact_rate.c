@@ -9,8 +9,9 @@
  * RK4 amplification 1 + z + z^2/2 + z^3/6 + z^4/24; the slow physics is resolved at any step
  * considered here), beside the guard's stable step (tb_scene_max_stable_step) and the default.
  *
- * usage: bench_contact_rate [--quick] SCENE.json [--at T1,T2,...] [--near BODY --radius R]
- * --quick: the dice's scene at t = 0.3 s only (the smoke test).
+ * usage: bench_contact_rate [--quick] [SCENE.json [--at T1,T2,...] [--near BODY --radius R]]
+ * No scene: the example contact scenes (dice, dominoes, stack, bowl) at the times docs/effects.md
+ * samples. --quick: the dice's scene at t = 0.3 s only (the smoke test).
  * Prints CSV: scene, t, states, differentiated (the states the Jacobian is taken over),
  * guard_dt_s, default_dt_s, fastest_decay_per_s,
  * fastest_growth_per_s, fastest_oscillation_per_s, largest_modulus_per_s, local_dt_s (RK4's),
@@ -205,7 +206,7 @@ static int parse(int argc, char **argv, options *o)
             return 0;
         }
     }
-    return o->path != NULL;
+    return 1;
 }
 
 typedef struct sampler {
@@ -235,36 +236,57 @@ static int on_frame(size_t frame, double t, const tb_scene *scene, void *ctx)
     return s->next >= s->o->samples;
 }
 
-int main(int argc, char **argv)
+/* One scene: a run at RK4's default step, sampled at o->at. */
+static int measure(const options *o)
 {
-    options o;
-    if (!parse(argc, argv, &o)) {
-        fprintf(stderr, "usage: bench_contact_rate [--quick] SCENE.json [--at T1,T2,...] "
-                        "[--near BODY --radius R]\n");
-        return 2;
-    }
     tb_scene *scene = NULL;
     tb_run_def run;
     tb_error error;
-    if (tb_scene_load_file(o.path, &scene, &run, &error) != TB_STATUS_OK) {
+    if (tb_scene_load_file(o->path, &scene, &run, &error) != TB_STATUS_OK) {
         fprintf(stderr, "%s\n", error.message);
         return 1;
     }
-    printf("scene,t,states,differentiated,guard_dt_s,default_dt_s,fastest_decay_per_s,fastest_"
-           "growth_per_s,"
-           "fastest_oscillation_per_s,largest_modulus_per_s,local_dt_s,ratio\n");
     tb_integrator_def_set_method(&run.integrator, TB_METHOD_RK4);
     tb_scene_set_sleeping(scene, false); /* a sleeping body has no derivative to linearise */
-    sampler s = {scene, &o, 0.0, 0};
+    sampler s = {scene, o, 0.0, 0};
     tb_scene_default_step(scene, TB_METHOD_RK4, &s.dt);
     run.integrator.dt = s.dt;
     run.fps = 240.0;
-    run.duration = o.at[o.samples - 1] + 1.0 / 240.0;
+    run.duration = o->at[o->samples - 1] + 1.0 / 240.0;
     const tb_status status = tb_scene_run(scene, &run, on_frame, &s, NULL, &error);
+    tb_scene_destroy(scene);
     if (status != TB_STATUS_OK && status != TB_STATUS_CANCELLED) {
         fprintf(stderr, "%s\n", error.message);
         return 1;
     }
-    tb_scene_destroy(scene);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    options o;
+    if (!parse(argc, argv, &o)) {
+        fprintf(stderr, "usage: bench_contact_rate [--quick] [SCENE.json [--at T1,T2,...] "
+                        "[--near BODY --radius R]]\n");
+        return 2;
+    }
+    printf("scene,t,states,differentiated,guard_dt_s,default_dt_s,fastest_decay_per_s,"
+           "fastest_growth_per_s,fastest_oscillation_per_s,largest_modulus_per_s,local_dt_s,"
+           "ratio\n");
+    if (o.path != NULL) {
+        return measure(&o);
+    }
+    /* no scene: the example contact scenes at the times docs/effects.md's table samples */
+    static const options examples[] = {
+        {TUMBLE_SCENES_DIR "/dice.json", {0.3, 0.6, 0.9}, 3, NULL, 0.0},
+        {TUMBLE_SCENES_DIR "/dominoes.json", {0.1, 0.3, 0.6, 1.0, 1.3}, 5, NULL, 0.0},
+        {TUMBLE_SCENES_DIR "/stack.json", {0.5, 2.0}, 2, NULL, 0.0},
+        {TUMBLE_SCENES_DIR "/bowl.json", {0.5, 1.4}, 2, NULL, 0.0},
+    };
+    for (size_t k = 0; k < sizeof examples / sizeof examples[0]; ++k) {
+        if (measure(&examples[k]) != 0) {
+            return 1;
+        }
+    }
     return 0;
 }
