@@ -89,10 +89,7 @@ static void run(const char *name, const char *examples, tb_method method, double
 int main(int argc, char **argv)
 {
     const bench_args args = bench_parse_args(argc, argv, BENCH_EXAMPLES, false);
-    char model[256], extensions[256];
-    bench_processor(model, extensions);
-    fprintf(stderr, "bench_ark_imex: processor %s; load average %.2f\n", model,
-            bench_load_average());
+    bench_print_machine("bench_ark_imex");
     printf("scene,method,status,reached_s,steps,error_test_failures,newton_failures,jacobians,"
            "derivatives,cpu_s,cpu_s_per_s\n");
     static const char *const scenes[] = {"dice", "dominoes", "stack"};

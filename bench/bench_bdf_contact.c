@@ -153,10 +153,7 @@ static void run(const char *name, const char *examples, tb_linear_solver solver,
 int main(int argc, char **argv)
 {
     const bench_args args = bench_parse_args(argc, argv, BENCH_EXAMPLES, true);
-    char model[256], extensions[256];
-    bench_processor(model, extensions);
-    fprintf(stderr, "bench_bdf_contact: processor %s; load average %.2f\n", model,
-            bench_load_average());
+    bench_print_machine("bench_bdf_contact");
     printf("scene,solver,status,reached_s,steps,error_test_failures,newton_failures,"
            "newton_iterations,jacobians,derivatives,cpu_s,cpu_s_per_s\n");
     static const struct {
