@@ -214,6 +214,9 @@ void tb__scene_restart(tb_scene *scene, double t, const double *y)
             tb__stepping_of(effect)->restart(effect, scene, t, y);
         }
     }
+    if (scene->constraint_ops != NULL && scene->constraint_ops->restart != NULL) {
+        scene->constraint_ops->restart(scene->constraints, scene, t);
+    }
 }
 
 size_t tb_scene_effect_count(const tb_scene *scene)

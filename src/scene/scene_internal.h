@@ -419,8 +419,8 @@ void tb__scene_wake_all(tb_scene *scene);
  * the clock restarts at t; at or after it (a run continued) nothing changes. */
 void tb__scene_sleep_restart(tb_scene *scene, double t);
 /* An integrator made or reset at t from y: the sleep clock's restart, then every effect's
- * restart op (tb__effect_stepping.restart), so that nothing a run before left outside y
- * changes a run from y. */
+ * restart op (tb__effect_stepping.restart) and the constraints' (a joint broken later whole
+ * again), so that nothing a run before left outside y changes a run from y. */
 void tb__scene_restart(tb_scene *scene, double t, const double *y);
 /* The adaptive methods' event stop (tb_ode_system.events.at_event, ctx the scene): while a body
  * sleeps, the islands are decided from y at t (pairs within the margin, tb__effect_stepping
