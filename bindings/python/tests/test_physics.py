@@ -98,18 +98,12 @@ def test_accuracy_errors_converge_at_each_methods_order(scenes):
     assert [(r["method"], r["setting"]) for r in rows] == list(tumble.ACCURACY_SWEEP)
 
 
-def test_accuracy_rows_run_as_fresh_runs_do():
+def test_accuracy_rows_run_as_fresh_runs_do(sliding_boxes):
     # Each row of the sweep runs from the scene's start after the reference runs and the rows
     # before it: on boxes that hold friction slots, a row takes the steps and evaluations of a
     # run of its own from a new scene (the library starts the slot map again at every run;
     # before, the rows ran on the map the reference left: 796 BDF steps where a run takes 810).
-    b = tumble.SceneBuilder()
-    b.add_body("base", shape={"type": "box", "size": [0.1, 0.1, 0.1]}, mass=1,
-               position=[0, 0, 0.05])
-    b.add_body("top", shape={"type": "box", "size": [0.08, 0.08, 0.08]}, mass=0.5,
-               position=[0, 0, 0.14], velocity=[0.15, 0, 0], angular_velocity=[0, 0, 2])
-    for effect in ("gravity", "ground", "contact"):
-        b.add_effect(effect)
+    b = sliding_boxes(side=False)
     scene = b.build(fps=50, duration=0.08)
     sweep = [("cvode-bdf", 1e-4), ("cvode-adams", 1e-4)]
     rows, _ = scene.accuracy(sweep=sweep)

@@ -282,20 +282,12 @@ def test_reset_goes_back_to_the_start_bit_for_bit(scenes):
     assert np.array_equal(first.position, again.position)
 
 
-def test_reset_runs_a_scene_with_friction_slots_again_as_the_first():
+def test_reset_runs_a_scene_with_friction_slots_again_as_the_first(sliding_boxes):
     # Boxes sliding and coming to rest on each other and on the ground hold slots of the friction
     # pools, whose map is kept beside the state: reset() starts it again (tb_integrator_reset to
     # an earlier time), so the run again is the first, the anchors' states too. Before, the map
     # was the first run's, and CVODE BDF ended elsewhere (tests/test_run_again.c in C).
-    b = tumble.SceneBuilder()
-    b.add_body("base", shape={"type": "box", "size": [0.1, 0.1, 0.1]}, mass=1,
-               position=[0, 0, 0.05])
-    b.add_body("top", shape={"type": "box", "size": [0.08, 0.08, 0.08]}, mass=0.5,
-               position=[0, 0, 0.14], velocity=[0.15, 0, 0], angular_velocity=[0, 0, 2])
-    b.add_body("side", shape={"type": "box", "size": [0.08, 0.08, 0.08]}, mass=0.5,
-               position=[0.2, 0, 0.04], velocity=[-0.1, 0.05, 0])
-    for effect in ("gravity", "ground", "contact"):
-        b.add_effect(effect)
+    b = sliding_boxes()
     sim = tumble.Simulation(b.build(method="cvode-bdf", rtol=1e-4, fps=50, duration=0.08))
     first = sim.run()
     end = sim._y.copy()
