@@ -2,11 +2,11 @@
  * breaks at the first step boundary (the post-step hook: every fixed step; CVODE's projection
  * and outputs) where the magnitude of its reaction on body_a passes a limit: the force, or the
  * torque about its anchor. Its rows then leave the solve for the rest of the run (their block of
- * the factor keeps its place, with no rows; a run again from before the break has them back),
- * tb_scene_joint_broken reports it, and the scene's right-hand
- * side generation moves on so that CVODE restarts. The break is found to a step: the reaction
- * is read at step boundaries, not located by a root function. Under CVODE, whose projections
- * run on trial steps too, the boundaries are its outputs (the start of each advance). */
+ * the factor keeps its place, with no rows; a run again from before the break has them back,
+ * tb__joints_restart), tb_scene_joint_broken reports it, and the scene's right-hand side
+ * generation moves on so that CVODE restarts. The break is found to a step: the reaction is read
+ * at step boundaries, not located by a root function. Under CVODE, whose projections run on
+ * trial steps too, the boundaries are its outputs (the start of each advance). */
 #include "constraints/joints_internal.h"
 
 #include "core/validate.h"
