@@ -9,6 +9,7 @@
  * usage: bench_ark_imex [--quick] [--scene NAME] [EXAMPLES_DIR]
  * (--quick: 0.2% of the span, 0.5 s of CPU at most a run; without it 60 s) */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
+#include "bench_args.h"
 #include "bench_common.h"
 #include "tumble/tumble.h"
 
@@ -87,18 +88,8 @@ static void run(const char *name, const char *examples, tb_method method, double
 
 int main(int argc, char **argv)
 {
-    const int quick = argc > 1 && strcmp(argv[1], "--quick") == 0;
-    int next = 1 + quick;
-    const char *scene_only = NULL; /* --scene NAME: that scene's rows alone */
-    if (argc > next + 1 && strcmp(argv[next], "--scene") == 0) {
-        scene_only = argv[next + 1];
-        next += 2;
-    }
-    const char *examples = argc > next ? argv[next] : BENCH_EXAMPLES;
-    char model[256], extensions[256];
-    bench_processor(model, extensions);
-    fprintf(stderr, "bench_ark_imex: processor %s; load average %.2f\n", model,
-            bench_load_average());
+    const bench_args args = bench_parse_args(argc, argv, BENCH_EXAMPLES, false);
+    bench_print_machine("bench_ark_imex");
     printf("scene,method,status,reached_s,steps,error_test_failures,newton_failures,jacobians,"
            "derivatives,cpu_s,cpu_s_per_s\n");
     static const char *const scenes[] = {"dice", "dominoes", "stack"};
@@ -106,8 +97,9 @@ int main(int argc, char **argv)
                                         TB_METHOD_CVODE_ADAMS, TB_METHOD_RK4};
     for (size_t s = 0; s < sizeof scenes / sizeof scenes[0]; ++s) {
         for (size_t m = 0; m < sizeof methods / sizeof methods[0]; ++m) {
-            if (scene_only == NULL || strcmp(scene_only, scenes[s]) == 0) {
-                run(scenes[s], examples, methods[m], quick ? 0.001 : 0.5, quick ? 0.5 : 60.0);
+            if (bench_wanted(args.scene, scenes[s])) {
+                run(scenes[s], args.examples, methods[m], args.quick ? 0.001 : 0.5,
+                    args.quick ? 0.5 : 60.0);
             }
         }
     }

@@ -17,6 +17,7 @@
  * (--quick: 0.1% of each span, 0.5 s of CPU at most a run, checked at each frame; without it
  * 20 s) */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
+#include "bench_args.h"
 #include "bench_common.h"
 #include "tumble/tumble.h"
 
@@ -151,23 +152,8 @@ static void run(const char *name, const char *examples, tb_linear_solver solver,
 
 int main(int argc, char **argv)
 {
-    const int quick = argc > 1 && strcmp(argv[1], "--quick") == 0;
-    const char *only = NULL; /* --solver NAME: that solver's rows alone */
-    int next = 1 + quick;
-    if (argc > next + 1 && strcmp(argv[next], "--solver") == 0) {
-        only = argv[next + 1];
-        next += 2;
-    }
-    const char *scene_only = NULL; /* --scene NAME: that scene's rows alone */
-    if (argc > next + 1 && strcmp(argv[next], "--scene") == 0) {
-        scene_only = argv[next + 1];
-        next += 2;
-    }
-    const char *examples = argc > next ? argv[next] : BENCH_EXAMPLES;
-    char model[256], extensions[256];
-    bench_processor(model, extensions);
-    fprintf(stderr, "bench_bdf_contact: processor %s; load average %.2f\n", model,
-            bench_load_average());
+    const bench_args args = bench_parse_args(argc, argv, BENCH_EXAMPLES, true);
+    bench_print_machine("bench_bdf_contact");
     printf("scene,solver,status,reached_s,steps,error_test_failures,newton_failures,"
            "newton_iterations,jacobians,derivatives,cpu_s,cpu_s_per_s\n");
     static const struct {
@@ -182,12 +168,12 @@ int main(int argc, char **argv)
                    {TB_LINEAR_SOLVER_SPARSE, "sparse"}};
     for (size_t s = 0; s < sizeof scenes / sizeof scenes[0]; ++s) {
         for (size_t k = 0; k < sizeof solvers / sizeof solvers[0]; ++k) {
-            if ((only != NULL && strcmp(only, solvers[k].label) != 0) ||
-                (scene_only != NULL && strcmp(scene_only, scenes[s].name) != 0)) {
+            if (!bench_wanted(args.solver, solvers[k].label) ||
+                !bench_wanted(args.scene, scenes[s].name)) {
                 continue;
             }
-            run(scenes[s].name, examples, solvers[k].solver, solvers[k].label,
-                scenes[s].span * (quick ? 0.001 : 1.0), quick ? 0.5 : 20.0);
+            run(scenes[s].name, args.examples, solvers[k].solver, solvers[k].label,
+                scenes[s].span * (args.quick ? 0.001 : 1.0), args.quick ? 0.5 : 20.0);
         }
     }
     return 0;

@@ -77,4 +77,12 @@ static inline double bench_load_average(void)
     return load;
 }
 
+/* "NAME: processor MODEL; load average L" to stderr: what a figure was measured on. */
+static inline void bench_print_machine(const char *name)
+{
+    char model[256], extensions[256];
+    bench_processor(model, extensions);
+    fprintf(stderr, "%s: processor %s; load average %.2f\n", name, model, bench_load_average());
+}
+
 #endif

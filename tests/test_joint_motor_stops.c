@@ -43,15 +43,10 @@ static void advance(tb_integrator *integrator, double t)
 static tb_scene *door_scene(size_t *door, double *inertia)
 {
     tb_scene *scene = test_empty_scene();
-    const double size[3] = {1.0, 0.05, 2.0}, x[3] = {0.5, 0.0, 0.0};
-    *door = test_add_box(scene, 20.0, size, x);
+    tb_joint_def def;
+    *door = test_add_swinging_door(scene, 0.0, &def);
     *inertia = 20.0 * (1.0 + 0.05 * 0.05) / 12.0 + 20.0 * 0.25;
     assert_int_equal(tb_scene_add_gravity(scene, (double[]){0.0, 0.0, -TEST_G}), TB_STATUS_OK);
-    tb_joint_def def = tb_joint_def_default();
-    def.type = TB_JOINT_HINGE;
-    def.body_a = *door;
-    def.has_limits = 1;
-    def.limits[1] = DOOR_OPEN;
     def.motor = TB_MOTOR_VELOCITY;
     def.motor_speed = 1.0;
     def.motor_max_force = DOOR_CAP;
@@ -244,20 +239,8 @@ static void test_door_motor_bouncing_into_its_stop_comes_to_rest_on_it(void **st
     const tb_method adaptive[2] = {TB_METHOD_CVODE_BDF, TB_METHOD_CVODE_ADAMS};
     for (int k = 0; k < 2; ++k) {
         tb_scene *scene = test_empty_scene();
-        tb_body_def body = tb_body_def_default();
-        assert_int_equal(
-            tb_mass_from_box(TB_MASS_GIVEN, 20.0, (double[]){1.0, 0.05, 2.0}, &body.mass, NULL),
-            TB_STATUS_OK);
-        body.position[0] = 0.5;
-        body.angular_velocity[2] = 2.0;
-        body.velocity[1] = 1.0; /* omega x (centre - hinge): the hinge at rest */
-        size_t door = 0;
-        assert_int_equal(tb_scene_add_body(scene, &body, &door), TB_STATUS_OK);
-        tb_joint_def def = tb_joint_def_default();
-        def.type = TB_JOINT_HINGE;
-        def.body_a = door;
-        def.has_limits = 1;
-        def.limits[1] = DOOR_OPEN;
+        tb_joint_def def;
+        test_add_swinging_door(scene, 2.0, &def);
         def.restitution = 0.3;
         def.motor = TB_MOTOR_VELOCITY;
         def.motor_speed = 1.0;

@@ -281,20 +281,8 @@ static void test_soft_door_bounces_between_elastic_stops_keeping_its_energy(void
 {
     (void)state;
     tb_scene *scene = test_empty_scene();
-    tb_body_def body = tb_body_def_default();
-    assert_int_equal(
-        tb_mass_from_box(TB_MASS_GIVEN, 20.0, (double[]){1.0, 0.05, 2.0}, &body.mass, NULL),
-        TB_STATUS_OK);
-    body.position[0] = 0.5;
-    body.angular_velocity[2] = 2.0;
-    body.velocity[1] = 1.0;
-    size_t door = 0;
-    assert_int_equal(tb_scene_add_body(scene, &body, &door), TB_STATUS_OK);
-    tb_joint_def def = tb_joint_def_default();
-    def.type = TB_JOINT_HINGE;
-    def.body_a = door;
-    def.has_limits = 1;
-    def.limits[1] = TEST_PI / 2.0;
+    tb_joint_def def;
+    test_add_swinging_door(scene, 2.0, &def);
     def.restitution = 1.0;
     def.soft_frequency = 3.0;
     assert_int_equal(tb_scene_add_joint(scene, &def, NULL), TB_STATUS_OK);

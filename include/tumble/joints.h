@@ -70,10 +70,11 @@ typedef struct tb_joint_def {
     double motor_speed;     /* rad/s or m/s (TB_MOTOR_VELOCITY) */
     double motor_target;    /* rad or m (TB_MOTOR_POSITION) */
     double motor_max_force; /* > 0 with a motor */
-    /* Breaking: the joint breaks (its rows are dropped for good; tb_scene_joint_broken says so)
-     * when the magnitude of its reaction force (N) or torque (N m, about the anchor) on body_a
-     * exceeds these (> 0), at the first step boundary where it does (fixed-step methods: every
-     * step; CVODE: its outputs). INFINITY (default): never. */
+    /* Breaking: the joint breaks (its rows are dropped for the rest of the run, and are back for
+     * an integrator made or reset before the break; tb_scene_joint_broken says so) when the
+     * magnitude of its reaction force (N) or torque (N m, about the anchor) on body_a exceeds these
+     * (> 0), at the first step boundary where it does (fixed-step methods: every step; CVODE: its
+     * outputs). INFINITY (default): never. */
     double break_force, break_torque;
     /* A soft joint: a spring-damper on the same rows instead of an exact constraint, for
      * animators' wobbly rigs: each row r pulls with -m_g (w^2 C_r + 2 zeta w dC_r/dt), w = 2 pi

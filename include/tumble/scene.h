@@ -390,6 +390,12 @@ TB_API tb_status tb_scene_body_asleep(const tb_scene *scene, size_t id, bool *ou
  * integrator last left it (tb_scene_set_state, tb_scene_set_velocity, a write through
  * tb_scene_states): the call then returns that check's status (TB_STATUS_INVALID_ARGUMENT,
  * naming the bodies), changing neither the state nor the time.
+ * History: what a scene keeps outside the state between steps (which contact point holds which
+ * friction slot, which bodies sleep, which joints broke) is started again from the state when
+ * an integrator is made or reset at a time before the last run's end (the friction slots: at
+ * any time but that end): a run from a state is then the same run, bit for bit, whatever ran on
+ * the scene before (a run again from the start, each row of tb_scene_accuracy_sweep). Made or
+ * reset where the last run stopped, it continues that run's history.
  * Lifetimes: the integrator steps the scene only while the scene's layout is the one it was
  * made on. Adding a body, a ground plane, contact points, an effect that couples independent
  * bodies, or making another integrator on the scene (tb_scene_integrator_create or

@@ -1,11 +1,12 @@
 /* Breaking joints and the joints' reactions. A joint with a finite break_force or break_torque
  * breaks at the first step boundary (the post-step hook: every fixed step; CVODE's projection
  * and outputs) where the magnitude of its reaction on body_a passes a limit: the force, or the
- * torque about its anchor. Its rows then leave the solve for good (their block of the factor
- * keeps its place, with no rows), tb_scene_joint_broken reports it, and the scene's right-hand
- * side generation moves on so that CVODE restarts. The break is found to a step: the reaction
- * is read at step boundaries, not located by a root function. Under CVODE, whose projections
- * run on trial steps too, the boundaries are its outputs (the start of each advance). */
+ * torque about its anchor. Its rows then leave the solve for the rest of the run (their block of
+ * the factor keeps its place, with no rows; a run again from before the break has them back,
+ * tb__joints_restart), tb_scene_joint_broken reports it, and the scene's right-hand side
+ * generation moves on so that CVODE restarts. The break is found to a step: the reaction is read
+ * at step boundaries, not located by a root function. Under CVODE, whose projections run on
+ * trial steps too, the boundaries are its outputs (the start of each advance). */
 #include "constraints/joints_internal.h"
 
 #include "core/validate.h"
@@ -82,4 +83,19 @@ int tb__joints_check_breaking(tb__joints *js, const tb_scene *scene, double t, d
         ((tb_scene *)scene)->effects_generation++;
     }
     return rc;
+}
+
+void tb__joints_restart(void *constraints, const tb_scene *scene, double t)
+{
+    (void)scene;
+    tb__joints *js = constraints;
+    for (size_t j = 0; j < js->count; ++j) {
+        tb__joint *joint = &js->joints[j];
+        if (joint->broken && t < joint->broken_time) {
+            joint->broken = false;
+            /* as made (joint_rows.c); the stops and motors lay their rows out again at the next
+             * derivative (tb__joints_configure_rows) */
+            joint->solved_rows = joint->def.soft_frequency > 0.0 ? 0 : joint->rows;
+        }
+    }
 }

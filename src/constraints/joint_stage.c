@@ -421,4 +421,5 @@ const tb__constraint_ops tb__joint_ops = {
     .at_event = tb__joints_at_event,
     .conserved = tb__joints_conserved,
     .potential_energy = tb__joints_potential_energy,
+    .restart = tb__joints_restart, /* joint_breaking.c */
 };

@@ -157,9 +157,12 @@ void tb__joint_reaction(const tb_scene *scene, const tb__joints *js, size_t j, d
                         double torque[3]);
 /* At a step boundary (the post-step hook, after the projection): the reactions at (t, y), and
  * the breakable joints whose reaction passed a limit break there (their rows leave the solve
- * for good; the scene's right-hand side changes, so CVODE restarts). 0, or the derivative's
- * failure. */
+ * for the rest of the run; the scene's right-hand side changes, so CVODE restarts). 0, or the
+ * derivative's failure. */
 int tb__joints_check_breaking(tb__joints *js, const tb_scene *scene, double t, double *y);
+/* tb__constraint_ops.restart: a joint broken after t (by a run that went past t) is whole
+ * again, its rows back in the solve; one broken at or before t stays broken. */
+void tb__joints_restart(void *constraints, const tb_scene *scene, double t);
 
 /* Room for a derivative of the scene's state in js->scratch: made once per layout (the first
  * boundary after a body or an effect's states were added), never per step; false when out of

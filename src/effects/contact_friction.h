@@ -84,6 +84,18 @@ const tb_contact_friction_stats *tb__friction_stats(const tb__friction_pool *poo
 /* The contact effect's post_step op: the slot map's update at a step boundary. */
 void tb__friction_post_step(const tb__effect *effect, const tb_scene *scene, const double *y);
 
+/* An integrator made or reset at t (tb__effect_stepping.restart), z the pool's states in y:
+ * unless t is the time of the pool's last boundary (a run continued where it stopped, after a
+ * change of a body's state or an added load: the slots keep their points and anchors), the slot
+ * map starts again from z alone, so that a run from a state is the same whatever ran on the
+ * scene before: every slot free and queued in slot order, those with an unloaded anchor (z = 0)
+ * first. A start's anchors are zero, so its queue is a new pool's; a loaded anchor, whose point
+ * is not known, relaxes free and is handed out last. The stats count on, but in_use is 0. */
+void tb__friction_restart(tb__friction_pool *pool, double t, const double *z);
+/* The contact effect's restart op: its pool's. */
+void tb__friction_effect_restart(const tb__effect *effect, const tb_scene *scene, double t,
+                                 const double *y);
+
 /* The boundary's pass for another owner of a pool (a ground plane, effect_ground_shapes.c):
  * begin, hold each pair's touching points (motion_a: A's motion at the boundary, the frame of
  * the keys; *fresh counts the provisional claims from 0, as tb__friction_match's), then end with

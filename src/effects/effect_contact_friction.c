@@ -7,6 +7,7 @@
 #include "core/validate.h"
 #include "math/tb_math.h"
 
+#include <math.h>
 #include <stdbool.h>
 #include <stdlib.h>
 
@@ -37,6 +38,7 @@ struct tb__friction_pool {
     size_t *body_first;
     bool *held; /* scratch of the boundary's pass: capacity flags */
     double free_deflection;
+    double last_boundary; /* s: the scene's time at the last boundary; NAN before the first */
     tb_contact_friction_stats stats;
 };
 
@@ -61,11 +63,7 @@ tb__friction_pool *tb__friction_pool_create(size_t slots, size_t bodies, double 
     }
     pool->capacity = slots;
     pool->bodies = bodies;
-    for (size_t s = 0; s < slots; ++s) {
-        pool->slots[s].body_a = TB__NO_SLOT;
-        pool->queue[s] = s;
-    }
-    pool->free_count = slots;
+    tb__friction_restart(pool, NAN, NULL);
     pool->free_deflection = TB__FRICTION_FREE_DEFLECTION * presliding;
     pool->stats.slots = slots;
     return pool;
@@ -145,6 +143,43 @@ static void index_bodies(tb__friction_pool *pool)
             ++k;
         }
     }
+}
+
+/* Every slot free and queued, those whose anchor in z is unloaded first, each group in slot
+ * order: with z NULL or all zero, the queue of a new pool. */
+static void free_every_slot(tb__friction_pool *pool, const double *z)
+{
+    size_t k = 0;
+    for (int loaded = 0; loaded < 2; ++loaded) {
+        for (size_t s = 0; s < pool->capacity; ++s) {
+            const double *zs = z != NULL ? z + TB__FRICTION_SLOT_STATES * s : NULL;
+            if ((zs != NULL && (zs[0] != 0.0 || zs[1] != 0.0 || zs[2] != 0.0)) == (loaded == 1)) {
+                pool->slots[s].body_a = TB__NO_SLOT;
+                pool->queue[k++] = s;
+            }
+        }
+    }
+    pool->head = 0;
+    pool->free_count = pool->capacity;
+    pool->index_count = 0;
+    index_bodies(pool);
+}
+
+void tb__friction_restart(tb__friction_pool *pool, double t, const double *z)
+{
+    if (t == pool->last_boundary) {
+        return; /* the run continues where it stopped: the slots keep their anchors in z */
+    }
+    free_every_slot(pool, z);
+    pool->last_boundary = NAN;
+    pool->stats.in_use = 0;
+}
+
+void tb__friction_effect_restart(const tb__effect *effect, const tb_scene *scene, double t,
+                                 const double *y)
+{
+    (void)scene;
+    tb__friction_restart(tb__contact_of(effect)->friction, t, y + effect->state_offset);
 }
 
 static double distance2(const double p[3], const double q[3])
@@ -407,6 +442,7 @@ void tb__friction_boundary_end(tb__friction_pool *pool, const tb_scene *scene, c
     pool->head = (pool->head + claimed) % pool->capacity;
     pool->free_count -= claimed;
     update_index(pool, scene, z);
+    pool->last_boundary = scene->time;
     tb_contact_friction_stats *stats = &pool->stats;
     stats->boundaries++;
     stats->overflows += fresh - claimed;

@@ -199,6 +199,15 @@ void tb__ground_shapes_post_step(const tb__effect *effect, const tb_scene *scene
     tb__friction_boundary_end(pool, scene, y + pool_first_state(effect, scene), fresh);
 }
 
+void tb__ground_shapes_restart(const tb__effect *effect, const tb_scene *scene, double t,
+                               const double *y)
+{
+    tb__friction_pool *pool = tb__ground_of(effect)->shapes->law.friction;
+    if (pool != NULL) {
+        tb__friction_restart(pool, t, y + pool_first_state(effect, scene));
+    }
+}
+
 /* The modes of a body on the plane, contact_rate's (effect_contact.c) for a pair whose A weighs
  * nothing in the bounds (lightness 0): the normal points ring at omega sqrt(l), l the body's
  * lightness along the normal, damped at zeta kappa with kappa = sqrt(l) for a shape that touches

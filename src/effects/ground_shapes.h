@@ -52,6 +52,9 @@ tb_status tb__ground_shapes_check_start(const tb__effect *effect, const tb_scene
 void tb__ground_shapes_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
                                   double *gap);
 void tb__ground_shapes_post_step(const tb__effect *effect, const tb_scene *scene, const double *y);
+/* Its restart op: the pool's (tb__friction_restart). */
+void tb__ground_shapes_restart(const tb__effect *effect, const tb_scene *scene, double t,
+                               const double *y);
 
 /* Whether the ground meets body id through its shape (it has one and no contact points); if so
  * its deepest point's depth in the plane at y (m) and how many of its points touch (depth > 0). */

@@ -33,6 +33,10 @@ typedef struct tb__constraint_ops {
     /* What the constraints keep of what the effects conserve: clears the fields of c that they
      * break (tb_scene_conserved). */
     void (*conserved)(const void *constraints, const tb_scene *scene, tb_conserved *c);
+    /* An integrator made or reset at t (tb__scene_restart): what a later time of another run
+     * decided outside y (a joint broken after t) is undone, so that a run from a state is the
+     * same whatever ran on the scene before. NULL: nothing to undo. */
+    void (*restart)(void *constraints, const tb_scene *scene, double t);
     /* The constraints' potential energy at y (J: soft joints' springs); NULL: none. */
     double (*potential_energy)(const void *constraints, const tb_scene *scene, const double *y);
 } tb__constraint_ops;

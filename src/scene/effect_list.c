@@ -205,6 +205,20 @@ int tb__scene_post_step(double t, double *y, void *ctx)
     return rc;
 }
 
+void tb__scene_restart(tb_scene *scene, double t, const double *y)
+{
+    tb__scene_sleep_restart(scene, t);
+    for (size_t e = 0; e < scene->effect_count; ++e) {
+        const tb__effect *effect = &scene->effects[e];
+        if (tb__stepping_of(effect)->restart != NULL) {
+            tb__stepping_of(effect)->restart(effect, scene, t, y);
+        }
+    }
+    if (scene->constraint_ops != NULL && scene->constraint_ops->restart != NULL) {
+        scene->constraint_ops->restart(scene->constraints, scene, t);
+    }
+}
+
 size_t tb_scene_effect_count(const tb_scene *scene)
 {
     return scene == NULL ? 0 : scene->effect_count;

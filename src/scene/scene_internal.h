@@ -159,6 +159,11 @@ struct tb__effect_stepping {
      * bookkeeping outside y that the derivative reads (the contact effect's friction slot
      * map). It must not change y, and must leave the derivative at y as it was. NULL: none. */
     void (*post_step)(const tb__effect *effect, const tb_scene *scene, const double *y);
+    /* An integrator made or reset at t from y (tb__scene_restart): the bookkeeping post_step
+     * keeps outside y starts again from y alone, unless the integrator continues where the last
+     * boundary was, so that a run from a state is the same whatever ran on the scene before
+     * (the friction slot map). NULL: none. */
+    void (*restart)(const tb__effect *effect, const tb_scene *scene, double t, const double *y);
     /* Body id's shape was set or removed (tb_scene_set_body_shape, the scene idle): the effect
      * may change how many states it owns and lay the scene's states out again
      * (tb__scene_layout_states), or fail with nothing changed. NULL: shapes change nothing. */
@@ -413,6 +418,10 @@ void tb__scene_wake_all(tb_scene *scene);
  * an earlier time) the stillness counted belongs to another history, so every body wakes and
  * the clock restarts at t; at or after it (a run continued) nothing changes. */
 void tb__scene_sleep_restart(tb_scene *scene, double t);
+/* An integrator made or reset at t from y: the sleep clock's restart, then every effect's
+ * restart op (tb__effect_stepping.restart) and the constraints' (a joint broken later whole
+ * again), so that nothing a run before left outside y changes a run from y. */
+void tb__scene_restart(tb_scene *scene, double t, const double *y);
 /* The adaptive methods' event stop (tb_ode_system.events.at_event, ctx the scene): while a body
  * sleeps, the islands are decided from y at t (pairs within the margin, tb__effect_stepping
  * wake_links) and the decision applied at once, so that the integrator restarts there with

@@ -197,7 +197,7 @@ static tb_status check_reset(double t, const double *y, void *ctx, char *detail)
     tb_scene *scene = ctx;
     if (!has_start_checks(scene) || !fixed_poses_move(scene, t)) {
         scene->time = t;
-        tb__scene_sleep_restart(scene, t);
+        tb__scene_restart(scene, t, y);
         return TB_STATUS_OK;
     }
     const double time_before = scene->time;
@@ -209,7 +209,7 @@ static tb_status check_reset(double t, const double *y, void *ctx, char *detail)
         return tb__set_detail(detail, status, "reset to t = %.17g is refused as a start: %.*s", t,
                               TB_DETAIL_SIZE - 96, found);
     }
-    tb__scene_sleep_restart(scene, t);
+    tb__scene_restart(scene, t, y);
     return TB_STATUS_OK;
 }
 
@@ -507,7 +507,7 @@ static tb_status create_at(tb_scene *scene, const tb_integrator_def *def, double
     scene->guard_method = def->method;
     scene->guard_dt = tb_method_is_adaptive(def->method) ? 0.0 : def->dt;
     tb__scene_events_start(scene, t0, !tb_method_is_adaptive(def->method));
-    tb__scene_sleep_restart(scene, t0);
+    tb__scene_restart(scene, t0, scene->states);
     return TB_STATUS_OK;
 }
 

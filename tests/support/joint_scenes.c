@@ -152,6 +152,25 @@ tb_scene *test_ball_chain(size_t n, double m, double l)
     return scene;
 }
 
+size_t test_add_swinging_door(tb_scene *scene, double omega, tb_joint_def *hinge)
+{
+    tb_body_def body = tb_body_def_default();
+    assert_int_equal(
+        tb_mass_from_box(TB_MASS_GIVEN, 20.0, (double[]){1.0, 0.05, 2.0}, &body.mass, NULL),
+        TB_STATUS_OK);
+    body.position[0] = 0.5;
+    body.angular_velocity[2] = omega;
+    body.velocity[1] = 0.5 * omega; /* omega x (centre - edge) */
+    size_t door = 0;
+    assert_int_equal(tb_scene_add_body(scene, &body, &door), TB_STATUS_OK);
+    *hinge = tb_joint_def_default();
+    hinge->type = TB_JOINT_HINGE;
+    hinge->body_a = door;
+    hinge->has_limits = 1;
+    hinge->limits[1] = TEST_PI / 2.0;
+    return door;
+}
+
 double test_total_energy(const tb_scene *scene)
 {
     double kinetic = 0.0, potential = 0.0;

@@ -40,6 +40,13 @@ double test_rod_angle(const tb_scene *scene, const double *y, size_t id);
  * gravity. */
 tb_scene *test_ball_chain(size_t n, double m, double l);
 
+/* A 20 kg door (1 m wide, 5 cm thick, 2 m tall; no collision shape), its edge on the z axis
+ * through the origin and its centre at (0.5, 0, 0), swinging open about z at omega (rad/s; its
+ * centre moving at 0.5 omega along +y, so the edge stays at rest). Returns its id; *hinge gets
+ * the door's joint, not yet added: a hinge about z through the edge with limits [0, 90 deg]
+ * (restitution 0, no motor), for the caller to complete and add. */
+size_t test_add_swinging_door(tb_scene *scene, double omega, tb_joint_def *hinge);
+
 /* Kinetic plus potential energy at the scene's states (J). */
 double test_total_energy(const tb_scene *scene);
 

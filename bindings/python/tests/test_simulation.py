@@ -282,6 +282,21 @@ def test_reset_goes_back_to_the_start_bit_for_bit(scenes):
     assert np.array_equal(first.position, again.position)
 
 
+def test_reset_runs_a_scene_with_friction_slots_again_as_the_first(sliding_boxes):
+    # Boxes sliding and coming to rest on each other and on the ground hold slots of the friction
+    # pools, whose map is kept beside the state: reset() starts it again (tb_integrator_reset to
+    # an earlier time), so the run again is the first, the anchors' states too. Before, the map
+    # was the first run's, and CVODE BDF ended elsewhere (tests/test_run_again.c in C).
+    b = sliding_boxes()
+    sim = tumble.Simulation(b.build(method="cvode-bdf", rtol=1e-4, fps=50, duration=0.08))
+    first = sim.run()
+    end = sim._y.copy()
+    sim.reset()
+    again = sim.run()
+    assert np.array_equal(end, sim._y)
+    assert np.array_equal(first.position, again.position)
+
+
 def test_threads_share_a_step_and_change_no_bit():
     # The library shares the chunks of a step of bodies that do not interact among threads,
     # the same chunks for any count (include/tumble/ode.h): every bit must agree.

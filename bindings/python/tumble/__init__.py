@@ -27,7 +27,8 @@ frames made so far on the exception (`frames`).
 from ._core import METHODS, TumbleError, TumbleValueError, lib
 from ._ensemble import run_many
 from ._events import EVENT_DTYPE
-from ._scene import ACCURACY_SWEEP, Frames, Scene, SceneBuilder
+from ._builder import SceneBuilder
+from ._scene import ACCURACY_SWEEP, Frames, Scene
 from ._simulation import Simulation
 from ._version import __version__  # equal to the library's: _native checks it at import
 

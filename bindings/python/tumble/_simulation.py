@@ -9,7 +9,8 @@ import numpy as np
 from . import _joints, _native
 from ._core import (_active, apply_settings, as_pointer, deferred_interrupt, failure, lib,
                     number, stats_dict)
-from ._scene import Frames, Scene, SceneBuilder, _Recorder  # noqa: F401 (hints)
+from ._builder import SceneBuilder  # noqa: F401 (hints)
+from ._scene import Frames, Scene, _Recorder  # noqa: F401 (hints)
 
 Body = Union[int, str]
 #: A user force: force(t, state) -> forces, or (forces, torques). state is the (N, 13) state
