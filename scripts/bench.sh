@@ -33,7 +33,8 @@ out=build/bench-results
 mkdir -p "$out"
 for bench in bench_work_precision bench_torque_free_top bench_bdf_scaling bench_effects \
     bench_throughput bench_export bench_contact_geometry bench_contact bench_peer \
-    bench_peer_contact bench_limit bench_dice_events bench_bdf_contact bench_contact_rate; do
+    bench_peer_contact bench_limit bench_dice_events bench_bdf_contact bench_contact_rate \
+    bench_contact_work; do
     echo "bench: $bench" >&2
     "build/bench/$bench" "${quick[@]}" >"$out/$bench.csv"
 done

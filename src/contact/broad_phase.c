@@ -19,11 +19,12 @@ tb_status tb__broad_phase_init(tb__broad_phase *bp, size_t capacity)
     }
     bp->boxes = tb__malloc_array(n, sizeof *bp->boxes);
     bp->order = tb__malloc_array(n, sizeof *bp->order);
+    bp->sorted = tb__malloc_array(n, sizeof *bp->sorted);
     bp->scratch = tb__malloc_array(n, sizeof *bp->scratch);
     bp->strip = tb__malloc_array(n, sizeof *bp->strip);
     bp->strip_start = tb__malloc_array(n + 1, sizeof *bp->strip_start);
-    if (bp->boxes == NULL || bp->order == NULL || bp->scratch == NULL || bp->strip == NULL ||
-        bp->strip_start == NULL) {
+    if (bp->boxes == NULL || bp->order == NULL || bp->sorted == NULL || bp->scratch == NULL ||
+        bp->strip == NULL || bp->strip_start == NULL) {
         tb__broad_phase_free(bp);
         return TB_STATUS_OUT_OF_MEMORY;
     }
@@ -38,6 +39,7 @@ void tb__broad_phase_free(tb__broad_phase *bp)
 {
     free(bp->boxes);
     free(bp->order);
+    free(bp->sorted);
     free(bp->scratch);
     free(bp->strip);
     free(bp->strip_start);
@@ -149,28 +151,35 @@ void tb__broad_phase_sort(tb__broad_phase *bp, size_t count)
         }
         bp->strip_start[s] = p;
     }
+    for (size_t p = 0; p < count; ++p) {
+        bp->sorted[p].box = bp->boxes[bp->order[p]];
+        bp->sorted[p].index = bp->order[p];
+    }
     bp->cursor = 0;
     bp->phase = -1; /* the cursor's box has not started */
 }
 
-static bool overlap_others(const tb__aabb *a, const tb__aabb *b, int axis)
+/* Whether the boxes meet on the two axes other than axis (a NaN bound meets), without branches:
+ * about a third of a lattice's neighbours along the sweep meet, too few and too many to
+ * predict. */
+static int overlap_others(const tb__aabb *a, const tb__aabb *b, int axis)
 {
-    for (int k = 0; k < 3; ++k) {
-        if (k != axis && (a->max[k] < b->min[k] || b->max[k] < a->min[k])) {
-            return false;
-        }
-    }
-    return true;
+    const int k1 = axis == 0 ? 1 : 0, k2 = axis == 2 ? 1 : 2;
+    return !(a->max[k1] < b->min[k1]) & !(b->max[k1] < a->min[k1]) & !(a->max[k2] < b->min[k2]) &
+           !(b->max[k2] < a->min[k2]);
 }
 
 /* Where in strip s the boxes after box i along the axis begin: bisection. A pair of boxes in
  * neighbouring strips is found from the one that comes first along the axis. */
 static size_t first_after(const tb__broad_phase *bp, size_t s, size_t i)
 {
+    const double a = bp->boxes[i].min[bp->axis];
     size_t low = bp->strip_start[s], high = bp->strip_start[s + 1];
     while (low < high) {
         const size_t middle = low + (high - low) / 2;
-        if (before_on_axis(bp, i, bp->order[middle])) {
+        const tb__sorted_box *m = &bp->sorted[middle];
+        const double b = m->box.min[bp->axis]; /* before_on_axis(i, m) */
+        if (a < b || (a == b && i < m->index)) {
             high = middle;
         } else {
             low = middle + 1;
@@ -211,16 +220,20 @@ size_t tb__broad_phase_next(tb__broad_phase *bp, tb__index_pair *out, size_t cap
             next_phase(bp);
             continue;
         }
-        const size_t i = bp->order[bp->cursor];
-        const tb__aabb *a = &bp->boxes[i];
-        if (bp->next >= bp->end || bp->boxes[bp->order[bp->next]].min[axis] > a->max[axis]) {
-            next_phase(bp);
-            continue;
+        const tb__sorted_box *a = &bp->sorted[bp->cursor];
+        const double reach = a->box.max[axis];
+        /* the boxes of this phase that start before a ends, in order */
+        size_t next = bp->next;
+        while (written < capacity && next < bp->end && !(bp->sorted[next].box.min[axis] > reach)) {
+            const tb__sorted_box *b = &bp->sorted[next++];
+            const size_t i = a->index, j = b->index;
+            out[written].first = i < j ? i : j; /* kept when they overlap: no branch to miss */
+            out[written].second = i < j ? j : i;
+            written += overlap_others(&a->box, &b->box, axis);
         }
-        const size_t j = bp->order[bp->next++];
-        if (overlap_others(a, &bp->boxes[j], axis)) {
-            out[written].first = i < j ? i : j;
-            out[written++].second = i < j ? j : i;
+        bp->next = next;
+        if (written < capacity) {
+            next_phase(bp); /* this phase is done */
         }
     }
     return written;

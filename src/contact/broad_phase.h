@@ -25,18 +25,26 @@ typedef struct tb__aabb {
     double min[3], max[3]; /* world, m */
 } tb__aabb;
 
+/* A box in the sweep's order, with its index: the scan reads these in a row. */
+typedef struct tb__sorted_box {
+    tb__aabb box;
+    size_t index;
+} tb__sorted_box;
+
 typedef struct tb__index_pair {
     size_t first, second; /* indices into the boxes, first < second */
 } tb__index_pair;
 
 typedef struct tb__broad_phase {
-    size_t capacity;     /* boxes allocated */
-    size_t count;        /* boxes in use, set by tb__broad_phase_sort */
-    tb__aabb *boxes;     /* capacity; the caller fills [0, count) before sorting */
-    size_t *order;       /* capacity: box indices sorted by strip, then lower bound on axis */
-    size_t *scratch;     /* capacity: the merge sort's buffer */
-    size_t *strip;       /* capacity: each box's strip */
-    size_t *strip_start; /* capacity + 1: where each strip starts in order */
+    size_t capacity;        /* boxes allocated */
+    size_t count;           /* boxes in use, set by tb__broad_phase_sort */
+    tb__aabb *boxes;        /* capacity; the caller fills [0, count) before sorting */
+    size_t *order;          /* capacity: box indices sorted by strip, then lower bound on axis */
+    tb__sorted_box *sorted; /* capacity: boxes[order[p]] at p, copied by the sort, so the sweep
+                               reads neighbours from one run of memory instead of through order */
+    size_t *scratch;        /* capacity: the merge sort's buffer */
+    size_t *strip;          /* capacity: each box's strip */
+    size_t *strip_start;    /* capacity + 1: where each strip starts in order */
     size_t strip_count;
     int axis, strip_axis; /* the sweep axis and the axis across the strips, 0..2 */
     /* The sweep's place: order[cursor] against order[next] (< end), in its own strip (phase 0),

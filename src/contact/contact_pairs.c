@@ -14,10 +14,11 @@
 #define PAIR_BATCH 64
 
 struct tb__contact_pairs {
-    size_t count;  /* bodies in the set */
-    size_t *ids;   /* count body ids */
-    size_t *local; /* count: the set's index of each box in use (bodies with shapes) */
-    double *poses; /* TB__POSE_SIZE * count, at the pass's y */
+    size_t count;          /* bodies in the set */
+    size_t *ids;           /* count body ids */
+    size_t *local;         /* count: the set's index of each box in use (bodies with shapes) */
+    double *poses;         /* TB__POSE_SIZE * count, at the pass's y */
+    tb__box_frame *frames; /* count: a plain box's frame at its pose, once per pass, not per pair */
     double margin;
     tb__broad_phase broad;
     tb__index_pair batch[PAIR_BATCH];
@@ -74,8 +75,9 @@ tb_status tb__contact_pairs_create(const tb_scene *scene, const size_t *bodies, 
         p->ids = tb__malloc_array(n, sizeof *p->ids);
         p->local = tb__malloc_array(n, sizeof *p->local);
         p->poses = tb__malloc_array(n, TB__POSE_SIZE * sizeof(double));
+        p->frames = tb__malloc_array(n, sizeof *p->frames);
     }
-    if (p == NULL || p->ids == NULL || p->local == NULL || p->poses == NULL ||
+    if (p == NULL || p->ids == NULL || p->local == NULL || p->poses == NULL || p->frames == NULL ||
         tb__broad_phase_init(&p->broad, count) != TB_STATUS_OK) {
         tb__contact_pairs_destroy(p);
         return tb__set_detail(detail, TB_STATUS_OUT_OF_MEMORY, "contact pairs for %zu bodies",
@@ -97,6 +99,7 @@ void tb__contact_pairs_destroy(tb__contact_pairs *pairs)
         free(pairs->ids);
         free(pairs->local);
         free(pairs->poses);
+        free(pairs->frames);
         free(pairs);
     }
 }
@@ -134,6 +137,9 @@ void tb__contact_pairs_begin(tb__contact_pairs *pairs, const tb_scene *scene, do
         }
         double *pose = pairs->poses + TB__POSE_SIZE * boxes;
         tb__shape_pose(scene, t, y, id, pose);
+        if (shape->type == TB_SHAPE_BOX) {
+            tb__box_frame_at(pose, &pairs->frames[boxes]);
+        }
         tb__aabb *box = &pairs->broad.boxes[boxes];
         tb__collision_shape_bounds(shape, pose, box->min, box->max);
         for (int i = 0; i < 3; ++i) { /* each box grows by half the margin: pairs within it meet */
@@ -202,8 +208,13 @@ static size_t test_pair(tb__contact_pairs *pairs, const tb_scene *scene, const t
             o->body_b = in_order ? b : a;
             o->piece_a = i;
             o->piece_b = j;
-            written +=
-                tb__collide(piece_a, world_a, piece_b, world_b, pairs->margin, &o->manifold) > 0;
+            /* a box shape's one piece is itself at its pose: its frame of the pass (a compound's
+             * pieces have poses of their own) */
+            const bool box_a = shape_a->type == TB_SHAPE_BOX, box_b = shape_b->type == TB_SHAPE_BOX;
+            const tb__box_frame *frame_a = box_a ? &pairs->frames[first] : NULL;
+            const tb__box_frame *frame_b = box_b ? &pairs->frames[second] : NULL;
+            written += tb__collide_framed(piece_a, world_a, frame_a, piece_b, world_b, frame_b,
+                                          pairs->margin, &o->manifold) > 0;
         }
         if (last) {
             break;

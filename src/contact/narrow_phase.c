@@ -80,13 +80,21 @@ int tb__spheres(const double c_a[3], double r_a, const double c_b[3], double r_b
                 const double fallback[3], double margin, tb__contact_manifold *out)
 {
     double n[3] = {c_b[0] - c_a[0], c_b[1] - c_a[1], c_b[2] - c_a[2]};
-    const double distance = tb__v3_norm(n);
+    const double reach = r_a + r_b + margin, distance2 = tb__v3_dot(n, n);
+    if (distance2 > reach * reach * (1.0 + 1e-12)) {
+        /* farther apart than the margin by more than round-off (the depth computed below would
+         * be at most -margin): no point, and the normal, unspecified then, is not worked out */
+        out->count = 0;
+        return 0;
+    }
+    const double distance = sqrt(distance2);
     if (distance > 0.0) {
         tb__v3_set(n, n[0] / distance, n[1] / distance, n[2] / distance);
     } else {
         tb__v3_copy(n, fallback);
     }
-    tb__candidates c = {0};
+    tb__candidates c;
+    c.count = 0;
     double p_a[3];
     tb__v3_copy(p_a, c_a);
     tb__v3_axpy(p_a, r_a, n);
@@ -160,7 +168,9 @@ static int sphere_capsule(const double c[3], double r, const tb__collision_shape
 static int capsule_ends(const double *ends[4], double radii, double radius_a, double margin,
                         tb__contact_manifold *out)
 {
-    tb__candidates c = {.count = 1, .points = {out->points[0]}};
+    tb__candidates c;
+    c.count = 1;
+    c.points[0] = out->points[0];
     const double *n = out->normal, *p0 = ends[2], *p1 = ends[3], *q0 = ends[0], *q1 = ends[1];
     for (int e = 0; e < 4; ++e) {
         const double *end = ends[e];
@@ -348,7 +358,8 @@ static const pair_function pair_table[TB_SHAPE_POINTS + 1][TB_SHAPE_POINTS + 1] 
 #undef GENERAL
 
 static int ordered(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
-                   const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE], double margin,
+                   const tb__box_frame *frame_a, const tb__collision_shape *b,
+                   const double pose_b[TB__POSE_SIZE], const tb__box_frame *frame_b, double margin,
                    tb__contact_manifold *out)
 {
     const bool known = a->type > TB_SHAPE_NONE && a->type <= TB_SHAPE_POINTS &&
@@ -358,17 +369,28 @@ static int ordered(const tb__collision_shape *a, const double pose_a[TB__POSE_SI
         out->count = 0; /* no shape: nothing touches */
         return 0;
     }
+    if (solve == tb__box_box) { /* the frames given, if any */
+        return tb__box_box_framed(a, pose_a, frame_a, b, pose_b, frame_b, margin, out);
+    }
     return solve(a, pose_a, b, pose_b, margin, out);
+}
+
+int tb__collide_framed(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                       const tb__box_frame *frame_a, const tb__collision_shape *b,
+                       const double pose_b[TB__POSE_SIZE], const tb__box_frame *frame_b,
+                       double margin, tb__contact_manifold *out)
+{
+    if (!solve_swapped(a, pose_a, b, pose_b)) {
+        return ordered(a, pose_a, frame_a, b, pose_b, frame_b, margin, out);
+    }
+    const int count = ordered(b, pose_b, frame_b, a, pose_a, frame_a, margin, out);
+    tb__v3_set(out->normal, -out->normal[0], -out->normal[1], -out->normal[2]);
+    return count;
 }
 
 int tb__collide(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
                 const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE], double margin,
                 tb__contact_manifold *out)
 {
-    if (!solve_swapped(a, pose_a, b, pose_b)) {
-        return ordered(a, pose_a, b, pose_b, margin, out);
-    }
-    const int count = ordered(b, pose_b, a, pose_a, margin, out);
-    tb__v3_set(out->normal, -out->normal[0], -out->normal[1], -out->normal[2]);
-    return count;
+    return tb__collide_framed(a, pose_a, NULL, b, pose_b, NULL, margin, out);
 }

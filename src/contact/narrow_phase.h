@@ -52,6 +52,25 @@ int tb__collide(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE]
                 const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE], double margin,
                 tb__contact_manifold *out);
 
+/* A box's frame at a pose: its axes in the world (axis[i]: shape axis i), |a_k . a_l|, and how
+ * far they are from an orthonormal right-handed frame (the sum of |a_k . a_l - delta_kl| plus
+ * round-off; infinite when left-handed), which bounds the box pair's shortcuts (narrow_box.c).
+ * The pair finder works it out once per body and pass instead of once per pair. */
+typedef struct tb__box_frame {
+    double axis[3][3];
+    double gram[3][3];
+    double defect;
+} tb__box_frame;
+
+void tb__box_frame_at(const double pose[TB__POSE_SIZE], tb__box_frame *out);
+
+/* tb__collide with each shape's box frame at its pose (NULL: none given; read only when the
+ * shape is a box): the same result, bit for bit, without working the frames out per pair. */
+int tb__collide_framed(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                       const tb__box_frame *frame_a, const tb__collision_shape *b,
+                       const double pose_b[TB__POSE_SIZE], const tb__box_frame *frame_b,
+                       double margin, tb__contact_manifold *out);
+
 /* Shape b against the plane normal . x = offset (normal unit, world, pointing out of the
  * solid half-space, which plays A): out->normal is the plane's normal; the points are the
  * shape's lowest ones (up to 4: a box's corners, a cylinder's rim, a hull's vertices, spread

@@ -78,7 +78,8 @@ static void vertices(const plane *g, const tb__collision_shape *s, const double 
         local_point(pose, s->vertices + 3 * i, world);
         const double r = s->radii != NULL ? s->radii[i] : 0.0;
         if (out->count == TB__CANDIDATES_MAX) {
-            tb__candidates one = {0};
+            tb__candidates one;
+            one.count = 0;
             sphere_point(g, world, r, &one);
             if (one.count == 1) {
                 keep_deepest(out, &one.points[0]);
@@ -128,7 +129,8 @@ int tb__collide_plane(const double normal[3], double offset, const tb__collision
                       const double pose_b[TB__POSE_SIZE], double margin, tb__contact_manifold *out)
 {
     const plane g = {normal, offset, margin};
-    tb__candidates c = {0};
+    tb__candidates c;
+    c.count = 0;
     const size_t pieces = tb__collision_shape_piece_count(b);
     if (pieces == 1) {
         plane_candidates(&g, b, pose_b, &c);
@@ -138,7 +140,8 @@ int tb__collide_plane(const double normal[3], double offset, const tb__collision
     for (size_t k = 0; k < pieces; ++k) {
         double pose[TB__POSE_SIZE];
         const tb__collision_shape *piece = tb__collision_shape_piece(b, k, pose_b, pose);
-        tb__candidates own = {0};
+        tb__candidates own;
+        own.count = 0;
         tb__contact_manifold lowest;
         plane_candidates(&g, piece, pose, &own);
         tb__reduce_candidates(&own, normal, &lowest);
