@@ -66,7 +66,14 @@ static double oscillate(double w, double h, double t_end, int own_jacobian, doub
     assert_int_equal(tb_integrator_advance(integrator, t_end), TB_STATUS_OK);
     tb_integrator_stats stats;
     tb_integrator_get_stats(integrator, &stats);
-    assert_int_equal(stats.jacobian_evals, stats.steps); /* one Jacobian a step */
+    /* difference quotients: one Jacobian a step; the system's own: the factorisation is held
+     * and reused while the steps pass (this J is constant), so one Jacobian in all unless a step
+     * is halved */
+    if (own_jacobian) {
+        assert_true(stats.jacobian_evals >= 1 && stats.jacobian_evals < stats.steps);
+    } else {
+        assert_int_equal(stats.jacobian_evals, stats.steps);
+    }
     tb_integrator_destroy(integrator);
     *velocity = y[1];
     return y[0];

@@ -56,6 +56,19 @@ void tb__rosenbrock_speculate(tb_integrator *integrator, bool on);
 /* Counts a halved step. */
 void tb__rosenbrock_count_split(tb_integrator *integrator);
 
+/* Reusing a factorisation across steps: whether the last one was made for a step of this h (and
+ * held: the step taken with it was trusted) and can be tried again without a new Jacobian; hold
+ * marks it so (h 0: none); a system without its own Jacobian never holds one (no J to probe). */
+bool tb__rosenbrock_can_reuse(const tb_integrator *integrator, double h);
+void tb__rosenbrock_hold(tb_integrator *integrator, double h);
+
+/* Whether the held matrix describes the step from y to y_new ending at (t, f_end), along its
+ * change (one derivative; rosenbrock_linear.c says the test); floor in y's units. 0 or a
+ * derivative's non-zero return. */
+int tb__rosenbrock_probe(tb_integrator *integrator, double t, double h, double gamma,
+                         const double *y, const double *y_new, const double *f_end, double floor,
+                         bool *ok);
+
 /* Why the last TB__ROSENBROCK_LINEAR_FAILED ("" if none). */
 const char *tb__rosenbrock_message(const tb_integrator *integrator);
 

@@ -54,7 +54,13 @@ struct tb__rosenbrock {
     double *start_rate;                 /* f(t, y) at the step's start, n */
     double *levels;                     /* TB__ROSENBROCK_LEVELS middles of halved steps, n each */
     long splits;                        /* halved steps */
-    bool plain;                         /* no speculation (tb__rosenbrock_speculate) */
+    double held_h; /* the step the factorisation was made for and passed with; 0: none to reuse */
+    double *jw_d;  /* J d of the held matrix, n (tb__rosenbrock_probe) */
+    /* J at a step's end (t, y) left unmerged in ahead by tb__rosenbrock_refine: the next start */
+    double *kept_y, kept_t;
+    bool kept;
+    bool from_kept; /* r->J came from ahead this step (its pattern may predate the step's) */
+    bool plain;     /* no speculation (tb__rosenbrock_speculate) */
 #ifdef TB_HAVE_KLU
     tb__klu_pattern analysed; /* the pattern KLU analysed last */
 #endif
@@ -125,6 +131,13 @@ static tb_status make_jacobian(tb__rosenbrock *r, size_t n, tb_error *error)
     if (r->start_rate == NULL || r->levels == NULL) {
         return rosenbrock_fail(error, "state", n);
     }
+    r->jw_d = tb__malloc_array(n, sizeof(double));
+    r->kept_y = tb__malloc_array(n, sizeof(double));
+    r->shifted = tb__malloc_array(n, sizeof(double));
+    r->column = tb__malloc_array(n, sizeof(double));
+    if (r->jw_d == NULL || r->kept_y == NULL || r->shifted == NULL || r->column == NULL) {
+        return rosenbrock_fail(error, "probe", n);
+    }
     r->predicted = tb__malloc_array(n, sizeof(double));
     r->predicted_rate = tb__malloc_array(n, sizeof(double));
     if (r->predicted == NULL || r->predicted_rate == NULL) {
@@ -137,12 +150,9 @@ static tb_status make_jacobian(tb__rosenbrock *r, size_t n, tb_error *error)
                    ? TB_STATUS_OK
                    : rosenbrock_fail(error, "Jacobian", n);
     }
-    r->shifted = tb__malloc_array(n, sizeof(double));
-    r->column = tb__malloc_array(n, sizeof(double));
     r->dense_ahead = tb__malloc_array(n * n, sizeof(double));
-    return r->shifted != NULL && r->column != NULL && r->dense_ahead != NULL
-               ? TB_STATUS_OK
-               : rosenbrock_fail(error, "difference quotients", n);
+    return r->dense_ahead != NULL ? TB_STATUS_OK
+                                  : rosenbrock_fail(error, "difference quotients", n);
 }
 
 tb_status tb__rosenbrock_create(tb_integrator *integrator, tb_error *error)
@@ -216,6 +226,8 @@ void tb__rosenbrock_destroy(tb_integrator *integrator)
     free(r->analysed.analysed);
 #endif
     free(r->shifted);
+    free(r->jw_d);
+    free(r->kept_y);
     free(r->dense_ahead);
     free(r->column);
     free(r);
@@ -256,7 +268,7 @@ static int dense_quotients(tb_integrator *integrator, double t, const double *y,
     return 0;
 }
 
-/* Dense M from the system's CSR J. */
+/* Dense M from the system's CSR J (held between steps, rosenbrock.h). */
 static void dense_from_sparse(tb__rosenbrock *r, double h_gamma)
 {
     const size_t n = r->J.n;
@@ -340,6 +352,10 @@ static int speculate(tb_integrator *integrator, double t, double h, const double
     tb__rosenbrock *r = integrator->rosenbrock;
     int rc = predict(integrator, t, h, y, fy);
     rc = rc != 0 ? rc : evaluate(integrator, t + h, r->predicted, r->predicted_rate, &r->ahead);
+    if (rc == 0 && !same_pattern(r) && r->from_kept) { /* the kept one is of an older pattern */
+        rc = evaluate(integrator, t, y, fy, &r->J);
+    }
+    r->from_kept = false;
     if (rc == 0 && same_pattern(r)) {
         merge_larger(r->J.values, r->ahead.values, r->J.row_starts[r->J.n], 1.0, 0.0);
     }
@@ -371,6 +387,30 @@ static int dense_speculative(tb_integrator *integrator, double t, double h, cons
     return 0;
 }
 
+/* Whether ahead holds J at (t, y): a halved step's second half, or no post-step change. */
+static bool kept_at(const tb__rosenbrock *r, double t, const double *y)
+{
+    return r->kept && r->kept_t == t && memcmp(r->kept_y, y, r->J.n * sizeof(double)) == 0;
+}
+
+/* r->J at (t, y): the one kept from the last step's end, or evaluated. */
+static int start_jacobian(tb_integrator *integrator, double t, const double *y, const double *fy)
+{
+    tb__rosenbrock *r = integrator->rosenbrock;
+    const size_t n = r->J.n, entries = r->ahead.row_starts[n];
+    r->from_kept = false;
+    if (!kept_at(r, t, y) || entries > r->J.capacity) {
+        r->kept = false;
+        return evaluate(integrator, t, y, fy, &r->J);
+    }
+    memcpy(r->J.row_starts, r->ahead.row_starts, (n + 1) * sizeof(size_t));
+    memcpy(r->J.columns, r->ahead.columns, entries * sizeof(size_t));
+    memcpy(r->J.values, r->ahead.values, entries * sizeof(double));
+    r->kept = false;
+    r->from_kept = true;
+    return 0;
+}
+
 /* J from the system at (t, y) and ahead (speculate) into r->J, its room grown first to the
  * capacity the system asks at (t, y). */
 static int own_jacobian(tb_integrator *integrator, double t, double h, const double *y,
@@ -385,7 +425,7 @@ static int own_jacobian(tb_integrator *integrator, double t, double h, const dou
                              "pattern) or out of memory for it; capacity",
                              (long)capacity, t);
     }
-    const int rc = evaluate(integrator, t, y, fy, &r->J);
+    const int rc = start_jacobian(integrator, t, y, fy);
     return rc != 0 || r->plain ? rc : speculate(integrator, t, h, y, fy);
 }
 
@@ -442,16 +482,84 @@ int tb__rosenbrock_refine(tb_integrator *integrator, double t, double h, double 
     integrator->stats.jacobian_derivative_evals++;
     int rc = system->derivative(t, y, r->predicted_rate, system->ctx);
     rc = rc != 0 ? rc : evaluate(integrator, t, y, r->predicted_rate, &r->ahead);
+    r->kept = rc == 0;
+    if (r->kept) {
+        memcpy(r->kept_y, y, n * sizeof(double));
+        r->kept_t = t;
+    }
     if (rc != 0 || !same_pattern(r)) {
         return rc > 0 ? 0 : rc;
     }
     *changed = merge_larger(r->J.values, r->ahead.values, r->J.row_starts[n],
                             TB__ROSENBROCK_REFINE_RATIO, 1.0 / (gamma * h)) > 0;
+    r->kept = !*changed; /* merged into the matrix, ahead's values are still J at (t, y) */
     if (!*changed) {
         return 0;
     }
     integrator->stats.jacobian_evals++;
     return factor_own(r, t, h * gamma);
+}
+
+/* out = J d, J the matrix's (r->J, CSR) */
+static void multiply(const tb_ode_sparse *J, const double *d, double *out)
+{
+    for (size_t i = 0; i < J->n; ++i) {
+        double sum = 0.0;
+        for (size_t e = J->row_starts[i]; e < J->row_starts[i + 1]; ++e) {
+            sum += J->values[e] * d[J->columns[e]];
+        }
+        out[i] = sum;
+    }
+}
+
+bool tb__rosenbrock_can_reuse(const tb_integrator *integrator, double h)
+{
+    const tb__rosenbrock *r = integrator->rosenbrock;
+    return r->own_jacobian && !r->plain && r->held_h == h;
+}
+
+void tb__rosenbrock_hold(tb_integrator *integrator, double h)
+{
+    tb__rosenbrock *r = integrator->rosenbrock;
+    r->held_h = r->own_jacobian ? h : 0.0;
+}
+
+/* The held matrix's J against the Jacobian at the step's end along the step's change d = y_new -
+ * y, one derivative: J_end d = (f(t, y_new + e d) - f(t, y_new)) / e with e |d| = sqrt(eps)
+ * max(|y_new|, 1). The matrix describes the step where, component by component, gamma h
+ * |J_end d - J d| <= |d| + gamma h |J d| + floor (tb__rosenbrock_refine's ratio 2 along d): a
+ * contact made in the step puts k times the step's approach into J_end d, absent from J d. */
+int tb__rosenbrock_probe(tb_integrator *integrator, double t, double h, double gamma,
+                         const double *y, const double *y_new, const double *f_end, double floor,
+                         bool *ok)
+{
+    tb__rosenbrock *r = integrator->rosenbrock;
+    const tb_ode_system *system = &integrator->system;
+    const size_t n = system->n;
+    double size = 1.0, step = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        r->column[i] = y_new[i] - y[i]; /* d, until the derivative overwrites it */
+        size = fmax(size, fabs(y_new[i]));
+        step = fmax(step, fabs(r->column[i]));
+    }
+    *ok = true;
+    if (step == 0.0) {
+        return 0;
+    }
+    multiply(&r->J, r->column, r->jw_d);
+    const double e = sqrt(DBL_EPSILON) * size / step;
+    for (size_t i = 0; i < n; ++i) {
+        r->shifted[i] = y_new[i] + e * r->column[i];
+    }
+    integrator->stats.derivative_evals++;
+    integrator->stats.jacobian_derivative_evals++;
+    const int rc = system->derivative(t, r->shifted, r->column, system->ctx);
+    const double h_gamma = h * gamma;
+    for (size_t i = 0; rc == 0 && *ok && i < n; ++i) {
+        const double d = y_new[i] - y[i], end = (r->column[i] - f_end[i]) / e;
+        *ok = h_gamma * fabs(end - r->jw_d[i]) <= fabs(d) + h_gamma * fabs(r->jw_d[i]) + floor;
+    }
+    return rc;
 }
 
 int tb__rosenbrock_solve(tb_integrator *integrator, double *x)
