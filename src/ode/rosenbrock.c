@@ -17,11 +17,16 @@
  *
  * A penalty contact's stiffness exists only where bodies overlap, so J at the step's start
  * misses a contact made inside the step, and the step is then explicit in it (a blow-up by
- * (omega h)^2). The matrix is speculative (rosenbrock_linear.c): the Jacobian at the start or at
- * a predictor of the end, whichever entry is larger; and after the step, where the Jacobian at
- * its end holds an entry more than twice the matrix's, the step is taken again with it
- * (TB__ROS2_REFINES times at most). Any matrix keeps the order, so none of this changes a step
- * on a smooth system whose Jacobian does not grow.
+ * (omega h)^2). After the step, where the Jacobian at its end holds an entry more than twice the
+ * matrix's, the step is taken again with that entry (TB__ROS2_REFINES times at most). Dense
+ * difference quotients (a system without its own Jacobian, which has no refinement) take the
+ * matrix speculatively instead: the Jacobian at the start or at a predictor of the end,
+ * whichever entry is larger (rosenbrock_linear.c). The system's own Jacobian took the predictor's
+ * too until measured: the explicit predictor overshoots a stiff contact at omega h >> 1, its
+ * Jacobian is of a state far deeper than the step reaches, and the over-stiff matrix made resting
+ * steps fail the trust check below: the stack at 1/240 s cost 10 times more with it
+ * (docs/performance.md). Any matrix keeps the order, so none of this changes a step on a smooth
+ * system whose Jacobian does not grow.
  *
  * Where contact points come and go inside the step (a die's corner, then an edge) no single
  * matrix describes it and the step can still throw a body off. A step whose change is not
@@ -32,9 +37,8 @@
  * Reuse. Any matrix keeping the order, a factorisation that served a trusted step of the same h
  * is tried again on the next (a halved step's second half included), without a Jacobian: the
  * step stands where it is trusted and the held matrix still describes it along its change
- * (tb__rosenbrock_probe: one derivative against 1-4 Jacobians of 13-33 colours); otherwise it is
- * taken afresh as above. The Jacobian the refinement evaluated at a step's end starts the next
- * step where that starts at the same (t, y). */
+ * (tb__rosenbrock_probe: one derivative against 1-3 Jacobians of 60-240 derivatives each);
+ * otherwise it is taken afresh as above. */
 #include "ode/rosenbrock.h"
 
 #include <math.h>

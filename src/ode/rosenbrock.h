@@ -27,8 +27,9 @@ typedef struct tb__rosenbrock tb__rosenbrock;
 tb_status tb__rosenbrock_create(tb_integrator *integrator, tb_error *error);
 void tb__rosenbrock_destroy(tb_integrator *integrator);
 
-/* Evaluates J = df/dy at (t, y), where f(t, y) = fy (the system's own, speculative for a contact
- * switching in the step of size h, or difference quotients), and factorises I - h gamma J. Counts
+/* Evaluates J = df/dy at (t, y), where f(t, y) = fy (the system's own, or difference quotients
+ * made speculative for a contact switching on in the step of size h), and factorises
+ * I - h gamma J. Counts
  * the Jacobian and its derivatives in the integrator's stats. 0, a derivative's or the Jacobian's
  * non-zero return, or TB__ROSENBROCK_LINEAR_FAILED. */
 int tb__rosenbrock_factor(tb_integrator *integrator, double t, double h, double gamma,
@@ -51,7 +52,7 @@ double *tb__rosenbrock_start_rate(tb_integrator *integrator);
 /* n doubles of the solver's for the middle of a step halved at depth (< TB__ROSENBROCK_LEVELS). */
 double *tb__rosenbrock_level(tb_integrator *integrator, int depth);
 #define TB__ROSENBROCK_LEVELS 8
-/* Whether tb__rosenbrock_factor merges the predictor's Jacobian in (default true). */
+/* Whether tb__rosenbrock_factor merges the predictor's difference quotients in (default true). */
 void tb__rosenbrock_speculate(tb_integrator *integrator, bool on);
 /* Counts a halved step. */
 void tb__rosenbrock_count_split(tb_integrator *integrator);

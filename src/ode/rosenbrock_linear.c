@@ -45,22 +45,18 @@ struct tb__rosenbrock {
     SUNContext context;
     SUNMatrix matrix; /* M: CSR sparse or dense */
     SUNLinearSolver linear;
-    N_Vector x;          /* a shell over the caller's array (N_VSetArrayPointer) */
-    bool sparse;         /* KLU path */
-    bool own_jacobian;   /* the system's jacobian (else difference quotients) */
-    tb_ode_sparse J;     /* what the system writes at (t, y) */
-    tb_ode_sparse ahead; /* ... at the predictor y + h f(t, y) (speculative, below) */
+    N_Vector x;                         /* a shell over the caller's array (N_VSetArrayPointer) */
+    bool sparse;                        /* KLU path */
+    bool own_jacobian;                  /* the system's jacobian (else difference quotients) */
+    tb_ode_sparse J;                    /* what the system writes at (t, y) */
+    tb_ode_sparse ahead;                /* ... at the step's end (tb__rosenbrock_refine) */
     double *predicted, *predicted_rate; /* the predictor and its derivative, n each */
     double *start_rate;                 /* f(t, y) at the step's start, n */
     double *levels;                     /* TB__ROSENBROCK_LEVELS middles of halved steps, n each */
     long splits;                        /* halved steps */
     double held_h; /* the step the factorisation was made for and passed with; 0: none to reuse */
     double *jw_d;  /* J d of the held matrix, n (tb__rosenbrock_probe) */
-    /* J at a step's end (t, y) left unmerged in ahead by tb__rosenbrock_refine: the next start */
-    double *kept_y, kept_t;
-    bool kept;
-    bool from_kept; /* r->J came from ahead this step (its pattern may predate the step's) */
-    bool plain;     /* no speculation (tb__rosenbrock_speculate) */
+    bool plain;    /* no speculation (tb__rosenbrock_speculate) */
 #ifdef TB_HAVE_KLU
     tb__klu_pattern analysed; /* the pattern KLU analysed last */
 #endif
@@ -132,10 +128,9 @@ static tb_status make_jacobian(tb__rosenbrock *r, size_t n, tb_error *error)
         return rosenbrock_fail(error, "state", n);
     }
     r->jw_d = tb__malloc_array(n, sizeof(double));
-    r->kept_y = tb__malloc_array(n, sizeof(double));
     r->shifted = tb__malloc_array(n, sizeof(double));
     r->column = tb__malloc_array(n, sizeof(double));
-    if (r->jw_d == NULL || r->kept_y == NULL || r->shifted == NULL || r->column == NULL) {
+    if (r->jw_d == NULL || r->shifted == NULL || r->column == NULL) {
         return rosenbrock_fail(error, "probe", n);
     }
     r->predicted = tb__malloc_array(n, sizeof(double));
@@ -227,7 +222,6 @@ void tb__rosenbrock_destroy(tb_integrator *integrator)
 #endif
     free(r->shifted);
     free(r->jw_d);
-    free(r->kept_y);
     free(r->dense_ahead);
     free(r->column);
     free(r);
@@ -296,14 +290,15 @@ static int evaluate(tb_integrator *integrator, double t, const double *y, const 
     return rc;
 }
 
-/* Speculative activation. A contact's force is k d for depth d > 0 and nothing before, so the
- * Jacobian at a step's start has no stiffness for a contact that switches on in the step, and the
- * step is explicit in it: at omega h = 14 (a die at 1/240 s) that multiplies the impact speed by
- * about (omega h)^2 / 2. The matrix is therefore the Jacobian at (t, y) or at a predictor of the
- * step's end, the explicit midpoint y + h f(t + h/2, y + h/2 f(t, y)) (second order, so that it
- * carries a body's fall through gravity, h^2 g / 2), entry by entry whichever is larger in
- * magnitude: a contact in force at the start or at the predicted end is implicit. ROS2 keeps its
- * order 2 with any matrix (a W-method). The predictor is only a probe: it may overshoot. */
+/* Speculative activation, for dense difference quotients. A contact's force is k d for depth d > 0
+ * and nothing before, so the Jacobian at a step's start has no stiffness for a contact that
+ * switches on in the step, and the step is explicit in it: at omega h = 14 (a die at 1/240 s) that
+ * multiplies the impact speed by about (omega h)^2 / 2. The matrix is therefore the Jacobian at (t,
+ * y) or at a predictor of the step's end, the explicit midpoint y + h f(t + h/2, y + h/2 f(t, y))
+ * (second order, so that it carries a body's fall through gravity, h^2 g / 2), entry by entry
+ * whichever is larger in magnitude: a contact in force at the start or at the predicted end is
+ * implicit. ROS2 keeps its order 2 with any matrix (a W-method). The predictor is only a probe: it
+ * may overshoot. */
 static int predict(tb_integrator *integrator, double t, double h, const double *y, const double *fy)
 {
     tb__rosenbrock *r = integrator->rosenbrock;
@@ -344,24 +339,6 @@ static bool same_pattern(const tb__rosenbrock *r)
            memcmp(r->ahead.columns, r->J.columns, entries * sizeof(size_t)) == 0;
 }
 
-/* The system's Jacobian ahead merged into r->J (the system builds its pattern at the capacity
- * asked from (t, y); a predictor whose pattern differs leaves the start's Jacobian). */
-static int speculate(tb_integrator *integrator, double t, double h, const double *y,
-                     const double *fy)
-{
-    tb__rosenbrock *r = integrator->rosenbrock;
-    int rc = predict(integrator, t, h, y, fy);
-    rc = rc != 0 ? rc : evaluate(integrator, t + h, r->predicted, r->predicted_rate, &r->ahead);
-    if (rc == 0 && !same_pattern(r) && r->from_kept) { /* the kept one is of an older pattern */
-        rc = evaluate(integrator, t, y, fy, &r->J);
-    }
-    r->from_kept = false;
-    if (rc == 0 && same_pattern(r)) {
-        merge_larger(r->J.values, r->ahead.values, r->J.row_starts[r->J.n], 1.0, 0.0);
-    }
-    return rc > 0 ? 0 : rc; /* a derivative that fails ahead leaves the start's Jacobian */
-}
-
 /* Dense M = I - h_gamma J, J the difference quotients at (t, y) and ahead (speculate). */
 static int dense_speculative(tb_integrator *integrator, double t, double h, const double *y,
                              const double *fy, double h_gamma)
@@ -387,34 +364,9 @@ static int dense_speculative(tb_integrator *integrator, double t, double h, cons
     return 0;
 }
 
-/* Whether ahead holds J at (t, y): a halved step's second half, or no post-step change. */
-static bool kept_at(const tb__rosenbrock *r, double t, const double *y)
-{
-    return r->kept && r->kept_t == t && memcmp(r->kept_y, y, r->J.n * sizeof(double)) == 0;
-}
-
-/* r->J at (t, y): the one kept from the last step's end, or evaluated. */
-static int start_jacobian(tb_integrator *integrator, double t, const double *y, const double *fy)
-{
-    tb__rosenbrock *r = integrator->rosenbrock;
-    const size_t n = r->J.n, entries = r->ahead.row_starts[n];
-    r->from_kept = false;
-    if (!kept_at(r, t, y) || entries > r->J.capacity) {
-        r->kept = false;
-        return evaluate(integrator, t, y, fy, &r->J);
-    }
-    memcpy(r->J.row_starts, r->ahead.row_starts, (n + 1) * sizeof(size_t));
-    memcpy(r->J.columns, r->ahead.columns, entries * sizeof(size_t));
-    memcpy(r->J.values, r->ahead.values, entries * sizeof(double));
-    r->kept = false;
-    r->from_kept = true;
-    return 0;
-}
-
 /* J from the system at (t, y) and ahead (speculate) into r->J, its room grown first to the
  * capacity the system asks at (t, y). */
-static int own_jacobian(tb_integrator *integrator, double t, double h, const double *y,
-                        const double *fy)
+static int own_jacobian(tb_integrator *integrator, double t, const double *y, const double *fy)
 {
     tb__rosenbrock *r = integrator->rosenbrock;
     const tb_ode_system *system = &integrator->system;
@@ -425,8 +377,7 @@ static int own_jacobian(tb_integrator *integrator, double t, double h, const dou
                              "pattern) or out of memory for it; capacity",
                              (long)capacity, t);
     }
-    const int rc = start_jacobian(integrator, t, y, fy);
-    return rc != 0 || r->plain ? rc : speculate(integrator, t, h, y, fy);
+    return evaluate(integrator, t, y, fy, &r->J);
 }
 
 /* M = I - h_gamma J from r->J (the system's), factorised. */
@@ -464,7 +415,7 @@ int tb__rosenbrock_factor(tb_integrator *integrator, double t, double h, double 
                    : linear_failed(r, "I - h gamma J is singular: SUNLinSolSetup returned", flag,
                                    t);
     }
-    const int rc = own_jacobian(integrator, t, h, y, fy);
+    const int rc = own_jacobian(integrator, t, y, fy);
     return rc != 0 ? rc : factor_own(r, t, h_gamma);
 }
 
@@ -482,17 +433,11 @@ int tb__rosenbrock_refine(tb_integrator *integrator, double t, double h, double 
     integrator->stats.jacobian_derivative_evals++;
     int rc = system->derivative(t, y, r->predicted_rate, system->ctx);
     rc = rc != 0 ? rc : evaluate(integrator, t, y, r->predicted_rate, &r->ahead);
-    r->kept = rc == 0;
-    if (r->kept) {
-        memcpy(r->kept_y, y, n * sizeof(double));
-        r->kept_t = t;
-    }
     if (rc != 0 || !same_pattern(r)) {
         return rc > 0 ? 0 : rc;
     }
     *changed = merge_larger(r->J.values, r->ahead.values, r->J.row_starts[n],
                             TB__ROSENBROCK_REFINE_RATIO, 1.0 / (gamma * h)) > 0;
-    r->kept = !*changed; /* merged into the matrix, ahead's values are still J at (t, y) */
     if (!*changed) {
         return 0;
     }
