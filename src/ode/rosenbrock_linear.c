@@ -339,7 +339,7 @@ static bool same_pattern(const tb__rosenbrock *r)
            memcmp(r->ahead.columns, r->J.columns, entries * sizeof(size_t)) == 0;
 }
 
-/* Dense M = I - h_gamma J, J the difference quotients at (t, y) and ahead (speculate). */
+/* Dense M = I - h_gamma J, J the difference quotients at (t, y) and at the predictor. */
 static int dense_speculative(tb_integrator *integrator, double t, double h, const double *y,
                              const double *fy, double h_gamma)
 {
@@ -364,7 +364,7 @@ static int dense_speculative(tb_integrator *integrator, double t, double h, cons
     return 0;
 }
 
-/* J from the system at (t, y) and ahead (speculate) into r->J, its room grown first to the
+/* J from the system at (t, y) into r->J (no predictor: rosenbrock.c), its room grown first to the
  * capacity the system asks at (t, y). */
 static int own_jacobian(tb_integrator *integrator, double t, const double *y, const double *fy)
 {
