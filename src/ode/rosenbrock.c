@@ -18,16 +18,18 @@
  * A penalty contact's stiffness exists only where bodies overlap, so J at the step's start
  * misses a contact made inside the step, and the step is then explicit in it (a blow-up by
  * (omega h)^2). After the step, where the Jacobian at its end holds an entry more than twice the
- * matrix's, the step is taken again with that entry (TB__ROS2_REFINES times at most). The matrix
- * may also be speculative (rosenbrock_linear.c): the Jacobian at the start or at a predictor of
- * the end, whichever entry is larger. Dense difference quotients (a system without its own
- * Jacobian, which has no refinement) always take it so; the system's own Jacobian only on a step
- * halved twice (below): the explicit predictor overshoots a stiff contact at omega h >> 1, its
+ * matrix's, the step is taken again with that entry (TB__ROS2_REFINES times at most). Dense
+ * difference quotients (a system without its own Jacobian, which has no refinement) take the
+ * matrix speculatively instead: the Jacobian at the start or at a predictor of the end,
+ * whichever entry is larger (rosenbrock_linear.c). The system's own Jacobian took the predictor's
+ * too until measured: the explicit predictor overshoots a stiff contact at omega h >> 1, its
  * Jacobian is of a state far deeper than the step reaches, and the over-stiff matrix made resting
- * steps fail the trust check below (the stack at 1/240 s cost 10 times more with it on every
- * step), while an impact shorter than the step (Newton's cradle at 1/240 s) needs it once the
- * step has been cut to a quarter (docs/performance.md). Any matrix keeps the order, so none of
- * this changes a step on a smooth system whose Jacobian does not grow.
+ * steps fail the trust check below: the stack at 1/240 s cost 10 times more with it
+ * (docs/performance.md). Its price: Newton's cradle at 1/240 s, which ran with it, throws a ball
+ * off at 1.09 s without (an impact shorter than the step, made at the stage and gone by the end,
+ * which the refinement cannot see); the predictor on halved steps only (from the first or the
+ * second halving) broke the standing stack or the dice instead. Any matrix keeps the order, so none
+ * of this changes a step on a smooth system whose Jacobian does not grow.
  *
  * Where contact points come and go inside the step (a die's corner, then an edge) no single
  * matrix describes it and the step can still throw a body off. A step whose change is not
@@ -209,7 +211,6 @@ static int split_step(tb_integrator *integrator, double t, double h, double t_la
         }
         tb__rosenbrock_hold(integrator, 0.0);
     }
-    tb__rosenbrock_look_ahead(integrator, depth > 1); /* from the second halving on */
     int rc = one_step(integrator, t, h, t_last, y, y_new, work, evals);
     bool ok = rc == 0;
     if (rc == 0 && depth < TB__ROS2_SPLITS) {

@@ -53,8 +53,6 @@ double *tb__rosenbrock_start_rate(tb_integrator *integrator);
 double *tb__rosenbrock_level(tb_integrator *integrator, int depth);
 #define TB__ROSENBROCK_LEVELS 8
 /* Whether tb__rosenbrock_factor merges the predictor's difference quotients in (default true). */
-/* Whether it merges the predictor's Jacobian into the system's own too (default false). */
-void tb__rosenbrock_look_ahead(tb_integrator *integrator, bool on);
 void tb__rosenbrock_speculate(tb_integrator *integrator, bool on);
 /* Counts a halved step. */
 void tb__rosenbrock_count_split(tb_integrator *integrator);

@@ -57,7 +57,6 @@ struct tb__rosenbrock {
     double held_h; /* the step the factorisation was made for and passed with; 0: none to reuse */
     double *jw_d;  /* J d of the held matrix, n (tb__rosenbrock_probe) */
     bool plain;    /* no speculation (tb__rosenbrock_speculate) */
-    bool ahead_on; /* the system's own Jacobian speculates too (tb__rosenbrock_look_ahead) */
 #ifdef TB_HAVE_KLU
     tb__klu_pattern analysed; /* the pattern KLU analysed last */
 #endif
@@ -340,20 +339,6 @@ static bool same_pattern(const tb__rosenbrock *r)
            memcmp(r->ahead.columns, r->J.columns, entries * sizeof(size_t)) == 0;
 }
 
-/* The system's Jacobian at the predictor merged into r->J (the system builds its pattern at the
- * capacity asked from (t, y); a predictor whose pattern differs leaves the start's Jacobian). */
-static int speculate(tb_integrator *integrator, double t, double h, const double *y,
-                     const double *fy)
-{
-    tb__rosenbrock *r = integrator->rosenbrock;
-    int rc = predict(integrator, t, h, y, fy);
-    rc = rc != 0 ? rc : evaluate(integrator, t + h, r->predicted, r->predicted_rate, &r->ahead);
-    if (rc == 0 && same_pattern(r)) {
-        merge_larger(r->J.values, r->ahead.values, r->J.row_starts[r->J.n], 1.0, 0.0);
-    }
-    return rc > 0 ? 0 : rc; /* a derivative that fails ahead leaves the start's Jacobian */
-}
-
 /* Dense M = I - h_gamma J, J the difference quotients at (t, y) and at the predictor. */
 static int dense_speculative(tb_integrator *integrator, double t, double h, const double *y,
                              const double *fy, double h_gamma)
@@ -379,10 +364,9 @@ static int dense_speculative(tb_integrator *integrator, double t, double h, cons
     return 0;
 }
 
-/* J from the system at (t, y), and at the predictor where ahead_on, into r->J, its room grown first
- * to the capacity the system asks at (t, y). */
-static int own_jacobian(tb_integrator *integrator, double t, double h, const double *y,
-                        const double *fy)
+/* J from the system at (t, y) into r->J (no predictor: rosenbrock.c), its room grown first to the
+ * capacity the system asks at (t, y). */
+static int own_jacobian(tb_integrator *integrator, double t, const double *y, const double *fy)
 {
     tb__rosenbrock *r = integrator->rosenbrock;
     const tb_ode_system *system = &integrator->system;
@@ -393,8 +377,7 @@ static int own_jacobian(tb_integrator *integrator, double t, double h, const dou
                              "pattern) or out of memory for it; capacity",
                              (long)capacity, t);
     }
-    const int rc = evaluate(integrator, t, y, fy, &r->J);
-    return rc != 0 || r->plain || !r->ahead_on ? rc : speculate(integrator, t, h, y, fy);
+    return evaluate(integrator, t, y, fy, &r->J);
 }
 
 /* M = I - h_gamma J from r->J (the system's), factorised. */
@@ -432,7 +415,7 @@ int tb__rosenbrock_factor(tb_integrator *integrator, double t, double h, double 
                    : linear_failed(r, "I - h gamma J is singular: SUNLinSolSetup returned", flag,
                                    t);
     }
-    const int rc = own_jacobian(integrator, t, h, y, fy);
+    const int rc = own_jacobian(integrator, t, y, fy);
     return rc != 0 ? rc : factor_own(r, t, h_gamma);
 }
 
@@ -540,11 +523,6 @@ double *tb__rosenbrock_start_rate(tb_integrator *integrator)
 double *tb__rosenbrock_level(tb_integrator *integrator, int depth)
 {
     return integrator->rosenbrock->levels + (size_t)depth * integrator->system.n;
-}
-
-void tb__rosenbrock_look_ahead(tb_integrator *integrator, bool on)
-{
-    integrator->rosenbrock->ahead_on = on;
 }
 
 void tb__rosenbrock_speculate(tb_integrator *integrator, bool on)
