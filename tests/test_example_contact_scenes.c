@@ -23,7 +23,7 @@
 #define PI 3.14159265358979323846
 #define MAX_BODIES 32
 
-static double cut_duration; /* > 0: the run was cut to this many seconds */
+static double cut_duration;     /* > 0: the run was cut to this many seconds */
 static const char *method_name; /* NULL: the scene's own method (RK4) at its default step */
 static double method_dt;        /* the step under method_name, s */
 
