@@ -21,14 +21,14 @@
  * matrix's, the step is taken again with that entry (TB__ROS2_REFINES times at most). Dense
  * difference quotients (a system without its own Jacobian, which has no refinement) take the
  * matrix speculatively instead: the Jacobian at the start or at a predictor of the end,
- * whichever entry is larger (rosenbrock_linear.c). The system's own Jacobian took the predictor's
- * too until measured: the explicit predictor overshoots a stiff contact at omega h >> 1, its
- * Jacobian is of a state far deeper than the step reaches, and the over-stiff matrix made resting
- * steps fail the trust check below: the stack at 1/240 s cost 10 times more with it
- * (docs/performance.md). Its price: Newton's cradle at 1/240 s, which ran with it, throws a ball
- * off at 1.09 s without (an impact shorter than the step, made at the stage and gone by the end,
- * which the refinement cannot see); the predictor on halved steps only (from the first or the
- * second halving) broke the standing stack or the dice instead. Any matrix keeps the order, so none
+ * whichever entry is larger (rosenbrock_linear.c). With the system's own Jacobian the predictor's
+ * is merged only where the system's root functions (a scene's gaps) foresee an onset: a gap
+ * falling below zero, or to below twice its depth at the start, between the start and the
+ * predictor. Always merged, the explicit predictor's overshoot into a far deeper contact at
+ * omega h >> 1 made resting steps over-stiff and halved (the stack at 1/240 s cost 10 times
+ * more); never merged, an impact shorter than the step, made at the stage and gone by the end
+ * (which the refinement cannot see), stored energy (Newton's cradle at 1/240 s threw a ball off at
+ * 9.4 m/s; test_an_impact_inside_a_step_stores_no_energy). Any matrix keeps the order, so none
  * of this changes a step on a smooth system whose Jacobian does not grow.
  *
  * Where contact points come and go inside the step (a die's corner, then an edge) no single
