@@ -2,10 +2,12 @@
  * run as written (RK4 at the scene's default step, the stiff default contact) and checked
  * against the physics it shows. Frames are taken at every step, so a depth or a speed is seen
  * at its worst and not only at the file's 60 fps. One scene per invocation:
- *   test_example_contact_scenes NAME [DURATION]
+ *   test_example_contact_scenes NAME [DURATION [METHOD DT]]
  * NAME: dice, dominoes, stack, newtons_cradle. DURATION (s) cuts the run short (the sanitizer
  * builds, where a step takes some 10 times the CPU): the checks that need the whole run (at rest at
- * the end, all fallen) are then skipped and say so; the others hold over the part run.
+ * the end, all fallen) are then skipped and say so; the others hold over the part run (0: the
+ * whole run). METHOD and DT run the scene under another fixed-step method at step DT (s): the
+ * linearly implicit "rosenbrock" at a user's 1/240 s (issue 23 item 4), the same checks.
  *
  * Penetrations are measured from the geometry (separating axes of the two boxes), not from the
  * contact effect's own manifold, so a narrow phase that reported too little depth would not
@@ -21,7 +23,9 @@
 #define PI 3.14159265358979323846
 #define MAX_BODIES 32
 
-static double cut_duration; /* > 0: the run was cut to this many seconds */
+static double cut_duration;     /* > 0: the run was cut to this many seconds */
+static const char *method_name; /* NULL: the scene's own method (RK4) at its default step */
+static double method_dt;        /* the step under method_name, s */
 
 static int whole_run(const char *what)
 {
@@ -37,6 +41,15 @@ static int whole_run(const char *what)
 static tb_scene *load(const char *name, tb_run_def *run)
 {
     tb_scene *scene = test_example_load(TUMBLE_SCENES_DIR, name, run);
+    if (method_name != NULL) {
+        tb_method method;
+        if (tb_method_from_name(method_name, &method) != TB_STATUS_OK ||
+            tb_integrator_def_set_method(&run->integrator, method) != TB_STATUS_OK) {
+            printf("no fixed-step method %s\n", method_name);
+            exit(1);
+        }
+        run->integrator.dt = method_dt;
+    }
     double dt = run->integrator.dt;
     if (dt == 0.0 && tb_scene_default_step(scene, run->integrator.method, &dt) != TB_STATUS_OK) {
         printf("%s/%s.json: %s\n", TUMBLE_SCENES_DIR, name, tb_scene_detail(scene));
@@ -46,8 +59,8 @@ static tb_scene *load(const char *name, tb_run_def *run)
     if (cut_duration > 0.0) {
         run->duration = fmin(run->duration, cut_duration);
     }
-    printf("  %s: %zu bodies, RK4 at dt = 1/%.0f s, %g s\n", name, tb_scene_body_count(scene),
-           run->fps, run->duration);
+    printf("  %s: %zu bodies, %s at dt = 1/%.0f s, %g s\n", name, tb_scene_body_count(scene),
+           tb_method_name(run->integrator.method), run->fps, run->duration);
     return scene;
 }
 
@@ -571,9 +584,13 @@ int main(int argc, char **argv)
                                           {"dominoes", dominoes},
                                           {"stack", stack},
                                           {"newtons_cradle", newtons_cradle}};
-    if (argc == 3) {
+    if (argc >= 3) {
         cut_duration = atof(argv[2]);
     }
-    return test_example_main(argc, argv, scenes, sizeof scenes / sizeof scenes[0], 1,
-                             "usage: test_example_contact_scenes SCENE [DURATION]");
+    if (argc == 5) {
+        method_name = argv[3];
+        method_dt = atof(argv[4]);
+    }
+    return test_example_main(argc, argv, scenes, sizeof scenes / sizeof scenes[0], 3,
+                             "usage: test_example_contact_scenes SCENE [DURATION [METHOD DT]]");
 }

@@ -66,7 +66,14 @@ static double oscillate(double w, double h, double t_end, int own_jacobian, doub
     assert_int_equal(tb_integrator_advance(integrator, t_end), TB_STATUS_OK);
     tb_integrator_stats stats;
     tb_integrator_get_stats(integrator, &stats);
-    assert_int_equal(stats.jacobian_evals, stats.steps); /* one Jacobian a step */
+    /* difference quotients: one Jacobian a step; the system's own: the factorisation is held
+     * and reused while the steps pass (this J is constant), so one Jacobian in all unless a step
+     * is halved */
+    if (own_jacobian) {
+        assert_true(stats.jacobian_evals >= 1 && stats.jacobian_evals < stats.steps);
+    } else {
+        assert_int_equal(stats.jacobian_evals, stats.steps);
+    }
     tb_integrator_destroy(integrator);
     *velocity = y[1];
     return y[0];
@@ -156,7 +163,7 @@ static tb_scene *run_example(const char *name, double dt, double t_end, tb_integ
 /* head_on_balls (1 kg at 2 m/s on 3 kg at rest, e = 0.8) at 1/1000 s. The contact's fastest
  * oscillation is 9.08e3 rad/s (tumble check), so an impact lasts pi / 9.08e3 = 0.35 ms, a third of
  * a step: the restitution cannot be resolved at this step (the issue's 10% target is not met;
- * measured 0.014, and within 10% only from dt = 2.5e-5 s, docs/integrators.md). What holds and is
+ * measured 0.11, and within 10% only from dt = 2.5e-5 s, docs/integrators.md). What holds and is
  * checked: momentum is kept to 1e-9 kg m/s (equal and opposite loads, round-off of the solve)
  * and the unresolved impact stores no energy: the kinetic energy after is not above the start's
  * 2 J (to 1e-9 J). */
@@ -217,8 +224,10 @@ static void test_a_jointed_chain_runs_at_240_hz(void **state)
 /* stack (five boxes stacked, each turned 3 degrees) at 1/240 s, where the step without halving
  * threw box2 off at t = 0.033 s: after 0.25 s the top box is where RK4 at its default step puts
  * it (z = 0.4499878 m: 12 micrometres of settling) to 1e-6 m, and moves slower than 1e-4 m/s
- * (measured 7e-6 m/s; RK4: 2e-6 m/s). Not at the issue's rest target (1e-6 m/s): the halved steps
- * leave a jitter (3.6e-5 m/s at 0.5 s), docs/integrators.md. */
+ * (measured 7.3e-8 m/s with the predictor's Jacobian taken at onsets only, 7e-6 m/s with it at
+ * every step; RK4: 2e-6 m/s). The bound is not the issue's rest target (1e-6 m/s): the halved
+ * steps' jitter follows every change of a step
+ * (docs/integrators.md). */
 static void test_a_stack_of_boxes_stands_at_240_hz(void **state)
 {
     (void)state;
@@ -236,6 +245,48 @@ static void test_a_stack_of_boxes_stands_at_240_hz(void **state)
     tb_scene_destroy(scene);
 }
 
+/* newtons_cradle (the first of five 263 g balls on strings released 40.2 mm above the others,
+ * steel on steel e = 0.95) at 1/240 s: each impact lasts about pi / 4.95e3 rad/s (tumble
+ * check), 0.63 ms, a seventh of a step, made at a stage point and gone by the step's end. No ball
+ * may ever move faster than the whole initial potential energy allows, sqrt(2 g 0.0402) = 0.888 m/s
+ * (the springs' stretch adds 2 mJ at most, under 1% of the speed; bound 1.01 x): an impact the
+ * matrix did not see stores energy and throws a ball off (9.4 m/s at 1.09 s when the predictor's
+ * Jacobian was left out; docs/integrators.md). */
+static void test_an_impact_inside_a_step_stores_no_energy(void **state)
+{
+    (void)state;
+    char path[512];
+    snprintf(path, sizeof path, "%s/newtons_cradle.json", TUMBLE_SCENES_DIR);
+    tb_scene *scene = NULL;
+    tb_run_def run;
+    tb_error error;
+    assert_int_equal(tb_scene_load_file(path, &scene, &run, &error), TB_STATUS_OK);
+    assert_int_equal(tb_integrator_def_set_method(&run.integrator, TB_METHOD_ROSENBROCK),
+                     TB_STATUS_OK);
+    run.integrator.dt = 1.0 / 240.0;
+    tb_integrator *integrator = NULL;
+    assert_int_equal(tb_scene_integrator_create(scene, &run.integrator, 0.0, &integrator),
+                     TB_STATUS_OK);
+    const double limit = 1.01 * sqrt(2.0 * 9.81 * 0.040207349504);
+    double fastest = 0.0;
+    for (int frame = 1; frame <= 360; ++frame) { /* 1.5 s, a step a frame */
+        const tb_status status = tb_integrator_advance(integrator, frame / 240.0);
+        if (status != TB_STATUS_OK) {
+            print_error("%s\n", tb_integrator_detail(integrator));
+        }
+        assert_int_equal(status, TB_STATUS_OK);
+        for (size_t body = 0; body < 5; ++body) {
+            double v[3];
+            tb_scene_body_velocity(scene, tb_scene_states(scene), body, v);
+            fastest = fmax(fastest, sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
+        }
+    }
+    print_message("fastest ball over 1.5 s: %.4f m/s (bound %.4f)\n", fastest, limit);
+    assert_true(fastest < limit);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -245,6 +296,7 @@ int main(void)
         cmocka_unit_test(test_a_box_on_a_slope_rests_at_240_hz),
         cmocka_unit_test(test_a_jointed_chain_runs_at_240_hz),
         cmocka_unit_test(test_a_stack_of_boxes_stands_at_240_hz),
+        cmocka_unit_test(test_an_impact_inside_a_step_stores_no_energy),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

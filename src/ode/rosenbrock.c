@@ -17,17 +17,31 @@
  *
  * A penalty contact's stiffness exists only where bodies overlap, so J at the step's start
  * misses a contact made inside the step, and the step is then explicit in it (a blow-up by
- * (omega h)^2). The matrix is speculative (rosenbrock_linear.c): the Jacobian at the start or at
- * a predictor of the end, whichever entry is larger; and after the step, where the Jacobian at
- * its end holds an entry more than twice the matrix's, the step is taken again with it
- * (TB__ROS2_REFINES times at most). Any matrix keeps the order, so none of this changes a step
- * on a smooth system whose Jacobian does not grow.
+ * (omega h)^2). After the step, where the Jacobian at its end holds an entry more than twice the
+ * matrix's, the step is taken again with that entry (TB__ROS2_REFINES times at most). Dense
+ * difference quotients (a system without its own Jacobian, which has no refinement) take the
+ * matrix speculatively instead: the Jacobian at the start or at a predictor of the end,
+ * whichever entry is larger (rosenbrock_linear.c). With the system's own Jacobian the predictor's
+ * is merged only where the system's root functions (a scene's gaps) foresee an onset: a gap
+ * falling below zero, or to below twice its depth at the start, between the start and the
+ * predictor. Always merged, the explicit predictor's overshoot into a far deeper contact at
+ * omega h >> 1 made resting steps over-stiff and halved (the stack at 1/240 s cost 10 times
+ * more); never merged, an impact shorter than the step, made at the stage and gone by the end
+ * (which the refinement cannot see), stored energy (Newton's cradle at 1/240 s threw a ball off at
+ * 9.4 m/s; test_an_impact_inside_a_step_stores_no_energy). Any matrix keeps the order, so none
+ * of this changes a step on a smooth system whose Jacobian does not grow.
  *
  * Where contact points come and go inside the step (a die's corner, then an edge) no single
  * matrix describes it and the step can still throw a body off. A step whose change is not
  * explained by the rates at its ends (trusted) is therefore taken as two halves, each checked
  * alike, down to 1/128 of the step; the caller's grid and step count are unchanged, the cost is
- * not (docs/integrators.md measures it). */
+ * not (docs/integrators.md measures it).
+ *
+ * Reuse. Any matrix keeping the order, a factorisation that served a trusted step of the same h
+ * is tried again on the next (a halved step's second half included), without a Jacobian: the
+ * step stands where it is trusted and the held matrix still describes it along its change
+ * (tb__rosenbrock_probe: one derivative against 1-3 Jacobians of 60-240 derivatives each);
+ * otherwise it is taken afresh as above. */
 #include "ode/rosenbrock.h"
 
 #include <math.h>
@@ -111,6 +125,16 @@ static int one_step(tb_integrator *integrator, double t, double h, double t_last
     return rc;
 }
 
+/* The change below which a component is at rest: 1e-9 of the largest |y|. */
+static double rest_floor(const double *y, size_t n)
+{
+    double size = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        size = fmax(size, fabs(y[i]));
+    }
+    return 1e-9 * size;
+}
+
 /* Whether the step's change is explained by the derivative at its ends: a step that blows up
  * (a contact the matrix does not describe) moves y far more than h times the rates at its start
  * and end, where an implicit step on a stiff mode moves it less (y' = -1000 y at h = 1: 1 against
@@ -126,14 +150,10 @@ static int trusted(tb_integrator *integrator, double t_end, double h, const doub
     double *end = work + n;
     ++*evals;
     const int rc = system->derivative(t_end, y_new, end, system->ctx);
-    double size = 0.0;
-    for (size_t i = 0; rc == 0 && i < n; ++i) {
-        size = fmax(size, fabs(y[i]));
-    }
+    const double floor = rest_floor(y, n);
     bool ok = rc == 0;
     for (size_t i = 0; ok && i < n; ++i) {
-        ok = fabs(y_new[i] - y[i]) <=
-             TB__ROS2_TRUST * h * (fabs(start[i]) + fabs(end[i])) + 1e-9 * size;
+        ok = fabs(y_new[i] - y[i]) <= TB__ROS2_TRUST * h * (fabs(start[i]) + fabs(end[i])) + floor;
     }
     *out = ok;
     return rc;
@@ -160,14 +180,43 @@ static int heun(tb_integrator *integrator, double t, double h, double t_last, co
     return rc;
 }
 
+/* The step again with the factorisation held from the last one of this h (no Jacobian, no
+ * factorisation; order 2 still, a W-method): taken where it is trusted and the held matrix
+ * describes it along its change (tb__rosenbrock_probe); *ok false otherwise. */
+static int reuse_step(tb_integrator *integrator, double t, double h, double t_last, const double *y,
+                      double *y_new, double *work, long *evals, bool *ok)
+{
+    const tb_ode_system *system = &integrator->system;
+    double *fy = tb__rosenbrock_start_rate(integrator);
+    *ok = false;
+    ++*evals;
+    int rc = system->derivative(t, y, fy, system->ctx);
+    rc = rc != 0 ? rc : stages(integrator, t_last, h, y, fy, y_new, work, evals);
+    rc = rc != 0 ? rc : trusted(integrator, t + h, h, y, y_new, work, evals, ok);
+    if (rc == 0 && *ok) {
+        rc = tb__rosenbrock_probe(integrator, t + h, h, TB__ROS2_GAMMA, y, y_new, work + system->n,
+                                  rest_floor(y, system->n), ok);
+    }
+    return rc;
+}
+
 static int split_step(tb_integrator *integrator, double t, double h, double t_last, const double *y,
                       double *y_new, double *work, long *evals, int depth)
 {
+    if (depth < TB__ROS2_SPLITS && tb__rosenbrock_can_reuse(integrator, h)) {
+        bool reused = false;
+        /* any failure (a derivative refusing a state the held matrix threw off) is retried */
+        if (reuse_step(integrator, t, h, t_last, y, y_new, work, evals, &reused) == 0 && reused) {
+            return 0;
+        }
+        tb__rosenbrock_hold(integrator, 0.0);
+    }
     int rc = one_step(integrator, t, h, t_last, y, y_new, work, evals);
     bool ok = rc == 0;
     if (rc == 0 && depth < TB__ROS2_SPLITS) {
         rc = trusted(integrator, t + h, h, y, y_new, work, evals, &ok);
     }
+    tb__rosenbrock_hold(integrator, rc == 0 && ok && depth < TB__ROS2_SPLITS ? h : 0.0);
     /* a matrix made singular by the speculation is another sign of a step too long; at the last
      * halving the step is taken with the start's Jacobian alone */
     const bool halve = rc == TB__ROSENBROCK_LINEAR_FAILED || (rc == 0 && !ok);

@@ -27,8 +27,9 @@ typedef struct tb__rosenbrock tb__rosenbrock;
 tb_status tb__rosenbrock_create(tb_integrator *integrator, tb_error *error);
 void tb__rosenbrock_destroy(tb_integrator *integrator);
 
-/* Evaluates J = df/dy at (t, y), where f(t, y) = fy (the system's own, speculative for a contact
- * switching in the step of size h, or difference quotients), and factorises I - h gamma J. Counts
+/* Evaluates J = df/dy at (t, y), where f(t, y) = fy (the system's own, or difference quotients
+ * made speculative for a contact switching on in the step of size h), and factorises
+ * I - h gamma J. Counts
  * the Jacobian and its derivatives in the integrator's stats. 0, a derivative's or the Jacobian's
  * non-zero return, or TB__ROSENBROCK_LINEAR_FAILED. */
 int tb__rosenbrock_factor(tb_integrator *integrator, double t, double h, double gamma,
@@ -51,10 +52,23 @@ double *tb__rosenbrock_start_rate(tb_integrator *integrator);
 /* n doubles of the solver's for the middle of a step halved at depth (< TB__ROSENBROCK_LEVELS). */
 double *tb__rosenbrock_level(tb_integrator *integrator, int depth);
 #define TB__ROSENBROCK_LEVELS 8
-/* Whether tb__rosenbrock_factor merges the predictor's Jacobian in (default true). */
+/* Whether tb__rosenbrock_factor merges the predictor's difference quotients in (default true). */
 void tb__rosenbrock_speculate(tb_integrator *integrator, bool on);
 /* Counts a halved step. */
 void tb__rosenbrock_count_split(tb_integrator *integrator);
+
+/* Reusing a factorisation across steps: whether the last one was made for a step of this h (and
+ * held: the step taken with it was trusted) and can be tried again without a new Jacobian; hold
+ * marks it so (h 0: none); a system without its own Jacobian never holds one (no J to probe). */
+bool tb__rosenbrock_can_reuse(const tb_integrator *integrator, double h);
+void tb__rosenbrock_hold(tb_integrator *integrator, double h);
+
+/* Whether the held matrix describes the step from y to y_new ending at (t, f_end), along its
+ * change (one derivative; rosenbrock_linear.c says the test); floor in y's units. 0 or a
+ * derivative's non-zero return. */
+int tb__rosenbrock_probe(tb_integrator *integrator, double t, double h, double gamma,
+                         const double *y, const double *y_new, const double *f_end, double floor,
+                         bool *ok);
 
 /* Why the last TB__ROSENBROCK_LINEAR_FAILED ("" if none). */
 const char *tb__rosenbrock_message(const tb_integrator *integrator);

@@ -45,21 +45,24 @@ struct tb__rosenbrock {
     SUNContext context;
     SUNMatrix matrix; /* M: CSR sparse or dense */
     SUNLinearSolver linear;
-    N_Vector x;          /* a shell over the caller's array (N_VSetArrayPointer) */
-    bool sparse;         /* KLU path */
-    bool own_jacobian;   /* the system's jacobian (else difference quotients) */
-    tb_ode_sparse J;     /* what the system writes at (t, y) */
-    tb_ode_sparse ahead; /* ... at the predictor y + h f(t, y) (speculative, below) */
+    N_Vector x;                         /* a shell over the caller's array (N_VSetArrayPointer) */
+    bool sparse;                        /* KLU path */
+    bool own_jacobian;                  /* the system's jacobian (else difference quotients) */
+    tb_ode_sparse J;                    /* what the system writes at (t, y) */
+    tb_ode_sparse ahead;                /* ... at the step's end (tb__rosenbrock_refine) */
     double *predicted, *predicted_rate; /* the predictor and its derivative, n each */
     double *start_rate;                 /* f(t, y) at the step's start, n */
     double *levels;                     /* TB__ROSENBROCK_LEVELS middles of halved steps, n each */
     long splits;                        /* halved steps */
-    bool plain;                         /* no speculation (tb__rosenbrock_speculate) */
+    double held_h; /* the step the factorisation was made for and passed with; 0: none to reuse */
+    double *jw_d;  /* J d of the held matrix, n (tb__rosenbrock_probe) */
+    bool plain;    /* no speculation (tb__rosenbrock_speculate) */
 #ifdef TB_HAVE_KLU
     tb__klu_pattern analysed; /* the pattern KLU analysed last */
 #endif
     double *shifted, *column; /* difference quotients: y with one component moved, its f */
     double *dense_ahead;      /* difference quotients at the predictor, n x n */
+    double *gaps;             /* the system's root functions at the start and the predictor */
     char message[TB_DETAIL_SIZE];
 };
 
@@ -114,7 +117,7 @@ static tb_status make_solver(tb__rosenbrock *r, size_t n, tb_error *error)
 
 /* The Jacobian's buffers: the system's CSR (room for the diagonal; more when its capacity asks),
  * or the difference quotients' two state vectors. */
-static tb_status make_jacobian(tb__rosenbrock *r, size_t n, tb_error *error)
+static tb_status make_jacobian(tb__rosenbrock *r, size_t n, size_t roots, tb_error *error)
 {
     r->J.n = r->ahead.n = n;
 #ifdef TB_HAVE_KLU
@@ -125,9 +128,16 @@ static tb_status make_jacobian(tb__rosenbrock *r, size_t n, tb_error *error)
     if (r->start_rate == NULL || r->levels == NULL) {
         return rosenbrock_fail(error, "state", n);
     }
+    r->jw_d = tb__malloc_array(n, sizeof(double));
+    r->shifted = tb__malloc_array(n, sizeof(double));
+    r->column = tb__malloc_array(n, sizeof(double));
+    if (r->jw_d == NULL || r->shifted == NULL || r->column == NULL) {
+        return rosenbrock_fail(error, "probe", n);
+    }
     r->predicted = tb__malloc_array(n, sizeof(double));
     r->predicted_rate = tb__malloc_array(n, sizeof(double));
-    if (r->predicted == NULL || r->predicted_rate == NULL) {
+    r->gaps = tb__malloc_array(2 * roots + 1, sizeof(double));
+    if (r->predicted == NULL || r->predicted_rate == NULL || r->gaps == NULL) {
         return rosenbrock_fail(error, "predictor", n);
     }
     if (r->own_jacobian) {
@@ -137,12 +147,9 @@ static tb_status make_jacobian(tb__rosenbrock *r, size_t n, tb_error *error)
                    ? TB_STATUS_OK
                    : rosenbrock_fail(error, "Jacobian", n);
     }
-    r->shifted = tb__malloc_array(n, sizeof(double));
-    r->column = tb__malloc_array(n, sizeof(double));
     r->dense_ahead = tb__malloc_array(n * n, sizeof(double));
-    return r->shifted != NULL && r->column != NULL && r->dense_ahead != NULL
-               ? TB_STATUS_OK
-               : rosenbrock_fail(error, "difference quotients", n);
+    return r->dense_ahead != NULL ? TB_STATUS_OK
+                                  : rosenbrock_fail(error, "difference quotients", n);
 }
 
 tb_status tb__rosenbrock_create(tb_integrator *integrator, tb_error *error)
@@ -177,7 +184,11 @@ tb_status tb__rosenbrock_create(tb_integrator *integrator, tb_error *error)
     tb_status status = flag != 0 ? rosenbrock_fail(error, "SUNContext", n) : TB_STATUS_OK;
     if (status == TB_STATUS_OK) {
         r->x = N_VMake_Serial((sunindextype)n, integrator->y, r->context);
-        status = r->x == NULL ? rosenbrock_fail(error, "vector", n) : make_jacobian(r, n, error);
+        status =
+            r->x == NULL
+                ? rosenbrock_fail(error, "vector", n)
+                : make_jacobian(r, n, system->events.roots != NULL ? system->events.root_count : 0,
+                                error);
     }
     if (status == TB_STATUS_OK) {
         status = make_solver(r, n, error);
@@ -210,12 +221,14 @@ void tb__rosenbrock_destroy(tb_integrator *integrator)
     free(r->ahead.values);
     free(r->predicted);
     free(r->predicted_rate);
+    free(r->gaps);
     free(r->start_rate);
     free(r->levels);
 #ifdef TB_HAVE_KLU
     free(r->analysed.analysed);
 #endif
     free(r->shifted);
+    free(r->jw_d);
     free(r->dense_ahead);
     free(r->column);
     free(r);
@@ -256,7 +269,7 @@ static int dense_quotients(tb_integrator *integrator, double t, const double *y,
     return 0;
 }
 
-/* Dense M from the system's CSR J. */
+/* Dense M from the system's CSR J (held between steps, rosenbrock.h). */
 static void dense_from_sparse(tb__rosenbrock *r, double h_gamma)
 {
     const size_t n = r->J.n;
@@ -284,14 +297,15 @@ static int evaluate(tb_integrator *integrator, double t, const double *y, const 
     return rc;
 }
 
-/* Speculative activation. A contact's force is k d for depth d > 0 and nothing before, so the
- * Jacobian at a step's start has no stiffness for a contact that switches on in the step, and the
- * step is explicit in it: at omega h = 14 (a die at 1/240 s) that multiplies the impact speed by
- * about (omega h)^2 / 2. The matrix is therefore the Jacobian at (t, y) or at a predictor of the
- * step's end, the explicit midpoint y + h f(t + h/2, y + h/2 f(t, y)) (second order, so that it
- * carries a body's fall through gravity, h^2 g / 2), entry by entry whichever is larger in
- * magnitude: a contact in force at the start or at the predicted end is implicit. ROS2 keeps its
- * order 2 with any matrix (a W-method). The predictor is only a probe: it may overshoot. */
+/* Speculative activation, for dense difference quotients. A contact's force is k d for depth d > 0
+ * and nothing before, so the Jacobian at a step's start has no stiffness for a contact that
+ * switches on in the step, and the step is explicit in it: at omega h = 14 (a die at 1/240 s) that
+ * multiplies the impact speed by about (omega h)^2 / 2. The matrix is therefore the Jacobian at (t,
+ * y) or at a predictor of the step's end, the explicit midpoint y + h f(t + h/2, y + h/2 f(t, y))
+ * (second order, so that it carries a body's fall through gravity, h^2 g / 2), entry by entry
+ * whichever is larger in magnitude: a contact in force at the start or at the predicted end is
+ * implicit. ROS2 keeps its order 2 with any matrix (a W-method). The predictor is only a probe: it
+ * may overshoot. */
 static int predict(tb_integrator *integrator, double t, double h, const double *y, const double *fy)
 {
     tb__rosenbrock *r = integrator->rosenbrock;
@@ -332,21 +346,7 @@ static bool same_pattern(const tb__rosenbrock *r)
            memcmp(r->ahead.columns, r->J.columns, entries * sizeof(size_t)) == 0;
 }
 
-/* The system's Jacobian ahead merged into r->J (the system builds its pattern at the capacity
- * asked from (t, y); a predictor whose pattern differs leaves the start's Jacobian). */
-static int speculate(tb_integrator *integrator, double t, double h, const double *y,
-                     const double *fy)
-{
-    tb__rosenbrock *r = integrator->rosenbrock;
-    int rc = predict(integrator, t, h, y, fy);
-    rc = rc != 0 ? rc : evaluate(integrator, t + h, r->predicted, r->predicted_rate, &r->ahead);
-    if (rc == 0 && same_pattern(r)) {
-        merge_larger(r->J.values, r->ahead.values, r->J.row_starts[r->J.n], 1.0, 0.0);
-    }
-    return rc > 0 ? 0 : rc; /* a derivative that fails ahead leaves the start's Jacobian */
-}
-
-/* Dense M = I - h_gamma J, J the difference quotients at (t, y) and ahead (speculate). */
+/* Dense M = I - h_gamma J, J the difference quotients at (t, y) and at the predictor. */
 static int dense_speculative(tb_integrator *integrator, double t, double h, const double *y,
                              const double *fy, double h_gamma)
 {
@@ -371,10 +371,9 @@ static int dense_speculative(tb_integrator *integrator, double t, double h, cons
     return 0;
 }
 
-/* J from the system at (t, y) and ahead (speculate) into r->J, its room grown first to the
- * capacity the system asks at (t, y). */
-static int own_jacobian(tb_integrator *integrator, double t, double h, const double *y,
-                        const double *fy)
+/* J from the system at (t, y) into r->J (the predictor only at onsets: rosenbrock.c), its room
+ * grown first to the capacity the system asks at (t, y). */
+static int own_jacobian(tb_integrator *integrator, double t, const double *y, const double *fy)
 {
     tb__rosenbrock *r = integrator->rosenbrock;
     const tb_ode_system *system = &integrator->system;
@@ -385,8 +384,47 @@ static int own_jacobian(tb_integrator *integrator, double t, double h, const dou
                              "pattern) or out of memory for it; capacity",
                              (long)capacity, t);
     }
-    const int rc = evaluate(integrator, t, y, fy, &r->J);
-    return rc != 0 || r->plain ? rc : speculate(integrator, t, h, y, fy);
+    return evaluate(integrator, t, y, fy, &r->J);
+}
+
+/* Whether a root function (for a scene: a body's nearest gap, negative where it touches) falls
+ * from the start to the predictor below zero and below twice its start: a contact that switches on
+ * in the step, or one the step would press far deeper (an impact made and gone within the step,
+ * which the refinement at the step's end cannot see). A resting contact keeps its gap. */
+static bool onset_predicted(const tb__rosenbrock *r, size_t count)
+{
+    for (size_t k = 0; k < count; ++k) {
+        const double start = r->gaps[k], ahead = r->gaps[count + k];
+        if (ahead < 0.0 && ahead < 2.0 * fmin(start, 0.0)) {
+            return true;
+        }
+    }
+    return false;
+}
+
+/* Speculative activation with the system's own Jacobian, only where the predictor foresees an
+ * onset: always taking the predictor's Jacobian made resting steps over-stiff (the explicit
+ * predictor overshoots a stiff contact at omega h >> 1) and halved them, and never taking it let
+ * an impact shorter than the step store energy (Newton's cradle at 1/240 s threw a ball off). */
+static int speculate_at_onsets(tb_integrator *integrator, double t, double h, const double *y,
+                               const double *fy)
+{
+    tb__rosenbrock *r = integrator->rosenbrock;
+    const tb_ode_system *system = &integrator->system;
+    const size_t count = system->events.roots != NULL ? system->events.root_count : 0;
+    if (r->plain || count == 0 || system->events.roots(t, y, r->gaps, system->ctx) != 0) {
+        return 0;
+    }
+    int rc = predict(integrator, t, h, y, fy);
+    if (rc != 0 || system->events.roots(t + h, r->predicted, r->gaps + count, system->ctx) != 0 ||
+        !onset_predicted(r, count)) {
+        return rc > 0 ? 0 : rc;
+    }
+    rc = evaluate(integrator, t + h, r->predicted, r->predicted_rate, &r->ahead);
+    if (rc == 0 && same_pattern(r)) {
+        merge_larger(r->J.values, r->ahead.values, r->J.row_starts[r->J.n], 1.0, 0.0);
+    }
+    return rc > 0 ? 0 : rc; /* a derivative that fails ahead leaves the start's Jacobian */
 }
 
 /* M = I - h_gamma J from r->J (the system's), factorised. */
@@ -424,7 +462,8 @@ int tb__rosenbrock_factor(tb_integrator *integrator, double t, double h, double 
                    : linear_failed(r, "I - h gamma J is singular: SUNLinSolSetup returned", flag,
                                    t);
     }
-    const int rc = own_jacobian(integrator, t, h, y, fy);
+    int rc = own_jacobian(integrator, t, y, fy);
+    rc = rc != 0 ? rc : speculate_at_onsets(integrator, t, h, y, fy);
     return rc != 0 ? rc : factor_own(r, t, h_gamma);
 }
 
@@ -452,6 +491,68 @@ int tb__rosenbrock_refine(tb_integrator *integrator, double t, double h, double 
     }
     integrator->stats.jacobian_evals++;
     return factor_own(r, t, h * gamma);
+}
+
+/* out = J d, J the matrix's (r->J, CSR) */
+static void multiply(const tb_ode_sparse *J, const double *d, double *out)
+{
+    for (size_t i = 0; i < J->n; ++i) {
+        double sum = 0.0;
+        for (size_t e = J->row_starts[i]; e < J->row_starts[i + 1]; ++e) {
+            sum += J->values[e] * d[J->columns[e]];
+        }
+        out[i] = sum;
+    }
+}
+
+bool tb__rosenbrock_can_reuse(const tb_integrator *integrator, double h)
+{
+    const tb__rosenbrock *r = integrator->rosenbrock;
+    return r->own_jacobian && !r->plain && r->held_h == h;
+}
+
+void tb__rosenbrock_hold(tb_integrator *integrator, double h)
+{
+    tb__rosenbrock *r = integrator->rosenbrock;
+    r->held_h = r->own_jacobian ? h : 0.0;
+}
+
+/* The held matrix's J against the Jacobian at the step's end along the step's change d = y_new -
+ * y, one derivative: J_end d = (f(t, y_new + e d) - f(t, y_new)) / e with e |d| = sqrt(eps)
+ * max(|y_new|, 1). The matrix describes the step where, component by component, gamma h
+ * |J_end d - J d| <= |d| + gamma h |J d| + floor (tb__rosenbrock_refine's ratio 2 along d): a
+ * contact made in the step puts k times the step's approach into J_end d, absent from J d. */
+int tb__rosenbrock_probe(tb_integrator *integrator, double t, double h, double gamma,
+                         const double *y, const double *y_new, const double *f_end, double floor,
+                         bool *ok)
+{
+    tb__rosenbrock *r = integrator->rosenbrock;
+    const tb_ode_system *system = &integrator->system;
+    const size_t n = system->n;
+    double size = 1.0, step = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        r->column[i] = y_new[i] - y[i]; /* d, until the derivative overwrites it */
+        size = fmax(size, fabs(y_new[i]));
+        step = fmax(step, fabs(r->column[i]));
+    }
+    *ok = true;
+    if (step == 0.0) {
+        return 0;
+    }
+    multiply(&r->J, r->column, r->jw_d);
+    const double e = sqrt(DBL_EPSILON) * size / step;
+    for (size_t i = 0; i < n; ++i) {
+        r->shifted[i] = y_new[i] + e * r->column[i];
+    }
+    integrator->stats.derivative_evals++;
+    integrator->stats.jacobian_derivative_evals++;
+    const int rc = system->derivative(t, r->shifted, r->column, system->ctx);
+    const double h_gamma = h * gamma;
+    for (size_t i = 0; rc == 0 && *ok && i < n; ++i) {
+        const double d = y_new[i] - y[i], end = (r->column[i] - f_end[i]) / e;
+        *ok = h_gamma * fabs(end - r->jw_d[i]) <= fabs(d) + h_gamma * fabs(r->jw_d[i]) + floor;
+    }
+    return rc;
 }
 
 int tb__rosenbrock_solve(tb_integrator *integrator, double *x)
