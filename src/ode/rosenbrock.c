@@ -102,14 +102,47 @@ static int stages(tb_integrator *integrator, double t_last, double h, const doub
     return rc;
 }
 
-/* One ROS2 step of size h from (t, y) into y_new with its refinements. */
+static bool all_zero(const double *v, size_t n)
+{
+    for (size_t i = 0; i < n; ++i) {
+        if (v[i] != 0.0) {
+            return false;
+        }
+    }
+    return true;
+}
+
+/* Whether nothing moves: f(t, y) = 0 and f(t_last, y) = 0 (every body asleep or held, no load
+ * changing in time). Then k1 = M^-1 f(t, y) = 0 and k2 = M^-1 (f(t_last, y + h k1) - 2 k1) = 0
+ * for any matrix M, so the step is y itself, exactly, without a Jacobian or a factorisation. */
+static int still(tb_integrator *integrator, double t_last, const double *y, const double *fy,
+                 double *work, long *evals, bool *out)
+{
+    const tb_ode_system *system = &integrator->system;
+    *out = false;
+    if (!all_zero(fy, system->n)) {
+        return 0;
+    }
+    ++*evals;
+    const int rc = system->derivative(t_last, y, work, system->ctx);
+    *out = rc == 0 && all_zero(work, system->n);
+    return rc;
+}
+
+/* One ROS2 step of size h from (t, y) into y_new with its refinements; *unmoved where nothing
+ * moves (still: no matrix made, the held one left as it was). */
 static int one_step(tb_integrator *integrator, double t, double h, double t_last, const double *y,
-                    double *y_new, double *work, long *evals)
+                    double *y_new, double *work, long *evals, bool *unmoved)
 {
     const tb_ode_system *system = &integrator->system;
     double *fy = tb__rosenbrock_start_rate(integrator);
     ++*evals;
     int rc = system->derivative(t, y, fy, system->ctx);
+    rc = rc != 0 ? rc : still(integrator, t_last, y, fy, work, evals, unmoved);
+    if (rc == 0 && *unmoved) {
+        memcpy(y_new, y, system->n * sizeof(double));
+        return 0;
+    }
     if (rc == 0) {
         rc = tb__rosenbrock_factor(integrator, t, h, TB__ROS2_GAMMA, y, fy);
     }
@@ -211,7 +244,11 @@ static int split_step(tb_integrator *integrator, double t, double h, double t_la
         }
         tb__rosenbrock_hold(integrator, 0.0);
     }
-    int rc = one_step(integrator, t, h, t_last, y, y_new, work, evals);
+    bool unmoved = false;
+    int rc = one_step(integrator, t, h, t_last, y, y_new, work, evals, &unmoved);
+    if (rc == 0 && unmoved) {
+        return 0;
+    }
     bool ok = rc == 0;
     if (rc == 0 && depth < TB__ROS2_SPLITS) {
         rc = trusted(integrator, t + h, h, y, y_new, work, evals, &ok);
@@ -222,7 +259,7 @@ static int split_step(tb_integrator *integrator, double t, double h, double t_la
     const bool halve = rc == TB__ROSENBROCK_LINEAR_FAILED || (rc == 0 && !ok);
     if (depth >= TB__ROS2_SPLITS && rc == TB__ROSENBROCK_LINEAR_FAILED) {
         tb__rosenbrock_speculate(integrator, false);
-        rc = one_step(integrator, t, h, t_last, y, y_new, work, evals);
+        rc = one_step(integrator, t, h, t_last, y, y_new, work, evals, &unmoved);
         tb__rosenbrock_speculate(integrator, true);
         rc = rc == TB__ROSENBROCK_LINEAR_FAILED
                  ? heun(integrator, t, h, t_last, y, y_new, work, evals)
