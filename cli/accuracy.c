@@ -89,8 +89,9 @@ static int print_row(size_t index, const tb_accuracy_result *r, void *ctx)
         cli_output_printf(t->out, "%-12s %-12s refused: beyond the stability limit\n",
                           tb_method_name(r->method), setting);
     } else {
-        cli_output_printf(t->out, "%-12s %-12s failed: %s\n", tb_method_name(r->method), setting,
-                          tb_status_string(r->status));
+        cli_output_printf(t->out, "%-12s %-12s failed: %s%s%s\n", tb_method_name(r->method),
+                          setting, tb_status_string(r->status), r->detail[0] != '\0' ? ": " : "",
+                          r->detail);
     }
     return t->out->error != 0; /* stop when the table is being lost */
 }

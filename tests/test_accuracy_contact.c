@@ -28,8 +28,9 @@ static double order(const tb_accuracy_result *coarse, const tb_accuracy_result *
     return log(coarse->error / fine->error) / log(fine->setting / coarse->setting);
 }
 
-/* The sweep fitted to a stiff scene: each fixed-step method at 1, 2 and 4 times the rate of its
- * default step, which the scene accepts (the table's 60 to 4000 steps/s are all unstable). */
+/* The sweep fitted to a stiff scene: each explicit fixed-step method at 1, 2 and 4 times the rate
+ * of its default step, which the scene accepts (the table's 60 to 4000 steps/s are all unstable);
+ * rosenbrock, which has no stability limit, at the table's user steps, 240 and 1000 per second. */
 static void test_a_stiff_scene_sweeps_its_own_stable_steps(void **state)
 {
     (void)state;
@@ -38,7 +39,11 @@ static void test_a_stiff_scene_sweeps_its_own_stable_steps(void **state)
     tb_accuracy_setting settings[32];
     size_t count = 0;
     assert_int_equal(tb_accuracy_scene_sweep(scene, settings, 32, &count), TB_STATUS_OK);
-    assert_int_equal(count, 21); /* 3 Euler, 3 midpoint, 3 RK4, 4 Adams, 4 BDF, 4 ark-imex */
+    /* 3 Euler, 3 midpoint, 3 RK4, 4 Adams, 4 BDF, 4 ark-imex, 2 rosenbrock */
+    assert_int_equal(count, 23);
+    assert_int_equal(settings[21].method, TB_METHOD_ROSENBROCK);
+    assert_int_equal(settings[22].method, TB_METHOD_ROSENBROCK);
+    assert_true(settings[21].setting == 240.0 && settings[22].setting == 1000.0);
     for (size_t k = 0; k < 9; ++k) {
         double dt = 0.0;
         tb_scene_default_step(scene, settings[k].method, &dt);

@@ -27,7 +27,7 @@ static const tb_accuracy_setting default_sweep[] = {
     {TB_METHOD_CVODE_ADAMS, 1e-7}, {TB_METHOD_CVODE_ADAMS, 1e-9}, {TB_METHOD_CVODE_BDF, 1e-3},
     {TB_METHOD_CVODE_BDF, 1e-5},   {TB_METHOD_CVODE_BDF, 1e-7},   {TB_METHOD_CVODE_BDF, 1e-9},
     {TB_METHOD_ARK_IMEX, 1e-3},    {TB_METHOD_ARK_IMEX, 1e-5},    {TB_METHOD_ARK_IMEX, 1e-7},
-    {TB_METHOD_ARK_IMEX, 1e-9},
+    {TB_METHOD_ARK_IMEX, 1e-9},    {TB_METHOD_ROSENBROCK, 240},   {TB_METHOD_ROSENBROCK, 1000},
 };
 
 const tb_accuracy_setting *tb_accuracy_default_sweep(size_t *out_count)
@@ -39,12 +39,15 @@ const tb_accuracy_setting *tb_accuracy_default_sweep(size_t *out_count)
 }
 
 /* The fixed-step rates the scene's default step of method asks for, written after *count; false
- * when the table's rates are stable (the default step is the table's 1/240 s). */
+ * when the table's rates are stable (the default step is the table's 1/240 s). rosenbrock, with
+ * no stability limit, keeps the table's rates: a user's step, where what it costs and how far it
+ * lands is the question (its default step resolves the fastest oscillation instead). */
 static bool stiff_rates(const tb_scene *scene, tb_method method, tb_accuracy_setting *out,
                         size_t capacity, size_t *count)
 {
     double dt = 0.0;
-    if (tb_scene_default_step(scene, method, &dt) != TB_STATUS_OK || !(dt < 1.0 / 240.0)) {
+    if (method == TB_METHOD_ROSENBROCK ||
+        tb_scene_default_step(scene, method, &dt) != TB_STATUS_OK || !(dt < 1.0 / 240.0)) {
         return false;
     }
     for (int k = 0; k < 3 && *count < capacity; ++k) {

@@ -74,8 +74,7 @@ def test_accuracy_sweep_finds_a_setting_that_meets_the_budget(scenes):
     assert best is not None and best["error"] <= 1e-6
     rk4 = [r["error"] for r in rows if r["method"] == "rk4"]
     assert rk4[0] > rk4[1] > 0
-    # the sweep leaves out rosenbrock, made for a user's step on stiff contact
-    assert {r["method"] for r in rows} == set(tumble.METHODS) - {"rosenbrock"}
+    assert {r["method"] for r in rows} == set(tumble.METHODS)
 
 
 def _order(rows, method, coarse, fine):
