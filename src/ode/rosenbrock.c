@@ -129,23 +129,11 @@ static int still(tb_integrator *integrator, double t_last, const double *y, cons
     return rc;
 }
 
-/* One ROS2 step of size h from (t, y) into y_new with its refinements; *unmoved where nothing
- * moves (still: no matrix made, the held one left as it was). */
+/* One ROS2 step of size h from (t, y), whose rate is fy, into y_new with its refinements. */
 static int one_step(tb_integrator *integrator, double t, double h, double t_last, const double *y,
-                    double *y_new, double *work, long *evals, bool *unmoved)
+                    const double *fy, double *y_new, double *work, long *evals)
 {
-    const tb_ode_system *system = &integrator->system;
-    double *fy = tb__rosenbrock_start_rate(integrator);
-    ++*evals;
-    int rc = system->derivative(t, y, fy, system->ctx);
-    rc = rc != 0 ? rc : still(integrator, t_last, y, fy, work, evals, unmoved);
-    if (rc == 0 && *unmoved) {
-        memcpy(y_new, y, system->n * sizeof(double));
-        return 0;
-    }
-    if (rc == 0) {
-        rc = tb__rosenbrock_factor(integrator, t, h, TB__ROS2_GAMMA, y, fy);
-    }
+    int rc = tb__rosenbrock_factor(integrator, t, h, TB__ROS2_GAMMA, y, fy);
     rc = rc != 0 ? rc : stages(integrator, t_last, h, y, fy, y_new, work, evals);
     for (int pass = 0; rc == 0 && pass < TB__ROS2_REFINES; ++pass) {
         bool changed = false;
@@ -201,7 +189,7 @@ static int heun(tb_integrator *integrator, double t, double h, double t_last, co
 {
     const tb_ode_system *system = &integrator->system;
     const size_t n = system->n;
-    const double *f0 = tb__rosenbrock_start_rate(integrator); /* one_step's, at (t, y) */
+    const double *f0 = tb__rosenbrock_start_rate(integrator); /* the step's, at (t, y) */
     double *f1 = work;
     (void)t;
     combine(y_new, y, h, f0, 0.0, NULL, n);
@@ -217,14 +205,11 @@ static int heun(tb_integrator *integrator, double t, double h, double t_last, co
  * factorisation; order 2 still, a W-method): taken where it is trusted and the held matrix
  * describes it along its change (tb__rosenbrock_probe); *ok false otherwise. */
 static int reuse_step(tb_integrator *integrator, double t, double h, double t_last, const double *y,
-                      double *y_new, double *work, long *evals, bool *ok)
+                      const double *fy, double *y_new, double *work, long *evals, bool *ok)
 {
     const tb_ode_system *system = &integrator->system;
-    double *fy = tb__rosenbrock_start_rate(integrator);
     *ok = false;
-    ++*evals;
-    int rc = system->derivative(t, y, fy, system->ctx);
-    rc = rc != 0 ? rc : stages(integrator, t_last, h, y, fy, y_new, work, evals);
+    int rc = stages(integrator, t_last, h, y, fy, y_new, work, evals);
     rc = rc != 0 ? rc : trusted(integrator, t + h, h, y, y_new, work, evals, ok);
     if (rc == 0 && *ok) {
         rc = tb__rosenbrock_probe(integrator, t + h, h, TB__ROS2_GAMMA, y, y_new, work + system->n,
@@ -233,22 +218,42 @@ static int reuse_step(tb_integrator *integrator, double t, double h, double t_la
     return rc;
 }
 
+/* f(t, y) once for the step, whichever way it is taken (the start rate: the stages, the trust
+ * check and heun read it); *unmoved where nothing moves, the step then being y itself (still: no
+ * matrix made, the held one left as it was). */
+static int start(tb_integrator *integrator, double t, double t_last, const double *y, double *y_new,
+                 double *work, long *evals, bool *unmoved)
+{
+    const tb_ode_system *system = &integrator->system;
+    double *fy = tb__rosenbrock_start_rate(integrator);
+    ++*evals;
+    int rc = system->derivative(t, y, fy, system->ctx);
+    rc = rc != 0 ? rc : still(integrator, t_last, y, fy, work, evals, unmoved);
+    if (rc == 0 && *unmoved) {
+        memcpy(y_new, y, system->n * sizeof(double));
+    }
+    return rc;
+}
+
 static int split_step(tb_integrator *integrator, double t, double h, double t_last, const double *y,
                       double *y_new, double *work, long *evals, int depth)
 {
+    bool unmoved = false;
+    int rc = start(integrator, t, t_last, y, y_new, work, evals, &unmoved);
+    if (rc != 0 || unmoved) {
+        return rc;
+    }
+    const double *fy = tb__rosenbrock_start_rate(integrator);
     if (depth < TB__ROS2_SPLITS && tb__rosenbrock_can_reuse(integrator, h)) {
         bool reused = false;
         /* any failure (a derivative refusing a state the held matrix threw off) is retried */
-        if (reuse_step(integrator, t, h, t_last, y, y_new, work, evals, &reused) == 0 && reused) {
+        if (reuse_step(integrator, t, h, t_last, y, fy, y_new, work, evals, &reused) == 0 &&
+            reused) {
             return 0;
         }
         tb__rosenbrock_hold(integrator, 0.0);
     }
-    bool unmoved = false;
-    int rc = one_step(integrator, t, h, t_last, y, y_new, work, evals, &unmoved);
-    if (rc == 0 && unmoved) {
-        return 0;
-    }
+    rc = one_step(integrator, t, h, t_last, y, fy, y_new, work, evals);
     bool ok = rc == 0;
     if (rc == 0 && depth < TB__ROS2_SPLITS) {
         rc = trusted(integrator, t + h, h, y, y_new, work, evals, &ok);
@@ -259,7 +264,7 @@ static int split_step(tb_integrator *integrator, double t, double h, double t_la
     const bool halve = rc == TB__ROSENBROCK_LINEAR_FAILED || (rc == 0 && !ok);
     if (depth >= TB__ROS2_SPLITS && rc == TB__ROSENBROCK_LINEAR_FAILED) {
         tb__rosenbrock_speculate(integrator, false);
-        rc = one_step(integrator, t, h, t_last, y, y_new, work, evals, &unmoved);
+        rc = one_step(integrator, t, h, t_last, y, fy, y_new, work, evals);
         tb__rosenbrock_speculate(integrator, true);
         rc = rc == TB__ROSENBROCK_LINEAR_FAILED
                  ? heun(integrator, t, h, t_last, y, y_new, work, evals)
