@@ -38,16 +38,24 @@ const tb_accuracy_setting *tb_accuracy_default_sweep(size_t *out_count)
     return default_sweep;
 }
 
+/* Whether method's stability region has no bound (the method table's limits: rosenbrock). */
+static bool unbounded_stability(tb_method method)
+{
+    tb_method_info info;
+    return tb_method_get_info(method, &info) == TB_STATUS_OK && isinf(info.real_limit) &&
+           isinf(info.imaginary_limit);
+}
+
 /* The fixed-step rates the scene's default step of method asks for, written after *count; false
- * when the table's rates are stable (the default step is the table's 1/240 s). rosenbrock, with
- * no stability limit, keeps the table's rates: a user's step, where what it costs and how far it
+ * when the table's rates are stable (the default step is the table's 1/240 s). A method with no
+ * stability limit keeps the table's rates: a user's step, where what it costs and how far it
  * lands is the question (its default step resolves the fastest oscillation instead). */
 static bool stiff_rates(const tb_scene *scene, tb_method method, tb_accuracy_setting *out,
                         size_t capacity, size_t *count)
 {
     double dt = 0.0;
-    if (method == TB_METHOD_ROSENBROCK ||
-        tb_scene_default_step(scene, method, &dt) != TB_STATUS_OK || !(dt < 1.0 / 240.0)) {
+    if (unbounded_stability(method) || tb_scene_default_step(scene, method, &dt) != TB_STATUS_OK ||
+        !(dt < 1.0 / 240.0)) {
         return false;
     }
     for (int k = 0; k < 3 && *count < capacity; ++k) {
