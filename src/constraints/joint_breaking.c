@@ -93,9 +93,9 @@ void tb__joints_restart(void *constraints, const tb_scene *scene, double t)
         tb__joint *joint = &js->joints[j];
         if (joint->broken && t < joint->broken_time) {
             joint->broken = false;
-            /* as made (joint_rows.c); the stops and motors lay their rows out again at the next
-             * derivative (tb__joints_configure_rows) */
-            joint->solved_rows = joint->def.soft_frequency > 0.0 ? 0 : joint->rows;
+            /* the stops and motors lay their rows out again at the next derivative
+             * (tb__joints_configure_rows) */
+            tb__joint_solve_rows_as_made(joint);
         }
     }
 }

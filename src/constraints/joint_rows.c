@@ -290,5 +290,5 @@ void tb__joint_frames(tb__joint *joint, const tb__motion *ma, const tb__motion *
         def->soft_frequency > 0.0 && (def->has_limits || def->motor != TB_MOTOR_OFF);
     joint->axial_row = joint->axial_first ? 0 : joint->base_rows;
     joint->rows = joint->base_rows + (joint->axial_first ? 1 : 0);
-    joint->solved_rows = def->soft_frequency > 0.0 ? 0 : joint->rows;
+    tb__joint_solve_rows_as_made(joint);
 }

@@ -232,6 +232,12 @@ static inline double tb__stop_sign(int stop)
 {
     return stop == TB__STOP_UPPER ? -1.0 : 1.0;
 }
+/* Every row of the joint in the solve, as the joint is made (tb__joint_frames): none of a soft
+ * joint's, whose springs act outside the solve. */
+static inline void tb__joint_solve_rows_as_made(tb__joint *joint)
+{
+    joint->solved_rows = joint->def.soft_frequency > 0.0 ? 0 : joint->rows;
+}
 /* The axial row leaves the solve (a capped motor): rows = solved_rows = base_rows, or, where
  * axial_first, no row solved (the layout kept). */
 static inline void tb__joint_drop_axial_row(tb__joint *joint)
