@@ -53,8 +53,11 @@ typedef enum tb_accuracy_run_kind {
     TB_ACCURACY_RUN_SETTING        /* a setting of the sweep */
 } tb_accuracy_run_kind;
 
-/* How far the sweep has got: reported at the start of every run (t = 0) and at each of its
- * frames, so that a front end can show progress on a long sweep (`tumble accuracy`). */
+/* How far the sweep has got: reported at the start of every run (t = 0), at each of its frames
+ * and, inside a frame, every 256 evaluations of the scene's derivative (t is then that
+ * evaluation's time, which may step back a little where a solver retries a step), so that a
+ * front end can show progress on a long sweep (`tumble accuracy`) even where a run crawls
+ * through one frame. */
 typedef struct tb_accuracy_progress {
     tb_accuracy_run_kind kind;
     size_t index;     /* the setting's index (TB_ACCURACY_RUN_SETTING), else 0 */

@@ -2,6 +2,7 @@
 #include "scene/scene_internal.h"
 
 #include "math/tb_math.h"
+#include "scene/run_watch.h"
 
 void tb__unit_quaternion(const double *y, size_t i, double q[4])
 {
@@ -146,6 +147,13 @@ int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
     const tb_scene *scene = ctx;
     if (scene == NULL || y == NULL || dydt == NULL) {
         return -1;
+    }
+    tb__run_watch *watch = scene->watch;
+    if (watch != NULL && --watch->countdown == 0) {
+        watch->countdown = TB__RUN_WATCH_EVERY;
+        if (watch->fn(t, watch->ctx) != 0) {
+            return TB__RUN_WATCH_STOPPED;
+        }
     }
     const size_t n = scene->slot_count;
     int rc = motions(scene, t, y, dydt);

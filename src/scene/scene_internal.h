@@ -292,6 +292,7 @@ struct tb_scene {
     /* The first refused tb_effect_add_force/_torque of the user effect being applied, which
      * then fails the derivative (written through the const scene, like the detail). */
     tb_status user_load_status;
+    struct tb__run_watch *watch; /* NULL, or the accuracy sweep's (run_watch.h) */
     bool renormalize;
     int vector_path; /* tb_vector_path: what tb_scene_ode_system offers integrators */
     /* The bodies' constants per lane group for the lane kernels (lanes.h), made by
