@@ -1,9 +1,10 @@
 /* The contact's sparse Jacobian (tb_ode_system.jacobian of a scene whose bodies touch) against
  * central difference quotients of the scene's own derivative, column by column: a box resting on
- * the ground, a box on a box (on the ground), a ball on a box and a ball on the ground, with and
- * without friction, at rest (the anchors stretched inside the cone: sticking) and sliding (5 cm/s
- * across, the anchors past the cone: capped friction and plastic slip), and with too few friction
- * slots (the memoryless law at the points without one).
+ * the ground (through its shape, or its eight corner points), a box on a box (on the ground), a
+ * ball on a box and a ball on the ground, with and without friction, at rest (the anchors stretched
+ * inside the cone: sticking) and sliding (5 cm/s across, the anchors past the cone: capped friction
+ * and plastic slip), and with too few friction slots (the memoryless law at the points without
+ * one).
  *
  * What is checked, and the tolerance of each:
  * - the pattern holds every dependence: a central quotient outside it is exactly 0 (the
@@ -65,6 +66,7 @@ typedef struct case_def {
     bool friction;          /* friction on or off everywhere */
     bool sliding;           /* the upper body slides at SLIDE, the anchors past the cone */
     size_t friction_points; /* the contact's slots (0: its default) */
+    bool points;            /* the lower box meets the ground at its 8 corner points */
 } case_def;
 
 /* Body slot s: centre height z, tilted by angle (rad) about axis (0: x, 1: y), moving at v and
@@ -115,6 +117,12 @@ static tb_scene *make_scene(const case_def *c)
             test_add_box(scene, 1.0, size, origin);
         }
     }
+    if (c->points) { /* before the ground, which sizes its states by them */
+        tb_contact_point corners[8];
+        size_t count = 0;
+        assert_int_equal(tb_contact_points_box(size, corners, 8, &count), TB_STATUS_OK);
+        assert_int_equal(tb_scene_set_contact_points(scene, 0, corners, count, 4), TB_STATUS_OK);
+    }
     place_bodies(tb_scene_states(scene), c);
     tb_ground_def ground = tb_ground_def_default();
     tb_contact_def contact = tb_contact_def_default();
@@ -135,13 +143,18 @@ static tb_scene *make_scene(const case_def *c)
 }
 
 /* The anchors: inside the cone at rest (sticking); sliding, STRETCH along the slide (past the
- * cone: the capped force and the plastic slip). */
+ * cone: the capped force and the plastic slip): a slot's in the world (or the lower box's frame,
+ * turned 1e-5 rad), a ground point's in the plane's basis t1 = n x e_x = e_y, t2 = n x t1 =
+ * -e_x. */
 static void stretch_anchors(double *y, size_t n, const case_def *c)
 {
     const double along[3] = {1.0 / sqrt(1.16), 0.4 / sqrt(1.16), 0.0};
-    for (size_t k = TB_STATE_SIZE * (size_t)c->bodies; k < n && c->friction; ++k) {
-        const size_t i = (k - TB_STATE_SIZE * (size_t)c->bodies) % 3;
-        y[k] = c->sliding ? STRETCH * along[i] : 1e-8 * (double)(1 + k % 3);
+    const double in_plane[2] = {along[1], -along[0]};
+    const size_t first = TB_STATE_SIZE * (size_t)c->bodies, points = c->points ? 2 * 8 : 0;
+    for (size_t k = first; k < n && c->friction; ++k) {
+        const bool point = k < first + points;
+        const double slide = point ? in_plane[(k - first) % 2] : along[(k - first - points) % 3];
+        y[k] = c->sliding ? STRETCH * slide : 1e-8 * (double)(1 + k % 3);
     }
 }
 
@@ -199,13 +212,19 @@ static double row_scale(const quotients *Q, size_t n, size_t r, const double *sc
     return largest;
 }
 
+/* Where the states lie: the bodies', then the ground points' deflections (two each), then the
+ * friction slots' (three each). */
+typedef struct layout {
+    size_t bodies, point_states;
+} layout;
+
 /* The components [first, end) of component k's group: the body's position rows or columns (x),
- * its q, its force (P) or torque (L) rows or momentum columns, or its slot's three (every state
- * group of these scenes is a friction slot's, in threes after the bodies). */
-static void group_of(size_t k, size_t bodies, size_t *first, size_t *end)
+ * its q, its force (P) or torque (L) rows or momentum columns, a ground point's deflection, or a
+ * friction slot's. */
+static void group_of(size_t k, const layout *L, size_t *first, size_t *end)
 {
     static const size_t starts[] = {TB_STATE_X, TB_STATE_Q, TB_STATE_P, TB_STATE_L, TB_STATE_SIZE};
-    if (k < TB_STATE_SIZE * bodies) {
+    if (k < TB_STATE_SIZE * L->bodies) {
         const size_t base = k - k % TB_STATE_SIZE, part = k % TB_STATE_SIZE;
         size_t g = 0;
         while (part >= starts[g + 1]) {
@@ -213,8 +232,11 @@ static void group_of(size_t k, size_t bodies, size_t *first, size_t *end)
         }
         *first = base + starts[g];
         *end = base + starts[g + 1];
-    } else {
-        *first = k - (k - TB_STATE_SIZE * bodies) % 3;
+    } else if (k < TB_STATE_SIZE * L->bodies + L->point_states) { /* ground points' two */
+        *first = k - (k - TB_STATE_SIZE * L->bodies) % 2;
+        *end = *first + 2;
+    } else { /* friction slots' three */
+        *first = k - (k - TB_STATE_SIZE * L->bodies - L->point_states) % 3;
         *end = *first + 3;
     }
 }
@@ -235,56 +257,57 @@ static double largest_in(const quotients *Q, size_t n, size_t r0, size_t r1, siz
  * of the loads a natural-size change of any one state makes); a torque group's at least its
  * force group's times the half edge, the arm the neglected forces act at (a ball's torque has no
  * spring of its own). */
-static double rows_scale(const quotients *Q, size_t n, size_t r, const double *scale, size_t bodies)
+static double rows_scale(const quotients *Q, size_t n, size_t r, const double *scale,
+                         const layout *L)
 {
     size_t r0, r1;
-    group_of(r, bodies, &r0, &r1);
+    group_of(r, L, &r0, &r1);
     double largest = 0.0;
     for (size_t k = r0; k < r1 && k < n; ++k) {
         largest = fmax(largest, row_scale(Q, n, k, scale));
     }
-    if (r0 < TB_STATE_SIZE * bodies && r0 % TB_STATE_SIZE == TB_STATE_L) {
+    if (r0 < TB_STATE_SIZE * L->bodies && r0 % TB_STATE_SIZE == TB_STATE_L) {
         const size_t forces = r0 - TB_STATE_L + TB_STATE_P;
-        largest = fmax(largest, 0.5 * EDGE * rows_scale(Q, n, forces, scale, bodies));
+        largest = fmax(largest, 0.5 * EDGE * rows_scale(Q, n, forces, scale, L));
     }
     return largest;
 }
 
 /* The largest |entry| of entry (r, c)'s row group in its column group. */
-static double block_scale(const quotients *Q, size_t n, size_t r, size_t c, size_t bodies)
+static double block_scale(const quotients *Q, size_t n, size_t r, size_t c, const layout *L)
 {
     size_t r0, r1, c0, c1;
-    group_of(r, bodies, &r0, &r1);
-    group_of(c, bodies, &c0, &c1);
+    group_of(r, L, &r0, &r1);
+    group_of(c, L, &c0, &c1);
     return largest_in(Q, n, r0, r1, c0, c1);
 }
 
-static bool kinematic_row(size_t r, size_t bodies)
+static bool kinematic_row(size_t r, const layout *L)
 {
-    return r < TB_STATE_SIZE * bodies && r % TB_STATE_SIZE < TB_STATE_P;
+    return r < TB_STATE_SIZE * L->bodies && r % TB_STATE_SIZE < TB_STATE_P;
 }
 
 /* A body's x or q column: where the neglected (geometric and effective-mass) terms are. */
-static bool position_column(size_t c, size_t bodies)
+static bool position_column(size_t c, const layout *L)
 {
-    return c < TB_STATE_SIZE * bodies && c % TB_STATE_SIZE < TB_STATE_P;
+    return c < TB_STATE_SIZE * L->bodies && c % TB_STATE_SIZE < TB_STATE_P;
 }
 
 /* The tolerance of entry (r, c) (above): kinematic rows against their own row's scale. */
 static double tolerance_of(const quotients *Q, size_t n, size_t r, size_t c, const double *scale,
-                           size_t bodies)
+                           const layout *L)
 {
-    if (kinematic_row(r, bodies)) {
+    if (kinematic_row(r, L)) {
         return 1e-8 * row_scale(Q, n, r, scale) / scale[c];
     }
-    if (position_column(c, bodies)) {
-        return Q->bound[r * n + c] + NEGLECTED * rows_scale(Q, n, r, scale, bodies) / scale[c];
+    if (position_column(c, L)) {
+        return Q->bound[r * n + c] + NEGLECTED * rows_scale(Q, n, r, scale, L) / scale[c];
     }
-    return Q->bound[r * n + c] + EXACT * block_scale(Q, n, r, c, bodies);
+    return Q->bound[r * n + c] + EXACT * block_scale(Q, n, r, c, L);
 }
 
 static void check_rows(const tb_ode_sparse *J, const quotients *Q, const double *scale,
-                       size_t bodies)
+                       const layout *L)
 {
     const size_t n = J->n;
     double worst = 0.0; /* the largest miss beyond the truncation error, against its block */
@@ -299,9 +322,9 @@ static void check_rows(const tb_ode_sparse *J, const quotients *Q, const double 
                 assert_true(d == 0.0);
                 continue;
             }
-            const double tolerance = tolerance_of(Q, n, r, c, scale, bodies);
-            const double block = rows_scale(Q, n, r, scale, bodies) / scale[c];
-            if (block > 0.0 && !kinematic_row(r, bodies) && position_column(c, bodies)) {
+            const double tolerance = tolerance_of(Q, n, r, c, scale, L);
+            const double block = rows_scale(Q, n, r, scale, L) / scale[c];
+            if (block > 0.0 && !kinematic_row(r, L) && position_column(c, L)) {
                 worst = fmax(worst, (fabs(a - d) - Q->bound[r * n + c]) / block);
             }
             if (!(fabs(a - d) <= tolerance)) {
@@ -321,6 +344,7 @@ static void check_scene(const case_def *c)
     assert_int_equal(tb_scene_ode_system(scene, &system), TB_STATUS_OK);
     assert_non_null(system.jacobian.evaluate);
     const size_t n = system.n, bodies = (size_t)c->bodies;
+    const layout L = {bodies, c->points ? 2 * 8 : 0};
     double *y = tb_scene_states(scene), *scale = calloc(n, sizeof(double));
     assert_non_null(scale);
     /* a step boundary: the friction slots the touching points took are held from here */
@@ -336,7 +360,7 @@ static void check_scene(const case_def *c)
     assert_int_equal(system.derivative(0.0, y, fy, system.ctx), 0);
     assert_int_equal(system.jacobian.evaluate(0.0, y, fy, &J, system.ctx), 0);
     quotients Q = central_quotients(&system, y, scale);
-    check_rows(&J, &Q, scale, bodies);
+    check_rows(&J, &Q, scale, &L);
     if (bodies > 1) { /* the upper body's vertical force rises with the lower box */
         const double coupling = entry(&J, TB_STATE_SIZE + TB_STATE_P + 2, TB_STATE_X + 2);
         assert_true(coupling > 0.0);
@@ -380,6 +404,19 @@ static void test_a_box_sliding_on_a_box(void **state)
 {
     (void)state;
     check_scene(&(case_def){.bodies = 2, .friction = true, .sliding = true});
+}
+
+/* The ground's own contact points (two deflection states each) instead of the box's shape. */
+static void test_a_box_on_its_points_sticking(void **state)
+{
+    (void)state;
+    check_scene(&(case_def){.bodies = 2, .friction = true, .points = true});
+}
+
+static void test_a_box_on_its_points_sliding(void **state)
+{
+    (void)state;
+    check_scene(&(case_def){.bodies = 1, .friction = true, .sliding = true, .points = true});
 }
 
 /* One slot for the pair's four points: three have the memoryless law. */
@@ -455,6 +492,8 @@ int main(void)
         cmocka_unit_test(test_a_box_sticking_on_a_box),
         cmocka_unit_test(test_a_box_sliding_on_a_box),
         cmocka_unit_test(test_a_box_on_a_box_short_of_friction_slots),
+        cmocka_unit_test(test_a_box_on_its_points_sticking),
+        cmocka_unit_test(test_a_box_on_its_points_sliding),
         cmocka_unit_test(test_a_ball_on_a_box),
         cmocka_unit_test(test_a_ball_sliding_on_the_ground),
         cmocka_unit_test(test_a_stack_rests_at_its_static_deflection_under_sparse_bdf),
