@@ -67,6 +67,7 @@ typedef struct case_def {
     bool sliding;           /* the upper body slides at SLIDE, the anchors past the cone */
     size_t friction_points; /* the contact's slots (0: its default) */
     bool points;            /* the lower box meets the ground at its 8 corner points */
+    bool others;            /* a spring between the two bodies and drag: quotients' rows */
 } case_def;
 
 /* Body slot s: centre height z, tilted by angle (rad) about axis (0: x, 1: y), moving at v and
@@ -138,6 +139,16 @@ static tb_scene *make_scene(const case_def *c)
     assert_int_equal(added, TB_STATUS_OK);
     if (c->bodies > 1) {
         assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    }
+    if (c->others) { /* effects without analytic rows, beside the contact's */
+        tb_spring_def spring = tb_spring_def_default();
+        spring.body_a = 0, spring.body_b = 1;
+        spring.point_a[0] = spring.point_b[1] = 0.5 * EDGE;
+        spring.stiffness = 1e4, spring.damping = 10.0, spring.rest_length = 0.05;
+        assert_int_equal(tb_scene_add_spring(scene, &spring), TB_STATUS_OK);
+        tb_drag_def drag = tb_drag_def_default();
+        drag.linear = 0.5, drag.quadratic = 2.0, drag.angular = 0.01;
+        assert_int_equal(tb_scene_add_drag(scene, &drag), TB_STATUS_OK);
     }
     return scene;
 }
@@ -419,6 +430,14 @@ static void test_a_box_on_its_points_sliding(void **state)
     check_scene(&(case_def){.bodies = 1, .friction = true, .sliding = true, .points = true});
 }
 
+/* A spring between the boxes and drag on both: their rows are difference quotients of their own
+ * part of the derivative, added to the contact's analytic rows. */
+static void test_a_box_sliding_on_a_box_with_a_spring_and_drag(void **state)
+{
+    (void)state;
+    check_scene(&(case_def){.bodies = 2, .friction = true, .sliding = true, .others = true});
+}
+
 /* One slot for the pair's four points: three have the memoryless law. */
 static void test_a_box_on_a_box_short_of_friction_slots(void **state)
 {
@@ -491,6 +510,7 @@ int main(void)
         cmocka_unit_test(test_a_box_on_a_box_without_friction),
         cmocka_unit_test(test_a_box_sticking_on_a_box),
         cmocka_unit_test(test_a_box_sliding_on_a_box),
+        cmocka_unit_test(test_a_box_sliding_on_a_box_with_a_spring_and_drag),
         cmocka_unit_test(test_a_box_on_a_box_short_of_friction_slots),
         cmocka_unit_test(test_a_box_on_its_points_sticking),
         cmocka_unit_test(test_a_box_on_its_points_sliding),
