@@ -99,4 +99,26 @@ static inline double tb__contact_point_force(double stiffness, double mass, doub
     return force > 0.0 ? force : 0.0;
 }
 
+/* The derivatives of tb__contact_point_force against the depth (N/m, out[0]) and its rate
+ * (N s/m, out[1]), the effective mass m held fixed: with D = d + beta |d'| s, s = sqrt(m / k),
+ * g = d / D and c = 2 zeta sqrt(k m),
+ *     dN/dd = k + c d' beta |d'| s / D^2,   dN/dd' = c g^2
+ * (d(d' g)/dd' = g - d beta s |d'| / D^2 = g^2); both 0 where the force is (no touch, or the
+ * dashpot would pull). */
+static inline void tb__contact_point_force_derivatives(double stiffness, double mass, double zeta,
+                                                       double depth, double depth_rate,
+                                                       double out[2])
+{
+    out[0] = out[1] = 0.0;
+    if (!(tb__contact_point_force(stiffness, mass, zeta, depth, depth_rate) > 0.0)) {
+        return;
+    }
+    const double s = sqrt(mass / stiffness);
+    const double D = depth + TB__CONTACT_DASHPOT_ONSET * fabs(depth_rate) * s;
+    const double c = 2.0 * zeta * sqrt(stiffness * mass), g = depth / D;
+    out[0] =
+        stiffness + c * depth_rate * TB__CONTACT_DASHPOT_ONSET * fabs(depth_rate) * s / (D * D);
+    out[1] = c * g * g;
+}
+
 #endif

@@ -54,6 +54,12 @@ void tb__friction_match(const tb__friction_pool *pool, const tb__pair_contact *p
 void tb__friction_relax_all(const tb__friction_pool *pool, const tb_scene *scene, const double *z,
                             double *dz);
 
+/* The Jacobian of tb__friction_relax_all: each slot's diagonal -release (0 when frozen), at
+ * states from first_state in y; the points' rows then replace the held slots' (jacobian_rows.h). */
+struct tb__jacobian_rows;
+void tb__friction_relax_jacobian(const tb__friction_pool *pool, const tb_scene *scene,
+                                 size_t first_state, struct tb__jacobian_rows *rows);
+
 /* Friction on B at a touching point with normal force N > 0, normal n (A to B), relative
  * tangential velocity v_t of B against A (world), at a point whose spring has stiffness and
  * damping given (N/m, N s/m): with z (A's frame, q_a A's unit quaternion) the stick anchor,

@@ -25,17 +25,6 @@
 /* Friction slots per body of the effect when the def leaves friction_points at 0. */
 #define TB__FRICTION_POINTS_PER_BODY 6
 
-/* A pair's two bodies as one point of its manifold sees them. */
-typedef struct tb__pair_motion {
-    /* the derivative's (tb__derivative_motion) */
-    const tb__motion *body[2];
-    double light;   /* kg: the lighter mass */
-    double reduced; /* kg: the reduced mass */
-    double load;    /* m: the sum of the touching points' depths (their spring forces' weights) */
-    double normal;  /* kg: the effective mass at the centre of pressure along the normal */
-    double tangential; /* kg: the same for the lightest direction across it */
-} tb__pair_motion;
-
 /* One manifold point of pair (a, b) holding friction slot `slot` (TB__NO_SLOT: none): the force
  * on b is N n + friction, on a its opposite, both at the point's world position. */
 static void point_load(const tb__effect *effect, const tb_scene *scene,
@@ -123,17 +112,23 @@ static void pair_masses(const tb_scene *scene, const tb__pair_contact *pair, tb_
     m->tangential = 1.0 / across;
 }
 
-static void pair_loads(const tb__effect *effect, const tb_scene *scene, const double *y,
-                       const tb__pair_contact *pair, size_t *fresh, double *dydt)
+void tb__contact_pair_motion(const tb_scene *scene, const tb__pair_contact *pair,
+                             tb__pair_motion *m)
 {
     const tb__body *a = tb__body_constants(scene, pair->body_a);
     const tb__body *b = tb__body_constants(scene, pair->body_b);
+    m->body[0] = tb__derivative_motion(scene, pair->body_a);
+    m->body[1] = tb__derivative_motion(scene, pair->body_b);
+    m->light = fmin(a->mass, b->mass);
+    m->reduced = tb__reduced_mass(a->mass, b->mass);
+    pair_masses(scene, pair, m);
+}
+
+static void pair_loads(const tb__effect *effect, const tb_scene *scene, const double *y,
+                       const tb__pair_contact *pair, size_t *fresh, double *dydt)
+{
     tb__pair_motion m;
-    m.body[0] = tb__derivative_motion(scene, pair->body_a);
-    m.body[1] = tb__derivative_motion(scene, pair->body_b);
-    m.light = fmin(a->mass, b->mass);
-    m.reduced = tb__reduced_mass(a->mass, b->mass);
-    pair_masses(scene, pair, &m);
+    tb__contact_pair_motion(scene, pair, &m);
     size_t slots[TB__MANIFOLD_POINTS];
     tb__friction_match(tb__contact_of(effect)->friction, pair, m.body[0], fresh, slots);
     const double share = 1.0 / (double)pair->manifold.count;
@@ -332,6 +327,7 @@ static const tb__effect_ops contact_ops = {
     .owns_states = true,
     .stepping = &contact_stepping,
     .state_owners = contact_state_owners,
+    .jacobian = tb__contact_jacobian, /* effect_contact_jacobian.c */
 };
 
 tb_contact_def tb_contact_def_default(void)

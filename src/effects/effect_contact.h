@@ -21,6 +21,28 @@ typedef struct tb__contact_params {
     struct tb__friction_pool *friction; /* owned; effects/contact_friction.h */
 } tb__contact_params;
 
+/* A pair's two bodies as one point of its manifold sees them (effect_contact.c). */
+typedef struct tb__pair_motion {
+    /* the derivative's (tb__derivative_motion) */
+    const tb__motion *body[2];
+    double light;   /* kg: the lighter mass */
+    double reduced; /* kg: the reduced mass */
+    double load;    /* m: the sum of the touching points' depths (their spring forces' weights) */
+    double normal;  /* kg: the effective mass at the centre of pressure along the normal */
+    double tangential; /* kg: the same for the lightest direction across it */
+} tb__pair_motion;
+
+struct tb__pair_contact;
+
+/* The pair's motion and the effective masses of its touching points (effect_contact.c). */
+void tb__contact_pair_motion(const tb_scene *scene, const struct tb__pair_contact *pair,
+                             tb__pair_motion *m);
+
+/* The contact's analytic Jacobian rows (effect_contact_jacobian.c, tb__effect_ops.jacobian). */
+struct tb__jacobian_rows;
+int tb__contact_jacobian(const tb__effect *effect, const tb_scene *scene, double t, const double *y,
+                         struct tb__jacobian_rows *rows);
+
 /* A contact effect's parameters. */
 static inline tb__contact_params *tb__contact_of(const tb__effect *effect)
 {

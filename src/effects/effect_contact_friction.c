@@ -6,6 +6,7 @@
 #include "contact/contact_law.h"
 #include "core/validate.h"
 #include "math/tb_math.h"
+#include "scene/jacobian_rows.h"
 
 #include <math.h>
 #include <stdbool.h>
@@ -278,6 +279,16 @@ void tb__friction_relax_all(const tb__friction_pool *pool, const tb_scene *scene
         for (size_t k = TB__FRICTION_SLOT_STATES * s; k < TB__FRICTION_SLOT_STATES * (s + 1); ++k) {
             dz[k] = -rate * z[k];
         }
+    }
+}
+
+void tb__friction_relax_jacobian(const tb__friction_pool *pool, const tb_scene *scene,
+                                 size_t first_state, struct tb__jacobian_rows *rows)
+{
+    for (size_t s = 0; s < pool->capacity; ++s) {
+        const double rate = slot_asleep(&pool->slots[s], scene) ? 0.0 : TB__BRISTLE_RELEASE_RATE;
+        tb__jacobian_set_diagonal(rows, first_state + TB__FRICTION_SLOT_STATES * s,
+                                  TB__FRICTION_SLOT_STATES, -rate);
     }
 }
 

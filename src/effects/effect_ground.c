@@ -62,8 +62,8 @@ static void bristles(const tb__ground_params *ground, double mass, double dampin
 
 /* How far contact point c's sphere dips below the plane (m, negative above it); its lever
  * arm from the centre of mass goes into arm. */
-static double point_depth(const tb__ground_params *ground, const tb__contact *c,
-                          const tb__motion *motion, double arm[3])
+double tb__ground_point_depth(const tb__ground_params *ground, const tb__contact *c,
+                              const tb__motion *motion, double arm[3])
 {
     tb__point_arm(motion, c->r, arm);
     const double height =
@@ -71,22 +71,9 @@ static double point_depth(const tb__ground_params *ground, const tb__contact *c,
     return c->radius - height;
 }
 
-/* What a body's touching points share: the weights w_j = share_j d_j of their spring forces
- * (k_j = M share_j omega^2) and the effective masses at their centre of pressure. */
 /* Points per body whose depth and arm the first pass keeps for the second (a stack buffer); a
  * body with more has them computed again. */
 #define TB__GROUND_KEPT_POINTS 16
-
-/* Where a point is: its depth (m, negative above the plane) and its centre's lever arm (world). */
-typedef struct tb__point_place {
-    double depth, arm[3];
-} tb__point_place;
-
-typedef struct tb__body_load {
-    double total;      /* sum of w_j, m */
-    double normal;     /* kg: 1 / (1/M + (r x n) . I^-1 (r x n)) at the centre of pressure r */
-    double tangential; /* kg: the same for the lightest direction in the plane */
-} tb__body_load;
 
 /* The load of body's points [first, end) at motion. The dashpots are sized where they act: point
  * j's pushes m_j = m_cp w_j / sum w, the effective mass at the centre of pressure shared by load.
@@ -96,15 +83,15 @@ typedef struct tb__body_load {
  * kept below max(M share_j, the point's own effective mass): unequal loads near the centre of
  * mass (a box rocking onto an edge) would otherwise load a point with more than either, and
  * overdamp its rocking. The friction dashpot's mass is kept below M share_j, as before. */
-static void body_load(const tb__ground_params *ground, const tb_scene *scene, size_t first,
-                      size_t end, const tb__motion *motion, tb__point_place *kept,
-                      tb__body_load *out)
+void tb__ground_body_load(const tb__ground_params *ground, const tb_scene *scene, size_t first,
+                          size_t end, const tb__motion *motion, tb__point_place *kept,
+                          tb__body_load *out)
 {
     double moment[3] = {0.0, 0.0, 0.0}, arm[3];
     *out = (tb__body_load){0.0, 0.0, 0.0};
     for (size_t j = first; j < end; ++j) {
         const tb__contact *c = &scene->contacts[j];
-        const double depth = point_depth(ground, c, motion, arm);
+        const double depth = tb__ground_point_depth(ground, c, motion, arm);
         if (kept != NULL) {
             kept[j - first] = (tb__point_place){depth, {arm[0], arm[1], arm[2]}};
         }
@@ -131,7 +118,8 @@ static void contact(const tb__ground_params *ground, const tb_scene *scene, cons
 {
     const double *n = ground->normal, *t1 = ground->tangent[0], *t2 = ground->tangent[1];
     double arm[3];
-    const double depth = place != NULL ? place->depth : point_depth(ground, c, motion, arm);
+    const double depth =
+        place != NULL ? place->depth : tb__ground_point_depth(ground, c, motion, arm);
     if (place != NULL) {
         tb__v3_copy(arm, place->arm);
     }
@@ -169,8 +157,8 @@ static void contact(const tb__ground_params *ground, const tb_scene *scene, cons
  * whichever way the body is turned, so the depths need no rotation to be known negative (a
  * tumbling body above the floor, a die lying on a table). Their point_depth would be < 0: the
  * answer is contact()'s for depth <= 0 to the bit. */
-static bool body_clear(const tb__ground_params *ground, const tb_scene *scene, size_t first,
-                       size_t end, const tb__motion *motion)
+bool tb__ground_body_clear(const tb__ground_params *ground, const tb_scene *scene, size_t first,
+                           size_t end, const tb__motion *motion)
 {
     const double centre = tb__v3_dot(ground->normal, motion->x);
     const double height = centre - ground->offset;
@@ -205,7 +193,8 @@ static int apply_ground(const tb__effect *effect, const tb_scene *scene, double 
             continue;
         }
         const tb__motion *motion = tb__derivative_motion(scene, body);
-        if (body_clear(ground, scene, first, end, motion)) { /* every z relaxes (contact()) */
+        if (tb__ground_body_clear(ground, scene, first, end,
+                                  motion)) { /* every z relaxes (contact()) */
             for (size_t k = effect->state_offset + effect->states_per_contact * first;
                  k < effect->state_offset + effect->states_per_contact * end; ++k) {
                 dydt[k] = -TB__BRISTLE_RELEASE_RATE * y[k];
@@ -216,7 +205,7 @@ static int apply_ground(const tb__effect *effect, const tb_scene *scene, double 
         tb__body_load load;
         tb__point_place kept[TB__GROUND_KEPT_POINTS];
         const bool keep = end - first <= TB__GROUND_KEPT_POINTS;
-        body_load(ground, scene, first, end, motion, keep ? kept : NULL, &load);
+        tb__ground_body_load(ground, scene, first, end, motion, keep ? kept : NULL, &load);
         for (size_t j = first; j < end; ++j) {
             const size_t k = effect->state_offset + effect->states_per_contact * j;
             contact(ground, scene, &scene->contacts[j], motion, &load,
@@ -332,7 +321,7 @@ static tb_status ground_check_start(const tb__effect *effect, const tb_scene *sc
         tb__motion motion;
         tb__body_motion_at(scene, scene->time, y, c->body, &motion);
         double arm[3];
-        const double depth = point_depth(ground, c, &motion, arm);
+        const double depth = tb__ground_point_depth(ground, c, &motion, arm);
         if (depth > limit) {
             return tb__set_detail(detail, TB_STATUS_INVALID_ARGUMENT,
                                   "body %zu (\"%s\"): starts %.3g m inside the ground plane "
@@ -387,6 +376,7 @@ static const tb__effect_ops ground_ops = {
     /* the list and pool of the shapes of bodies without points (effect_ground_shapes.c) */
     .release = tb__ground_shapes_release,
     .state_owners = ground_state_owners,
+    .jacobian = tb__ground_jacobian, /* effect_ground_jacobian.c */
 };
 
 tb_ground_def tb_ground_def_default(void)

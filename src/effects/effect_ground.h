@@ -25,4 +25,38 @@ static inline tb__ground_params *tb__ground_of(const tb__effect *effect)
     return effect->params;
 }
 
+/* Where a point is: its depth (m, negative above the plane) and its centre's lever arm (world). */
+typedef struct tb__point_place {
+    double depth, arm[3];
+} tb__point_place;
+
+/* What a body's touching points share: the weights w_j = share_j d_j of their spring forces
+ * (k_j = M share_j omega^2) and the effective masses at their centre of pressure. */
+typedef struct tb__body_load {
+    double total;      /* sum of w_j, m */
+    double normal;     /* kg: 1 / (1/M + (r x n) . I^-1 (r x n)) at the centre of pressure r */
+    double tangential; /* kg: the same for the lightest direction in the plane */
+} tb__body_load;
+
+/* How far contact point c's sphere dips below the plane (m, negative above it); its lever arm
+ * from the centre of mass into arm (effect_ground.c). */
+double tb__ground_point_depth(const tb__ground_params *ground, const tb__contact *c,
+                              const tb__motion *motion, double arm[3]);
+/* The load of the body's points [first, end) at motion, each point's place into kept (NULL:
+ * not kept) (effect_ground.c). */
+void tb__ground_body_load(const tb__ground_params *ground, const tb_scene *scene, size_t first,
+                          size_t end, const tb__motion *motion, tb__point_place *kept,
+                          tb__body_load *out);
+/* True when every point of the body's [first, end) is surely above the plane (effect_ground.c). */
+bool tb__ground_body_clear(const tb__ground_params *ground, const tb_scene *scene, size_t first,
+                           size_t end, const tb__motion *motion);
+
+/* The ground's analytic Jacobian rows (effect_ground_jacobian.c, tb__effect_ops.jacobian): its
+ * points' (effect_ground.c) and its shapes' (effect_ground_shapes.c). */
+struct tb__jacobian_rows;
+int tb__ground_jacobian(const tb__effect *effect, const tb_scene *scene, double t, const double *y,
+                        struct tb__jacobian_rows *rows);
+void tb__ground_shapes_jacobian(const tb__effect *effect, const tb_scene *scene, double t,
+                                const double *y, struct tb__jacobian_rows *rows);
+
 #endif

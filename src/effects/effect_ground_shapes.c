@@ -14,6 +14,7 @@
 #include "effects/contact_events.h"
 #include "effects/contact_friction.h"
 #include "effects/effect_contact_check.h"
+#include "effects/friction_jacobian.h"
 #include "math/tb_math.h"
 
 #include <stdlib.h>
@@ -172,6 +173,84 @@ void tb__ground_shapes_apply(const tb__effect *effect, const tb_scene *scene, do
             point_force(&shapes->law, ground, &m, &pair.manifold.points[j], share,
                         held ? y + s : NULL, held ? dydt + s : NULL, tb__body_slot(scene, id),
                         dydt);
+        }
+    }
+}
+
+/* Point j's analytic rows, as point_force (the plane's z is the world's: T = 1). */
+static void point_rows(const tb_scene *scene, const tb__contact_params *law,
+                       const tb__ground_params *ground, const tb__plane_load *m,
+                       const tb__contact_point *point, double share, size_t id, size_t state,
+                       const double *y, tb__jacobian_rows *rows)
+{
+    const double *n = ground->normal;
+    tb__point_jacobian p = {.body_a = TB_WORLD, .body_b = id, .state_first = state};
+    double velocity[3], tangent[3];
+    for (int k = 0; k < 3; ++k) {
+        p.arm_b[k] = point->position[k] - m->motion->x[k];
+    }
+    tb__point_velocity(m->motion, p.arm_b, velocity);
+    const double away = tb__v3_dot(velocity, n);
+    const double part = point->depth > 0.0 ? point->depth / m->load : 0.0;
+    const double k_n = m->mass * share * law->omega * law->omega, mass = m->normal * part;
+    const double N = tb__contact_point_force(k_n, mass, law->damping_ratio, point->depth, -away);
+    if (!(N > 0.0)) {
+        return; /* a slot held here relaxes */
+    }
+    double dN[2];
+    tb__contact_point_force_derivatives(k_n, mass, law->damping_ratio, point->depth, -away, dN);
+    for (int k = 0; k < 3; ++k) {
+        tangent[k] = velocity[k] - away * n[k];
+    }
+    const double stiffness = m->mass * share * law->gravity * law->bristle_stiffness;
+    const double damping = sqrt(stiffness * fmin(m->tangential * part, m->mass * share));
+    const tb__friction_law friction = {law->static_friction, law->kinetic_friction,
+                                       law->stribeck_velocity, law->slip_velocity};
+    const double T[3][3] = {{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}};
+    tb__friction_jacobian fr;
+    const tb__friction_jacobian *use = &fr;
+    size_t count = 0;
+    if (state == TB__NO_SLOT) {
+        tb__slip_jacobian(&friction, N, tangent, &fr);
+    } else if (law->static_friction > 0.0) {
+        tb__anchor_jacobian(&friction, stiffness, damping, N, n, tangent, y + state, &fr);
+        count = TB__FRICTION_SLOT_STATES;
+    } else {
+        use = NULL;
+    }
+    tb__contact_point_rows(n, dN[0], dN[1], use, &T[0][0], count, &p);
+    tb__jacobian_add_point(rows, scene, &p);
+}
+
+void tb__ground_shapes_jacobian(const tb__effect *effect, const tb_scene *scene, double t,
+                                const double *y, tb__jacobian_rows *rows)
+{
+    const tb__ground_params *ground = tb__ground_of(effect);
+    const tb__ground_shapes *shapes = ground->shapes;
+    const tb__friction_pool *pool = shapes->law.friction;
+    const size_t first = pool_first_state(effect, scene);
+    if (pool != NULL) {
+        tb__friction_relax_jacobian(pool, scene, first, rows);
+    }
+    size_t fresh = 0;
+    for (size_t id = 0; id < scene->body_count; ++id) {
+        tb__pair_contact pair;
+        if (!meets_shape(shapes, scene, id) || tb__body_asleep(scene, id) ||
+            plane_manifold(ground, scene, t, y, id, TB__CONTACT_MARGIN, &pair) == 0) {
+            continue;
+        }
+        tb__plane_load m = {.motion = tb__derivative_motion(scene, id)};
+        plane_load(ground, tb__body_constants(scene, id), &pair.manifold, &m);
+        size_t slots[TB__MANIFOLD_POINTS] = {TB__NO_SLOT, TB__NO_SLOT, TB__NO_SLOT, TB__NO_SLOT};
+        if (pool != NULL && id < shapes->pool_bodies) {
+            tb__friction_match(pool, &pair, &plane_motion, &fresh, slots);
+        }
+        const double share = 1.0 / (double)pair.manifold.count;
+        for (int j = 0; j < pair.manifold.count; ++j) {
+            const size_t state =
+                slots[j] != TB__NO_SLOT ? first + TB__FRICTION_SLOT_STATES * slots[j] : TB__NO_SLOT;
+            point_rows(scene, &shapes->law, ground, &m, &pair.manifold.points[j], share, id, state,
+                       y, rows);
         }
     }
 }

@@ -48,6 +48,7 @@ static const tb__effect_ops gravity_ops = {
     .potential_energy = gravity_potential_energy,
     .conserves_energy = always,
     .no_torque_about_center_of_mass = true,
+    .constant_loads = true,
 };
 
 tb_status tb_scene_add_gravity(tb_scene *scene, const double g[3])
@@ -141,10 +142,11 @@ static int apply_body_torque(const tb__effect *effect, const tb_scene *scene, do
 }
 
 /* Constant loads add no mode of their own and have no potential the read-outs count. */
+/* A world force's torque turns with the body (its point is the body's): not constant. */
 static const tb__effect_ops world_force_ops = {.name = "force", .apply_bodies = apply_world_force};
 static const tb__effect_ops body_force_ops = {.name = "force", .apply_bodies = apply_body_force};
-static const tb__effect_ops world_torque_ops = {.name = "torque",
-                                                .apply_bodies = apply_world_torque};
+static const tb__effect_ops world_torque_ops = {
+    .name = "torque", .apply_bodies = apply_world_torque, .constant_loads = true};
 static const tb__effect_ops body_torque_ops = {.name = "torque", .apply_bodies = apply_body_torque};
 
 static tb_status check_frame(tb_scene *scene, tb_frame frame)

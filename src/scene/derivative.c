@@ -1,6 +1,8 @@
 /* The rigid-body derivative and the quaternion-renormalisation hook: the hot loop. */
 #include "scene/scene_internal.h"
 
+#include "scene/scene_jacobian.h"
+
 #include "math/tb_math.h"
 #include "scene/run_watch.h"
 
@@ -142,6 +144,11 @@ static int motions(const tb_scene *scene, double t, const double *y, double *dyd
     return rc;
 }
 
+int tb__scene_motions(const tb_scene *scene, double t, const double *y, double *scratch)
+{
+    return motions(scene, t, y, scratch);
+}
+
 int tb_scene_derivative(double t, const double *y, double *dydt, void *ctx)
 {
     const tb_scene *scene = ctx;
@@ -198,6 +205,42 @@ int tb__scene_explicit_part(double t, const double *y, double *dydt, void *ctx)
     for (size_t k = 0; k < scene->effect_count && rc == 0; ++k) {
         const tb__effect *effect = &scene->effects[scene->effect_order[k]];
         if (explicit_effect(effect->ops)) {
+            rc = effect->ops->apply_bodies != NULL
+                     ? effect->ops->apply_bodies(effect, scene, t, y, dydt, 0, n)
+                     : effect->ops->apply(effect, scene, t, y, dydt);
+        }
+    }
+    tb__scene_sleep_zero(scene, dydt);
+    return rc;
+}
+
+/* An effect whose Jacobian rows are difference quotients (tb__scene_quotient_part). */
+static bool quotient_effect(const tb__effect_ops *ops)
+{
+    return ops->jacobian == NULL && !ops->constant_loads;
+}
+
+bool tb__scene_has_quotient_part(const tb_scene *scene)
+{
+    for (size_t k = 0; k < scene->effect_count; ++k) {
+        if (quotient_effect(scene->effects[k].ops)) {
+            return true;
+        }
+    }
+    return false;
+}
+
+int tb__scene_quotient_part(double t, const double *y, double *dydt, void *ctx)
+{
+    const tb_scene *scene = ctx;
+    const size_t n = scene->slot_count;
+    int rc = motions(scene, t, y, dydt);
+    for (size_t k = TB_STATE_SIZE * n; k < TB_STATE_SIZE * n + scene->extra_count; ++k) {
+        dydt[k] = 0.0; /* effects' own states: analytic, or written below by their effect */
+    }
+    for (size_t k = 0; k < scene->effect_count && rc == 0; ++k) {
+        const tb__effect *effect = &scene->effects[scene->effect_order[k]];
+        if (quotient_effect(effect->ops)) {
             rc = effect->ops->apply_bodies != NULL
                      ? effect->ops->apply_bodies(effect, scene, t, y, dydt, 0, n)
                      : effect->ops->apply(effect, scene, t, y, dydt);

@@ -67,6 +67,7 @@ typedef struct tb__effect_stepping tb__effect_stepping;
 typedef void (*tb__coupling_visit)(void *ctx, size_t first_state, size_t state_count, size_t body_a,
                                    size_t body_b);
 
+struct tb__jacobian_rows; /* an effect's analytic Jacobian rows being written: jacobian_rows.h */
 /* One constant row per effect kind (the core row), defined in the kind's file in src/effects/:
  * every fact about the kind that the derivative, the read-outs, the stability guard and the
  * sleeping islands ask; nothing outside the effect's own files reads its parameters. An effect
@@ -112,6 +113,12 @@ typedef struct tb__effect_ops {
      * scene holding such an effect offers no Jacobian). */
     void (*state_owners)(const tb__effect *effect, const tb_scene *scene, tb__coupling_visit visit,
                          void *ctx);
+    /* Its loads do not depend on y (uniform gravity, a world torque): no Jacobian rows. */
+    bool constant_loads;
+    /* Adds its analytic Jacobian rows at (t, y) (scene/jacobian_rows.h), pure and
+     * allocation-free like apply; NULL: difference quotients (scene_jacobian_values.c). */
+    int (*jacobian)(const tb__effect *effect, const tb_scene *scene, double t, const double *y,
+                    struct tb__jacobian_rows *rows);
 } tb__effect_ops;
 
 /* The optional second row of an effect kind: what the events, the adaptive step limit, the

@@ -41,7 +41,7 @@ void tb__scene_jacobian_free(tb_scene *scene)
     void *owned[] = {j->node_start, j->node_of,    j->adjacent_start, j->adjacent, j->column_offset,
                      j->row_base,   j->row_length, j->color_first,    j->by_color, j->color,
                      j->mark,       j->edges,      j->groups,         j->pairs,    j->scale,
-                     j->y_work,     j->f_work};
+                     j->y_work,     j->f_work,     j->f_base};
     for (size_t k = 0; k < sizeof owned / sizeof owned[0]; ++k) {
         free(owned[k]);
     }
@@ -73,7 +73,8 @@ static bool grow_rooms(tb__jacobian_room *j, size_t n)
         grow(&j->row_length, n, sizeof(size_t)) && grow(&j->color_first, n + 1, sizeof(size_t)) &&
         grow(&j->by_color, n, sizeof(size_t)) && grow(&j->color, n, sizeof(size_t)) &&
         grow(&j->mark, n, sizeof(size_t)) && grow(&j->scale, n, sizeof(double)) &&
-        grow(&j->y_work, n, sizeof(double)) && grow(&j->f_work, n, sizeof(double));
+        grow(&j->y_work, n, sizeof(double)) && grow(&j->f_work, n, sizeof(double)) &&
+        grow(&j->f_base, n, sizeof(double));
     if (ok) {
         j->capacity_n = n;
     }

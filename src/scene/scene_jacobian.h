@@ -52,9 +52,38 @@ struct tb__scene_jacobian {
     double *scale;  /* n: each component's natural size (tb_scene_absolute_tolerances at 1) */
     double *y_work; /* n: the perturbed state */
     double *f_work; /* n: its derivative */
+    double *f_base; /* n: the quotient part of the derivative at y (tb__scene_quotient_part) */
     size_t capacity_n, capacity_nodes, capacity_adjacent;
     bool valid; /* a pattern was built for the scene's layout */
 };
+
+/* What an effect's jacobian op writes into (jacobian_rows.h): the pattern, its values, and y. */
+struct tb__jacobian_rows {
+    const tb__jacobian_room *room;
+    double *values;
+    const double *y;
+};
+
+/* Where node u's columns start within each row of node v, or (size_t)-1 when the pattern does
+ * not couple them (jacobian_point.c). */
+size_t tb__jacobian_find_columns(const tb__jacobian_room *j, size_t v, size_t u);
+
+/* A body's rotation derivatives at its state s: omega = W L with W = R I^-1 R^T (R the rotation
+ * of q/|q|), dtheta = G dq (world, the turn a change dq makes), and d omega / dq (3 x 4)
+ * (scene_jacobian_values.c). */
+void tb__jacobian_rotation(const tb__body *body, const double *s, double omega[3], double W[3][3],
+                           double G[3][4], double d_omega[3][4]);
+
+/* Of derivative.c: the part of tb_scene_derivative the Jacobian takes by difference quotients:
+ * the loads of the effects without analytic rows whose loads depend on y (tb__effect_ops.jacobian
+ * NULL, constant_loads false), every effect's own states' rate zero, the kinematic rows as the
+ * derivative's; and whether the scene has such an effect. */
+int tb__scene_quotient_part(double t, const double *y, double *dydt, void *ctx);
+/* The derivative's first stage alone: every body's motion at (t, y) into the scene's motions
+ * (tb__derivative_motion), for an effect's jacobian op; scratch (the state's size) gets the
+ * kinematic rows. */
+int tb__scene_motions(const tb_scene *scene, double t, const double *y, double *scratch);
+bool tb__scene_has_quotient_part(const tb_scene *scene);
 
 /* The values of a built pattern at (t, y) (scene_jacobian_values.c). */
 int tb__scene_jacobian_values(tb_scene *scene, double t, const double *y, const double *fy,

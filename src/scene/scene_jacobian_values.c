@@ -6,14 +6,19 @@
  *   (0, w) (x) q = Omega(w) q = Xi(q) w, and a change dq turns the body by
  *   dtheta = (2/|q|) vec(dq (x) conj(q) / |q|) (world frame; the change along q turns nothing), so
  *   d omega = -omega x dtheta + R I^-1 R^T (L x dtheta);
- * - the loads' rows (dP, dL: the effects, contact among them) and the effects' own states'
- *   rows by difference quotients of the derivative, a colour of columns at a time (Curtis,
- *   Powell and Reid: the columns of one colour share no row, so one evaluation gives them all),
- *   with the increment sqrt(eps) max(|y_j|, s_j), s_j the component's natural size
- *   (tb_scene_absolute_tolerances at scale 1). A body's 13 columns cost 13 evaluations per
- *   colour, shared by every body of the colour: resting dice take one or two colours.
+ * - the loads' rows (dP, dL) and the effects' own states' rows: each effect with analytic rows
+ *   (tb__effect_ops.jacobian: contact, ground) adds its own, one pass over its points
+ *   (jacobian_rows.h); constant loads (gravity) have none; the effects left (springs, drag,
+ *   user effects, ...) by difference quotients of their part of the derivative alone
+ *   (tb__scene_quotient_part), a colour of columns at a time (Curtis, Powell and Reid: the columns
+ *   of one colour share no row, so one evaluation gives them all), with the increment
+ *   sqrt(eps) max(|y_j|, s_j), s_j the component's natural size (tb_scene_absolute_tolerances at
+ *   scale 1). A scene whose effects all have analytic rows takes no quotient;
+ * - the loads' rows of an asleep body zero, as its derivative is.
  * Allocates nothing: the scratch was made with the pattern. */
 #include "scene/scene_jacobian.h"
+
+#include "scene/jacobian_rows.h"
 
 #include "math/tb_math.h"
 
@@ -49,7 +54,7 @@ static size_t entry_of(const tb__jacobian_room *j, size_t v, size_t r, size_t of
 
 /* Column k of every node of colour c with more than k components, from one evaluation. */
 static int quotient_columns(tb_scene *scene, const tb__jacobian_room *j, size_t c, size_t k,
-                            double t, const double *y, const double *fy, double *values)
+                            double t, const double *y, double *values)
 {
     bool any = false;
     for (size_t i = j->color_first[c]; i < j->color_first[c + 1]; ++i) {
@@ -60,7 +65,7 @@ static int quotient_columns(tb_scene *scene, const tb__jacobian_room *j, size_t 
             any = true;
         }
     }
-    const int rc = any ? tb_scene_derivative(t, j->y_work, j->f_work, scene) : 0;
+    const int rc = any ? tb__scene_quotient_part(t, j->y_work, j->f_work, scene) : 0;
     for (size_t i = j->color_first[c]; i < j->color_first[c + 1] && any; ++i) {
         const size_t u = j->by_color[i], col = j->node_start[u] + k;
         if (k >= node_size(j, u)) {
@@ -70,7 +75,7 @@ static int quotient_columns(tb_scene *scene, const tb__jacobian_room *j, size_t 
         for (size_t e = j->adjacent_start[u]; e < j->adjacent_start[u + 1] && rc == 0; ++e) {
             const size_t v = j->adjacent[e], offset = columns_of(j, v, u) + k;
             for (size_t r = j->node_start[v]; r < j->node_start[v + 1]; ++r) {
-                values[entry_of(j, v, r, offset)] = (j->f_work[r] - fy[r]) / h;
+                values[entry_of(j, v, r, offset)] = (j->f_work[r] - j->f_base[r]) / h;
             }
         }
         j->y_work[col] = y[col];
@@ -84,9 +89,8 @@ static void cross_matrix(const double a[3], double out[3][3])
     memcpy(out, m, sizeof m);
 }
 
-/* d omega / dq (3 x 4) and R I^-1 R^T (3 x 3) of the body whose state is s. */
-static void omega_derivatives(const tb__body *body, const double *s, double d_omega[3][4],
-                              double W[3][3])
+void tb__jacobian_rotation(const tb__body *body, const double *s, double omega[3], double W[3][3],
+                           double G[3][4], double d_omega[3][4])
 {
     const double *q = s + TB_STATE_Q, *L = s + TB_STATE_L;
     double R[9];
@@ -99,7 +103,7 @@ static void omega_derivatives(const tb__body *body, const double *s, double d_om
             }
         }
     }
-    double omega[3] = {0.0, 0.0, 0.0}, wx[3][3], lx[3][3];
+    double wx[3][3], lx[3][3];
     for (int a = 0; a < 3; ++a) {
         omega[a] = W[a][0] * L[0] + W[a][1] * L[1] + W[a][2] * L[2];
     }
@@ -108,7 +112,7 @@ static void omega_derivatives(const tb__body *body, const double *s, double d_om
     /* G: dtheta = G dq = (2/|q|) [-u | w 1 + [u]x] dq, (w, u) = q/|q| */
     const double norm = tb__q_norm(q), w = q[0] / norm;
     const double u[3] = {q[1] / norm, q[2] / norm, q[3] / norm};
-    double G[3][4], ux[3][3];
+    double ux[3][3];
     cross_matrix(u, ux);
     for (int a = 0; a < 3; ++a) {
         G[a][0] = -2.0 / norm * u[a];
@@ -130,13 +134,9 @@ static void omega_derivatives(const tb__body *body, const double *s, double d_om
 /* The body's dq/dt rows against its own q and L: rows[4][13] by its state's components. */
 static void quaternion_rows(const tb__body *body, const double *s, double rows[4][TB_STATE_SIZE])
 {
-    double d_omega[3][4], W[3][3];
-    omega_derivatives(body, s, d_omega, W);
-    const double *q = s + TB_STATE_Q, *L = s + TB_STATE_L;
-    double omega[3];
-    for (int a = 0; a < 3; ++a) {
-        omega[a] = W[a][0] * L[0] + W[a][1] * L[1] + W[a][2] * L[2];
-    }
+    double d_omega[3][4], W[3][3], G[3][4], omega[3];
+    tb__jacobian_rotation(body, s, omega, W, G, d_omega);
+    const double *q = s + TB_STATE_Q;
     /* (0, w) (x) q = Omega(w) q = Xi(q) w, rows as kinematics() writes them */
     const double Omega[4][4] = {{0.0, -omega[0], -omega[1], -omega[2]},
                                 {omega[0], 0.0, -omega[2], omega[1]},
@@ -179,16 +179,55 @@ static void kinematic_rows(const tb_scene *scene, const tb__jacobian_room *j, si
     }
 }
 
+/* The loads' rows (P and L) of the asleep bodies: zero, as sleep_zero makes their derivative. */
+static void asleep_rows(const tb_scene *scene, const tb__jacobian_room *j, double *values)
+{
+    for (size_t s = 0; s < scene->slot_count; ++s) {
+        if (!tb__body_asleep(scene, scene->slot_ids[s])) {
+            continue;
+        }
+        const size_t first = TB_STATE_SIZE * s;
+        for (size_t r = first + TB_STATE_P; r < first + TB_STATE_SIZE; ++r) {
+            memset(values + entry_of(j, s, r, 0), 0, j->row_length[s] * sizeof(double));
+        }
+    }
+}
+
+/* The quotients of the effects without analytic rows, into every entry of the pattern. */
+static int quotient_rows(tb_scene *scene, const tb__jacobian_room *j, double t, const double *y,
+                         double *values)
+{
+    int rc = tb__scene_quotient_part(t, y, j->f_base, scene);
+    memcpy(j->y_work, y, j->n * sizeof(double));
+    for (size_t c = 0; c < j->color_count && rc == 0; ++c) {
+        for (size_t k = 0; k < TB_STATE_SIZE && rc == 0; ++k) {
+            rc = quotient_columns(scene, j, c, k, t, y, values);
+        }
+    }
+    return rc;
+}
+
 int tb__scene_jacobian_values(tb_scene *scene, double t, const double *y, const double *fy,
                               double *values)
 {
+    (void)fy; /* the quotients are of their own part of the derivative */
     const tb__jacobian_room *j = scene->jacobian;
-    memcpy(j->y_work, y, j->n * sizeof(double));
     int rc = 0;
-    for (size_t c = 0; c < j->color_count && rc == 0; ++c) {
-        for (size_t k = 0; k < TB_STATE_SIZE && rc == 0; ++k) {
-            rc = quotient_columns(scene, j, c, k, t, y, fy, values);
+    if (tb__scene_has_quotient_part(scene)) {
+        rc = quotient_rows(scene, j, t, y, values);
+    } else {
+        memset(values, 0, j->entries * sizeof(double));
+    }
+    rc = rc != 0 ? rc : tb__scene_motions(scene, t, y, j->f_work); /* the quotients moved them */
+    tb__jacobian_rows rows = {j, values, y};
+    for (size_t k = 0; k < scene->effect_count && rc == 0; ++k) {
+        const tb__effect *effect = &scene->effects[k];
+        if (effect->ops->jacobian != NULL) {
+            rc = effect->ops->jacobian(effect, scene, t, y, &rows);
         }
+    }
+    if (rc == 0) {
+        asleep_rows(scene, j, values);
     }
     for (size_t s = 0; s < scene->slot_count && rc == 0; ++s) {
         kinematic_rows(scene, j, s, y, values);
