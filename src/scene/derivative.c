@@ -1,10 +1,9 @@
 /* The rigid-body derivative and the quaternion-renormalisation hook: the hot loop. */
 #include "scene/scene_internal.h"
 
-#include "scene/scene_jacobian.h"
-
 #include "math/tb_math.h"
 #include "scene/run_watch.h"
+#include "scene/scene_jacobian.h"
 
 void tb__unit_quaternion(const double *y, size_t i, double q[4])
 {

@@ -265,8 +265,7 @@ struct tb_scene {
     tb__body *bodies; /* body_capacity, by slot */
     /* Scratch of tb_scene_derivative, body_capacity entries by id: each body's motion at the y
      * being evaluated (tb__body_motion), filled by its kinematics stage once per evaluation and
-     * read by
-     * the coupled effects (tb__derivative_motion), so that no effect recomputes a body's
+     * read by the coupled effects (tb__derivative_motion), so that no effect recomputes a body's
      * rotation and angular velocity per point or per pair. Written through the const scene,
      * like the contact pair finder's scratch. */
     struct tb__motion *motions;
