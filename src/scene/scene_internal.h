@@ -145,9 +145,11 @@ struct tb__effect_stepping {
                                   const double *dydt);
     /* The longest fixed step from y in which no body can pass through another the effect makes
      * it touch (s, INFINITY for none), the pair that sets it written into which
-     * (TB_DETAIL_SIZE bytes). NULL: the effect has no bodies to pass through. */
+     * (TB_DETAIL_SIZE bytes). A quick bound over all bodies; where dt (the step checked, s; 0:
+     * none) is longer, one that looks at each pair's distance and relative motion, at least as
+     * long. NULL: the effect has no bodies to pass through. */
     double (*tunnel_step)(const tb__effect *effect, const tb_scene *scene, const double *y,
-                          char *which, size_t size);
+                          double dt, char *which, size_t size);
     /* Refuses a state from which a body could pass through another under every method and step
      * (faster than the effect's law can stop before the thinner body's middle), with a detail
      * naming both in detail (TB_DETAIL_SIZE bytes); run at integrator creation and before every
@@ -580,7 +582,9 @@ double tb__scene_step_limit(double t, const double *y, const double *dydt, void 
  * constraints' (tb__constraint_ops.roots). */
 size_t tb__scene_root_count(const tb_scene *scene);
 int tb__scene_roots(double t, const double *y, double *g, void *ctx);
-double tb__scene_tunnel_step(const tb_scene *scene, const double *y, char *which);
+/* The least of the effects' tunnel_step at y for a step dt (0: their quick bounds alone, which
+ * the default step uses), the pair that sets it in which (TB_DETAIL_SIZE bytes). */
+double tb__scene_tunnel_step(const tb_scene *scene, const double *y, double dt, char *which);
 /* Every effect's check_impacts at y; the detail (TB_DETAIL_SIZE bytes) names the effect. */
 tb_status tb__scene_check_impacts(const tb_scene *scene, const double *y, char *detail);
 
