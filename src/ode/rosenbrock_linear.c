@@ -3,7 +3,7 @@
  *   - sparse (a system with tb_ode_system.jacobian, in a build with KLU, n above
  *     TB__ROSENBROCK_SMALL): the system's CSR pattern in a SUNMatrix_Sparse, factorised by
  *     SUNDIALS' KLU; its symbolic analysis is redone only when the pattern changed (a contact
- *     made or broken), as in cvode_sparse.c, and allocates;
+ *     made or broken) or a refactorisation fails (factor_own), and allocates;
  *   - dense from the system's Jacobian (small n, or no KLU, up to TB__ROSENBROCK_DENSE_MAX);
  *   - dense difference quotients, n derivatives a step, for a system without a Jacobian.
  * Dense factorisations are SUNDIALS' SUNLinSol_Dense (LU with partial pivoting). Nothing is
@@ -54,7 +54,6 @@ struct tb__rosenbrock {
     double *start_rate;                 /* f(t, y) at the step's start, n */
     double *levels;                     /* TB__ROSENBROCK_LEVELS middles of halved steps, n each */
     long splits;                        /* halved steps */
-    long refactored_afresh; /* KLU factorisations redone with new pivots (refactor_afresh) */
     double held_h; /* the step the factorisation was made for and passed with; 0: none to reuse */
     double *jw_d;  /* J d of the held matrix, n (tb__rosenbrock_probe) */
     bool plain;    /* no speculation (tb__rosenbrock_speculate) */
@@ -428,24 +427,6 @@ static int speculate_at_onsets(tb_integrator *integrator, double t, double h, co
     return rc > 0 ? 0 : rc; /* a derivative that fails ahead leaves the start's Jacobian */
 }
 
-#ifdef TB_HAVE_KLU
-/* KLU on the same pattern refactorises with the pivot order of its last full factorisation, and
- * fails (KLU_SINGULAR, SUNLS_PACKAGE_FAIL_REC) where that order meets a zero pivot, though the
- * matrix is not singular: a contact's entries kept in the pattern at 0 (bodies just apart), or h
- * halved, which shrinks the off-diagonal entries the order pivoted on. Every halving then failed
- * alike down to 1/128 of the step (the dominoes at 1/240 s: 47 Jacobians a step). A fresh
- * factorisation (its own pivots) is tried before the matrix is called singular. */
-static int refactor_afresh(tb__rosenbrock *r)
-{
-    if (SUNLinSol_KLUReInit(r->linear, r->matrix, SUNSparseMatrix_NNZ(r->matrix),
-                            SUNKLU_REINIT_PARTIAL) != SUNLS_SUCCESS) {
-        return SUNLS_PACKAGE_FAIL_REC;
-    }
-    r->refactored_afresh++;
-    return SUNLinSolSetup(r->linear, r->matrix);
-}
-#endif
-
 /* M = I - h_gamma J from r->J (the system's), factorised. */
 static int factor_own(tb__rosenbrock *r, double t, double h_gamma)
 {
@@ -461,8 +442,13 @@ static int factor_own(tb__rosenbrock *r, double t, double h_gamma)
 #endif
     int flag = SUNLinSolSetup(r->linear, r->matrix);
 #ifdef TB_HAVE_KLU
-    if (flag != SUNLS_SUCCESS && r->sparse) {
-        flag = refactor_afresh(r);
+    /* KLU refactorises a known pattern on its last pivot order and fails at a zero pivot of it,
+     * the matrix not singular (a contact's entries kept at 0, a halved h): factorised afresh
+     * first (the dominoes at 1/240 s: 1 142 of 1 215 halvings were this, docs/performance.md) */
+    if (flag != SUNLS_SUCCESS && r->sparse &&
+        SUNLinSol_KLUReInit(r->linear, r->matrix, SUNSparseMatrix_NNZ(r->matrix),
+                            SUNKLU_REINIT_PARTIAL) == SUNLS_SUCCESS) {
+        flag = SUNLinSolSetup(r->linear, r->matrix);
     }
 #endif
     return flag == SUNLS_SUCCESS
