@@ -347,6 +347,54 @@ static void test_a_step_that_would_pass_through_the_plate_is_refused(void **unus
     tb_scene_destroy(scene);
 }
 
+/* The guard's pairwise check (contact_tunnel.c), where its quick bound (the two fastest against
+ * the thinnest: 5 mm / 20 m/s = 2.5e-4 s) refuses 1/240 s: the same ball at 20 m/s cannot pass
+ * through the plate when it moves away from it (from 0.2 m), or past it 0.3 m off its face (its
+ * centre's nearest approach 0.3 m, beyond the 0.159 m of their two reaches: the plate's half
+ * diagonal 0.1415, the ball's bounds' 0.0173), whatever the step; the step is accepted and the
+ * ball flies on untouched (its velocity to the bit). Aimed 1 cm past the plate's edge, its centre
+ * coming within their reaches, the step is refused at the pair's own bound, 2.5e-4 s, as
+ * head-on: the check knows the bodies by their balls of reach only. */
+static void test_a_ball_moving_away_or_past_a_plate_is_not_refused(void **unused)
+{
+    (void)unused;
+    const tb_contact_def contact = tb_contact_def_default();
+    const double cases[3][6] = {{-0.2, 0, 0, -20, 0, 0},     /* parting */
+                                {-0.3, -0.5, 0, 0, 20, 0},   /* past, 0.3 m off */
+                                {-0.3, -0.12, 0, 20, 0, 0}}; /* 1 cm past the plate's edge */
+    for (int k = 0; k < 3; ++k) {
+        tb_scene *scene = new_scene();
+        test_add_ball(scene, NULL, 0.0329, 0.01, cases[k], cases[k] + 3);
+        test_add_box(scene, 2700.0 * 0.01 * 0.04, (double[]){0.01, 0.2, 0.2}, (double[]){0, 0, 0});
+        assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+        tb_scene_set_allow_unstable(scene, true);
+        tb_integrator_def def = tb_integrator_def_default(); /* RK4 at 1/240 s */
+        tb_integrator *integrator = NULL;
+        const tb_status status = tb_scene_integrator_create(scene, &def, 0.0, &integrator);
+        if (k == 2) {
+            print_message("refused: %s\n", tb_scene_detail(scene));
+            assert_int_equal(status, TB_STATUS_UNSTABLE_STEP);
+            assert_non_null(strstr(tb_scene_detail(scene), "dt <= 0.00025 s"));
+            tb_scene_destroy(scene);
+            continue;
+        }
+        if (status != TB_STATUS_OK) {
+            print_message("case %d: %s\n", k, tb_scene_detail(scene));
+        }
+        assert_int_equal(status, TB_STATUS_OK);
+        const tb_status advanced = tb_integrator_advance(integrator, 0.05);
+        if (advanced != TB_STATUS_OK) {
+            print_message("case %d: %s\n", k, tb_integrator_detail(integrator));
+        }
+        assert_int_equal(advanced, TB_STATUS_OK);
+        double v[3];
+        assert_int_equal(tb_scene_body_velocity(scene, tb_scene_states(scene), 0, v), TB_STATUS_OK);
+        assert_true(v[0] == cases[k][3] && v[1] == cases[k][4] && v[2] == cases[k][5]);
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
 /* --- thin bodies and the contact's stiffness ---------------------------------------------- */
 
 /* A 1 cm ball (10 g) at speed towards a 100 kg plate 4.5 cm away (surface to surface), no
@@ -470,6 +518,7 @@ int main(void)
         cmocka_unit_test(test_the_frame_rate_does_not_change_the_steps_or_events),
         cmocka_unit_test(test_a_fast_ball_bounces_off_a_thin_plate_at_the_default_step),
         cmocka_unit_test(test_a_step_that_would_pass_through_the_plate_is_refused),
+        cmocka_unit_test(test_a_ball_moving_away_or_past_a_plate_is_not_refused),
         cmocka_unit_test(
             test_a_ball_too_fast_for_the_contact_to_stop_before_a_thin_plate_is_refused),
         cmocka_unit_test(test_a_fast_ball_bounces_off_a_thin_plate_when_the_contact_can_stop_it),

@@ -10,10 +10,11 @@
  *                    through it and leaves at (1 + e) times the paddle's speed;
  *   bat_sweep.json   a keyframed bat sweeping five boxes off a static table: none passes
  *                    through it, all end at rest on the floor past the table's edge.
- *   test_example_kinds NAME [METHOD [DURATION]]
+ *   test_example_kinds NAME [METHOD [DURATION [DT]]]
  * METHOD (rk4, cvode-bdf, ...) replaces the scene's integrator (adaptive ones at rtol 1e-7: their
  * atol from the bodies, 1e-9 of their sizes, far below the bounds below). DURATION (s) cuts the
- * run short (the sanitizer builds): the checks that need the whole run are then skipped. */
+ * run short (the sanitizer builds): the checks that need the whole run are then skipped (0: the
+ * whole run). DT (s) is a fixed-step method's step (rosenbrock at a user's 1/240 s). */
 #include "examples.h"
 #include "tumble/tumble.h"
 
@@ -28,6 +29,7 @@
 static const char *method_name;    /* NULL: the scene's own integrator */
 static double cut_duration;        /* > 0: the run was cut to this many seconds */
 static double step_fraction = 1.0; /* a fixed method's step: this fraction of the default */
+static double step_arg;            /* > 0: a fixed method's step (s), argv[4] */
 
 /* The scene NAME, its integrator and the frame rate; exits 1 on a refusal. */
 static tb_integrator *start(const char *name, tb_scene **out_scene, double *inout_fps,
@@ -56,6 +58,7 @@ static tb_integrator *start(const char *name, tb_scene **out_scene, double *inou
         }
         run.integrator.dt = step_fraction * dt;
     }
+    run.integrator.dt = step_arg > 0.0 ? step_arg : run.integrator.dt;
     printf("  method %s, %g s at %g frames a second, step fraction %g\n",
            tb_method_name(run.integrator.method), *out_duration, *inout_fps, step_fraction);
     tb_integrator *integrator = NULL;
@@ -328,7 +331,10 @@ int main(int argc, char **argv)
     if (argc >= 4) {
         cut_duration = atof(argv[3]);
     }
-    return test_example_main(argc, argv, scenes, 4, 2,
+    if (argc >= 5) {
+        step_arg = atof(argv[4]);
+    }
+    return test_example_main(argc, argv, scenes, 4, 3,
                              "usage: test_example_kinds table_roll|platform|paddle|bat_sweep "
-                             "[METHOD [DURATION]]");
+                             "[METHOD [DURATION [DT]]]");
 }

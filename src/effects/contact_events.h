@@ -27,7 +27,15 @@ void tb__contact_wake_links(const tb__effect *effect, const tb_scene *scene, con
 double tb__contact_step_limit(const tb__effect *effect, const tb_scene *scene, const double *y,
                               const double *dydt);
 double tb__contact_tunnel_step(const tb__effect *effect, const tb_scene *scene, const double *y,
-                               char *which, size_t size);
+                               double dt, char *which, size_t size);
+/* The tunnelling step pair by pair (contact_tunnel.c), at least tb__contact_tunnel_step's quick
+ * bound: the least over pairs of the thinner one's half-thickness (plus the gap between them)
+ * over a bound on their relative speed where they can meet; the pair in which (size bytes). */
+double tb__contact_tunnel_pairs(const tb__contact_params *contact, const tb_scene *scene,
+                                const double *y, char *which, size_t size);
+/* Half the thickness of body id's shape across its thinnest direction (m), INFINITY for a body
+ * of no thickness or without a shape. */
+double tb__contact_half_thickness(const tb_scene *scene, size_t id);
 
 /* tb__effect_stepping.check_impacts of contact between bodies: refuses a state in which the two
  * fastest bodies could close by more than the thinnest body's half-thickness before the law stops

@@ -198,7 +198,7 @@ static double travel_time(double s, double a, double d)
 
 /* Half the thickness of body id's shape (m), INFINITY for a body of no thickness (points of
  * radius 0, which any step passes: no bound) or without a shape. */
-static double body_half_thickness(const tb_scene *scene, size_t id)
+double tb__contact_half_thickness(const tb_scene *scene, size_t id)
 {
     const tb__collision_shape *shape =
         id < scene->body_count ? tb__scene_body_collision_shape(scene, id) : NULL;
@@ -219,7 +219,7 @@ static bound fastest(const tb__contact_params *contact, const tb_scene *scene, c
             const bound b = motion_bound(scene, y, dydt, id);
             worst.speed = fmax(worst.speed, b.speed);
             worst.acceleration = fmax(worst.acceleration, b.acceleration);
-            *thinnest = fmin(*thinnest, body_half_thickness(scene, id));
+            *thinnest = fmin(*thinnest, tb__contact_half_thickness(scene, id));
         }
     }
     return worst;
@@ -237,8 +237,8 @@ static double pair_limit(const tb__contact_params *contact, const tb_scene *scen
     const double speed = a.speed + b.speed,
                  acceleration = a.acceleration + b.acceleration +
                                 (dydt == NULL ? 2.0 * contact->gravity : 0.0);
-    const double thinner =
-        fmin(body_half_thickness(scene, pair->body_a), body_half_thickness(scene, pair->body_b));
+    const double thinner = fmin(tb__contact_half_thickness(scene, pair->body_a),
+                                tb__contact_half_thickness(scene, pair->body_b));
     floor = fmin(floor, travel_time(speed, acceleration, thinner));
     const double gap = pair_gap(pair);
     const double distance = gap > 0.0 ? gap : contact->gravity / (contact->omega * contact->omega);
@@ -334,7 +334,7 @@ static extremes find_extremes(const tb__contact_params *contact, const tb_scene 
             continue;
         }
         const double s = motion_bound(scene, y, NULL, id).speed;
-        const double t = body_half_thickness(scene, id);
+        const double t = tb__contact_half_thickness(scene, id);
         const int slot = s > e.speed[0] ? 0 : s > e.speed[1] ? 1 : 2;
         if (slot == 0) {
             e.speed[1] = e.speed[0], e.fast[1] = e.fast[0];
@@ -357,13 +357,18 @@ static int mover(const extremes *e)
 }
 
 double tb__contact_tunnel_step(const tb__effect *effect, const tb_scene *scene, const double *y,
-                               char *which, size_t size)
+                               double dt, char *which, size_t size)
 {
-    const extremes e = find_extremes(tb__contact_of(effect), scene, y);
+    const tb__contact_params *contact = tb__contact_of(effect);
+    const extremes e = find_extremes(contact, scene, y);
     /* the two fastest close at most at the sum of their speeds; every other pair slower */
     const double closing = e.speed[0] + e.speed[1];
     if (e.fast[1] == TB_ALL_BODIES || e.thin == TB_ALL_BODIES || !(closing > 0.0)) {
         return INFINITY;
+    }
+    const double quick = e.thinnest / closing;
+    if (dt > quick) { /* each pair by its distance and relative motion: at least quick */
+        return tb__contact_tunnel_pairs(contact, scene, y, which, size);
     }
     const int m = mover(&e);
     snprintf(which, size,
@@ -371,7 +376,7 @@ double tb__contact_tunnel_step(const tb__effect *effect, const tb_scene *scene, 
              "one step",
              e.fast[m], scene->names[e.fast[m]], e.speed[m], e.thin, scene->names[e.thin],
              2.0 * e.thinnest);
-    return e.thinnest / closing;
+    return quick;
 }
 
 /* The radius of the round end a shape meets others with (m): a sphere's or capsule's; 0 for
@@ -393,7 +398,7 @@ static double least_sinking_to_pass(const tb__contact_params *contact, const tb_
     size_t thinnest[2] = {TB_ALL_BODIES, TB_ALL_BODIES};
     for (size_t k = 0; k < contact->body_count; ++k) {
         const size_t id = contact->bodies[k];
-        const double t = body_half_thickness(scene, id);
+        const double t = tb__contact_half_thickness(scene, id);
         const int slot = t < h[0] ? 0 : t < h[1] ? 1 : 2;
         if (slot == 0) {
             h[1] = h[0], thinnest[1] = thinnest[0];
@@ -435,8 +440,8 @@ tb_status tb__contact_check_impacts(const tb__effect *effect, const tb_scene *sc
                           "(speed / omega), past %.3g m where the normal turns; use penetration "
                           "<= %.3g m, or slower or thicker bodies",
                           tip, scene->names[tip], thin, scene->names[thin],
-                          2.0 * body_half_thickness(scene, thin), closing, closing / contact->omega,
-                          depth, penetration);
+                          2.0 * tb__contact_half_thickness(scene, thin), closing,
+                          closing / contact->omega, depth, penetration);
 }
 
 void tb__ground_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,

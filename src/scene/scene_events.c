@@ -115,7 +115,7 @@ double tb__scene_step_limit(double t, const double *y, const double *dydt, void 
     return limit;
 }
 
-double tb__scene_tunnel_step(const tb_scene *scene, const double *y, char *which)
+double tb__scene_tunnel_step(const tb_scene *scene, const double *y, double dt, char *which)
 {
     double limit = INFINITY;
     for (size_t k = 0; k < scene->effect_count; ++k) {
@@ -123,7 +123,7 @@ double tb__scene_tunnel_step(const tb_scene *scene, const double *y, char *which
         char what[TB_DETAIL_SIZE / 2];
         const double step =
             tb__stepping_of(effect)->tunnel_step != NULL
-                ? tb__stepping_of(effect)->tunnel_step(effect, scene, y, what, sizeof what)
+                ? tb__stepping_of(effect)->tunnel_step(effect, scene, y, dt, what, sizeof what)
                 : INFINITY;
         if (step < limit) {
             limit = step;

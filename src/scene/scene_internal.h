@@ -113,8 +113,7 @@ typedef struct tb__effect_ops {
      * scene holding such an effect offers no Jacobian). */
     void (*state_owners)(const tb__effect *effect, const tb_scene *scene, tb__coupling_visit visit,
                          void *ctx);
-    /* Its loads do not depend on y (uniform gravity, a world torque): no Jacobian rows. */
-    bool constant_loads;
+    bool constant_loads; /* loads that do not depend on y (gravity): no Jacobian rows */
     /* Adds its analytic Jacobian rows at (t, y) (scene/jacobian_rows.h), pure and
      * allocation-free like apply; NULL: difference quotients (scene_jacobian_values.c). */
     int (*jacobian)(const tb__effect *effect, const tb_scene *scene, double t, const double *y,
@@ -150,11 +149,12 @@ struct tb__effect_stepping {
      * short near a contact. NULL: none. */
     double (*adaptive_step_limit)(const tb__effect *effect, const tb_scene *scene, const double *y,
                                   const double *dydt);
-    /* The longest fixed step from y in which no body can pass through another the effect makes
-     * it touch (s, INFINITY for none), the pair that sets it written into which
-     * (TB_DETAIL_SIZE bytes). NULL: the effect has no bodies to pass through. */
+    /* The longest fixed step from y in which no body it makes touch can pass through another
+     * (s, INFINITY for none), the pair that sets it in which (TB_DETAIL_SIZE bytes): a quick
+     * bound; where dt (the step checked, s; 0: none) is longer, each pair's own, at least as
+     * long. NULL: the effect has no bodies to pass through. */
     double (*tunnel_step)(const tb__effect *effect, const tb_scene *scene, const double *y,
-                          char *which, size_t size);
+                          double dt, char *which, size_t size);
     /* Refuses a state from which a body could pass through another under every method and step
      * (faster than the effect's law can stop before the thinner body's middle), with a detail
      * naming both in detail (TB_DETAIL_SIZE bytes); run at integrator creation and before every
@@ -574,9 +574,7 @@ tb_status tb__scene_check_step(const tb_scene *scene, const double *y, tb_method
                                char *detail);
 
 /* Events (scene_events.c): whether some effect has them; the scene's root functions (one
- * gap per body, tb__effect_stepping.event_gaps) and adaptive step limit, for tb_ode_system; the
- * longest fixed step at state y in which no body can pass through another (INFINITY: none),
- * what sets it written into which (TB_DETAIL_SIZE bytes). */
+ * gap per body, tb__effect_stepping.event_gaps) and adaptive step limit, for tb_ode_system. */
 bool tb__scene_has_events(const tb_scene *scene);
 int tb__scene_event_gaps(double t, const double *y, double *gap, void *ctx);
 /* The same gaps in g[0 .. n), then each body's wake gap (tb__effect_stepping.wake_gaps) in
@@ -587,10 +585,12 @@ double tb__scene_step_limit(double t, const double *y, const double *dydt, void 
  * constraints' (tb__constraint_ops.roots). */
 size_t tb__scene_root_count(const tb_scene *scene);
 int tb__scene_roots(double t, const double *y, double *g, void *ctx);
-double tb__scene_tunnel_step(const tb_scene *scene, const double *y, char *which);
+/* The longest fixed step at y in which no body can pass through another (INFINITY: none): the
+ * least of the effects' tunnel_step for a step dt (0: their quick bounds alone, as the default
+ * step uses), the pair that sets it in which (TB_DETAIL_SIZE bytes). */
+double tb__scene_tunnel_step(const tb_scene *scene, const double *y, double dt, char *which);
 /* Every effect's check_impacts at y; the detail (TB_DETAIL_SIZE bytes) names the effect. */
 tb_status tb__scene_check_impacts(const tb_scene *scene, const double *y, char *detail);
-
 /* The step tb_scene_default_step describes, for the scene at state y (stability.c). */
 double tb__scene_default_step(const tb_scene *scene, const double *y, tb_method method);
 

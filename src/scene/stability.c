@@ -189,7 +189,7 @@ static tb_status check_tunnelling(const tb_scene *scene, const double *y, tb_met
 {
     char which[TB_DETAIL_SIZE / 2];
     const double limit =
-        tb_method_is_adaptive(method) ? INFINITY : tb__scene_tunnel_step(scene, y, which);
+        tb_method_is_adaptive(method) ? INFINITY : tb__scene_tunnel_step(scene, y, dt, which);
     if (!(dt > limit)) {
         return TB_STATUS_OK;
     }
@@ -248,7 +248,7 @@ double tb__scene_default_step(const tb_scene *scene, const double *y, tb_method 
         return 0.0; /* no step is stable: tb__scene_check_step names the rate */
     }
     char which[TB_DETAIL_SIZE / 2];
-    const double tunnel = tb__scene_tunnel_step(scene, y, which);
+    const double tunnel = tb__scene_tunnel_step(scene, y, 0.0, which);
     const double resolved = isinf(g.imaginary) && g.oscillation > 0.0
                                 ? TB__IMPLICIT_RESOLUTION / g.oscillation
                                 : INFINITY;
