@@ -203,12 +203,54 @@ static void test_a_second_integrator_takes_the_state_where_the_first_left_it(voi
     tb_scene_destroy(two);
 }
 
+/* A state the run itself reached that the impact check refuses (a body closing on another
+ * faster than the contact can stop it before the middle) is refused as before, INVALID_ARGUMENT
+ * naming the pair, and its detail now says when and that the run reached it (it was the caller's
+ * start before, in words: "use penetration <= ..."), so that a method that lost the motion is
+ * told from a scene set up too fast. Ball b, 40 m from ball a, pushed towards it by 2.5e4 N
+ * (1 kg): at t = 0.04 s it closes at 1000 m/s, past omega times the depth at which a ball's
+ * tip passes the other's middle (3502 rad/s x (0.1 + 0.1) m = 700 m/s), 19.8 m away. The same
+ * speed set by the caller is refused with the start's words alone. */
+static void test_a_state_the_run_reached_too_fast_says_so(void **state)
+{
+    (void)state;
+    for (int caller = 0; caller < 2; ++caller) {
+        tb_scene *scene = test_empty_scene();
+        add_ball(scene, "a", -20.0, 0.0);
+        add_ball(scene, "b", 20.0, 0.0);
+        tb_contact_def contact = tb_contact_def_default();
+        assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+        const double push[3] = {caller ? 0.0 : -2.5e4, 0.0, 0.0}, centre[3] = {0.0, 0.0, 0.0};
+        assert_int_equal(tb_scene_add_force(scene, 1, push, centre, TB_FRAME_WORLD), TB_STATUS_OK);
+        tb_integrator *integrator = make_integrator(scene, TB_METHOD_CVODE_ADAMS);
+        assert_int_equal(tb_integrator_advance(integrator, 0.04), TB_STATUS_OK);
+        if (caller) {
+            tb_body_state set;
+            assert_int_equal(tb_scene_get_state(scene, 1, &set), TB_STATUS_OK);
+            set.P[0] = -1000.0;
+            assert_int_equal(tb_scene_set_state(scene, 1, &set), TB_STATUS_OK);
+        }
+        assert_true(fastest(scene) > 700.0);
+        assert_int_equal(tb_integrator_advance(integrator, 0.041), TB_STATUS_INVALID_ARGUMENT);
+        const char *detail = tb_integrator_detail(integrator);
+        assert_detail_has(detail, "could pass through");
+        if (caller) {
+            assert_null(strstr(detail, "the run reached"));
+        } else {
+            assert_detail_has(detail, "at t = 0.04 s the run reached a state");
+        }
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_a_body_moved_into_another_after_the_start_is_refused),
         cmocka_unit_test(test_a_body_moved_into_the_ground_after_the_start_is_refused),
         cmocka_unit_test(test_a_second_integrator_takes_the_state_where_the_first_left_it),
+        cmocka_unit_test(test_a_state_the_run_reached_too_fast_says_so),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
