@@ -10,6 +10,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* No cell: off the grid, or before the first sweep. */
+#define NO_CELL ((size_t)-1)
+
 tb_status tb__broad_phase_init(tb__broad_phase *bp, size_t capacity)
 {
     memset(bp, 0, sizeof *bp);
@@ -152,16 +155,20 @@ static void assign_cells(tb__broad_phase *bp, size_t count)
         wanted[j] = spread[j] > 0.0 && across == across ? floor(across) + 1.0 : 1.0;
     }
     limit_cells(wanted, (double)(count > 0 ? count : 1));
+    double per_width[2]; /* multiplied, not divided, per box: its rounding is as small */
     for (int j = 0; j < 2; ++j) {
         width[j] = fmax(width[j], spread[j] / wanted[j] * (1.0 + 1e-6));
-        bp->cells[j] = wanted[j] > 1.0 && isfinite(width[j]) ? (size_t)wanted[j] : 1;
+        per_width[j] = 1.0 / width[j];
+        const bool several = wanted[j] > 1.0 && isfinite(width[j]) && isfinite(per_width[j]);
+        bp->cells[j] = several ? (size_t)wanted[j] : 1;
+        per_width[j] = several ? per_width[j] : 0.0; /* one cell: q is 0 (or NaN), the cell 0 */
     }
     for (size_t i = 0; i < count; ++i) {
-        size_t at[2] = {0, 0};
+        size_t at[2];
         for (int j = 0; j < 2; ++j) {
-            const double q = floor((bp->boxes[i].min[bp->bin_axes[j]] - low[j]) / width[j]);
+            const double q = floor((bp->boxes[i].min[bp->bin_axes[j]] - low[j]) * per_width[j]);
             const double last = (double)(bp->cells[j] - 1);
-            at[j] = bp->cells[j] == 1 || !(q > 0.0) ? 0 : q < last ? (size_t)q : (size_t)last;
+            at[j] = !(q > 0.0) ? 0 : q < last ? (size_t)q : (size_t)last;
         }
         bp->cell[i] = at[0] * bp->cells[1] + at[1];
     }
@@ -194,7 +201,7 @@ void tb__broad_phase_sort(tb__broad_phase *bp, size_t count)
     }
     bp->cursor = 0;
     bp->phase = -1; /* the cursor's box has not started */
-    bp->hint_cell = (size_t)-1;
+    bp->hint_cell = NO_CELL;
 }
 
 /* Whether the boxes meet on the two axes other than axis (a NaN bound meets), without branches:
@@ -253,7 +260,8 @@ static void next_phase(tb__broad_phase *bp)
                                  starts */
         for (int n = 0; n < 8; ++n) {
             size_t t;
-            bp->hint[n] = neighbour(bp, c, n, &t) ? bp->cell_start[t] : 0;
+            bp->around[n] = neighbour(bp, c, n, &t) ? t : NO_CELL;
+            bp->hint[n] = bp->around[n] != NO_CELL ? bp->cell_start[t] : 0;
         }
         bp->hint_cell = c;
     }
@@ -263,8 +271,8 @@ static void next_phase(tb__broad_phase *bp)
             bp->end = bp->cell_start[c + 1];
             return;
         }
-        size_t t;
-        if (neighbour(bp, c, bp->phase - 1, &t)) {
+        const size_t t = bp->around[bp->phase - 1];
+        if (t != NO_CELL) {
             bp->next = first_after(bp, bp->phase - 1, t, i);
             bp->end = bp->cell_start[t + 1];
             if (bp->next < bp->end) {
