@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* No cell: off the grid, or before the first sweep. */
+/* No cell: before the first sweep. */
 #define NO_CELL ((size_t)-1)
 
 tb_status tb__broad_phase_init(tb__broad_phase *bp, size_t capacity)
@@ -163,7 +163,11 @@ static void assign_cells(tb__broad_phase *bp, size_t count)
         bp->cells[j] = several ? (size_t)wanted[j] : 1;
         per_width[j] = several ? per_width[j] : 0.0; /* one cell: q is 0 (or NaN), the cell 0 */
     }
-    for (size_t i = 0; i < count; ++i) {
+    const bool one_cell = bp->cells[0] * bp->cells[1] == 1; /* a table across the scene */
+    for (size_t i = 0; i < count && one_cell; ++i) {
+        bp->cell[i] = 0;
+    }
+    for (size_t i = 0; i < count && !one_cell; ++i) {
         size_t at[2];
         for (int j = 0; j < 2; ++j) {
             const double q = floor((bp->boxes[i].min[bp->bin_axes[j]] - low[j]) * per_width[j]);
@@ -218,17 +222,23 @@ static int overlap_others(const tb__aabb *a, const tb__aabb *b, int axis)
 static const int neighbour_du[8] = {-1, -1, -1, 0, 0, 1, 1, 1};
 static const int neighbour_dv[8] = {-1, 0, 1, -1, 1, -1, 0, 1};
 
-/* Neighbour n of cell c in *t, or false where it falls off the grid. */
-static bool neighbour(const tb__broad_phase *bp, size_t c, int n, size_t *t)
+/* The cells around cell c that are on the grid, in the neighbours' order, into bp->around, with
+ * each one's hint at its start. */
+static void enter_cell(tb__broad_phase *bp, size_t c)
 {
     const size_t u = c / bp->cells[1], v = c % bp->cells[1];
-    const int du = neighbour_du[n], dv = neighbour_dv[n];
-    if ((du < 0 && u == 0) || (du > 0 && u + 1 == bp->cells[0]) || (dv < 0 && v == 0) ||
-        (dv > 0 && v + 1 == bp->cells[1])) {
-        return false;
+    bp->around_count = 0;
+    for (int n = 0; n < 8; ++n) {
+        const int du = neighbour_du[n], dv = neighbour_dv[n];
+        if ((du < 0 && u == 0) || (du > 0 && u + 1 == bp->cells[0]) || (dv < 0 && v == 0) ||
+            (dv > 0 && v + 1 == bp->cells[1])) {
+            continue; /* off the grid */
+        }
+        const size_t t = (u + (size_t)(du + 1) - 1) * bp->cells[1] + v + (size_t)(dv + 1) - 1;
+        bp->around[bp->around_count] = t;
+        bp->hint[bp->around_count++] = bp->cell_start[t];
     }
-    *t = (u + (size_t)(du + 1) - 1) * bp->cells[1] + v + (size_t)(dv + 1) - 1;
-    return true;
+    bp->hint_cell = c;
 }
 
 /* Where in cell t (neighbour n) the boxes after box i along the axis begin: walked on from where
@@ -256,28 +266,20 @@ static size_t first_after(tb__broad_phase *bp, int n, size_t t, size_t i)
 static void next_phase(tb__broad_phase *bp)
 {
     const size_t i = bp->order[bp->cursor], c = bp->cell[i];
-    if (c != bp->hint_cell) { /* the cursor entered a cell: its neighbours are walked from their
-                                 starts */
-        for (int n = 0; n < 8; ++n) {
-            size_t t;
-            bp->around[n] = neighbour(bp, c, n, &t) ? t : NO_CELL;
-            bp->hint[n] = bp->around[n] != NO_CELL ? bp->cell_start[t] : 0;
-        }
-        bp->hint_cell = c;
+    if (c != bp->hint_cell) { /* the cursor entered a cell */
+        enter_cell(bp, c);
     }
-    for (++bp->phase; bp->phase <= 8; ++bp->phase) {
+    for (++bp->phase; bp->phase <= (int)bp->around_count; ++bp->phase) {
         if (bp->phase == 0) {
             bp->next = bp->cursor + 1;
             bp->end = bp->cell_start[c + 1];
             return;
         }
         const size_t t = bp->around[bp->phase - 1];
-        if (t != NO_CELL) {
-            bp->next = first_after(bp, bp->phase - 1, t, i);
-            bp->end = bp->cell_start[t + 1];
-            if (bp->next < bp->end) {
-                return;
-            }
+        bp->next = first_after(bp, bp->phase - 1, t, i);
+        bp->end = bp->cell_start[t + 1];
+        if (bp->next < bp->end) {
+            return;
         }
     }
     ++bp->cursor;

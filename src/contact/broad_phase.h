@@ -52,13 +52,13 @@ typedef struct tb__broad_phase {
     size_t cells[2];        /* cells across bin_axes[0] (u) and bin_axes[1] (v); product <= count */
     int axis, bin_axes[2];  /* the sweep axis and the axes across the cells, 0..2 */
     /* The sweep's place: order[cursor] against order[next] (< end), in its own cell (phase 0)
-     * or the neighbouring cell phase (1..8). around[n] is neighbour n of cell hint_cell (-1: off
-     * the grid) and hint[n] where the boxes after the cursor's begin in it: the cursor moves
-     * along the axis in its cell, so each neighbour is walked once per cell, not searched once
-     * per box. */
+     * or the neighbouring cell around[phase - 1] (phase 1..around_count: the cells around cell
+     * hint_cell that are on the grid) and hint[n] where the boxes after the cursor's begin in
+     * around[n]: the cursor moves along the axis in its cell, so each neighbour is walked once
+     * per cell, not searched once per box. */
     size_t cursor, next, end;
     int phase;
-    size_t hint_cell, around[8], hint[8];
+    size_t hint_cell, around_count, around[8], hint[8];
 } tb__broad_phase;
 
 /* Allocates room for capacity boxes (capacity 0 is allowed); on failure bp is left empty and
