@@ -27,7 +27,9 @@
  * narrow phase, contact law, ground planes and rigid-body derivative in it, and the
  * integrator's share of a step. The processor and the load average go to stderr.
  *
- * usage: bench_contact [--quick] */
+ * --scene NAME and --method NAME keep one scene (spheres or pile) and one method (rk4, ...).
+ *
+ * usage: bench_contact [--quick] [--scene NAME] [--method NAME] */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include "bench_common.h"
 #include "bench_scenes.h"
@@ -259,8 +261,8 @@ static void row(const char *name, size_t count, tb_method method, const run_resu
            1.0 - derivs * 1e9 * w / (double)count / total);
 }
 
-/* All five methods on one scene and size. */
-static void measure(const char *name, scene_maker make, size_t count, int quick)
+/* All five methods on one scene and size, or the one named (only: NULL for all). */
+static void measure(const char *name, scene_maker make, size_t count, int quick, const char *only)
 {
     static const tb_method methods[] = {TB_METHOD_EULER, TB_METHOD_MIDPOINT, TB_METHOD_RK4,
                                         TB_METHOD_CVODE_ADAMS, TB_METHOD_CVODE_BDF};
@@ -270,6 +272,9 @@ static void measure(const char *name, scene_maker make, size_t count, int quick)
     const double window = quick ? 1e-4 : 2e-3, budget = quick ? 0.05 : 1.5;
     const int repeats = quick ? 1 : REPEATS;
     for (size_t m = 0; m < sizeof methods / sizeof methods[0]; ++m) {
+        if (only != NULL && strcmp(only, tb_method_name(methods[m])) != 0) {
+            continue;
+        }
         double ns[REPEATS], us[REPEATS];
         run_result r = {0};
         parts p = {0};
@@ -294,7 +299,20 @@ static void measure(const char *name, scene_maker make, size_t count, int quick)
 
 int main(int argc, char **argv)
 {
-    const int quick = argc > 1 && strcmp(argv[1], "--quick") == 0;
+    int quick = 0;
+    const char *scene = NULL, *method = NULL;
+    for (int a = 1; a < argc; ++a) {
+        if (strcmp(argv[a], "--quick") == 0) {
+            quick = 1;
+        } else if (strcmp(argv[a], "--scene") == 0 && a + 1 < argc) {
+            scene = argv[++a];
+        } else if (strcmp(argv[a], "--method") == 0 && a + 1 < argc) {
+            method = argv[++a];
+        } else {
+            fprintf(stderr, "usage: bench_contact [--quick] [--scene NAME] [--method NAME]\n");
+            return 2;
+        }
+    }
     setvbuf(stdout, NULL, _IOLBF, 0); /* a row as soon as it is measured */
     char model[256], extensions[256];
     bench_processor(model, extensions);
@@ -308,8 +326,12 @@ int main(int argc, char **argv)
     static const size_t brief[] = {27};
     const size_t *sizes = quick ? brief : full;
     for (size_t k = 0; k < (quick ? 1 : 3); ++k) {
-        measure("spheres", bench_spheres_in_box, sizes[k], quick);
-        measure("pile", bench_box_pile, sizes[k], quick);
+        if (scene == NULL || strcmp(scene, "spheres") == 0) {
+            measure("spheres", bench_spheres_in_box, sizes[k], quick, method);
+        }
+        if (scene == NULL || strcmp(scene, "pile") == 0) {
+            measure("pile", bench_box_pile, sizes[k], quick, method);
+        }
     }
     fprintf(stderr, "bench_contact: load average %.2f at the end\n", bench_load_average());
     return 0;

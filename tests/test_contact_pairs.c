@@ -1,6 +1,6 @@
 /* The rest of contact geometry: shapes against planes, world bounds against support points,
- * convex hulls, the broad phase against a brute-force check of every pair, the contact-pairs
- * hook against the narrow phase run on every pair, tb_scene_set_body_shape's refusals, and the
+ * convex hulls, the contact-pairs hook against the narrow phase run on every pair (the broad
+ * phase alone: test_broad_phase.c), tb_scene_set_body_shape's refusals, and the
  * scene file's shapes. */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -11,7 +11,6 @@
 
 #include "geometry.h"
 #include "near.h"
-#include "contact/broad_phase.h"
 #include "contact/contact_pairs.h"
 #include "contact/convex_hull.h"
 #include "contact/narrow_phase.h"
@@ -205,74 +204,6 @@ static void test_convex_hull_keeps_exactly_the_extreme_points(void **state)
     }
     assert_int_equal(tb__convex_hull(points, N, on_hull, detail), TB_STATUS_INVALID_ARGUMENT);
     assert_non_null(strstr(detail, "all in one plane"));
-}
-
-/* --- broad phase ------------------------------------------------------------------------ */
-
-static bool boxes_overlap(const tb__aabb *a, const tb__aabb *b)
-{
-    for (int k = 0; k < 3; ++k) {
-        if (a->max[k] < b->min[k] || b->max[k] < a->min[k]) {
-            return false;
-        }
-    }
-    return true;
-}
-
-/* Exactly the pairs that a check of all N (N - 1) / 2 finds, each once, on random scenes
- * (a pile on a floor, boxes sharing bounds exactly on a grid, one box across the scene), in
- * batches of any size. */
-static void test_broad_phase_finds_exactly_the_overlapping_pairs(void **state)
-{
-    (void)state;
-    uint64_t rng = 2024;
-    enum { N = 300 };
-    tb__broad_phase bp;
-    assert_int_equal(tb__broad_phase_init(&bp, N), TB_STATUS_OK);
-    static unsigned char seen[N][N];
-    for (int scene = 0; scene < 12; ++scene) {
-        const size_t count = scene == 0 ? 0 : scene == 1 ? 1 : N - 10 * (size_t)scene;
-        for (size_t i = 0; i < count; ++i) {
-            tb__aabb *b = &bp.boxes[i];
-            for (int k = 0; k < 3; ++k) {
-                const double spread = k == 2 && scene % 2 ? 0.5 : 10.0; /* odd: a flat pile */
-                const double c = scene % 3 == 2 ? floor(test_uniform(&rng, 0, 8))
-                                                : test_uniform(&rng, -spread, spread);
-                const double h = scene % 3 == 2 ? 0.5 : test_uniform(&rng, 0.01, 1.0);
-                b->min[k] = c - h;
-                b->max[k] = c + h;
-            }
-            if (scene == 5 && i == 0) { /* one box across the scene: a single strip */
-                b->min[0] = b->min[1] = -50.0;
-                b->max[0] = b->max[1] = 50.0;
-            }
-        }
-        tb__broad_phase_sort(&bp, count);
-        memset(seen, 0, sizeof seen);
-        const size_t batch = 1 + (size_t)scene * 7;
-        tb__index_pair pairs[100];
-        size_t found = 0, n;
-        while ((n = tb__broad_phase_next(&bp, pairs, batch)) > 0) {
-            assert_true(n <= batch);
-            for (size_t k = 0; k < n; ++k) {
-                assert_true(pairs[k].first < pairs[k].second);
-                assert_true(pairs[k].second < count);
-                assert_int_equal(seen[pairs[k].first][pairs[k].second]++, 0);
-            }
-            found += n;
-        }
-        size_t expected = 0;
-        for (size_t i = 0; i < count; ++i) {
-            for (size_t j = i + 1; j < count; ++j) {
-                const bool overlap = boxes_overlap(&bp.boxes[i], &bp.boxes[j]);
-                expected += overlap;
-                assert_int_equal(seen[i][j], overlap);
-            }
-        }
-        assert_int_equal(found, expected);
-        assert_true(count < 100 || expected > 0);
-    }
-    tb__broad_phase_free(&bp);
 }
 
 /* --- the scene's shapes and the contact-pairs hook -------------------------------------- */
@@ -522,7 +453,6 @@ int main(void)
         cmocka_unit_test(test_every_shape_on_a_plane_is_as_deep_as_its_lowest_point),
         cmocka_unit_test(test_bounds_are_the_support_points_along_the_axes),
         cmocka_unit_test(test_convex_hull_keeps_exactly_the_extreme_points),
-        cmocka_unit_test(test_broad_phase_finds_exactly_the_overlapping_pairs),
         cmocka_unit_test(test_contact_pairs_are_the_narrow_phase_on_every_pair),
         cmocka_unit_test(test_shape_pose_is_the_body_shape_pose),
         cmocka_unit_test(test_bad_shapes_are_refused_naming_the_field),

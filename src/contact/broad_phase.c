@@ -1,6 +1,6 @@
-/* Sweep and prune (Baraff's thesis, 1992; as MuJoCo and Bullet use it) in strips: bin the
- * boxes into strips across one axis, sort each strip's lower bounds along another, and each box
- * meets only the boxes of its strip and the two beside it that start before it ends. */
+/* Sweep and prune (Baraff's thesis, 1992; as MuJoCo and Bullet use it) in cells: bin the boxes
+ * into a grid of cells across two axes, sort each cell's lower bounds along the third, and each
+ * box meets only the boxes of its cell and the eight around it that start before it ends. */
 #include "contact/broad_phase.h"
 
 #include "core/validate.h"
@@ -10,21 +10,24 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* No cell: before the first sweep. */
+#define NO_CELL ((size_t)-1)
+
 tb_status tb__broad_phase_init(tb__broad_phase *bp, size_t capacity)
 {
     memset(bp, 0, sizeof *bp);
     const size_t n = capacity > 0 ? capacity : 1;
     if (n == (size_t)-1) {
-        return TB_STATUS_OUT_OF_MEMORY; /* n + 1 strip starts */
+        return TB_STATUS_OUT_OF_MEMORY; /* n + 1 cell starts */
     }
     bp->boxes = tb__malloc_array(n, sizeof *bp->boxes);
     bp->order = tb__malloc_array(n, sizeof *bp->order);
     bp->sorted = tb__malloc_array(n, sizeof *bp->sorted);
     bp->scratch = tb__malloc_array(n, sizeof *bp->scratch);
-    bp->strip = tb__malloc_array(n, sizeof *bp->strip);
-    bp->strip_start = tb__malloc_array(n + 1, sizeof *bp->strip_start);
+    bp->cell = tb__malloc_array(n, sizeof *bp->cell);
+    bp->cell_start = tb__malloc_array(n + 1, sizeof *bp->cell_start);
     if (bp->boxes == NULL || bp->order == NULL || bp->sorted == NULL || bp->scratch == NULL ||
-        bp->strip == NULL || bp->strip_start == NULL) {
+        bp->cell == NULL || bp->cell_start == NULL) {
         tb__broad_phase_free(bp);
         return TB_STATUS_OUT_OF_MEMORY;
     }
@@ -41,8 +44,8 @@ void tb__broad_phase_free(tb__broad_phase *bp)
     free(bp->order);
     free(bp->sorted);
     free(bp->scratch);
-    free(bp->strip);
-    free(bp->strip_start);
+    free(bp->cell);
+    free(bp->cell_start);
     memset(bp, 0, sizeof *bp);
 }
 
@@ -53,10 +56,10 @@ static bool before_on_axis(const tb__broad_phase *bp, size_t i, size_t j)
     return a < b || (a == b && i < j);
 }
 
-/* Box i before box j in the sort: by strip, then along the axis. */
+/* Box i before box j in the sort: by cell, then along the axis. */
 static bool before(const tb__broad_phase *bp, size_t i, size_t j)
 {
-    return bp->strip[i] != bp->strip[j] ? bp->strip[i] < bp->strip[j] : before_on_axis(bp, i, j);
+    return bp->cell[i] != bp->cell[j] ? bp->cell[i] < bp->cell[j] : before_on_axis(bp, i, j);
 }
 
 /* Sorts order[low, high) with scratch; a run whose halves are already in order is not merged,
@@ -86,7 +89,8 @@ static void merge_sort(tb__broad_phase *bp, size_t low, size_t high)
     memcpy(order + low, bp->scratch + low, (high - low) * sizeof *order);
 }
 
-/* The axes of largest and second-largest variance of the box centres. */
+/* The sweep axis, of largest variance of the box centres, and the two across the cells, the
+ * second-largest first. */
 static void choose_axes(tb__broad_phase *bp, size_t count)
 {
     double sum[3] = {0}, sum2[3] = {0}, variance[3];
@@ -106,28 +110,71 @@ static void choose_axes(tb__broad_phase *bp, size_t count)
                                                                                : 2;
     const int a = (first + 1) % 3, b = (first + 2) % 3;
     bp->axis = first;
-    bp->strip_axis = variance[a] >= variance[b] ? a : b;
+    bp->bin_axes[0] = variance[a] >= variance[b] ? a : b;
+    bp->bin_axes[1] = variance[a] >= variance[b] ? b : a;
 }
 
-/* Strips across strip_axis as wide as the widest box (a little more, for rounding), at most
- * one per box; each box in the strip of its lower bound. */
-static void assign_strips(tb__broad_phase *bp, size_t count)
+/* Caps the cells across the two axes (wanted[0] by wanted[1], each >= 1, maybe infinite) at cap
+ * in all: the axis that wants fewer than sqrt(cap) keeps them and the other gets the rest; if
+ * neither does, sqrt(cap) each. */
+static void limit_cells(double wanted[2], double cap)
 {
-    const int k = bp->strip_axis;
-    double low = INFINITY, high = -INFINITY, widest = 0.0;
-    for (size_t i = 0; i < count; ++i) {
-        low = fmin(low, bp->boxes[i].min[k]);
-        high = fmax(high, bp->boxes[i].min[k]);
-        widest = fmax(widest, bp->boxes[i].max[k] - bp->boxes[i].min[k]);
+    if (wanted[0] * wanted[1] <= cap) {
+        return;
     }
-    const double width = widest * (1.0 + 1e-6);
-    const double strips = width > 0.0 ? floor((high - low) / width) + 1.0 : 1.0;
-    bp->strip_count = strips >= 1.0 && strips <= (double)count ? (size_t)strips : 1;
-    for (size_t i = 0; i < count; ++i) {
-        const double s = bp->strip_count > 1 ? floor((bp->boxes[i].min[k] - low) / width) : 0.0;
-        bp->strip[i] = s >= 0.0 && s < (double)bp->strip_count ? (size_t)s
-                       : s >= (double)bp->strip_count          ? bp->strip_count - 1
-                                                               : 0;
+    const double root = floor(sqrt(cap));
+    if (wanted[0] <= root) {
+        wanted[1] = floor(cap / wanted[0]);
+    } else if (wanted[1] <= root) {
+        wanted[0] = floor(cap / wanted[1]);
+    } else {
+        wanted[0] = wanted[1] = root;
+    }
+}
+
+/* Cells across the two bin axes, at most count in all: as wide as the widest box along each (a
+ * little more, so that rounding cannot put two overlapping boxes two cells apart: the error of
+ * (min - low) / width is about 1e-16 times the cells across, far below the 1e-6 spare), wider
+ * where there would be too many. Each box goes in the cell of its lower bounds; overlapping
+ * boxes' lower bounds differ by at most the widest box, so their cells are neighbours. */
+static void assign_cells(tb__broad_phase *bp, size_t count)
+{
+    double low[2], width[2], wanted[2], spread[2];
+    for (int j = 0; j < 2; ++j) {
+        const int k = bp->bin_axes[j];
+        double high = -INFINITY, widest = 0.0;
+        low[j] = INFINITY;
+        for (size_t i = 0; i < count; ++i) {
+            low[j] = fmin(low[j], bp->boxes[i].min[k]);
+            high = fmax(high, bp->boxes[i].min[k]);
+            widest = fmax(widest, bp->boxes[i].max[k] - bp->boxes[i].min[k]);
+        }
+        spread[j] = high - low[j];
+        width[j] = widest * (1.0 + 1e-6);
+        const double across = spread[j] / width[j]; /* NaN for 0 / 0, inf for x / 0 */
+        wanted[j] = spread[j] > 0.0 && across == across ? floor(across) + 1.0 : 1.0;
+    }
+    limit_cells(wanted, (double)(count > 0 ? count : 1));
+    double per_width[2]; /* multiplied, not divided, per box: its rounding is as small */
+    for (int j = 0; j < 2; ++j) {
+        width[j] = fmax(width[j], spread[j] / wanted[j] * (1.0 + 1e-6));
+        per_width[j] = 1.0 / width[j];
+        const bool several = wanted[j] > 1.0 && isfinite(width[j]) && isfinite(per_width[j]);
+        bp->cells[j] = several ? (size_t)wanted[j] : 1;
+        per_width[j] = several ? per_width[j] : 0.0; /* one cell: q is 0 (or NaN), the cell 0 */
+    }
+    const bool one_cell = bp->cells[0] * bp->cells[1] == 1; /* a table across the scene */
+    for (size_t i = 0; i < count && one_cell; ++i) {
+        bp->cell[i] = 0;
+    }
+    for (size_t i = 0; i < count && !one_cell; ++i) {
+        size_t at[2];
+        for (int j = 0; j < 2; ++j) {
+            const double q = floor((bp->boxes[i].min[bp->bin_axes[j]] - low[j]) * per_width[j]);
+            const double last = (double)(bp->cells[j] - 1);
+            at[j] = !(q > 0.0) ? 0 : q < last ? (size_t)q : (size_t)last;
+        }
+        bp->cell[i] = at[0] * bp->cells[1] + at[1];
     }
 }
 
@@ -135,7 +182,7 @@ void tb__broad_phase_sort(tb__broad_phase *bp, size_t count)
 {
     bp->count = count;
     choose_axes(bp, count);
-    assign_strips(bp, count);
+    assign_cells(bp, count);
     /* The order of the last sort is kept when it still names the same boxes: nearly sorted. */
     bool same = true;
     for (size_t i = 0; i < count && same; ++i) {
@@ -145,11 +192,12 @@ void tb__broad_phase_sort(tb__broad_phase *bp, size_t count)
         bp->order[i] = i; /* fewer boxes than last time: start again from a permutation */
     }
     merge_sort(bp, 0, count);
-    for (size_t s = 0, p = 0; s <= bp->strip_count; ++s) {
-        while (p < count && bp->strip[bp->order[p]] < s) {
+    const size_t cell_count = bp->cells[0] * bp->cells[1];
+    for (size_t c = 0, p = 0; c <= cell_count; ++c) {
+        while (p < count && bp->cell[bp->order[p]] < c) {
             ++p;
         }
-        bp->strip_start[s] = p;
+        bp->cell_start[c] = p;
     }
     for (size_t p = 0; p < count; ++p) {
         bp->sorted[p].box = bp->boxes[bp->order[p]];
@@ -157,6 +205,7 @@ void tb__broad_phase_sort(tb__broad_phase *bp, size_t count)
     }
     bp->cursor = 0;
     bp->phase = -1; /* the cursor's box has not started */
+    bp->hint_cell = NO_CELL;
 }
 
 /* Whether the boxes meet on the two axes other than axis (a NaN bound meets), without branches:
@@ -169,41 +218,67 @@ static int overlap_others(const tb__aabb *a, const tb__aabb *b, int axis)
            !(b->max[k2] < a->min[k2]);
 }
 
-/* Where in strip s the boxes after box i along the axis begin: bisection. A pair of boxes in
- * neighbouring strips is found from the one that comes first along the axis. */
-static size_t first_after(const tb__broad_phase *bp, size_t s, size_t i)
+/* The eight neighbours of a cell, as steps in u and v, in the order the sweep visits them. */
+static const int neighbour_du[8] = {-1, -1, -1, 0, 0, 1, 1, 1};
+static const int neighbour_dv[8] = {-1, 0, 1, -1, 1, -1, 0, 1};
+
+/* The cells around cell c that are on the grid, in the neighbours' order, into bp->around, with
+ * each one's hint at its start. */
+static void enter_cell(tb__broad_phase *bp, size_t c)
 {
-    const double a = bp->boxes[i].min[bp->axis];
-    size_t low = bp->strip_start[s], high = bp->strip_start[s + 1];
-    while (low < high) {
-        const size_t middle = low + (high - low) / 2;
-        const tb__sorted_box *m = &bp->sorted[middle];
-        const double b = m->box.min[bp->axis]; /* before_on_axis(i, m) */
-        if (a < b || (a == b && i < m->index)) {
-            high = middle;
-        } else {
-            low = middle + 1;
+    const size_t u = c / bp->cells[1], v = c % bp->cells[1];
+    bp->around_count = 0;
+    for (int n = 0; n < 8; ++n) {
+        const int du = neighbour_du[n], dv = neighbour_dv[n];
+        if ((du < 0 && u == 0) || (du > 0 && u + 1 == bp->cells[0]) || (dv < 0 && v == 0) ||
+            (dv > 0 && v + 1 == bp->cells[1])) {
+            continue; /* off the grid */
         }
+        const size_t t = (u + (size_t)(du + 1) - 1) * bp->cells[1] + v + (size_t)(dv + 1) - 1;
+        bp->around[bp->around_count] = t;
+        bp->hint[bp->around_count++] = bp->cell_start[t];
     }
-    return low;
+    bp->hint_cell = c;
 }
 
-/* Moves the cursor's box to its next phase: its own strip after it, the next strip, the
- * previous one; past the last, to the next box. */
+/* Where in cell t (neighbour n) the boxes after box i along the axis begin: walked on from where
+ * the cell's previous box stopped. A pair of boxes in neighbouring cells is found from the one
+ * that comes first along the axis. */
+static size_t first_after(tb__broad_phase *bp, int n, size_t t, size_t i)
+{
+    const double a = bp->boxes[i].min[bp->axis];
+    size_t p = bp->hint[n];
+    const size_t end = bp->cell_start[t + 1];
+    while (p < end) {
+        const tb__sorted_box *m = &bp->sorted[p];
+        const double b = m->box.min[bp->axis]; /* stop at the first with before_on_axis(i, m) */
+        if (a < b || (a == b && i < m->index)) {
+            break;
+        }
+        ++p;
+    }
+    bp->hint[n] = p;
+    return p;
+}
+
+/* Moves the cursor's box to its next phase: its own cell after it, then each neighbouring cell
+ * with boxes after it; past the last, to the next box. */
 static void next_phase(tb__broad_phase *bp)
 {
-    const size_t i = bp->order[bp->cursor], s = bp->strip[i];
-    for (++bp->phase; bp->phase <= 2; ++bp->phase) {
+    const size_t i = bp->order[bp->cursor], c = bp->cell[i];
+    if (c != bp->hint_cell) { /* the cursor entered a cell */
+        enter_cell(bp, c);
+    }
+    for (++bp->phase; bp->phase <= (int)bp->around_count; ++bp->phase) {
         if (bp->phase == 0) {
             bp->next = bp->cursor + 1;
-            bp->end = bp->strip_start[s + 1];
+            bp->end = bp->cell_start[c + 1];
             return;
         }
-        const bool up = bp->phase == 1;
-        if (up ? s + 1 < bp->strip_count : s > 0) {
-            const size_t t = up ? s + 1 : s - 1;
-            bp->next = first_after(bp, t, i);
-            bp->end = bp->strip_start[t + 1];
+        const size_t t = bp->around[bp->phase - 1];
+        bp->next = first_after(bp, bp->phase - 1, t, i);
+        bp->end = bp->cell_start[t + 1];
+        if (bp->next < bp->end) {
             return;
         }
     }

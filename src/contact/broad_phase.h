@@ -1,11 +1,15 @@
-/* Private: the broad phase, sweep and prune in strips. Axis-aligned boxes are binned into
- * strips across the axis of second-largest spread of their centres (strips as wide as the
- * widest box, so a box meets boxes of its own and the two neighbouring strips only), sorted by
- * strip and then by lower bound along the axis of largest spread, and swept: each box is
- * tested against the boxes of its strip and of the neighbouring strips that start after it
- * and before it ends. One axis alone scans every box in a slab through the scene, which grows
- * as sqrt(N) a body on a floor (bench_contact_geometry); the strips keep the scan to a box's
- * neighbourhood. One body as wide as the scene makes one strip: plain sweep and prune.
+/* Private: the broad phase, sweep and prune in cells. Axis-aligned boxes are binned into a grid
+ * of cells across the two axes of smaller spread of their centres (cells as wide as the widest
+ * box along each, so a box meets boxes of its own cell and the eight around it only), sorted by
+ * cell and then by lower bound along the axis of largest spread, and swept: each box is tested
+ * against the boxes of its cell and of the neighbouring cells that start after it and before it
+ * ends. One axis alone scans every box in a slab through the scene, which grows as sqrt(N) a
+ * body on a floor (bench_contact_geometry); strips across one more axis still scan a column as
+ * tall as the scene, N^(1/3) bodies in a box filled in three dimensions (bench_contact's
+ * spheres); the cells keep the scan to a box's neighbourhood in both. A scene one box deep
+ * across an axis has one cell across it (strips); one body as wide as the scene makes one cell:
+ * plain sweep and prune. There are at most as many cells as boxes: a sparse scene gets cells
+ * wider than its boxes.
  *
  * Sorting is a merge sort that skips merges of runs already in order, so a scene that moved
  * little since the last call sorts in about N steps and any scene in N log N; ties are broken
@@ -39,18 +43,22 @@ typedef struct tb__broad_phase {
     size_t capacity;        /* boxes allocated */
     size_t count;           /* boxes in use, set by tb__broad_phase_sort */
     tb__aabb *boxes;        /* capacity; the caller fills [0, count) before sorting */
-    size_t *order;          /* capacity: box indices sorted by strip, then lower bound on axis */
+    size_t *order;          /* capacity: box indices sorted by cell, then lower bound on axis */
     tb__sorted_box *sorted; /* capacity: boxes[order[p]] at p, copied by the sort, so the sweep
                                reads neighbours from one run of memory instead of through order */
     size_t *scratch;        /* capacity: the merge sort's buffer */
-    size_t *strip;          /* capacity: each box's strip */
-    size_t *strip_start;    /* capacity + 1: where each strip starts in order */
-    size_t strip_count;
-    int axis, strip_axis; /* the sweep axis and the axis across the strips, 0..2 */
-    /* The sweep's place: order[cursor] against order[next] (< end), in its own strip (phase 0),
-     * the next strip (1) or the previous one (2). */
+    size_t *cell;           /* capacity: each box's cell, u * cells[1] + v */
+    size_t *cell_start;     /* capacity + 1: where each cell starts in order */
+    size_t cells[2];        /* cells across bin_axes[0] (u) and bin_axes[1] (v); product <= count */
+    int axis, bin_axes[2];  /* the sweep axis and the axes across the cells, 0..2 */
+    /* The sweep's place: order[cursor] against order[next] (< end), in its own cell (phase 0)
+     * or the neighbouring cell around[phase - 1] (phase 1..around_count: the cells around cell
+     * hint_cell that are on the grid) and hint[n] where the boxes after the cursor's begin in
+     * around[n]: the cursor moves along the axis in its cell, so each neighbour is walked once
+     * per cell, not searched once per box. */
     size_t cursor, next, end;
     int phase;
+    size_t hint_cell, around_count, around[8], hint[8];
 } tb__broad_phase;
 
 /* Allocates room for capacity boxes (capacity 0 is allowed); on failure bp is left empty and
@@ -63,7 +71,8 @@ void tb__broad_phase_sort(tb__broad_phase *bp, size_t count);
 
 /* Writes up to capacity pairs of overlapping boxes (closed intervals on all three axes) after
  * the cursor and returns how many; 0 when the sweep is done. Every overlapping pair comes out
- * exactly once per sweep, in an order fixed by the boxes. */
+ * exactly once per sweep, in an order fixed by the boxes (boxes with a NaN bound excepted: they
+ * meet on the axes where the bound is NaN, but only boxes of the cells they are binned beside). */
 size_t tb__broad_phase_next(tb__broad_phase *bp, tb__index_pair *out, size_t capacity);
 
 #endif
