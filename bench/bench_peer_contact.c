@@ -194,17 +194,17 @@ static result tumble_run(kind k, const peer_world *w, tb_method method, double s
                 case_names[k], tb_method_name(method), t, r.seconds, r.seconds / t);
         r.seconds = NAN;
     }
-    tb_integrator_stats stats;
-    tb_integrator_get_stats(integrator, &stats);
-    r.steps = stats.steps;
-    if (status != TB_STATUS_OK) {
-        fprintf(stderr, "bench_peer_contact: %s: %s %s %g stopped at t = %g s: %s %s\n",
+    if (status != TB_STATUS_OK) { /* before tb_integrator_get_stats, which clears the detail */
+        fprintf(stderr, "bench_peer_contact: %s: %s %s %g stopped at t = %g s: %s: %s\n",
                 case_names[k], tb_method_name(method),
                 tb_method_is_adaptive(method) ? "rtol" : "dt", setting,
                 tb_integrator_time(integrator), tb_status_string(status),
                 tb_integrator_detail(integrator));
         r.seconds = NAN;
     }
+    tb_integrator_stats stats;
+    tb_integrator_get_stats(integrator, &stats);
+    r.steps = stats.steps;
     sampler_close(&s);
     tb_integrator_destroy(integrator);
     tb_scene_destroy(scene);
