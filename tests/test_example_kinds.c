@@ -8,8 +8,9 @@
  *                    constant speed and rises and falls with it;
  *   paddle.json      a keyframed paddle at 10 m/s hitting a 2 cm ball: the ball never passes
  *                    through it and leaves at (1 + e) times the paddle's speed;
- *   bat_sweep.json   a keyframed bat sweeping five boxes off a static table: none passes
- *                    through it, all end at rest on the floor past the table's edge.
+ *   bat_sweep.json   a keyframed bat sweeping five boxes off a static table: none within its
+ *                    reach passes through it, all end at rest on the floor past the table's
+ *                    edge.
  *   test_example_kinds NAME [METHOD [DURATION [DT]]]
  * METHOD (rk4, cvode-bdf, ...) replaces the scene's integrator (adaptive ones at rtol 1e-7: their
  * atol from the bodies, 1e-9 of their sizes, far below the bounds below). DURATION (s) cuts the
@@ -276,8 +277,12 @@ static void paddle(void)
 }
 
 /* bat_sweep: the table (body 0, its near edge at y = -0.4 m), the bat (body 1, sweeping along -y,
- * its face 3 cm ahead of its origin) and five 6 cm boxes (bodies 2-6). The bat pushes the boxes
- * ahead of it: no box's centre comes behind its face at any frame (none passes through). By the
+ * its face 3 cm ahead of its origin, 8 cm tall) and five 6 cm boxes (bodies 2-6). The bat pushes
+ * the boxes ahead of it: no box's centre within its reach comes behind its face at any frame (none
+ * passes through). Within reach: the centre above the bat's underside less the box's half
+ * diagonal (sqrt(3) 3 cm), lower than which no part of the box can touch the bat; a box fallen to
+ * the floor (its centre 0.77 m below the bat's) may lie behind the face where the bat stops, at
+ * y = -0.53 m, past the table's edge (rosenbrock at 1/240 s lands one at y = -0.526 m). By the
  * end (2 s) every box has gone off the table and rests on the floor: its centre past the edge,
  * at half its size less the ground's static sinking (0.05 mm), within 10 % of that sinking (the
  * four bottom corners share its weight), and slower than 1 mm/s. */
@@ -286,7 +291,7 @@ static void bat_sweep(void)
     tb_scene *scene;
     double fps = 200.0, duration;
     tb_integrator *integrator = start("bat_sweep", &scene, &fps, &duration);
-    const double half = 0.03, pen = 5e-5;
+    const double half = 0.03, pen = 5e-5, bat_half_height = 0.04;
     double closest = INFINITY;
     const long frames = lround(duration * fps);
     for (long k = 1; k <= frames; ++k) {
@@ -296,10 +301,13 @@ static void bat_sweep(void)
         for (size_t id = 2; id <= 6; ++id) {
             double b[3];
             position(scene, id, b);
-            closest = fmin(closest, (bat[1] - 0.03) - b[1]);
+            if (b[2] > bat[2] - bat_half_height - sqrt(3.0) * half) {
+                closest = fmin(closest, (bat[1] - 0.03) - b[1]);
+            }
         }
     }
-    test_check(closest > 0.0, "closest a box's centre came to the bat's face (m)", closest, 0.0);
+    test_check(closest > 0.0, "closest a reachable box's centre came to the bat's face (m)",
+               closest, 0.0);
     if (cut_duration > 0.0) {
         printf("  %-62s skipped: the run was cut to %g s\n", "on the floor", cut_duration);
     } else {
