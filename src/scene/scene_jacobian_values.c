@@ -52,6 +52,16 @@ static size_t entry_of(const tb__jacobian_room *j, size_t v, size_t r, size_t of
     return j->row_base[v] + (r - j->node_start[v]) * j->row_length[v] + offset;
 }
 
+/* What the quotients difference: under rosenbrock, whose rows are all quotients
+ * (tb__scene_rows_by_quotients), the whole derivative, as before the analytic rows, so that its
+ * steps are those it took then to the bit; else the part without analytic rows. */
+typedef int (*part_fn)(double t, const double *y, double *dydt, void *ctx);
+static part_fn quotient_of(const tb_scene *scene)
+{
+    return scene->guard_method == TB_METHOD_ROSENBROCK ? tb_scene_derivative
+                                                       : tb__scene_quotient_part;
+}
+
 /* Column k of every node of colour c with more than k components, from one evaluation. */
 static int quotient_columns(tb_scene *scene, const tb__jacobian_room *j, size_t c, size_t k,
                             double t, const double *y, double *values)
@@ -65,7 +75,7 @@ static int quotient_columns(tb_scene *scene, const tb__jacobian_room *j, size_t 
             any = true;
         }
     }
-    const int rc = any ? tb__scene_quotient_part(t, j->y_work, j->f_work, scene) : 0;
+    const int rc = any ? quotient_of(scene)(t, j->y_work, j->f_work, scene) : 0;
     for (size_t i = j->color_first[c]; i < j->color_first[c + 1] && any; ++i) {
         const size_t u = j->by_color[i], col = j->node_start[u] + k;
         if (k >= node_size(j, u)) {
@@ -197,7 +207,7 @@ static void asleep_rows(const tb_scene *scene, const tb__jacobian_room *j, doubl
 static int quotient_rows(tb_scene *scene, const tb__jacobian_room *j, double t, const double *y,
                          double *values)
 {
-    int rc = tb__scene_quotient_part(t, y, j->f_base, scene);
+    int rc = quotient_of(scene)(t, y, j->f_base, scene);
     memcpy(j->y_work, y, j->n * sizeof(double));
     for (size_t c = 0; c < j->color_count && rc == 0; ++c) {
         for (size_t k = 0; k < TB_STATE_SIZE && rc == 0; ++k) {
@@ -222,7 +232,7 @@ int tb__scene_jacobian_values(tb_scene *scene, double t, const double *y, const 
     tb__jacobian_rows rows = {j, values, y};
     for (size_t k = 0; k < scene->effect_count && rc == 0; ++k) {
         const tb__effect *effect = &scene->effects[k];
-        if (effect->ops->jacobian != NULL) {
+        if (!tb__scene_rows_by_quotients(scene, effect->ops) && effect->ops->jacobian != NULL) {
             rc = effect->ops->jacobian(effect, scene, t, y, &rows);
         }
     }
