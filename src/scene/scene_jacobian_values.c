@@ -31,21 +31,6 @@ static size_t node_size(const tb__jacobian_room *j, size_t u)
     return j->node_start[u + 1] - j->node_start[u];
 }
 
-/* Where node u's columns start within each row of node v (u is v's neighbour or v). */
-static size_t columns_of(const tb__jacobian_room *j, size_t v, size_t u)
-{
-    size_t low = j->adjacent_start[v], high = j->adjacent_start[v + 1];
-    while (low < high) {
-        const size_t middle = low + (high - low) / 2;
-        if (j->adjacent[middle] < u) {
-            low = middle + 1;
-        } else {
-            high = middle;
-        }
-    }
-    return j->column_offset[low];
-}
-
 /* The entry of row r (a row of node v) at column offset within the row. */
 static size_t entry_of(const tb__jacobian_room *j, size_t v, size_t r, size_t offset)
 {
@@ -83,7 +68,7 @@ static int quotient_columns(tb_scene *scene, const tb__jacobian_room *j, size_t 
         }
         const double h = j->y_work[col] - y[col]; /* the increment as represented */
         for (size_t e = j->adjacent_start[u]; e < j->adjacent_start[u + 1] && rc == 0; ++e) {
-            const size_t v = j->adjacent[e], offset = columns_of(j, v, u) + k;
+            const size_t v = j->adjacent[e], offset = tb__jacobian_find_columns(j, v, u) + k;
             for (size_t r = j->node_start[v]; r < j->node_start[v + 1]; ++r) {
                 values[entry_of(j, v, r, offset)] = (j->f_work[r] - j->f_base[r]) / h;
             }
@@ -175,7 +160,7 @@ static void kinematic_rows(const tb_scene *scene, const tb__jacobian_room *j, si
                            const double *y, double *values)
 {
     const tb__body *body = &scene->bodies[s];
-    const size_t own = columns_of(j, s, s), first = TB_STATE_SIZE * s;
+    const size_t own = tb__jacobian_find_columns(j, s, s), first = TB_STATE_SIZE * s;
     double rows[4][TB_STATE_SIZE];
     quaternion_rows(body, y + first, rows);
     for (size_t r = first; r < first + TB_STATE_P; ++r) {
