@@ -2,7 +2,8 @@
 # Builds tumble (installing what is missing) and runs every benchmark: each one's CSV goes to
 # build/bench-results/<name>.csv, and the work-precision chart (matplotlib, in a virtual
 # environment under build/) to build/bench-results/work_precision.png. The committed figures in
-# docs/ (accuracy.md, performance.md, integrators.md, effects.md, work_precision.*) come from
+# docs/ (accuracy.md, performance.md, integrators.md, effects.md, work_precision.*,
+# contact_work_precision.*) come from
 # these runs. A full run takes about 20 minutes on 2 cores; the machines are shared, so compare
 # ratios from one run rather than absolute times across runs.
 #   scripts/bench.sh [--quick]    (--quick: the smoke-test runs, a few seconds)
@@ -47,4 +48,9 @@ if [ "$status" != 0 ] && [ "$status" != 77 ]; then # 77: pybullet missing, said 
 fi
 build/bench-venv/bin/python bench/plot_work_precision.py "$out/bench_work_precision.csv" \
     "$out/work_precision.png"
+if [ "${1:-}" != "--quick" ]; then # tumble accuracy on four contact scenes: about 3 minutes
+    echo "bench: contact_work_precision" >&2
+    build/bench-venv/bin/python bench/contact_work_precision.py build/cli/tumble \
+        "$out/contact_work_precision.csv" "$out/contact_work_precision.png"
+fi
 echo "bench: results in $out" >&2
