@@ -215,12 +215,15 @@ int tb__scene_explicit_part(double t, const double *y, double *dydt, void *ctx)
 
 bool tb__scene_rows_by_quotients(const tb_scene *scene, const tb__effect_ops *ops)
 {
-    /* The analytic rows hold a point and its normal fixed on the bodies. Newton's iterations
-     * (BDF, ark-imex) only converge slower for what that misses; rosenbrock's stability rests
-     * on its matrix, and with them a standing column of ten boxes was thrown apart at 1/240 s
-     * (446 m/s within 0.05 s), so rosenbrock takes every load row by quotients. */
-    return !ops->constant_loads &&
-           (ops->jacobian == NULL || scene->guard_method == TB_METHOD_ROSENBROCK);
+    /* The analytic rows hold a point and its normal fixed on the bodies. Between two bodies
+     * that misses the normal's turn and the points' carry, and it cost: BDF took 50 times the
+     * CPU on two boxes sliding on a box (test_run_again's short span: 10.9 s against 0.22), and
+     * rosenbrock, whose stability rests on its matrix, threw a standing column of ten boxes
+     * apart at 1/240 s (446 m/s within 0.05 s). So pairs of bodies take quotients, and under
+     * rosenbrock every load row does (its steps those it took before the analytic rows, to the
+     * bit); the ground's rows stay analytic for BDF and ark-imex. */
+    return !ops->constant_loads && (ops->jacobian == NULL || ops->couples_bodies ||
+                                    scene->guard_method == TB_METHOD_ROSENBROCK);
 }
 
 bool tb__scene_has_quotient_part(const tb_scene *scene)

@@ -84,8 +84,9 @@ int tb__scene_quotient_part(double t, const double *y, double *dydt, void *ctx);
  * kinematic rows. */
 int tb__scene_motions(const tb_scene *scene, double t, const double *y, double *scratch);
 bool tb__scene_has_quotient_part(const tb_scene *scene);
-/* Whether an effect's load rows are difference quotients: it has no analytic rows, or the
- * scene's newest integrator is rosenbrock (derivative.c says why); never for constant loads. */
+/* Whether an effect's load rows are difference quotients: it has no analytic rows, it couples
+ * bodies (contact between bodies), or the scene's newest integrator is rosenbrock (derivative.c
+ * says why); never for constant loads. */
 bool tb__scene_rows_by_quotients(const tb_scene *scene, const tb__effect_ops *ops);
 
 /* The values of a built pattern at (t, y) (scene_jacobian_values.c). */
