@@ -180,12 +180,7 @@ static int apply_ground(const tb__effect *effect, const tb_scene *scene, double 
     const tb__ground_params *ground = tb__ground_of(effect);
     size_t first = 0;
     while (first < scene->contact_count) {
-        /* a body's points are contiguous: its motion and load are read once */
-        const size_t body = scene->contacts[first].body;
-        size_t end = first + 1;
-        while (end < scene->contact_count && scene->contacts[end].body == body) {
-            ++end;
-        }
+        const size_t body = scene->contacts[first].body, end = tb__ground_run_end(scene, first);
         if (tb__body_asleep(scene, body)) { /* its anchors stay frozen */
             memset(dydt + effect->state_offset + effect->states_per_contact * first, 0,
                    (end - first) * effect->states_per_contact * sizeof(double));

@@ -25,6 +25,17 @@ static inline tb__ground_params *tb__ground_of(const tb__effect *effect)
     return effect->params;
 }
 
+/* The end of the run of scene->contacts starting at first that belong to one body: a body's
+ * points are contiguous, so its motion and load are read once for them all. */
+static inline size_t tb__ground_run_end(const tb_scene *scene, size_t first)
+{
+    size_t end = first + 1;
+    while (end < scene->contact_count && scene->contacts[end].body == scene->contacts[first].body) {
+        ++end;
+    }
+    return end;
+}
+
 /* Where a point is: its depth (m, negative above the plane) and its centre's lever arm (world). */
 typedef struct tb__point_place {
     double depth, arm[3];

@@ -88,11 +88,7 @@ int tb__ground_jacobian(const tb__effect *effect, const tb_scene *scene, double 
 {
     size_t first = 0;
     while (first < scene->contact_count) {
-        const size_t body = scene->contacts[first].body;
-        size_t end = first + 1;
-        while (end < scene->contact_count && scene->contacts[end].body == body) {
-            ++end;
-        }
+        const size_t end = tb__ground_run_end(scene, first);
         body_rows(effect, scene, first, end, y, rows);
         first = end;
     }

@@ -140,37 +140,56 @@ void tb__ground_shapes_state_owners(const tb__effect *effect, const tb_scene *sc
     }
 }
 
+/* Body id pressing the plane at (t, y), as the derivative and its Jacobian both read it: its
+ * manifold, its load and the friction slots its points hold (matched in body order, fresh counting
+ * the slots taken so far). False for a body the plane does not meet, an asleep one (its slots stay
+ * frozen: relax_all) and one clear of the plane. */
+typedef struct pressing {
+    tb__pair_contact pair;
+    tb__plane_load m;
+    size_t slots[TB__MANIFOLD_POINTS];
+    double share; /* each point's part of the body's contact */
+} pressing;
+
+static bool presses(const tb__ground_params *ground, const tb_scene *scene, double t,
+                    const double *y, size_t id, size_t *fresh, pressing *out)
+{
+    const tb__ground_shapes *shapes = ground->shapes;
+    if (!meets_shape(shapes, scene, id) || tb__body_asleep(scene, id) ||
+        plane_manifold(ground, scene, t, y, id, TB__CONTACT_MARGIN, &out->pair) == 0) {
+        return false;
+    }
+    out->m = (tb__plane_load){.motion = tb__derivative_motion(scene, id)};
+    plane_load(ground, tb__body_constants(scene, id), &out->pair.manifold, &out->m);
+    for (int j = 0; j < TB__MANIFOLD_POINTS; ++j) {
+        out->slots[j] = TB__NO_SLOT;
+    }
+    if (shapes->law.friction != NULL && id < shapes->pool_bodies) {
+        tb__friction_match(shapes->law.friction, &out->pair, &plane_motion, fresh, out->slots);
+    }
+    out->share = 1.0 / (double)out->pair.manifold.count;
+    return true;
+}
+
 void tb__ground_shapes_apply(const tb__effect *effect, const tb_scene *scene, double t,
                              const double *y, double *dydt)
 {
     const tb__ground_params *ground = tb__ground_of(effect);
     const tb__ground_shapes *shapes = ground->shapes;
-    const tb__friction_pool *pool = shapes->law.friction;
     const size_t first = pool_first_state(effect, scene);
-    if (pool != NULL) {
-        tb__friction_relax_all(pool, scene, y + first, dydt + first);
+    if (shapes->law.friction != NULL) {
+        tb__friction_relax_all(shapes->law.friction, scene, y + first, dydt + first);
     }
     size_t fresh = 0;
     for (size_t id = 0; id < scene->body_count; ++id) {
-        if (!meets_shape(shapes, scene, id)) {
+        pressing b;
+        if (!presses(ground, scene, t, y, id, &fresh, &b)) {
             continue;
         }
-        tb__pair_contact pair;
-        if (tb__body_asleep(scene, id) ||
-            plane_manifold(ground, scene, t, y, id, TB__CONTACT_MARGIN, &pair) == 0) {
-            continue; /* an asleep body's slots stay frozen (relax_all) */
-        }
-        tb__plane_load m = {.motion = tb__derivative_motion(scene, id)};
-        plane_load(ground, tb__body_constants(scene, id), &pair.manifold, &m);
-        size_t slots[TB__MANIFOLD_POINTS] = {TB__NO_SLOT, TB__NO_SLOT, TB__NO_SLOT, TB__NO_SLOT};
-        if (pool != NULL && id < shapes->pool_bodies) {
-            tb__friction_match(pool, &pair, &plane_motion, &fresh, slots);
-        }
-        const double share = 1.0 / (double)pair.manifold.count;
-        for (int j = 0; j < pair.manifold.count; ++j) {
-            const bool held = slots[j] != TB__NO_SLOT;
-            const size_t s = first + TB__FRICTION_SLOT_STATES * (held ? slots[j] : 0);
-            point_force(&shapes->law, ground, &m, &pair.manifold.points[j], share,
+        for (int j = 0; j < b.pair.manifold.count; ++j) {
+            const bool held = b.slots[j] != TB__NO_SLOT;
+            const size_t s = first + TB__FRICTION_SLOT_STATES * (held ? b.slots[j] : 0);
+            point_force(&shapes->law, ground, &b.m, &b.pair.manifold.points[j], b.share,
                         held ? y + s : NULL, held ? dydt + s : NULL, tb__body_slot(scene, id),
                         dydt);
         }
@@ -227,30 +246,22 @@ void tb__ground_shapes_jacobian(const tb__effect *effect, const tb_scene *scene,
 {
     const tb__ground_params *ground = tb__ground_of(effect);
     const tb__ground_shapes *shapes = ground->shapes;
-    const tb__friction_pool *pool = shapes->law.friction;
     const size_t first = pool_first_state(effect, scene);
-    if (pool != NULL) {
-        tb__friction_relax_jacobian(pool, scene, first, rows);
+    if (shapes->law.friction != NULL) {
+        tb__friction_relax_jacobian(shapes->law.friction, scene, first, rows);
     }
     size_t fresh = 0;
     for (size_t id = 0; id < scene->body_count; ++id) {
-        tb__pair_contact pair;
-        if (!meets_shape(shapes, scene, id) || tb__body_asleep(scene, id) ||
-            plane_manifold(ground, scene, t, y, id, TB__CONTACT_MARGIN, &pair) == 0) {
+        pressing b;
+        if (!presses(ground, scene, t, y, id, &fresh, &b)) {
             continue;
         }
-        tb__plane_load m = {.motion = tb__derivative_motion(scene, id)};
-        plane_load(ground, tb__body_constants(scene, id), &pair.manifold, &m);
-        size_t slots[TB__MANIFOLD_POINTS] = {TB__NO_SLOT, TB__NO_SLOT, TB__NO_SLOT, TB__NO_SLOT};
-        if (pool != NULL && id < shapes->pool_bodies) {
-            tb__friction_match(pool, &pair, &plane_motion, &fresh, slots);
-        }
-        const double share = 1.0 / (double)pair.manifold.count;
-        for (int j = 0; j < pair.manifold.count; ++j) {
-            const size_t state =
-                slots[j] != TB__NO_SLOT ? first + TB__FRICTION_SLOT_STATES * slots[j] : TB__NO_SLOT;
-            point_rows(scene, &shapes->law, ground, &m, &pair.manifold.points[j], share, id, state,
-                       y, rows);
+        for (int j = 0; j < b.pair.manifold.count; ++j) {
+            const size_t state = b.slots[j] != TB__NO_SLOT
+                                     ? first + TB__FRICTION_SLOT_STATES * b.slots[j]
+                                     : TB__NO_SLOT;
+            point_rows(scene, &shapes->law, ground, &b.m, &b.pair.manifold.points[j], b.share, id,
+                       state, y, rows);
         }
     }
 }
