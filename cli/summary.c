@@ -145,6 +145,10 @@ static void print_work(const tb_run_def *run, double dt, const tb_integrator_sta
     fprintf(stderr, "  %-24s %ld (%ld failed attempts)\n", "steps", stats->steps,
             stats->failed_steps);
     fprintf(stderr, "  %-24s %ld\n", "derivative evaluations", stats->derivative_evals);
+    if (stats->rest_time > 0.0) {
+        fprintf(stderr, "  %-24s %.6g s passed without steps, every body asleep\n", "at rest",
+                stats->rest_time);
+    }
     fprintf(stderr, "  %-24s %.3f s\n", "wall time", seconds);
 }
 

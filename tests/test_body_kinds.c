@@ -565,6 +565,49 @@ static void test_balls_on_a_static_table_sleep_on_their_own_islands(void **state
     tb_scene_destroy(scene);
 }
 
+/* A ball asleep on the static table, and a keyframed paddle that stands still until 1 s and
+ * then sweeps toward it at 0.5 m/s: every dynamic body asleep, yet the run must keep stepping
+ * (a fixed-step method jumps over time only where nothing moves by time, tb__scene_rest_until),
+ * so the paddle meets the ball, wakes it and pushes it ahead. The hit at v = 0.5 m/s goes at
+ * most v / omega deep, omega = sqrt(g / penetration) the law's undamped oscillation (its
+ * dashpot only shortens it): 5.05 mm at every 10 ms output to 2.5 s; a ball left asleep would
+ * let the paddle through. */
+static void test_a_keyframed_paddle_wakes_a_ball_asleep_on_the_table(void **state)
+{
+    (void)state;
+    static const segment start[] = {{1.0, 1.1, 5.0}}; /* to 0.5 m/s along y */
+    profile p = {start, 1, {0.0, -0.5, TABLE_HEIGHT + 0.1}, 0.0, 1};
+    tb_scene *scene = test_empty_scene();
+    add_table(scene);
+    const double size[3] = {0.3, 0.05, 0.2};
+    const size_t paddle = add_keyframed_box(scene, "paddle", size, &p);
+    const double x[3] = {0.0, 0.0, TABLE_HEIGHT + BALL_RADIUS - PENETRATION};
+    const size_t ball = test_add_ball(scene, "ball", 1.0, BALL_RADIUS, x, NULL);
+    const double g[3] = {0, 0, -G};
+    assert_int_equal(tb_scene_add_gravity(scene, g), TB_STATUS_OK);
+    tb_contact_def contact = tb_contact_def_default();
+    contact.penetration = PENETRATION;
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    tb_integrator *integrator = test_integrator_for(scene, TB_METHOD_RK4, 0.0, 0.0);
+    double closest = INFINITY; /* the ball's centre ahead of the paddle's face, m */
+    for (int frame = 1; frame <= 250; ++frame) {
+        assert_int_equal(tb_integrator_advance(integrator, 0.01 * frame), TB_STATUS_OK);
+        if (frame == 100) { /* 1 s: the paddle about to move */
+            bool asleep = false;
+            assert_int_equal(tb_scene_body_asleep(scene, ball, &asleep), TB_STATUS_OK);
+            assert_true(asleep);
+        }
+        tb_body_state b, k;
+        assert_int_equal(tb_scene_get_state(scene, ball, &b), TB_STATUS_OK);
+        assert_int_equal(tb_scene_get_state(scene, paddle, &k), TB_STATUS_OK);
+        closest = fmin(closest, b.x[1] - (k.x[1] + 0.5 * size[1]));
+    }
+    print_message("the ball's centre came within %.4f m of the paddle's face\n", closest);
+    assert_true(closest >= BALL_RADIUS - 0.5 * sqrt(PENETRATION / G));
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
 /* Integrators keep the scene's time at their last output, so read-outs give a keyframed body
  * where its source puts it then, whether the bodies interact (RK4 of a contact scene) or not
  * (each body alone, gravity only: the chunked path), and under CVODE. */
@@ -934,6 +977,7 @@ int main(void)
         cmocka_unit_test(test_motion_fn_needs_a_keyframed_body),
         cmocka_unit_test(test_steps_end_on_break_times),
         cmocka_unit_test(test_balls_on_a_static_table_sleep_on_their_own_islands),
+        cmocka_unit_test(test_a_keyframed_paddle_wakes_a_ball_asleep_on_the_table),
         cmocka_unit_test(test_read_outs_follow_the_scene_time),
         cmocka_unit_test(test_the_start_check_reads_keyframed_bodies_at_t0),
         cmocka_unit_test(test_a_reset_to_where_keys_put_a_body_inside_another_is_refused),

@@ -167,6 +167,67 @@ static void test_post_step_hook_runs_once_per_step_and_can_stop_the_run(void **s
     tb_integrator_destroy(integrator);
 }
 
+/* y' = 1 except on (1, 2), where y' = 0 and the system says it rests until 2 (from where it
+ * is, whatever y): the fixed-step methods take the steps up to 1 and from 2, jump over the rest
+ * with one post-step call at its end, and land on y = 2 at t = 3 exactly (the slope is constant on
+ * every step). A hook that fails at the jump's end leaves time and state where the rest began. */
+static int slope_but_rest(double t, const double *y, double *dydt, void *ctx)
+{
+    (void)y;
+    (void)ctx;
+    dydt[0] = t > 1.0 && t < 2.0 ? 0.0 : 1.0; /* stages at 1 and 2 see the slope */
+    return 0;
+}
+
+static double rests_until_two(double t, const double *y, void *ctx)
+{
+    (void)y;
+    (void)ctx;
+    return t >= 1.0 && t < 2.0 ? 2.0 : t;
+}
+
+static void test_a_rest_is_jumped_over_without_steps(void **state)
+{
+    (void)state;
+    for (int m = 0; m < FIXED_STEP_METHODS; ++m) {
+        hook_log log = {0, 0};
+        double y[1] = {0.0};
+        tb_ode_system system = {.n = 1,
+                                .derivative = slope_but_rest,
+                                .post_step = counting_hook,
+                                .ctx = &log,
+                                .events.rest_until = rests_until_two};
+        tb_integrator_def def = tb_integrator_def_default();
+        def.method = (tb_method)m;
+        def.dt = 0.25;
+        tb_integrator *integrator = NULL;
+        assert_int_equal(tb_integrator_create(&system, &def, 0.0, y, &integrator, NULL),
+                         TB_STATUS_OK);
+        assert_int_equal(tb_integrator_advance(integrator, 3.0), TB_STATUS_OK);
+        tb_integrator_stats stats;
+        assert_int_equal(tb_integrator_get_stats(integrator, &stats), TB_STATUS_OK);
+        assert_true(y[0] == 2.0 && tb_integrator_time(integrator) == 3.0);
+        assert_int_equal(stats.steps, 8);
+        assert_int_equal(log.calls, 9);
+        assert_true(stats.rest_time == 1.0);
+        tb_integrator_destroy(integrator);
+    }
+    hook_log log = {0, 5}; /* the fifth call: the jump's end */
+    double y[1] = {0.0};
+    tb_ode_system system = {.n = 1,
+                            .derivative = slope_but_rest,
+                            .post_step = counting_hook,
+                            .ctx = &log,
+                            .events.rest_until = rests_until_two};
+    tb_integrator_def def = tb_integrator_def_default();
+    def.dt = 0.25;
+    tb_integrator *integrator = NULL;
+    assert_int_equal(tb_integrator_create(&system, &def, 0.0, y, &integrator, NULL), TB_STATUS_OK);
+    assert_int_equal(tb_integrator_advance(integrator, 3.0), TB_STATUS_HOOK_FAILED);
+    assert_true(y[0] == 1.0 && tb_integrator_time(integrator) == 1.0);
+    tb_integrator_destroy(integrator);
+}
+
 /* y' = y^2 from 1e100: Euler's second step overflows to infinity. */
 static int quadratic(double t, const double *y, double *dydt, void *ctx)
 {
@@ -706,6 +767,7 @@ int main(void)
         cmocka_unit_test(test_advance_lands_exactly_on_the_target_without_a_sliver_step),
         cmocka_unit_test(test_derivative_error_keeps_the_last_good_state),
         cmocka_unit_test(test_post_step_hook_runs_once_per_step_and_can_stop_the_run),
+        cmocka_unit_test(test_a_rest_is_jumped_over_without_steps),
         cmocka_unit_test(test_a_state_that_overflows_is_reported_and_not_kept),
         cmocka_unit_test(test_invalid_definitions_are_rejected_with_the_field_named),
         cmocka_unit_test(test_method_names_round_trip_in_any_case),

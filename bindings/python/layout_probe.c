@@ -100,6 +100,7 @@ int main(void)
     FIELD(tb_integrator_stats, reinitializations);
     FIELD(tb_integrator_stats, nonlinear_iterations);
     FIELD(tb_integrator_stats, jacobian_evals);
+    FIELD(tb_integrator_stats, rest_time);
     printf("\"_\": 0},\n");
 
     printf("\"tb_accuracy_setting\": {\"size\": %zu, ", sizeof(tb_accuracy_setting));

@@ -132,6 +132,16 @@ typedef struct tb_ode_events {
      * it, its history being of the curve before. NULL (default): none, and every method steps as
      * before, bit for bit. */
     double (*next_break)(double t, void *ctx);
+    /* The time until which the system rests from (t, y): its right-hand side zero there and
+     * its post-step hook leaving y as it is (a scene all of whose bodies sleep, with nothing
+     * that moves them by time: docs/effects.md, "Sleeping"); t itself, or less, where it does
+     * not. A fixed-step method's advance then moves its time to that one (or to the call's
+     * end, whichever comes first) without taking steps, calls post_step once there, and counts
+     * the time in tb_integrator_stats.rest_time; it asks again after each step, so a call
+     * that begins awake jumps from the step where the system came to rest. The adaptive
+     * methods do not read it (their steps grow where the right-hand side is zero). NULL
+     * (default): every step is taken. */
+    double (*rest_until)(double t, const double *y, void *ctx);
 } tb_ode_events;
 
 /* A sparse n x n matrix in compressed-sparse-row form: row i's entries are
@@ -378,6 +388,8 @@ typedef struct tb_integrator_stats {
     long jacobian_evals;            /* BDF, ark-imex: Jacobians formed (difference quotients, or the
                                        system's own with TB_LINEAR_SOLVER_SPARSE); preconditioner
                                        set-ups of the Krylov solver not counted */
+    double rest_time;               /* fixed-step: time the advances jumped over without steps,
+                                       the system at rest (tb_ode_events.rest_until) */
 } tb_integrator_stats;
 
 typedef struct tb_integrator tb_integrator;

@@ -490,6 +490,36 @@ static tb_status budget_used(tb_integrator *integrator, double t_target, long st
                           integrator->max_steps, steps, t_target, integrator->t);
 }
 
+/* Where the system rests from the integrator's state (tb_ode_events.rest_until), its time moves
+ * on to where the rest ends or t_target without steps, and the post-step hook runs once there;
+ * true when the time moved. *status is the hook's failure, if any (y then as it was). */
+static bool jump_at_rest(tb_integrator *integrator, double t_target, tb_status *status)
+{
+    const tb_ode_system *system = &integrator->system;
+    *status = TB_STATUS_OK;
+    if (system->events.rest_until == NULL || integrator->system.blocks.size != 0) {
+        return false;
+    }
+    const double t = integrator->t;
+    const double until = fmin(system->events.rest_until(t, integrator->y, system->ctx), t_target);
+    if (!(until > t)) {
+        return false;
+    }
+    memcpy(integrator->y_new, integrator->y, system->n * sizeof(double));
+    if (system->post_step != NULL) {
+        const int rc = system->post_step(until, integrator->y_new, system->ctx);
+        if (rc != 0) {
+            const tb__step_failure failure = {TB_STATUS_HOOK_FAILED, rc, rc, 0, 0.0};
+            *status = tb__fixed_report(integrator, &failure, until - t, until);
+            return false;
+        }
+    }
+    memcpy(integrator->y, integrator->y_new, system->n * sizeof(double));
+    integrator->t = until;
+    integrator->stats.rest_time += until - t;
+    return true;
+}
+
 static tb_status fixed_advance(tb_integrator *integrator, double t_target)
 {
     tb_status status = check_budget(integrator, t_target);
@@ -497,11 +527,20 @@ static tb_status fixed_advance(tb_integrator *integrator, double t_target)
         return status;
     }
     tb__onset_forget(integrator); /* y may have been changed since */
-    const double t_start = integrator->t, dt = integrator->dt;
+    const double dt = integrator->dt;
+    double t_start = integrator->t;
     /* Step times are t_start + i dt rather than a running sum, so round-off does not
      * accumulate over long runs; a step cut at a break or an onset leaves i for the rest of the
      * way. */
     for (long i = 1; integrator->t < t_target;) {
+        if (jump_at_rest(integrator, t_target, &status)) {
+            t_start = integrator->t; /* the steps after a rest keep a grid from its end */
+            i = 1;
+            continue;
+        }
+        if (status != TB_STATUS_OK) {
+            return status;
+        }
         double t_end = t_start + (double)i * dt;
         if (t_end >= t_target - TB__LANDING_SLACK * dt) {
             t_end = t_target;

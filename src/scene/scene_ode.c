@@ -299,6 +299,9 @@ static void set_events_and_jacobian(const tb_scene *scene, tb_ode_system *out_sy
     if (scene->constraint_ops != NULL && out_system->events.root_count > 0) {
         out_system->events.at_event = tb__scene_at_event;
     }
+    if (!tb__scene_separable(scene)) { /* bodies that can sleep: a rest to jump over */
+        out_system->events.rest_until = tb__scene_rest_until;
+    }
     out_system->split.explicit_part = tb__scene_explicit_part;
     if (tb__scene_has_jacobian(scene)) {
         out_system->jacobian.capacity = tb__scene_jacobian_capacity;

@@ -337,6 +337,29 @@ void tb__scene_sleep_zero(const tb_scene *scene, double *dydt)
     }
 }
 
+double tb__scene_rest_until(double t, const double *y, void *ctx)
+{
+    const tb_scene *scene = ctx;
+    const tb__sleep *sleep = scene->sleep;
+    /* the flags count dynamic bodies only: all asleep is asleep_count == slot_count */
+    if (sleep == NULL || !scene->sleeping || sleep->pending || sleep->asleep_count == 0 ||
+        sleep->asleep_count != scene->slot_count || sleep->capacity != scene->body_count) {
+        return t;
+    }
+    for (size_t i = 0; i < sleep->capacity; ++i) {
+        const double *s = tb__body_state(scene, y, i);
+        if (s == NULL ? !tb__body_static(scene, i) /* a keyframed body moves by time */
+                      : memcmp(s, sleep->snapshot + TB_STATE_SIZE * i,
+                               TB_STATE_SIZE * sizeof(double)) != 0) {
+            return t; /* changed from outside: the next boundary wakes its island */
+        }
+    }
+    /* The derivative of asleep bodies is 0 and the post-step hook leaves them as they fell
+     * asleep (update_still would wake a body it changed); a boundary over bodies that are all
+     * asleep links no pair closing (none moves), so none wakes until a call changes one. */
+    return INFINITY;
+}
+
 unsigned long long tb__scene_sleep_generation(const tb_scene *scene)
 {
     return scene->sleep != NULL ? scene->sleep->generation : 0;

@@ -75,4 +75,10 @@ void tb__scene_sleep_at_event(double t, const double *y, void *ctx);
 void tb__scene_sleep_zero(const tb_scene *scene, double *dydt);
 /* Counts changes of the asleep set, for the scene's rhs_generation. */
 unsigned long long tb__scene_sleep_generation(const tb_scene *scene);
+/* tb_ode_system.events.rest_until of a scene whose bodies interact (ctx the scene): INFINITY
+ * where every dynamic body sleeps with y its frozen state, no body is keyframed and the scene
+ * sleeps (so nothing but a call from outside, which wakes an island, moves a body); t
+ * otherwise. */
+double tb__scene_rest_until(double t, const double *y, void *ctx);
+
 #endif

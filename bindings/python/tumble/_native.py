@@ -76,6 +76,7 @@ class IntegratorStats(ctypes.Structure):
         ("reinitializations", ctypes.c_long),
         ("nonlinear_iterations", ctypes.c_long),
         ("jacobian_evals", ctypes.c_long),
+        ("rest_time", ctypes.c_double),
     ]
 
 
