@@ -170,7 +170,8 @@ static void test_post_step_hook_runs_once_per_step_and_can_stop_the_run(void **s
 /* y' = 1 except on (1, 2), where y' = 0 and the system says it rests until 2 (from where it
  * is, whatever y): the fixed-step methods take the steps up to 1 and from 2, jump over the rest
  * with one post-step call at its end, and land on y = 2 at t = 3 exactly (the slope is constant on
- * every step). A hook that fails at the jump's end leaves time and state where the rest began. */
+ * every step). A hook that fails at the jump's end leaves time and state where the rest began;
+ * max_steps does not count a rest (a call at rest all the way is not refused). */
 static int slope_but_rest(double t, const double *y, double *dydt, void *ctx)
 {
     (void)y;
@@ -212,6 +213,23 @@ static void test_a_rest_is_jumped_over_without_steps(void **state)
         assert_true(stats.rest_time == 1.0);
         tb_integrator_destroy(integrator);
     }
+    /* max_steps bounds the steps a call takes: a call at rest all the way takes none */
+    double z[1] = {0.0};
+    tb_ode_system resting = {
+        .n = 1, .derivative = slope_but_rest, .events.rest_until = rests_until_two};
+    tb_integrator_def two_steps = tb_integrator_def_default();
+    two_steps.dt = 0.25;
+    two_steps.max_steps = 2;
+    tb_integrator *bounded = NULL;
+    assert_int_equal(tb_integrator_create(&resting, &two_steps, 0.0, z, &bounded, NULL),
+                     TB_STATUS_OK);
+    assert_int_equal(tb_integrator_advance(bounded, 0.5), TB_STATUS_OK);
+    assert_int_equal(tb_integrator_advance(bounded, 1.0), TB_STATUS_OK);
+    assert_int_equal(tb_integrator_advance(bounded, 2.0), TB_STATUS_OK);
+    assert_int_equal(tb_integrator_advance(bounded, 3.0), TB_STATUS_TOO_MANY_STEPS);
+    assert_true(z[0] == 1.0 && tb_integrator_time(bounded) == 2.0);
+    tb_integrator_destroy(bounded);
+
     hook_log log = {0, 5}; /* the fifth call: the jump's end */
     double y[1] = {0.0};
     tb_ode_system system = {.n = 1,

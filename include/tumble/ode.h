@@ -138,7 +138,8 @@ typedef struct tb_ode_events {
      * not. A fixed-step method's advance then moves its time to that one (or to the call's
      * end, whichever comes first) without taking steps, calls post_step once there, and counts
      * the time in tb_integrator_stats.rest_time; it asks again after each step, so a call
-     * that begins awake jumps from the step where the system came to rest. The adaptive
+     * that begins awake jumps from the step where the system came to rest, and one at rest
+     * all the way is not held to max_steps (it takes none). The adaptive
      * methods do not read it (their steps grow where the right-hand side is zero). NULL
      * (default): every step is taken. */
     double (*rest_until)(double t, const double *y, void *ctx);

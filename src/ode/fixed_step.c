@@ -497,7 +497,7 @@ static bool jump_at_rest(tb_integrator *integrator, double t_target, tb_status *
 {
     const tb_ode_system *system = &integrator->system;
     *status = TB_STATUS_OK;
-    if (system->events.rest_until == NULL || integrator->system.blocks.size != 0) {
+    if (system->events.rest_until == NULL || system->blocks.size != 0) {
         return false;
     }
     const double t = integrator->t;
@@ -517,12 +517,25 @@ static bool jump_at_rest(tb_integrator *integrator, double t_target, tb_status *
     memcpy(integrator->y, integrator->y_new, system->n * sizeof(double));
     integrator->t = until;
     integrator->stats.rest_time += until - t;
+    tb__onset_forget(integrator); /* the roots kept from the last step's end were at its time */
     return true;
+}
+
+/* Whether the system rests from the integrator's state through t_target: no step is needed. */
+static bool rests_through(const tb_integrator *integrator, double t_target)
+{
+    const tb_ode_system *system = &integrator->system;
+    return system->events.rest_until != NULL && system->blocks.size == 0 &&
+           system->events.rest_until(integrator->t, integrator->y, system->ctx) >= t_target;
 }
 
 static tb_status fixed_advance(tb_integrator *integrator, double t_target)
 {
-    tb_status status = check_budget(integrator, t_target);
+    /* at rest all the way, the call takes no step: max_steps does not bound it */
+    tb_status status =
+        rests_through(integrator, t_target)
+            ? check_time_resolution(integrator->detail, integrator->dt, t_target, "t_target")
+            : check_budget(integrator, t_target);
     if (status != TB_STATUS_OK) {
         return status;
     }
