@@ -174,10 +174,12 @@ TB_API tb_contact_def tb_contact_def_default(void);
 TB_API tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def);
 
 /* What a contact effect's friction pool did, counted at step boundaries (after every fixed
- * step, at every CVODE output). */
+ * step, before every adaptive step and at every output). */
 typedef struct tb_contact_friction_stats {
-    size_t slots;                  /* the pool's size (friction_points) */
-    size_t in_use;                 /* slots claimed at the last boundary */
+    size_t slots; /* the pool's size (friction_points) */
+    /* slots claimed at the last boundary: by touching points, reserved for points within the
+     * contact margin, or relaxing before they are free again */
+    size_t in_use;
     size_t peak_in_use;            /* the most claimed at once */
     unsigned long long boundaries; /* step boundaries seen */
     unsigned long long overflows;  /* touching points found without a free slot, summed over

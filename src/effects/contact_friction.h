@@ -6,22 +6,30 @@
  * fixed then and never changes behind an integrator.
  *
  * Which slot a point holds is a function of y and of a slot map that changes only at step
- * boundaries (tb__effect_stepping.post_step), so that between two boundaries the derivative is a
- * pure function of y:
+ * boundaries (tb__effect_stepping.post_step after every fixed step, BDF projection and ARKODE
+ * step and at every output; step_start before every adaptive step, which gives CVODE Adams one
+ * per step too), so that between two boundaries the derivative is a pure function of y:
  *   - a claimed slot is keyed by its pair (a, b) and the point's position in A's principal
  *     frame at the last boundary; the touching points of a pair (depth > 0) take the pair's
  *     claimed slots nearest first (greedy on the distance between keys, which does not depend
  *     on the order the narrow phase lists the points in);
- *   - a touching point left over takes, provisionally, the next free slot of a queue (the k-th
- *     such point of a pass the k-th queued slot), and none when the queue runs out (then the
- *     memoryless law, counted at the boundary);
+ *   - at a boundary the pair's points within the margin that do not touch yet take its claimed
+ *     slots left over, nearest first, and the rest are given slots from the queue: a point that
+ *     starts touching within the next step (under the adaptive methods the step limit keeps a pair
+ *     apart at a step's start from closing within it, but where the step is already at most
+ *     half the shortest push) finds a slot of its own pair, unloaded, whatever other pairs do;
+ *   - a touching point left over (one that came from beyond the margin within a step) takes,
+ *     provisionally, the next free slot of a queue (the k-th such point of a pass the k-th
+ *     queued slot), and none when the queue runs out (then the memoryless law, counted at the
+ *     boundary);
  *   - every slot no point holds relaxes z at TB__BRISTLE_RELEASE_RATE, by its own dynamics;
  *   - at a boundary, held slots take the points' positions as keys, provisional ones are claimed
- *     (popped from the queue's head, in the same order), and a claimed slot no point holds whose
- *     deflection has relaxed below TB__FRICTION_FREE_DEFLECTION presliding goes to the queue's
- *     tail. Neither changes the derivative at the boundary's state: a freed slot relaxes as an
- *     unheld claimed one did, and slots queued at the tail do not move the provisional slots of
- *     points that are not yet touching. */
+ *     (popped from the queue's head, in the same order), queued slots still loaded above
+ *     TB__FRICTION_FREE_DEFLECTION presliding (a provisional point that parted within the step)
+ *     leave the queue, and a claimed or set-aside slot no point holds whose deflection has
+ *     relaxed below that goes to the queue's tail. None of this changes the derivative at the
+ *     boundary's state: a freed or set-aside slot relaxes as an unheld one did, and a queue
+ *     changed behind the provisional claims moves no point that touches. */
 #ifndef TUMBLE_CONTACT_FRICTION_H
 #define TUMBLE_CONTACT_FRICTION_H
 
@@ -89,6 +97,11 @@ const tb_contact_friction_stats *tb__friction_stats(const tb__friction_pool *poo
 
 /* The contact effect's post_step op: the slot map's update at a step boundary. */
 void tb__friction_post_step(const tb__effect *effect, const tb_scene *scene, const double *y);
+/* Its step_start op: the same update (without linking sleeping islands) unless the pool's last
+ * boundary was at scene->time (the post-step hook's, at a BDF projection or an ARKODE step). */
+void tb__friction_step_start(const tb__effect *effect, const tb_scene *scene, const double *y);
+/* Whether a boundary at t would be a new one: the pool's last boundary was not at t. */
+bool tb__friction_boundary_due(const tb__friction_pool *pool, double t);
 
 /* An integrator made or reset at t (tb__effect_stepping.restart), z the pool's states in y:
  * unless t is the time of the pool's last boundary (a run continued where it stopped, after a

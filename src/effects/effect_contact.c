@@ -305,6 +305,7 @@ static const tb__effect_stepping contact_stepping = {
     .tunnel_step = tb__contact_tunnel_step,
     .check_impacts = tb__contact_check_impacts,
     .post_step = tb__friction_post_step,
+    .step_start = tb__friction_step_start,
     .restart = tb__friction_effect_restart,
     .event_pairs = tb__contact_event_pairs, /* effect_contact_event_pairs.c */
 };

@@ -19,6 +19,11 @@
 /* Pairs handled per batch of the boundary's pass. */
 #define TB__FRICTION_BATCH 16
 
+/* body_a of a slot that no pair holds but that left the queue loaded (a provisional slot whose
+ * point parted within the step): it relaxes like an unheld claimed slot and is queued again once
+ * relaxed, so that no new point takes up another's deflection. Above every body id. */
+#define TB__SLOT_RELAXING ((size_t)-2)
+
 typedef struct tb__friction_slot {
     size_t body_a, body_b;   /* the pair holding it; body_a TB__NO_SLOT when free */
     size_t piece_a, piece_b; /* the pair's touching pieces (tb__pair_contact) */
@@ -38,6 +43,10 @@ struct tb__friction_pool {
     size_t bodies;
     size_t *body_first;
     bool *held; /* scratch of the boundary's pass: capacity flags */
+    /* scratch of the boundary's pass: the points within the margin but not touching that hold
+     * no slot of their pair, each reserved one after the touching points' claims */
+    tb__friction_slot *near;
+    size_t near_count;
     double free_deflection;
     double last_boundary; /* s: the scene's time at the last boundary; NAN before the first */
     tb_contact_friction_stats stats;
@@ -53,7 +62,9 @@ tb__friction_pool *tb__friction_pool_create(size_t slots, size_t bodies, double 
     pool->queue = tb__malloc_array(slots, sizeof *pool->queue);
     pool->index = tb__malloc_array(slots, sizeof *pool->index);
     pool->held = tb__malloc_array(slots, sizeof *pool->held);
-    if (pool->slots == NULL || pool->queue == NULL || pool->index == NULL || pool->held == NULL) {
+    pool->near = tb__malloc_array(slots, sizeof *pool->near);
+    if (pool->slots == NULL || pool->queue == NULL || pool->index == NULL || pool->held == NULL ||
+        pool->near == NULL) {
         tb__friction_pool_destroy(pool);
         return NULL;
     }
@@ -77,6 +88,7 @@ void tb__friction_pool_destroy(tb__friction_pool *pool)
         free(pool->queue);
         free(pool->index);
         free(pool->held);
+        free(pool->near);
         free(pool->body_first);
         free(pool);
     }
@@ -87,12 +99,18 @@ size_t tb__friction_pool_slots(const tb__friction_pool *pool)
     return pool->capacity;
 }
 
+/* Whether a pair holds the slot (not free, not relaxing on its own). */
+static bool paired(const tb__friction_slot *slot)
+{
+    return slot->body_a < TB__SLOT_RELAXING;
+}
+
 void tb__friction_state_owners(const tb__friction_pool *pool, size_t first_state,
                                tb__coupling_visit visit, void *ctx)
 {
     for (size_t s = 0; s < pool->capacity; ++s) {
         const tb__friction_slot *slot = &pool->slots[s];
-        const bool claimed = slot->body_a != TB__NO_SLOT;
+        const bool claimed = paired(slot);
         visit(ctx, first_state + TB__FRICTION_SLOT_STATES * s, TB__FRICTION_SLOT_STATES,
               claimed ? slot->body_a : TB_ALL_BODIES, claimed ? slot->body_b : TB_ALL_BODIES);
     }
@@ -113,7 +131,9 @@ static bool same_pair(const tb__friction_slot *s, const tb__friction_slot *p)
     return s->body_b == p->body_b && s->piece_a == p->piece_a && s->piece_b == p->piece_b;
 }
 
-/* The index entries [*first, *end) of pair p: among body a's (a short run), those of p. */
+/* The index entries [*first, *end) of pair p: among body a's (a run sorted by pair, as long as
+ * a's partners times their points: a table under a dozen dice holds 48), those of p, found by
+ * bisection. */
 static void pair_run(const tb__friction_pool *pool, const tb__friction_slot *p, size_t *first,
                      size_t *end)
 {
@@ -122,12 +142,17 @@ static void pair_run(const tb__friction_pool *pool, const tb__friction_slot *p, 
         *first = *end = 0;
         return;
     }
-    size_t low = pool->body_first[a];
-    const size_t high = pool->body_first[a + 1];
-    while (low < high && pair_before(&pool->slots[pool->index[low]], p)) {
-        ++low;
+    size_t low = pool->body_first[a], high = pool->body_first[a + 1];
+    while (low < high) { /* the first entry not before p */
+        const size_t middle = low + (high - low) / 2;
+        if (pair_before(&pool->slots[pool->index[middle]], p)) {
+            low = middle + 1;
+        } else {
+            high = middle;
+        }
     }
     *first = low;
+    high = pool->body_first[a + 1];
     while (low < high && same_pair(&pool->slots[pool->index[low]], p)) {
         ++low;
     }
@@ -202,28 +227,33 @@ static void point_keys(const tb__pair_contact *pair, const tb__motion *motion_a,
     }
 }
 
-/* Greedy nearest-first matching of the touching points to the run's slots (a pair claims at
- * most one slot per point it ever had at once, so the run holds at most TB__MANIFOLD_POINTS). */
+/* Greedy nearest-first matching of the wanted points that have no slot yet to the run's slots
+ * that none holds yet (a pair claims at most one slot per point it ever had at once, so the run
+ * holds at most TB__MANIFOLD_POINTS). */
 static void match_claimed(const tb__friction_pool *pool, size_t first, size_t end, int count,
                           double keys[TB__MANIFOLD_POINTS][3],
-                          const bool touching[TB__MANIFOLD_POINTS],
-                          size_t slots[TB__MANIFOLD_POINTS])
+                          const bool wanted[TB__MANIFOLD_POINTS], size_t slots[TB__MANIFOLD_POINTS])
 {
-    bool used[TB__MANIFOLD_POINTS] = {false};
+    bool used[TB__MANIFOLD_POINTS] = {false}, open[TB__MANIFOLD_POINTS] = {false};
     const size_t run = end - first < TB__MANIFOLD_POINTS ? end - first : TB__MANIFOLD_POINTS;
     /* every distance once; the rounds then only compare them */
     double distance[TB__MANIFOLD_POINTS][TB__MANIFOLD_POINTS];
-    for (int j = 0; j < count; ++j) {
-        for (size_t r = 0; r < run && touching[j]; ++r) {
-            distance[j][r] = distance2(keys[j], pool->slots[pool->index[first + r]].key);
+    int left = 0;
+    for (int j = 0; j < count && run > 0; ++j) {
+        open[j] = wanted[j] && slots[j] == TB__NO_SLOT;
+        left += open[j];
+        for (size_t r = 0; r < run; ++r) {
+            used[r] = used[r] || slots[j] == pool->index[first + r];
+            distance[j][r] =
+                open[j] ? distance2(keys[j], pool->slots[pool->index[first + r]].key) : INFINITY;
         }
     }
-    for (size_t round = 0; round < run; ++round) {
+    for (size_t round = 0; round < run && left > 0; ++round, --left) {
         double best = INFINITY;
         int point = -1;
         size_t entry = 0;
         for (int j = 0; j < count; ++j) {
-            for (size_t r = 0; r < run && touching[j] && slots[j] == TB__NO_SLOT; ++r) {
+            for (size_t r = 0; r < run && open[j]; ++r) {
                 const double d = used[r] ? INFINITY : distance[j][r];
                 if (d < best) {
                     best = d;
@@ -236,6 +266,7 @@ static void match_claimed(const tb__friction_pool *pool, size_t first, size_t en
             return;
         }
         used[entry] = true;
+        open[point] = false;
         slots[point] = pool->index[first + entry];
     }
 }
@@ -268,7 +299,7 @@ void tb__friction_match(const tb__friction_pool *pool, const tb__pair_contact *p
 /* A claimed slot between two asleep bodies: frozen, kept claimed. */
 static bool slot_asleep(const tb__friction_slot *slot, const tb_scene *scene)
 {
-    return slot->body_a != TB__NO_SLOT && tb__pair_resting(scene, slot->body_a, slot->body_b);
+    return paired(slot) && tb__pair_resting(scene, slot->body_a, slot->body_b);
 }
 
 void tb__friction_relax_all(const tb__friction_pool *pool, const tb_scene *scene, const double *z,
@@ -355,14 +386,41 @@ void tb__friction_force(const tb__contact_params *contact, double stiffness, dou
 }
 
 /* The boundary's pass over one pair: held slots take the points' keys, provisional ones are
- * claimed for the pair. */
+ * claimed for the pair; link: the pair's bodies share a sleeping island. */
 static void hold_pair(tb__friction_pool *pool, const tb_scene *scene, const double *y,
-                      const tb__pair_contact *pair, size_t *fresh)
+                      const tb__pair_contact *pair, bool link, size_t *fresh)
 {
     tb__motion motion;
     tb__body_motion_at(scene, scene->time, y, pair->body_a, &motion);
-    tb__scene_sleep_link(scene, pair->body_a, pair->body_b);
+    if (link) {
+        tb__scene_sleep_link(scene, pair->body_a, pair->body_b);
+    }
     tb__friction_hold(pool, pair, &motion, fresh);
+}
+
+/* The points within the margin that do not touch: the pair's claimed slots that no touching
+ * point holds, nearest first, else one reserved at the boundary's end, so that a point that
+ * starts touching within the next step finds a slot of its own pair. */
+static void hold_near(tb__friction_pool *pool, const tb__pair_contact *pair,
+                      double keys[TB__MANIFOLD_POINTS][3], const bool touching[TB__MANIFOLD_POINTS],
+                      size_t slots[TB__MANIFOLD_POINTS])
+{
+    const int count = pair->manifold.count;
+    bool near[TB__MANIFOLD_POINTS] = {false};
+    for (int j = 0; j < count; ++j) {
+        near[j] = !touching[j];
+    }
+    const tb__friction_slot key = {pair->body_a, pair->body_b, pair->piece_a, pair->piece_b, {0}};
+    size_t first, end;
+    pair_run(pool, &key, &first, &end);
+    match_claimed(pool, first, end, count, keys, near, slots);
+    for (int j = 0; j < count && pair->body_a < pool->bodies; ++j) {
+        if (near[j] && slots[j] == TB__NO_SLOT && pool->near_count < pool->capacity) {
+            tb__friction_slot *reserved = &pool->near[pool->near_count++];
+            *reserved = key;
+            tb__v3_set(reserved->key, keys[j][0], keys[j][1], keys[j][2]);
+        }
+    }
 }
 
 void tb__friction_hold(tb__friction_pool *pool, const tb__pair_contact *pair,
@@ -372,7 +430,8 @@ void tb__friction_hold(tb__friction_pool *pool, const tb__pair_contact *pair,
     bool touching[TB__MANIFOLD_POINTS];
     size_t slots[TB__MANIFOLD_POINTS];
     point_keys(pair, motion_a, keys, touching);
-    tb__friction_match(pool, pair, motion_a, fresh, slots);
+    tb__friction_match(pool, pair, motion_a, fresh, slots); /* the touching points, as f(t, y) */
+    hold_near(pool, pair, keys, touching, slots);
     for (int j = 0; j < pair->manifold.count; ++j) {
         if (slots[j] == TB__NO_SLOT) {
             continue;
@@ -422,7 +481,9 @@ static void update_index(tb__friction_pool *pool, const tb_scene *scene, const d
     index_bodies(pool);
 }
 
-void tb__friction_post_step(const tb__effect *effect, const tb_scene *scene, const double *y)
+/* The boundary's pass over the effect's pairs at y (scene->time), then its end. */
+static void boundary_pass(const tb__effect *effect, const tb_scene *scene, const double *y,
+                          bool link)
 {
     const tb__contact_params *contact = tb__contact_of(effect);
     tb__friction_pool *pool = contact->friction;
@@ -433,16 +494,66 @@ void tb__friction_post_step(const tb__effect *effect, const tb_scene *scene, con
     while ((count = tb__contact_pairs_next(contact->pairs, scene, y, batch, TB__FRICTION_BATCH)) >
            0) {
         for (size_t k = 0; k < count; ++k) {
-            hold_pair(pool, scene, y, &batch[k], &fresh);
+            hold_pair(pool, scene, y, &batch[k], link, &fresh);
         }
     }
     tb__friction_boundary_end(pool, scene, y + effect->state_offset, fresh);
+}
+
+void tb__friction_post_step(const tb__effect *effect, const tb_scene *scene, const double *y)
+{
+    boundary_pass(effect, scene, y, true);
+}
+
+bool tb__friction_boundary_due(const tb__friction_pool *pool, double t)
+{
+    return t != pool->last_boundary;
+}
+
+void tb__friction_step_start(const tb__effect *effect, const tb_scene *scene, const double *y)
+{
+    if (tb__friction_boundary_due(tb__contact_of(effect)->friction, scene->time)) {
+        boundary_pass(effect, scene, y, false); /* the islands are linked at the post-step hook */
+    }
 }
 
 void tb__friction_boundary_begin(tb__friction_pool *pool)
 {
     for (size_t s = 0; s < pool->capacity; ++s) {
         pool->held[s] = false;
+    }
+    pool->near_count = 0;
+}
+
+/* The queue's slots whose deflection is loaded (a provisional slot whose point parted within the
+ * step, a restart's loaded anchor) leave it and relax as TB__SLOT_RELAXING, put into the index
+ * with the claims, until update_index queues them again relaxed; the rest keep their order. */
+static void set_aside_loaded(tb__friction_pool *pool, const double *z)
+{
+    const double loaded = pool->free_deflection * pool->free_deflection;
+    size_t kept = 0;
+    for (size_t k = 0; k < pool->free_count; ++k) {
+        const size_t s = pool->queue[(pool->head + k) % pool->capacity];
+        const double *zs = z + TB__FRICTION_SLOT_STATES * s;
+        if (tb__v3_dot(zs, zs) >= loaded) {
+            pool->slots[s].body_a = TB__SLOT_RELAXING;
+            pool->held[s] = true;
+        } else {
+            pool->queue[(pool->head + kept++) % pool->capacity] = s;
+        }
+    }
+    pool->free_count = kept;
+}
+
+/* The near points' reservations, from the queue's head (after the touching points' claims). */
+static void reserve_near(tb__friction_pool *pool)
+{
+    for (size_t k = 0; k < pool->near_count && pool->free_count > 0; ++k) {
+        const size_t s = pool->queue[pool->head];
+        pool->head = (pool->head + 1) % pool->capacity;
+        pool->free_count--;
+        pool->slots[s] = pool->near[k];
+        pool->held[s] = true;
     }
 }
 
@@ -452,6 +563,8 @@ void tb__friction_boundary_end(tb__friction_pool *pool, const tb_scene *scene, c
     const size_t claimed = fresh < pool->free_count ? fresh : pool->free_count;
     pool->head = (pool->head + claimed) % pool->capacity;
     pool->free_count -= claimed;
+    set_aside_loaded(pool, z);
+    reserve_near(pool);
     update_index(pool, scene, z);
     pool->last_boundary = scene->time;
     tb_contact_friction_stats *stats = &pool->stats;

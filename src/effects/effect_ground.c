@@ -343,6 +343,7 @@ static const tb__effect_stepping ground_stepping = {
     .event_gaps = ground_event_gaps,
     /* the shapes of bodies without points (effect_ground_shapes.c): their friction slots' map */
     .post_step = tb__ground_shapes_post_step,
+    .step_start = tb__ground_shapes_step_start,
     .restart = tb__ground_shapes_restart,
     .shapes_changed = tb__ground_shapes_changed,
     .event_pairs = tb__ground_event_pairs, /* effect_contact_event_pairs.c */

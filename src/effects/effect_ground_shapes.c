@@ -289,6 +289,14 @@ void tb__ground_shapes_post_step(const tb__effect *effect, const tb_scene *scene
     tb__friction_boundary_end(pool, scene, y + pool_first_state(effect, scene), fresh);
 }
 
+void tb__ground_shapes_step_start(const tb__effect *effect, const tb_scene *scene, const double *y)
+{
+    const tb__friction_pool *pool = tb__ground_of(effect)->shapes->law.friction;
+    if (pool != NULL && tb__friction_boundary_due(pool, scene->time)) {
+        tb__ground_shapes_post_step(effect, scene, y); /* it links no islands */
+    }
+}
+
 void tb__ground_shapes_restart(const tb__effect *effect, const tb_scene *scene, double t,
                                const double *y)
 {

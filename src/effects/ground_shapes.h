@@ -52,6 +52,8 @@ tb_status tb__ground_shapes_check_start(const tb__effect *effect, const tb_scene
 void tb__ground_shapes_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
                                   double *gap);
 void tb__ground_shapes_post_step(const tb__effect *effect, const tb_scene *scene, const double *y);
+/* Its step_start op: the same where the pool's last boundary was not at scene->time. */
+void tb__ground_shapes_step_start(const tb__effect *effect, const tb_scene *scene, const double *y);
 /* Its restart op: the pool's (tb__friction_restart). */
 void tb__ground_shapes_restart(const tb__effect *effect, const tb_scene *scene, double t,
                                const double *y);

@@ -107,6 +107,9 @@ double tb__scene_step_limit(double t, const double *y, const double *dydt, void 
     double limit = INFINITY;
     for (size_t k = 0; k < scene->effect_count; ++k) {
         const tb__effect *effect = &scene->effects[k];
+        if (tb__stepping_of(effect)->step_start != NULL) {
+            tb__stepping_of(effect)->step_start(effect, scene, y);
+        }
         if (tb__stepping_of(effect)->adaptive_step_limit != NULL) {
             limit =
                 fmin(limit, tb__stepping_of(effect)->adaptive_step_limit(effect, scene, y, dydt));

@@ -161,15 +161,15 @@ struct tb__effect_stepping {
      * advance (tb__scene_check_impacts). NULL: none. */
     tb_status (*check_impacts)(const tb__effect *effect, const tb_scene *scene, const double *y,
                                char *detail);
-    /* Called at each step boundary with the accepted state (the scene's post-step hook: after
-     * every fixed step, at every CVODE output and BDF projection), never inside a derivative:
-     * bookkeeping outside y that the derivative reads (the contact effect's friction slot
-     * map). It must not change y, and must leave the derivative at y as it was. NULL: none. */
+    /* Bookkeeping outside y the derivative reads (the friction slot map), at each step boundary
+     * with its accepted state: post_step after every fixed step, CVODE output and BDF projection,
+     * step_start before every adaptive step (tb__scene_step_limit; Adams has no other), no islands
+     * linked. Never inside a derivative; y and the derivative at y stay. NULL: none. */
     void (*post_step)(const tb__effect *effect, const tb_scene *scene, const double *y);
-    /* An integrator made or reset at t from y (tb__scene_restart): the bookkeeping post_step
-     * keeps outside y starts again from y alone, unless the integrator continues where the last
-     * boundary was, so that a run from a state is the same whatever ran on the scene before
-     * (the friction slot map). NULL: none. */
+    void (*step_start)(const tb__effect *effect, const tb_scene *scene, const double *y);
+    /* An integrator made or reset at t from y (tb__scene_restart): that bookkeeping starts again
+     * from y alone, unless it continues where the last boundary was, so that a run from a state
+     * is the same whatever ran on the scene before. NULL: none. */
     void (*restart)(const tb__effect *effect, const tb_scene *scene, double t, const double *y);
     /* Body id's shape was set or removed (tb_scene_set_body_shape, the scene idle): the effect
      * may change how many states it owns and lay the scene's states out again
