@@ -85,7 +85,9 @@ TB_API tb_status tb_scene_add_spring(tb_scene *scene, const tb_spring_def *def);
  * default step (tb_scene_default_step). A body whose contact point starts deeper than 10
  * penetrations inside the plane is refused (TB_STATUS_INVALID_ARGUMENT, naming it and its depth)
  * by tb_scene_add_ground or tb_scene_set_contact_points, whichever comes last: the contact would
- * launch it. */
+ * launch it. A plane facing the way an earlier ground plane faces (normals within 1e-6 rad) is
+ * refused (TB_STATUS_INVALID_ARGUMENT naming the earlier one): the two would push the same points
+ * twice, or one would lie buried in the other's ground (tests/test_effects.c). */
 typedef struct tb_ground_def {
     double normal[3];         /* pointing out of the ground, any finite nonzero length (normalised,
                                  scaled first: (0,0,1e-300) is up); default (0,0,1) */
