@@ -581,7 +581,7 @@ static void test_setting_events_from_the_callback_is_refused(void **unused)
 
 typedef struct state_writes {
     tb_scene *scene;
-    tb_status set_state, set_velocity;
+    tb_status set_state, set_velocity, add_ground, set_points;
 } state_writes;
 
 /* Sends the ball (body 0) up at 2 m/s: what a callback must not do while the scene steps. */
@@ -594,11 +594,20 @@ static void write_state(const tb_contact_event *event, void *ctx)
     state.P[2] = 0.2;
     w->set_state = tb_scene_set_state(w->scene, 0, &state);
     w->set_velocity = tb_scene_set_velocity(w->scene, 0, (double[]){0, 0, 2}, (double[]){0, 0, 0});
+    /* a ceiling 1 cm up and a point 1 m down: both deep in a plane, which their start checks
+     * refused with INVALID_ARGUMENT before they asked whether the scene was being stepped */
+    tb_ground_def ceiling = tb_ground_def_default();
+    ceiling.normal[2] = -1.0;
+    ceiling.offset = -0.01;
+    w->add_ground = tb_scene_add_ground(w->scene, &ceiling);
+    const tb_contact_point deep = {{0, 0, -1}, 0.0};
+    w->set_points = tb_scene_set_contact_points(w->scene, 0, &deep, 1, 1);
 }
 
 /* Writing a body's state from the callback (mid-advance: under CVODE the write would be lost
  * or break its history, under fixed steps it would change what the step reads) is refused
- * (TB_STATUS_BUSY) and the run ends where a run without the writes ends, bit for bit. */
+ * (TB_STATUS_BUSY) and the run ends where a run without the writes ends, bit for bit. So are
+ * a ground plane and contact points, BUSY before their checks of the state. */
 static void test_writing_states_from_the_callback_is_refused(void **unused)
 {
     (void)unused;
@@ -611,7 +620,7 @@ static void test_writing_states_from_the_callback_is_refused(void **unused)
         watch(control, &log, 0.0);
         run_for(control, &method, 0.3);
         tb_scene *scene = ball_over_ground(0.3, 0.5, 0.0);
-        state_writes w = {scene, TB_STATUS_OK, TB_STATUS_OK};
+        state_writes w = {scene, TB_STATUS_OK, TB_STATUS_OK, TB_STATUS_OK, TB_STATUS_OK};
         tb_contact_events_def def = tb_contact_events_def_default();
         def.fn = write_state;
         def.ctx = &w;
@@ -619,6 +628,9 @@ static void test_writing_states_from_the_callback_is_refused(void **unused)
         run_for(scene, &method, 0.3);
         assert_int_equal(w.set_state, TB_STATUS_BUSY);
         assert_int_equal(w.set_velocity, TB_STATUS_BUSY);
+        assert_int_equal(w.add_ground, TB_STATUS_BUSY);
+        assert_int_equal(w.set_points, TB_STATUS_BUSY);
+        assert_int_equal(tb_scene_effect_count(scene), tb_scene_effect_count(control));
         assert_memory_equal(tb_scene_states_const(scene), tb_scene_states_const(control),
                             tb_scene_state_size(scene) * sizeof(double));
         tb_scene_destroy(scene);

@@ -478,7 +478,11 @@ tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def)
     if (def == NULL) {
         return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "def is NULL");
     }
-    tb_status status = validate_contact(scene, def);
+    /* before the pair finder, the set checks and the start check run under the step */
+    tb_status status = tb__scene_check_idle(scene, "adding an effect");
+    if (status == TB_STATUS_OK) {
+        status = validate_contact(scene, def);
+    }
     if (status == TB_STATUS_OK) {
         status = validate_friction(scene, def);
     }

@@ -524,7 +524,11 @@ tb_status tb_scene_add_ground(tb_scene *scene, const tb_ground_def *def)
     if (def == NULL) {
         return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "def is NULL");
     }
-    tb_status status = validate_ground(scene, def);
+    /* before the checks that read the state under the step (the start depth) */
+    tb_status status = tb__scene_check_idle(scene, "adding an effect");
+    if (status == TB_STATUS_OK) {
+        status = validate_ground(scene, def);
+    }
     if (status != TB_STATUS_OK) {
         return status;
     }
