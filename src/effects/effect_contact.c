@@ -371,12 +371,17 @@ static tb_status validate_contact(tb_scene *scene, const tb_contact_def *def)
     if (status == TB_STATUS_OK) {
         status = tb__validate_nonnegative(detail, def->kinetic_friction, "kinetic_friction");
     }
-    if (status == TB_STATUS_OK && !(def->restitution >= 0.0 && def->restitution <= 1.0)) {
+    if (status == TB_STATUS_OK) { /* NaN and infinities: NOT_FINITE, as every other field's */
+        status = tb__validate_nonnegative(detail, def->restitution, "restitution");
+    }
+    if (status == TB_STATUS_OK && !(def->restitution <= 1.0)) {
         status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
                                 "restitution: must be in [0, 1], got %g", def->restitution);
     }
-    if (status == TB_STATUS_OK &&
-        !(isfinite(def->static_friction) && def->static_friction >= def->kinetic_friction)) {
+    if (status == TB_STATUS_OK) {
+        status = tb__validate_finite(detail, def->static_friction, "static_friction");
+    }
+    if (status == TB_STATUS_OK && !(def->static_friction >= def->kinetic_friction)) {
         status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
                                 "static_friction: must be finite and >= kinetic_friction (%g), "
                                 "got %g",
@@ -394,6 +399,12 @@ static tb_status validate_contact(tb_scene *scene, const tb_contact_def *def)
     if (status == TB_STATUS_OK && def->bodies == NULL && def->body_count > 0) {
         status = tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "bodies is NULL (body_count %zu)",
                                 def->body_count);
+    }
+    /* a list given with its count forgotten: an effect that touches nothing, silently */
+    if (status == TB_STATUS_OK && def->bodies != NULL && def->body_count == 0) {
+        status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                                "body_count: 0 with a list of bodies (an effect that touches "
+                                "nothing); bodies NULL is every body");
     }
     /* before copy_bodies sizes its copy by body_count: the ids, checked in order, show a count
      * past the scene's by a repeat or an id out of range among the first body_count + 1 */

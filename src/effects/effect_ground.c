@@ -443,7 +443,10 @@ static tb_status validate_ground(tb_scene *scene, const tb_ground_def *def)
     for (size_t k = 0; k < 1 && status == TB_STATUS_OK; ++k) {
         status = tb__validate_nonnegative(detail, nonnegative[k].value, nonnegative[k].name);
     }
-    if (status == TB_STATUS_OK && !(def->restitution >= 0.0 && def->restitution <= 1.0)) {
+    if (status == TB_STATUS_OK) { /* NaN and infinities: NOT_FINITE, as every other field's */
+        status = tb__validate_nonnegative(detail, def->restitution, "restitution");
+    }
+    if (status == TB_STATUS_OK && !(def->restitution <= 1.0)) {
         status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
                                 "restitution: must be in [0, 1], got %g", def->restitution);
     }
