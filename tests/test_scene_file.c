@@ -469,6 +469,13 @@ static void test_obj_reader_takes_regular_files_of_bounded_size(void **state)
     tb_error error;
     assert_int_equal(load_cube(CUBE_SCENE("pipe.obj"), folder, NULL, &error), TB_STATUS_IO_ERROR);
     assert_non_null(strstr(error.message, "not a regular file"));
+    /* the scene's folder itself ("." or ""): a directory, not a file "outside the folder ...:
+     * /f is not in /f", as the check of the path said before it counted the folder as in it */
+    static const char *const folders[] = {CUBE_SCENE("."), CUBE_SCENE("")};
+    for (size_t i = 0; i < 2; ++i) {
+        assert_int_equal(load_cube(folders[i], folder, NULL, &error), TB_STATUS_IO_ERROR);
+        assert_non_null(strstr(error.message, "not a regular file (a directory"));
+    }
 
     tb_scene_file_options anywhere = tb_scene_file_options_default();
     anywhere.allow_paths_outside = true;
