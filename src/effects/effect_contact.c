@@ -480,6 +480,17 @@ static tb_status make_pool(tb_scene *scene, const tb_contact_def *def, tb__effec
     return TB_STATUS_OK;
 }
 
+/* The scene idle (before the pair finder, the set checks and the start check run under the
+ * step) and def's fields. */
+static tb_status check_def(tb_scene *scene, const tb_contact_def *def)
+{
+    tb_status status = tb__scene_check_idle(scene, "adding an effect");
+    if (status == TB_STATUS_OK) {
+        status = validate_contact(scene, def);
+    }
+    return status == TB_STATUS_OK ? validate_friction(scene, def) : status;
+}
+
 tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def)
 {
     if (scene == NULL) {
@@ -489,14 +500,7 @@ tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def)
     if (def == NULL) {
         return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "def is NULL");
     }
-    /* before the pair finder, the set checks and the start check run under the step */
-    tb_status status = tb__scene_check_idle(scene, "adding an effect");
-    if (status == TB_STATUS_OK) {
-        status = validate_contact(scene, def);
-    }
-    if (status == TB_STATUS_OK) {
-        status = validate_friction(scene, def);
-    }
+    tb_status status = check_def(scene, def);
     tb__contact_params params = {.pairs = NULL}, *contact = &params;
     tb__effect effect = {.ops = &contact_ops, .body = TB_ALL_BODIES, .params = &params};
     if (status == TB_STATUS_OK) {
