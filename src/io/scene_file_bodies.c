@@ -72,6 +72,12 @@ static tb_status load_contact(tb__loader *ld, const json_t *body, const char *pa
         b->has_contacts = false;
         return TB_STATUS_OK;
     }
+    if (b->def.motion != TB_MOTION_DYNAMIC) { /* not dropped without a word */
+        return tb__load_fail(ld, TB_STATUS_BAD_SCENE, where,
+                             "a %s body has no contact points: ground planes push only dynamic "
+                             "bodies (contact between bodies uses its shape); remove it",
+                             b->def.motion == TB_MOTION_STATIC ? "static" : "keyframed");
+    }
     static const char *const keys[] = {"points", "support", NULL};
     tb_status status = tb__json_object(ld, contact, where, keys);
     const json_t *list = json_object_get(contact, "points");
