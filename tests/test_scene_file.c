@@ -224,6 +224,12 @@ static const struct {
      "{\"bodies\": [" BODY "], \"output\": {\"fps\": 1000, \"duration\": 1.1e6}}",
      TB_STATUS_BAD_SCENE,
      "output: duration: must be >= 0 and at most 1e9 frames (TB_RUN_MAX_FRAMES) at 1000 fps"},
+    {"a points piece with its points (was: an unknown key \"points\")",
+     "{\"bodies\": [{\"name\": \"a\", \"density\": 1, \"shape\": [{\"type\": \"box\", "
+     "\"size\": [1, 1, 1]}, {\"type\": \"points\", \"points\": [{\"position\": [0, 0, 0], "
+     "\"mass\": 1}]}]}]}",
+     TB_STATUS_BAD_SCENE,
+     "bodies[0].shape[1]: type: a points shape carries its own masses and cannot be a piece"},
     {"mesh file by absolute path outside",
      "{\"bodies\": [{\"name\": \"a\", \"shape\": {\"type\": \"mesh\", \"file\": "
      "\"/etc/passwd\"}, \"density\": 1}]}",
