@@ -166,8 +166,8 @@ typedef struct tb_contact_def {
 
 TB_API tb_contact_def tb_contact_def_default(void);
 /* Refuses (TB_STATUS_INVALID_ARGUMENT, naming the field or the bodies; nothing added) a bad
- * field (NaN or infinite: TB_STATUS_NOT_FINITE); a list of bodies with body_count 0 (an effect
- * that touches nothing); a contact rate sqrt(gravity / penetration) above 1e9 rad/s (an impact
+ * field (NaN or infinite: TB_STATUS_NOT_FINITE); a list of bodies with body_count 0, of one
+ * body, or of static and keyframed bodies only (an effect that touches nothing); a contact rate sqrt(gravity / penetration) above 1e9 rad/s (an impact
  * shorter than 3 ns); a repeated id (so a body_count past the scene's is refused after reading
  * at most body count + 1 ids), an id past the scene (TB_STATUS_OUT_OF_RANGE); a listed body without a
  * collision shape; and a set that shares two bodies with an earlier contact effect (that pair

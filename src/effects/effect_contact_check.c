@@ -24,6 +24,30 @@ static bool two_marked(const unsigned char *in, const size_t *bodies, size_t cou
     return found == 2;
 }
 
+/* A list with no pair that can touch: one body, or bodies none of which moves (a pair of static
+ * and keyframed bodies is never tested). The scene file's loader took both, and the effect pushed
+ * nothing, with no word. */
+static tb_status check_movers(tb_scene *scene, const size_t *bodies, size_t count)
+{
+    size_t dynamic = 0;
+    for (size_t k = 0; k < count; ++k) {
+        dynamic += scene->slots[bodies[k]] != TB_NO_SLOT;
+    }
+    if (count < 2) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "bodies: only %zu listed: a contact pushes pairs of bodies, and one "
+                              "body makes none",
+                              count);
+    }
+    if (dynamic == 0) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "bodies: none of the %zu listed is dynamic: pairs of static and "
+                              "keyframed bodies are never tested, so the effect would push nothing",
+                              count);
+    }
+    return TB_STATUS_OK;
+}
+
 tb_status tb__contact_check_shapes(tb_scene *scene, const size_t *bodies, size_t count)
 {
     for (size_t k = 0; k < count; ++k) {
@@ -35,7 +59,7 @@ tb_status tb__contact_check_shapes(tb_scene *scene, const size_t *bodies, size_t
                                   k, id, scene->names[id]);
         }
     }
-    return TB_STATUS_OK;
+    return check_movers(scene, bodies, count);
 }
 
 tb_status tb__contact_check_shared_pairs(tb_scene *scene, const tb__effect_ops *ops,
