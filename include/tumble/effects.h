@@ -166,14 +166,15 @@ typedef struct tb_contact_def {
 
 TB_API tb_contact_def tb_contact_def_default(void);
 /* Refuses (TB_STATUS_INVALID_ARGUMENT, naming the field or the bodies; nothing added) a bad
- * field (NaN or infinite: TB_STATUS_NOT_FINITE); a list of bodies with body_count 0, of one
- * body, or of static and keyframed bodies only (an effect that touches nothing); a contact rate sqrt(gravity / penetration) above 1e9 rad/s (an impact
- * shorter than 3 ns); a repeated id (so a body_count past the scene's is refused after reading
- * at most body count + 1 ids), an id past the scene (TB_STATUS_OUT_OF_RANGE); a listed body without a
- * collision shape; and a set that shares two bodies with an earlier contact effect (that pair
- * would be pushed by both). tb_scene_integrator_create, and every advance, step and reset after
- * the state was changed from outside, then refuse a state in which a pair lies deeper inside
- * each other than 10 times the depth that carries the heavier body's weight. */
+ * field (NaN or infinite: TB_STATUS_NOT_FINITE); a list of bodies with body_count 0, of one body,
+ * or of static and keyframed bodies only (an effect that touches nothing); a contact rate
+ * sqrt(gravity / penetration) above 1e9 rad/s (an impact shorter than 3 ns); a repeated id (so a
+ * body_count past the scene's is refused after reading at most body count + 1 ids), an id past
+ * the scene (TB_STATUS_OUT_OF_RANGE); a listed body without a collision shape; and a set that
+ * shares two bodies with an earlier contact effect (that pair would be pushed by both).
+ * tb_scene_integrator_create, and every advance, step and reset after the state (or a shape) was
+ * changed from outside, then refuse a state in which a pair lies deeper inside each other than 10
+ * times the depth that carries the heavier body's weight. */
 TB_API tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def);
 
 /* What a contact effect's friction pool did, counted at step boundaries (after every fixed
