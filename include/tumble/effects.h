@@ -91,7 +91,9 @@ TB_API tb_status tb_scene_add_spring(tb_scene *scene, const tb_spring_def *def);
 typedef struct tb_ground_def {
     double normal[3];         /* pointing out of the ground, any finite nonzero length (normalised,
                                  scaled first: (0,0,1e-300) is up); default (0,0,1) */
-    double offset;            /* the plane is normal . x = offset, m; default 0 */
+    double offset;            /* the plane is n . x = offset with n the unit normal (the
+                                 plane's signed distance from the origin whatever the normal's
+                                 length: (0, 0, 2) with offset 1 is z = 1), m; default 0 */
     double gravity;           /* g used to size the contact, m/s^2, > 0; default 9.81 */
     double penetration;       /* static sinking under a body's own weight, m, > 0; 8e-7 */
     double restitution;       /* e in [0, 1]: a point hits at v and leaves at e v; default 0.3 */
