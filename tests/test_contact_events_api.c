@@ -638,6 +638,50 @@ static void test_writing_states_from_the_callback_is_refused(void **unused)
     }
 }
 
+typedef struct destroyer {
+    tb_integrator *integrator; /* destroyed at the first event, then NULL */
+    size_t events;
+} destroyer;
+
+static void destroy_at_first_event(const tb_contact_event *event, void *ctx)
+{
+    (void)event;
+    destroyer *d = ctx;
+    ++d->events;
+    tb_integrator_destroy(d->integrator); /* the one stepping: "stop at the first hit" */
+    d->integrator = NULL;
+}
+
+/* A red-team find: a callback that destroys the integrator stepping the scene (to stop at the
+ * first hit) freed it under its own advance, which then read freed memory (AddressSanitizer:
+ * heap-use-after-free in the fixed step). It is now freed as that advance ends: the advance
+ * returns its status, the scene is released (a new integrator advances it), and the sanitized
+ * builds see no invalid access and no leak. */
+static void test_the_callback_may_destroy_the_integrator(void **unused)
+{
+    (void)unused;
+    const tb_method methods[] = {TB_METHOD_RK4, TB_METHOD_CVODE_ADAMS};
+    for (size_t m = 0; m < sizeof methods / sizeof methods[0]; ++m) {
+        const tb_integrator_def method =
+            test_integrator_def(methods[m], 0.0, tb_method_is_adaptive(methods[m]) ? 1e-6 : 0.0);
+        tb_scene *scene = ball_over_ground(0.3, 0.5, 0.0);
+        destroyer d = {NULL, 0};
+        tb_contact_events_def def = tb_contact_events_def_default();
+        def.fn = destroy_at_first_event;
+        def.ctx = &d;
+        assert_int_equal(tb_scene_set_contact_events(scene, &def), TB_STATUS_OK);
+        d.integrator = test_integrator(scene, &method);
+        assert_int_equal(tb_integrator_advance(d.integrator, 0.4), TB_STATUS_OK);
+        assert_null(d.integrator);
+        print_message("%s: %zu events\n", tb_method_name(methods[m]), d.events);
+        assert_true(d.events >= 1);
+        tb_integrator *again = test_integrator(scene, &method);
+        assert_int_equal(tb_integrator_advance(again, 0.5), TB_STATUS_OK);
+        tb_integrator_destroy(again);
+        tb_scene_destroy(scene);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -653,6 +697,7 @@ int main(void)
         cmocka_unit_test(test_bad_definitions_are_refused_and_change_nothing),
         cmocka_unit_test(test_setting_events_from_the_callback_is_refused),
         cmocka_unit_test(test_writing_states_from_the_callback_is_refused),
+        cmocka_unit_test(test_the_callback_may_destroy_the_integrator),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
