@@ -44,7 +44,7 @@ KEY_LISTS = {
     ("scene_file.c", "load_document", "keys"): [""],
     ("scene_file_bodies.c", "load_body", "keys"): ["body"],
     ("scene_file_bodies.c", "load_contact", "keys"): ["contact_points"],
-    ("scene_file_bodies.c", "load_contact", "point_keys"): ["contact_point"],
+    ("scene_file_bodies.c", "load_contact_point", "point_keys"): ["contact_point"],
     ("scene_file_shapes.c", "tb__load_shape_object", "keys"): [f"shape_{s}" for s in SHAPES],
     ("scene_file_shapes.c", "tb__load_shape_object", "piece_keys"): [f"piece_{s}"
                                                                        for s in SHAPES[:-1]],
