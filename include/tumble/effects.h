@@ -176,7 +176,7 @@ TB_API tb_contact_def tb_contact_def_default(void);
  * shares two bodies with an earlier contact effect (that pair would be pushed by both).
  * tb_scene_integrator_create, and every advance, step and reset after the state (or a shape) was
  * changed from outside, then refuse a state in which a pair lies deeper inside each other than 10
- * times the depth that carries the heavier body's weight. */
+ * times the depth that carries the heavier body's weight, or past the thinner body's middle. */
 TB_API tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def);
 
 /* What a contact effect's friction pool did, counted at step boundaries (after every fixed
