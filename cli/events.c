@@ -41,6 +41,15 @@ bool cli_events_open(cli_events *e, const char *path, const char *scene_path, tb
         snprintf(message, size, "--events %s: must end in .csv or .json", path);
         return false;
     }
+    size_t named = 0; /* the rows name a ground plane "ground": a body so named would be it */
+    if (tb_scene_ground_count(scene) > 0 &&
+        tb_scene_find_body(scene, "ground", &named) == TB_STATUS_OK) {
+        snprintf(message, size,
+                 "--events %s: body %zu is named \"ground\", the name the events give a ground "
+                 "plane, and the scene has a ground plane: rename the body",
+                 path, named);
+        return false;
+    }
     if (!cli_output_open(&e->output, path, scene_path, message, size)) {
         return false;
     }

@@ -40,6 +40,8 @@ typedef struct fixture {
     tb_visual_mesh visual_out;
     tb_contact_def bad_contact, null_bodies;
     tb_contact_def huge_body_count, huge_friction_points, shapeless, huge_gravity;
+    tb_contact_def nan_restitution, forgotten_count;
+    tb_ground_def nan_ground_restitution;
     tb_scene_def huge_body_capacity;
     size_t first_body[2];
     double far_vertices[12], flat_vertices[12], nan_vertices[12];
@@ -108,6 +110,14 @@ static void set_up_counts(fixture *f)
     f->shapeless.body_count = 1;
     f->huge_gravity = tb_contact_def_default();
     f->huge_gravity.gravity = 1e300; /* omega 1e153 rad/s: the run failed */
+    /* a contact surface's red team: NaN is NOT_FINITE in every field; a list of bodies with
+     * its count left 0 made an effect that touched nothing, silently */
+    f->nan_restitution = tb_contact_def_default();
+    f->nan_restitution.restitution = NAN;
+    f->nan_ground_restitution = tb_ground_def_default();
+    f->nan_ground_restitution.restitution = NAN;
+    f->forgotten_count = tb_contact_def_default();
+    f->forgotten_count.bodies = f->first_body;
     f->huge_body_capacity = tb_scene_def_default();
     f->huge_body_capacity.body_capacity = (size_t)1 << 61;
 }
@@ -431,6 +441,14 @@ static void set_up(fixture *f)
       tb_scene_add_contact(f->scene, &f->shapeless))                                               \
     X("add_contact: gravity 1e300", INVALID_ARGUMENT,                                              \
       tb_scene_add_contact(f->scene, &f->huge_gravity))                                            \
+    X("add_contact: NaN restitution", NOT_FINITE,                                                  \
+      tb_scene_add_contact(f->scene, &f->nan_restitution))                                         \
+    X("add_ground: NaN restitution", NOT_FINITE,                                                   \
+      tb_scene_add_ground(f->scene, &f->nan_ground_restitution))                                   \
+    X("add_contact: a list of bodies, body_count 0", INVALID_ARGUMENT,                             \
+      tb_scene_add_contact(f->scene, &f->forgotten_count))                                         \
+    X("body_contact_point_count: NULL out", NULL_POINTER,                                          \
+      tb_scene_body_contact_point_count(f->scene, 0, NULL))                                        \
     X("scene_create: body_capacity 2^61", OUT_OF_MEMORY,                                           \
       tb_scene_create(&f->huge_body_capacity, &f->other_scene, NULL))                              \
     X("mesh: 2^62 triangles", BAD_MESH,                                                            \

@@ -278,6 +278,55 @@ static void test_bad_contact_definitions_are_refused_and_change_nothing(void **s
     tb_scene_destroy(scene);
 }
 
+/* A red-team find: a list with no pair the effect could push (one body; two static walls) was
+ * taken, and the scene file's `"bodies": ["ball"]` with it: an effect that pushed nothing, with
+ * no word. Both are refused naming what is missing, nothing added; a wall with the ball is a
+ * pair, and taken. */
+static void test_a_list_with_no_pair_to_push_is_refused(void **state)
+{
+    (void)state;
+    tb_scene *scene = test_empty_scene();
+    add_ball(scene, 1.0, 0.1, (double[]){0, 0, 0}, (double[]){0, 0, 0});
+    for (int k = 0; k < 2; ++k) {
+        tb_body_def wall = tb_body_def_default();
+        wall.motion = TB_MOTION_STATIC;
+        wall.position[0] = k == 0 ? -1.0 : 1.0;
+        size_t id;
+        assert_int_equal(tb_scene_add_body(scene, &wall, &id), TB_STATUS_OK);
+        tb_shape shape = tb_shape_default();
+        shape.type = TB_SHAPE_BOX;
+        shape.size[0] = 0.1;
+        shape.size[1] = shape.size[2] = 1.0;
+        assert_int_equal(tb_scene_set_body_shape(scene, id, &shape), TB_STATUS_OK);
+    }
+    static const struct {
+        size_t ids[2], count;
+        const char *named; /* NULL: taken */
+    } lists[] = {
+        {{0, 0}, 1, "bodies: only 1 listed"},
+        {{1, 2}, 2, "bodies: none of the 2 listed is dynamic"},
+        {{1, 0}, 2, NULL},
+    };
+    for (size_t i = 0; i < sizeof lists / sizeof lists[0]; ++i) {
+        tb_contact_def def = tb_contact_def_default();
+        def.bodies = lists[i].ids;
+        def.body_count = lists[i].count;
+        const size_t size = tb_scene_state_size(scene), effects = tb_scene_effect_count(scene);
+        const tb_status status = tb_scene_add_contact(scene, &def);
+        print_message("%zu bodies -> %s: %s\n", lists[i].count, tb_status_name(status),
+                      tb_scene_detail(scene));
+        if (lists[i].named == NULL) {
+            assert_int_equal(status, TB_STATUS_OK);
+            continue;
+        }
+        assert_int_equal(status, TB_STATUS_INVALID_ARGUMENT);
+        assert_non_null(strstr(tb_scene_detail(scene), lists[i].named));
+        assert_int_equal(tb_scene_effect_count(scene), effects);
+        assert_int_equal(tb_scene_state_size(scene), size);
+    }
+    tb_scene_destroy(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -286,6 +335,7 @@ int main(void)
         cmocka_unit_test(test_a_scene_files_contact_passes_the_momentum_on),
         cmocka_unit_test(test_a_box_resting_on_a_box_sinks_by_the_penetration),
         cmocka_unit_test(test_bad_contact_definitions_are_refused_and_change_nothing),
+        cmocka_unit_test(test_a_list_with_no_pair_to_push_is_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

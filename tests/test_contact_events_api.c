@@ -581,7 +581,7 @@ static void test_setting_events_from_the_callback_is_refused(void **unused)
 
 typedef struct state_writes {
     tb_scene *scene;
-    tb_status set_state, set_velocity;
+    tb_status set_state, set_velocity, add_ground, set_points;
 } state_writes;
 
 /* Sends the ball (body 0) up at 2 m/s: what a callback must not do while the scene steps. */
@@ -594,11 +594,20 @@ static void write_state(const tb_contact_event *event, void *ctx)
     state.P[2] = 0.2;
     w->set_state = tb_scene_set_state(w->scene, 0, &state);
     w->set_velocity = tb_scene_set_velocity(w->scene, 0, (double[]){0, 0, 2}, (double[]){0, 0, 0});
+    /* a ceiling 1 cm up and a point 1 m down: both deep in a plane, which their start checks
+     * refused with INVALID_ARGUMENT before they asked whether the scene was being stepped */
+    tb_ground_def ceiling = tb_ground_def_default();
+    ceiling.normal[2] = -1.0;
+    ceiling.offset = -0.01;
+    w->add_ground = tb_scene_add_ground(w->scene, &ceiling);
+    const tb_contact_point deep = {{0, 0, -1}, 0.0};
+    w->set_points = tb_scene_set_contact_points(w->scene, 0, &deep, 1, 1);
 }
 
 /* Writing a body's state from the callback (mid-advance: under CVODE the write would be lost
  * or break its history, under fixed steps it would change what the step reads) is refused
- * (TB_STATUS_BUSY) and the run ends where a run without the writes ends, bit for bit. */
+ * (TB_STATUS_BUSY) and the run ends where a run without the writes ends, bit for bit. So are
+ * a ground plane and contact points, BUSY before their checks of the state. */
 static void test_writing_states_from_the_callback_is_refused(void **unused)
 {
     (void)unused;
@@ -611,7 +620,7 @@ static void test_writing_states_from_the_callback_is_refused(void **unused)
         watch(control, &log, 0.0);
         run_for(control, &method, 0.3);
         tb_scene *scene = ball_over_ground(0.3, 0.5, 0.0);
-        state_writes w = {scene, TB_STATUS_OK, TB_STATUS_OK};
+        state_writes w = {scene, TB_STATUS_OK, TB_STATUS_OK, TB_STATUS_OK, TB_STATUS_OK};
         tb_contact_events_def def = tb_contact_events_def_default();
         def.fn = write_state;
         def.ctx = &w;
@@ -619,10 +628,57 @@ static void test_writing_states_from_the_callback_is_refused(void **unused)
         run_for(scene, &method, 0.3);
         assert_int_equal(w.set_state, TB_STATUS_BUSY);
         assert_int_equal(w.set_velocity, TB_STATUS_BUSY);
+        assert_int_equal(w.add_ground, TB_STATUS_BUSY);
+        assert_int_equal(w.set_points, TB_STATUS_BUSY);
+        assert_int_equal(tb_scene_effect_count(scene), tb_scene_effect_count(control));
         assert_memory_equal(tb_scene_states_const(scene), tb_scene_states_const(control),
                             tb_scene_state_size(scene) * sizeof(double));
         tb_scene_destroy(scene);
         tb_scene_destroy(control);
+    }
+}
+
+typedef struct destroyer {
+    tb_integrator *integrator; /* destroyed at the first event, then NULL */
+    size_t events;
+} destroyer;
+
+static void destroy_at_first_event(const tb_contact_event *event, void *ctx)
+{
+    (void)event;
+    destroyer *d = ctx;
+    ++d->events;
+    tb_integrator_destroy(d->integrator); /* the one stepping: "stop at the first hit" */
+    d->integrator = NULL;
+}
+
+/* A red-team find: a callback that destroys the integrator stepping the scene (to stop at the
+ * first hit) freed it under its own advance, which then read freed memory (AddressSanitizer:
+ * heap-use-after-free in the fixed step). It is now freed as that advance ends: the advance
+ * returns its status, the scene is released (a new integrator advances it), and the sanitized
+ * builds see no invalid access and no leak. */
+static void test_the_callback_may_destroy_the_integrator(void **unused)
+{
+    (void)unused;
+    const tb_method methods[] = {TB_METHOD_RK4, TB_METHOD_CVODE_ADAMS};
+    for (size_t m = 0; m < sizeof methods / sizeof methods[0]; ++m) {
+        const tb_integrator_def method =
+            test_integrator_def(methods[m], 0.0, tb_method_is_adaptive(methods[m]) ? 1e-6 : 0.0);
+        tb_scene *scene = ball_over_ground(0.3, 0.5, 0.0);
+        destroyer d = {NULL, 0};
+        tb_contact_events_def def = tb_contact_events_def_default();
+        def.fn = destroy_at_first_event;
+        def.ctx = &d;
+        assert_int_equal(tb_scene_set_contact_events(scene, &def), TB_STATUS_OK);
+        d.integrator = test_integrator(scene, &method);
+        assert_int_equal(tb_integrator_advance(d.integrator, 0.4), TB_STATUS_OK);
+        assert_null(d.integrator);
+        print_message("%s: %zu events\n", tb_method_name(methods[m]), d.events);
+        assert_true(d.events >= 1);
+        tb_integrator *again = test_integrator(scene, &method);
+        assert_int_equal(tb_integrator_advance(again, 0.5), TB_STATUS_OK);
+        tb_integrator_destroy(again);
+        tb_scene_destroy(scene);
     }
 }
 
@@ -641,6 +697,7 @@ int main(void)
         cmocka_unit_test(test_bad_definitions_are_refused_and_change_nothing),
         cmocka_unit_test(test_setting_events_from_the_callback_is_refused),
         cmocka_unit_test(test_writing_states_from_the_callback_is_refused),
+        cmocka_unit_test(test_the_callback_may_destroy_the_integrator),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

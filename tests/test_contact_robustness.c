@@ -126,8 +126,9 @@ static tb_status start_overlapping(double m_a, double m_b, double overlap, tb_me
 
 /* A pair may start inside each other by up to 10 times the depth at which its contact carries
  * the heavier body's weight (the ground's rule of 10 penetrations, with the pair's stiffness
- * M_min omega^2 and omega^2 = g / penetration: 10 penetration M_max / M_min), not deeper: the
- * contact would launch them apart at about depth omega. Spheres overlap by exactly r_a + r_b -
+ * M_min omega^2 and omega^2 = g / penetration: 10 penetration M_max / M_min), and never past
+ * the middle of the thinner body, not deeper: the contact would launch them apart at about
+ * depth omega. Spheres overlap by exactly r_a + r_b -
  * distance, so 0.9 and 1.1 times the limit lie on either side of it by far more than rounding. */
 static void test_bodies_starting_deep_inside_each_other_are_refused(void **state)
 {
@@ -148,6 +149,18 @@ static void test_bodies_starting_deep_inside_each_other_are_refused(void **state
             assert_detail_has(detail, "(\"left\") and 1 (\"right\") start");
             assert_detail_has(detail, "inside each other");
         }
+    }
+    /* a red-team find: the weight's depth grows with the mass ratio (the stiffness is the
+     * lighter's), so at 1e6 it was 8 m, and a ball 0.11 m deep in another of radius 0.1 m,
+     * past its middle, was taken and thrown out (a 1 g marble 0.21 m deep in a 1 t crate left
+     * at 345 m/s). No start lies past the middle of the thinner body: 0.09 m is taken, 0.11 m
+     * refused, naming that limit. */
+    for (int m = 0; m < 2; ++m) {
+        const tb_method method = m == 0 ? TB_METHOD_RK4 : TB_METHOD_CVODE_ADAMS;
+        assert_int_equal(start_overlapping(1.0, 1e6, 0.09, method, detail), TB_STATUS_OK);
+        assert_int_equal(start_overlapping(1e6, 1.0, 0.11, method, detail),
+                         TB_STATUS_INVALID_ARGUMENT);
+        assert_detail_has(detail, "deeper than 0.1 m (half the thinner body's thickness)");
     }
     /* a millimetre's overlap of equal balls: about 3.5 m/s of launch */
     assert_int_equal(start_overlapping(1.0, 1.0, 1e-3, TB_METHOD_RK4, detail),

@@ -210,6 +210,10 @@ static tb_status null_touching_count(tb_scene *s)
 {
     return tb_scene_contact_touching(s, tb_scene_states_const(s), NULL, 0, NULL);
 }
+static tb_status null_point_count(tb_scene *s)
+{
+    return tb_scene_body_contact_point_count(s, 0, NULL);
+}
 static tb_status null_touching_out(tb_scene *s)
 {
     size_t count = 0;
@@ -238,6 +242,7 @@ static void test_a_null_argument_is_named_not_the_previous_failure(void **state)
         {null_contact_info, "out is NULL"},
         {null_touching_count, "out_count is NULL"},
         {null_touching_out, "out is NULL"},
+        {null_point_count, "out_count is NULL"}, /* the red team's: as issue 19's */
     };
     tb_scene *scene = test_empty_scene();
     add_sphere(scene, 1.0, 0.1, (double[]){0, 0, 0});

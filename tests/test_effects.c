@@ -491,6 +491,77 @@ static void test_a_ground_normal_of_any_length_is_its_direction(void **state)
     tb_scene_destroy(loaded);
 }
 
+/* The offset is the plane's distance along the unit normal, whatever the normal's length: a
+ * ball of radius 0.1 m centred 1e-6 m below z = 1.1 dips 1e-6 m into the plane (0, 0, 2) . x = 1
+ * made unit, z = 1 (read by the touching pairs to 1e-12 m: one subtraction near 1.1); were the
+ * offset taken against the raw normal (z = 0.5) it would start 0.5 m deep and be refused. */
+static void test_a_ground_offset_is_along_the_unit_normal(void **state)
+{
+    (void)state;
+    tb_scene *scene = test_empty_scene();
+    const size_t ball = add_sphere(scene, 1.0, 0.1, (double[]){0, 0, 1.1 - 1e-6});
+    const tb_contact_point point = {{0, 0, 0}, 0.1};
+    assert_int_equal(tb_scene_set_contact_points(scene, ball, &point, 1, 1), TB_STATUS_OK);
+    tb_ground_def ground = tb_ground_def_default();
+    ground.normal[2] = 2.0;
+    ground.offset = 1.0;
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+    tb_contact_touch touch;
+    size_t count = 0;
+    assert_int_equal(
+        tb_scene_contact_touching(scene, tb_scene_states_const(scene), &touch, 1, &count),
+        TB_STATUS_OK);
+    assert_int_equal(count, 1);
+    assert_near(touch.depth, 1e-6, 1e-12);
+    tb_scene_destroy(scene);
+}
+
+/* A second ground plane facing the way an earlier one faces, within 1e-6 rad (a copy-pasted
+ * plane, one at 1e-9 m above it, one tilted by 1e-7 rad), pushed the same contact points twice:
+ * a ball dropped at 2 m/s with e = 0.5 left at 0.43 times its speed, with every event twice. It is
+ * refused naming the earlier plane, nothing added; a plane tilted 1e-3 rad, a ceiling (the
+ * opposite normal) and a wall are different planes and taken. */
+static void test_a_second_plane_facing_the_same_way_is_refused(void **state)
+{
+    (void)state;
+    const double tilt = 1e-7, wide = 1e-3;
+    static const struct {
+        double normal[3], offset;
+        tb_status expected;
+    } cases[] = {
+        {{0, 0, 1}, 0.0, TB_STATUS_INVALID_ARGUMENT},
+        {{0, 0, 7}, 1e-9, TB_STATUS_INVALID_ARGUMENT},
+        {{0, 0, 1}, -5.0, TB_STATUS_INVALID_ARGUMENT}, /* buried under the first */
+        {{tilt, 0, 1}, 0.0, TB_STATUS_INVALID_ARGUMENT},
+        {{wide, 0, 1}, 0.0, TB_STATUS_OK},
+        {{0, 0, -1}, -3.0, TB_STATUS_OK},
+        {{1, 0, 0}, -2.0, TB_STATUS_OK},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        tb_scene *scene = test_empty_scene();
+        add_sphere(scene, 1.0, 0.1, (double[]){0, 0, 1});
+        tb_ground_def ground = tb_ground_def_default();
+        assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+        const size_t size = tb_scene_state_size(scene);
+        memcpy(ground.normal, cases[i].normal, sizeof ground.normal);
+        ground.offset = cases[i].offset;
+        const tb_status status = tb_scene_add_ground(scene, &ground);
+        print_message("(%g, %g, %g) %g -> %s %s\n", cases[i].normal[0], cases[i].normal[1],
+                      cases[i].normal[2], cases[i].offset, tb_status_name(status),
+                      tb_scene_detail(scene));
+        assert_int_equal(status, cases[i].expected);
+        if (status != TB_STATUS_OK) {
+            assert_non_null(strstr(tb_scene_detail(scene), "normal: "));
+            assert_non_null(strstr(tb_scene_detail(scene), "effect 0 (a ground plane"));
+            assert_int_equal(tb_scene_effect_count(scene), 1);
+            assert_int_equal(tb_scene_state_size(scene), size);
+        } else {
+            assert_int_equal(tb_scene_effect_count(scene), 2);
+        }
+        tb_scene_destroy(scene);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -504,6 +575,8 @@ int main(void)
         cmocka_unit_test(test_user_effect_acts_like_the_force_it_computes),
         cmocka_unit_test(test_bad_effect_definitions_are_refused_and_change_nothing),
         cmocka_unit_test(test_a_ground_normal_of_any_length_is_its_direction),
+        cmocka_unit_test(test_a_second_plane_facing_the_same_way_is_refused),
+        cmocka_unit_test(test_a_ground_offset_is_along_the_unit_normal),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -224,6 +224,12 @@ static const struct {
      "{\"bodies\": [" BODY "], \"output\": {\"fps\": 1000, \"duration\": 1.1e6}}",
      TB_STATUS_BAD_SCENE,
      "output: duration: must be >= 0 and at most 1e9 frames (TB_RUN_MAX_FRAMES) at 1000 fps"},
+    {"a points piece with its points (was: an unknown key \"points\")",
+     "{\"bodies\": [{\"name\": \"a\", \"density\": 1, \"shape\": [{\"type\": \"box\", "
+     "\"size\": [1, 1, 1]}, {\"type\": \"points\", \"points\": [{\"position\": [0, 0, 0], "
+     "\"mass\": 1}]}]}]}",
+     TB_STATUS_BAD_SCENE,
+     "bodies[0].shape[1]: type: a points shape carries its own masses and cannot be a piece"},
     {"mesh file by absolute path outside",
      "{\"bodies\": [{\"name\": \"a\", \"shape\": {\"type\": \"mesh\", \"file\": "
      "\"/etc/passwd\"}, \"density\": 1}]}",
@@ -469,6 +475,13 @@ static void test_obj_reader_takes_regular_files_of_bounded_size(void **state)
     tb_error error;
     assert_int_equal(load_cube(CUBE_SCENE("pipe.obj"), folder, NULL, &error), TB_STATUS_IO_ERROR);
     assert_non_null(strstr(error.message, "not a regular file"));
+    /* the scene's folder itself ("." or ""): a directory, not a file "outside the folder ...:
+     * /f is not in /f", as the check of the path said before it counted the folder as in it */
+    static const char *const folders[] = {CUBE_SCENE("."), CUBE_SCENE("")};
+    for (size_t i = 0; i < 2; ++i) {
+        assert_int_equal(load_cube(folders[i], folder, NULL, &error), TB_STATUS_IO_ERROR);
+        assert_non_null(strstr(error.message, "not a regular file (a directory"));
+    }
 
     tb_scene_file_options anywhere = tb_scene_file_options_default();
     anywhere.allow_paths_outside = true;

@@ -276,10 +276,19 @@ static const struct {
     {"{\"name\": \"p\", \"motion\": \"keyframed\", \"angular_velocity_body\": [0, 0, 1], "
      "\"keys\": " KEY_ZERO "}",
      "bodies[1]: a keyframed body's velocities come from its keys"},
+    {"{\"name\": \"p\", \"motion\": \"keyframed\", \"keys\": " KEY_ZERO
+     ", \"shape\": {\"type\": \"box\", \"size\": [1, 1, 1]}, \"contact\": {\"points\": "
+     "[{\"position\": [0, 0, -0.5]}]}}",
+     "bodies[1].contact: a keyframed body has no contact points: ground planes push only dynamic "
+     "bodies"},
+    {"{\"name\": \"p\", \"motion\": \"static\", \"contact\": {\"points\": [{\"position\": "
+     "[0, 0, 0]}]}, \"shape\": {\"type\": \"box\", \"size\": [1, 1, 1]}}",
+     "bodies[1].contact: a static body has no contact points"},
 };
 
 /* Each refused BAD_SCENE with a message naming the body, no scene made, the run untouched. The
- * velocity cases were read and silently unused before. */
+ * velocity cases were read and silently unused before, and so were contact points on a static or
+ * keyframed body (ground planes push neither). */
 static void test_bad_keyframed_bodies_are_refused_naming_the_body(void **state)
 {
     (void)state;

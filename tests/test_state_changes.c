@@ -1,7 +1,8 @@
 /* Changes to a scene's state between advances: a body moved deep into another body or into a
  * ground plane after the integrator exists is refused at the next advance, step or reset under
  * every method, as it is at the start (F26); and a second integrator on one scene takes the
- * state where the first left it (F30). Each refusal names the bodies and changes nothing. */
+ * state where the first left it (F30). So is a shape grown into another body after the start.
+ * Each refusal names the bodies and changes nothing. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -121,6 +122,41 @@ static void test_a_body_moved_into_another_after_the_start_is_refused(void **sta
         tb_scene_states(scene)[13] = 0.5;
         assert_int_equal(tb_integrator_advance(integrator, 0.03), TB_STATUS_OK);
         assert_true(fastest(scene) == 0.0);
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
+/* A red-team find beside F26: ball b's shape grown from 0.1 to 1.4 m after the first advance
+ * (tb_scene_set_body_shape, no state changed) reaches 0.5 m into ball a. The state did not
+ * change, so no check ran: CVODE Adams threw them apart at 580 m/s with OK (RK4 was stopped by
+ * its stability guard, naming the step). Every call that steps now refuses as a start would,
+ * under every method, the state and time unchanged; with the shape back (a piece list of one
+ * sphere) they stay at rest: no force acts, so the speed is exactly 0. */
+static void test_a_shape_grown_into_another_after_the_start_is_refused(void **state)
+{
+    (void)state;
+    for (int m = 0; m < METHOD_COUNT; ++m) {
+        tb_scene *scene = test_empty_scene();
+        add_ball(scene, "a", -0.5, 0.0);
+        add_ball(scene, "b", 0.5, 0.0);
+        tb_contact_def contact = tb_contact_def_default();
+        assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+        tb_integrator *integrator = make_integrator(scene, every_method[m]);
+        assert_int_equal(tb_integrator_advance(integrator, 0.01), TB_STATUS_OK);
+        tb_shape_piece piece = tb_shape_piece_default();
+        piece.shape.type = TB_SHAPE_SPHERE;
+        piece.shape.radius = 1.4;
+        assert_int_equal(tb_scene_set_body_shape(scene, 1, &piece.shape), TB_STATUS_OK);
+        assert_every_call_refuses(scene, integrator, "0 (\"a\") and 1 (\"b\")");
+        assert_detail_has(tb_integrator_detail(integrator), "shapes were changed");
+        piece.shape.radius = 0.1;
+        assert_int_equal(tb_scene_set_body_pieces(scene, 1, &piece, 1), TB_STATUS_OK);
+        assert_int_equal(tb_integrator_advance(integrator, 0.02), TB_STATUS_OK);
+        assert_true(fastest(scene) == 0.0);
+        piece.shape.radius = 1.4; /* and through the pieces */
+        assert_int_equal(tb_scene_set_body_pieces(scene, 1, &piece, 1), TB_STATUS_OK);
+        assert_every_call_refuses(scene, integrator, "0 (\"a\") and 1 (\"b\")");
         tb_integrator_destroy(integrator);
         tb_scene_destroy(scene);
     }
@@ -249,6 +285,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_a_body_moved_into_another_after_the_start_is_refused),
         cmocka_unit_test(test_a_body_moved_into_the_ground_after_the_start_is_refused),
+        cmocka_unit_test(test_a_shape_grown_into_another_after_the_start_is_refused),
         cmocka_unit_test(test_a_second_integrator_takes_the_state_where_the_first_left_it),
         cmocka_unit_test(test_a_state_the_run_reached_too_fast_says_so),
     };

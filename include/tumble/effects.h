@@ -85,11 +85,15 @@ TB_API tb_status tb_scene_add_spring(tb_scene *scene, const tb_spring_def *def);
  * default step (tb_scene_default_step). A body whose contact point starts deeper than 10
  * penetrations inside the plane is refused (TB_STATUS_INVALID_ARGUMENT, naming it and its depth)
  * by tb_scene_add_ground or tb_scene_set_contact_points, whichever comes last: the contact would
- * launch it. */
+ * launch it. A plane facing the way an earlier ground plane faces (normals within 1e-6 rad) is
+ * refused (TB_STATUS_INVALID_ARGUMENT naming the earlier one): the two would push the same points
+ * twice, or one would lie buried in the other's ground (tests/test_effects.c). */
 typedef struct tb_ground_def {
     double normal[3];         /* pointing out of the ground, any finite nonzero length (normalised,
                                  scaled first: (0,0,1e-300) is up); default (0,0,1) */
-    double offset;            /* the plane is normal . x = offset, m; default 0 */
+    double offset;            /* the plane is n . x = offset with n the unit normal (the
+                                 plane's signed distance from the origin whatever the normal's
+                                 length: (0, 0, 2) with offset 1 is z = 1), m; default 0 */
     double gravity;           /* g used to size the contact, m/s^2, > 0; default 9.81 */
     double penetration;       /* static sinking under a body's own weight, m, > 0; 8e-7 */
     double restitution;       /* e in [0, 1]: a point hits at v and leaves at e v; default 0.3 */
@@ -164,13 +168,15 @@ typedef struct tb_contact_def {
 
 TB_API tb_contact_def tb_contact_def_default(void);
 /* Refuses (TB_STATUS_INVALID_ARGUMENT, naming the field or the bodies; nothing added) a bad
- * field; a contact rate sqrt(gravity / penetration) above 1e9 rad/s (an impact shorter than
- * 3 ns); a repeated id (so a body_count past the scene's is refused after reading at most
- * body count + 1 ids), an id past the scene (TB_STATUS_OUT_OF_RANGE); a listed body without a
- * collision shape; and a set that shares two bodies with an earlier contact effect (that pair
- * would be pushed by both). tb_scene_integrator_create, and every advance, step and reset after
- * the state was changed from outside, then refuse a state in which a pair lies deeper inside
- * each other than 10 times the depth that carries the heavier body's weight. */
+ * field (NaN or infinite: TB_STATUS_NOT_FINITE); a list of bodies with body_count 0, of one body,
+ * or of static and keyframed bodies only (an effect that touches nothing); a contact rate
+ * sqrt(gravity / penetration) above 1e9 rad/s (an impact shorter than 3 ns); a repeated id (so a
+ * body_count past the scene's is refused after reading at most body count + 1 ids), an id past
+ * the scene (TB_STATUS_OUT_OF_RANGE); a listed body without a collision shape; and a set that
+ * shares two bodies with an earlier contact effect (that pair would be pushed by both).
+ * tb_scene_integrator_create, and every advance, step and reset after the state (or a shape) was
+ * changed from outside, then refuse a state in which a pair lies deeper inside each other than 10
+ * times the depth that carries the heavier body's weight, or past the thinner body's middle. */
 TB_API tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def);
 
 /* What a contact effect's friction pool did, counted at step boundaries (after every fixed

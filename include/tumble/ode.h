@@ -422,7 +422,9 @@ TB_API tb_status tb_integrator_create(const tb_ode_system *system, const tb_inte
                                       double t0, double *y, tb_integrator **out_integrator,
                                       tb_error *out_error);
 
-/* Frees an integrator; accepts NULL. Does not touch y. */
+/* Frees an integrator; accepts NULL. Does not touch y. Called from a callback of the
+ * integrator's own advance, step or reset (a contact event, a hook), it frees it as that call
+ * returns. */
 TB_API void tb_integrator_destroy(tb_integrator *integrator);
 
 /* Advances y to t_target (>= current time).

@@ -63,7 +63,9 @@ TB_API tb_shape tb_shape_default(void);
  * vertices or a flat convex set (TB_STATUS_INVALID_ARGUMENT), triangles as
  * tb_scene_set_body_visual_mesh refuses them; TB_STATUS_BUSY while an
  * integrator steps the scene. A refused call changes nothing. Effects that read shapes see the
- * change at their next derivative; CVODE restarts its history. */
+ * change at their next derivative; CVODE restarts its history. The body wakes, and the next
+ * advance, step or reset checks the state as a start (a shape grown deep into another body is
+ * refused there, INVALID_ARGUMENT naming the pair, as a body moved there is). */
 TB_API tb_status tb_scene_set_body_shape(tb_scene *scene, size_t id, const tb_shape *shape);
 
 /* A convex piece of a body: a shape placed in the body's shape frame (the frame of

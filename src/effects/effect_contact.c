@@ -372,12 +372,17 @@ static tb_status validate_contact(tb_scene *scene, const tb_contact_def *def)
     if (status == TB_STATUS_OK) {
         status = tb__validate_nonnegative(detail, def->kinetic_friction, "kinetic_friction");
     }
-    if (status == TB_STATUS_OK && !(def->restitution >= 0.0 && def->restitution <= 1.0)) {
+    if (status == TB_STATUS_OK) { /* NaN and infinities: NOT_FINITE, as every other field's */
+        status = tb__validate_nonnegative(detail, def->restitution, "restitution");
+    }
+    if (status == TB_STATUS_OK && !(def->restitution <= 1.0)) {
         status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
                                 "restitution: must be in [0, 1], got %g", def->restitution);
     }
-    if (status == TB_STATUS_OK &&
-        !(isfinite(def->static_friction) && def->static_friction >= def->kinetic_friction)) {
+    if (status == TB_STATUS_OK) {
+        status = tb__validate_finite(detail, def->static_friction, "static_friction");
+    }
+    if (status == TB_STATUS_OK && !(def->static_friction >= def->kinetic_friction)) {
         status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
                                 "static_friction: must be finite and >= kinetic_friction (%g), "
                                 "got %g",
@@ -395,6 +400,12 @@ static tb_status validate_contact(tb_scene *scene, const tb_contact_def *def)
     if (status == TB_STATUS_OK && def->bodies == NULL && def->body_count > 0) {
         status = tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "bodies is NULL (body_count %zu)",
                                 def->body_count);
+    }
+    /* a list given with its count forgotten: an effect that touches nothing, silently */
+    if (status == TB_STATUS_OK && def->bodies != NULL && def->body_count == 0) {
+        status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                                "body_count: 0 with a list of bodies (an effect that touches "
+                                "nothing); bodies NULL is every body");
     }
     /* before copy_bodies sizes its copy by body_count: the ids, checked in order, show a count
      * past the scene's by a repeat or an id out of range among the first body_count + 1 */
@@ -470,6 +481,17 @@ static tb_status make_pool(tb_scene *scene, const tb_contact_def *def, tb__effec
     return TB_STATUS_OK;
 }
 
+/* The scene idle (before the pair finder, the set checks and the start check run under the
+ * step) and def's fields. */
+static tb_status check_def(tb_scene *scene, const tb_contact_def *def)
+{
+    tb_status status = tb__scene_check_idle(scene, "adding an effect");
+    if (status == TB_STATUS_OK) {
+        status = validate_contact(scene, def);
+    }
+    return status == TB_STATUS_OK ? validate_friction(scene, def) : status;
+}
+
 tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def)
 {
     if (scene == NULL) {
@@ -479,10 +501,7 @@ tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def)
     if (def == NULL) {
         return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "def is NULL");
     }
-    tb_status status = validate_contact(scene, def);
-    if (status == TB_STATUS_OK) {
-        status = validate_friction(scene, def);
-    }
+    tb_status status = check_def(scene, def);
     tb__contact_params params = {.pairs = NULL}, *contact = &params;
     tb__effect effect = {.ops = &contact_ops, .body = TB_ALL_BODIES, .params = &params};
     if (status == TB_STATUS_OK) {

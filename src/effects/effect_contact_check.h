@@ -15,9 +15,10 @@
  * for max_steps). Gravity 1e300 m/s^2 passed every check before and failed the run. */
 #define TB__CONTACT_RATE_MAX 1e9
 
-/* Refuses a listed body without a collision shape (TB_STATUS_INVALID_ARGUMENT, the scene's
- * detail naming it): the effect would never see it touch anything (the scene file's loader
- * refuses the same). bodies[0 .. count) are ids checked already. */
+/* Refuses a list with no pair that could touch (one body, or no dynamic body) and a listed body
+ * without a collision shape (TB_STATUS_INVALID_ARGUMENT, the scene's detail naming it): the
+ * effect would never see it touch anything (the scene file's loader refuses the same through
+ * it). bodies[0 .. count) are ids checked already. */
 tb_status tb__contact_check_shapes(tb_scene *scene, const size_t *bodies, size_t count);
 
 /* Refuses a new contact effect over bodies[0 .. count) (ids, each once) when two of them are

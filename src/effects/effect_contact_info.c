@@ -111,10 +111,13 @@ tb_status tb_scene_get_ground(const tb_scene *scene, size_t k, tb_ground_info *o
 
 tb_status tb_scene_body_contact_point_count(const tb_scene *scene, size_t id, size_t *out_count)
 {
-    if (scene == NULL || out_count == NULL) {
+    if (scene == NULL) {
         return TB_STATUS_NULL_POINTER;
     }
     tb__scene_clear_detail(scene);
+    if (out_count == NULL) { /* named, not the previous failure's detail kept */
+        return tb__scene_fail((tb_scene *)scene, TB_STATUS_NULL_POINTER, "out_count is NULL");
+    }
     const tb_status status = tb__scene_check_id(scene, id, "id");
     if (status != TB_STATUS_OK) {
         return status;

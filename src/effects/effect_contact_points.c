@@ -48,7 +48,11 @@ static tb_status validate(tb_scene *scene, size_t id, const tb_contact_point *po
     if (points == NULL && count > 0) {
         return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "points is NULL (count %zu)", count);
     }
-    tb_status status = tb__scene_check_id(scene, id, "id");
+    /* before the ground planes' start checks, which read the state under the step */
+    tb_status status = tb__scene_check_idle(scene, "setting contact points");
+    if (status == TB_STATUS_OK) {
+        status = tb__scene_check_id(scene, id, "id");
+    }
     if (status == TB_STATUS_OK) { /* a ground plane pushes bodies that can move */
         status = tb__scene_check_dynamic(scene, id, "id");
     }

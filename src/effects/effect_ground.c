@@ -444,7 +444,10 @@ static tb_status validate_ground(tb_scene *scene, const tb_ground_def *def)
     for (size_t k = 0; k < 1 && status == TB_STATUS_OK; ++k) {
         status = tb__validate_nonnegative(detail, nonnegative[k].value, nonnegative[k].name);
     }
-    if (status == TB_STATUS_OK && !(def->restitution >= 0.0 && def->restitution <= 1.0)) {
+    if (status == TB_STATUS_OK) { /* NaN and infinities: NOT_FINITE, as every other field's */
+        status = tb__validate_nonnegative(detail, def->restitution, "restitution");
+    }
+    if (status == TB_STATUS_OK && !(def->restitution <= 1.0)) {
         status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
                                 "restitution: must be in [0, 1], got %g", def->restitution);
     }
@@ -491,6 +494,31 @@ static void ground_params(const tb_ground_def *def, tb__ground_params *ground)
     ground->bristle_stiffness = def->static_friction / def->presliding;
 }
 
+/* A second plane facing the same way (normals within 1e-6 rad) as an earlier one is either the
+ * same plane again or buried in the other's ground: coincident, both push every point (twice the
+ * stiffness, a restitution neither asked for, each event twice); buried, it pushes only what is
+ * already deep in the other. */
+static tb_status check_parallel(tb_scene *scene, const tb__ground_params *ground)
+{
+    for (size_t e = 0; e < scene->effect_count; ++e) {
+        if (scene->effects[e].ops != &ground_ops) {
+            continue;
+        }
+        const tb__ground_params *other = tb__ground_of(&scene->effects[e]);
+        if (tb__v3_dot(other->normal, ground->normal) >= 1.0 - 5e-13) {
+            return tb__scene_fail(
+                scene, TB_STATUS_INVALID_ARGUMENT,
+                "normal: (%g, %g, %g) faces the way effect %zu (a ground plane "
+                "with normal (%g, %g, %g), offset %g m) faces: the two would push "
+                "the same points twice (or one lies buried in the other's "
+                "ground); give each direction one plane",
+                ground->normal[0], ground->normal[1], ground->normal[2], e, other->normal[0],
+                other->normal[1], other->normal[2], other->offset);
+        }
+    }
+    return TB_STATUS_OK;
+}
+
 tb_status tb_scene_add_ground(tb_scene *scene, const tb_ground_def *def)
 {
     if (scene == NULL) {
@@ -500,7 +528,11 @@ tb_status tb_scene_add_ground(tb_scene *scene, const tb_ground_def *def)
     if (def == NULL) {
         return tb__scene_fail(scene, TB_STATUS_NULL_POINTER, "def is NULL");
     }
-    tb_status status = validate_ground(scene, def);
+    /* before the checks that read the state under the step (the start depth) */
+    tb_status status = tb__scene_check_idle(scene, "adding an effect");
+    if (status == TB_STATUS_OK) {
+        status = validate_ground(scene, def);
+    }
     if (status != TB_STATUS_OK) {
         return status;
     }
@@ -511,6 +543,10 @@ tb_status tb_scene_add_ground(tb_scene *scene, const tb_ground_def *def)
                          .state_scale = def->presliding,
                          .params = &ground};
     ground_params(def, &ground);
+    status = check_parallel(scene, &ground);
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
     status = tb__ground_shapes_create(scene, def, &effect);
     if (status == TB_STATUS_OK) {
         status = ground_check_start(&effect, scene, scene->states, scene->detail);

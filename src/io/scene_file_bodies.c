@@ -57,6 +57,25 @@ static tb_status load_inertia(tb__loader *ld, const json_t *body, const char *pa
     return status;
 }
 
+/* Entry k of a contact's "points": {"position", "radius" (default 0)}. */
+static tb_status load_contact_point(tb__loader *ld, const json_t *entry, const char *where,
+                                    size_t k, tb_contact_point *p)
+{
+    static const char *const point_keys[] = {"position", "radius", NULL};
+    char item[176];
+    tb__path_index(item, sizeof item, where, "points", k);
+    p->radius = 0.0;
+    tb_status status = tb__json_object(ld, entry, item, point_keys);
+    if (status == TB_STATUS_OK) {
+        status = tb__json_vector(ld, entry, item, "position", 3, true, p->position);
+    }
+    if (status == TB_STATUS_OK) {
+        status = tb__json_number(ld, entry, item, "radius", false, &p->radius);
+    }
+    return status == TB_STATUS_OK ? tb__check_non_negative_at(ld, item, "radius", p->radius)
+                                  : status;
+}
+
 /* "contact": false, or {"points": [{"position", "radius"}], "support": n}. */
 static tb_status load_contact(tb__loader *ld, const json_t *body, const char *path,
                               tb__body_build *b)
@@ -72,6 +91,12 @@ static tb_status load_contact(tb__loader *ld, const json_t *body, const char *pa
         b->has_contacts = false;
         return TB_STATUS_OK;
     }
+    if (b->def.motion != TB_MOTION_DYNAMIC) { /* not dropped without a word */
+        return tb__load_fail(ld, TB_STATUS_BAD_SCENE, where,
+                             "a %s body has no contact points: ground planes push only dynamic "
+                             "bodies (contact between bodies uses its shape); remove it",
+                             b->def.motion == TB_MOTION_STATIC ? "static" : "keyframed");
+    }
     static const char *const keys[] = {"points", "support", NULL};
     tb_status status = tb__json_object(ld, contact, where, keys);
     const json_t *list = json_object_get(contact, "points");
@@ -85,24 +110,8 @@ static tb_status load_contact(tb__loader *ld, const json_t *body, const char *pa
     if (b->contacts.many == NULL) {
         return tb__load_fail(ld, TB_STATUS_OUT_OF_MEMORY, where, "%zu contact points", n);
     }
-    static const char *const point_keys[] = {"position", "radius", NULL};
     for (size_t k = 0; k < n && status == TB_STATUS_OK; ++k) {
-        char item[176];
-        tb__path_index(item, sizeof item, where, "points", k);
-        tb_contact_point *p = &b->contacts.many[k];
-        p->radius = 0.0;
-        status = tb__json_object(ld, json_array_get(list, k), item, point_keys);
-        if (status == TB_STATUS_OK) {
-            status = tb__json_vector(ld, json_array_get(list, k), item, "position", 3, true,
-                                     p->position);
-        }
-        if (status == TB_STATUS_OK) {
-            status =
-                tb__json_number(ld, json_array_get(list, k), item, "radius", false, &p->radius);
-        }
-        if (status == TB_STATUS_OK) {
-            status = tb__check_non_negative_at(ld, item, "radius", p->radius);
-        }
+        status = load_contact_point(ld, json_array_get(list, k), where, k, &b->contacts.many[k]);
     }
     long support = (long)n;
     if (status == TB_STATUS_OK) {

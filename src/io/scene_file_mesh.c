@@ -97,7 +97,8 @@ static tb_status resolve_root(tb__loader *ld, const char *path, char **out)
 static bool inside(const char *root, const char *resolved)
 {
     const size_t n = strlen(root);
-    return strncmp(root, resolved, n) == 0 && (root[n - 1] == '/' || resolved[n] == '/');
+    return strncmp(root, resolved, n) == 0 &&
+           (root[n - 1] == '/' || resolved[n] == '/' || resolved[n] == '\0');
 }
 
 /* The path to read file from: joined to the scene's folder and, unless the options allow any

@@ -71,11 +71,7 @@ static tb_status load_piece(tb__loader *ld, const json_t *piece, const char *ite
                             size_t k, tb__body_build *b, pieces_build *p)
 {
     const char *type = NULL;
-    tb_status status = tb__load_shape_object(ld, piece, item, true, &type);
-    if (status == TB_STATUS_OK && strcmp(type, "points") == 0) {
-        return tb__load_fail(ld, TB_STATUS_BAD_SCENE, item,
-                             "type: a points shape carries its own masses and cannot be a piece");
-    }
+    tb_status status = tb__load_shape_object(ld, piece, item, true, &type); /* not points */
     tb_shape_piece *out = &b->pieces[k];
     *out = tb_shape_piece_default();
     if (status == TB_STATUS_OK) {

@@ -299,6 +299,12 @@ tb_status tb__load_shape_object(tb__loader *ld, const json_t *shape, const char 
     static const char *const piece_keys[] = {"type",      "size",        "radius",   "length",
                                              "semi_axes", "file",        "vertices", "triangles",
                                              "position",  "orientation", NULL};
+    /* before the keys: a points piece with its "points" was refused as an unknown key */
+    const char *type = json_string_value(json_object_get(shape, "type"));
+    if (piece && type != NULL && strcmp(type, "points") == 0) {
+        return tb__load_fail(ld, TB_STATUS_BAD_SCENE, shape_path,
+                             "type: a points shape carries its own masses and cannot be a piece");
+    }
     tb_status status = tb__json_object(ld, shape, shape_path, piece ? piece_keys : keys);
     return status == TB_STATUS_OK ? shape_type(ld, shape, shape_path, piece, out_type) : status;
 }

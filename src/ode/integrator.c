@@ -254,11 +254,20 @@ tb_status tb_integrator_create(const tb_ode_system *system, const tb_integrator_
     return TB_STATUS_OK;
 }
 
+static void free_integrator(tb_integrator *integrator)
+{
+    integrator->entry->backend->destroy(integrator);
+    free(integrator);
+}
+
 void tb_integrator_destroy(tb_integrator *integrator)
 {
-    if (integrator != NULL) {
-        integrator->entry->backend->destroy(integrator);
-        free(integrator);
+    if (integrator != NULL && integrator->busy) {
+        /* from a callback of its own advance, step or reset (a contact event, a frame): freed
+         * now, the call in progress would read freed memory; it is freed as that call ends */
+        integrator->destroy_pending = true;
+    } else if (integrator != NULL) {
+        free_integrator(integrator);
     }
 }
 
@@ -302,6 +311,9 @@ static tb_status leave(tb_integrator *integrator, tb_status status)
     integrator->busy = false;
     if (status == TB_STATUS_OK) {
         integrator->detail[0] = '\0'; /* a refused re-entrant call's message is not ours */
+    }
+    if (integrator->destroy_pending) {
+        free_integrator(integrator);
     }
     return status;
 }

@@ -75,6 +75,7 @@ struct tb_integrator {
     long max_steps;                /* steps allowed in one advance or step call */
     unsigned long long generation; /* the system's layout generation at creation */
     bool busy;                     /* an advance, step or reset is in progress */
+    bool destroy_pending;          /* destroyed from a callback of that call: freed as it ends */
     tb_integrator_stats stats;
     tb_integrator_events events; /* adaptive: written by the CVODE backend (cvode_events.c) */
     char detail[TB_DETAIL_SIZE];

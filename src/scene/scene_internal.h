@@ -58,7 +58,6 @@ void tb__effect_rate_add_decay(tb__effect_rate *out, double rate, size_t body);
 typedef struct tb__effect_lanes tb__effect_lanes;
 
 typedef struct tb__event_pair tb__event_pair; /* below */
-
 typedef struct tb__effect_stepping tb__effect_stepping;
 
 /* Visits one coupling for the Jacobian's pattern (scene_jacobian.c): the effect's states
@@ -330,12 +329,13 @@ struct tb_scene {
      * before). */
     bool sleeping;
     struct tb__sleep *sleep;
-    /* The state the newest integrator last left (states_left_size doubles, 0 for none; room
-     * for states_left_capacity, made by tb_scene_ode_system), kept when an effect checks
-     * starts: a state that differs at the next advance, step or reset was changed from outside
-     * (tb_scene_set_state, a write through tb_scene_states) and is checked as a start is. */
+    /* The state the newest integrator last left (states_left_size doubles, 0 for none; room for
+     * states_left_capacity, made by tb_scene_ode_system), kept when an effect checks starts: a
+     * state that differs at the next advance, step or reset (tb_scene_set_state, a write through
+     * tb_scene_states), or one whose shapes were set since (shape_set), is checked as a start. */
     double *states_left;
     size_t states_left_size, states_left_capacity;
+    bool shape_set;
     /* Contact events (contact_event_watch.c): NULL until tb_scene_set_contact_events. */
     struct tb__event_watch *contact_events;
     /* Constraints (src/constraints/): NULL until the first joint; constraint_ops their row.

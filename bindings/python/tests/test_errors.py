@@ -4,6 +4,7 @@ import os
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 import tumble
@@ -118,3 +119,36 @@ def test_a_libtumble_of_another_version_is_refused(tmp_path):
     assert result.returncode != 0
     assert (f"is libtumble 9.9.9, but this tumble Python package is {tumble.__version__}"
             in result.stderr)
+
+
+@pytest.mark.parametrize("value", [float("nan"), float("inf"), -float("inf")])
+def test_a_number_json_cannot_hold_is_refused_naming_the_field(value):
+    # NaN and infinities were written into the JSON as NaN and Infinity, which the parser then
+    # refused as "PARSE_ERROR: <builder>:1:160: invalid token near 'NaN'", a column of text the
+    # caller never wrote, naming no field
+    b = tumble.SceneBuilder()
+    b.add_body("ball", shape={"type": "sphere", "radius": 0.1}, mass=1, position=[0, 0, 0.1])
+    b.add_effect("ground", restitution=value)
+    with pytest.raises(ValueError) as caught:
+        b.build()
+    assert isinstance(caught.value, tumble.TumbleError)
+    assert caught.value.status == "BAD_SCENE"
+    assert caught.value.message == (f"<builder>: effects[0].restitution: must be a finite "
+                                    f"number, got {value}")
+    with pytest.raises(tumble.TumbleError, match=r"mine: bodies\[0\]\.position\[2\]: must be a "):
+        tumble.Scene.from_dict({"bodies": [{"name": "b", "mass": 1, "inertia": [1, 1, 1],
+                                            "position": [0, 0, value]}]}, name="mine")
+
+
+def test_numpy_arrays_and_scalars_are_the_numbers_they_hold():
+    # a position as a NumPy array, a density as numpy.int32: "Object of type ndarray is not JSON
+    # serializable" before; now the scene the same lists and numbers make
+    def scene(position, density, normal):
+        b = tumble.SceneBuilder()
+        b.add_body("ball", shape={"type": "sphere", "radius": 0.1}, density=density,
+                   position=position)
+        b.add_effect("gravity").add_effect("ground", normal=normal)
+        return b.build(fps=10, duration=0.2).run()
+    plain = scene([0, 0, 0.5], 1000, [0, 0, 1])
+    numpy = scene(np.array([0, 0, 0.5]), np.int32(1000), (np.float32(0), 0, np.float64(1)))
+    assert np.array_equal(plain.position, numpy.position)

@@ -66,3 +66,22 @@ def test_an_exception_in_on_event_is_raised_after_the_run():
     with pytest.raises(RuntimeError, match="no") as raised:
         dropped_ball().run(method="rk4", on_event=boom)
     assert len(raised.value.frames.t) == 19  # the run went on to its end
+
+
+def test_a_body_named_ground_beside_a_ground_plane_is_refused():
+    # events name a ground plane "ground": a static box of that name beside a plane would read as
+    # the plane in every row; the run is refused before it starts, naming the body (as the CLI's
+    # --events does). Without a plane the name is the box's alone, and the run goes.
+    def scene(plane):
+        b = tumble.SceneBuilder()
+        b.add_body("ground", motion="static", shape={"type": "box", "size": [2, 2, 0.1]},
+                   position=[0, 0, 0.5])
+        b.add_body("ball", shape={"type": "sphere", "radius": 0.1}, mass=1, position=[0, 0, 1])
+        b.add_effect("gravity").add_effect("contact")
+        if plane:
+            b.add_effect("ground")
+        return b.build(fps=30, duration=0.5)
+    with pytest.raises(ValueError, match=r'body 0 is named "ground", the name the events give'):
+        scene(True).run(events=True)
+    hits = scene(False).run(events=True).events
+    assert {"ball", "ground"} == {hits[0]["body_a"], hits[0]["body_b"]}

@@ -22,6 +22,7 @@ def as_pointer(array):
 
 
 _PARSE_ERROR = -14  # TB_STATUS_PARSE_ERROR (include/tumble/status.h)
+_BAD_SCENE = -15  # TB_STATUS_BAD_SCENE
 
 library_version = lib.tb_version().decode()
 

@@ -26,6 +26,11 @@ class Listener:
     def __init__(self, handle, names, hit_speed: float,
                  on_event: Optional[Callable[[dict], None]] = None):
         self.names = list(names)
+        if "ground" in self.names and lib.tb_scene_ground_count(handle) > 0:
+            # the rows name a ground plane "ground": a body so named would read as the plane
+            raise ValueError(f"body {self.names.index('ground')} is named \"ground\", the name "
+                             f"the events give a ground plane, and the scene has a ground plane: "
+                             f"rename the body")
         self.rows = []
         self.on_event = on_event
         self.failure = None

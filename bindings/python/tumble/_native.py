@@ -265,6 +265,7 @@ def _declare(lib):
         "tb_scene_destroy": (None, [ctypes.c_void_p]),
         "tb_scene_detail": (ctypes.c_char_p, [ctypes.c_void_p]),
         "tb_scene_body_count": (ctypes.c_size_t, [ctypes.c_void_p]),
+        "tb_scene_ground_count": (ctypes.c_size_t, [ctypes.c_void_p]),
         "tb_scene_body_slot": (ctypes.c_int, [ctypes.c_void_p, ctypes.c_size_t,
                                               ctypes.POINTER(ctypes.c_size_t)]),
         "tb_scene_body_motion_kind": (ctypes.c_int, [ctypes.c_void_p, ctypes.c_size_t,

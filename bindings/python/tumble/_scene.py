@@ -3,6 +3,7 @@ NumPy arrays, and the accuracy sweep."""
 
 import ctypes
 import json
+import math
 import os
 from dataclasses import dataclass, field
 from typing import Callable, Optional
@@ -10,8 +11,28 @@ from typing import Callable, Optional
 import numpy as np
 
 from . import _events, _export, _joints, _native
-from ._core import (_PARSE_ERROR, TumbleError, apply_settings,
+from ._core import (_BAD_SCENE, _PARSE_ERROR, TumbleError, TumbleValueError, apply_settings,
                     deferred_interrupt, failure, lib, method_code, number, stats_dict)
+
+
+def _json_ready(value, name, path):
+    """value with NumPy arrays and scalars as lists and Python numbers, for JSON. A NaN or an
+    infinity has no JSON spelling (json.dumps wrote NaN, which the parser then refused as
+    "invalid token" at a column of text the caller never wrote): it is refused here naming the
+    field, in the loader's words."""
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
+    elif isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, dict):
+        return {key: _json_ready(item, name, f"{path}.{key}" if path else str(key))
+                for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_json_ready(item, name, f"{path}[{k}]") for k, item in enumerate(value)]
+    if isinstance(value, float) and not math.isfinite(value):
+        raise TumbleValueError(_BAD_SCENE, f"{name}: {path}: must be a finite number, "
+                                           f"got {value}")
+    return value
 
 @dataclass
 class Frames:
@@ -350,7 +371,8 @@ class Scene:
                   base_directory: Optional[str] = None) -> "Scene":
         """The scene a dict in the scene-file format describes (keys "bodies", "effects",
         "integrator", "output"); name labels the library's messages."""
-        return cls(json.dumps(description).encode(), name, base_directory)
+        return cls(json.dumps(_json_ready(description, name, "")).encode(), name,
+                   base_directory)
 
     def _load(self):
         handle = ctypes.c_void_p()
