@@ -139,6 +139,18 @@ static void limit_cells(double wanted[2], double cap)
     }
 }
 
+/* fmin and fmax where a is not NaN (a NaN b leaves a), inline: the loops below run over every
+ * box at every derivative. A tie of 0 and -0 may keep the other zero than fmin would; the cells
+ * are the same (a zero spread is one cell, and x - 0 = x - -0 for x other than a zero). */
+static inline double smaller(double a, double b)
+{
+    return b < a ? b : a;
+}
+static inline double larger(double a, double b)
+{
+    return b > a ? b : a;
+}
+
 /* Cells across the two bin axes, at most count in all: as wide as the widest box along each (a
  * little more, so that rounding cannot put two overlapping boxes two cells apart: the error of
  * (min - low) / width is about 1e-16 times the cells across, far below the 1e-6 spare), wider
@@ -152,9 +164,9 @@ static void assign_cells(tb__broad_phase *bp, size_t count)
         double high = -INFINITY, widest = 0.0;
         low[j] = INFINITY;
         for (size_t i = 0; i < count; ++i) {
-            low[j] = fmin(low[j], bp->boxes[i].min[k]);
-            high = fmax(high, bp->boxes[i].min[k]);
-            widest = fmax(widest, bp->boxes[i].max[k] - bp->boxes[i].min[k]);
+            low[j] = smaller(low[j], bp->boxes[i].min[k]);
+            high = larger(high, bp->boxes[i].min[k]);
+            widest = larger(widest, bp->boxes[i].max[k] - bp->boxes[i].min[k]);
         }
         spread[j] = high - low[j];
         width[j] = widest * (1.0 + 1e-6);
@@ -198,7 +210,13 @@ void tb__broad_phase_sort(tb__broad_phase *bp, size_t count)
     for (size_t i = 0; !same && i < (bp->capacity > 0 ? bp->capacity : 1); ++i) {
         bp->order[i] = i; /* fewer boxes than last time: start again from a permutation */
     }
-    merge_sort(bp, 0, count);
+    bool sorted = true; /* a scene at rest, or asleep but for a few bodies: one pass */
+    for (size_t i = 1; i < count && sorted; ++i) {
+        sorted = !before(bp, bp->order[i], bp->order[i - 1]);
+    }
+    if (!sorted) {
+        merge_sort(bp, 0, count);
+    }
     const size_t cell_count = bp->cells[0] * bp->cells[1];
     for (size_t c = 0, p = 0; c <= cell_count; ++c) {
         while (p < count && bp->cell[bp->order[p]] < c) {
