@@ -399,10 +399,33 @@ static void reach_back(tb__broad_phase *bp, size_t pj, double widest, size_t *n)
     }
 }
 
-static int compare_positions(const void *a, const void *b)
+/* Sorts positions[0, n) ascending, bottom-up merges through buffer (n entries): qsort would
+ * allocate for a long array (glibc's merge sort), and nothing is allocated per derivative. */
+static void sort_positions(size_t *positions, size_t n, size_t *buffer)
 {
-    const size_t x = *(const size_t *)a, y = *(const size_t *)b;
-    return (x > y) - (x < y);
+    size_t *from = positions, *to = buffer;
+    for (size_t width = 1; width < n; width *= 2) {
+        for (size_t low = 0; low < n; low += 2 * width) {
+            const size_t middle = low + width < n ? low + width : n;
+            const size_t high = middle + width < n ? middle + width : n;
+            size_t i = low, j = middle, w = low;
+            while (i < middle && j < high) {
+                to[w++] = from[j] < from[i] ? from[j++] : from[i++];
+            }
+            while (i < middle) {
+                to[w++] = from[i++];
+            }
+            while (j < high) {
+                to[w++] = from[j++];
+            }
+        }
+        size_t *swap = from;
+        from = to;
+        to = swap;
+    }
+    if (from != positions) {
+        memcpy(positions, from, n * sizeof *positions);
+    }
 }
 
 void tb__broad_phase_sort_active(tb__broad_phase *bp, size_t count)
@@ -431,7 +454,7 @@ void tb__broad_phase_sort_active(tb__broad_phase *bp, size_t count)
     for (size_t k = 0; k < n; ++k) {
         bp->marked[bp->visits[k]] = 0;
     }
-    qsort(bp->visits, n, sizeof *bp->visits, compare_positions);
+    sort_positions(bp->visits, n, bp->scratch); /* the sort is done with its scratch */
     bp->visit_count = n;
     bp->visit_next = n > 0 ? 1 : 0;
     bp->cursor = n > 0 ? bp->visits[0] : count;
