@@ -3,8 +3,9 @@
  * once, on random scenes of every kind the binning has to survive (a box filled in three
  * dimensions, sizes over seven decades, huge and infinite boxes, zero-size and coincident ones,
  * clusters 1e15 m apart, a sparse cloud with more cells wanted than boxes, a floor, a column), in
- * batches of any size; and the pairs in an order fixed by the boxes alone. No tolerance: the set
- * is compared exactly. */
+ * batches of any size; and the pairs in an order fixed by the boxes alone; a sweep limited to
+ * the pairs with an active box gives the full sweep's, in its order. No tolerance: the sets
+ * are compared exactly. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -204,11 +205,79 @@ static void test_broad_phase_bins_a_filled_box_across_two_axes(void **state)
     tb__broad_phase_free(&bp);
 }
 
+/* All the pairs of a sweep, in order, in batches of batch; *count of them (free the array). */
+static tb__index_pair *collect(tb__broad_phase *bp, size_t batch, size_t *count)
+{
+    size_t capacity = 1024, n;
+    tb__index_pair *all = malloc(capacity * sizeof *all);
+    assert_non_null(all);
+    *count = 0;
+    while ((n = tb__broad_phase_next(bp, all + *count, batch)) > 0) {
+        *count += n;
+        if (capacity - *count < 128) {
+            capacity *= 2;
+            all = realloc(all, capacity * sizeof *all);
+            assert_non_null(all);
+        }
+    }
+    return all;
+}
+
+/* A sweep limited to the pairs with an active box gives exactly the full sweep's pairs with an
+ * active box, in the same order (the contact sums its forces in that order), whatever the scene
+ * and however many boxes are active: the scan back from each active box finds every inactive
+ * box that reaches it, the huge and infinite boxes (kind 2) included. */
+static void test_broad_phase_limited_sweep_keeps_the_full_sweeps_active_pairs_in_order(void **state)
+{
+    (void)state;
+    uint64_t rng = 23;
+    static const size_t counts[] = {0, 1, 2, 17, 100, 400, MAX_BOXES};
+    static const double shares[] = {0.0, 0.02, 0.2, 0.5, 1.0}; /* of the boxes active */
+    const size_t sizes = sizeof counts / sizeof counts[0] - (tb_test_short() ? 1 : 0);
+    tb__broad_phase bp;
+    assert_int_equal(tb__broad_phase_init(&bp, MAX_BOXES), TB_STATUS_OK);
+    size_t limited_pairs = 0;
+    for (int kind = 0; kind <= 8; ++kind) {
+        for (size_t s = 0; s < sizes; ++s) {
+            const size_t count = counts[s];
+            fill(&rng, kind, count, bp.boxes);
+            tb__broad_phase_sort(&bp, count);
+            size_t full_count;
+            tb__index_pair *full = collect(&bp, 1 + (size_t)kind * 7, &full_count);
+            for (size_t a = 0; a < sizeof shares / sizeof shares[0]; ++a) {
+                for (size_t i = 0; i < count; ++i) {
+                    bp.active[i] = test_uniform(&rng, 0.0, 1.0) < shares[a];
+                }
+                tb__broad_phase_sort_active(&bp, count);
+                size_t n;
+                tb__index_pair *limited = collect(&bp, 1 + (size_t)(kind + (int)a) * 11, &n);
+                size_t k = 0;
+                for (size_t f = 0; f < full_count; ++f) {
+                    if (bp.active[full[f].first] || bp.active[full[f].second]) {
+                        assert_true(k < n);
+                        assert_int_equal(limited[k].first, full[f].first);
+                        assert_int_equal(limited[k].second, full[f].second);
+                        ++k;
+                    }
+                }
+                assert_int_equal(k, n);
+                limited_pairs += n;
+                free(limited);
+            }
+            free(full);
+        }
+    }
+    assert_true(limited_pairs > 10000); /* the active boxes do meet others */
+    tb__broad_phase_free(&bp);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_broad_phase_finds_exactly_the_pairs_of_the_all_pairs_check),
         cmocka_unit_test(test_broad_phase_bins_a_filled_box_across_two_axes),
+        cmocka_unit_test(
+            test_broad_phase_limited_sweep_keeps_the_full_sweeps_active_pairs_in_order),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -289,6 +289,45 @@ static void test_sleeping_under_cvode_bdf(void **state)
     check_woken_column(TB_METHOD_CVODE_BDF, NUDGE_BOTTOM, 0.01, 0.3);
 }
 
+/* While some bodies sleep the derivative stays a pure function of (t, y): an asleep body's
+ * motion and shape pose are kept between evaluations only while its state in y is, bit for
+ * bit, the one it fell asleep with. The top box of a sleeping column moved in y into the awake
+ * spare box pushes it (a 1 cm overlap at the 1 mm default penetration: about ten of its
+ * 4.9 N weights; more than 1 N is asked), the asleep boxes' rows stay 0, and the derivative
+ * at the first y is then the same bits as before. */
+static void test_the_derivative_reads_asleep_bodies_from_y(void **state)
+{
+    (void)state;
+    tb_scene *scene = column(true);
+    tb_integrator *integrator = integrator_for(scene, TB_METHOD_RK4);
+    advance(integrator, 0.0, SETTLED, 0.01);
+    assert_int_equal(asleep(scene), HEIGHT + 1);
+    const double push[3] = {0.1, 0.0, 0.0}, none[3] = {0.0, 0.0, 0.0};
+    assert_int_equal(tb_scene_set_velocity(scene, HEIGHT, push, none), TB_STATUS_OK);
+    assert_int_equal(asleep(scene), HEIGHT); /* the spare alone woke */
+    const size_t n = tb_scene_state_size(scene);
+    static double y[4096], moved[4096], first[4096], pushed[4096], again[4096];
+    assert_true(n <= 4096);
+    memcpy(y, tb_scene_states_const(scene), n * sizeof(double));
+    memcpy(moved, y, n * sizeof(double));
+    double *top = moved + TB_STATE_SIZE * (HEIGHT - 1);
+    const double *spare = y + TB_STATE_SIZE * HEIGHT;
+    top[TB_STATE_X] = spare[TB_STATE_X] + 0.09; /* beside it, overlapping by 1 cm */
+    top[TB_STATE_X + 1] = spare[TB_STATE_X + 1];
+    top[TB_STATE_X + 2] = spare[TB_STATE_X + 2];
+    assert_int_equal(tb_scene_derivative(SETTLED, y, first, scene), 0);
+    assert_int_equal(tb_scene_derivative(SETTLED, moved, pushed, scene), 0);
+    assert_int_equal(tb_scene_derivative(SETTLED, y, again, scene), 0);
+    const size_t spare_px = TB_STATE_SIZE * HEIGHT + TB_STATE_P;
+    assert_true(pushed[spare_px] < first[spare_px] - 1.0);
+    for (size_t k = 0; k < TB_STATE_SIZE * HEIGHT; ++k) {
+        assert_true(first[k] == 0.0 && pushed[k] == 0.0);
+    }
+    assert_memory_equal(first, again, n * sizeof(double));
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
 /* The switch and the read-outs: refusals name their input and change nothing; the scene
  * file's top-level "sleeping" sets the switch, and anything but a boolean is refused. */
 static void test_the_sleeping_switch_and_read_outs(void **state)
@@ -381,6 +420,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(test_a_sliding_ball_wakes_a_box_and_keeps_momentum_under_rk4),
         cmocka_unit_test(test_sleeping_under_cvode_adams),
         cmocka_unit_test(test_sleeping_under_cvode_bdf),
+        cmocka_unit_test(test_the_derivative_reads_asleep_bodies_from_y),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -26,8 +26,12 @@ tb_status tb__broad_phase_init(tb__broad_phase *bp, size_t capacity)
     bp->scratch = tb__malloc_array(n, sizeof *bp->scratch);
     bp->cell = tb__malloc_array(n, sizeof *bp->cell);
     bp->cell_start = tb__malloc_array(n + 1, sizeof *bp->cell_start);
+    bp->active = calloc(n, 1);
+    bp->marked = calloc(n, 1);
+    bp->visits = tb__malloc_array(n, sizeof *bp->visits);
     if (bp->boxes == NULL || bp->order == NULL || bp->sorted == NULL || bp->scratch == NULL ||
-        bp->cell == NULL || bp->cell_start == NULL) {
+        bp->cell == NULL || bp->cell_start == NULL || bp->active == NULL || bp->marked == NULL ||
+        bp->visits == NULL) {
         tb__broad_phase_free(bp);
         return TB_STATUS_OUT_OF_MEMORY;
     }
@@ -46,6 +50,9 @@ void tb__broad_phase_free(tb__broad_phase *bp)
     free(bp->scratch);
     free(bp->cell);
     free(bp->cell_start);
+    free(bp->active);
+    free(bp->marked);
+    free(bp->visits);
     memset(bp, 0, sizeof *bp);
 }
 
@@ -132,6 +139,18 @@ static void limit_cells(double wanted[2], double cap)
     }
 }
 
+/* fmin and fmax where a is not NaN (a NaN b leaves a), inline: the loops below run over every
+ * box at every derivative. A tie of 0 and -0 may keep the other zero than fmin would; the cells
+ * are the same (a zero spread is one cell, and x - 0 = x - -0 for x other than a zero). */
+static inline double smaller(double a, double b)
+{
+    return b < a ? b : a;
+}
+static inline double larger(double a, double b)
+{
+    return b > a ? b : a;
+}
+
 /* Cells across the two bin axes, at most count in all: as wide as the widest box along each (a
  * little more, so that rounding cannot put two overlapping boxes two cells apart: the error of
  * (min - low) / width is about 1e-16 times the cells across, far below the 1e-6 spare), wider
@@ -145,9 +164,9 @@ static void assign_cells(tb__broad_phase *bp, size_t count)
         double high = -INFINITY, widest = 0.0;
         low[j] = INFINITY;
         for (size_t i = 0; i < count; ++i) {
-            low[j] = fmin(low[j], bp->boxes[i].min[k]);
-            high = fmax(high, bp->boxes[i].min[k]);
-            widest = fmax(widest, bp->boxes[i].max[k] - bp->boxes[i].min[k]);
+            low[j] = smaller(low[j], bp->boxes[i].min[k]);
+            high = larger(high, bp->boxes[i].min[k]);
+            widest = larger(widest, bp->boxes[i].max[k] - bp->boxes[i].min[k]);
         }
         spread[j] = high - low[j];
         width[j] = widest * (1.0 + 1e-6);
@@ -191,7 +210,13 @@ void tb__broad_phase_sort(tb__broad_phase *bp, size_t count)
     for (size_t i = 0; !same && i < (bp->capacity > 0 ? bp->capacity : 1); ++i) {
         bp->order[i] = i; /* fewer boxes than last time: start again from a permutation */
     }
-    merge_sort(bp, 0, count);
+    bool sorted = true; /* a scene at rest, or asleep but for a few bodies: one pass */
+    for (size_t i = 1; i < count && sorted; ++i) {
+        sorted = !before(bp, bp->order[i], bp->order[i - 1]);
+    }
+    if (!sorted) {
+        merge_sort(bp, 0, count);
+    }
     const size_t cell_count = bp->cells[0] * bp->cells[1];
     for (size_t c = 0, p = 0; c <= cell_count; ++c) {
         while (p < count && bp->cell[bp->order[p]] < c) {
@@ -206,6 +231,7 @@ void tb__broad_phase_sort(tb__broad_phase *bp, size_t count)
     bp->cursor = 0;
     bp->phase = -1; /* the cursor's box has not started */
     bp->hint_cell = NO_CELL;
+    bp->limited = bp->skipping = false;
 }
 
 /* Whether the boxes meet on the two axes other than axis (a NaN bound meets), without branches:
@@ -222,21 +248,29 @@ static int overlap_others(const tb__aabb *a, const tb__aabb *b, int axis)
 static const int neighbour_du[8] = {-1, -1, -1, 0, 0, 1, 1, 1};
 static const int neighbour_dv[8] = {-1, 0, 1, -1, 1, -1, 0, 1};
 
-/* The cells around cell c that are on the grid, in the neighbours' order, into bp->around, with
- * each one's hint at its start. */
-static void enter_cell(tb__broad_phase *bp, size_t c)
+/* The cells around cell c that are on the grid, in the neighbours' order, into around; returns
+ * how many. */
+static size_t neighbours(const tb__broad_phase *bp, size_t c, size_t around[8])
 {
     const size_t u = c / bp->cells[1], v = c % bp->cells[1];
-    bp->around_count = 0;
+    size_t count = 0;
     for (int n = 0; n < 8; ++n) {
         const int du = neighbour_du[n], dv = neighbour_dv[n];
         if ((du < 0 && u == 0) || (du > 0 && u + 1 == bp->cells[0]) || (dv < 0 && v == 0) ||
             (dv > 0 && v + 1 == bp->cells[1])) {
             continue; /* off the grid */
         }
-        const size_t t = (u + (size_t)(du + 1) - 1) * bp->cells[1] + v + (size_t)(dv + 1) - 1;
-        bp->around[bp->around_count] = t;
-        bp->hint[bp->around_count++] = bp->cell_start[t];
+        around[count++] = (u + (size_t)(du + 1) - 1) * bp->cells[1] + v + (size_t)(dv + 1) - 1;
+    }
+    return count;
+}
+
+/* The cells around cell c into bp->around, with each one's hint at its start. */
+static void enter_cell(tb__broad_phase *bp, size_t c)
+{
+    bp->around_count = neighbours(bp, c, bp->around);
+    for (size_t n = 0; n < bp->around_count; ++n) {
+        bp->hint[n] = bp->cell_start[bp->around[n]];
     }
     bp->hint_cell = c;
 }
@@ -282,7 +316,9 @@ static void next_phase(tb__broad_phase *bp)
             return;
         }
     }
-    ++bp->cursor;
+    bp->cursor = !bp->skipping                      ? bp->cursor + 1
+                 : bp->visit_next < bp->visit_count ? bp->visits[bp->visit_next++]
+                                                    : bp->count;
     bp->phase = -1;
 }
 
@@ -297,6 +333,8 @@ size_t tb__broad_phase_next(tb__broad_phase *bp, tb__index_pair *out, size_t cap
         }
         const tb__sorted_box *a = &bp->sorted[bp->cursor];
         const double reach = a->box.max[axis];
+        /* every pair of an active box (or every pair, unlimited); active is allocated zeroed */
+        const int every = !bp->limited || bp->active[a->index];
         /* the boxes of this phase that start before a ends, in order */
         size_t next = bp->next;
         while (written < capacity && next < bp->end && !(bp->sorted[next].box.min[axis] > reach)) {
@@ -304,7 +342,7 @@ size_t tb__broad_phase_next(tb__broad_phase *bp, tb__index_pair *out, size_t cap
             const size_t i = a->index, j = b->index;
             out[written].first = i < j ? i : j; /* kept when they overlap: no branch to miss */
             out[written].second = i < j ? j : i;
-            written += overlap_others(&a->box, &b->box, axis);
+            written += overlap_others(&a->box, &b->box, axis) & (every | bp->active[j]);
         }
         bp->next = next;
         if (written < capacity) {
@@ -312,4 +350,112 @@ size_t tb__broad_phase_next(tb__broad_phase *bp, tb__index_pair *out, size_t cap
         }
     }
     return written;
+}
+
+/* The first position in cell t whose box comes after box j along the axis (before_on_axis), by
+ * bisection. */
+static size_t first_after_box(const tb__broad_phase *bp, size_t t, const tb__sorted_box *j)
+{
+    const double a = j->box.min[bp->axis];
+    size_t low = bp->cell_start[t], high = bp->cell_start[t + 1];
+    while (low < high) {
+        const size_t middle = low + (high - low) / 2;
+        const tb__sorted_box *m = &bp->sorted[middle];
+        const double b = m->box.min[bp->axis];
+        if (a < b || (a == b && j->index < m->index)) {
+            high = middle;
+        } else {
+            low = middle + 1;
+        }
+    }
+    return low;
+}
+
+/* Adds to the visits the inactive boxes from which the sweep finds active box pj: those before
+ * it along the axis in its cell or a neighbouring one that reach it. A box reaching it starts
+ * at most the widest box's length before it (in rounded differences too: rounding is
+ * monotone), so the scan back stops there. */
+static void reach_back(tb__broad_phase *bp, size_t pj, double widest, size_t *n)
+{
+    const int axis = bp->axis;
+    const tb__sorted_box *j = &bp->sorted[pj];
+    const size_t c = bp->cell[j->index];
+    size_t cells[9];
+    cells[0] = c;
+    const size_t cell_count = 1 + neighbours(bp, c, cells + 1);
+    for (size_t k = 0; k < cell_count; ++k) {
+        const size_t t = cells[k], first = bp->cell_start[t];
+        for (size_t p = t == c ? pj : first_after_box(bp, t, j); p > first;) {
+            const tb__sorted_box *m = &bp->sorted[--p];
+            if (j->box.min[axis] - m->box.min[axis] > widest) {
+                break;
+            }
+            if (!bp->active[m->index] && !bp->marked[p] && !(j->box.min[axis] > m->box.max[axis]) &&
+                overlap_others(&m->box, &j->box, axis)) {
+                bp->marked[p] = 1;
+                bp->visits[(*n)++] = p;
+            }
+        }
+    }
+}
+
+/* Sorts positions[0, n) ascending, bottom-up merges through buffer (n entries): qsort would
+ * allocate for a long array (glibc's merge sort), and nothing is allocated per derivative. */
+static void sort_positions(size_t *positions, size_t n, size_t *buffer)
+{
+    size_t *from = positions, *to = buffer;
+    for (size_t width = 1; width < n; width *= 2) {
+        for (size_t low = 0; low < n; low += 2 * width) {
+            const size_t middle = low + width < n ? low + width : n;
+            const size_t high = middle + width < n ? middle + width : n;
+            size_t i = low, j = middle, w = low;
+            while (i < middle && j < high) {
+                to[w++] = from[j] < from[i] ? from[j++] : from[i++];
+            }
+            while (i < middle) {
+                to[w++] = from[i++];
+            }
+            while (j < high) {
+                to[w++] = from[j++];
+            }
+        }
+        size_t *swap = from;
+        from = to;
+        to = swap;
+    }
+    if (from != positions) {
+        memcpy(positions, from, n * sizeof *positions);
+    }
+}
+
+void tb__broad_phase_sort_active(tb__broad_phase *bp, size_t count)
+{
+    tb__broad_phase_sort(bp, count);
+    bp->limited = true;
+    const int axis = bp->axis;
+    double widest = 0.0, bounds = 0.0;
+    size_t n = 0;
+    for (size_t p = 0; p < count; ++p) {
+        const tb__aabb *box = &bp->sorted[p].box;
+        widest = fmax(widest, box->max[axis] - box->min[axis]);
+        bounds += box->min[0] + box->min[1] + box->min[2] + box->max[0] + box->max[1] + box->max[2];
+        if (bp->active[bp->sorted[p].index]) {
+            bp->visits[n++] = p;
+        }
+    }
+    /* the sum is finite only if every bound is */
+    bp->skipping = isfinite(bounds) && isfinite(widest);
+    if (!bp->skipping) {
+        return; /* every position, the pairs without an active box left out */
+    }
+    for (size_t k = 0, active = n; k < active; ++k) {
+        reach_back(bp, bp->visits[k], widest, &n);
+    }
+    for (size_t k = 0; k < n; ++k) {
+        bp->marked[bp->visits[k]] = 0;
+    }
+    sort_positions(bp->visits, n, bp->scratch); /* the sort is done with its scratch */
+    bp->visit_count = n;
+    bp->visit_next = n > 0 ? 1 : 0;
+    bp->cursor = n > 0 ? bp->visits[0] : count;
 }

@@ -17,12 +17,19 @@
  *
  * Pairs come out in batches through a cursor that the broad phase keeps: a full batch is
  * never an error, the caller handles it and asks for the next. So nothing needs to grow inside
- * the derivative, and all memory is allocated once for a capacity of boxes. */
+ * the derivative, and all memory is allocated once for a capacity of boxes.
+ *
+ * A sweep may be limited to the pairs with an active box (the boxes of moving bodies, where most
+ * rest asleep): the cursor then visits only the active boxes and the inactive ones that meet an
+ * active box after them along the axis (found by a scan back from each active box, no farther
+ * than the widest box), so a sleeping pile costs a sort and no sweep; the pairs come out in the
+ * full sweep's order with the others left out. */
 #ifndef TUMBLE_BROAD_PHASE_H
 #define TUMBLE_BROAD_PHASE_H
 
 #include "tumble/status.h"
 
+#include <stdbool.h>
 #include <stddef.h>
 
 typedef struct tb__aabb {
@@ -59,6 +66,15 @@ typedef struct tb__broad_phase {
     size_t cursor, next, end;
     int phase;
     size_t hint_cell, around_count, around[8], hint[8];
+    /* The limited sweep (tb__broad_phase_sort_active): active[i] for box i, 1 when active
+     * (capacity; the caller fills [0, count)); the positions the cursor visits, ascending
+     * (visit_count of them, visits[visit_next] the next), and a mark per position (capacity,
+     * all 0 between sorts) while they are gathered. skipping: the cursor visits only those (all
+     * positions when a bound is not finite: the scan back needs finite ones). */
+    unsigned char *active, *marked;
+    size_t *visits;
+    size_t visit_count, visit_next;
+    bool limited, skipping;
 } tb__broad_phase;
 
 /* Allocates room for capacity boxes (capacity 0 is allowed); on failure bp is left empty and
@@ -68,6 +84,10 @@ void tb__broad_phase_free(tb__broad_phase *bp);
 
 /* Sorts boxes [0, count) (count <= capacity) and rewinds the cursor. */
 void tb__broad_phase_sort(tb__broad_phase *bp, size_t count);
+
+/* The same, for a sweep that gives only the pairs with at least one active box (active[i]
+ * filled for the boxes [0, count)), in the order tb__broad_phase_sort's sweep gives them. */
+void tb__broad_phase_sort_active(tb__broad_phase *bp, size_t count);
 
 /* Writes up to capacity pairs of overlapping boxes (closed intervals on all three axes) after
  * the cursor and returns how many; 0 when the sweep is done. Every overlapping pair comes out

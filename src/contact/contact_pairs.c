@@ -5,6 +5,7 @@
 #include "core/detail.h"
 #include "core/validate.h"
 #include "scene/scene_internal.h"
+#include "scene/sleep_frozen.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -25,6 +26,11 @@ struct tb__contact_pairs {
     size_t batch_count, batch_next; /* fetched candidates and the next to test */
     size_t piece_a, piece_b;        /* the next piece pair of candidate batch_next */
     bool skip_asleep;               /* pairs of two asleep bodies are not tested */
+    /* count: box b's pose, frame and bounds are those of its frozen body (sleep_frozen.h),
+     * kept from an earlier pass while the asleep set and the shapes (their generations)
+     * stay */
+    unsigned char *kept;
+    unsigned long long kept_sleep, kept_shapes;
 };
 
 tb_status tb__contact_pairs_check_ids(const tb_scene *scene, const size_t *bodies, size_t count,
@@ -76,9 +82,10 @@ tb_status tb__contact_pairs_create(const tb_scene *scene, const size_t *bodies, 
         p->local = tb__malloc_array(n, sizeof *p->local);
         p->poses = tb__malloc_array(n, TB__POSE_SIZE * sizeof(double));
         p->frames = tb__malloc_array(n, sizeof *p->frames);
+        p->kept = calloc(n, 1);
     }
     if (p == NULL || p->ids == NULL || p->local == NULL || p->poses == NULL || p->frames == NULL ||
-        tb__broad_phase_init(&p->broad, count) != TB_STATUS_OK) {
+        p->kept == NULL || tb__broad_phase_init(&p->broad, count) != TB_STATUS_OK) {
         tb__contact_pairs_destroy(p);
         return tb__set_detail(detail, TB_STATUS_OUT_OF_MEMORY, "contact pairs for %zu bodies",
                               count);
@@ -100,6 +107,7 @@ void tb__contact_pairs_destroy(tb__contact_pairs *pairs)
         free(pairs->local);
         free(pairs->poses);
         free(pairs->frames);
+        free(pairs->kept);
         free(pairs);
     }
 }
@@ -120,35 +128,70 @@ static bool any_keyframed(const tb__contact_pairs *pairs, const tb_scene *scene)
     return false;
 }
 
+/* Box b's pose, frame and bounds (grown by half the margin each way, so that pairs within it
+ * meet) for body id at (t, y). */
+static void place_box(tb__contact_pairs *pairs, const tb_scene *scene, double t, const double *y,
+                      size_t id, const tb__collision_shape *shape, size_t b)
+{
+    double *pose = pairs->poses + TB__POSE_SIZE * b;
+    tb__shape_pose(scene, t, y, id, pose);
+    if (shape->type == TB_SHAPE_BOX) {
+        tb__box_frame_at(pose, &pairs->frames[b]);
+    }
+    tb__aabb *box = &pairs->broad.boxes[b];
+    tb__collision_shape_bounds(shape, pose, box->min, box->max);
+    for (int i = 0; i < 3; ++i) {
+        box->min[i] -= 0.5 * pairs->margin;
+        box->max[i] += 0.5 * pairs->margin;
+    }
+}
+
+/* Drops the kept boxes when the asleep set or the shapes (and so the boxes' numbering) changed
+ * since they were kept. */
+static void check_kept(tb__contact_pairs *pairs, const tb_scene *scene)
+{
+    const unsigned long long sleep = tb__scene_sleep_generation(scene);
+    if (sleep != pairs->kept_sleep || scene->effects_generation != pairs->kept_shapes) {
+        memset(pairs->kept, 0, pairs->count);
+        pairs->kept_sleep = sleep;
+        pairs->kept_shapes = scene->effects_generation;
+    }
+}
+
 void tb__contact_pairs_begin(tb__contact_pairs *pairs, const tb_scene *scene, double t,
                              const double *y)
 {
-    size_t boxes = 0;
+    size_t boxes = 0, resting = 0;
     /* every dynamic body asleep and no keyframed one: no pair to find (the broad phase would
      * list only asleep and static ones) */
     const bool all_asleep = pairs->skip_asleep && scene->sleep != NULL &&
                             scene->sleep->asleep_count == scene->slot_count &&
                             !any_keyframed(pairs, scene);
+    check_kept(pairs, scene);
     for (size_t k = 0; k < pairs->count && !all_asleep; ++k) {
         const size_t id = pairs->ids[k];
         const tb__collision_shape *shape = tb__scene_body_collision_shape(scene, id);
         if (shape == NULL) {
             continue;
         }
-        double *pose = pairs->poses + TB__POSE_SIZE * boxes;
-        tb__shape_pose(scene, t, y, id, pose);
-        if (shape->type == TB_SHAPE_BOX) {
-            tb__box_frame_at(pose, &pairs->frames[boxes]);
+        const size_t b = boxes++;
+        pairs->local[b] = k;
+        /* a pair of two resting bodies is skipped (test_pair): the sweep needs only the others */
+        const bool rests = tb__body_asleep(scene, id) || tb__body_static(scene, id);
+        pairs->broad.active[b] = !rests;
+        resting += rests;
+        const bool frozen = tb__body_frozen(scene, y, id);
+        if (!frozen || !pairs->kept[b]) {
+            place_box(pairs, scene, t, y, id, shape, b);
+            pairs->kept[b] = frozen;
         }
-        tb__aabb *box = &pairs->broad.boxes[boxes];
-        tb__collision_shape_bounds(shape, pose, box->min, box->max);
-        for (int i = 0; i < 3; ++i) { /* each box grows by half the margin: pairs within it meet */
-            box->min[i] -= 0.5 * pairs->margin;
-            box->max[i] += 0.5 * pairs->margin;
-        }
-        pairs->local[boxes++] = k;
     }
-    tb__broad_phase_sort(&pairs->broad, boxes);
+    /* the limited sweep scans back from each active box as well: worth it from half resting */
+    if (pairs->skip_asleep && 2 * resting >= boxes && resting > 0) {
+        tb__broad_phase_sort_active(&pairs->broad, boxes);
+    } else {
+        tb__broad_phase_sort(&pairs->broad, boxes);
+    }
     pairs->batch_count = 0;
     pairs->batch_next = 0;
     pairs->piece_a = pairs->piece_b = 0;

@@ -30,7 +30,7 @@ tb_status tb__contact_pairs_create(const tb_scene *scene, const size_t *bodies, 
                                    double margin, tb__contact_pairs **out, char *detail);
 void tb__contact_pairs_destroy(tb__contact_pairs *pairs);
 
-/* Whether passes skip pairs of two asleep bodies (scene_internal.h, tb__pair_asleep) before
+/* Whether passes skip pairs of two asleep bodies (body_motion.h, tb__pair_resting) before
  * the narrow phase: the contact effect's do; a read-out's (tb_contact_info) do not. Default
  * false. */
 void tb__contact_pairs_skip_asleep(tb__contact_pairs *pairs, bool skip);

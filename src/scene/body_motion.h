@@ -66,8 +66,8 @@ static inline bool tb__body_static(const tb_scene *scene, size_t id)
  * the friction between them stays frozen). */
 static inline bool tb__pair_resting(const tb_scene *scene, size_t a, size_t b)
 {
-    return (tb__body_static(scene, a) || tb__body_asleep(scene, a)) &&
-           (tb__body_static(scene, b) || tb__body_asleep(scene, b));
+    return (tb__body_asleep(scene, a) || tb__body_static(scene, a)) &&
+           (tb__body_asleep(scene, b) || tb__body_static(scene, b));
 }
 
 /* What tb_body_def_default writes into internal_cookie (scene.c), checked here. */

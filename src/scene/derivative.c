@@ -4,6 +4,7 @@
 #include "math/tb_math.h"
 #include "scene/run_watch.h"
 #include "scene/scene_jacobian.h"
+#include "scene/sleep_frozen.h"
 
 void tb__unit_quaternion(const double *y, size_t i, double q[4])
 {
@@ -129,12 +130,44 @@ static int constraint_forces(const tb_scene *scene, double t, const double *y, d
                : scene->constraint_ops->apply(scene->constraints, scene, t, y, dydt);
 }
 
+/* kinematics() of the awake slots, run by run, and of the asleep bodies that are not frozen
+ * at y (sleep_frozen.h) or whose frozen motion scene->motions no longer holds; a frozen body's
+ * dydt is left for tb__scene_sleep_zero (zeroed first where the joints read the loads in it). */
+static void kinematics_awake(const tb_scene *scene, const double *y, double *dydt)
+{
+    tb__sleep *sleep = scene->sleep;
+    for (size_t r = 0; r < sleep->run_count; ++r) {
+        const size_t first = sleep->runs[2 * r], count = sleep->runs[2 * r + 1] - first;
+        kinematics(scene->bodies + first, y + TB_STATE_SIZE * first, dydt + TB_STATE_SIZE * first,
+                   count, scene->motions, scene->slot_ids + first);
+    }
+    for (size_t k = 0; k < sleep->asleep_count; ++k) {
+        const size_t s = sleep->asleep_slots[k], id = scene->slot_ids[s];
+        const bool frozen = tb__body_frozen(scene, y, id);
+        if (!frozen || !sleep->motion_kept[id]) {
+            kinematics(scene->bodies + s, y + TB_STATE_SIZE * s, dydt + TB_STATE_SIZE * s, 1,
+                       scene->motions, scene->slot_ids + s);
+            sleep->motion_kept[id] = frozen;
+        } else if (scene->constraint_ops != NULL) {
+            memset(dydt + TB_STATE_SIZE * s, 0, TB_STATE_SIZE * sizeof(double));
+        }
+    }
+}
+
 /* The first stage: every body's motion (dynamic bodies' from y, into dydt's x and q rows too;
  * the others' from their kinds at t) for the loads to read. */
 static int motions(const tb_scene *scene, double t, const double *y, double *dydt)
 {
     const size_t n = scene->slot_count;
-    kinematics(scene->bodies, y, dydt, n, scene->motions, scene->slot_ids);
+    const tb__sleep *sleep = scene->sleep;
+    if (sleep != NULL && sleep->asleep_count > 0 && sleep->capacity == scene->body_count) {
+        kinematics_awake(scene, y, dydt);
+    } else {
+        kinematics(scene->bodies, y, dydt, n, scene->motions, scene->slot_ids);
+        if (sleep != NULL && sleep->asleep_count > 0) { /* bodies added: the kept motions went */
+            memset(sleep->motion_kept, 0, sleep->capacity);
+        }
+    }
     int rc = 0;
     for (size_t k = 0; k < scene->body_count - n && rc == 0; ++k) { /* the bodies with no state */
         const size_t id = scene->fixed_ids[k];

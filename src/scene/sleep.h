@@ -12,15 +12,20 @@
  * change only at step boundaries (tb__scene_post_step), so the derivative is a pure function
  * of (t, y) between them. */
 typedef struct tb__sleep {
-    size_t capacity;               /* bodies the arrays hold */
-    unsigned char *asleep;         /* per body */
-    size_t asleep_count;           /* bodies asleep */
-    size_t *parent;                /* union-find of the boundary's islands */
-    size_t *island;                /* an asleep body's island (a body id) */
-    double *still;                 /* s each body has been slow (-1: touched by a moving
-                                      keyframed body since the last boundary) */
-    unsigned char *decision;       /* the last boundary's: 1 asleep, 0 awake */
-    double *snapshot;              /* TB_STATE_SIZE per body: the state it fell asleep with */
+    size_t capacity;         /* bodies the arrays hold */
+    unsigned char *asleep;   /* per body */
+    size_t asleep_count;     /* bodies asleep */
+    size_t *parent;          /* union-find of the boundary's islands */
+    size_t *island;          /* an asleep body's island (a body id) */
+    double *still;           /* s each body has been slow (-1: touched by a moving
+                                keyframed body since the last boundary) */
+    unsigned char *decision; /* the last boundary's: 1 asleep, 0 awake */
+    double *snapshot;        /* TB_STATE_SIZE per body: the state it fell asleep with */
+    /* What a derivative visits (sleep_frozen.h): the awake slots as runs [runs[2k],
+     * runs[2k + 1]) (run_count), the asleep bodies' slots (asleep_count), and per body whether
+     * scene->motions holds its frozen motion; capacity + 1 runs and capacity of each. */
+    size_t *runs, run_count, *asleep_slots;
+    unsigned char *motion_kept;
     double last_t;                 /* the last boundary's time (NAN: none yet) */
     bool pending;                  /* a decision waits for the next acquire (adaptive methods) */
     unsigned long long generation; /* counts changes of the asleep set */
@@ -32,12 +37,6 @@ static inline bool tb__body_asleep(const tb_scene *scene, size_t id)
 {
     const tb__sleep *sleep = scene->sleep;
     return sleep != NULL && sleep->asleep_count > 0 && id < sleep->capacity && sleep->asleep[id];
-}
-
-/* Whether both bodies of a pair are asleep (the narrow phase skips it). */
-static inline bool tb__pair_asleep(const tb_scene *scene, size_t a, size_t b)
-{
-    return tb__body_asleep(scene, a) && tb__body_asleep(scene, b);
 }
 
 /* Allocates the sleep arrays for the scene's bodies (tb_scene_ode_system of a scene whose
