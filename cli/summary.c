@@ -142,14 +142,14 @@ void summary_print_impacts(const tb_scene *scene)
     if (!found.watched) {
         return;
     }
-    fprintf(stderr, "  %-24s %zu %s shorter than dt %g s resolves%s\n", "unresolved impacts",
-            found.count, summary_plural(found.count, "impact", "impacts"), found.dt,
+    fprintf(stderr, "  %-24s %zu, too fast for dt %g s (dt omega above %.3g)%s\n",
+            "unresolved impacts", found.count, found.dt, found.resolution,
             status == TB_STATUS_OK ? "" : " (pairs left unwatched: out of memory)");
     if (found.count > 0) {
         const tb_impact *w = &found.fastest;
         fprintf(stderr,
                 "  %-24s %s and %s at t = %.6g s, closing at %.3g m/s, pushing %.3g s (%.3g "
-                "steps); its bounce comes out below its restitution\n",
+                "steps): it bounces back less than its restitution says\n",
                 "fastest", body_name(scene, w->body_a), body_name(scene, w->body_b), w->t, w->speed,
                 w->duration, w->steps);
     }

@@ -73,6 +73,7 @@ static void test_head_on_balls_at_240_hz_count_their_one_impact(void **unused)
         run_and_count("head_on_balls", TB_METHOD_ROSENBROCK, dt, 1.0);
     assert_true(found.watched);
     assert_true(found.dt == dt);
+    assert_true(found.resolution == 0.1); /* rosenbrock's default step's */
     assert_int_equal(found.count, 1);
     const tb_impact *impacts[2] = {&found.first, &found.fastest};
     for (int k = 0; k < 2; ++k) {

@@ -43,6 +43,7 @@ int main(void)
     printf("\"tb_unresolved_impacts\": {\"size\": %zu, ", sizeof(tb_unresolved_impacts));
     FIELD(tb_unresolved_impacts, watched);
     FIELD(tb_unresolved_impacts, dt);
+    FIELD(tb_unresolved_impacts, resolution);
     FIELD(tb_unresolved_impacts, count);
     FIELD(tb_unresolved_impacts, first);
     FIELD(tb_unresolved_impacts, fastest);

@@ -98,6 +98,7 @@ typedef struct tb_unresolved_impacts {
                           (the stability guard's bound) at the integrator's start; false for an
                           adaptive method (error control resolves impacts) or a resolving step */
     double dt;         /* s: the step counted against (0 when not watched) */
+    double resolution; /* the dt omega above which an impact counts (0 when not watched) */
     size_t count;      /* impacts since the integrator was made */
     tb_impact first;   /* the earliest of them (zeros when count is 0) */
     tb_impact fastest; /* the one that closed fastest, the earliest of equals */

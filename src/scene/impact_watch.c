@@ -123,7 +123,7 @@ tb_status tb__scene_impacts_prepare(tb_scene *scene, const double *y, tb_method 
                                     .watch = watch,
                                     .dt = dt,
                                     .resolution = resolution,
-                                    .found = {.watched = true, .dt = dt}};
+                                    .found = {.watched = true, .dt = dt, .resolution = resolution}};
     *out_pending = impacts;
     return TB_STATUS_OK;
 }

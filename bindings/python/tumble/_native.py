@@ -142,7 +142,8 @@ class Impact(ctypes.Structure):
 
 class UnresolvedImpacts(ctypes.Structure):
     """tb_unresolved_impacts (include/tumble/contact_events.h)."""
-    _fields_ = [("watched", ctypes.c_bool), ("dt", ctypes.c_double), ("count", ctypes.c_size_t),
+    _fields_ = [("watched", ctypes.c_bool), ("dt", ctypes.c_double),
+                ("resolution", ctypes.c_double), ("count", ctypes.c_size_t),
                 ("first", Impact), ("fastest", Impact)]
 
 
