@@ -108,6 +108,56 @@ static void test_head_on_pairs_at_240_hz_count_four_impacts(void **unused)
     }
 }
 
+typedef struct hits {
+    size_t count;
+    double faster_than; /* m/s */
+} hits;
+
+static void count_hits(const tb_contact_event *event, void *ctx)
+{
+    hits *h = ctx;
+    h->count += event->kind == TB_CONTACT_HIT && event->speed > h->faster_than;
+}
+
+/* newtons_cradle (five equal 263 g balls 1 mm apart, the first at 0.89 m/s) at rosenbrock's
+ * 1/1000 s: every pair is of equal balls under one law (rate omega sqrt(2), a push of 0.64 ms,
+ * under a step), so every impact counted is a hit the user's contact events see closing faster
+ * than g dt = 9.81e-3 m/s, and every such hit is counted: the two counts agree exactly (16 in one
+ * advance over the 1.5 s; tumble run, landing a step on each frame, 12). */
+static void test_the_cradle_counts_its_hits_faster_than_g_dt(void **unused)
+{
+    (void)unused;
+    char path[512];
+    snprintf(path, sizeof path, "%s/newtons_cradle.json", TUMBLE_SCENES_DIR);
+    tb_scene *scene = NULL;
+    tb_run_def run;
+    tb_error error;
+    assert_int_equal(tb_scene_load_file(path, &scene, &run, &error), TB_STATUS_OK);
+    assert_int_equal(tb_integrator_def_set_method(&run.integrator, TB_METHOD_ROSENBROCK),
+                     TB_STATUS_OK);
+    run.integrator.dt = 1e-3;
+    hits h = {0, 9.81 * run.integrator.dt};
+    tb_contact_events_def events = tb_contact_events_def_default();
+    events.fn = count_hits;
+    events.ctx = &h;
+    assert_int_equal(tb_scene_set_contact_events(scene, &events), TB_STATUS_OK);
+    tb_integrator *integrator = NULL;
+    assert_int_equal(tb_scene_integrator_create(scene, &run.integrator, 0.0, &integrator),
+                     TB_STATUS_OK);
+    assert_int_equal(tb_integrator_advance(integrator, run.duration), TB_STATUS_OK);
+    tb_unresolved_impacts found;
+    assert_int_equal(tb_scene_unresolved_impacts(scene, &found), TB_STATUS_OK);
+    print_message("%zu impacts counted, %zu hits faster than %g m/s; fastest %zu-%zu at %.3f m/s "
+                  "(%.3g steps)\n",
+                  found.count, h.count, h.faster_than, found.fastest.body_a, found.fastest.body_b,
+                  found.fastest.speed, found.fastest.steps);
+    assert_true(found.count > 0);
+    assert_int_equal(found.count, h.count);
+    assert_true(found.fastest.steps < 1.0);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
 /* At a resolving step nothing is watched and nothing counted: RK4 at the scene's default step
  * (h omega <= 0.5 on the guard's bound, inside its stability limit), rosenbrock at its own
  * default step (h omega <= 0.1), and rosenbrock at 2e-5 s (the pair's h omega 0.081 < 0.1, though
@@ -187,6 +237,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_head_on_balls_at_240_hz_count_their_one_impact),
         cmocka_unit_test(test_head_on_pairs_at_240_hz_count_four_impacts),
+        cmocka_unit_test(test_the_cradle_counts_its_hits_faster_than_g_dt),
         cmocka_unit_test(test_resolving_steps_count_none),
         cmocka_unit_test(test_counting_allocates_nothing_per_step),
         cmocka_unit_test(test_null_pointers_are_refused),
