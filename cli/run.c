@@ -255,6 +255,7 @@ static int simulate(const cli_options *o, tb_scene *scene, const tb_run_def *run
     summary_measure(scene, &last);
     summary_print(o->scene, scene, run, dt, &stats, seconds, &w->first, &last);
     summary_print_resolution(run, dt, fmin(resolving, summary_resolving_step(scene, run)));
+    summary_print_impacts(scene);
     return CLI_EXIT_OK;
 }
 

@@ -130,6 +130,31 @@ void summary_print_resolution(const tb_run_def *run, double dt, double resolving
     }
 }
 
+static const char *body_name(const tb_scene *scene, size_t id)
+{
+    return id == TB_WORLD ? "ground" : tb_scene_body_name(scene, id);
+}
+
+void summary_print_impacts(const tb_scene *scene)
+{
+    tb_unresolved_impacts found;
+    const tb_status status = tb_scene_unresolved_impacts(scene, &found);
+    if (!found.watched) {
+        return;
+    }
+    fprintf(stderr, "  %-24s %zu, too fast for dt %g s (dt omega above %.3g)%s\n",
+            "unresolved impacts", found.count, found.dt, found.resolution,
+            status == TB_STATUS_OK ? "" : " (pairs left unwatched: out of memory)");
+    if (found.count > 0) {
+        const tb_impact *w = &found.fastest;
+        fprintf(stderr,
+                "  %-24s %s and %s at t = %.6g s, closing at %.3g m/s, pushing %.3g s (%.3g "
+                "steps): it bounces back less than its restitution says\n",
+                "fastest", body_name(scene, w->body_a), body_name(scene, w->body_b), w->t, w->speed,
+                w->duration, w->steps);
+    }
+}
+
 static void print_work(const tb_run_def *run, double dt, const tb_integrator_stats *stats,
                        double seconds)
 {

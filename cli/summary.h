@@ -32,6 +32,10 @@ double summary_resolving_step(const tb_scene *scene, const tb_run_def *run);
 /* Says, when dt is longer than resolving, that bounces are not resolved. */
 void summary_print_resolution(const tb_run_def *run, double dt, double resolving);
 
+/* The impacts the fixed step did not resolve (tb_scene_unresolved_impacts) and the fastest of
+ * them, where the run's step could leave any unresolved. */
+void summary_print_impacts(const tb_scene *scene);
+
 /* dt: the fixed step the run took (summary_step before it), unused for an adaptive method. */
 void summary_print(const char *path, const tb_scene *scene, const tb_run_def *run, double dt,
                    const tb_integrator_stats *stats, double seconds, const invariants *first,

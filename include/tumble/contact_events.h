@@ -75,6 +75,44 @@ TB_API void tb_scene_clear_contact_events(tb_scene *scene);
  * TB_STATUS_OK otherwise. (tests/test_contact_events_memory.c) */
 TB_API tb_status tb_scene_contact_events_status(const tb_scene *scene, size_t *out_dropped);
 
+/* One impact a fixed step did not resolve (tb_scene_unresolved_impacts). */
+typedef struct tb_impact {
+    double t;              /* s: when the pair began touching (its begin event's time) */
+    size_t body_a, body_b; /* body ids, body_a < body_b; body_b TB_WORLD for a ground plane */
+    size_t effect;         /* the contact effect's or ground plane's index among the effects */
+    double speed;          /* m/s: the normal speed at which the pair closed at t */
+    double duration;       /* s: how long the pair's law pushes through an impact */
+    double steps;          /* duration / dt: the steps the impact lasted (below 1: inside one) */
+} tb_impact;
+
+/* What the newest integrator's fixed step left unresolved. An impact is a pair beginning to touch
+ * (a contact event's begin) at a normal speed above g dt (g the law's gravity: slower, a body
+ * settling on its support, whose bounce e v < g dt would rise less than g dt^2 / 2 and fall back
+ * within two steps), whose law's rate omega (the pair taken as one point: omega sqrt(M_light / m)
+ * between bodies, omega0 sqrt(M / m) on a plane, m the effective mass at the point) is too fast
+ * for dt: dt omega above 0.1 for rosenbrock (its default step's resolution, where it keeps e = 0.5
+ * within 2 %), above the stability limit for the explicit methods (allow_unstable only). Under
+ * rosenbrock an impact of duration shorter than about 30 steps is counted; the restitution comes
+ * out lower, the more so the fewer (docs/integrators.md, "Restitution"). */
+typedef struct tb_unresolved_impacts {
+    bool watched;      /* the step could leave an impact unresolved, so they were counted: a fixed
+                          step with dt omega above the resolution on the scene's fastest oscillation
+                          (the stability guard's bound) at the integrator's start; false for an
+                          adaptive method (error control resolves impacts) or a resolving step */
+    double dt;         /* s: the step counted against (0 when not watched) */
+    double resolution; /* the dt omega above which an impact counts (0 when not watched) */
+    size_t count;      /* impacts since the integrator was made */
+    tb_impact first;   /* the earliest of them (zeros when count is 0) */
+    tb_impact fastest; /* the one that closed fastest, the earliest of equals */
+} tb_unresolved_impacts;
+
+/* The count of the newest integrator made on the scene (tb_scene_integrator_create, tb_scene_run)
+ * so far: nothing to set up, and nothing done per step unless watched (then a pass over the pairs
+ * near each other per step, as contact events, and no change to any step's result). Refuses a
+ * NULL pointer (TB_STATUS_NULL_POINTER); TB_STATUS_OUT_OF_MEMORY when the pairs' list could not
+ * grow at some step (impacts may be missing; *out still written). (tests/test_impacts.c) */
+TB_API tb_status tb_scene_unresolved_impacts(const tb_scene *scene, tb_unresolved_impacts *out);
+
 #ifdef __cplusplus
 }
 #endif

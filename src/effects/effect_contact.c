@@ -308,6 +308,7 @@ static const tb__effect_stepping contact_stepping = {
     .step_start = tb__friction_step_start,
     .restart = tb__friction_effect_restart,
     .event_pairs = tb__contact_event_pairs, /* effect_contact_event_pairs.c */
+    .impact_law = tb__contact_impact_law,
 };
 
 static void contact_state_owners(const tb__effect *effect, const tb_scene *scene,

@@ -113,3 +113,31 @@ size_t tb__ground_event_pairs(const tb__effect *effect, const tb_scene *scene, c
     }
     return tb__ground_shapes_event_pairs(effect, scene, y, out, capacity, total);
 }
+
+/* The pair's law as one point of stiffness k = M_light omega^2 (the contact's, share 1) pushing
+ * the effective mass 1 / inverse_mass: rate omega sqrt(M_light inverse_mass), omega sqrt(4/3) for
+ * head_on_balls' 1 and 3 kg. The push lasts push_units / rate, push_units recovered from the
+ * effect's floor push_duration = push_units / (sqrt(2) omega). */
+void tb__contact_impact_law(const tb__effect *effect, const tb_scene *scene, size_t body_a,
+                            size_t body_b, double inverse_mass, struct tb__impact_law *out)
+{
+    const tb__contact_params *contact = tb__contact_of(effect);
+    const double light =
+        fmin(tb__body_constants(scene, body_a)->mass, tb__body_constants(scene, body_b)->mass);
+    out->rate = contact->omega * sqrt(light * inverse_mass);
+    out->duration = contact->push_duration * sqrt(2.0) * contact->omega / out->rate;
+    out->gravity = contact->gravity;
+}
+
+/* A body on the plane as its whole law (k = M omega0^2, every point's share at once: a flat
+ * landing or a sphere) pushing the effective mass at its lowest point: a corner landing on one
+ * of several points is softer and pushes longer than this. */
+void tb__ground_impact_law(const tb__effect *effect, const tb_scene *scene, size_t body_a,
+                           size_t body_b, double inverse_mass, struct tb__impact_law *out)
+{
+    (void)body_b; /* TB_WORLD */
+    const tb__ground_params *ground = tb__ground_of(effect);
+    out->rate = ground->omega * sqrt(tb__body_constants(scene, body_a)->mass * inverse_mass);
+    out->duration = ground->push_units / out->rate;
+    out->gravity = ground->gravity;
+}

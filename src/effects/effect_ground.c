@@ -347,6 +347,7 @@ static const tb__effect_stepping ground_stepping = {
     .restart = tb__ground_shapes_restart,
     .shapes_changed = tb__ground_shapes_changed,
     .event_pairs = tb__ground_event_pairs, /* effect_contact_event_pairs.c */
+    .impact_law = tb__ground_impact_law,
 };
 
 /* Each point's deflection belongs to its body; then the shapes' friction slots. */
@@ -483,6 +484,7 @@ static void ground_params(const tb_ground_def *def, tb__ground_params *ground)
     ground->penetration = def->penetration;
     ground->omega = sqrt(def->gravity / def->penetration);
     ground->damping_ratio = tb__contact_damping_ratio(def->restitution);
+    ground->push_units = tb__contact_push_duration_for(def->restitution);
     ground->static_friction = def->static_friction;
     ground->kinetic_friction = def->kinetic_friction;
     ground->stribeck_velocity = def->stribeck_velocity;

@@ -12,6 +12,7 @@ typedef struct tb__ground_params {
     double gravity, penetration;
     double omega;         /* sqrt(gravity / penetration), rad/s */
     double damping_ratio; /* from the restitution (contact/contact_law.h) */
+    double push_units;    /* how long an impact's force acts, in units of 1 / omega */
     double static_friction, kinetic_friction, stribeck_velocity;
     double bristle_stiffness; /* friction spring per unit weight: s0 = mu_s / presliding, 1/m */
     /* The bodies it meets through their shapes (no contact points), their friction pool:

@@ -41,8 +41,10 @@ typedef struct tb__watched_pair {
 } tb__watched_pair;
 
 struct tb__event_watch {
-    tb_contact_event_fn fn;
+    tb_contact_event_fn fn; /* NULL for a watch of the scene's own (impact_watch.c) */
     void *ctx;
+    tb__event_begin_fn on_begin; /* NULL, or told of every begin with its pair's inverse mass */
+    void *begin_ctx;
     double threshold;
     bool fixed;     /* which integrator kind's boundaries are heard */
     bool have_last; /* prev holds the pairs at last_t */
@@ -88,6 +90,16 @@ static void free_watch(tb__watch *watch)
         free(watch->events);
         free(watch);
     }
+}
+
+/* The default room: 4 pairs per body + 16 (an overflow is a size no allocation meets). */
+static size_t default_capacity(const tb_scene *scene)
+{
+    size_t capacity = 0;
+    if (tb__size_product(scene->body_count, 4, &capacity)) {
+        capacity += capacity + 16 > capacity ? 16 : 0;
+    }
+    return capacity;
 }
 
 /* Makes every array room for capacity pairs (4 capacity events); on failure the arrays that grew
@@ -139,11 +151,7 @@ tb_status tb_scene_set_contact_events(tb_scene *scene, const tb_contact_events_d
     if (status != TB_STATUS_OK) {
         return status;
     }
-    /* 4 per body + 16 by default; an overflow is a size no allocation meets */
-    size_t capacity = def->pair_capacity;
-    if (capacity == 0 && tb__size_product(scene->body_count, 4, &capacity)) {
-        capacity += capacity + 16 > capacity ? 16 : 0;
-    }
+    const size_t capacity = def->pair_capacity > 0 ? def->pair_capacity : default_capacity(scene);
     tb__watch *watch = calloc(1, sizeof *watch);
     if (watch == NULL || !grow(watch, capacity)) {
         free_watch(watch);
@@ -164,6 +172,29 @@ void tb_scene_clear_contact_events(tb_scene *scene)
         tb__scene_check_idle(scene, "clearing contact events") == TB_STATUS_OK) {
         tb__scene_events_free(scene);
     }
+}
+
+tb__watch *tb__event_watch_create(const tb_scene *scene, tb__event_begin_fn on_begin, void *ctx)
+{
+    tb__watch *watch = calloc(1, sizeof *watch);
+    if (watch == NULL || !grow(watch, default_capacity(scene))) {
+        free_watch(watch);
+        return NULL;
+    }
+    watch->threshold = INFINITY; /* begins only: no hits */
+    watch->on_begin = on_begin;
+    watch->begin_ctx = ctx;
+    return watch;
+}
+
+void tb__event_watch_free(tb__watch *watch)
+{
+    free_watch(watch);
+}
+
+size_t tb__event_watch_dropped(const tb__watch *watch)
+{
+    return watch != NULL ? watch->dropped : 0;
 }
 
 void tb__scene_events_free(tb_scene *scene)
@@ -350,7 +381,11 @@ static void begin(tb__watch *watch, tb__watched_pair *pair, const tb__event_pair
     pair->inverse_mass = pair->now.inverse_mass;
     pair->gravity = pair->now.gravity;
     const double speed = c.rate < 0.0 ? -c.rate : 0.0;
-    push_event(watch, TB_CONTACT_BEGIN, c.t, before, &pair->now, c.fraction)->speed = speed;
+    tb_contact_event *e = push_event(watch, TB_CONTACT_BEGIN, c.t, before, &pair->now, c.fraction);
+    e->speed = speed;
+    if (watch->on_begin != NULL) {
+        watch->on_begin(watch->begin_ctx, e, pair->inverse_mass);
+    }
     if (speed >= watch->threshold && c.rate < 0.0) {
         push_event(watch, TB_CONTACT_HIT, c.t, before, &pair->now, c.fraction)->speed = speed;
     }
@@ -426,9 +461,8 @@ static void compare(tb__watch *watch, size_t count, double t)
     }
 }
 
-void tb__scene_events_observe(tb_scene *scene, double t, const double *y, bool fixed)
+static void observe(tb__watch *watch, tb_scene *scene, double t, const double *y, bool fixed)
 {
-    tb__watch *watch = scene->contact_events;
     if (watch == NULL || watch->fixed != fixed || (watch->have_last && t == watch->last_t)) {
         return;
     }
@@ -445,7 +479,7 @@ void tb__scene_events_observe(tb_scene *scene, double t, const double *y, bool f
     watch->prev_count = watch->have_last ? watch->prev_count : 0;
     compare(watch, count, t);
     qsort(watch->events, watch->event_count, sizeof *watch->events, compare_events);
-    for (size_t k = 0; k < watch->event_count; ++k) {
+    for (size_t k = 0; k < watch->event_count && watch->fn != NULL; ++k) {
         watch->fn(&watch->events[k], watch->ctx);
     }
     tb__watched_pair *swap = watch->prev;
@@ -456,9 +490,14 @@ void tb__scene_events_observe(tb_scene *scene, double t, const double *y, bool f
     watch->have_last = true;
 }
 
-void tb__scene_events_start(tb_scene *scene, double t0, bool fixed)
+void tb__scene_events_observe(tb_scene *scene, double t, const double *y, bool fixed)
 {
-    tb__watch *watch = scene->contact_events;
+    observe(scene->contact_events, scene, t, y, fixed);
+    observe(tb__scene_impact_watch(scene), scene, t, y, fixed);
+}
+
+static void start(tb__watch *watch, tb_scene *scene, double t0, bool fixed)
+{
     if (watch == NULL) {
         return;
     }
@@ -466,7 +505,13 @@ void tb__scene_events_start(tb_scene *scene, double t0, bool fixed)
         watch->have_last = false;
     }
     watch->fixed = fixed;
-    tb__scene_events_observe(scene, t0, scene->states, fixed);
+    observe(watch, scene, t0, scene->states, fixed);
+}
+
+void tb__scene_events_start(tb_scene *scene, double t0, bool fixed)
+{
+    start(scene->contact_events, scene, t0, fixed);
+    start(tb__scene_impact_watch(scene), scene, t0, fixed);
 }
 
 void tb__scene_at_event(double t, const double *y, void *ctx)

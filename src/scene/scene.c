@@ -242,6 +242,7 @@ void tb_scene_destroy(tb_scene *scene)
         free(scene->name_slots);
         tb__scene_sleep_free(scene);
         tb__scene_events_free(scene);
+        tb__scene_impacts_free(scene);
         tb__scene_jacobian_free(scene);
         free(scene);
     }

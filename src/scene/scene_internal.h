@@ -59,6 +59,7 @@ typedef struct tb__effect_lanes tb__effect_lanes;
 
 typedef struct tb__event_pair tb__event_pair; /* below */
 typedef struct tb__effect_stepping tb__effect_stepping;
+struct tb__impact_law; /* below */
 
 /* Visits one coupling for the Jacobian's pattern (scene_jacobian.c): the effect's states
  * [first_state, first_state + state_count) of y depend on, and act on, bodies body_a and body_b
@@ -179,6 +180,20 @@ struct tb__effect_stepping {
      * returns how many there are. Called at step boundaries only. NULL: no contact events. */
     size_t (*event_pairs)(const tb__effect *effect, const tb_scene *scene, const double *y,
                           tb__event_pair *out, size_t capacity);
+    /* Unresolved impacts (impact_watch.c): the law a pair of its bodies (ids; body_b TB_WORLD
+     * for a ground plane) meets as an impact, with inverse_mass (1/kg) the pair's relative
+     * motion's along the normal at the point (tb__event_pair). NULL: no impacts (an effect
+     * with event_pairs has it). */
+    void (*impact_law)(const tb__effect *effect, const tb_scene *scene, size_t body_a,
+                       size_t body_b, double inverse_mass, struct tb__impact_law *out);
+};
+
+/* What a pair's impact is under an effect's law (tb__effect_stepping.impact_law): the whole pair
+ * taken as one point (a centred hit, a flat landing: the law's own oscillator). */
+struct tb__impact_law {
+    double rate;     /* rad/s: the pair's natural rate, omega sqrt(M k_share / m_eff) */
+    double duration; /* s: how long the force acts (tb__contact_push_duration / rate) */
+    double gravity;  /* m/s^2: the gravity the law was sized for (its penetration's) */
 };
 
 /* A pair as the contact events see it at a state (tb__effect_ops.event_pairs). */
@@ -338,6 +353,9 @@ struct tb_scene {
     bool shape_set;
     /* Contact events (contact_event_watch.c): NULL until tb_scene_set_contact_events. */
     struct tb__event_watch *contact_events;
+    /* Unresolved impacts (impact_watch.c): NULL until an integrator of a step too long for some
+     * impact was made. */
+    struct tb__impacts *impacts;
     /* Constraints (src/constraints/): NULL until the first joint; constraint_ops their row.
      * stabilise: the integrator made last has no projection (CVODE Adams), so the constraint
      * stage adds its Baumgarte terms (set by tb_scene_integrator_create). */
@@ -355,6 +373,37 @@ struct tb_scene {
 void tb__scene_events_observe(tb_scene *scene, double t, const double *y, bool fixed);
 void tb__scene_events_start(tb_scene *scene, double t0, bool fixed);
 void tb__scene_events_free(tb_scene *scene);
+
+/* A watch of the scene's own (unresolved impacts, impact_watch.c), as the contact events' but
+ * with no callback and no hits: on_begin(ctx, event, inverse_mass) at each begin, inverse_mass
+ * (1/kg) the pair's along its normal at its point (tb__event_pair). create returns NULL when out
+ * of memory; free accepts NULL; dropped counts the pairs it could not watch. */
+struct tb_contact_event;
+typedef void (*tb__event_begin_fn)(void *ctx, const struct tb_contact_event *event,
+                                   double inverse_mass);
+struct tb__event_watch *tb__event_watch_create(const tb_scene *scene, tb__event_begin_fn on_begin,
+                                               void *ctx);
+void tb__event_watch_free(struct tb__event_watch *watch);
+size_t tb__event_watch_dropped(const struct tb__event_watch *watch);
+
+/* Unresolved impacts (impact_watch.c, include/tumble/contact_events.h): prepare makes the count
+ * for an integrator of method at fixed step dt made on the scene at y, into *out_pending: a watch
+ * where impacts could be too fast for the step, NULL where none can (TB_STATUS_OUT_OF_MEMORY
+ * with the detail set when it cannot); commit puts it in the scene once the integrator exists
+ * (NULL: no count), discard frees it on a failed creation; watch is the committed watch or
+ * NULL; free releases it at the scene's destruction. */
+struct tb__impacts;
+tb_status tb__scene_impacts_prepare(tb_scene *scene, const double *y, tb_method method, double dt,
+                                    struct tb__impacts **out_pending);
+void tb__scene_impacts_commit(tb_scene *scene, struct tb__impacts *pending);
+void tb__scene_impacts_discard(struct tb__impacts *pending);
+struct tb__event_watch *tb__scene_impact_watch(const tb_scene *scene);
+void tb__scene_impacts_free(tb_scene *scene);
+
+/* The h omega a fixed method resolves an impact at (its restitution), and the scene's fastest
+ * oscillation at y (1/s, the guard's bound): stability.c. */
+double tb__scene_impact_resolution(const tb_scene *scene, const double *y, tb_method method,
+                                   double *out_oscillation);
 
 /* The contact's sparse Jacobian (scene_jacobian.c): whether the scene offers one (bodies that
  * interact, every effect's couplings known), its tb_ode_system.jacobian callbacks (ctx the

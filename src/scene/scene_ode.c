@@ -462,16 +462,24 @@ static tb_status check_fixed_step(tb_scene *scene, const tb_integrator_def *def,
 }
 
 /* def with the scene's automatic tolerances (atol_vector, allocated into *out_atol) and
- * preconditioner bandwidth filled in. */
+ * preconditioner bandwidth filled in, and the count of unresolved impacts for its step
+ * (impact_watch.c; NULL where the step resolves every impact). */
 static tb_status scene_integrator_def(tb_scene *scene, const tb_integrator_def *def,
-                                      tb_integrator_def *out_def, double **out_atol)
+                                      tb_integrator_def *out_def, double **out_atol,
+                                      struct tb__impacts **out_impacts)
 {
     *out_def = *def;
     *out_atol = NULL;
+    const tb_status status =
+        tb__scene_impacts_prepare(scene, scene->states, def->method, def->dt, out_impacts);
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
     if (tb_method_is_adaptive(def->method) && def->atol == 0.0 && def->atol_vector == NULL &&
         def->rtol > 0 && isfinite(def->rtol)) {
         double *atol = tb__malloc_array(tb_scene_state_size(scene), sizeof(double));
         if (atol == NULL) {
+            tb__scene_impacts_discard(*out_impacts);
             return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "tolerance vector");
         }
         tb_scene_absolute_tolerances(scene, TB__ATOL_FRACTION * def->rtol, atol);
@@ -511,8 +519,9 @@ static tb_status create_at(tb_scene *scene, const tb_integrator_def *def, double
     }
     tb_integrator_def scene_def;
     double *atol = NULL;
+    struct tb__impacts *impacts = NULL; /* the count of unresolved impacts, if dt can leave any */
     if (status == TB_STATUS_OK) {
-        status = scene_integrator_def(scene, def, &scene_def, &atol);
+        status = scene_integrator_def(scene, def, &scene_def, &atol, &impacts);
     }
     if (status != TB_STATUS_OK) {
         return status;
@@ -533,8 +542,10 @@ static tb_status create_at(tb_scene *scene, const tb_integrator_def *def, double
         scene->separable_at_claim = separable;
         scene->guard_dt = guard_dt;
         scene->stabilise_constraints = stabilise;
+        tb__scene_impacts_discard(impacts);
         return tb__scene_fail(scene, status, "integrator: %s", error.message);
     }
+    tb__scene_impacts_commit(scene, impacts);
     scene->guard_method = def->method;
     scene->guard_dt = tb_method_is_adaptive(def->method) ? 0.0 : def->dt;
     tb__scene_events_start(scene, t0, !tb_method_is_adaptive(def->method));

@@ -17,8 +17,9 @@ def _many_boxes(bodies):
 
 
 def test_another_thread_runs_while_a_run_steps_in_c():
-    # Between frames 1 and 2 the main thread is inside tb_scene_run, in C, for ~0.3 s (1000
-    # bodies, 1000 RK4 steps), running no Python. A thread that notes how long it waited
+    # Between frames 1 and 2 the main thread is inside tb_scene_run, in C, for ~0.2 s (1000
+    # bodies, 4000 RK4 steps: 1000 took 0.044 s on an idle machine, too short to tell), running
+    # no Python. A thread that notes how long it waited
     # between two turns of its loop must never wait long there; were the GIL held over the call
     # (PyDLL), it would wait the whole stretch. Bound: half the stretch (the OS may pause a
     # thread for a few ms on a shared machine; the switch interval is 5 ms).
@@ -44,7 +45,7 @@ def test_another_thread_runs_while_a_run_steps_in_c():
     thread = threading.Thread(target=loop)
     thread.start()
     try:
-        _many_boxes(1000).run(method="rk4", dt=1e-3, fps=1, duration=2.0, on_frame=on_frame)
+        _many_boxes(1000).run(method="rk4", dt=2.5e-4, fps=1, duration=2.0, on_frame=on_frame)
     finally:
         stop.set()
         thread.join()

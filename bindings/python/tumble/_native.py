@@ -132,6 +132,21 @@ class ContactEvent(ctypes.Structure):
                 ("impulse", ctypes.c_double), ("effect", ctypes.c_size_t)]
 
 
+class Impact(ctypes.Structure):
+    """tb_impact (include/tumble/contact_events.h)."""
+    _fields_ = [("t", ctypes.c_double), ("body_a", ctypes.c_size_t),
+                ("body_b", ctypes.c_size_t), ("effect", ctypes.c_size_t),
+                ("speed", ctypes.c_double), ("duration", ctypes.c_double),
+                ("steps", ctypes.c_double)]
+
+
+class UnresolvedImpacts(ctypes.Structure):
+    """tb_unresolved_impacts (include/tumble/contact_events.h)."""
+    _fields_ = [("watched", ctypes.c_bool), ("dt", ctypes.c_double),
+                ("resolution", ctypes.c_double), ("count", ctypes.c_size_t),
+                ("first", Impact), ("fastest", Impact)]
+
+
 CONTACT_EVENT_FN = ctypes.CFUNCTYPE(None, ctypes.POINTER(ContactEvent), ctypes.c_void_p)
 
 
@@ -182,6 +197,8 @@ STRUCTS = {
     "tb_body_state": BodyState,
     "tb_contact_event": ContactEvent,
     "tb_contact_events_def": ContactEventsDef,
+    "tb_impact": Impact,
+    "tb_unresolved_impacts": UnresolvedImpacts,
     "tb_joint_def": JointDef,
 }
 
@@ -303,6 +320,8 @@ def _declare(lib):
         "tb_contact_event_kind_name": (ctypes.c_char_p, [ctypes.c_int]),
         "tb_scene_asleep_count": (ctypes.c_int, [ctypes.c_void_p,
                                                  ctypes.POINTER(ctypes.c_size_t)]),
+        "tb_scene_unresolved_impacts": (ctypes.c_int, [ctypes.c_void_p,
+                                                       ctypes.POINTER(UnresolvedImpacts)]),
         "tb_method_is_adaptive": (ctypes.c_int, [ctypes.c_int]),
         "tb_accuracy_default_sweep": (ctypes.POINTER(AccuracySetting),
                                       [ctypes.POINTER(ctypes.c_size_t)]),

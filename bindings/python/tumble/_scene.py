@@ -414,6 +414,13 @@ class Scene:
         the start (tb_scene_joint_axial; Simulation.joint_axial tells more)."""
         return self._at_start(lambda handle, y: _joints.axial(handle, y, joint))
 
+    def _impact(self, impact) -> dict:
+        """A tb_impact as a dict, bodies by name ("ground" for a ground plane)."""
+        def name(body):
+            return "ground" if body == ctypes.c_size_t(-1).value else self.body_names[body]
+        return {"t": impact.t, "body_a": name(impact.body_a), "body_b": name(impact.body_b),
+                "speed": impact.speed, "duration": impact.duration, "steps": impact.steps}
+
     def run(self, method: Optional[str] = None, dt: Optional[float] = None,
             rtol: Optional[float] = None, atol: Optional[float] = None,
             fps: Optional[float] = None, duration: Optional[float] = None,
@@ -437,6 +444,11 @@ class Scene:
         every method (the scene file's, default 100000). sleeping: whether islands of resting
         bodies sleep (default: the file's "sleeping", itself true by default;
         tb_scene_set_sleeping); stats["asleep"] says how many bodies were asleep at the end.
+        stats["unresolved_impacts"]: how many impacts the fixed step was too long to resolve
+        (tb_scene_unresolved_impacts: 0 where the step resolves every impact the scene can make,
+        and under the adaptive methods), and stats["fastest_unresolved_impact"] the one that
+        closed fastest (a dict: t in s, body_a, body_b names, speed in m/s, duration in s, steps)
+        or None.
         events: keep the contact events (docs/events.md) in frames.events; on_event(event) is
         called with each as it happens (a dict of EVENT_DTYPE's fields), at a step boundary:
         an exception from it stops nothing, and is raised when the run ends. hit_speed (m/s):
@@ -449,7 +461,7 @@ class Scene:
         a KeyboardInterrupt (Ctrl-C, seen at the next frame) or an exception from on_frame stops
         the run, and the frames made so far are on the exception's `frames` attribute."""
         handle, run = self._load()
-        asleep = ctypes.c_size_t()
+        asleep, impacts = ctypes.c_size_t(), _native.UnresolvedImpacts()
         try:
             apply_settings(run, method, dt, rtol, atol, fps, duration, threads, max_steps)
             if project_joints:
@@ -465,10 +477,14 @@ class Scene:
                 status = lib.tb_scene_run(handle, ctypes.byref(run), recorder.callback, None,
                                           ctypes.byref(stats), ctypes.byref(error))
             lib.tb_scene_asleep_count(handle, ctypes.byref(asleep))
+            lib.tb_scene_unresolved_impacts(handle, ctypes.byref(impacts))
         finally:
             lib.tb_scene_destroy(handle)
         frames = recorder.frames(self, stats)
         frames.stats["asleep"] = asleep.value
+        frames.stats["unresolved_impacts"] = impacts.count
+        frames.stats["fastest_unresolved_impact"] = \
+            self._impact(impacts.fastest) if impacts.count > 0 else None
         if listener is not None:
             frames.events = listener.array() if events else None
             if recorder.failure is None and listener.failure is not None:

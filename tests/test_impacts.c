@@ -1,0 +1,246 @@
+/* Unresolved impacts (tb_scene_unresolved_impacts, include/tumble/contact_events.h): a fixed step
+ * too long for an impact's push counts the impacts that happened, with the first and the fastest;
+ * a step that resolves them counts none and watches nothing. The impacts expected are known from
+ * the scenes' geometry, not from the watch. Links the counting malloc
+ * (tests/support/counting_malloc.c). */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#ifdef TB_TEST_COUNTING_MALLOC
+#include "counting_malloc.h"
+#endif
+#include "fixtures.h"
+#include "tumble/tumble.h"
+
+#include <math.h>
+#include <stdio.h>
+
+/* The example scene NAME with an integrator of method at step dt (0: the scene's default step)
+ * made at t = 0; the caller destroys both. */
+static tb_scene *start_example(const char *name, tb_method method, double dt, tb_integrator **out)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s.json", TUMBLE_SCENES_DIR, name);
+    tb_scene *scene = NULL;
+    tb_run_def run;
+    tb_error error;
+    assert_int_equal(tb_scene_load_file(path, &scene, &run, &error), TB_STATUS_OK);
+    assert_int_equal(tb_integrator_def_set_method(&run.integrator, method), TB_STATUS_OK);
+    if (!tb_method_is_adaptive(method)) {
+        run.integrator.dt = dt;
+    }
+    const tb_status made = tb_scene_integrator_create(scene, &run.integrator, 0.0, out);
+    if (made != TB_STATUS_OK) {
+        print_error("%s\n", tb_scene_detail(scene));
+    }
+    assert_int_equal(made, TB_STATUS_OK);
+    return scene;
+}
+
+static tb_unresolved_impacts run_and_count(const char *name, tb_method method, double dt,
+                                           double t_end)
+{
+    tb_integrator *integrator = NULL;
+    tb_scene *scene = start_example(name, method, dt, &integrator);
+    assert_int_equal(tb_integrator_advance(integrator, t_end), TB_STATUS_OK);
+    tb_unresolved_impacts found;
+    assert_int_equal(tb_scene_unresolved_impacts(scene, &found), TB_STATUS_OK);
+    print_message("%s, %s at dt %g s: watched %d, %zu impacts; fastest %zu-%zu at t = %.17g s, "
+                  "%.17g m/s, %.3g s (%.3g steps)\n",
+                  name, tb_method_name(method), found.dt, found.watched, found.count,
+                  found.fastest.body_a, found.fastest.body_b, found.fastest.t, found.fastest.speed,
+                  found.fastest.duration, found.fastest.steps);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+    return found;
+}
+
+/* head_on_balls: spheres of radius 0.1 m at x = -0.3 and 0.3 m, the 1 kg one at 2 m/s, no
+ * gravity: the gap 0.4 m closes at 2 m/s, so they touch once, at t = 0.2 s at 2 m/s, and part
+ * (momentum kept, any e >= 0), nothing else in the scene: one impact in 1 s. Its push lasts
+ * 0.78 ms (omega = sqrt(9.81 / 8e-7) = 3 502 rad/s, the pair's rate omega sqrt(4/3)), a fifth of
+ * rosenbrock's 1/240 s step. The begin is located on the free motion's cubic, exact for a
+ * uniform motion: t and speed asserted to 1e-9 (rounding of positions near 0.1 m). */
+static void test_head_on_balls_at_240_hz_count_their_one_impact(void **unused)
+{
+    (void)unused;
+    const double dt = 1.0 / 240.0;
+    const tb_unresolved_impacts found =
+        run_and_count("head_on_balls", TB_METHOD_ROSENBROCK, dt, 1.0);
+    assert_true(found.watched);
+    assert_true(found.dt == dt);
+    assert_true(found.resolution == 0.1); /* rosenbrock's default step's */
+    assert_int_equal(found.count, 1);
+    const tb_impact *impacts[2] = {&found.first, &found.fastest};
+    for (int k = 0; k < 2; ++k) {
+        assert_int_equal(impacts[k]->body_a, 0);
+        assert_int_equal(impacts[k]->body_b, 1);
+        assert_int_equal(impacts[k]->effect, 0);
+        assert_true(fabs(impacts[k]->t - 0.2) < 1e-9);
+        assert_true(fabs(impacts[k]->speed - 2.0) < 1e-9);
+        assert_true(impacts[k]->steps < 1.0 && impacts[k]->steps > 0.0);
+        assert_true(fabs(impacts[k]->steps - impacts[k]->duration / dt) < 1e-12);
+    }
+}
+
+/* head_on_pairs: four such pairs 1 m apart in y, each with its own contact (e = 0.2, 0.5, 0.8, 1),
+ * each meeting once at t = 0.2 s at 2 m/s and never another pair: four impacts. The first onset
+ * ends a step; the other pairs, touching a rounding later, begin inside the step taken whole
+ * after it (fixed_onset.c), whose cubic the law's force already bends: t to 1e-9 s and the speed
+ * to 1e-6 m/s (measured 1.7e-12 s and 1.3e-9 m/s). Pair k is bodies 2k and 2k + 1 of effect k. */
+static void test_head_on_pairs_at_240_hz_count_four_impacts(void **unused)
+{
+    (void)unused;
+    const tb_unresolved_impacts found =
+        run_and_count("head_on_pairs", TB_METHOD_ROSENBROCK, 1.0 / 240.0, 1.0);
+    assert_true(found.watched);
+    assert_int_equal(found.count, 4);
+    const tb_impact *impacts[2] = {&found.first, &found.fastest};
+    for (int k = 0; k < 2; ++k) {
+        assert_int_equal(impacts[k]->body_a, 2 * impacts[k]->effect);
+        assert_int_equal(impacts[k]->body_b, 2 * impacts[k]->effect + 1);
+        assert_true(fabs(impacts[k]->t - 0.2) < 1e-9);
+        assert_true(fabs(impacts[k]->speed - 2.0) < 1e-6);
+    }
+}
+
+typedef struct hits {
+    size_t count;
+    double faster_than; /* m/s */
+} hits;
+
+static void count_hits(const tb_contact_event *event, void *ctx)
+{
+    hits *h = ctx;
+    h->count += event->kind == TB_CONTACT_HIT && event->speed > h->faster_than;
+}
+
+/* newtons_cradle (five equal 263 g balls 1 mm apart, the first at 0.89 m/s) at rosenbrock's
+ * 1/1000 s: every pair is of equal balls under one law (rate omega sqrt(2), a push of 0.64 ms,
+ * under a step), so every impact counted is a hit the user's contact events see closing faster
+ * than g dt = 9.81e-3 m/s, and every such hit is counted: the two counts agree exactly (16 in one
+ * advance over the 1.5 s; tumble run, landing a step on each frame, 12). */
+static void test_the_cradle_counts_its_hits_faster_than_g_dt(void **unused)
+{
+    (void)unused;
+    char path[512];
+    snprintf(path, sizeof path, "%s/newtons_cradle.json", TUMBLE_SCENES_DIR);
+    tb_scene *scene = NULL;
+    tb_run_def run;
+    tb_error error;
+    assert_int_equal(tb_scene_load_file(path, &scene, &run, &error), TB_STATUS_OK);
+    assert_int_equal(tb_integrator_def_set_method(&run.integrator, TB_METHOD_ROSENBROCK),
+                     TB_STATUS_OK);
+    run.integrator.dt = 1e-3;
+    hits h = {0, 9.81 * run.integrator.dt};
+    tb_contact_events_def events = tb_contact_events_def_default();
+    events.fn = count_hits;
+    events.ctx = &h;
+    assert_int_equal(tb_scene_set_contact_events(scene, &events), TB_STATUS_OK);
+    tb_integrator *integrator = NULL;
+    assert_int_equal(tb_scene_integrator_create(scene, &run.integrator, 0.0, &integrator),
+                     TB_STATUS_OK);
+    assert_int_equal(tb_integrator_advance(integrator, run.duration), TB_STATUS_OK);
+    tb_unresolved_impacts found;
+    assert_int_equal(tb_scene_unresolved_impacts(scene, &found), TB_STATUS_OK);
+    print_message("%zu impacts counted, %zu hits faster than %g m/s; fastest %zu-%zu at %.3f m/s "
+                  "(%.3g steps)\n",
+                  found.count, h.count, h.faster_than, found.fastest.body_a, found.fastest.body_b,
+                  found.fastest.speed, found.fastest.steps);
+    assert_true(found.count > 0);
+    assert_int_equal(found.count, h.count);
+    assert_true(found.fastest.steps < 1.0);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
+/* At a resolving step nothing is watched and nothing counted: RK4 at the scene's default step
+ * (h omega <= 0.5 on the guard's bound, inside its stability limit), rosenbrock at its own
+ * default step (h omega <= 0.1), and rosenbrock at 2e-5 s (the pair's h omega 0.081 < 0.1, though
+ * above the guard's bound: watched, none counted). */
+static void test_resolving_steps_count_none(void **unused)
+{
+    (void)unused;
+    tb_unresolved_impacts found = run_and_count("head_on_balls", TB_METHOD_RK4, 0.0, 0.4);
+    assert_false(found.watched);
+    assert_int_equal(found.count, 0);
+    assert_true(found.dt == 0.0);
+    found = run_and_count("head_on_balls", TB_METHOD_ROSENBROCK, 0.0, 0.4);
+    assert_false(found.watched);
+    assert_int_equal(found.count, 0);
+    found = run_and_count("head_on_balls", TB_METHOD_ROSENBROCK, 2e-5, 0.4);
+    assert_true(found.watched);
+    assert_int_equal(found.count, 0);
+    found = run_and_count("head_on_balls", TB_METHOD_CVODE_ADAMS, 0.0, 0.4);
+    assert_false(found.watched);
+    assert_int_equal(found.count, 0);
+}
+
+/* The count reads the states at step boundaries into a list made with the integrator, so a run
+ * counting impacts allocates nothing per step: Euler (no matrix to grow, unlike rosenbrock's
+ * Jacobian pattern) at 1e-4 s on head_on_balls, beyond its stability limit on the impact's rate
+ * (h omega 0.40; allow_unstable, the only way an explicit method counts), from 0.1 s, before the
+ * impact, to 1 s. */
+static void test_counting_allocates_nothing_per_step(void **unused)
+{
+    (void)unused;
+#ifndef TB_TEST_COUNTING_MALLOC
+    skip(); /* the sanitizers' runtime owns malloc */
+#else
+    char path[512];
+    snprintf(path, sizeof path, "%s/head_on_balls.json", TUMBLE_SCENES_DIR);
+    tb_scene *scene = NULL;
+    tb_run_def run;
+    tb_error error;
+    assert_int_equal(tb_scene_load_file(path, &scene, &run, &error), TB_STATUS_OK);
+    assert_int_equal(tb_integrator_def_set_method(&run.integrator, TB_METHOD_EULER), TB_STATUS_OK);
+    run.integrator.dt = 1e-4;
+    tb_scene_set_allow_unstable(scene, true);
+    tb_integrator *integrator = NULL;
+    assert_int_equal(tb_scene_integrator_create(scene, &run.integrator, 0.0, &integrator),
+                     TB_STATUS_OK);
+    assert_int_equal(tb_integrator_advance(integrator, 0.1), TB_STATUS_OK);
+    const long allocations = counted_allocations;
+    assert_int_equal(tb_integrator_advance(integrator, 1.0), TB_STATUS_OK);
+    const long made = counted_allocations - allocations;
+    tb_unresolved_impacts found;
+    assert_int_equal(tb_scene_unresolved_impacts(scene, &found), TB_STATUS_OK);
+    print_message("%zu impacts (%.3g steps), %ld allocations\n", found.count, found.first.steps,
+                  made);
+    assert_true(found.watched);
+    assert_int_equal(found.count, 1);
+    assert_int_equal(made, 0);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+#endif
+}
+
+static void test_null_pointers_are_refused(void **unused)
+{
+    (void)unused;
+    tb_unresolved_impacts found;
+    assert_int_equal(tb_scene_unresolved_impacts(NULL, &found), TB_STATUS_NULL_POINTER);
+    tb_scene *scene = test_empty_scene();
+    assert_int_equal(tb_scene_unresolved_impacts(scene, NULL), TB_STATUS_NULL_POINTER);
+    assert_int_equal(tb_scene_unresolved_impacts(scene, &found), TB_STATUS_OK);
+    assert_false(found.watched);
+    assert_int_equal(found.count, 0);
+    tb_scene_destroy(scene);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_head_on_balls_at_240_hz_count_their_one_impact),
+        cmocka_unit_test(test_head_on_pairs_at_240_hz_count_four_impacts),
+        cmocka_unit_test(test_the_cradle_counts_its_hits_faster_than_g_dt),
+        cmocka_unit_test(test_resolving_steps_count_none),
+        cmocka_unit_test(test_counting_allocates_nothing_per_step),
+        cmocka_unit_test(test_null_pointers_are_refused),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
