@@ -187,23 +187,30 @@ static double rests_until_two(double t, const double *y, void *ctx)
     return t >= 1.0 && t < 2.0 ? 2.0 : t;
 }
 
+/* The resting system with the counting hook, stepped by method at dt 0.25 from y at t = 0. */
+static tb_integrator *resting_integrator(tb_method method, hook_log *log, long max_steps, double *y)
+{
+    tb_ode_system system = {.n = 1,
+                            .derivative = slope_but_rest,
+                            .post_step = counting_hook,
+                            .ctx = log,
+                            .events.rest_until = rests_until_two};
+    tb_integrator_def def = tb_integrator_def_default();
+    def.method = method;
+    def.dt = 0.25;
+    def.max_steps = max_steps > 0 ? max_steps : def.max_steps;
+    tb_integrator *integrator = NULL;
+    assert_int_equal(tb_integrator_create(&system, &def, 0.0, y, &integrator, NULL), TB_STATUS_OK);
+    return integrator;
+}
+
 static void test_a_rest_is_jumped_over_without_steps(void **state)
 {
     (void)state;
     for (int m = 0; m < FIXED_STEP_METHODS; ++m) {
         hook_log log = {0, 0};
         double y[1] = {0.0};
-        tb_ode_system system = {.n = 1,
-                                .derivative = slope_but_rest,
-                                .post_step = counting_hook,
-                                .ctx = &log,
-                                .events.rest_until = rests_until_two};
-        tb_integrator_def def = tb_integrator_def_default();
-        def.method = (tb_method)m;
-        def.dt = 0.25;
-        tb_integrator *integrator = NULL;
-        assert_int_equal(tb_integrator_create(&system, &def, 0.0, y, &integrator, NULL),
-                         TB_STATUS_OK);
+        tb_integrator *integrator = resting_integrator((tb_method)m, &log, 0, y);
         assert_int_equal(tb_integrator_advance(integrator, 3.0), TB_STATUS_OK);
         tb_integrator_stats stats;
         assert_int_equal(tb_integrator_get_stats(integrator, &stats), TB_STATUS_OK);
@@ -214,15 +221,9 @@ static void test_a_rest_is_jumped_over_without_steps(void **state)
         tb_integrator_destroy(integrator);
     }
     /* max_steps bounds the steps a call takes: a call at rest all the way takes none */
+    hook_log quiet = {0, 0};
     double z[1] = {0.0};
-    tb_ode_system resting = {
-        .n = 1, .derivative = slope_but_rest, .events.rest_until = rests_until_two};
-    tb_integrator_def two_steps = tb_integrator_def_default();
-    two_steps.dt = 0.25;
-    two_steps.max_steps = 2;
-    tb_integrator *bounded = NULL;
-    assert_int_equal(tb_integrator_create(&resting, &two_steps, 0.0, z, &bounded, NULL),
-                     TB_STATUS_OK);
+    tb_integrator *bounded = resting_integrator(TB_METHOD_RK4, &quiet, 2, z);
     assert_int_equal(tb_integrator_advance(bounded, 0.5), TB_STATUS_OK);
     assert_int_equal(tb_integrator_advance(bounded, 1.0), TB_STATUS_OK);
     assert_int_equal(tb_integrator_advance(bounded, 2.0), TB_STATUS_OK);
@@ -232,15 +233,7 @@ static void test_a_rest_is_jumped_over_without_steps(void **state)
 
     hook_log log = {0, 5}; /* the fifth call: the jump's end */
     double y[1] = {0.0};
-    tb_ode_system system = {.n = 1,
-                            .derivative = slope_but_rest,
-                            .post_step = counting_hook,
-                            .ctx = &log,
-                            .events.rest_until = rests_until_two};
-    tb_integrator_def def = tb_integrator_def_default();
-    def.dt = 0.25;
-    tb_integrator *integrator = NULL;
-    assert_int_equal(tb_integrator_create(&system, &def, 0.0, y, &integrator, NULL), TB_STATUS_OK);
+    tb_integrator *integrator = resting_integrator(TB_METHOD_RK4, &log, 0, y);
     assert_int_equal(tb_integrator_advance(integrator, 3.0), TB_STATUS_HOOK_FAILED);
     assert_true(y[0] == 1.0 && tb_integrator_time(integrator) == 1.0);
     tb_integrator_destroy(integrator);
