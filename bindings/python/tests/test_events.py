@@ -53,8 +53,12 @@ def test_on_event_sees_every_kept_event_and_hit_speed_filters_hits():
 
 
 def test_a_bad_hit_speed_is_refused():
-    with pytest.raises(tumble.TumbleValueError, match="hit_threshold"):
+    # named by the argument the caller gave, not by the C field behind it
+    with pytest.raises(tumble.TumbleValueError, match="hit_speed") as refused:
         dropped_ball().run(method="rk4", events=True, hit_speed=-1.0)
+    assert "hit_threshold" not in str(refused.value)
+    with pytest.raises(tumble.TumbleError, match="hit_speed"):
+        dropped_ball().run(method="rk4", events=True, hit_speed=float("nan"))
     with pytest.raises(TypeError):
         dropped_ball().run(method="rk4", events=True, hit_speed="fast")
 

@@ -39,8 +39,9 @@ class Listener:
         definition.fn = self.callback
         definition.hit_threshold = number("hit_speed", hit_speed)
         status = lib.tb_scene_set_contact_events(handle, ctypes.byref(definition))
-        if status != 0:
-            raise failure(status, lib.tb_scene_detail(handle).decode())
+        if status != 0:  # the C field's name is the argument's here
+            detail = lib.tb_scene_detail(handle).decode()
+            raise failure(status, detail.replace("def->hit_threshold", "hit_speed"))
 
     def _name(self, body):
         return "ground" if body == _WORLD else self.names[body]
