@@ -490,18 +490,25 @@ static tb_status budget_used(tb_integrator *integrator, double t_target, long st
                           integrator->max_steps, steps, t_target, integrator->t);
 }
 
-/* Where the system rests from the integrator's state (tb_ode_events.rest_until), its time moves
- * on to where the rest ends or t_target without steps, and the post-step hook runs once there;
- * true when the time moved. *status is the hook's failure, if any (y then as it was). */
+/* Where the system's rest from the integrator's state ends (tb_ode_events.rest_until): its
+ * time when it does not rest, or has no rest_until (the chunked path reads none). */
+static double rest_end(const tb_integrator *integrator)
+{
+    const tb_ode_system *system = &integrator->system;
+    if (system->events.rest_until == NULL || system->blocks.size != 0) {
+        return integrator->t;
+    }
+    return system->events.rest_until(integrator->t, integrator->y, system->ctx);
+}
+
+/* Where the system rests from the integrator's state, its time moves on to where the rest ends
+ * or t_target without steps, and the post-step hook runs once there; true when the time moved.
+ * *status is the hook's failure, if any (y then as it was). */
 static bool jump_at_rest(tb_integrator *integrator, double t_target, tb_status *status)
 {
     const tb_ode_system *system = &integrator->system;
     *status = TB_STATUS_OK;
-    if (system->events.rest_until == NULL || system->blocks.size != 0) {
-        return false;
-    }
-    const double t = integrator->t;
-    const double until = fmin(system->events.rest_until(t, integrator->y, system->ctx), t_target);
+    const double t = integrator->t, until = fmin(rest_end(integrator), t_target);
     if (!(until > t)) {
         return false;
     }
@@ -521,19 +528,11 @@ static bool jump_at_rest(tb_integrator *integrator, double t_target, tb_status *
     return true;
 }
 
-/* Whether the system rests from the integrator's state through t_target: no step is needed. */
-static bool rests_through(const tb_integrator *integrator, double t_target)
-{
-    const tb_ode_system *system = &integrator->system;
-    return system->events.rest_until != NULL && system->blocks.size == 0 &&
-           system->events.rest_until(integrator->t, integrator->y, system->ctx) >= t_target;
-}
-
 static tb_status fixed_advance(tb_integrator *integrator, double t_target)
 {
     /* at rest all the way, the call takes no step: max_steps does not bound it */
     tb_status status =
-        rests_through(integrator, t_target)
+        rest_end(integrator) >= t_target
             ? check_time_resolution(integrator->detail, integrator->dt, t_target, "t_target")
             : check_budget(integrator, t_target);
     if (status != TB_STATUS_OK) {

@@ -11,6 +11,7 @@
  * is 500 times smaller, so a body asleep for a time T is at most TB_SLEEP_SPEED T from where it
  * would be (docs/effects.md). */
 #include "scene/scene_internal.h"
+#include "scene/sleep_frozen.h"
 
 #include "core/detail.h"
 #include "math/tb_math.h"
@@ -387,11 +388,11 @@ double tb__scene_rest_until(double t, const double *y, void *ctx)
         return t;
     }
     for (size_t i = 0; i < sleep->capacity; ++i) {
-        const double *s = tb__body_state(scene, y, i);
-        if (s == NULL ? !tb__body_static(scene, i) /* a keyframed body moves by time */
-                      : memcmp(s, sleep->snapshot + TB_STATE_SIZE * i,
-                               TB_STATE_SIZE * sizeof(double)) != 0) {
-            return t; /* changed from outside: the next boundary wakes its island */
+        /* a keyframed body moves by time; a body not frozen was changed from outside, and the
+         * next boundary wakes its island */
+        if (tb__body_state(scene, y, i) == NULL ? !tb__body_static(scene, i)
+                                                : !tb__body_frozen(scene, y, i)) {
+            return t;
         }
     }
     /* The derivative of asleep bodies is 0 and the post-step hook leaves them as they fell
