@@ -124,6 +124,42 @@ static tb_status start_overlapping(double m_a, double m_b, double overlap, tb_me
     return status;
 }
 
+/* F93: removing the shape of a body a contact effect lists (tb_scene_set_body_shape(NULL)) was
+ * taken, and the body silently passed through the others from then on, though the same body
+ * without a shape is refused when the effect is added. Now refused, naming the body and the
+ * effect, with nothing changed: the shape is still a sphere. A body the effect does not list
+ * may lose its shape, and a listed body may have its shape replaced. */
+static void test_removing_a_listed_bodys_shape_is_refused(void **state)
+{
+    (void)state;
+    tb_scene *scene = test_empty_scene();
+    add_ball(scene, "left", 1.0, 0.1, -0.5);
+    add_ball(scene, "right", 1.0, 0.1, 0.5);
+    add_ball(scene, "aside", 1.0, 0.1, 5.0);
+    tb_contact_def contact = tb_contact_def_default();
+    contact.bodies = (const size_t[]){0, 1};
+    contact.body_count = 2;
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    const snapshot before = take(scene);
+    const tb_shape none = tb_shape_default();
+    const tb_shape *removals[] = {NULL, &none};
+    for (int k = 0; k < 2; ++k) {
+        assert_int_equal(tb_scene_set_body_shape(scene, 1, removals[k]),
+                         TB_STATUS_INVALID_ARGUMENT);
+        assert_detail_has(tb_scene_detail(scene), "body 1 (\"right\") is bodies[1] of effect 0");
+        assert_unchanged(scene, &before);
+        tb_shape_type type = TB_SHAPE_NONE;
+        assert_int_equal(tb_scene_body_shape_type(scene, 1, &type), TB_STATUS_OK);
+        assert_int_equal(type, TB_SHAPE_SPHERE);
+    }
+    assert_int_equal(tb_scene_set_body_shape(scene, 2, NULL), TB_STATUS_OK);
+    tb_shape box = tb_shape_default();
+    box.type = TB_SHAPE_BOX;
+    box.size[0] = box.size[1] = box.size[2] = 0.2;
+    assert_int_equal(tb_scene_set_body_shape(scene, 1, &box), TB_STATUS_OK);
+    tb_scene_destroy(scene);
+}
+
 /* A pair may start inside each other by up to 10 times the depth at which its contact carries
  * the heavier body's weight (the ground's rule of 10 penetrations, with the pair's stiffness
  * M_min omega^2 and omega^2 = g / penetration: 10 penetration M_max / M_min), and never past
@@ -369,6 +405,7 @@ int main(void)
         cmocka_unit_test(test_bodies_starting_deep_inside_each_other_are_refused),
         cmocka_unit_test(test_a_body_moved_into_another_is_refused_at_the_start),
         cmocka_unit_test(test_a_pair_in_two_contact_effects_is_refused),
+        cmocka_unit_test(test_removing_a_listed_bodys_shape_is_refused),
         cmocka_unit_test(test_a_contact_rate_that_vanishes_is_refused),
         cmocka_unit_test(test_a_far_hull_point_does_not_hang_the_derivative),
         cmocka_unit_test(test_no_default_step_is_given_when_no_step_is_stable),

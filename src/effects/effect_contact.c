@@ -307,7 +307,8 @@ static const tb__effect_stepping contact_stepping = {
     .post_step = tb__friction_post_step,
     .step_start = tb__friction_step_start,
     .restart = tb__friction_effect_restart,
-    .event_pairs = tb__contact_event_pairs, /* effect_contact_event_pairs.c */
+    .shapes_changed = tb__contact_shapes_changed, /* a listed body keeps a shape */
+    .event_pairs = tb__contact_event_pairs,       /* effect_contact_event_pairs.c */
     .impact_law = tb__contact_impact_law,
 };
 

@@ -64,6 +64,24 @@ tb_status tb__contact_check_shapes(tb_scene *scene, const size_t *bodies, size_t
     return check_movers(scene, bodies, count);
 }
 
+tb_status tb__contact_shapes_changed(tb__effect *effect, tb_scene *scene, size_t id)
+{
+    if (tb__scene_body_collision_shape(scene, id) != NULL) {
+        return TB_STATUS_OK; /* a shape set or replaced: the pairs see it at the next derivative */
+    }
+    const tb__contact_params *contact = tb__contact_of(effect);
+    for (size_t k = 0; k < contact->body_count; ++k) {
+        if (contact->bodies[k] == id) {
+            return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                                  "id: body %zu (\"%s\") is bodies[%zu] of effect %zu (a "
+                                  "contact): without a shape it would silently touch nothing "
+                                  "(a listed body keeps a shape; set another instead)",
+                                  id, scene->names[id], k, (size_t)(effect - scene->effects));
+        }
+    }
+    return TB_STATUS_OK;
+}
+
 tb_status tb__contact_check_shared_pairs(tb_scene *scene, const tb__effect_ops *ops,
                                          const size_t *bodies, size_t count)
 {

@@ -21,6 +21,11 @@
  * it). bodies[0 .. count) are ids checked already. */
 tb_status tb__contact_check_shapes(tb_scene *scene, const size_t *bodies, size_t count);
 
+/* The shapes_changed row of the contact effect: refuses to remove the shape of a body the effect
+ * lists (TB_STATUS_INVALID_ARGUMENT, the scene's detail naming the body and the effect): the
+ * effect would silently stop pushing it, though it refuses such a body when it is added. */
+tb_status tb__contact_shapes_changed(tb__effect *effect, tb_scene *scene, size_t id);
+
 /* Refuses a new contact effect over bodies[0 .. count) (ids, each once) when two of them are
  * also both in an effect of the scene whose row is ops: that pair would be pushed by both, with
  * twice the stiffness and neither effect's restitution. The scene's detail names the pair and
