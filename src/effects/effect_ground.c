@@ -10,6 +10,7 @@
 #include "effects/ground_shapes.h"
 #include "math/tb_math.h"
 
+#include <float.h>
 #include <string.h>
 
 #define TB__GROUND_COOKIE 0x960d
@@ -301,7 +302,8 @@ static void ground_rate(const tb__effect *effect, const tb_scene *scene, const d
 }
 
 /* Refuses a state in which a contact point starts deeper than TB__START_DEPTH_PENETRATIONS
- * penetrations inside the plane, naming the body and its depth. */
+ * penetrations inside the plane, naming the body and its depth, and a point so far from its
+ * body's centre of mass that its depth's rounding exceeds the penetration. */
 static tb_status ground_check_start(const tb__effect *effect, const tb_scene *scene,
                                     const double *y, char *detail)
 {
@@ -313,6 +315,17 @@ static tb_status ground_check_start(const tb__effect *effect, const tb_scene *sc
     }
     for (size_t j = 0; j < scene->contact_count; ++j) {
         const tb__contact *c = &scene->contacts[j];
+        const double reach = tb__v3_norm(c->r) + c->radius;
+        if (!(reach * DBL_EPSILON <= ground->penetration)) { /* F95, as a shape's */
+            return tb__set_detail(detail, TB_STATUS_INVALID_ARGUMENT,
+                                  "body %zu (\"%s\"): contact point %zu lies %.3g m from its "
+                                  "centre of mass, where its depth is known to %.3g m only, more "
+                                  "than the ground plane's penetration %.3g m: its contact force "
+                                  "would be rounding noise larger than its weight; bring the "
+                                  "point in or give the plane a larger penetration",
+                                  c->body, scene->names[c->body], j, reach, reach * DBL_EPSILON,
+                                  ground->penetration);
+        }
         tb__motion motion;
         tb__body_motion_at(scene, scene->time, y, c->body, &motion);
         double arm[3];
@@ -345,6 +358,7 @@ static const tb__effect_stepping ground_stepping = {
     .post_step = tb__ground_shapes_post_step,
     .step_start = tb__ground_shapes_step_start,
     .restart = tb__ground_shapes_restart,
+    .check_shape = tb__ground_check_shape,
     .shapes_changed = tb__ground_shapes_changed,
     .event_pairs = tb__ground_event_pairs, /* effect_contact_event_pairs.c */
     .impact_law = tb__ground_impact_law,
@@ -552,6 +566,9 @@ tb_status tb_scene_add_ground(tb_scene *scene, const tb_ground_def *def)
     status = tb__ground_shapes_create(scene, def, &effect);
     if (status == TB_STATUS_OK) {
         status = ground_check_start(&effect, scene, scene->states, scene->detail);
+    }
+    if (status == TB_STATUS_OK) {
+        status = tb__ground_shapes_check_sizes(&effect, scene);
     }
     if (status == TB_STATUS_OK) {
         status = tb__scene_push_effect(scene, &effect, sizeof ground);

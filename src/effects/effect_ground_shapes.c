@@ -360,6 +360,28 @@ static bool deepest(const tb__ground_params *ground, const tb_scene *scene, cons
     return true;
 }
 
+tb_status tb__ground_check_shape(const tb__effect *effect, tb_scene *scene, size_t id)
+{
+    if (!meets_shape(tb__ground_of(effect)->shapes, scene, id)) {
+        return TB_STATUS_OK;
+    }
+    return tb__contact_check_shape_size(scene, id, tb__ground_of(effect)->penetration,
+                                        (size_t)(effect - scene->effects), "a ground plane");
+}
+
+tb_status tb__ground_shapes_check_sizes(const tb__effect *effect, tb_scene *scene)
+{
+    const tb__ground_shapes *shapes = tb__ground_of(effect)->shapes;
+    tb_status status = TB_STATUS_OK;
+    for (size_t id = 0; id < scene->body_count && status == TB_STATUS_OK; ++id) {
+        if (meets_shape(shapes, scene, id)) {
+            status = tb__contact_check_shape_size(scene, id, tb__ground_of(effect)->penetration,
+                                                  scene->effect_count, "a ground plane");
+        }
+    }
+    return status;
+}
+
 tb_status tb__ground_shapes_check_start(const tb__effect *effect, const tb_scene *scene,
                                         const double *y, double limit, char *detail)
 {

@@ -22,6 +22,14 @@
 tb_status tb__ground_shapes_create(tb_scene *scene, const tb_ground_def *def, tb__effect *effect);
 void tb__ground_shapes_release(tb__effect *effect);
 
+/* Refuses, before the ground is added (it is effect scene->effect_count), a shape that meets it
+ * and is too large for its penetration (tb__contact_check_shape_size). Flags refreshed first. */
+tb_status tb__ground_shapes_check_sizes(const tb__effect *effect, tb_scene *scene);
+
+/* The ground's check_shape op: body id's new shape, if the ground meets it, as
+ * tb__contact_check_shape_size takes it. */
+tb_status tb__ground_check_shape(const tb__effect *effect, tb_scene *scene, size_t id);
+
 /* The ground's shapes_changed op for body id: a pool with room for TB__GROUND_SLOTS_PER_SHAPE
  * slots per body it meets through its shape now and for their ids, grown by doubling when short,
  * laid out in the scene's states (which zeroes every effect's states, as any change of layout

@@ -140,6 +140,15 @@ const tb__effect_stepping tb__effect_no_stepping = {.post_step = NULL};
 
 tb_status tb__scene_shapes_changed(tb_scene *scene, size_t id)
 {
+    for (size_t e = 0; e < scene->effect_count; ++e) { /* every check before any change */
+        const tb__effect *effect = &scene->effects[e];
+        if (tb__stepping_of(effect)->check_shape != NULL) {
+            const tb_status status = tb__stepping_of(effect)->check_shape(effect, scene, id);
+            if (status != TB_STATUS_OK) {
+                return status;
+            }
+        }
+    }
     for (size_t e = 0; e < scene->effect_count; ++e) {
         tb__effect *effect = &scene->effects[e];
         if (tb__stepping_of(effect)->shapes_changed != NULL) {

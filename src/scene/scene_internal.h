@@ -175,6 +175,10 @@ struct tb__effect_stepping {
      * may change how many states it owns and lay the scene's states out again
      * (tb__scene_layout_states), or fail with nothing changed. NULL: shapes change nothing. */
     tb_status (*shapes_changed)(tb__effect *effect, tb_scene *scene, size_t id);
+    /* Before any effect's shapes_changed: whether body id's new shape (set, or NULL: removed)
+     * is one the effect can push; a refusal (the scene's detail naming the body and the effect)
+     * leaves the old shape in place. Changes nothing. NULL: every shape will do. */
+    tb_status (*check_shape)(const tb__effect *effect, tb_scene *scene, size_t id);
     /* Contact events (scene/contact_event_watch.c): writes the effect's pairs within
      * TB__EVENT_LOOKAHEAD at y, the first capacity of them into out (tb__event_pair), and
      * returns how many there are. Called at step boundaries only. NULL: no contact events. */
