@@ -10,16 +10,9 @@
 #include "effects/ground_shapes.h"
 #include "math/tb_math.h"
 
-#include <float.h>
 #include <string.h>
 
 #define TB__GROUND_COOKIE 0x960d
-/* How deep (in penetrations) a body may start inside a plane. The contact pushes a point d deep
- * with d / penetration times the weight it carries, and would launch the body at about
- * d sqrt(g / penetration): 2.8 cm/s from 10 penetrations at the defaults, 1 m/s with
- * penetration 1e-3, 366 m/s (damped, penetration 1e-3) from 10 m. Deeper than this is a set-up
- * mistake, refused. */
-#define TB__START_DEPTH_PENETRATIONS 10.0
 
 /* Friction at one point: writes dz and returns the friction force (N, tangent basis). A stick
  * anchor with plastic slip (docs/effects.md, "Friction"): z is the elastic deflection of a
@@ -301,48 +294,6 @@ static void ground_rate(const tb__effect *effect, const tb_scene *scene, const d
     tb__ground_shapes_rate(effect, scene, y, out);
 }
 
-/* Refuses a state in which a contact point starts deeper than TB__START_DEPTH_PENETRATIONS
- * penetrations inside the plane, naming the body and its depth, and a point so far from its
- * body's centre of mass that its depth's rounding exceeds the penetration. */
-static tb_status ground_check_start(const tb__effect *effect, const tb_scene *scene,
-                                    const double *y, char *detail)
-{
-    const tb__ground_params *ground = tb__ground_of(effect);
-    const double limit = TB__START_DEPTH_PENETRATIONS * ground->penetration;
-    const tb_status listed = tb__ground_shapes_refresh(effect, scene, detail);
-    if (listed != TB_STATUS_OK) {
-        return listed;
-    }
-    for (size_t j = 0; j < scene->contact_count; ++j) {
-        const tb__contact *c = &scene->contacts[j];
-        const double reach = tb__v3_norm(c->r) + c->radius;
-        if (!(reach * DBL_EPSILON <= ground->penetration)) { /* F95, as a shape's */
-            return tb__set_detail(detail, TB_STATUS_INVALID_ARGUMENT,
-                                  "body %zu (\"%s\"): contact point %zu lies %.3g m from its "
-                                  "centre of mass, where its depth is known to %.3g m only, more "
-                                  "than the ground plane's penetration %.3g m: its contact force "
-                                  "would be rounding noise larger than its weight; bring the "
-                                  "point in or give the plane a larger penetration",
-                                  c->body, scene->names[c->body], j, reach, reach * DBL_EPSILON,
-                                  ground->penetration);
-        }
-        tb__motion motion;
-        tb__body_motion_at(scene, scene->time, y, c->body, &motion);
-        double arm[3];
-        const double depth = tb__ground_point_depth(ground, c, &motion, arm);
-        if (depth > limit) {
-            return tb__set_detail(detail, TB_STATUS_INVALID_ARGUMENT,
-                                  "body %zu (\"%s\"): starts %.3g m inside the ground plane "
-                                  "(contact point %zu), deeper than %g penetrations (%.3g m), "
-                                  "from which the contact would launch it: start it above "
-                                  "the plane",
-                                  c->body, scene->names[c->body], depth, j,
-                                  TB__START_DEPTH_PENETRATIONS, limit);
-        }
-    }
-    return tb__ground_shapes_check_start(effect, scene, y, limit, detail);
-}
-
 /* The gaps of the bodies' points (effect_contact_events.c), then of the shapes of the bodies
  * without points. */
 static void ground_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
@@ -359,6 +310,7 @@ static const tb__effect_stepping ground_stepping = {
     .step_start = tb__ground_shapes_step_start,
     .restart = tb__ground_shapes_restart,
     .check_shape = tb__ground_check_shape,
+    .check_points = tb__ground_check_points,
     .shapes_changed = tb__ground_shapes_changed,
     .event_pairs = tb__ground_event_pairs, /* effect_contact_event_pairs.c */
     .impact_law = tb__ground_impact_law,
@@ -382,7 +334,7 @@ static const tb__effect_ops ground_ops = {
     .couples_bodies = false,
     .owns_states = true,
     .rate = ground_rate,
-    .check_start = ground_check_start,
+    .check_start = tb__ground_check_start, /* effect_ground_check.c */
     .stepping = &ground_stepping,
     /* the list and pool of the shapes of bodies without points (effect_ground_shapes.c) */
     .release = tb__ground_shapes_release,
@@ -565,7 +517,7 @@ tb_status tb_scene_add_ground(tb_scene *scene, const tb_ground_def *def)
     }
     status = tb__ground_shapes_create(scene, def, &effect);
     if (status == TB_STATUS_OK) {
-        status = ground_check_start(&effect, scene, scene->states, scene->detail);
+        status = tb__ground_check_start(&effect, scene, scene->states, scene->detail);
     }
     if (status == TB_STATUS_OK) {
         status = tb__ground_shapes_check_sizes(&effect, scene);

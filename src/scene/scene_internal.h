@@ -179,6 +179,12 @@ struct tb__effect_stepping {
      * is one the effect can push; a refusal (the scene's detail naming the body and the effect)
      * leaves the old shape in place. Changes nothing. NULL: every shape will do. */
     tb_status (*check_shape)(const tb__effect *effect, tb_scene *scene, size_t id);
+    /* Body id's contact points were just set (tb_scene_set_contact_points): they are
+     * contacts[first .. contact_count), none when first is the count. Refuses, as check_start
+     * would, what the change made wrong for body id alone, at y; the other bodies' points and
+     * shapes are as check_start last saw them. NULL: points change nothing the effect checks. */
+    tb_status (*check_points)(const tb__effect *effect, const tb_scene *scene, const double *y,
+                              size_t id, size_t first, char *detail);
     /* Contact events (scene/contact_event_watch.c): writes the effect's pairs within
      * TB__EVENT_LOOKAHEAD at y, the first capacity of them into out (tb__event_pair), and
      * returns how many there are. Called at step boundaries only. NULL: no contact events. */
@@ -461,6 +467,10 @@ int tb__scene_post_step(double t, double *y, void *ctx);
 /* Asks every effect's row whether the scene can start from y (tb__effect_ops.check_start: no
  * body deep inside a ground plane); the first refusal's status, with its detail. */
 tb_status tb__scene_check_effects_start(tb_scene *scene, const double *y);
+
+/* Every effect's check_points op for body id's points, now contacts[first ..], at y: the first
+ * refusal's status, with its detail in the scene's. */
+tb_status tb__scene_check_points(tb_scene *scene, const double *y, size_t id, size_t first);
 
 /* Every effect's shapes_changed op, after body id's shape was set or removed; the first failure's
  * status (the scene's detail names it), the effects before it keeping their change. */
