@@ -219,6 +219,95 @@ static void test_counting_allocates_nothing_per_step(void **unused)
 #endif
 }
 
+/* A 1 kg cube of side 0.2 m with its 8 corners as contact points (support 4), closing at 0.5 m/s
+ * on a plane of penetration 1e-4 m (omega0 = sqrt(9.81 / 1e-4) = 313 rad/s), no gravity, at
+ * rosenbrock's dt = 0.15 / omega0; q its orientation. The count after 0.3 s. */
+static tb_unresolved_impacts cube_landing(const double q[4])
+{
+    tb_scene *scene = test_empty_scene();
+    const double size[3] = {0.2, 0.2, 0.2};
+    tb_body_def body = tb_body_def_default();
+    assert_int_equal(tb_mass_from_box(TB_MASS_GIVEN, 1.0, size, &body.mass, NULL), TB_STATUS_OK);
+    body.position[2] = 0.2;
+    for (int k = 0; k < 4; ++k) {
+        body.orientation[k] = q[k];
+    }
+    size_t id = 0;
+    assert_int_equal(tb_scene_add_body(scene, &body, &id), TB_STATUS_OK);
+    assert_int_equal(tb_scene_set_velocity(scene, id, (double[]){0, 0, -0.5}, (double[]){0, 0, 0}),
+                     TB_STATUS_OK);
+    tb_contact_point corners[8];
+    size_t count = 0;
+    assert_int_equal(tb_contact_points_box(size, corners, 8, &count), TB_STATUS_OK);
+    assert_int_equal(tb_scene_set_contact_points(scene, id, corners, count, 4), TB_STATUS_OK);
+    tb_ground_def ground = tb_ground_def_default();
+    ground.penetration = 1e-4;
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+    const double omega0 = sqrt(ground.gravity / ground.penetration);
+    tb_integrator *integrator =
+        test_integrator_for(scene, TB_METHOD_ROSENBROCK, 0.15 / omega0, 0.0);
+    assert_int_equal(tb_integrator_advance(integrator, 0.3), TB_STATUS_OK);
+    tb_unresolved_impacts found;
+    assert_int_equal(tb_scene_unresolved_impacts(scene, &found), TB_STATUS_OK);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+    return found;
+}
+
+/* F97: a body on a plane was taken as its whole law, k = M omega0^2, as if every point pushed at
+ * once. A cube landing flat does ring at omega0 (4 corners of k / 4 against M); landing on one
+ * corner with its diagonal vertical, one corner's spring k / 4 pushes the whole mass (the arm is
+ * along the normal: the effective mass is M), at omega0 / 2. At dt omega0 = 0.15 the flat landing
+ * is beyond rosenbrock's resolution of 0.1 and the corner landing (0.075) inside it: one impact
+ * counted, then none (the whole law counted both). The rates are exact; 0.15 and 0.075 lie a
+ * factor 1.5 and 1.33 from 0.1. */
+static void test_a_corner_landing_is_counted_at_its_own_rate(void **unused)
+{
+    (void)unused;
+    const tb_unresolved_impacts flat = cube_landing((double[]){1, 0, 0, 0});
+    assert_true(flat.watched);
+    assert_int_equal(flat.count, 1);
+    assert_true(fabs(flat.first.speed - 0.5) < 1e-6);
+    /* a turn of acos(1 / sqrt 3) about (1, -1, 0) / sqrt 2 takes the diagonal (1, 1, 1) to z */
+    const double angle = acos(1.0 / sqrt(3.0)), s = sin(0.5 * angle) / sqrt(2.0);
+    const tb_unresolved_impacts corner = cube_landing((double[]){cos(0.5 * angle), s, -s, 0.0});
+    assert_true(corner.watched);
+    assert_int_equal(corner.count, 0);
+}
+
+/* F97: tb_integrator_reset to a time before a counted impact kept the count, so the run again
+ * counted the same impact twice: head_on_balls (one impact at t = 0.2 s) run to 1 s, set back to
+ * its start and reset to t = 0, then run to 1 s again, counts 1, at 0.2 s. A reset after the
+ * impact (to t = 1 s, states as they are) keeps it. */
+static void test_a_reset_before_an_impact_counts_it_once(void **unused)
+{
+    (void)unused;
+    tb_integrator *integrator = NULL;
+    tb_scene *scene =
+        start_example("head_on_balls", TB_METHOD_ROSENBROCK, 1.0 / 240.0, &integrator);
+    tb_body_state start[2];
+    for (size_t id = 0; id < 2; ++id) {
+        assert_int_equal(tb_scene_get_state(scene, id, &start[id]), TB_STATUS_OK);
+    }
+    assert_int_equal(tb_integrator_advance(integrator, 1.0), TB_STATUS_OK);
+    tb_unresolved_impacts found;
+    assert_int_equal(tb_integrator_reset(integrator, 1.0), TB_STATUS_OK);
+    assert_int_equal(tb_scene_unresolved_impacts(scene, &found), TB_STATUS_OK);
+    assert_int_equal(found.count, 1);
+    for (size_t id = 0; id < 2; ++id) {
+        assert_int_equal(tb_scene_set_state(scene, id, &start[id]), TB_STATUS_OK);
+    }
+    assert_int_equal(tb_integrator_reset(integrator, 0.0), TB_STATUS_OK);
+    assert_int_equal(tb_scene_unresolved_impacts(scene, &found), TB_STATUS_OK);
+    assert_int_equal(found.count, 0);
+    assert_int_equal(tb_integrator_advance(integrator, 1.0), TB_STATUS_OK);
+    assert_int_equal(tb_scene_unresolved_impacts(scene, &found), TB_STATUS_OK);
+    assert_int_equal(found.count, 1);
+    assert_true(fabs(found.first.t - 0.2) < 1e-9);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
 static void test_null_pointers_are_refused(void **unused)
 {
     (void)unused;
@@ -240,6 +329,8 @@ int main(void)
         cmocka_unit_test(test_the_cradle_counts_its_hits_faster_than_g_dt),
         cmocka_unit_test(test_resolving_steps_count_none),
         cmocka_unit_test(test_counting_allocates_nothing_per_step),
+        cmocka_unit_test(test_a_corner_landing_is_counted_at_its_own_rate),
+        cmocka_unit_test(test_a_reset_before_an_impact_counts_it_once),
         cmocka_unit_test(test_null_pointers_are_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

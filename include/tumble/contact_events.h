@@ -89,7 +89,8 @@ typedef struct tb_impact {
  * (a contact event's begin) at a normal speed above g dt (g the law's gravity: slower, a body
  * settling on its support, whose bounce e v < g dt would rise less than g dt^2 / 2 and fall back
  * within two steps), whose law's rate omega (the pair taken as one point: omega sqrt(M_light / m)
- * between bodies, omega0 sqrt(M / m) on a plane, m the effective mass at the point) is too fast
+ * between bodies, omega0 sqrt(M share / m) on a plane with share the landing contact point's part
+ * of the weight, 1 / support (1 for a shape), m the effective mass at the point) is too fast
  * for dt: dt omega above 0.1 for rosenbrock (its default step's resolution, where it keeps e = 0.5
  * within 2 %), above the stability limit for the explicit methods (allow_unstable only). Under
  * rosenbrock an impact of duration shorter than about 30 steps is counted; the restitution comes
@@ -101,7 +102,8 @@ typedef struct tb_unresolved_impacts {
                           adaptive method (error control resolves impacts) or a resolving step */
     double dt;         /* s: the step counted against (0 when not watched) */
     double resolution; /* the dt omega above which an impact counts (0 when not watched) */
-    size_t count;      /* impacts since the integrator was made */
+    size_t count;      /* impacts since the integrator was made; a tb_integrator_reset to a time
+                          before one of them starts the count again at zero */
     tb_impact first;   /* the earliest of them (zeros when count is 0) */
     tb_impact fastest; /* the one that closed fastest, the earliest of equals */
 } tb_unresolved_impacts;

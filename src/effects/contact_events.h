@@ -56,9 +56,9 @@ size_t tb__ground_event_pairs(const tb__effect *effect, const tb_scene *scene, c
 
 /* tb__effect_stepping.impact_law of contact between bodies and of a ground plane
  * (effect_contact_event_pairs.c). */
-void tb__contact_impact_law(const tb__effect *effect, const tb_scene *scene, size_t body_a,
-                            size_t body_b, double inverse_mass, struct tb__impact_law *out);
-void tb__ground_impact_law(const tb__effect *effect, const tb_scene *scene, size_t body_a,
-                           size_t body_b, double inverse_mass, struct tb__impact_law *out);
+void tb__contact_impact_law(const tb__effect *effect, const tb_scene *scene,
+                            const tb__event_pair *pair, struct tb__impact_law *out);
+void tb__ground_impact_law(const tb__effect *effect, const tb_scene *scene,
+                           const tb__event_pair *pair, struct tb__impact_law *out);
 
 #endif

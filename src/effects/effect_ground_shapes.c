@@ -570,6 +570,7 @@ size_t tb__ground_shapes_event_pairs(const tb__effect *effect, const tb_scene *s
                                 .body_b = TB_WORLD,
                                 .gap = -deepest->depth,
                                 .gap_rate = tb__v3_dot(velocity, ground->normal),
+                                .share = 1.0,
                                 .gravity = ground->gravity};
         for (int k = 0; k < 3; ++k) {
             found.point[k] = deepest->position[k];
