@@ -399,6 +399,40 @@ static void test_a_contact_rate_that_vanishes_is_refused(void **state)
     tb_scene_destroy(scene);
 }
 
+/* F98: a ground plane lacked the contact's bounds on its rate sqrt(gravity / penetration)
+ * (F22): gravity 1e300 m/s^2 was taken (omega 1.1e153 rad/s, a default step of 2.4e-154 s), and
+ * 1e-300 m/s^2 over 1e300 m (omega 0: a plane that never pushes back) too. Both are refused now,
+ * as the contact's are, naming the field further from its default; a restitution just past 1 is
+ * named with all its digits, not rounded to the 1 it is refused against. */
+static void test_a_ground_rate_out_of_range_is_refused(void **state)
+{
+    (void)state;
+    tb_scene *scene = test_empty_scene();
+    add_ball(scene, "a", 1.0, 0.1, 0.0);
+    const double gravity[] = {1e300, 1e-300, 9.81}, penetration[] = {8e-7, 1e300, 1e-18};
+    const char *named[] = {"gravity: ", "penetration: ", "penetration: "};
+    for (int k = 0; k < 3; ++k) {
+        tb_ground_def ground = tb_ground_def_default();
+        ground.offset = -1.0;
+        ground.gravity = gravity[k];
+        ground.penetration = penetration[k];
+        assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_INVALID_ARGUMENT);
+        assert_detail_has(tb_scene_detail(scene), named[k]);
+        assert_detail_has(tb_scene_detail(scene), "at most 1e+09");
+        assert_int_equal(tb_scene_effect_count(scene), 0);
+    }
+    tb_ground_def ground = tb_ground_def_default();
+    ground.offset = -1.0;
+    ground.restitution = 1.0000001;
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_INVALID_ARGUMENT);
+    assert_detail_has(tb_scene_detail(scene), "got 1.0000001");
+    tb_contact_def contact = tb_contact_def_default();
+    contact.restitution = 1.0000001;
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_INVALID_ARGUMENT);
+    assert_detail_has(tb_scene_detail(scene), "got 1.0000001");
+    tb_scene_destroy(scene);
+}
+
 /* F23 (found by the contact fuzz target): a ball against a point set with one point 2^64 m out
  * (inside the 1e100 m the shapes allow) sent libccd's MPR round its portal refinement for ever,
  * which has no iteration cap, so one derivative never returned. The query now has a budget of
@@ -512,6 +546,7 @@ int main(void)
         cmocka_unit_test(test_shapes_too_large_for_their_contact_are_refused),
         cmocka_unit_test(test_contact_points_too_far_for_the_plane_are_refused),
         cmocka_unit_test(test_a_contact_rate_that_vanishes_is_refused),
+        cmocka_unit_test(test_a_ground_rate_out_of_range_is_refused),
         cmocka_unit_test(test_a_far_hull_point_does_not_hang_the_derivative),
         cmocka_unit_test(test_a_contact_whose_rate_overflows_is_refused),
     };

@@ -88,7 +88,9 @@ TB_API tb_status tb_scene_add_spring(tb_scene *scene, const tb_spring_def *def);
  * launch it. So is a point, or a shape the plane meets (there and at tb_scene_set_body_shape),
  * reaching so far from its body's centre of mass that its depth's rounding (the reach times
  * 2^-52) exceeds the penetration, or that the contact's rate M reach^2 / I overflows: the force
- * would be noise larger than the body's weight (a 1e90 m sphere on 1 kg). A plane facing the way an
+ * would be noise larger than the body's weight (a 1e90 m sphere on 1 kg). A rate
+ * sqrt(gravity / penetration) of 0 or above 1e9 rad/s is refused, as the contact's is. A plane
+ * facing the way an
  * earlier ground plane faces (normals within 1e-6 rad) is refused (TB_STATUS_INVALID_ARGUMENT
  * naming the earlier one): the two would push the same points twice, or one would lie buried in the
  * other's ground (tests/test_effects.c). */

@@ -379,7 +379,7 @@ static tb_status validate_contact(tb_scene *scene, const tb_contact_def *def)
     }
     if (status == TB_STATUS_OK && !(def->restitution <= 1.0)) {
         status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
-                                "restitution: must be in [0, 1], got %g", def->restitution);
+                                "restitution: must be in [0, 1], got %.17g", def->restitution);
     }
     if (status == TB_STATUS_OK) {
         status = tb__validate_finite(detail, def->static_friction, "static_friction");

@@ -7,6 +7,7 @@
 #include "core/detail.h"
 #include "core/validate.h"
 #include "effects/contact_events.h"
+#include "effects/effect_contact_check.h"
 #include "effects/ground_shapes.h"
 #include "math/tb_math.h"
 
@@ -370,6 +371,19 @@ static tb_status validate_ground_rates(tb_scene *scene, const tb_ground_def *def
                               "g / penetration overflow",
                               def->penetration, def->gravity);
     }
+    /* F98: the contact effect's bounds (F22), which the plane lacked: gravity 1e300 m/s^2 gave
+     * omega 1e153 rad/s and a default step of 2e-154 s; 1e-300 over 1e300 m gave omega 0 */
+    const double omega = sqrt(def->gravity / def->penetration);
+    if (!(omega > 0.0 && omega <= TB__CONTACT_RATE_MAX)) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "%s: penetration %g m with gravity %g m/s^2 makes the contact's "
+                              "rate sqrt(gravity / penetration) %g rad/s (above 0 and at most "
+                              "%g: an impact of pi / rate no shorter than 3 ns)",
+                              fabs(log(def->gravity / 9.81)) >= fabs(log(def->penetration / 8e-7))
+                                  ? "gravity"
+                                  : "penetration",
+                              def->penetration, def->gravity, omega, TB__CONTACT_RATE_MAX);
+    }
     if (!isfinite(s0) || !isfinite(def->gravity * s0) || !isfinite(s0 / def->gravity)) {
         return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
                               "presliding: %g m makes the bristles' stiffness static_friction / "
@@ -416,7 +430,7 @@ static tb_status validate_ground(tb_scene *scene, const tb_ground_def *def)
     }
     if (status == TB_STATUS_OK && !(def->restitution <= 1.0)) {
         status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
-                                "restitution: must be in [0, 1], got %g", def->restitution);
+                                "restitution: must be in [0, 1], got %.17g", def->restitution);
     }
     if (status == TB_STATUS_OK) {
         status = tb__validate_finite(detail, def->static_friction, "static_friction");
