@@ -113,6 +113,8 @@ static tb_status commit_points(tb_scene *scene, size_t id, size_t first, size_t 
         scene->contact_count = old_count;
         scene->contact_capacity = old_capacity;
         scene->contact_bodies_end = old_end;
+    } else { /* F99: asleep, a box whose points were removed hung in the air */
+        tb__scene_wake_body(scene, id);
     }
     return status;
 }
