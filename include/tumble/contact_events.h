@@ -90,7 +90,8 @@ typedef struct tb_impact {
  * settling on its support, whose bounce e v < g dt would rise less than g dt^2 / 2 and fall back
  * within two steps), whose law's rate omega (the pair taken as one point: omega sqrt(M_light / m)
  * between bodies, omega0 sqrt(M share / m) on a plane with share the landing contact point's part
- * of the weight, 1 / support (1 for a shape), m the effective mass at the point) is too fast
+ * of the weight, 1 / support (for a shape, 1 / the points of its manifold landing together), m
+ * the effective mass at the point) is too fast
  * for dt: dt omega above 0.1 for rosenbrock (its default step's resolution, where it keeps e = 0.5
  * within 2 %), above the stability limit for the explicit methods (allow_unstable only). Under
  * rosenbrock an impact of duration shorter than about 30 steps is counted; the restitution comes

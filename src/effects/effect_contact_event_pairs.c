@@ -132,7 +132,8 @@ void tb__contact_impact_law(const tb__effect *effect, const tb_scene *scene,
 }
 
 /* A body landing on the plane on its lowest point: that point's spring, k = M share omega0^2
- * (share = 1 / support of its contact points; 1 for a shape, whose manifold is taken whole),
+ * (share = 1 / support of its contact points; for a shape 1 / its manifold's points landing
+ * together, as its law splits k among them),
  * pushing the effective mass 1 / inverse_mass there. A sphere (share 1, 1 / M) rings at omega0;
  * a cube landing flat, its corner's share 1/4 against an inverse mass of 4 / M there, at omega0
  * too; a cube landing on one corner, 1/4 against at most 4 / M, more slowly (it took the whole

@@ -216,8 +216,9 @@ struct tb__event_pair {
     double normal[3];      /* unit, from a to b */
     double inverse_mass;   /* 1/kg: of the pair's relative motion along the normal at the point */
     double share;          /* the part of the law's stiffness that pushes at the point alone: a
-                              ground contact point's share of its body's weight (1 / support), 1
-                              between bodies and for a shape on a plane */
+                              ground contact point's share of its body's weight (1 / support),
+                              1 / the manifold's points within the law's margin for a shape on
+                              a plane, 1 between bodies */
     double gravity;        /* m/s^2: the uniform acceleration closing the pair that its own
                               motion does not cancel (a body on a ground plane: the plane's g) */
 };
