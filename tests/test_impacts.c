@@ -316,6 +316,66 @@ static void test_a_shape_landing_flat_is_counted_at_its_own_rate(void **unused)
     assert_int_equal(counted.count, 1);
 }
 
+/* F101: between bodies the contact splits its law among the manifold's points too (k / count):
+ * a 1 kg cube of side 0.2 m landing flat at 0.5 m/s on a static slab (contact of penetration
+ * 1e-4 m, omega = 313 rad/s) rings at omega (4 corners of k / 4 against M), but was counted as
+ * one point of the whole law at a corner's inverse mass 4 / M, at 2 omega. At dt omega = 0.075
+ * none is counted (one before), at 0.15 one. A far ball on a point 1 m from its centre over a
+ * plane 100 m below keeps the count watched (the guard's bound). */
+static size_t cube_on_slab_count(double dt_omega)
+{
+    tb_scene *scene = test_empty_scene();
+    const double size[3] = {0.2, 0.2, 0.2};
+    tb_body_def slab = tb_body_def_default();
+    slab.motion = TB_MOTION_STATIC;
+    slab.position[2] = -0.1;
+    size_t slab_id = 0, cube_id = 0, far_id = 0;
+    assert_int_equal(tb_scene_add_body(scene, &slab, &slab_id), TB_STATUS_OK);
+    tb_shape shape = tb_shape_default();
+    shape.type = TB_SHAPE_BOX;
+    shape.size[0] = shape.size[1] = 2.0;
+    shape.size[2] = 0.2;
+    assert_int_equal(tb_scene_set_body_shape(scene, slab_id, &shape), TB_STATUS_OK);
+    tb_body_def cube = tb_body_def_default();
+    assert_int_equal(tb_mass_from_box(TB_MASS_GIVEN, 1.0, size, &cube.mass, NULL), TB_STATUS_OK);
+    cube.position[2] = 0.2;
+    cube.velocity[2] = -0.5;
+    assert_int_equal(tb_scene_add_body(scene, &cube, &cube_id), TB_STATUS_OK);
+    shape.size[0] = shape.size[1] = shape.size[2] = 0.2;
+    assert_int_equal(tb_scene_set_body_shape(scene, cube_id, &shape), TB_STATUS_OK);
+    tb_body_def far = tb_body_def_default();
+    assert_int_equal(tb_mass_from_sphere(TB_MASS_GIVEN, 1.0, 0.1, &far.mass, NULL), TB_STATUS_OK);
+    far.position[0] = 10.0;
+    assert_int_equal(tb_scene_add_body(scene, &far, &far_id), TB_STATUS_OK);
+    const tb_contact_point reach = {{1.0, 0.0, 0.0}, 0.0};
+    assert_int_equal(tb_scene_set_contact_points(scene, far_id, &reach, 1, 1), TB_STATUS_OK);
+    tb_ground_def ground = tb_ground_def_default();
+    ground.offset = -100.0;
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+    tb_contact_def contact = tb_contact_def_default();
+    contact.penetration = 1e-4;
+    contact.bodies = (const size_t[]){slab_id, cube_id};
+    contact.body_count = 2;
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    const double omega = sqrt(contact.gravity / contact.penetration);
+    tb_integrator *integrator =
+        test_integrator_for(scene, TB_METHOD_ROSENBROCK, dt_omega / omega, 0.0);
+    assert_int_equal(tb_integrator_advance(integrator, 0.3), TB_STATUS_OK);
+    tb_unresolved_impacts found;
+    assert_int_equal(tb_scene_unresolved_impacts(scene, &found), TB_STATUS_OK);
+    assert_true(found.watched);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+    return found.count;
+}
+
+static void test_a_box_landing_flat_on_a_box_is_counted_at_its_own_rate(void **unused)
+{
+    (void)unused;
+    assert_int_equal(cube_on_slab_count(0.075), 0);
+    assert_int_equal(cube_on_slab_count(0.15), 1);
+}
+
 /* F97: tb_integrator_reset to a time before a counted impact kept the count, so the run again
  * counted the same impact twice: head_on_balls (one impact at t = 0.2 s) run to 1 s, set back to
  * its start and reset to t = 0, then run to 1 s again, counts 1, at 0.2 s. A reset after the
@@ -372,6 +432,7 @@ int main(void)
         cmocka_unit_test(test_counting_allocates_nothing_per_step),
         cmocka_unit_test(test_a_corner_landing_is_counted_at_its_own_rate),
         cmocka_unit_test(test_a_shape_landing_flat_is_counted_at_its_own_rate),
+        cmocka_unit_test(test_a_box_landing_flat_on_a_box_is_counted_at_its_own_rate),
         cmocka_unit_test(test_a_reset_before_an_impact_counts_it_once),
         cmocka_unit_test(test_null_pointers_are_refused),
     };

@@ -559,10 +559,6 @@ size_t tb__ground_shapes_event_pairs(const tb__effect *effect, const tb_scene *s
             continue;
         }
         const tb__contact_point *deepest = tb__manifold_deepest(&pair.manifold);
-        int landing = 0; /* the points within the law's margin when the deepest touches */
-        for (int j = 0; j < pair.manifold.count; ++j) {
-            landing += pair.manifold.points[j].depth > deepest->depth - TB__CONTACT_MARGIN;
-        }
         tb__motion motion;
         tb__body_motion_at(scene, scene->time, y, id, &motion);
         double arm[3], velocity[3];
@@ -574,7 +570,7 @@ size_t tb__ground_shapes_event_pairs(const tb__effect *effect, const tb_scene *s
                                 .body_b = TB_WORLD,
                                 .gap = -deepest->depth,
                                 .gap_rate = tb__v3_dot(velocity, ground->normal),
-                                .share = 1.0 / landing, /* the law's split (presses) */
+                                .share = tb__manifold_landing_share(&pair.manifold),
                                 .gravity = ground->gravity};
         for (int k = 0; k < 3; ++k) {
             found.point[k] = deepest->position[k];

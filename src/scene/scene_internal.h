@@ -217,8 +217,8 @@ struct tb__event_pair {
     double inverse_mass;   /* 1/kg: of the pair's relative motion along the normal at the point */
     double share;          /* the part of the law's stiffness that pushes at the point alone: a
                               ground contact point's share of its body's weight (1 / support),
-                              1 / the manifold's points within the law's margin for a shape on
-                              a plane, 1 between bodies */
+                              1 / the manifold's points within the law's margin for a pair of
+                              shapes (between bodies, or a body's and a plane) */
     double gravity;        /* m/s^2: the uniform acceleration closing the pair that its own
                               motion does not cancel (a body on a ground plane: the plane's g) */
 };
