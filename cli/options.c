@@ -156,7 +156,7 @@ static bool parse_number(const char *text, bool zero_ok, double *out)
     if (*end != '\0' || !isfinite(value) || value < 0 || (!zero_ok && value == 0)) {
         return false;
     }
-    *out = value;
+    *out = value == 0.0 ? 0.0 : value; /* -0 is 0: "--duration -0" ran for "-0 s" */
     return true;
 }
 
