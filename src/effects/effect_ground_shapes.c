@@ -407,7 +407,10 @@ tb_status tb__ground_shapes_note_points(const tb__effect *effect, const tb_scene
         shapes->met_bound += 1;
         shapes->slots_wanted += TB__GROUND_SLOTS_PER_SHAPE;
         shapes->ids_wanted = id + 1 > shapes->ids_wanted ? id + 1 : shapes->ids_wanted;
-    } else if (was && !now) { /* ids_wanted stays an upper bound until the next refresh */
+    } else if (was && !now && shapes->slots_wanted >= TB__GROUND_SLOTS_PER_SHAPE) {
+        /* ids_wanted stays an upper bound until the next refresh; slots_wanted may be behind
+         * the shapes set since it (tb__ground_shapes_changed leaves it when the pool has room),
+         * so it is not taken below 0 */
         shapes->slots_wanted -= TB__GROUND_SLOTS_PER_SHAPE;
     }
     return TB_STATUS_OK;
