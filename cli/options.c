@@ -3,6 +3,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "options.h"
 
+#include <ctype.h>
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
@@ -109,15 +110,53 @@ static void command_names(unsigned mask, char *out, size_t size)
     }
 }
 
-/* A finite number > 0 (>= 0 when zero_ok), all of the text. */
-static bool parse_number(const char *text, bool zero_ok, double *out)
+/* The digits at *text, past them; how many. */
+static size_t skip_digits(const char **text)
 {
-    char *end;
-    const double value = strtod(text, &end);
-    if (end == text || *end != '\0' || !isfinite(value) || value < 0 || (!zero_ok && value == 0)) {
+    size_t count = 0;
+    while (isdigit((unsigned char)**text)) {
+        ++*text;
+        ++count;
+    }
+    return count;
+}
+
+/* Whether text is all one decimal number: [+-] digits [. digits] [e [+-] digits], with a digit
+ * on one side of the point. strtod also takes leading spaces, hexadecimal (0x10 is 16), "inf",
+ * "nan" and "infinity", none of which a careful user means as a step or a duration. */
+static bool is_decimal(const char *text)
+{
+    text += *text == '+' || *text == '-';
+    size_t digits = skip_digits(&text);
+    if (*text == '.') {
+        ++text;
+        digits += skip_digits(&text);
+    }
+    if (digits == 0) {
         return false;
     }
-    *out = value;
+    if (*text == 'e' || *text == 'E') {
+        ++text;
+        text += *text == '+' || *text == '-';
+        if (skip_digits(&text) == 0) {
+            return false;
+        }
+    }
+    return *text == '\0';
+}
+
+/* A finite decimal number > 0 (>= 0 when zero_ok), all of the text. */
+static bool parse_number(const char *text, bool zero_ok, double *out)
+{
+    if (!is_decimal(text)) {
+        return false;
+    }
+    char *end;
+    const double value = strtod(text, &end);
+    if (*end != '\0' || !isfinite(value) || value < 0 || (!zero_ok && value == 0)) {
+        return false;
+    }
+    *out = value == 0.0 ? 0.0 : value; /* -0 is 0: "--duration -0" ran for "-0 s" */
     return true;
 }
 
@@ -139,7 +178,7 @@ static bool store_option(const option_info *o, const char *value, const cli_opti
     } else if (parse_number(value, o->zero_ok, (double *)field)) {
         *(bool *)((char *)options + o->seen_offset) = true;
     } else {
-        snprintf(message, size, "--%s: expected a number %s, got \"%s\"", o->name,
+        snprintf(message, size, "--%s: expected a finite decimal number %s, got \"%s\"", o->name,
                  o->zero_ok ? ">= 0" : "> 0", value);
         return false;
     }

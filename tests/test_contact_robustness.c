@@ -11,6 +11,7 @@
 #include "fixtures.h"
 #include "tumble/tumble.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -122,6 +123,148 @@ static tb_status start_overlapping(double m_a, double m_b, double overlap, tb_me
     tb_integrator_destroy(integrator);
     tb_scene_destroy(scene);
     return status;
+}
+
+/* F93: removing the shape of a body a contact effect lists (tb_scene_set_body_shape(NULL)) was
+ * taken, and the body silently passed through the others from then on, though the same body
+ * without a shape is refused when the effect is added. Now refused, naming the body and the
+ * effect, with nothing changed: the shape is still a sphere. A body the effect does not list
+ * may lose its shape, and a listed body may have its shape replaced. */
+static void test_removing_a_listed_bodys_shape_is_refused(void **state)
+{
+    (void)state;
+    tb_scene *scene = test_empty_scene();
+    add_ball(scene, "left", 1.0, 0.1, -0.5);
+    add_ball(scene, "right", 1.0, 0.1, 0.5);
+    add_ball(scene, "aside", 1.0, 0.1, 5.0);
+    tb_contact_def contact = tb_contact_def_default();
+    contact.bodies = (const size_t[]){0, 1};
+    contact.body_count = 2;
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    const snapshot before = take(scene);
+    const tb_shape none = tb_shape_default();
+    const tb_shape *removals[] = {NULL, &none};
+    for (int k = 0; k < 2; ++k) {
+        assert_int_equal(tb_scene_set_body_shape(scene, 1, removals[k]),
+                         TB_STATUS_INVALID_ARGUMENT);
+        assert_detail_has(tb_scene_detail(scene), "body 1 (\"right\") is bodies[1] of effect 0");
+        assert_unchanged(scene, &before);
+        tb_shape_type type = TB_SHAPE_NONE;
+        assert_int_equal(tb_scene_body_shape_type(scene, 1, &type), TB_STATUS_OK);
+        assert_int_equal(type, TB_SHAPE_SPHERE);
+    }
+    assert_int_equal(tb_scene_set_body_shape(scene, 2, NULL), TB_STATUS_OK);
+    tb_shape box = tb_shape_default();
+    box.type = TB_SHAPE_BOX;
+    box.size[0] = box.size[1] = box.size[2] = 0.2;
+    assert_int_equal(tb_scene_set_body_shape(scene, 1, &box), TB_STATUS_OK);
+    tb_scene_destroy(scene);
+}
+
+/* A body of mass m and moments I (kg m^2, all three), at height z, its shape a sphere of radius
+ * r: the shape's reach from the centre of mass, by its bounding box, is sqrt(3) r. */
+static size_t add_point_mass_ball(tb_scene *scene, double m, double I, double r, double z)
+{
+    tb_body_def body = tb_body_def_default();
+    body.mass.mass = m;
+    body.mass.moments[0] = body.mass.moments[1] = body.mass.moments[2] = I;
+    body.mass.rotation[0] = 1.0;
+    body.position[2] = z;
+    size_t id;
+    assert_int_equal(tb_scene_add_body(scene, &body, &id), TB_STATUS_OK);
+    tb_shape shape = tb_shape_default();
+    shape.type = TB_SHAPE_SPHERE;
+    shape.radius = r;
+    assert_int_equal(tb_scene_set_body_shape(scene, id, &shape), TB_STATUS_OK);
+    return id;
+}
+
+/* F95: a shape 1e90 m across on 1 kg with I = 1 kg m^2 was taken by tb_scene_add_ground and by
+ * tb_scene_set_body_shape beside a plane, and refused only by the default step (1.5e-94 s) and
+ * the guard. A point's depth is known to its distance from the centre of mass times 2^-52 at
+ * best; past the penetration the contact force is rounding noise larger than the body's weight.
+ * Refused now where the shape meets the effect: setting the shape, adding the plane or the
+ * contact, naming the body, the penetration and the effect, nothing changed. The rule's reach is
+ * sqrt(3) r for a ball: r at half the limit passes, at twice it is refused (a factor of 2 either
+ * side, far beyond the rounding of the bound). Moments so small for the mass and reach that
+ * M r^2 / I overflows (1e100 kg, 1e-200 kg m^2, r = 1e5 m) are refused the same way. */
+static void test_shapes_too_large_for_their_contact_are_refused(void **state)
+{
+    (void)state;
+    const tb_ground_def ground = tb_ground_def_default();
+    const double limit = ground.penetration / (sqrt(3.0) * DBL_EPSILON);
+    tb_scene *scene = test_empty_scene();
+    add_point_mass_ball(scene, 1.0, 1.0, 1e90, 2e90);
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_INVALID_ARGUMENT);
+    assert_detail_has(tb_scene_detail(scene), "body 0 (\"body0\"): its shape reaches");
+    assert_detail_has(tb_scene_detail(scene), "penetration 8e-07 m of effect 0 (a ground plane)");
+    assert_int_equal(tb_scene_effect_count(scene), 0);
+    tb_shape shape = tb_shape_default();
+    shape.type = TB_SHAPE_SPHERE;
+    shape.radius = 0.5 * limit;
+    assert_int_equal(tb_scene_set_body_shape(scene, 0, &shape), TB_STATUS_OK);
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+    const snapshot before = take(scene);
+    shape.radius = 2.0 * limit;
+    assert_int_equal(tb_scene_set_body_shape(scene, 0, &shape), TB_STATUS_INVALID_ARGUMENT);
+    assert_detail_has(tb_scene_detail(scene), "of effect 0 (a ground plane)");
+    assert_unchanged(scene, &before);
+    tb_shape_piece piece = tb_shape_piece_default();
+    piece.shape = shape;
+    assert_int_equal(tb_scene_set_body_pieces(scene, 0, &piece, 1), TB_STATUS_INVALID_ARGUMENT);
+    assert_unchanged(scene, &before);
+    tb_scene_destroy(scene);
+
+    scene = test_empty_scene(); /* between bodies: the contact's own penetration */
+    add_point_mass_ball(scene, 1.0, 1.0, 1e90, 0.0);
+    add_point_mass_ball(scene, 1.0, 1.0, 1.0, 1e91);
+    tb_contact_def contact = tb_contact_def_default();
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_INVALID_ARGUMENT);
+    assert_detail_has(tb_scene_detail(scene), "of effect 0 (a contact)");
+    assert_int_equal(tb_scene_effect_count(scene), 0);
+    shape.radius = 1.0;
+    assert_int_equal(tb_scene_set_body_shape(scene, 0, &shape), TB_STATUS_OK);
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    const snapshot listed = take(scene);
+    shape.radius = 1e90;
+    assert_int_equal(tb_scene_set_body_shape(scene, 0, &shape), TB_STATUS_INVALID_ARGUMENT);
+    assert_detail_has(tb_scene_detail(scene), "of effect 0 (a contact)");
+    assert_unchanged(scene, &listed);
+    tb_scene_destroy(scene);
+
+    scene = test_empty_scene(); /* the rate's overflow */
+    add_point_mass_ball(scene, 1e100, 1e-200, 1e5, 1e6);
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_INVALID_ARGUMENT);
+    assert_detail_has(tb_scene_detail(scene), "overflows");
+    tb_scene_destroy(scene);
+}
+
+/* F95 for contact points: the loader gives a body with a shape its contact points, so a 1e12 m
+ * ball over a plane of penetration 1e-4 m (rounding 2.2e-4 m) passed `tumble check`. A point at
+ * twice the limit is refused by tb_scene_add_ground and by tb_scene_set_contact_points, naming
+ * the body and the point; at half the limit it is taken. */
+static void test_contact_points_too_far_for_the_plane_are_refused(void **state)
+{
+    (void)state;
+    const tb_ground_def ground = tb_ground_def_default();
+    const double limit = ground.penetration / DBL_EPSILON;
+    tb_scene *scene = test_empty_scene();
+    add_point_mass_ball(scene, 1.0, 1.0, 1.0, 4.0 * limit);
+    tb_contact_point point = {{0.0, 0.0, -2.0 * limit}, 0.0};
+    assert_int_equal(tb_scene_set_contact_points(scene, 0, &point, 1, 1), TB_STATUS_OK);
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_INVALID_ARGUMENT);
+    assert_detail_has(tb_scene_detail(scene), "body 0 (\"body0\"): contact point 0 lies");
+    assert_int_equal(tb_scene_effect_count(scene), 0);
+    point.position[2] = -0.5 * limit;
+    assert_int_equal(tb_scene_set_contact_points(scene, 0, &point, 1, 1), TB_STATUS_OK);
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+    const snapshot before = take(scene);
+    point.position[2] = -2.0 * limit;
+    assert_int_equal(tb_scene_set_contact_points(scene, 0, &point, 1, 1),
+                     TB_STATUS_INVALID_ARGUMENT);
+    assert_detail_has(tb_scene_detail(scene), "the ground plane's penetration 8e-07 m");
+    assert_unchanged(scene, &before);
+    tb_scene_destroy(scene);
 }
 
 /* A pair may start inside each other by up to 10 times the depth at which its contact carries
@@ -256,6 +399,40 @@ static void test_a_contact_rate_that_vanishes_is_refused(void **state)
     tb_scene_destroy(scene);
 }
 
+/* F98: a ground plane lacked the contact's bounds on its rate sqrt(gravity / penetration)
+ * (F22): gravity 1e300 m/s^2 was taken (omega 1.1e153 rad/s, a default step of 2.4e-154 s), and
+ * 1e-300 m/s^2 over 1e300 m (omega 0: a plane that never pushes back) too. Both are refused now,
+ * as the contact's are, naming the field further from its default; a restitution just past 1 is
+ * named with all its digits, not rounded to the 1 it is refused against. */
+static void test_a_ground_rate_out_of_range_is_refused(void **state)
+{
+    (void)state;
+    tb_scene *scene = test_empty_scene();
+    add_ball(scene, "a", 1.0, 0.1, 0.0);
+    const double gravity[] = {1e300, 1e-300, 9.81}, penetration[] = {8e-7, 1e300, 1e-18};
+    const char *named[] = {"gravity: ", "penetration: ", "penetration: "};
+    for (int k = 0; k < 3; ++k) {
+        tb_ground_def ground = tb_ground_def_default();
+        ground.offset = -1.0;
+        ground.gravity = gravity[k];
+        ground.penetration = penetration[k];
+        assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_INVALID_ARGUMENT);
+        assert_detail_has(tb_scene_detail(scene), named[k]);
+        assert_detail_has(tb_scene_detail(scene), "at most 1e+09");
+        assert_int_equal(tb_scene_effect_count(scene), 0);
+    }
+    tb_ground_def ground = tb_ground_def_default();
+    ground.offset = -1.0;
+    ground.restitution = 1.0000001;
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_INVALID_ARGUMENT);
+    assert_detail_has(tb_scene_detail(scene), "got 1.0000001");
+    tb_contact_def contact = tb_contact_def_default();
+    contact.restitution = 1.0000001;
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_INVALID_ARGUMENT);
+    assert_detail_has(tb_scene_detail(scene), "got 1.0000001");
+    tb_scene_destroy(scene);
+}
+
 /* F23 (found by the contact fuzz target): a ball against a point set with one point 2^64 m out
  * (inside the 1e100 m the shapes allow) sent libccd's MPR round its portal refinement for ever,
  * which has no iteration cap, so one derivative never returned. The query now has a budget of
@@ -309,6 +486,9 @@ static void test_a_far_hull_point_does_not_hang_the_derivative(void **state)
     assert_int_equal(tb_scene_set_state(scene, 0, &ball), TB_STATUS_OK);
     assert_int_equal(tb_scene_set_state(scene, 1, &set), TB_STATUS_OK);
     tb_contact_def contact = tb_contact_def_default();
+    /* a point 2^64 m out has its depth to 2^64 2^-52 m = 4 km (F95): a penetration beyond that
+     * keeps the contact; the narrow phase's query, geometry alone, is the same */
+    contact.penetration = 1e4;
     assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
     const size_t size = tb_scene_state_size(scene); /* the bodies' and the friction slots' */
     double *dydt = malloc(size * sizeof *dydt);
@@ -325,11 +505,10 @@ static void test_a_far_hull_point_does_not_hang_the_derivative(void **state)
 
 /* F24: a body of 1e100 kg with moments of 1e-200 kg m^2 and a sphere of 1e100 m (each inside
  * its documented range) makes the contact's rocking rate M |r|^2 / I overflow: no fixed step is
- * stable. tb_scene_max_stable_step said so (NOT_FINITE), but tb_scene_default_step answered OK
- * with dt = 0 (the guard's own invariant: OK only with a step > 0). It now refuses as
- * max_stable_step does; adaptive methods still get INFINITY, and the fixed-step integrator is
- * refused naming the rate. */
-static void test_no_default_step_is_given_when_no_step_is_stable(void **state)
+ * stable, and tb_scene_default_step answered OK with dt = 0. Since F95 the contact itself is
+ * refused where the shape meets it, naming the overflow, so no integrator or step is asked of
+ * such a scene; nothing is added. */
+static void test_a_contact_whose_rate_overflows_is_refused(void **state)
 {
     (void)state;
     tb_scene *scene = test_empty_scene();
@@ -346,19 +525,13 @@ static void test_no_default_step_is_given_when_no_step_is_stable(void **state)
         shape.radius = 1e100;
         assert_int_equal(tb_scene_set_body_shape(scene, (size_t)b, &shape), TB_STATUS_OK);
     }
+    const snapshot before = take(scene);
     tb_contact_def contact = tb_contact_def_default();
-    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
-    double dt = -1.0;
-    assert_int_equal(tb_scene_default_step(scene, TB_METHOD_RK4, &dt), TB_STATUS_NOT_FINITE);
-    assert_detail_has(tb_scene_detail(scene), "a contact");
-    assert_true(dt == -1.0); /* left alone */
-    assert_int_equal(tb_scene_default_step(scene, TB_METHOD_CVODE_ADAMS, &dt), TB_STATUS_OK);
-    assert_true(dt == INFINITY);
-    tb_integrator_def def = tb_integrator_def_default();
-    def.dt = 0.0;
-    tb_integrator *integrator = NULL;
-    assert_int_not_equal(tb_scene_integrator_create(scene, &def, 0.0, &integrator), TB_STATUS_OK);
-    assert_null(integrator);
+    contact.penetration = 1e90; /* past the depth's rounding, 1e100 m 2^-52 */
+    contact.gravity = 1e90;
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_INVALID_ARGUMENT);
+    assert_detail_has(tb_scene_detail(scene), "of effect 0 (a contact) overflows");
+    assert_unchanged(scene, &before);
     tb_scene_destroy(scene);
 }
 
@@ -369,9 +542,13 @@ int main(void)
         cmocka_unit_test(test_bodies_starting_deep_inside_each_other_are_refused),
         cmocka_unit_test(test_a_body_moved_into_another_is_refused_at_the_start),
         cmocka_unit_test(test_a_pair_in_two_contact_effects_is_refused),
+        cmocka_unit_test(test_removing_a_listed_bodys_shape_is_refused),
+        cmocka_unit_test(test_shapes_too_large_for_their_contact_are_refused),
+        cmocka_unit_test(test_contact_points_too_far_for_the_plane_are_refused),
         cmocka_unit_test(test_a_contact_rate_that_vanishes_is_refused),
+        cmocka_unit_test(test_a_ground_rate_out_of_range_is_refused),
         cmocka_unit_test(test_a_far_hull_point_does_not_hang_the_derivative),
-        cmocka_unit_test(test_no_default_step_is_given_when_no_step_is_stable),
+        cmocka_unit_test(test_a_contact_whose_rate_overflows_is_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

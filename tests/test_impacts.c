@@ -17,6 +17,7 @@
 #include "tumble/tumble.h"
 
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 
 /* The example scene NAME with an integrator of method at step dt (0: the scene's default step)
@@ -219,6 +220,195 @@ static void test_counting_allocates_nothing_per_step(void **unused)
 #endif
 }
 
+/* A 1 kg cube of side 0.2 m with its 8 corners as contact points (support 4), closing at 0.5 m/s
+ * on a plane of penetration 1e-4 m (omega0 = sqrt(9.81 / 1e-4) = 313 rad/s), no gravity, at
+ * rosenbrock's dt = dt_omega0 / omega0; q its orientation; shaped: a box shape instead of the
+ * points. The count after 0.3 s. */
+static tb_unresolved_impacts cube_landing_at(const double q[4], bool shaped, double dt_omega0)
+{
+    tb_scene *scene = test_empty_scene();
+    const double size[3] = {0.2, 0.2, 0.2};
+    tb_body_def body = tb_body_def_default();
+    assert_int_equal(tb_mass_from_box(TB_MASS_GIVEN, 1.0, size, &body.mass, NULL), TB_STATUS_OK);
+    body.position[2] = 0.2;
+    for (int k = 0; k < 4; ++k) {
+        body.orientation[k] = q[k];
+    }
+    size_t id = 0;
+    assert_int_equal(tb_scene_add_body(scene, &body, &id), TB_STATUS_OK);
+    assert_int_equal(tb_scene_set_velocity(scene, id, (double[]){0, 0, -0.5}, (double[]){0, 0, 0}),
+                     TB_STATUS_OK);
+    if (shaped) {
+        tb_shape box = tb_shape_default();
+        box.type = TB_SHAPE_BOX;
+        box.size[0] = box.size[1] = box.size[2] = size[0];
+        assert_int_equal(tb_scene_set_body_shape(scene, id, &box), TB_STATUS_OK);
+    } else {
+        tb_contact_point corners[8];
+        size_t count = 0;
+        assert_int_equal(tb_contact_points_box(size, corners, 8, &count), TB_STATUS_OK);
+        assert_int_equal(tb_scene_set_contact_points(scene, id, corners, count, 4), TB_STATUS_OK);
+    }
+    /* a 1 kg ball of radius 0.1 m far off, held 5 m up by nothing (no gravity), on one point
+     * 1 m from its centre: lightness 1 + 1 / 0.004 = 251, so the guard's bound is 16 omega0 and
+     * the count is watched down to dt omega0 = 0.0063 */
+    tb_body_def far = tb_body_def_default();
+    assert_int_equal(tb_mass_from_sphere(TB_MASS_GIVEN, 1.0, 0.1, &far.mass, NULL), TB_STATUS_OK);
+    far.position[0] = 10.0;
+    far.position[2] = 5.0;
+    size_t far_id = 0;
+    assert_int_equal(tb_scene_add_body(scene, &far, &far_id), TB_STATUS_OK);
+    const tb_contact_point reach = {{1.0, 0.0, 0.0}, 0.0};
+    assert_int_equal(tb_scene_set_contact_points(scene, far_id, &reach, 1, 1), TB_STATUS_OK);
+    tb_ground_def ground = tb_ground_def_default();
+    ground.penetration = 1e-4;
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+    const double omega0 = sqrt(ground.gravity / ground.penetration);
+    tb_integrator *integrator =
+        test_integrator_for(scene, TB_METHOD_ROSENBROCK, dt_omega0 / omega0, 0.0);
+    assert_int_equal(tb_integrator_advance(integrator, 0.3), TB_STATUS_OK);
+    tb_unresolved_impacts found;
+    assert_int_equal(tb_scene_unresolved_impacts(scene, &found), TB_STATUS_OK);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+    return found;
+}
+
+static tb_unresolved_impacts cube_landing(const double q[4])
+{
+    return cube_landing_at(q, false, 0.15);
+}
+
+/* F97: a body on a plane was taken as its whole law, k = M omega0^2, as if every point pushed at
+ * once. A cube landing flat does ring at omega0 (4 corners of k / 4 against M); landing on one
+ * corner with its diagonal vertical, one corner's spring k / 4 pushes the whole mass (the arm is
+ * along the normal: the effective mass is M), at omega0 / 2. At dt omega0 = 0.15 the flat landing
+ * is beyond rosenbrock's resolution of 0.1 and the corner landing (0.075) inside it: one impact
+ * counted, then none (the whole law counted both). The rates are exact; 0.15 and 0.075 lie a
+ * factor 1.5 and 1.33 from 0.1. */
+static void test_a_corner_landing_is_counted_at_its_own_rate(void **unused)
+{
+    (void)unused;
+    const tb_unresolved_impacts flat = cube_landing((double[]){1, 0, 0, 0});
+    assert_true(flat.watched);
+    assert_int_equal(flat.count, 1);
+    assert_true(fabs(flat.first.speed - 0.5) < 1e-6);
+    /* a turn of acos(1 / sqrt 3) about (1, -1, 0) / sqrt 2 takes the diagonal (1, 1, 1) to z */
+    const double angle = acos(1.0 / sqrt(3.0)), s = sin(0.5 * angle) / sqrt(2.0);
+    const tb_unresolved_impacts corner = cube_landing((double[]){cos(0.5 * angle), s, -s, 0.0});
+    assert_true(corner.watched);
+    assert_int_equal(corner.count, 0);
+}
+
+/* F97 for a shape: the plane splits its law among the manifold's points (k / count each), so a
+ * box shape landing flat, four corners at once, rings at omega0, as the points do; it was taken
+ * as one point of the whole law at a corner's inverse mass 4 / M, at 2 omega0. At dt omega0 =
+ * 0.075 the flat landing is resolved (none counted; it counted one before), at 0.15 it is not
+ * (one). */
+static void test_a_shape_landing_flat_is_counted_at_its_own_rate(void **unused)
+{
+    (void)unused;
+    const double level[4] = {1, 0, 0, 0};
+    const tb_unresolved_impacts resolved = cube_landing_at(level, true, 0.075);
+    assert_true(resolved.watched);
+    assert_int_equal(resolved.count, 0);
+    const tb_unresolved_impacts counted = cube_landing_at(level, true, 0.15);
+    assert_int_equal(counted.count, 1);
+}
+
+/* F101: between bodies the contact splits its law among the manifold's points too (k / count):
+ * a 1 kg cube of side 0.2 m landing flat at 0.5 m/s on a static slab (contact of penetration
+ * 1e-4 m, omega = 313 rad/s) rings at omega (4 corners of k / 4 against M), but was counted as
+ * one point of the whole law at a corner's inverse mass 4 / M, at 2 omega. At dt omega = 0.075
+ * none is counted (one before), at 0.15 one. A far ball on a point 1 m from its centre over a
+ * plane 100 m below keeps the count watched (the guard's bound). */
+static size_t cube_on_slab_count(double dt_omega)
+{
+    tb_scene *scene = test_empty_scene();
+    const double size[3] = {0.2, 0.2, 0.2};
+    tb_body_def slab = tb_body_def_default();
+    slab.motion = TB_MOTION_STATIC;
+    slab.position[2] = -0.1;
+    size_t slab_id = 0, cube_id = 0, far_id = 0;
+    assert_int_equal(tb_scene_add_body(scene, &slab, &slab_id), TB_STATUS_OK);
+    tb_shape shape = tb_shape_default();
+    shape.type = TB_SHAPE_BOX;
+    shape.size[0] = shape.size[1] = 2.0;
+    shape.size[2] = 0.2;
+    assert_int_equal(tb_scene_set_body_shape(scene, slab_id, &shape), TB_STATUS_OK);
+    tb_body_def cube = tb_body_def_default();
+    assert_int_equal(tb_mass_from_box(TB_MASS_GIVEN, 1.0, size, &cube.mass, NULL), TB_STATUS_OK);
+    cube.position[2] = 0.2;
+    cube.velocity[2] = -0.5;
+    assert_int_equal(tb_scene_add_body(scene, &cube, &cube_id), TB_STATUS_OK);
+    shape.size[0] = shape.size[1] = shape.size[2] = 0.2;
+    assert_int_equal(tb_scene_set_body_shape(scene, cube_id, &shape), TB_STATUS_OK);
+    tb_body_def far = tb_body_def_default();
+    assert_int_equal(tb_mass_from_sphere(TB_MASS_GIVEN, 1.0, 0.1, &far.mass, NULL), TB_STATUS_OK);
+    far.position[0] = 10.0;
+    assert_int_equal(tb_scene_add_body(scene, &far, &far_id), TB_STATUS_OK);
+    const tb_contact_point reach = {{1.0, 0.0, 0.0}, 0.0};
+    assert_int_equal(tb_scene_set_contact_points(scene, far_id, &reach, 1, 1), TB_STATUS_OK);
+    tb_ground_def ground = tb_ground_def_default();
+    ground.offset = -100.0;
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+    tb_contact_def contact = tb_contact_def_default();
+    contact.penetration = 1e-4;
+    contact.bodies = (const size_t[]){slab_id, cube_id};
+    contact.body_count = 2;
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    const double omega = sqrt(contact.gravity / contact.penetration);
+    tb_integrator *integrator =
+        test_integrator_for(scene, TB_METHOD_ROSENBROCK, dt_omega / omega, 0.0);
+    assert_int_equal(tb_integrator_advance(integrator, 0.3), TB_STATUS_OK);
+    tb_unresolved_impacts found;
+    assert_int_equal(tb_scene_unresolved_impacts(scene, &found), TB_STATUS_OK);
+    assert_true(found.watched);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+    return found.count;
+}
+
+static void test_a_box_landing_flat_on_a_box_is_counted_at_its_own_rate(void **unused)
+{
+    (void)unused;
+    assert_int_equal(cube_on_slab_count(0.075), 0);
+    assert_int_equal(cube_on_slab_count(0.15), 1);
+}
+
+/* F97: tb_integrator_reset to a time before a counted impact kept the count, so the run again
+ * counted the same impact twice: head_on_balls (one impact at t = 0.2 s) run to 1 s, set back to
+ * its start and reset to t = 0, then run to 1 s again, counts 1, at 0.2 s. A reset after the
+ * impact (to t = 1 s, states as they are) keeps it. */
+static void test_a_reset_before_an_impact_counts_it_once(void **unused)
+{
+    (void)unused;
+    tb_integrator *integrator = NULL;
+    tb_scene *scene =
+        start_example("head_on_balls", TB_METHOD_ROSENBROCK, 1.0 / 240.0, &integrator);
+    tb_body_state start[2];
+    for (size_t id = 0; id < 2; ++id) {
+        assert_int_equal(tb_scene_get_state(scene, id, &start[id]), TB_STATUS_OK);
+    }
+    assert_int_equal(tb_integrator_advance(integrator, 1.0), TB_STATUS_OK);
+    tb_unresolved_impacts found;
+    assert_int_equal(tb_integrator_reset(integrator, 1.0), TB_STATUS_OK);
+    assert_int_equal(tb_scene_unresolved_impacts(scene, &found), TB_STATUS_OK);
+    assert_int_equal(found.count, 1);
+    for (size_t id = 0; id < 2; ++id) {
+        assert_int_equal(tb_scene_set_state(scene, id, &start[id]), TB_STATUS_OK);
+    }
+    assert_int_equal(tb_integrator_reset(integrator, 0.0), TB_STATUS_OK);
+    assert_int_equal(tb_scene_unresolved_impacts(scene, &found), TB_STATUS_OK);
+    assert_int_equal(found.count, 0);
+    assert_int_equal(tb_integrator_advance(integrator, 1.0), TB_STATUS_OK);
+    assert_int_equal(tb_scene_unresolved_impacts(scene, &found), TB_STATUS_OK);
+    assert_int_equal(found.count, 1);
+    assert_true(fabs(found.first.t - 0.2) < 1e-9);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
 static void test_null_pointers_are_refused(void **unused)
 {
     (void)unused;
@@ -240,6 +430,10 @@ int main(void)
         cmocka_unit_test(test_the_cradle_counts_its_hits_faster_than_g_dt),
         cmocka_unit_test(test_resolving_steps_count_none),
         cmocka_unit_test(test_counting_allocates_nothing_per_step),
+        cmocka_unit_test(test_a_corner_landing_is_counted_at_its_own_rate),
+        cmocka_unit_test(test_a_shape_landing_flat_is_counted_at_its_own_rate),
+        cmocka_unit_test(test_a_box_landing_flat_on_a_box_is_counted_at_its_own_rate),
+        cmocka_unit_test(test_a_reset_before_an_impact_counts_it_once),
         cmocka_unit_test(test_null_pointers_are_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -367,6 +367,45 @@ static void test_a_fast_ball_wakes_a_sleeping_box_a_step_ahead_under_rk4(void **
     tb_scene_destroy(scene);
 }
 
+/* F99: a box resting asleep on its 8 corner points (no shape) whose points were removed stayed
+ * asleep where it was, held by nothing, through a new integrator and 0.5 s. Changing a body's
+ * points now wakes it, as setting its state or shape does: it falls freely, z0 - g t^2 / 2,
+ * which RK4 integrates exactly for a constant force (1e-9 m: rounding of 0.05 m positions). */
+static void test_removing_an_asleep_bodys_points_wakes_it(void **state)
+{
+    (void)state;
+    tb_scene_def def = tb_scene_def_default();
+    def.sleeping = true;
+    tb_scene *scene = NULL;
+    assert_int_equal(tb_scene_create(&def, &scene, NULL), TB_STATUS_OK);
+    add_box(scene, (double[]){0.0, 0.0, 0.5 * EDGE});
+    assert_int_equal(tb_scene_set_body_shape(scene, 0, NULL), TB_STATUS_OK); /* points alone */
+    assert_int_equal(tb_scene_add_gravity(scene, (double[]){0.0, 0.0, -9.81}), TB_STATUS_OK);
+    tb_ground_def ground = tb_ground_def_default();
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+    tb_integrator *integrator = test_integrator_for(scene, TB_METHOD_RK4, 0.0, 0.0);
+    assert_int_equal(tb_integrator_advance(integrator, SETTLED), TB_STATUS_OK);
+    bool asleep = false;
+    assert_int_equal(tb_scene_body_asleep(scene, 0, &asleep), TB_STATUS_OK);
+    assert_true(asleep);
+    tb_integrator_destroy(integrator);
+    tb_body_state rest;
+    assert_int_equal(tb_scene_get_state(scene, 0, &rest), TB_STATUS_OK);
+    assert_int_equal(tb_scene_set_contact_points(scene, 0, NULL, 0, 0), TB_STATUS_OK);
+    assert_int_equal(tb_scene_body_asleep(scene, 0, &asleep), TB_STATUS_OK);
+    assert_false(asleep);
+    tb_integrator_def step = test_integrator_def(TB_METHOD_RK4, 1e-3, 0.0);
+    integrator = NULL;
+    assert_int_equal(tb_scene_integrator_create(scene, &step, SETTLED, &integrator), TB_STATUS_OK);
+    assert_int_equal(tb_integrator_advance(integrator, SETTLED + 0.5), TB_STATUS_OK);
+    tb_body_state fallen;
+    assert_int_equal(tb_scene_get_state(scene, 0, &fallen), TB_STATUS_OK);
+    const double v0 = rest.P[2] / BOX_MASS;
+    assert_true(fabs(fallen.x[2] - (rest.x[2] + v0 * 0.5 - 0.5 * 9.81 * 0.25)) < 1e-9);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
 int main(int argc, char **argv)
 {
     if (argc > 1) { /* a pattern of test names to run (cmocka's filter) */
@@ -377,6 +416,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(test_a_ball_wakes_a_sleeping_box_between_outputs_under_cvode_bdf),
         cmocka_unit_test(test_one_cvode_step_at_a_time_wakes_the_box_before_the_touch),
         cmocka_unit_test(test_a_fast_ball_wakes_a_sleeping_box_a_step_ahead_under_rk4),
+        cmocka_unit_test(test_removing_an_asleep_bodys_points_wakes_it),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

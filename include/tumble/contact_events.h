@@ -88,8 +88,10 @@ typedef struct tb_impact {
 /* What the newest integrator's fixed step left unresolved. An impact is a pair beginning to touch
  * (a contact event's begin) at a normal speed above g dt (g the law's gravity: slower, a body
  * settling on its support, whose bounce e v < g dt would rise less than g dt^2 / 2 and fall back
- * within two steps), whose law's rate omega (the pair taken as one point: omega sqrt(M_light / m)
- * between bodies, omega0 sqrt(M / m) on a plane, m the effective mass at the point) is too fast
+ * within two steps), whose law's rate omega (the pair taken as its landing point: omega
+ * sqrt(M_light share / m) between bodies, omega0 sqrt(M share / m) on a plane, share the landing
+ * point's part of the law: 1 / support for contact points, 1 / the points of the manifold landing
+ * together for shapes; m the effective mass at the point) is too fast
  * for dt: dt omega above 0.1 for rosenbrock (its default step's resolution, where it keeps e = 0.5
  * within 2 %), above the stability limit for the explicit methods (allow_unstable only). Under
  * rosenbrock an impact of duration shorter than about 30 steps is counted; the restitution comes
@@ -101,7 +103,8 @@ typedef struct tb_unresolved_impacts {
                           adaptive method (error control resolves impacts) or a resolving step */
     double dt;         /* s: the step counted against (0 when not watched) */
     double resolution; /* the dt omega above which an impact counts (0 when not watched) */
-    size_t count;      /* impacts since the integrator was made */
+    size_t count;      /* impacts since the integrator was made; a tb_integrator_reset to a time
+                          before one of them starts the count again at zero */
     tb_impact first;   /* the earliest of them (zeros when count is 0) */
     tb_impact fastest; /* the one that closed fastest, the earliest of equals */
 } tb_unresolved_impacts;

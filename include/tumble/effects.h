@@ -85,9 +85,15 @@ TB_API tb_status tb_scene_add_spring(tb_scene *scene, const tb_spring_def *def);
  * default step (tb_scene_default_step). A body whose contact point starts deeper than 10
  * penetrations inside the plane is refused (TB_STATUS_INVALID_ARGUMENT, naming it and its depth)
  * by tb_scene_add_ground or tb_scene_set_contact_points, whichever comes last: the contact would
- * launch it. A plane facing the way an earlier ground plane faces (normals within 1e-6 rad) is
- * refused (TB_STATUS_INVALID_ARGUMENT naming the earlier one): the two would push the same points
- * twice, or one would lie buried in the other's ground (tests/test_effects.c). */
+ * launch it. So is a point, or a shape the plane meets (there and at tb_scene_set_body_shape),
+ * reaching so far from its body's centre of mass that its depth's rounding (the reach times
+ * 2^-52) exceeds the penetration, or that the contact's rate M reach^2 / I overflows: the force
+ * would be noise larger than the body's weight (a 1e90 m sphere on 1 kg). A rate
+ * sqrt(gravity / penetration) of 0 or above 1e9 rad/s is refused, as the contact's is. A plane
+ * facing the way an
+ * earlier ground plane faces (normals within 1e-6 rad) is refused (TB_STATUS_INVALID_ARGUMENT
+ * naming the earlier one): the two would push the same points twice, or one would lie buried in the
+ * other's ground (tests/test_effects.c). */
 typedef struct tb_ground_def {
     double normal[3];         /* pointing out of the ground, any finite nonzero length (normalised,
                                  scaled first: (0,0,1e-300) is up); default (0,0,1) */
@@ -172,8 +178,11 @@ TB_API tb_contact_def tb_contact_def_default(void);
  * or of static and keyframed bodies only (an effect that touches nothing); a contact rate
  * sqrt(gravity / penetration) above 1e9 rad/s (an impact shorter than 3 ns); a repeated id (so a
  * body_count past the scene's is refused after reading at most body count + 1 ids), an id past
- * the scene (TB_STATUS_OUT_OF_RANGE); a listed body without a collision shape; and a set that
- * shares two bodies with an earlier contact effect (that pair would be pushed by both).
+ * the scene (TB_STATUS_OUT_OF_RANGE); a listed body without a collision shape, or with one whose
+ * reach from its centre of mass is too large for penetration (as a ground plane's shapes are;
+ * tb_scene_set_body_shape refuses the same later, and refuses to remove a listed body's shape);
+ * and a set that shares two bodies with an earlier contact effect (that pair would be pushed by
+ * both).
  * tb_scene_integrator_create, and every advance, step and reset after the state (or a shape) was
  * changed from outside, then refuse a state in which a pair lies deeper inside each other than 10
  * times the depth that carries the heavier body's weight, or past the thinner body's middle. */

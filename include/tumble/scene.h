@@ -359,12 +359,13 @@ TB_API bool tb_scene_allow_unstable(const tb_scene *scene);
  * all been slow for TB_SLEEP_TIME falls asleep: its bodies' derivatives are 0 (their states,
  * and the friction anchors between them and on the ground, stay frozen, bit for bit) and the
  * contact effect skips the narrow phase between two of them. It wakes when a moving body comes
- * within the contact's margin of it, when tb_scene_set_state or tb_scene_set_velocity changes
- * one of its bodies (or a write into tb_scene_states is seen at the next boundary), or when an
- * effect is added. Decisions happen at step boundaries: after every step of a fixed-step
- * integrator made by tb_scene_integrator_create, at every output of the others (CVODE restarts
- * there). A scene holding a user effect never sleeps. set refuses with TB_STATUS_BUSY while the
- * scene is being stepped; false wakes every body. */
+ * within the contact's margin of it, when tb_scene_set_state, tb_scene_set_velocity,
+ * tb_scene_set_body_shape or tb_scene_set_contact_points changes one of its bodies (or a write
+ * into tb_scene_states is seen at the next boundary), or when an effect is added. Decisions happen
+ * at step boundaries: after every step of a fixed-step integrator made by
+ * tb_scene_integrator_create, at every output of the others (CVODE restarts there). A scene holding
+ * a user effect never sleeps. set refuses with TB_STATUS_BUSY while the scene is being stepped;
+ * false wakes every body. */
 TB_API tb_status tb_scene_set_sleeping(tb_scene *scene, bool sleeping);
 TB_API bool tb_scene_sleeping(const tb_scene *scene);
 /* How many bodies are asleep now. */

@@ -58,7 +58,9 @@ TB_API tb_shape tb_shape_default(void);
 /* Gives body id a collision shape (the data is copied; a convex shape keeps only its hull's
  * vertices, and its triangles, if any, as the visual mesh), replacing the one it had and the
  * body's visual meshes; NULL or TB_SHAPE_NONE removes it. Refused with a detail
- * naming the field: a bad id (TB_STATUS_OUT_OF_RANGE), NULL vertices (TB_STATUS_NULL_POINTER), a
+ * naming the field: a bad id (TB_STATUS_OUT_OF_RANGE), removing the shape of a body a contact
+ * effect lists (TB_STATUS_INVALID_ARGUMENT naming the body and the effect: it would touch
+ * nothing), NULL vertices (TB_STATUS_NULL_POINTER), a
  * non-finite number (TB_STATUS_NOT_FINITE), a size out of its range, an unknown type, too few
  * vertices or a flat convex set (TB_STATUS_INVALID_ARGUMENT), triangles as
  * tb_scene_set_body_visual_mesh refuses them; TB_STATUS_BUSY while an

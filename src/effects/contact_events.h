@@ -4,6 +4,7 @@
 #ifndef TUMBLE_CONTACT_EVENTS_H
 #define TUMBLE_CONTACT_EVENTS_H
 
+#include "contact/narrow_phase.h"
 #include "effects/effect_contact.h"
 #include "effects/effect_ground.h"
 
@@ -54,11 +55,16 @@ size_t tb__contact_event_pairs(const tb__effect *effect, const tb_scene *scene, 
 size_t tb__ground_event_pairs(const tb__effect *effect, const tb_scene *scene, const double *y,
                               tb__event_pair *out, size_t capacity);
 
+/* The part of a law that splits its stiffness among a manifold's points (k / count, the contact
+ * between bodies and a shape on a plane) pushing at m's deepest point when the pair lands: 1 /
+ * the points within TB__CONTACT_MARGIN of the deepest (tb__event_pair.share). */
+double tb__manifold_landing_share(const tb__contact_manifold *m);
+
 /* tb__effect_stepping.impact_law of contact between bodies and of a ground plane
  * (effect_contact_event_pairs.c). */
-void tb__contact_impact_law(const tb__effect *effect, const tb_scene *scene, size_t body_a,
-                            size_t body_b, double inverse_mass, struct tb__impact_law *out);
-void tb__ground_impact_law(const tb__effect *effect, const tb_scene *scene, size_t body_a,
-                           size_t body_b, double inverse_mass, struct tb__impact_law *out);
+void tb__contact_impact_law(const tb__effect *effect, const tb_scene *scene,
+                            const tb__event_pair *pair, struct tb__impact_law *out);
+void tb__ground_impact_law(const tb__effect *effect, const tb_scene *scene,
+                           const tb__event_pair *pair, struct tb__impact_law *out);
 
 #endif

@@ -307,6 +307,7 @@ static const tb__effect_stepping contact_stepping = {
     .post_step = tb__friction_post_step,
     .step_start = tb__friction_step_start,
     .restart = tb__friction_effect_restart,
+    .check_shape = tb__contact_check_shape, /* a listed body keeps a shape it can be pushed by */
     .event_pairs = tb__contact_event_pairs, /* effect_contact_event_pairs.c */
     .impact_law = tb__contact_impact_law,
 };
@@ -378,7 +379,7 @@ static tb_status validate_contact(tb_scene *scene, const tb_contact_def *def)
     }
     if (status == TB_STATUS_OK && !(def->restitution <= 1.0)) {
         status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
-                                "restitution: must be in [0, 1], got %g", def->restitution);
+                                "restitution: must be in [0, 1], got %.17g", def->restitution);
     }
     if (status == TB_STATUS_OK) {
         status = tb__validate_finite(detail, def->static_friction, "static_friction");
@@ -493,6 +494,21 @@ static tb_status check_def(tb_scene *scene, const tb_contact_def *def)
     return status == TB_STATUS_OK ? validate_friction(scene, def) : status;
 }
 
+/* The listed bodies' shapes: each present (a list given) and not too large for penetration. */
+static tb_status check_listed_shapes(tb_scene *scene, const tb__contact_params *contact,
+                                     double penetration)
+{
+    tb_status status = TB_STATUS_OK;
+    if (!contact->every_body) {
+        status = tb__contact_check_shapes(scene, contact->bodies, contact->body_count);
+    }
+    if (status == TB_STATUS_OK) {
+        status =
+            tb__contact_check_shape_sizes(scene, contact->bodies, contact->body_count, penetration);
+    }
+    return status;
+}
+
 tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def)
 {
     if (scene == NULL) {
@@ -512,9 +528,8 @@ tb_status tb_scene_add_contact(tb_scene *scene, const tb_contact_def *def)
         status = tb__contact_pairs_create(scene, contact->bodies, contact->body_count,
                                           TB__CONTACT_MARGIN, &contact->pairs, scene->detail);
     }
-    /* after the pair finder, which checked the ids */
-    if (status == TB_STATUS_OK && !contact->every_body) {
-        status = tb__contact_check_shapes(scene, contact->bodies, contact->body_count);
+    if (status == TB_STATUS_OK) { /* after the pair finder, which checked the ids */
+        status = check_listed_shapes(scene, contact, def->penetration);
     }
     if (status == TB_STATUS_OK) {
         status = tb__contact_check_shared_pairs(scene, &contact_ops, contact->bodies,

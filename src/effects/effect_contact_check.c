@@ -6,6 +6,9 @@
 #include "core/detail.h"
 #include "effects/contact_events.h"
 
+#include "math/tb_math.h"
+
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -62,6 +65,83 @@ tb_status tb__contact_check_shapes(tb_scene *scene, const size_t *bodies, size_t
         }
     }
     return check_movers(scene, bodies, count);
+}
+
+/* How far body id's shape reaches from its centre of mass, m, by its bounds in the shape frame
+ * (a corner of the box around it: at most sqrt(3) times the true reach). */
+static double shape_reach(const tb_scene *scene, size_t id, const tb__collision_shape *shape)
+{
+    static const double identity[TB__POSE_SIZE] = {0, 0, 0, 1, 0, 0, 0};
+    const double *center = scene->mass_props[id].center;
+    double low[3], high[3], corner[3];
+    tb__collision_shape_bounds(shape, identity, low, high);
+    for (int k = 0; k < 3; ++k) {
+        corner[k] = fmax(fabs(low[k] - center[k]), fabs(high[k] - center[k]));
+    }
+    return tb__v3_norm(corner);
+}
+
+tb_status tb__contact_check_shape_size(tb_scene *scene, size_t id, double penetration,
+                                       size_t effect_index, const char *effect_kind)
+{
+    const tb__collision_shape *shape = tb__scene_body_collision_shape(scene, id);
+    if (shape == NULL || tb__body_fixed(scene, id)) {
+        return TB_STATUS_OK; /* a body that cannot move sinks into nothing */
+    }
+    const double reach = shape_reach(scene, id, shape);
+    const double rounding = reach * DBL_EPSILON;
+    if (!(rounding <= penetration)) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "body %zu (\"%s\"): its shape reaches %.3g m from its centre of "
+                              "mass, where a point's depth is known to %.3g m only, more than the "
+                              "penetration %.3g m of effect %zu (%s): its contact force would be "
+                              "rounding noise larger than its weight; give it a smaller shape or "
+                              "the effect a larger penetration",
+                              id, scene->names[id], reach, rounding, penetration, effect_index,
+                              effect_kind);
+    }
+    const double arm[3] = {reach, 0.0, 0.0};
+    const tb__body *body = tb__body_constants(scene, id);
+    if (!isfinite(body->mass * tb__inverse_mass_at(body, arm))) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "body %zu (\"%s\"): its shape reaches %.3g m from its centre of "
+                              "mass, so far for its moments of inertia that the contact rate of "
+                              "effect %zu (%s) overflows",
+                              id, scene->names[id], reach, effect_index, effect_kind);
+    }
+    return TB_STATUS_OK;
+}
+
+tb_status tb__contact_check_shape_sizes(tb_scene *scene, const size_t *bodies, size_t count,
+                                        double penetration)
+{
+    tb_status status = TB_STATUS_OK;
+    for (size_t k = 0; k < count && status == TB_STATUS_OK; ++k) {
+        status = tb__contact_check_shape_size(scene, bodies[k], penetration, scene->effect_count,
+                                              "a contact");
+    }
+    return status;
+}
+
+tb_status tb__contact_check_shape(const tb__effect *effect, tb_scene *scene, size_t id)
+{
+    const tb__contact_params *contact = tb__contact_of(effect);
+    const size_t index = (size_t)(effect - scene->effects);
+    for (size_t k = 0; k < contact->body_count; ++k) {
+        if (contact->bodies[k] != id) {
+            continue;
+        }
+        if (tb__scene_body_collision_shape(scene, id) != NULL) { /* seen at the next derivative */
+            const double penetration = contact->gravity / (contact->omega * contact->omega);
+            return tb__contact_check_shape_size(scene, id, penetration, index, "a contact");
+        }
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "id: body %zu (\"%s\") is bodies[%zu] of effect %zu (a "
+                              "contact): without a shape it would silently touch nothing "
+                              "(a listed body keeps a shape; set another instead)",
+                              id, scene->names[id], k, index);
+    }
+    return TB_STATUS_OK;
 }
 
 tb_status tb__contact_check_shared_pairs(tb_scene *scene, const tb__effect_ops *ops,

@@ -21,6 +21,24 @@
  * it). bodies[0 .. count) are ids checked already. */
 tb_status tb__contact_check_shapes(tb_scene *scene, const size_t *bodies, size_t count);
 
+/* Refuses body id's shape (TB_STATUS_INVALID_ARGUMENT, the scene's detail naming the body, the
+ * effect at effect_index and its kind) when it reaches so far from the body's centre of mass
+ * that a point's depth is known to worse than penetration (m; reach times DBL_EPSILON: the
+ * force's rounding would exceed the body's weight), or that the contact's rate, which grows as
+ * M reach^2 / I_min, overflows. A body without a shape, or one that cannot move, passes. */
+tb_status tb__contact_check_shape_size(tb_scene *scene, size_t id, double penetration,
+                                       size_t effect_index, const char *effect_kind);
+
+/* tb__contact_check_shape_size of bodies[0 .. count), for a contact effect about to be added. */
+tb_status tb__contact_check_shape_sizes(tb_scene *scene, const size_t *bodies, size_t count,
+                                        double penetration);
+
+/* The check_shape row of the contact effect: refuses to remove the shape of a body the effect
+ * lists (TB_STATUS_INVALID_ARGUMENT, the scene's detail naming the body and the effect): the
+ * effect would silently stop pushing it, though it refuses such a body when it is added; and a
+ * listed body's new shape as tb__contact_check_shape_size refuses it. */
+tb_status tb__contact_check_shape(const tb__effect *effect, tb_scene *scene, size_t id);
+
 /* Refuses a new contact effect over bodies[0 .. count) (ids, each once) when two of them are
  * also both in an effect of the scene whose row is ops: that pair would be pushed by both, with
  * twice the stiffness and neither effect's restitution. The scene's detail names the pair and

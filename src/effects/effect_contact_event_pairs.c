@@ -13,12 +13,25 @@
 /* Pairs handled per batch of a pass (a stack buffer). */
 #define TB__EVENT_PAIR_BATCH 16
 
+double tb__manifold_landing_share(const tb__contact_manifold *m)
+{
+    const tb__contact_point *deepest = tb__manifold_deepest(m);
+    int landing = 0;
+    for (int j = 0; j < m->count; ++j) {
+        landing += m->points[j].depth > deepest->depth - TB__CONTACT_MARGIN;
+    }
+    return 1.0 / landing;
+}
+
 /* The pair's deepest point, its gap and the relative normal speed and inverse mass there. */
 static tb__event_pair event_pair(const tb_scene *scene, const double *y,
                                  const tb__pair_contact *pair)
 {
     const tb__contact_point *deepest = tb__manifold_deepest(&pair->manifold);
-    tb__event_pair out = {.body_a = pair->body_a, .body_b = pair->body_b, .gap = -deepest->depth};
+    tb__event_pair out = {.body_a = pair->body_a,
+                          .body_b = pair->body_b,
+                          .gap = -deepest->depth,
+                          .share = tb__manifold_landing_share(&pair->manifold)};
     tb__v3_copy(out.point, deepest->position);
     tb__v3_copy(out.normal, pair->manifold.normal);
     const size_t ids[2] = {pair->body_a, pair->body_b};
@@ -77,6 +90,7 @@ static tb__event_pair ground_pair(const tb__ground_params *ground, const tb_scen
             tb__v3_dot(ground->normal, motion.x) + tb__v3_dot(ground->normal, arm) - ground->offset;
         if (height < out.gap) {
             out.gap = height;
+            out.share = c->share;
             tb__v3_copy(lowest, arm);
         }
     }
@@ -114,30 +128,37 @@ size_t tb__ground_event_pairs(const tb__effect *effect, const tb_scene *scene, c
     return tb__ground_shapes_event_pairs(effect, scene, y, out, capacity, total);
 }
 
-/* The pair's law as one point of stiffness k = M_light omega^2 (the contact's, share 1) pushing
- * the effective mass 1 / inverse_mass: rate omega sqrt(M_light inverse_mass), omega sqrt(4/3) for
- * head_on_balls' 1 and 3 kg. The push lasts push_units / rate, push_units recovered from the
+/* The pair's law at its landing point, of stiffness k = M_light omega^2 share (the law splits k
+ * among the manifold's points: share 1 for spheres, 1/4 for a box landing flat) pushing the
+ * effective mass 1 / inverse_mass: rate omega sqrt(M_light share inverse_mass), omega sqrt(4/3)
+ * for head_on_balls' 1 and 3 kg, omega for a box landing flat on a static one (4 / M at a
+ * corner). The push lasts push_units / rate, push_units recovered from the
  * effect's floor push_duration = push_units / (sqrt(2) omega). */
-void tb__contact_impact_law(const tb__effect *effect, const tb_scene *scene, size_t body_a,
-                            size_t body_b, double inverse_mass, struct tb__impact_law *out)
+void tb__contact_impact_law(const tb__effect *effect, const tb_scene *scene,
+                            const tb__event_pair *pair, struct tb__impact_law *out)
 {
     const tb__contact_params *contact = tb__contact_of(effect);
-    const double light =
-        fmin(tb__body_constants(scene, body_a)->mass, tb__body_constants(scene, body_b)->mass);
-    out->rate = contact->omega * sqrt(light * inverse_mass);
+    const double light = fmin(tb__body_constants(scene, pair->body_a)->mass,
+                              tb__body_constants(scene, pair->body_b)->mass);
+    out->rate = contact->omega * sqrt(light * pair->share * pair->inverse_mass);
     out->duration = contact->push_duration * sqrt(2.0) * contact->omega / out->rate;
     out->gravity = contact->gravity;
 }
 
-/* A body on the plane as its whole law (k = M omega0^2, every point's share at once: a flat
- * landing or a sphere) pushing the effective mass at its lowest point: a corner landing on one
- * of several points is softer and pushes longer than this. */
-void tb__ground_impact_law(const tb__effect *effect, const tb_scene *scene, size_t body_a,
-                           size_t body_b, double inverse_mass, struct tb__impact_law *out)
+/* A body landing on the plane on its lowest point: that point's spring, k = M share omega0^2
+ * (share = 1 / support of its contact points; for a shape 1 / its manifold's points landing
+ * together, as its law splits k among them),
+ * pushing the effective mass 1 / inverse_mass there. A sphere (share 1, 1 / M) rings at omega0;
+ * a cube landing flat, its corner's share 1/4 against an inverse mass of 4 / M there, at omega0
+ * too; a cube landing on one corner, 1/4 against at most 4 / M, more slowly (it took the whole
+ * law before, as if all its points pushed at once, and counted corner landings the step
+ * resolved). */
+void tb__ground_impact_law(const tb__effect *effect, const tb_scene *scene,
+                           const tb__event_pair *pair, struct tb__impact_law *out)
 {
-    (void)body_b; /* TB_WORLD */
     const tb__ground_params *ground = tb__ground_of(effect);
-    out->rate = ground->omega * sqrt(tb__body_constants(scene, body_a)->mass * inverse_mass);
+    const double mass = tb__body_constants(scene, pair->body_a)->mass;
+    out->rate = ground->omega * sqrt(mass * pair->share * pair->inverse_mass);
     out->duration = ground->push_units / out->rate;
     out->gravity = ground->gravity;
 }

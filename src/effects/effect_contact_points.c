@@ -90,14 +90,16 @@ static size_t contact_bodies_end(const tb_scene *scene)
     return end;
 }
 
-/* The effects' start checks and the states' layout for the points now held (their bodies
- * below end); on failure the points before (old, old_count, old_capacity) are put back. */
-static tb_status commit_points(tb_scene *scene, size_t end, tb__contact *old, size_t old_count,
-                               size_t old_capacity)
+/* The effects' checks of body id's points, now contacts[first ..] (tb__scene_check_points: those
+ * alone, so that n bodies given points one by one cost O(n), not the O(n^2) of every point's
+ * depth at every body), and the states' layout for the points now held (their bodies below
+ * end); on failure the points before (old, old_count, old_capacity) are put back. */
+static tb_status commit_points(tb_scene *scene, size_t id, size_t first, size_t end,
+                               tb__contact *old, size_t old_count, size_t old_capacity)
 {
     const size_t old_end = scene->contact_bodies_end;
     scene->contact_bodies_end = end;
-    tb_status status = tb__scene_check_effects_start(scene, scene->states);
+    tb_status status = tb__scene_check_points(scene, scene->states, id, first);
     if (status == TB_STATUS_OK) {
         status = tb__scene_layout_states(scene, scene->slot_count);
     }
@@ -111,6 +113,8 @@ static tb_status commit_points(tb_scene *scene, size_t end, tb__contact *old, si
         scene->contact_count = old_count;
         scene->contact_capacity = old_capacity;
         scene->contact_bodies_end = old_end;
+    } else { /* F99: asleep, a box whose points were removed hung in the air */
+        tb__scene_wake_body(scene, id);
     }
     return status;
 }
@@ -145,7 +149,8 @@ static tb_status append_points(tb_scene *scene, size_t id, const tb_contact_poin
     scene->contact_count = total;
     const size_t end =
         count > 0 && id >= scene->contact_bodies_end ? id + 1 : scene->contact_bodies_end;
-    return commit_points(scene, end, scene->contacts, old_count, scene->contact_capacity);
+    return commit_points(scene, id, old_count, end, scene->contacts, old_count,
+                         scene->contact_capacity);
 }
 
 /* Removes body id's points and appends the new ones at the end (keeps each body's points
@@ -191,7 +196,7 @@ tb_status tb_scene_set_contact_points(tb_scene *scene, size_t id, const tb_conta
     scene->contacts = contacts;
     scene->contact_count = total;
     scene->contact_capacity = total;
-    return commit_points(scene, contact_bodies_end(scene), old, old_count, old_capacity);
+    return commit_points(scene, id, w, contact_bodies_end(scene), old, old_count, old_capacity);
 }
 
 /* The generators' checks: room for `needed` points, and each dimension finite and >= 0 (they

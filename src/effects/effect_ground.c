@@ -7,18 +7,13 @@
 #include "core/detail.h"
 #include "core/validate.h"
 #include "effects/contact_events.h"
+#include "effects/effect_contact_check.h"
 #include "effects/ground_shapes.h"
 #include "math/tb_math.h"
 
 #include <string.h>
 
 #define TB__GROUND_COOKIE 0x960d
-/* How deep (in penetrations) a body may start inside a plane. The contact pushes a point d deep
- * with d / penetration times the weight it carries, and would launch the body at about
- * d sqrt(g / penetration): 2.8 cm/s from 10 penetrations at the defaults, 1 m/s with
- * penetration 1e-3, 366 m/s (damped, penetration 1e-3) from 10 m. Deeper than this is a set-up
- * mistake, refused. */
-#define TB__START_DEPTH_PENETRATIONS 10.0
 
 /* Friction at one point: writes dz and returns the friction force (N, tangent basis). A stick
  * anchor with plastic slip (docs/effects.md, "Friction"): z is the elastic deflection of a
@@ -300,36 +295,6 @@ static void ground_rate(const tb__effect *effect, const tb_scene *scene, const d
     tb__ground_shapes_rate(effect, scene, y, out);
 }
 
-/* Refuses a state in which a contact point starts deeper than TB__START_DEPTH_PENETRATIONS
- * penetrations inside the plane, naming the body and its depth. */
-static tb_status ground_check_start(const tb__effect *effect, const tb_scene *scene,
-                                    const double *y, char *detail)
-{
-    const tb__ground_params *ground = tb__ground_of(effect);
-    const double limit = TB__START_DEPTH_PENETRATIONS * ground->penetration;
-    const tb_status listed = tb__ground_shapes_refresh(effect, scene, detail);
-    if (listed != TB_STATUS_OK) {
-        return listed;
-    }
-    for (size_t j = 0; j < scene->contact_count; ++j) {
-        const tb__contact *c = &scene->contacts[j];
-        tb__motion motion;
-        tb__body_motion_at(scene, scene->time, y, c->body, &motion);
-        double arm[3];
-        const double depth = tb__ground_point_depth(ground, c, &motion, arm);
-        if (depth > limit) {
-            return tb__set_detail(detail, TB_STATUS_INVALID_ARGUMENT,
-                                  "body %zu (\"%s\"): starts %.3g m inside the ground plane "
-                                  "(contact point %zu), deeper than %g penetrations (%.3g m), "
-                                  "from which the contact would launch it: start it above "
-                                  "the plane",
-                                  c->body, scene->names[c->body], depth, j,
-                                  TB__START_DEPTH_PENETRATIONS, limit);
-        }
-    }
-    return tb__ground_shapes_check_start(effect, scene, y, limit, detail);
-}
-
 /* The gaps of the bodies' points (effect_contact_events.c), then of the shapes of the bodies
  * without points. */
 static void ground_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
@@ -345,6 +310,8 @@ static const tb__effect_stepping ground_stepping = {
     .post_step = tb__ground_shapes_post_step,
     .step_start = tb__ground_shapes_step_start,
     .restart = tb__ground_shapes_restart,
+    .check_shape = tb__ground_check_shape,
+    .check_points = tb__ground_check_points,
     .shapes_changed = tb__ground_shapes_changed,
     .event_pairs = tb__ground_event_pairs, /* effect_contact_event_pairs.c */
     .impact_law = tb__ground_impact_law,
@@ -368,7 +335,7 @@ static const tb__effect_ops ground_ops = {
     .couples_bodies = false,
     .owns_states = true,
     .rate = ground_rate,
-    .check_start = ground_check_start,
+    .check_start = tb__ground_check_start, /* effect_ground_check.c */
     .stepping = &ground_stepping,
     /* the list and pool of the shapes of bodies without points (effect_ground_shapes.c) */
     .release = tb__ground_shapes_release,
@@ -403,6 +370,19 @@ static tb_status validate_ground_rates(tb_scene *scene, const tb_ground_def *def
                               "penetration: %g m under gravity %g m/s^2 makes the contact's rate "
                               "g / penetration overflow",
                               def->penetration, def->gravity);
+    }
+    /* F98: the contact effect's bounds (F22), which the plane lacked: gravity 1e300 m/s^2 gave
+     * omega 1e153 rad/s and a default step of 2e-154 s; 1e-300 over 1e300 m gave omega 0 */
+    const double omega = sqrt(def->gravity / def->penetration);
+    if (!(omega > 0.0 && omega <= TB__CONTACT_RATE_MAX)) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "%s: penetration %g m with gravity %g m/s^2 makes the contact's "
+                              "rate sqrt(gravity / penetration) %g rad/s (above 0 and at most "
+                              "%g: an impact of pi / rate no shorter than 3 ns)",
+                              fabs(log(def->gravity / 9.81)) >= fabs(log(def->penetration / 8e-7))
+                                  ? "gravity"
+                                  : "penetration",
+                              def->penetration, def->gravity, omega, TB__CONTACT_RATE_MAX);
     }
     if (!isfinite(s0) || !isfinite(def->gravity * s0) || !isfinite(s0 / def->gravity)) {
         return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
@@ -450,7 +430,7 @@ static tb_status validate_ground(tb_scene *scene, const tb_ground_def *def)
     }
     if (status == TB_STATUS_OK && !(def->restitution <= 1.0)) {
         status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
-                                "restitution: must be in [0, 1], got %g", def->restitution);
+                                "restitution: must be in [0, 1], got %.17g", def->restitution);
     }
     if (status == TB_STATUS_OK) {
         status = tb__validate_finite(detail, def->static_friction, "static_friction");
@@ -551,7 +531,10 @@ tb_status tb_scene_add_ground(tb_scene *scene, const tb_ground_def *def)
     }
     status = tb__ground_shapes_create(scene, def, &effect);
     if (status == TB_STATUS_OK) {
-        status = ground_check_start(&effect, scene, scene->states, scene->detail);
+        status = tb__ground_check_start(&effect, scene, scene->states, scene->detail);
+    }
+    if (status == TB_STATUS_OK) {
+        status = tb__ground_shapes_check_sizes(&effect, scene);
     }
     if (status == TB_STATUS_OK) {
         status = tb__scene_push_effect(scene, &effect, sizeof ground);

@@ -1,6 +1,6 @@
 /* Private: a ground plane's parameters (effect_ground.c), read by its own files only
- * (effect_ground.c, its events in effect_contact_events.c, its read-out in
- * effect_contact_info.c). */
+ * (effect_ground.c, its checks in effect_ground_check.c, its events in effect_contact_events.c,
+ * its read-out in effect_contact_info.c). */
 #ifndef TUMBLE_EFFECT_GROUND_H
 #define TUMBLE_EFFECT_GROUND_H
 
@@ -62,6 +62,19 @@ void tb__ground_body_load(const tb__ground_params *ground, const tb_scene *scene
 /* True when every point of the body's [first, end) is surely above the plane (effect_ground.c). */
 bool tb__ground_body_clear(const tb__ground_params *ground, const tb_scene *scene, size_t first,
                            size_t end, const tb__motion *motion);
+
+/* The check_start row (effect_ground_check.c): refuses a state with a contact point starting
+ * deeper than TB__START_DEPTH_PENETRATIONS penetrations in the plane or reaching so far from its
+ * body's centre of mass that its depth's rounding exceeds the penetration, or a shape the plane
+ * meets starting too deep (effect_ground_shapes.c); the detail names the body. */
+tb_status tb__ground_check_start(const tb__effect *effect, const tb_scene *scene, const double *y,
+                                 char *detail);
+/* The check_points row: tb__ground_check_start for body id's points, now contacts[first ..],
+ * alone, and for its shape, which the plane meets again when its points are gone (with its size,
+ * as tb__ground_check_shape). The other bodies' points and shapes are as they were: O(points)
+ * for the flags of bodies with points, not the depth of every point at every call. */
+tb_status tb__ground_check_points(const tb__effect *effect, const tb_scene *scene, const double *y,
+                                  size_t id, size_t first, char *detail);
 
 /* The ground's analytic Jacobian rows (effect_ground_jacobian.c, tb__effect_ops.jacobian): its
  * points' (effect_ground.c) and its shapes' (effect_ground_shapes.c). */

@@ -27,12 +27,13 @@ typedef struct tb__ground_shapes {
     size_t pool_bodies; /* ids below this may hold slots */
     double presliding;  /* m, the pool's scale */
     /* at the last refresh: TB__GROUND_SLOTS_PER_SHAPE per body met through its shape, and
-     * 1 + the largest such body's id */
+     * 1 + the largest such body's id (kept by tb__ground_shapes_note_points since, the id an
+     * upper bound) */
     size_t slots_wanted, ids_wanted;
     size_t met_bound; /* at least the bodies met through their shapes now */
     /* has_points[i]: body i has contact points, for i below capacity (the body count at the
-     * last refresh); bodies added since have none: points are only set through
-     * tb_scene_set_contact_points, whose start check refreshes the flags */
+     * last refresh, or more); bodies past it have none: points are only set through
+     * tb_scene_set_contact_points, whose check notes the body's flag */
     unsigned char *has_points;
     size_t capacity;
 } tb__ground_shapes;
@@ -360,23 +361,6 @@ static bool deepest(const tb__ground_params *ground, const tb_scene *scene, cons
     return true;
 }
 
-tb_status tb__ground_shapes_check_start(const tb__effect *effect, const tb_scene *scene,
-                                        const double *y, double limit, char *detail)
-{
-    for (size_t id = 0; id < scene->body_count; ++id) {
-        double depth;
-        int touching;
-        if (deepest(tb__ground_of(effect), scene, y, id, 0.0, &depth, &touching) && depth > limit) {
-            return tb__set_detail(detail, TB_STATUS_INVALID_ARGUMENT,
-                                  "body %zu (\"%s\"): its shape starts %.3g m inside the ground "
-                                  "plane, deeper than %.3g m (10 penetrations), from which the "
-                                  "contact would launch it: start it above the plane",
-                                  id, scene->names[id], depth, limit);
-        }
-    }
-    return TB_STATUS_OK;
-}
-
 void tb__ground_shapes_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
                                   double *gap)
 {
@@ -393,6 +377,43 @@ bool tb__ground_shape_touch(const tb__effect *effect, const tb_scene *scene, con
                             size_t id, double *depth, int *points)
 {
     return deepest(tb__ground_of(effect), scene, y, id, 0.0, depth, points);
+}
+
+bool tb__ground_meets_shape(const tb__effect *effect, const tb_scene *scene, size_t id)
+{
+    return meets_shape(tb__ground_of(effect)->shapes, scene, id);
+}
+
+tb_status tb__ground_shapes_note_points(const tb__effect *effect, const tb_scene *scene, size_t id,
+                                        bool has_points, char *detail)
+{
+    tb__ground_shapes *shapes = tb__ground_of(effect)->shapes;
+    if (id >= shapes->capacity) { /* doubling: bodies given points one by one, O(n) in all */
+        const size_t n =
+            scene->body_count > 2 * shapes->capacity ? scene->body_count : 2 * shapes->capacity;
+        unsigned char *flags = realloc(shapes->has_points, n);
+        if (flags == NULL) {
+            return tb__set_detail(detail, TB_STATUS_OUT_OF_MEMORY,
+                                  "the ground's flags of bodies with points: %zu bodies", n);
+        }
+        memset(flags + shapes->capacity, 0, n - shapes->capacity); /* added since: no points */
+        shapes->has_points = flags;
+        shapes->capacity = n;
+    }
+    const bool was = meets_shape(shapes, scene, id);
+    shapes->has_points[id] = has_points;
+    const bool now = meets_shape(shapes, scene, id);
+    if (now && !was) {
+        shapes->met_bound += 1;
+        shapes->slots_wanted += TB__GROUND_SLOTS_PER_SHAPE;
+        shapes->ids_wanted = id + 1 > shapes->ids_wanted ? id + 1 : shapes->ids_wanted;
+    } else if (was && !now && shapes->slots_wanted >= TB__GROUND_SLOTS_PER_SHAPE) {
+        /* ids_wanted stays an upper bound until the next refresh; slots_wanted may be behind
+         * the shapes set since it (tb__ground_shapes_changed leaves it when the pool has room),
+         * so it is not taken below 0 */
+        shapes->slots_wanted -= TB__GROUND_SLOTS_PER_SHAPE;
+    }
+    return TB_STATUS_OK;
 }
 
 tb_status tb__ground_shapes_refresh(const tb__effect *effect, const tb_scene *scene, char *detail)
@@ -552,6 +573,7 @@ size_t tb__ground_shapes_event_pairs(const tb__effect *effect, const tb_scene *s
                                 .body_b = TB_WORLD,
                                 .gap = -deepest->depth,
                                 .gap_rate = tb__v3_dot(velocity, ground->normal),
+                                .share = tb__manifold_landing_share(&pair.manifold),
                                 .gravity = ground->gravity};
         for (int k = 0; k < 3; ++k) {
             found.point[k] = deepest->position[k];

@@ -22,6 +22,14 @@
 tb_status tb__ground_shapes_create(tb_scene *scene, const tb_ground_def *def, tb__effect *effect);
 void tb__ground_shapes_release(tb__effect *effect);
 
+/* Refuses, before the ground is added (it is effect scene->effect_count), a shape that meets it
+ * and is too large for its penetration (tb__contact_check_shape_size). Flags refreshed first. */
+tb_status tb__ground_shapes_check_sizes(const tb__effect *effect, tb_scene *scene);
+
+/* The ground's check_shape op: body id's new shape, if the ground meets it, as
+ * tb__contact_check_shape_size takes it. */
+tb_status tb__ground_check_shape(const tb__effect *effect, tb_scene *scene, size_t id);
+
 /* The ground's shapes_changed op for body id: a pool with room for TB__GROUND_SLOTS_PER_SHAPE
  * slots per body it meets through its shape now and for their ids, grown by doubling when short,
  * laid out in the scene's states (which zeroes every effect's states, as any change of layout
@@ -38,6 +46,16 @@ tb_status tb__ground_shapes_changed(tb__effect *effect, tb_scene *scene, size_t 
  * grown; TB_STATUS_OUT_OF_MEMORY (detail) and nothing changed otherwise. */
 tb_status tb__ground_shapes_refresh(const tb__effect *effect, const tb_scene *scene, char *detail);
 
+/* Body id's flag alone, after its points were set (has_points: it has some now), and the counts
+ * of bodies met through their shapes with it: tb__ground_shapes_refresh's work for one body, so
+ * that n bodies given points one by one cost O(n). TB_STATUS_OUT_OF_MEMORY (detail), nothing
+ * changed, when the flags cannot grow. */
+tb_status tb__ground_shapes_note_points(const tb__effect *effect, const tb_scene *scene, size_t id,
+                                        bool has_points, char *detail);
+
+/* Whether the ground meets body id through its shape: it can move, has one and no points. */
+bool tb__ground_meets_shape(const tb__effect *effect, const tb_scene *scene, size_t id);
+
 /* The ground's hooks for those bodies; each does nothing for a ground with none. */
 void tb__ground_shapes_apply(const tb__effect *effect, const tb_scene *scene, double t,
                              const double *y, double *dydt);
@@ -46,9 +64,11 @@ void tb__ground_shapes_rate(const tb__effect *effect, const tb_scene *scene, con
 /* The friction pool's states with the body each slot's pair holds (the Jacobian's pattern). */
 void tb__ground_shapes_state_owners(const tb__effect *effect, const tb_scene *scene,
                                     tb__coupling_visit visit, void *ctx);
-/* Refuses a shape starting deeper than limit (m) in the plane, naming the body. */
+/* Refuses the shape of a body among [first, end) starting deeper than limit (m) in the plane,
+ * naming the body. */
 tb_status tb__ground_shapes_check_start(const tb__effect *effect, const tb_scene *scene,
-                                        const double *y, double limit, char *detail);
+                                        const double *y, size_t first, size_t end, double limit,
+                                        char *detail);
 void tb__ground_shapes_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
                                   double *gap);
 void tb__ground_shapes_post_step(const tb__effect *effect, const tb_scene *scene, const double *y);

@@ -384,7 +384,7 @@ static void begin(tb__watch *watch, tb__watched_pair *pair, const tb__event_pair
     tb_contact_event *e = push_event(watch, TB_CONTACT_BEGIN, c.t, before, &pair->now, c.fraction);
     e->speed = speed;
     if (watch->on_begin != NULL) {
-        watch->on_begin(watch->begin_ctx, e, pair->inverse_mass);
+        watch->on_begin(watch->begin_ctx, e, &pair->now);
     }
     if (speed >= watch->threshold && c.rate < 0.0) {
         push_event(watch, TB_CONTACT_HIT, c.t, before, &pair->now, c.fraction)->speed = speed;

@@ -136,10 +136,35 @@ tb_status tb__scene_check_effects_start(tb_scene *scene, const double *y)
     return TB_STATUS_OK;
 }
 
+tb_status tb__scene_check_points(tb_scene *scene, const double *y, size_t id, size_t first)
+{
+    for (size_t e = 0; e < scene->effect_count; ++e) {
+        const tb__effect *effect = &scene->effects[e];
+        const tb__effect_stepping *stepping = tb__stepping_of(effect);
+        if (stepping->check_points != NULL) {
+            const tb_status status =
+                stepping->check_points(effect, scene, y, id, first, scene->detail);
+            if (status != TB_STATUS_OK) {
+                return status;
+            }
+        }
+    }
+    return TB_STATUS_OK;
+}
+
 const tb__effect_stepping tb__effect_no_stepping = {.post_step = NULL};
 
 tb_status tb__scene_shapes_changed(tb_scene *scene, size_t id)
 {
+    for (size_t e = 0; e < scene->effect_count; ++e) { /* every check before any change */
+        const tb__effect *effect = &scene->effects[e];
+        if (tb__stepping_of(effect)->check_shape != NULL) {
+            const tb_status status = tb__stepping_of(effect)->check_shape(effect, scene, id);
+            if (status != TB_STATUS_OK) {
+                return status;
+            }
+        }
+    }
     for (size_t e = 0; e < scene->effect_count; ++e) {
         tb__effect *effect = &scene->effects[e];
         if (tb__stepping_of(effect)->shapes_changed != NULL) {

@@ -24,6 +24,7 @@ struct tb__impacts {
     const tb_scene *scene;
     struct tb__event_watch *watch; /* NULL while not watched */
     double dt, resolution;         /* s, and the h omega resolved */
+    double latest;                 /* s: the latest counted impact's time (-inf: none) */
     tb_unresolved_impacts found;
 };
 
@@ -56,16 +57,15 @@ static bool earlier(const tb_impact *a, const tb_impact *b)
 }
 
 /* tb__event_begin_fn: a begin, counted where it is an impact too fast for the step. */
-static void seen(void *ctx, const struct tb_contact_event *event, double inverse_mass)
+static void seen(void *ctx, const struct tb_contact_event *event, const tb__event_pair *pair)
 {
     struct tb__impacts *impacts = ctx;
     const tb__effect *effect = &impacts->scene->effects[event->effect];
-    if (tb__stepping_of(effect)->impact_law == NULL || !(inverse_mass > 0.0)) {
+    if (tb__stepping_of(effect)->impact_law == NULL || !(pair->inverse_mass > 0.0)) {
         return;
     }
     struct tb__impact_law law;
-    tb__stepping_of(effect)->impact_law(effect, impacts->scene, event->body_a, event->body_b,
-                                        inverse_mass, &law);
+    tb__stepping_of(effect)->impact_law(effect, impacts->scene, pair, &law);
     if (!(event->speed > law.gravity * impacts->dt) ||
         !(law.rate * impacts->dt > impacts->resolution)) {
         return;
@@ -85,6 +85,7 @@ static void seen(void *ctx, const struct tb_contact_event *event, double inverse
         found->fastest = impact;
     }
     found->count++;
+    impacts->latest = fmax(impacts->latest, impact.t);
 }
 
 /* Whether an effect of the scene makes impacts. */
@@ -123,6 +124,7 @@ tb_status tb__scene_impacts_prepare(tb_scene *scene, const double *y, tb_method 
                                     .watch = watch,
                                     .dt = dt,
                                     .resolution = resolution,
+                                    .latest = -INFINITY,
                                     .found = {.watched = true, .dt = dt, .resolution = resolution}};
     *out_pending = impacts;
     return TB_STATUS_OK;
@@ -132,6 +134,20 @@ void tb__scene_impacts_commit(tb_scene *scene, struct tb__impacts *pending)
 {
     tb__scene_impacts_free(scene);
     scene->impacts = pending;
+}
+
+void tb__scene_impacts_reset(tb_scene *scene, double t)
+{
+    struct tb__impacts *impacts = scene->impacts;
+    if (impacts == NULL || !(impacts->latest > t)) {
+        return; /* forward, or before no counted impact: the count stands */
+    }
+    /* the run goes back over an impact it counted, and will meet it again: the three figures
+     * cannot forget it alone, so the count starts again at t */
+    impacts->found.count = 0;
+    memset(&impacts->found.first, 0, sizeof impacts->found.first);
+    memset(&impacts->found.fastest, 0, sizeof impacts->found.fastest);
+    impacts->latest = -INFINITY;
 }
 
 void tb__scene_impacts_discard(struct tb__impacts *pending)

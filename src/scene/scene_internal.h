@@ -175,17 +175,27 @@ struct tb__effect_stepping {
      * may change how many states it owns and lay the scene's states out again
      * (tb__scene_layout_states), or fail with nothing changed. NULL: shapes change nothing. */
     tb_status (*shapes_changed)(tb__effect *effect, tb_scene *scene, size_t id);
+    /* Before any effect's shapes_changed: whether body id's new shape (set, or NULL: removed)
+     * is one the effect can push; a refusal (the scene's detail naming the body and the effect)
+     * leaves the old shape in place. Changes nothing. NULL: every shape will do. */
+    tb_status (*check_shape)(const tb__effect *effect, tb_scene *scene, size_t id);
+    /* Body id's contact points were just set (tb_scene_set_contact_points): they are
+     * contacts[first .. contact_count), none when first is the count. Refuses, as check_start
+     * would, what the change made wrong for body id alone, at y; the other bodies' points and
+     * shapes are as check_start last saw them. NULL: points change nothing the effect checks. */
+    tb_status (*check_points)(const tb__effect *effect, const tb_scene *scene, const double *y,
+                              size_t id, size_t first, char *detail);
     /* Contact events (scene/contact_event_watch.c): writes the effect's pairs within
      * TB__EVENT_LOOKAHEAD at y, the first capacity of them into out (tb__event_pair), and
      * returns how many there are. Called at step boundaries only. NULL: no contact events. */
     size_t (*event_pairs)(const tb__effect *effect, const tb_scene *scene, const double *y,
                           tb__event_pair *out, size_t capacity);
-    /* Unresolved impacts (impact_watch.c): the law a pair of its bodies (ids; body_b TB_WORLD
-     * for a ground plane) meets as an impact, with inverse_mass (1/kg) the pair's relative
-     * motion's along the normal at the point (tb__event_pair). NULL: no impacts (an effect
+    /* Unresolved impacts (impact_watch.c): the law a pair of its bodies meets as an impact,
+     * pair as its event_pairs gave it where it began to touch (ids, body_b TB_WORLD for a ground
+     * plane; the inverse mass and the law's share at the point). NULL: no impacts (an effect
      * with event_pairs has it). */
-    void (*impact_law)(const tb__effect *effect, const tb_scene *scene, size_t body_a,
-                       size_t body_b, double inverse_mass, struct tb__impact_law *out);
+    void (*impact_law)(const tb__effect *effect, const tb_scene *scene,
+                       const struct tb__event_pair *pair, struct tb__impact_law *out);
 };
 
 /* What a pair's impact is under an effect's law (tb__effect_stepping.impact_law): the whole pair
@@ -205,6 +215,10 @@ struct tb__event_pair {
     double point[3];       /* the deepest point, world */
     double normal[3];      /* unit, from a to b */
     double inverse_mass;   /* 1/kg: of the pair's relative motion along the normal at the point */
+    double share;          /* the part of the law's stiffness that pushes at the point alone: a
+                              ground contact point's share of its body's weight (1 / support),
+                              1 / the manifold's points within the law's margin for a pair of
+                              shapes (between bodies, or a body's and a plane) */
     double gravity;        /* m/s^2: the uniform acceleration closing the pair that its own
                               motion does not cancel (a body on a ground plane: the plane's g) */
 };
@@ -375,12 +389,12 @@ void tb__scene_events_start(tb_scene *scene, double t0, bool fixed);
 void tb__scene_events_free(tb_scene *scene);
 
 /* A watch of the scene's own (unresolved impacts, impact_watch.c), as the contact events' but
- * with no callback and no hits: on_begin(ctx, event, inverse_mass) at each begin, inverse_mass
- * (1/kg) the pair's along its normal at its point (tb__event_pair). create returns NULL when out
- * of memory; free accepts NULL; dropped counts the pairs it could not watch. */
+ * with no callback and no hits: on_begin(ctx, event, pair) at each begin, pair the effect's
+ * tb__event_pair where it began. create returns NULL when out of memory; free accepts NULL;
+ * dropped counts the pairs it could not watch. */
 struct tb_contact_event;
 typedef void (*tb__event_begin_fn)(void *ctx, const struct tb_contact_event *event,
-                                   double inverse_mass);
+                                   const tb__event_pair *pair);
 struct tb__event_watch *tb__event_watch_create(const tb_scene *scene, tb__event_begin_fn on_begin,
                                                void *ctx);
 void tb__event_watch_free(struct tb__event_watch *watch);
@@ -397,6 +411,9 @@ tb_status tb__scene_impacts_prepare(tb_scene *scene, const double *y, tb_method 
                                     struct tb__impacts **out_pending);
 void tb__scene_impacts_commit(tb_scene *scene, struct tb__impacts *pending);
 void tb__scene_impacts_discard(struct tb__impacts *pending);
+/* An integrator reset to t (tb_integrator_reset, accepted): a count holding an impact later than
+ * t starts again from zero. */
+void tb__scene_impacts_reset(tb_scene *scene, double t);
 struct tb__event_watch *tb__scene_impact_watch(const tb_scene *scene);
 void tb__scene_impacts_free(tb_scene *scene);
 
@@ -457,6 +474,10 @@ int tb__scene_post_step(double t, double *y, void *ctx);
 /* Asks every effect's row whether the scene can start from y (tb__effect_ops.check_start: no
  * body deep inside a ground plane); the first refusal's status, with its detail. */
 tb_status tb__scene_check_effects_start(tb_scene *scene, const double *y);
+
+/* Every effect's check_points op for body id's points, now contacts[first ..], at y: the first
+ * refusal's status, with its detail in the scene's. */
+tb_status tb__scene_check_points(tb_scene *scene, const double *y, size_t id, size_t first);
 
 /* Every effect's shapes_changed op, after body id's shape was set or removed; the first failure's
  * status (the scene's detail names it), the effects before it keeping their change. */

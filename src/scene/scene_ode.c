@@ -226,6 +226,7 @@ static tb_status check_reset(double t, const double *y, void *ctx, char *detail)
     if (!has_start_checks(scene) || !fixed_poses_move(scene, t)) {
         scene->time = t;
         tb__scene_restart(scene, t, y);
+        tb__scene_impacts_reset(scene, t);
         return TB_STATUS_OK;
     }
     const double time_before = scene->time;
@@ -238,6 +239,7 @@ static tb_status check_reset(double t, const double *y, void *ctx, char *detail)
                               TB_DETAIL_SIZE - 96, found);
     }
     tb__scene_restart(scene, t, y);
+    tb__scene_impacts_reset(scene, t);
     return TB_STATUS_OK;
 }
 
