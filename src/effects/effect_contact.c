@@ -98,7 +98,8 @@ static void pair_masses(const tb_scene *scene, const tb__pair_contact *pair, tb_
     if (!(m->load > 0.0)) {
         return;
     }
-    double along = 0.0, across = 0.0;
+    double along = 0.0, across = 0.0, t1[3], t2[3];
+    tb__tangent_basis(n, t1, t2); /* once for both bodies */
     for (int k = 0; k < 2; ++k) {
         const tb__body *body = tb__body_constants(scene, k == 0 ? pair->body_a : pair->body_b);
         double arm[3];
@@ -106,7 +107,7 @@ static void pair_masses(const tb_scene *scene, const tb__pair_contact *pair, tb_
             arm[i] = centre[i] / m->load - m->body[k]->x[i];
         }
         along += tb__inverse_mass_along(body, m->body[k], arm, n);
-        across += tb__inverse_mass_across(body, m->body[k], arm, n);
+        across += tb__inverse_mass_across_basis(body, m->body[k], arm, t1, t2);
     }
     m->normal = 1.0 / along;
     m->tangential = 1.0 / across;

@@ -327,8 +327,9 @@ void tb__friction_relax_jacobian(const tb__friction_pool *pool, const tb_scene *
 static double stribeck(const tb__contact_params *contact, double slip)
 {
     const double ratio = slip / contact->stribeck_velocity;
-    return contact->kinetic_friction +
-           (contact->static_friction - contact->kinetic_friction) * exp(-ratio * ratio);
+    /* exp(-0) is 1 exactly: an anchor inside its cone (at rest, most of them) skips the call */
+    return contact->kinetic_friction + (contact->static_friction - contact->kinetic_friction) *
+                                           (ratio == 0.0 ? 1.0 : exp(-ratio * ratio));
 }
 
 /* The memoryless law: -mu(|v_t|) N v_t / sqrt(|v_t|^2 + v_reg^2), v_reg = slip_velocity. */

@@ -352,23 +352,35 @@ double tb__inverse_mass_along(const tb__body *body, const tb__motion *motion, co
     return body->inv_mass + inverse_inertia_product(body, lever, lever);
 }
 
-double tb__inverse_mass_across(const tb__body *body, const tb__motion *motion, const double arm[3],
-                               const double n[3])
+void tb__tangent_basis(const double n[3], double t1[3], double t2[3])
 {
-    /* t1, t2: a basis of the plane; the 2 x 2 form T_ab = (arm x t_a) . I^-1 (arm x t_b) has
-     * the largest eigenvalue (T11 + T22) / 2 + sqrt(((T11 - T22) / 2)^2 + T12^2) */
     const double axis[3] = {fabs(n[0]) < 0.9 ? 1.0 : 0.0, fabs(n[0]) < 0.9 ? 0.0 : 1.0, 0.0};
-    double t1[3], t2[3], a[3], b[3];
     tb__v3_cross(t1, n, axis);
     const double length = tb__v3_norm(t1);
     tb__v3_set(t1, t1[0] / length, t1[1] / length, t1[2] / length);
     tb__v3_cross(t2, n, t1);
+}
+
+double tb__inverse_mass_across_basis(const tb__body *body, const tb__motion *motion,
+                                     const double arm[3], const double t1[3], const double t2[3])
+{
+    /* the 2 x 2 form T_ab = (arm x t_a) . I^-1 (arm x t_b) has the largest eigenvalue
+     * (T11 + T22) / 2 + sqrt(((T11 - T22) / 2)^2 + T12^2) */
+    double a[3], b[3];
     principal_lever(motion, arm, t1, a);
     principal_lever(motion, arm, t2, b);
     const double T11 = inverse_inertia_product(body, a, a),
                  T22 = inverse_inertia_product(body, b, b);
     const double T12 = inverse_inertia_product(body, a, b), half = 0.5 * (T11 - T22);
     return body->inv_mass + 0.5 * (T11 + T22) + sqrt(half * half + T12 * T12);
+}
+
+double tb__inverse_mass_across(const tb__body *body, const tb__motion *motion, const double arm[3],
+                               const double n[3])
+{
+    double t1[3], t2[3];
+    tb__tangent_basis(n, t1, t2);
+    return tb__inverse_mass_across_basis(body, motion, arm, t1, t2);
 }
 
 double tb__lightness_at(const tb__body *body, const double r[3])

@@ -37,6 +37,12 @@ double tb__inverse_mass_along(const tb__body *body, const tb__motion *motion, co
  * lightest a tangential force at arm finds the body. */
 double tb__inverse_mass_across(const tb__body *body, const tb__motion *motion, const double arm[3],
                                const double n[3]);
+/* The orthonormal basis t1, t2 of the plane normal to the unit n that tb__inverse_mass_across
+ * uses (the ground's tangent basis, to the bit), and the same inverse mass from it: for a
+ * normal met more than once (a plane, both bodies of a pair), the basis is worked out once. */
+void tb__tangent_basis(const double n[3], double t1[3], double t2[3]);
+double tb__inverse_mass_across_basis(const tb__body *body, const tb__motion *motion,
+                                     const double arm[3], const double t1[3], const double t2[3]);
 
 /* M (1/M + max over unit u of (r x u) . I^-1 (r x u)) (>= 1), r in the principal frame from the
  * centre of mass (m): how much lighter than the body a force at r finds it in the worst
