@@ -14,6 +14,7 @@
 #include "core/validate.h"
 #include "effects/effect_contact_check.h"
 #include "effects/contact_friction.h"
+#include "effects/contact_pass_memo.h"
 #include "math/tb_math.h"
 
 #include <stdlib.h>
@@ -144,9 +145,16 @@ static int apply_contact(const tb__effect *effect, const tb_scene *scene, double
     const tb__contact_params *contact = tb__contact_of(effect);
     tb__friction_relax_all(contact->friction, scene, y + effect->state_offset,
                            dydt + effect->state_offset);
+    size_t count, fresh = 0;
+    const tb__pair_contact *kept;
+    if (tb__pass_memo_at(contact->memo, scene, t, y, &kept, &count)) { /* the boundary's pass */
+        for (size_t k = 0; k < count; ++k) {
+            pair_loads(effect, scene, y, &kept[k], &fresh, dydt);
+        }
+        return 0;
+    }
     tb__pair_contact batch[TB__CONTACT_BATCH];
     tb__contact_pairs_begin(contact->pairs, scene, t, y);
-    size_t count, fresh = 0;
     while ((count = tb__contact_pairs_next(contact->pairs, scene, y, batch, TB__CONTACT_BATCH)) >
            0) {
         for (size_t k = 0; k < count; ++k) {
@@ -293,6 +301,8 @@ static void release_contact(tb__effect *effect)
     tb__contact_pairs_destroy(tb__contact_of(effect)->pairs);
     tb__friction_pool_destroy(tb__contact_of(effect)->friction);
     tb__contact_of(effect)->friction = NULL;
+    tb__pass_memo_destroy(tb__contact_of(effect)->memo);
+    tb__contact_of(effect)->memo = NULL;
     free(tb__contact_of(effect)->bodies);
     tb__contact_of(effect)->pairs = NULL;
     tb__contact_of(effect)->bodies = NULL;
@@ -470,7 +480,8 @@ static tb_status make_pool(tb_scene *scene, const tb_contact_def *def, tb__effec
         ids = contact->bodies[k] >= ids ? contact->bodies[k] + 1 : ids;
     }
     contact->friction = tb__friction_pool_create(slots, ids, def->presliding);
-    if (contact->friction == NULL) {
+    contact->memo = tb__pass_memo_create(contact->body_count, scene->slot_count);
+    if (contact->friction == NULL || contact->memo == NULL) {
         return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "friction_points: %zu slots", slots);
     }
     effect->fixed_states = TB__FRICTION_SLOT_STATES * slots;

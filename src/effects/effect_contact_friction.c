@@ -5,6 +5,7 @@
 
 #include "contact/contact_law.h"
 #include "core/validate.h"
+#include "effects/contact_pass_memo.h"
 #include "math/tb_math.h"
 #include "scene/jacobian_rows.h"
 
@@ -462,13 +463,16 @@ static void boundary_pass(const tb__effect *effect, const tb_scene *scene, const
     tb__friction_boundary_begin(pool);
     tb__pair_contact batch[TB__FRICTION_BATCH];
     tb__contact_pairs_begin(contact->pairs, scene, scene->time, y);
+    tb__pass_memo_begin(contact->memo, scene, scene->time, y); /* for the next step's start */
     size_t count, fresh = 0;
     while ((count = tb__contact_pairs_next(contact->pairs, scene, y, batch, TB__FRICTION_BATCH)) >
            0) {
+        tb__pass_memo_add(contact->memo, batch, count);
         for (size_t k = 0; k < count; ++k) {
             hold_pair(pool, scene, y, &batch[k], link, &fresh);
         }
     }
+    tb__pass_memo_end(contact->memo);
     tb__friction_boundary_end(pool, scene, y + effect->state_offset, fresh);
 }
 
