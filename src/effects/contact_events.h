@@ -22,7 +22,7 @@ void tb__contact_event_gaps(const tb__effect *effect, const tb_scene *scene, con
                             double *gap);
 /* tb__effect_stepping.wake_gaps and wake_links of contact between bodies (sleeping islands). */
 void tb__contact_wake_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
-                           double *wake);
+                           double *gap, double *wake);
 void tb__contact_wake_links(const tb__effect *effect, const tb_scene *scene, const double *y,
                             double dt);
 double tb__contact_step_limit(const tb__effect *effect, const tb_scene *scene, const double *y,

@@ -1,6 +1,7 @@
-/* Private: static friction between bodies (effect_contact_friction.c). Each touching point of a
- * pair that holds a slot of the effect's fixed pool keeps a tangential deflection z, three
- * doubles in y in body A's principal frame, and gets the ground's stick-anchor law
+/* Private: static friction between bodies (effect_contact_friction.c, the law at a point in
+ * contact_friction_law.c). Each touching point of a pair that holds a slot of the effect's
+ * fixed pool keeps a tangential deflection z, three doubles in y in body A's principal frame,
+ * and gets the ground's stick-anchor law
  * (effect_ground.c, docs/effects.md "Friction"); a point without a slot gets the memoryless
  * regularised law. The pool is allocated when the effect is added, so the state's length is
  * fixed then and never changes behind an integrator.

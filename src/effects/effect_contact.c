@@ -14,6 +14,7 @@
 #include "core/validate.h"
 #include "effects/effect_contact_check.h"
 #include "effects/contact_friction.h"
+#include "effects/contact_pass_memo.h"
 #include "math/tb_math.h"
 
 #include <stdlib.h>
@@ -98,7 +99,8 @@ static void pair_masses(const tb_scene *scene, const tb__pair_contact *pair, tb_
     if (!(m->load > 0.0)) {
         return;
     }
-    double along = 0.0, across = 0.0;
+    double along = 0.0, across = 0.0, t1[3], t2[3];
+    tb__tangent_basis(n, t1, t2); /* once for both bodies */
     for (int k = 0; k < 2; ++k) {
         const tb__body *body = tb__body_constants(scene, k == 0 ? pair->body_a : pair->body_b);
         double arm[3];
@@ -106,7 +108,7 @@ static void pair_masses(const tb_scene *scene, const tb__pair_contact *pair, tb_
             arm[i] = centre[i] / m->load - m->body[k]->x[i];
         }
         along += tb__inverse_mass_along(body, m->body[k], arm, n);
-        across += tb__inverse_mass_across(body, m->body[k], arm, n);
+        across += tb__inverse_mass_across_basis(body, m->body[k], arm, t1, t2);
     }
     m->normal = 1.0 / along;
     m->tangential = 1.0 / across;
@@ -143,9 +145,16 @@ static int apply_contact(const tb__effect *effect, const tb_scene *scene, double
     const tb__contact_params *contact = tb__contact_of(effect);
     tb__friction_relax_all(contact->friction, scene, y + effect->state_offset,
                            dydt + effect->state_offset);
+    size_t count, fresh = 0;
+    const tb__pair_contact *kept;
+    if (tb__pass_memo_at(contact->memo, scene, t, y, &kept, &count)) { /* the boundary's pass */
+        for (size_t k = 0; k < count; ++k) {
+            pair_loads(effect, scene, y, &kept[k], &fresh, dydt);
+        }
+        return 0;
+    }
     tb__pair_contact batch[TB__CONTACT_BATCH];
     tb__contact_pairs_begin(contact->pairs, scene, t, y);
-    size_t count, fresh = 0;
     while ((count = tb__contact_pairs_next(contact->pairs, scene, y, batch, TB__CONTACT_BATCH)) >
            0) {
         for (size_t k = 0; k < count; ++k) {
@@ -292,6 +301,8 @@ static void release_contact(tb__effect *effect)
     tb__contact_pairs_destroy(tb__contact_of(effect)->pairs);
     tb__friction_pool_destroy(tb__contact_of(effect)->friction);
     tb__contact_of(effect)->friction = NULL;
+    tb__pass_memo_destroy(tb__contact_of(effect)->memo);
+    tb__contact_of(effect)->memo = NULL;
     free(tb__contact_of(effect)->bodies);
     tb__contact_of(effect)->pairs = NULL;
     tb__contact_of(effect)->bodies = NULL;
@@ -470,7 +481,8 @@ static tb_status make_pool(tb_scene *scene, const tb_contact_def *def, tb__effec
         ids = contact->bodies[k] >= ids ? contact->bodies[k] + 1 : ids;
     }
     contact->friction = tb__friction_pool_create(slots, ids, def->presliding);
-    if (contact->friction == NULL) {
+    contact->memo = tb__pass_memo_create(contact->body_count, scene->slot_count);
+    if (contact->friction == NULL || contact->memo == NULL) {
         return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "friction_points: %zu slots", slots);
     }
     effect->fixed_states = TB__FRICTION_SLOT_STATES * slots;

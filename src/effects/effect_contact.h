@@ -19,6 +19,7 @@ typedef struct tb__contact_params {
     double bristle_stiffness;            /* friction spring per unit weight, as ground's, 1/m */
     double slip_velocity; /* m/s: v_reg of the memoryless law a point without a slot gets */
     struct tb__friction_pool *friction; /* owned; effects/contact_friction.h */
+    struct tb__pass_memo *memo;         /* owned: the step boundary's pass (contact_pass_memo.h) */
 } tb__contact_params;
 
 /* A pair's two bodies as one point of its manifold sees them (effect_contact.c). */

@@ -62,22 +62,6 @@ static double pair_gap(const tb__pair_contact *pair)
     return -deepest;
 }
 
-void tb__contact_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
-                            double *gap)
-{
-    tb__contact_pairs *pairs = tb__contact_of(effect)->lookahead;
-    tb__pair_contact batch[TB__EVENT_BATCH];
-    tb__contact_pairs_begin(pairs, scene, scene->time, y);
-    size_t count;
-    while ((count = tb__contact_pairs_next(pairs, scene, y, batch, TB__EVENT_BATCH)) > 0) {
-        for (size_t k = 0; k < count; ++k) {
-            const double g = pair_gap(&batch[k]);
-            gap[batch[k].body_a] = fmin(gap[batch[k].body_a], g);
-            gap[batch[k].body_b] = fmin(gap[batch[k].body_b], g);
-        }
-    }
-}
-
 /* Whether one body of the pair is asleep and the other awake: the asleep one would meet the
  * other as a fixed body, so the pair must not touch before its island wakes. */
 static bool mixed(const tb_scene *scene, const tb__pair_contact *pair)
@@ -92,24 +76,46 @@ static bool any_asleep(const tb_scene *scene)
     return scene->sleep != NULL && scene->sleep->asleep_count > 0;
 }
 
-void tb__contact_wake_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
-                           double *wake)
+/* One pass over the look-ahead's pairs at y: lowers gap (when not NULL) to each body's least
+ * pair gap and wake (when not NULL) to each body's least mixed pair gap beyond
+ * TB__WAKE_DISTANCE. fmin is exact, so either array gets the same bits whether or not the other
+ * is filled in the same pass. */
+static void gaps_pass(const tb__effect *effect, const tb_scene *scene, const double *y, double *gap,
+                      double *wake)
 {
-    if (!any_asleep(scene)) {
-        return;
-    }
     tb__contact_pairs *pairs = tb__contact_of(effect)->lookahead;
     tb__pair_contact batch[TB__EVENT_BATCH];
     tb__contact_pairs_begin(pairs, scene, scene->time, y);
     size_t count;
     while ((count = tb__contact_pairs_next(pairs, scene, y, batch, TB__EVENT_BATCH)) > 0) {
         for (size_t k = 0; k < count; ++k) {
-            if (mixed(scene, &batch[k])) {
-                const double g = pair_gap(&batch[k]) - TB__WAKE_DISTANCE;
-                wake[batch[k].body_a] = fmin(wake[batch[k].body_a], g);
-                wake[batch[k].body_b] = fmin(wake[batch[k].body_b], g);
+            const size_t a = batch[k].body_a, b = batch[k].body_b;
+            const double g = pair_gap(&batch[k]);
+            if (gap != NULL) {
+                gap[a] = fmin(gap[a], g);
+                gap[b] = fmin(gap[b], g);
+            }
+            if (wake != NULL && mixed(scene, &batch[k])) {
+                wake[a] = fmin(wake[a], g - TB__WAKE_DISTANCE);
+                wake[b] = fmin(wake[b], g - TB__WAKE_DISTANCE);
             }
         }
+    }
+}
+
+void tb__contact_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
+                            double *gap)
+{
+    gaps_pass(effect, scene, y, gap, NULL);
+}
+
+void tb__contact_wake_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
+                           double *gap, double *wake)
+{
+    if (any_asleep(scene)) {
+        gaps_pass(effect, scene, y, gap, wake);
+    } else if (gap != NULL) { /* no mixed pair: every wake gap stays */
+        gaps_pass(effect, scene, y, gap, NULL);
     }
 }
 

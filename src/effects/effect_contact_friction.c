@@ -1,10 +1,11 @@
 /* Static friction between bodies: the contact effect's pool of friction slots, the map from
- * touching points to slots, its update at step boundaries, and the friction law at a point
- * (contact_friction.h has the design). */
+ * touching points to slots and its update at step boundaries (the law at a point:
+ * contact_friction_law.c; contact_friction.h has the design). */
 #include "effects/contact_friction.h"
 
 #include "contact/contact_law.h"
 #include "core/validate.h"
+#include "effects/contact_pass_memo.h"
 #include "math/tb_math.h"
 #include "scene/jacobian_rows.h"
 
@@ -227,6 +228,37 @@ static void point_keys(const tb__pair_contact *pair, const tb__motion *motion_a,
     }
 }
 
+/* When every open point's nearest unused entry (the first of equal distances, finite) is its
+ * own, no two the same, the greedy rounds of match_claimed give each open point that entry
+ * (a round's least distance is then some open point's nearest, and taking it leaves every other
+ * open point's nearest unused): writes them and returns true. Else false, slots untouched. */
+static bool own_nearest(const tb__friction_pool *pool, size_t first, size_t run, int count,
+                        double distance[TB__MANIFOLD_POINTS][TB__MANIFOLD_POINTS],
+                        const bool open[TB__MANIFOLD_POINTS], const bool used[TB__MANIFOLD_POINTS],
+                        size_t slots[TB__MANIFOLD_POINTS])
+{
+    size_t nearest[TB__MANIFOLD_POINTS];
+    bool taken[TB__MANIFOLD_POINTS] = {false};
+    for (int j = 0; j < count; ++j) {
+        double best = INFINITY;
+        nearest[j] = run;
+        for (size_t r = 0; r < run && open[j]; ++r) {
+            if (!used[r] && distance[j][r] < best) {
+                best = distance[j][r];
+                nearest[j] = r;
+            }
+        }
+        if (open[j] && (nearest[j] == run || taken[nearest[j]])) {
+            return false;
+        }
+        taken[open[j] ? nearest[j] : 0] |= open[j];
+    }
+    for (int j = 0; j < count; ++j) {
+        slots[j] = open[j] ? pool->index[first + nearest[j]] : slots[j];
+    }
+    return true;
+}
+
 /* Greedy nearest-first matching of the wanted points that have no slot yet to the run's slots
  * that none holds yet (a pair claims at most one slot per point it ever had at once, so the run
  * holds at most TB__MANIFOLD_POINTS). */
@@ -247,6 +279,9 @@ static void match_claimed(const tb__friction_pool *pool, size_t first, size_t en
             distance[j][r] =
                 open[j] ? distance2(keys[j], pool->slots[pool->index[first + r]].key) : INFINITY;
         }
+    }
+    if (own_nearest(pool, first, run, count, distance, open, used, slots)) {
+        return;
     }
     for (size_t round = 0; round < run && left > 0; ++round, --left) {
         double best = INFINITY;
@@ -321,68 +356,6 @@ void tb__friction_relax_jacobian(const tb__friction_pool *pool, const tb_scene *
         tb__jacobian_set_diagonal(rows, first_state + TB__FRICTION_SLOT_STATES * s,
                                   TB__FRICTION_SLOT_STATES, -rate);
     }
-}
-
-/* mu at slip speed w: from mu_s at rest to mu_k (Stribeck, over stribeck_velocity). */
-static double stribeck(const tb__contact_params *contact, double slip)
-{
-    const double ratio = slip / contact->stribeck_velocity;
-    return contact->kinetic_friction +
-           (contact->static_friction - contact->kinetic_friction) * exp(-ratio * ratio);
-}
-
-/* The memoryless law: -mu(|v_t|) N v_t / sqrt(|v_t|^2 + v_reg^2), v_reg = slip_velocity. */
-static void slip_friction(const tb__contact_params *contact, double N, const double v_t[3],
-                          double friction[3])
-{
-    const double speed = tb__v3_norm(v_t);
-    const double scale = stribeck(contact, speed) * N /
-                         sqrt(speed * speed + contact->slip_velocity * contact->slip_velocity);
-    tb__v3_set(friction, -scale * v_t[0], -scale * v_t[1], -scale * v_t[2]);
-}
-
-/* The stick anchor in world vectors (the ground's law, effect_ground.c bristles(), with z in 3D:
- * its part along n, which only the turning of n relative to A gives it, relaxes at the release
- * rate and pushes nothing). */
-static void anchor_friction(const tb__contact_params *contact, double stiffness, double damping,
-                            double N, const double n[3], const double v_t[3], const double z[3],
-                            double dz[3], double friction[3])
-{
-    const double along = tb__v3_dot(z, n);
-    double z_t[3], trial[3];
-    for (int k = 0; k < 3; ++k) {
-        z_t[k] = z[k] - along * n[k];
-    }
-    const double deflection = tb__v3_norm(z_t);
-    const double cone = contact->static_friction * N / stiffness;
-    const double excess = deflection > cone ? deflection - cone : 0.0;
-    const double mu = stribeck(contact, TB__BRISTLE_MAX_RATE * excess);
-    for (int k = 0; k < 3; ++k) {
-        trial[k] = -(stiffness * z_t[k] + damping * v_t[k]);
-        dz[k] = v_t[k] - TB__BRISTLE_RELEASE_RATE * along * n[k] -
-                (excess > 0.0 ? TB__BRISTLE_MAX_RATE * excess * z_t[k] / deflection : 0.0);
-    }
-    const double magnitude = tb__v3_norm(trial);
-    const double scale = magnitude > mu * N ? mu * N / magnitude : 1.0;
-    tb__v3_set(friction, scale * trial[0], scale * trial[1], scale * trial[2]);
-}
-
-void tb__friction_force(const tb__contact_params *contact, double stiffness, double damping,
-                        double N, const double n[3], const double v_t[3], const double q_a[4],
-                        const double *z, double *dz, double friction[3])
-{
-    if (z == NULL) {
-        slip_friction(contact, N, v_t, friction);
-        return;
-    }
-    if (!(contact->static_friction > 0.0)) { /* frictionless: z relaxes (relax_all) */
-        tb__v3_set(friction, 0.0, 0.0, 0.0);
-        return;
-    }
-    double z_world[3], dz_world[3];
-    tb__q_rotate(z_world, q_a, z);
-    anchor_friction(contact, stiffness, damping, N, n, v_t, z_world, dz_world, friction);
-    tb__q_rotate_inverse(dz, q_a, dz_world);
 }
 
 /* The boundary's pass over one pair: held slots take the points' keys, provisional ones are
@@ -490,13 +463,16 @@ static void boundary_pass(const tb__effect *effect, const tb_scene *scene, const
     tb__friction_boundary_begin(pool);
     tb__pair_contact batch[TB__FRICTION_BATCH];
     tb__contact_pairs_begin(contact->pairs, scene, scene->time, y);
+    tb__pass_memo_begin(contact->memo, scene, scene->time, y); /* for the next step's start */
     size_t count, fresh = 0;
     while ((count = tb__contact_pairs_next(contact->pairs, scene, y, batch, TB__FRICTION_BATCH)) >
            0) {
+        tb__pass_memo_add(contact->memo, batch, count);
         for (size_t k = 0; k < count; ++k) {
             hold_pair(pool, scene, y, &batch[k], link, &fresh);
         }
     }
+    tb__pass_memo_end(contact->memo);
     tb__friction_boundary_end(pool, scene, y + effect->state_offset, fresh);
 }
 

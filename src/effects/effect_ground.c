@@ -41,8 +41,10 @@ static void bristles(const tb__ground_params *ground, double mass, double dampin
     const double cone = ground->static_friction * N / stiffness;
     const double excess = deflection > cone ? deflection - cone : 0.0;
     const double slip = TB__BRISTLE_MAX_RATE * excess / ground->stribeck_velocity;
-    const double mu = ground->kinetic_friction +
-                      (ground->static_friction - ground->kinetic_friction) * exp(-slip * slip);
+    /* exp(-0) is 1 exactly: a point inside its cone (at rest, most of them) skips the call */
+    const double stribeck = slip == 0.0 ? 1.0 : exp(-slip * slip);
+    const double mu =
+        ground->kinetic_friction + (ground->static_friction - ground->kinetic_friction) * stribeck;
     double trial[2], magnitude = 0.0;
     for (int k = 0; k < 2; ++k) {
         trial[k] = -(stiffness * z[k] + damping * v_t[k]);
@@ -103,7 +105,8 @@ void tb__ground_body_load(const tb__ground_params *ground, const tb_scene *scene
                               moment[2] / out->total};
     const tb__body *body = tb__body_constants(scene, scene->contacts[first].body);
     out->normal = 1.0 / tb__inverse_mass_along(body, motion, centre, ground->normal);
-    out->tangential = 1.0 / tb__inverse_mass_across(body, motion, centre, ground->normal);
+    out->tangential = 1.0 / tb__inverse_mass_across_basis(body, motion, centre, ground->tangent[0],
+                                                          ground->tangent[1]);
 }
 
 /* place: the point's depth and arm from body_load, or NULL to compute them */
@@ -444,21 +447,12 @@ static tb_status validate_ground(tb_scene *scene, const tb_ground_def *def)
     return status == TB_STATUS_OK ? validate_ground_rates(scene, def) : status;
 }
 
-/* t1, t2: an orthonormal basis of the plane, right-handed with n. */
-static void tangent_basis(const double n[3], double t1[3], double t2[3])
-{
-    const double axis[3] = {fabs(n[0]) < 0.9 ? 1.0 : 0.0, fabs(n[0]) < 0.9 ? 0.0 : 1.0, 0.0};
-    tb__v3_cross(t1, n, axis);
-    const double length = tb__v3_norm(t1);
-    tb__v3_set(t1, t1[0] / length, t1[1] / length, t1[2] / length);
-    tb__v3_cross(t2, n, t1);
-}
-
 /* The typed parameters of a validated def. */
 static void ground_params(const tb_ground_def *def, tb__ground_params *ground)
 {
     tb__v3_direction(def->normal, ground->normal); /* validated: nonzero */
-    tangent_basis(ground->normal, ground->tangent[0], ground->tangent[1]);
+    /* an orthonormal basis of the plane, right-handed with n: tb__inverse_mass_across's */
+    tb__tangent_basis(ground->normal, ground->tangent[0], ground->tangent[1]);
     ground->offset = def->offset;
     ground->gravity = def->gravity;
     ground->penetration = def->penetration;

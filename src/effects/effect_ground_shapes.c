@@ -68,7 +68,8 @@ static void plane_load(const tb__ground_params *ground, const tb__body *body,
         arm[k] = centre[k] / out->load - out->motion->x[k];
     }
     out->normal = 1.0 / tb__inverse_mass_along(body, out->motion, arm, ground->normal);
-    out->tangential = 1.0 / tb__inverse_mass_across(body, out->motion, arm, ground->normal);
+    out->tangential = 1.0 / tb__inverse_mass_across_basis(body, out->motion, arm,
+                                                          ground->tangent[0], ground->tangent[1]);
 }
 
 /* One manifold point's force on body id (z, dz: its slot's states, NULL for none). */

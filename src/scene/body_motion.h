@@ -118,7 +118,18 @@ void tb__body_pose_at(const tb_scene *scene, double t, const double *y, size_t i
 
 /* dP += f and dL += arm x f for body id, by its slot (tb__add_load); nothing for a body with
  * no state (whose reaction is a read-out, not a state). */
-void tb__add_body_load(const tb_scene *scene, double *dydt, size_t id, const double arm[3],
-                       const double f[3]);
+static inline void tb__add_body_load(const tb_scene *scene, double *dydt, size_t id,
+                                     const double arm[3], const double f[3])
+{
+    const size_t slot = tb__body_slot(scene, id);
+    if (slot != TB_NO_SLOT) {
+        tb__add_load(dydt, slot, arm, f);
+    } else if (scene->reactions != NULL) { /* a reaction read-out is running */
+        double torque[3];
+        tb__v3_cross(torque, arm, f);
+        tb__v3_axpy(scene->reactions + 6 * id, 1.0, f);
+        tb__v3_axpy(scene->reactions + 6 * id + 3, 1.0, torque);
+    }
+}
 
 #endif

@@ -318,17 +318,6 @@ void tb__body_motion(const tb__body *body, const double *s, tb__motion *out)
     tb__v3_set(out->v, P[0] * body->inv_mass, P[1] * body->inv_mass, P[2] * body->inv_mass);
 }
 
-void tb__point_arm(const tb__motion *motion, const double r[3], double arm[3])
-{
-    tb__q_rotate(arm, motion->q, r);
-}
-
-void tb__point_velocity(const tb__motion *motion, const double arm[3], double velocity[3])
-{
-    tb__v3_cross(velocity, motion->omega, arm);
-    tb__v3_axpy(velocity, 1.0, motion->v);
-}
-
 /* arm x u in the principal frame, where I^-1 is diagonal. */
 static void principal_lever(const tb__motion *motion, const double arm[3], const double u[3],
                             double out[3])
@@ -352,23 +341,35 @@ double tb__inverse_mass_along(const tb__body *body, const tb__motion *motion, co
     return body->inv_mass + inverse_inertia_product(body, lever, lever);
 }
 
-double tb__inverse_mass_across(const tb__body *body, const tb__motion *motion, const double arm[3],
-                               const double n[3])
+void tb__tangent_basis(const double n[3], double t1[3], double t2[3])
 {
-    /* t1, t2: a basis of the plane; the 2 x 2 form T_ab = (arm x t_a) . I^-1 (arm x t_b) has
-     * the largest eigenvalue (T11 + T22) / 2 + sqrt(((T11 - T22) / 2)^2 + T12^2) */
     const double axis[3] = {fabs(n[0]) < 0.9 ? 1.0 : 0.0, fabs(n[0]) < 0.9 ? 0.0 : 1.0, 0.0};
-    double t1[3], t2[3], a[3], b[3];
     tb__v3_cross(t1, n, axis);
     const double length = tb__v3_norm(t1);
     tb__v3_set(t1, t1[0] / length, t1[1] / length, t1[2] / length);
     tb__v3_cross(t2, n, t1);
+}
+
+double tb__inverse_mass_across_basis(const tb__body *body, const tb__motion *motion,
+                                     const double arm[3], const double t1[3], const double t2[3])
+{
+    /* the 2 x 2 form T_ab = (arm x t_a) . I^-1 (arm x t_b) has the largest eigenvalue
+     * (T11 + T22) / 2 + sqrt(((T11 - T22) / 2)^2 + T12^2) */
+    double a[3], b[3];
     principal_lever(motion, arm, t1, a);
     principal_lever(motion, arm, t2, b);
     const double T11 = inverse_inertia_product(body, a, a),
                  T22 = inverse_inertia_product(body, b, b);
     const double T12 = inverse_inertia_product(body, a, b), half = 0.5 * (T11 - T22);
     return body->inv_mass + 0.5 * (T11 + T22) + sqrt(half * half + T12 * T12);
+}
+
+double tb__inverse_mass_across(const tb__body *body, const tb__motion *motion, const double arm[3],
+                               const double n[3])
+{
+    double t1[3], t2[3];
+    tb__tangent_basis(n, t1, t2);
+    return tb__inverse_mass_across_basis(body, motion, arm, t1, t2);
 }
 
 double tb__lightness_at(const tb__body *body, const double r[3])
@@ -390,28 +391,6 @@ double tb__lightness_at(const tb__body *body, const double r[3])
         d0 * (d1 * d2 - P12 * P12) - P01 * (P01 * d2 - P12 * P02) + P02 * (P01 * P12 - d1 * P02);
     const double half = fmax(-1.0, fmin(1.0, det / (2.0 * p * p * p)));
     return 1.0 + body->mass * (q + 2.0 * p * cos(acos(half) / 3.0));
-}
-
-void tb__add_load(double *dydt, size_t slot, const double arm[3], const double f[3])
-{
-    double torque[3];
-    tb__v3_cross(torque, arm, f);
-    tb__v3_axpy(dydt + TB_STATE_SIZE * slot + TB_STATE_P, 1.0, f);
-    tb__v3_axpy(dydt + TB_STATE_SIZE * slot + TB_STATE_L, 1.0, torque);
-}
-
-void tb__add_body_load(const tb_scene *scene, double *dydt, size_t id, const double arm[3],
-                       const double f[3])
-{
-    const size_t slot = tb__body_slot(scene, id);
-    if (slot != TB_NO_SLOT) {
-        tb__add_load(dydt, slot, arm, f);
-    } else if (scene->reactions != NULL) { /* a reaction read-out is running */
-        double torque[3];
-        tb__v3_cross(torque, arm, f);
-        tb__v3_axpy(scene->reactions + 6 * id, 1.0, f);
-        tb__v3_axpy(scene->reactions + 6 * id + 3, 1.0, torque);
-    }
 }
 
 void tb__scene_note_drift(tb_scene *scene, double drift)

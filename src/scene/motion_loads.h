@@ -4,6 +4,8 @@
 #ifndef TUMBLE_MOTION_LOADS_H
 #define TUMBLE_MOTION_LOADS_H
 
+#include "math/tb_math.h"
+
 /* How body i moves, read from y once for an effect that looks at several of its points. */
 typedef struct tb__motion {
     double x[3];     /* centre of mass, world */
@@ -25,8 +27,17 @@ static inline const tb__motion *tb__derivative_motion(const tb_scene *scene, siz
 
 /* A body point r (principal frame, from the centre of mass): its lever arm R r (world),
  * and the velocity v + omega x arm of the material point at arm. */
-void tb__point_arm(const tb__motion *motion, const double r[3], double arm[3]);
-void tb__point_velocity(const tb__motion *motion, const double arm[3], double velocity[3]);
+static inline void tb__point_arm(const tb__motion *motion, const double r[3], double arm[3])
+{
+    tb__q_rotate(arm, motion->q, r);
+}
+
+static inline void tb__point_velocity(const tb__motion *motion, const double arm[3],
+                                      double velocity[3])
+{
+    tb__v3_cross(velocity, motion->omega, arm);
+    tb__v3_axpy(velocity, 1.0, motion->v);
+}
 
 /* The inverse mass (1/kg) that a force along the unit vector u at lever arm `arm` (world, from
  * the centre of mass) meets at its point: 1/M + (arm x u) . I^-1 (arm x u), with I^-1 the
@@ -37,6 +48,12 @@ double tb__inverse_mass_along(const tb__body *body, const tb__motion *motion, co
  * lightest a tangential force at arm finds the body. */
 double tb__inverse_mass_across(const tb__body *body, const tb__motion *motion, const double arm[3],
                                const double n[3]);
+/* The orthonormal basis t1, t2 of the plane normal to the unit n that tb__inverse_mass_across
+ * uses (the ground's tangent basis, to the bit), and the same inverse mass from it: for a
+ * normal met more than once (a plane, both bodies of a pair), the basis is worked out once. */
+void tb__tangent_basis(const double n[3], double t1[3], double t2[3]);
+double tb__inverse_mass_across_basis(const tb__body *body, const tb__motion *motion,
+                                     const double arm[3], const double t1[3], const double t2[3]);
 
 /* M (1/M + max over unit u of (r x u) . I^-1 (r x u)) (>= 1), r in the principal frame from the
  * centre of mass (m): how much lighter than the body a force at r finds it in the worst
@@ -45,7 +62,13 @@ double tb__inverse_mass_across(const tb__body *body, const tb__motion *motion, c
 double tb__lightness_at(const tb__body *body, const double r[3]);
 
 /* dP += f and dL += arm x f for the body in slot `slot` (y's index, as the per-body effects'
- * ranges count). */
-void tb__add_load(double *dydt, size_t slot, const double arm[3], const double f[3]);
+ * ranges count). Inline, as the two above: every contact point of every derivative adds one. */
+static inline void tb__add_load(double *dydt, size_t slot, const double arm[3], const double f[3])
+{
+    double torque[3];
+    tb__v3_cross(torque, arm, f);
+    tb__v3_axpy(dydt + TB_STATE_SIZE * slot + TB_STATE_P, 1.0, f);
+    tb__v3_axpy(dydt + TB_STATE_SIZE * slot + TB_STATE_L, 1.0, torque);
+}
 
 #endif

@@ -22,17 +22,26 @@ bool tb__scene_has_events(const tb_scene *scene)
     return false;
 }
 
-int tb__scene_event_gaps(double t, const double *y, double *gap, void *ctx)
+/* Every body's gap (and, with wake not NULL, wake gap) at y: each effect's event_gaps, or its
+ * wake_gaps doing both in one pass where there are wake gaps to find. */
+static void fill_gaps(tb_scene *scene, double t, const double *y, double *gap, double *wake)
 {
-    tb_scene *scene = ctx;
     scene->time = t; /* bodies without a state, at t */
     for (size_t i = 0; i < scene->body_count; ++i) {
         gap[i] = TB__EVENT_LOOKAHEAD;
     }
+    for (size_t i = 0; i < scene->body_count && wake != NULL; ++i) {
+        wake[i] = TB__EVENT_LOOKAHEAD;
+    }
+    /* nothing asleep: no pair of an awake and an asleep body, every wake gap the look-ahead */
+    const bool any_asleep = scene->sleep != NULL && scene->sleep->asleep_count > 0;
     for (size_t k = 0; k < scene->effect_count; ++k) {
         const tb__effect *effect = &scene->effects[k];
-        if (tb__stepping_of(effect)->event_gaps != NULL) {
-            tb__stepping_of(effect)->event_gaps(effect, scene, y, gap);
+        const tb__effect_stepping *stepping = tb__stepping_of(effect);
+        if (wake != NULL && any_asleep && stepping->wake_gaps != NULL) {
+            stepping->wake_gaps(effect, scene, y, stepping->event_gaps != NULL ? gap : NULL, wake);
+        } else if (stepping->event_gaps != NULL) {
+            stepping->event_gaps(effect, scene, y, gap);
         }
     }
     /* A gap is a difference of positions (z ~ 0.2 m: doubles 3e-17 m apart), so a slow crossing
@@ -40,32 +49,26 @@ int tb__scene_event_gaps(double t, const double *y, double *gap, void *ctx)
      * ("root found at and very near t"). A tiny positive gap in its place keeps the crossing and
      * removes the plateau; tiny, yet far from underflow, since CVODE finds a sign change from the
      * product of two values (DBL_MIN times -1e-16 rounds to -0, and the root came back for
-     * ever). */
+     * ever). The wake gaps the same. */
     for (size_t i = 0; i < scene->body_count; ++i) {
         gap[i] = gap[i] == 0.0 ? TB__GAP_FOR_ZERO : gap[i];
     }
+    for (size_t i = 0; i < scene->body_count && wake != NULL; ++i) {
+        wake[i] = wake[i] == 0.0 ? TB__GAP_FOR_ZERO : wake[i];
+    }
+}
+
+int tb__scene_event_gaps(double t, const double *y, double *gap, void *ctx)
+{
+    fill_gaps(ctx, t, y, gap, NULL);
     return 0;
 }
 
 int tb__scene_event_and_wake_gaps(double t, const double *y, double *g, void *ctx)
 {
-    const tb_scene *scene = ctx;
-    double *wake = g + scene->body_count;
-    for (size_t i = 0; i < scene->body_count; ++i) {
-        wake[i] = TB__EVENT_LOOKAHEAD;
-    }
-    /* nothing asleep: no pair of an awake and an asleep body, every wake gap the look-ahead */
-    const bool any_asleep = scene->sleep != NULL && scene->sleep->asleep_count > 0;
-    for (size_t k = 0; k < scene->effect_count && any_asleep; ++k) {
-        const tb__effect *effect = &scene->effects[k];
-        if (tb__stepping_of(effect)->wake_gaps != NULL) {
-            tb__stepping_of(effect)->wake_gaps(effect, scene, y, wake);
-        }
-    }
-    for (size_t i = 0; i < scene->body_count; ++i) { /* as the gaps: no plateau at 0 */
-        wake[i] = wake[i] == 0.0 ? TB__GAP_FOR_ZERO : wake[i];
-    }
-    return tb__scene_event_gaps(t, y, g, ctx);
+    tb_scene *scene = ctx;
+    fill_gaps(scene, t, y, g, g + scene->body_count);
+    return 0;
 }
 
 static size_t constraint_root_count(const tb_scene *scene)

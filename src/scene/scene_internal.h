@@ -135,8 +135,10 @@ struct tb__effect_stepping {
      * effect finds between body i and a body of the other sleep state (one asleep, one
      * awake), continuous in y while the flags stay. The scene's second set of root functions,
      * so that CVODE stops before such a pair can touch and wakes the island there. NULL: the
-     * effect brings no body to a sleeping one (but through sleep_partner). */
-    void (*wake_gaps)(const tb__effect *effect, const tb_scene *scene, const double *y,
+     * effect brings no body to a sleeping one (but through sleep_partner). With gap not NULL
+     * it also does event_gaps' work on gap, in the same pass over the pairs (the two root sets
+     * come at the same (t, y); an effect with wake_gaps has event_gaps). */
+    void (*wake_gaps)(const tb__effect *effect, const tb_scene *scene, const double *y, double *gap,
                       double *wake);
     /* Links (tb__scene_sleep_link) every pair of its bodies that could come within its margin
      * in a step of dt from y (dt 0: within the margin now), so that a fixed step never starts
