@@ -99,7 +99,8 @@ static void check_pass(tb__pair_list *list, const unsigned char *active, size_t 
 /* Boxes 5-15 cm across packed in a cube, drifting each pass by up to 0.4 % of their size (the
  * skin is 5 %: a box leaves its grown box after some 25 passes), a few jumping 20 cm at
  * once, every 10th pass back at an earlier pass's boxes, every 50 passes a new set of active boxes
- * and a limited sweep for 25 of them; batches of 1 to 128. Every pass gives the all-pairs check's
+ * and a limited sweep for 25 of them (every 5 passes some boxes made inactive or active);
+ * batches of 1 to 128. Every pass gives the all-pairs check's
  * pairs in its order; the list was built again for boxes that left their skin and kept between. */
 static void test_pair_list_gives_the_all_pairs_checks_pairs_in_order_at_every_pass(void **state)
 {
@@ -138,6 +139,13 @@ static void test_pair_list_gives_the_all_pairs_checks_pairs_in_order_at_every_pa
             limited = pass % 50 == 25;
             for (size_t i = 0; i < BOXES; ++i) {
                 list.broad.active[i] = !limited || test_uniform(&rng, 0.0, 1.0) < 0.3;
+            }
+        } else if (limited && pass % 5 == 0) { /* some fall asleep (the list may be kept) or
+                                                    wake (it may not) */
+            for (size_t i = 0; i < BOXES; ++i) {
+                const double u = test_uniform(&rng, 0.0, 1.0);
+                list.broad.active[i] = pass % 10 == 5 ? list.broad.active[i] && u < 0.8
+                                                      : list.broad.active[i] || u < 0.05;
             }
         }
         const size_t batch = 1 + (pass * 37) % 128;

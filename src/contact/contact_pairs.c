@@ -155,7 +155,6 @@ static void check_kept(tb__contact_pairs *pairs, const tb_scene *scene)
     const unsigned long long sleep = tb__scene_sleep_generation(scene);
     if (sleep != pairs->kept_sleep || scene->effects_generation != pairs->kept_shapes) {
         memset(pairs->kept, 0, pairs->count);
-        tb__pair_list_invalidate(&pairs->list);
         pairs->kept_sleep = sleep;
         pairs->kept_shapes = scene->effects_generation;
     }

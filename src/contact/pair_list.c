@@ -162,19 +162,21 @@ static void build(tb__pair_list *list, size_t count, bool limited)
 }
 
 /* Whether the list still holds every pair of the pass: the same boxes, each inside its grown box
- * of the build (a NaN bound is not), with the same active flags. */
+ * of the build (a NaN bound is not), and, if the build kept only the pairs with an active box,
+ * a limited pass whose active boxes were active then (a box fallen asleep keeps the list). */
 static bool list_holds(const tb__pair_list *list, size_t count, bool limited)
 {
-    if (!list->valid || count != list->built_count || limited != list->built_limited ||
-        memcmp(list->built_active, list->broad.active, count) != 0) {
+    if (!list->valid || count != list->built_count || (list->built_limited && !limited)) {
         return false;
     }
     int inside = 1;
+    const unsigned char *active = list->broad.active;
     for (size_t b = 0; b < count; ++b) {
         const tb__aabb *now = &list->bounds[b], *grown = &list->broad.boxes[b];
         for (int k = 0; k < 3; ++k) { /* no branch per box: most stay inside */
             inside &= (now->min[k] >= grown->min[k]) & (now->max[k] <= grown->max[k]);
         }
+        inside &= !list->built_limited | !active[b] | list->built_active[b];
     }
     return inside != 0;
 }
@@ -183,6 +185,7 @@ void tb__pair_list_begin(tb__pair_list *list, size_t count, bool limited)
 {
     ++list->passes;
     list->streaming = false;
+    list->limited = limited;
     list->next = 0;
     if (!list_holds(list, count, limited)) {
         build(list, count, limited);
@@ -203,10 +206,13 @@ size_t tb__pair_list_next(tb__pair_list *list, tb__index_pair *out, size_t capac
     }
     size_t written = 0, next = list->next;
     const tb__aabb *bounds = list->bounds;
+    const unsigned char *active = list->broad.active;
+    const int every = !list->limited; /* else only the pairs with an active box */
     while (written < capacity && next < list->pair_count) {
         const tb__index_pair *c = &list->pairs[next++];
         out[written] = *c; /* kept when they meet: no branch to miss */
-        written += boxes_meet(&bounds[c->first], &bounds[c->second]);
+        written += boxes_meet(&bounds[c->first], &bounds[c->second]) &
+                   (every | active[c->first] | active[c->second]);
     }
     list->next = next;
     return written;

@@ -4,9 +4,11 @@
  * A build grows each box by a skin (a share of its largest side, SKIN_SHARE in pair_list.c),
  * sweeps the grown boxes (broad_phase.h) and keeps the overlapping pairs in the canonical order:
  * by (first, second) box index. A later pass whose boxes each lie inside their grown boxes of the
- * build, with the same count and the same active flags, finds its overlapping pairs among those
- * candidates (two boxes that meet have grown boxes that meet) and keeps those that meet now by the
- * sweep's own test (closed intervals on the three axes). Otherwise it builds again. Either way a
+ * build (the same count; for a build limited to the pairs with an active box, a limited pass
+ * whose active boxes were all active then) finds its overlapping pairs among those candidates
+ * (two boxes that meet have grown boxes that meet) and keeps those that meet now by the sweep's
+ * own test (closed intervals on the three axes), with an active box when limited. Otherwise it
+ * builds again. Either way a
  * pass gives exactly the pairs a sweep of its boxes gives, in the canonical order, so the pairs
  * and their order depend on the pass's boxes alone, never on the passes before it: the
  * derivative that reads them stays a pure function of (t, y).
@@ -35,6 +37,7 @@ typedef struct tb__pair_list {
     size_t next;                 /* the pass's next candidate */
     double share;                /* the next build's skin, a share of a box's largest side */
     bool built_limited;          /* the last build swept only the pairs with an active box */
+    bool limited;                /* this pass gives only the pairs with an active box */
     bool valid;                  /* the candidates are the grown boxes' pairs */
     bool streaming;              /* this pass streams the sweep (more pairs than the list holds) */
     unsigned long long passes, builds; /* read-outs for the benchmarks */
