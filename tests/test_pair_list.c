@@ -164,7 +164,7 @@ static void test_pair_list_gives_the_all_pairs_checks_pairs_in_order_at_every_pa
 static void test_pair_list_gives_every_pair_once_when_it_cannot_hold_them(void **state)
 {
     (void)state;
-    enum { N = 120 };
+    enum { N = 200 };
     uint64_t rng = 99;
     tb__pair_list list;
     assert_int_equal(tb__pair_list_init(&list, N), TB_STATUS_OK);

@@ -23,14 +23,21 @@
 
 #include "contact/broad_phase.h"
 
+#include <stdint.h>
+
+/* A kept pair: box indices, first < second (a list holds at most 2^32 boxes). */
+typedef struct tb__list_pair {
+    uint32_t first, second;
+} tb__list_pair;
+
 typedef struct tb__pair_list {
     /* the sweep; between builds its boxes are the grown boxes of the last build */
     tb__broad_phase broad;
     tb__aabb *bounds;            /* box capacity: the pass's boxes, filled by the caller */
     unsigned char *built_active; /* box capacity: broad.active at the last build */
     size_t pair_capacity;        /* PAIRS_PER_BOX a box, at least a few */
-    tb__index_pair *pairs;       /* pair_capacity: the candidates, in canonical order */
-    tb__index_pair *scratch;     /* pair_capacity: the canonical sort's buffer */
+    tb__list_pair *pairs;        /* pair_capacity: the candidates, in canonical order */
+    tb__list_pair *scratch;      /* pair_capacity: the canonical sort's buffer */
     size_t *counts;              /* box capacity + 1: the canonical sort's counts */
     size_t pair_count;           /* candidates kept */
     size_t built_count;          /* boxes at the last build */
@@ -43,8 +50,8 @@ typedef struct tb__pair_list {
     unsigned long long passes, builds; /* read-outs for the benchmarks */
 } tb__pair_list;
 
-/* Allocates room for box_capacity boxes and their candidates (0 is allowed); on failure list is
- * left empty and TB_STATUS_OUT_OF_MEMORY returned. */
+/* Allocates room for box_capacity boxes (at most 2^32; 0 is allowed) and their candidates; on
+ * failure list is left empty and TB_STATUS_OUT_OF_MEMORY returned. */
 tb_status tb__pair_list_init(tb__pair_list *list, size_t box_capacity);
 void tb__pair_list_free(tb__pair_list *list);
 
