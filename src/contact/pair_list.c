@@ -12,14 +12,14 @@
 #include <string.h>
 
 /* The skin at first, as a share of a box's largest side (adapt_skin changes it). RK4's step on
- * the example scenes moves a body well under a thousandth of its size, so a few percent keep a
- * list for many steps, and grown boxes meet few more boxes than the boxes do (measured:
- * docs/performance.md, "Collision work per derivative"). */
+ * the example scenes moves a body a few thousandths of its size or less, so a few percent keep a
+ * list for hundreds of passes, and grown boxes meet few more boxes than the boxes do (measured:
+ * docs/performance.md, "Candidate pairs kept with a skin"). */
 #define SKIN_SHARE 0.05
 
-/* Candidates the list holds a box: a packed lattice of spheres has about 13 pairs a box, a box
- * pile under 9; the events' look-ahead (a 5 cm margin) on 5 cm spheres 23 to 31, and with its
- * skin it needs room for more. */
+/* Candidates the list holds a box. With the skin bench_contact_work's jostled lattice of 5 cm
+ * spheres makes 10.5 a box, its pile of boxes 8.8, and the events' look-ahead (a 5 cm margin) on
+ * the spheres 42. */
 #define PAIRS_PER_BOX 64
 
 /* Pairs read from the sweep at a time while the list is built. */
@@ -68,7 +68,7 @@ void tb__pair_list_invalidate(tb__pair_list *list)
 }
 
 /* box grown by share of its largest side on every side into out (share 0: the box itself, also
- * where a side is infinite). */
+ * with an infinite side, where share * side would be NaN). */
 static void grow(const tb__aabb *box, double share, tb__aabb *out)
 {
     double side = 0.0;
@@ -147,12 +147,26 @@ static void adapt_skin(tb__pair_list *list, bool overflowed)
     }
 }
 
+/* Whether a bound of boxes [0, count) is NaN. */
+static bool any_nan(const tb__aabb *boxes, size_t count)
+{
+    int nan = 0;
+    for (size_t b = 0; b < count; ++b) {
+        for (int k = 0; k < 3; ++k) {
+            nan |= (boxes[b].min[k] != boxes[b].min[k]) | (boxes[b].max[k] != boxes[b].max[k]);
+        }
+    }
+    return nan != 0;
+}
+
 /* Builds the list for the pass: the grown boxes' pairs; if too many, the boxes' own pairs; if
- * still too many, the pass streams the sweep instead. */
+ * still too many, the pass streams the sweep instead. A box with a NaN bound meets the boxes the
+ * sweep bins beside it (broad_phase.h), which grown boxes would change: such a pass takes the
+ * boxes' own pairs, so that they depend on its boxes alone, not on the skin of the moment. */
 static void build(tb__pair_list *list, size_t count, bool limited)
 {
     ++list->builds;
-    const bool skinned = list->share > 0.0;
+    const bool skinned = list->share > 0.0 && !any_nan(list->bounds, count);
     list->valid = skinned && sweep_into_list(list, count, limited, list->share);
     const bool overflowed = skinned && !list->valid;
     list->valid = list->valid || sweep_into_list(list, count, limited, 0.0);
