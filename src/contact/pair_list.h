@@ -47,7 +47,7 @@ typedef struct tb__pair_list {
     bool limited;                /* this pass gives only the pairs with an active box */
     bool valid;                  /* the candidates are the grown boxes' pairs */
     bool streaming;              /* this pass streams the sweep (more pairs than the list holds) */
-    unsigned long long passes, builds; /* read-outs for the benchmarks */
+    unsigned long long passes, builds; /* counts since init, read by the tests */
 } tb__pair_list;
 
 /* Allocates room for box_capacity boxes (at most 2^32; 0 is allowed) and their candidates; on
