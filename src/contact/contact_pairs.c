@@ -2,6 +2,7 @@
  * phase on each candidate pair, handed back in batches. */
 #include "contact/contact_pairs.h"
 
+#include "contact/pair_list.h"
 #include "core/detail.h"
 #include "core/validate.h"
 #include "scene/scene_internal.h"
@@ -21,7 +22,7 @@ struct tb__contact_pairs {
     double *poses;         /* TB__POSE_SIZE * count, at the pass's y */
     tb__box_frame *frames; /* count: a plain box's frame at its pose, once per pass, not per pair */
     double margin;
-    tb__broad_phase broad;
+    tb__pair_list list; /* the broad phase, its candidates kept between passes */
     tb__index_pair batch[PAIR_BATCH];
     size_t batch_count, batch_next; /* fetched candidates and the next to test */
     size_t piece_a, piece_b;        /* the next piece pair of candidate batch_next */
@@ -85,13 +86,14 @@ tb_status tb__contact_pairs_create(const tb_scene *scene, const size_t *bodies, 
         p->kept = calloc(n, 1);
     }
     if (p == NULL || p->ids == NULL || p->local == NULL || p->poses == NULL || p->frames == NULL ||
-        p->kept == NULL || tb__broad_phase_init(&p->broad, count) != TB_STATUS_OK) {
+        p->kept == NULL || tb__pair_list_init(&p->list, count) != TB_STATUS_OK) {
         tb__contact_pairs_destroy(p);
         return tb__set_detail(detail, TB_STATUS_OUT_OF_MEMORY, "contact pairs for %zu bodies",
                               count);
     }
     for (size_t k = 0; k < count; ++k) {
         p->ids[k] = bodies != NULL ? bodies[k] : k;
+        p->local[k] = (size_t)-1; /* no box numbered yet */
     }
     p->count = count;
     p->margin = margin;
@@ -102,7 +104,7 @@ tb_status tb__contact_pairs_create(const tb_scene *scene, const size_t *bodies, 
 void tb__contact_pairs_destroy(tb__contact_pairs *pairs)
 {
     if (pairs != NULL) {
-        tb__broad_phase_free(&pairs->broad);
+        tb__pair_list_free(&pairs->list);
         free(pairs->ids);
         free(pairs->local);
         free(pairs->poses);
@@ -138,7 +140,7 @@ static void place_box(tb__contact_pairs *pairs, const tb_scene *scene, double t,
     if (shape->type == TB_SHAPE_BOX) {
         tb__box_frame_at(pose, &pairs->frames[b]);
     }
-    tb__aabb *box = &pairs->broad.boxes[b];
+    tb__aabb *box = &pairs->list.bounds[b];
     tb__collision_shape_bounds(shape, pose, box->min, box->max);
     for (int i = 0; i < 3; ++i) {
         box->min[i] -= 0.5 * pairs->margin;
@@ -175,10 +177,13 @@ void tb__contact_pairs_begin(tb__contact_pairs *pairs, const tb_scene *scene, do
             continue;
         }
         const size_t b = boxes++;
-        pairs->local[b] = k;
+        if (pairs->local[b] != k) { /* the boxes were renumbered: a shape was set or removed */
+            tb__pair_list_invalidate(&pairs->list);
+            pairs->local[b] = k;
+        }
         /* a pair of two resting bodies is skipped (test_pair): the sweep needs only the others */
         const bool rests = tb__body_asleep(scene, id) || tb__body_static(scene, id);
-        pairs->broad.active[b] = !rests;
+        pairs->list.broad.active[b] = !rests;
         resting += rests;
         const bool frozen = tb__body_frozen(scene, y, id);
         if (!frozen || !pairs->kept[b]) {
@@ -187,11 +192,8 @@ void tb__contact_pairs_begin(tb__contact_pairs *pairs, const tb_scene *scene, do
         }
     }
     /* the limited sweep scans back from each active box as well: worth it from half resting */
-    if (pairs->skip_asleep && 2 * resting >= boxes && resting > 0) {
-        tb__broad_phase_sort_active(&pairs->broad, boxes);
-    } else {
-        tb__broad_phase_sort(&pairs->broad, boxes);
-    }
+    tb__pair_list_begin(&pairs->list, boxes,
+                        pairs->skip_asleep && 2 * resting >= boxes && resting > 0);
     pairs->batch_count = 0;
     pairs->batch_next = 0;
     pairs->piece_a = pairs->piece_b = 0;
@@ -273,7 +275,7 @@ size_t tb__contact_pairs_next(tb__contact_pairs *pairs, const tb_scene *scene, c
     size_t written = 0;
     while (written < capacity) {
         if (pairs->batch_next == pairs->batch_count) {
-            pairs->batch_count = tb__broad_phase_next(&pairs->broad, pairs->batch, PAIR_BATCH);
+            pairs->batch_count = tb__pair_list_next(&pairs->list, pairs->batch, PAIR_BATCH);
             pairs->batch_next = 0;
             if (pairs->batch_count == 0) {
                 break;

@@ -1,10 +1,12 @@
 /* Private: the hook a contact effect calls every derivative. Over a set of bodies with
- * shapes, it runs the broad phase (world bounds at y grown by margin, sweep and prune) and the
- * narrow phase on each candidate, and hands back the touching pairs in batches: the caller
- * gives a buffer of any size, applies the batch and asks for the next until none is left.
- * Memory is allocated at creation for the body set; a pass allocates nothing and reads only
- * y, the scene's bodies and their shapes. Pairs come in an order that depends on y alone, so
- * forces sum in the same order on every run. */
+ * shapes, it runs the broad phase (world bounds at y grown by margin; the candidate pairs kept
+ * from an earlier pass while every body stays inside its skin, else sweep and prune again:
+ * pair_list.h) and the narrow phase on each candidate, and hands back the touching pairs in
+ * batches: the caller gives a buffer of any size, applies the batch and asks for the next until
+ * none is left. Memory is allocated at creation for the body set; a pass allocates nothing and
+ * reads only y, the scene's bodies and their shapes. Pairs come in an order that depends on y
+ * alone (by the set's order of the bodies, pair_list.h), so forces sum in the same order
+ * whatever was evaluated before. */
 #ifndef TUMBLE_CONTACT_PAIRS_H
 #define TUMBLE_CONTACT_PAIRS_H
 
