@@ -173,7 +173,7 @@ static int apply_contact(const tb__effect *effect, const tb_scene *scene, double
  * mid-throw). A sphere's normal passes through its centre c, so along the normal its points
  * weigh as c does (arm x n = c x n), and across it as its surface does, |c| + radius out (not
  * the bounds' corner, sqrt 3 radii). */
-static double lightness(const tb_scene *scene, const double *y, size_t id, bool normal)
+double tb__contact_lightness(const tb_scene *scene, const double *y, size_t id, bool normal)
 {
     const tb__collision_shape *shape = tb__scene_body_collision_shape(scene, id);
     const tb__body *body = tb__body_constants(scene, id);
@@ -233,8 +233,8 @@ static void contact_bounds(const tb__contact_params *contact, const tb_scene *sc
         if (shape == NULL || tb__body_fixed(scene, id)) { /* no mass: the partner's alone */
             continue;
         }
-        const double normal = lightness(scene, y, id, true);
-        const double tangential = lightness(scene, y, id, false);
+        const double normal = tb__contact_lightness(scene, y, id, true);
+        const double tangential = tb__contact_lightness(scene, y, id, false);
         if (normal > out->normal[0]) {
             out->body = id;
         }
@@ -596,9 +596,4 @@ tb_status tb_scene_contact_friction_stats(const tb_scene *scene, size_t effect,
     }
     *out_stats = *tb__friction_stats(tb__contact_of(&scene->effects[effect])->friction);
     return TB_STATUS_OK;
-}
-
-double tb__contact_lightness(const tb_scene *scene, const double *y, size_t id, bool normal)
-{
-    return lightness(scene, y, id, normal);
 }
