@@ -19,6 +19,10 @@
  * a derivative's return (those are passed on as they are). */
 #define TB__ROSENBROCK_LINEAR_FAILED (-0x7f5eb00c)
 
+/* The shortest part a step is halved into (rosenbrock.c: 7 halvings), where its change is not
+ * trusted or the system's split_limit is shorter (tb_ode_events). */
+#define TB__ROSENBROCK_FINEST 128
+
 typedef struct tb__rosenbrock tb__rosenbrock;
 
 /* Allocates the solver for the integrator's system (integrator->rosenbrock): everything but the
