@@ -145,7 +145,8 @@ typedef struct tb_ode_events {
     double (*rest_until)(double t, const double *y, void *ctx);
     /* The longest step the system lets a method that divides its steps take from (t, y) when
      * asked for a step of h (for a scene: the tunnelling bound, in which no two bodies close by
-     * more than the thinner one's half-thickness). rosenbrock takes a step longer than it as two
+     * more than the thinner one's half-thickness; its guard then refuses a rosenbrock step only
+     * where a quarter of it is still too long). rosenbrock takes a step longer than it as two
      * halves, each asked again, down to 1/128 of the step (TB_METHOD_ROSENBROCK); the caller's
      * grid and step count are unchanged. The other methods do not read it. INFINITY for no
      * limit; NULL (default): none. */

@@ -37,8 +37,8 @@
  * alike, down to 1/128 of the step; the caller's grid and step count are unchanged, the cost is
  * not (docs/integrators.md measures it). A step longer than the system's split_limit (a scene's
  * tunnelling bound: two bodies that could pass through each other within it) is halved alike
- * before it is tried, so that the scene's guard refuses a step only where 1/128 of it is too long
- * (the dominoes at 1/240 s, refused at domino20's fall before).
+ * before it is tried, so that the scene's guard refuses a step only where a quarter of it is too
+ * long (the dominoes at 1/240 s, refused at domino20's fall before).
  *
  * Reuse. Any matrix keeping the order, a factorisation that served a trusted step of the same h
  * is tried again on the next (a halved step's second half included), without a Jacobian: the
