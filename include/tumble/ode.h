@@ -143,6 +143,14 @@ typedef struct tb_ode_events {
      * methods do not read it (their steps grow where the right-hand side is zero). NULL
      * (default): every step is taken. */
     double (*rest_until)(double t, const double *y, void *ctx);
+    /* The longest step the system lets a method that divides its steps take from (t, y) when
+     * asked for a step of h (for a scene: the tunnelling bound, in which no two bodies close by
+     * more than the thinner one's half-thickness; its guard then refuses a rosenbrock step only
+     * where a quarter of it is still too long). rosenbrock takes a step longer than it as two
+     * halves, each asked again, down to 1/128 of the step (TB_METHOD_ROSENBROCK); the caller's
+     * grid and step count are unchanged. The other methods do not read it. INFINITY for no
+     * limit; NULL (default): none. */
+    double (*split_limit)(double t, const double *y, double h, void *ctx);
 } tb_ode_events;
 
 /* A sparse n x n matrix in compressed-sparse-row form: row i's entries are
@@ -216,7 +224,8 @@ typedef enum tb_method {
     TB_METHOD_ROSENBROCK,  /* linearly implicit fixed step (ROS2, Rosenbrock-W), order 2,
                               L-stable: reads dt; the system's Jacobian (tb_ode_system.jacobian)
                               or dense difference quotients (n <= 512); a step its rates do not
-                              explain is halved inside, down to 1/128 (docs/integrators.md) */
+                              explain, or longer than the system's events.split_limit, is halved
+                              inside, down to 1/128 (docs/integrators.md) */
     TB_METHOD_ARK_IMEX,    /* SUNDIALS ARKODE's ARKStep, additive Runge-Kutta of order 4 (2-5
                               by max_order): the system's split (tb_ode_split) explicit, the
                               rest implicit by Newton; adaptive, one-step, for stiff contact */

@@ -35,7 +35,10 @@
  * matrix describes it and the step can still throw a body off. A step whose change is not
  * explained by the rates at its ends (trusted) is therefore taken as two halves, each checked
  * alike, down to 1/128 of the step; the caller's grid and step count are unchanged, the cost is
- * not (docs/integrators.md measures it).
+ * not (docs/integrators.md measures it). A step longer than the system's split_limit (a scene's
+ * tunnelling bound: two bodies that could pass through each other within it) is halved alike
+ * before it is tried, so that the scene's guard refuses a step only where a quarter of it is too
+ * long (the dominoes at 1/240 s, refused at domino20's fall before).
  *
  * Reuse. Any matrix keeping the order, a factorisation that served a trusted step of the same h
  * is tried again on the next (a halved step's second half included), without a Jacobian: the
@@ -58,6 +61,7 @@
 /* Halvings of a step whose solutions disagree (trusted), and how far they may disagree */
 #define TB__ROS2_SPLITS 7
 #define TB__ROS2_TRUST 2.0
+_Static_assert((1 << TB__ROS2_SPLITS) == TB__ROSENBROCK_FINEST, "the finest part, rosenbrock.h");
 
 /* out = y + a p (+ b q when q is not NULL) */
 static void combine(double *out, const double *y, double a, const double *p, double b,
@@ -236,12 +240,40 @@ static int start(tb_integrator *integrator, double t, double t_last, const doubl
 }
 
 static int split_step(tb_integrator *integrator, double t, double h, double t_last, const double *y,
+                      double *y_new, double *work, long *evals, int depth);
+
+/* The step as two halves, each taken (and checked, and halved) alike one level deeper. */
+static int halves(tb_integrator *integrator, double t, double h, double t_last, const double *y,
+                  double *y_new, double *work, long *evals, int depth)
+{
+    tb__rosenbrock_count_split(integrator);
+    double *middle = tb__rosenbrock_level(integrator, depth);
+    const double half = 0.5 * h;
+    const int rc = split_step(integrator, t, half, t + half, y, middle, work, evals, depth + 1);
+    return rc != 0 ? rc
+                   : split_step(integrator, t + half, half, t_last, middle, y_new, work, evals,
+                                depth + 1);
+}
+
+/* Whether the system's split_limit at (t, y) is shorter than h (for a scene: two bodies could
+ * pass through each other in the step; tb_ode_events). */
+static bool too_long(const tb_integrator *integrator, double t, double h, const double *y)
+{
+    const tb_ode_system *system = &integrator->system;
+    return system->events.split_limit != NULL &&
+           h > system->events.split_limit(t, y, h, system->ctx);
+}
+
+static int split_step(tb_integrator *integrator, double t, double h, double t_last, const double *y,
                       double *y_new, double *work, long *evals, int depth)
 {
     bool unmoved = false;
     int rc = start(integrator, t, t_last, y, y_new, work, evals, &unmoved);
     if (rc != 0 || unmoved) {
         return rc;
+    }
+    if (depth < TB__ROS2_SPLITS && too_long(integrator, t, h, y)) {
+        return halves(integrator, t, h, t_last, y, y_new, work, evals, depth);
     }
     const double *fy = tb__rosenbrock_start_rate(integrator);
     if (depth < TB__ROS2_SPLITS && tb__rosenbrock_can_reuse(integrator, h)) {
@@ -273,13 +305,7 @@ static int split_step(tb_integrator *integrator, double t, double h, double t_la
     if (depth >= TB__ROS2_SPLITS || !halve) {
         return rc;
     }
-    tb__rosenbrock_count_split(integrator);
-    double *middle = tb__rosenbrock_level(integrator, depth);
-    const double half = 0.5 * h;
-    rc = split_step(integrator, t, half, t + half, y, middle, work, evals, depth + 1);
-    return rc != 0 ? rc
-                   : split_step(integrator, t + half, half, t_last, middle, y_new, work, evals,
-                                depth + 1);
+    return halves(integrator, t, h, t_last, y, y_new, work, evals, depth);
 }
 
 int tb__rosenbrock_step(tb_integrator *integrator, double t, double h, double t_last,

@@ -19,6 +19,18 @@
  * a derivative's return (those are passed on as they are). */
 #define TB__ROSENBROCK_LINEAR_FAILED (-0x7f5eb00c)
 
+/* The shortest part a step is halved into (rosenbrock.c: 7 halvings), where its change is not
+ * trusted or the system's split_limit is shorter (tb_ode_events). */
+#define TB__ROSENBROCK_FINEST 128
+
+/* The parts a scene's tunnelling guard lets rosenbrock split a step into at the bound (two of
+ * its 7 halvings, leaving five to the trust check; the guard refuses a dt whose quarter is still
+ * too long): enough for the dominoes' last fall (2 parts) and a ball meeting a 1 cm plate at
+ * 3.1 m/s (3), while a body thrown off fast (the base's dice at 1/240 s, a die closing at 29.6
+ * m/s: 5 parts) or the paddle's 10 m/s against a 2 cm ball (5 parts, which 8 parts did not
+ * resolve: the ball thrown at 38.6 m/s) is still refused. */
+#define TB__ROSENBROCK_TUNNEL_PARTS 4
+
 typedef struct tb__rosenbrock tb__rosenbrock;
 
 /* Allocates the solver for the integrator's system (integrator->rosenbrock): everything but the

@@ -139,6 +139,14 @@ double tb__scene_tunnel_step(const tb_scene *scene, const double *y, double dt, 
     return limit;
 }
 
+double tb__scene_split_limit(double t, const double *y, double h, void *ctx)
+{
+    tb_scene *scene = ctx;
+    scene->time = t; /* bodies without a state, at t */
+    char which[TB_DETAIL_SIZE];
+    return tb__scene_tunnel_step(scene, y, h, which);
+}
+
 tb_status tb__scene_check_impacts(const tb_scene *scene, const double *y, char *detail)
 {
     for (size_t k = 0; k < scene->effect_count; ++k) {

@@ -588,6 +588,8 @@ int tb__scene_roots(double t, const double *y, double *g, void *ctx);
  * least of the effects' tunnel_step for a step dt (0: their quick bounds alone, as the default
  * step uses), the pair that sets it in which (TB_DETAIL_SIZE bytes). */
 double tb__scene_tunnel_step(const tb_scene *scene, const double *y, double dt, char *which);
+/* tb_ode_events.split_limit: tb__scene_tunnel_step at t for a step h. */
+double tb__scene_split_limit(double t, const double *y, double h, void *ctx);
 /* Every effect's check_impacts at y; the detail (TB_DETAIL_SIZE bytes) names the effect. */
 tb_status tb__scene_check_impacts(const tb_scene *scene, const double *y, char *detail);
 /* The step tb_scene_default_step describes, for the scene at state y (stability.c). */

@@ -41,7 +41,8 @@ void tb__scene_jacobian_free(tb_scene *scene)
     void *owned[] = {j->node_start, j->node_of,    j->adjacent_start, j->adjacent, j->column_offset,
                      j->row_base,   j->row_length, j->color_first,    j->by_color, j->color,
                      j->mark,       j->edges,      j->groups,         j->pairs,    j->scale,
-                     j->y_work,     j->f_work,     j->f_base};
+                     j->y_work,     j->f_work,     j->f_base,         j->y_back,   j->f_back,
+                     j->gaps};
     for (size_t k = 0; k < sizeof owned / sizeof owned[0]; ++k) {
         free(owned[k]);
     }
@@ -74,7 +75,8 @@ static bool grow_rooms(tb__jacobian_room *j, size_t n)
         grow(&j->by_color, n, sizeof(size_t)) && grow(&j->color, n, sizeof(size_t)) &&
         grow(&j->mark, n, sizeof(size_t)) && grow(&j->scale, n, sizeof(double)) &&
         grow(&j->y_work, n, sizeof(double)) && grow(&j->f_work, n, sizeof(double)) &&
-        grow(&j->f_base, n, sizeof(double));
+        grow(&j->f_base, n, sizeof(double)) && grow(&j->y_back, n, sizeof(double)) &&
+        grow(&j->f_back, n, sizeof(double));
     if (ok) {
         j->capacity_n = n;
     }
@@ -343,6 +345,12 @@ static tb_status build(tb__jacobian_room *j, tb_scene *scene, const double *y)
     }
     if (!j->valid || !grow_rooms(j, j->n)) {
         return TB_STATUS_OUT_OF_MEMORY;
+    }
+    if (scene->body_count > j->gap_capacity) {
+        if (!grow(&j->gaps, scene->body_count, sizeof(double))) {
+            return TB_STATUS_OUT_OF_MEMORY;
+        }
+        j->gap_capacity = scene->body_count;
     }
     build_nodes(j, scene);
     if (!collect_edges(j, scene, y) || !build_adjacency(j)) {

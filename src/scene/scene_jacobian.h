@@ -53,7 +53,10 @@ struct tb__scene_jacobian {
     double *y_work; /* n: the perturbed state */
     double *f_work; /* n: its derivative */
     double *f_base; /* n: the quotient part of the derivative at y (tb__scene_quotient_part) */
-    size_t capacity_n, capacity_nodes, capacity_adjacent;
+    double *y_back; /* n: the state perturbed back (central quotients) */
+    double *f_back; /* n: its derivative */
+    double *gaps;   /* gap_capacity: each body's nearest gap (central quotients) */
+    size_t capacity_n, capacity_nodes, capacity_adjacent, gap_capacity;
     bool valid; /* a pattern was built for the scene's layout */
 };
 

@@ -298,6 +298,7 @@ static void set_events_and_jacobian(const tb_scene *scene, tb_ode_system *out_sy
 {
     if (tb__scene_has_events(scene)) {
         out_system->events.step_limit = tb__scene_step_limit;
+        out_system->events.split_limit = tb__scene_split_limit;
         out_system->events.at_event =
             scene->sleep != NULL || scene->contact_events != NULL ? tb__scene_at_event : NULL;
     }

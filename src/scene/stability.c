@@ -13,6 +13,7 @@
 #include "scene/scene_internal.h"
 
 #include "core/detail.h"
+#include "ode/rosenbrock.h"
 #include "math/tb_math.h"
 
 #include <math.h>
@@ -183,13 +184,17 @@ tb_status tb_scene_max_stable_step(const tb_scene *scene, tb_method method, doub
 }
 
 /* The tunnelling limit (scene_events.c): a fixed step in which two bodies could close by more
- * than the thinner one's half-thickness is refused, naming them. */
+ * than the thinner one's half-thickness is refused, naming them. rosenbrock halves a step
+ * longer than the limit inside (tb_ode_events.split_limit), so its dt is refused only where a
+ * part of TB__ROSENBROCK_TUNNEL_PARTS is still longer. */
 static tb_status check_tunnelling(const tb_scene *scene, const double *y, tb_method method,
                                   double dt, char *detail)
 {
     char which[TB_DETAIL_SIZE / 2];
-    const double limit =
-        tb_method_is_adaptive(method) ? INFINITY : tb__scene_tunnel_step(scene, y, dt, which);
+    const double parts = method == TB_METHOD_ROSENBROCK ? TB__ROSENBROCK_TUNNEL_PARTS : 1.0;
+    const double limit = tb_method_is_adaptive(method)
+                             ? INFINITY
+                             : parts * tb__scene_tunnel_step(scene, y, dt, which);
     if (!(dt > limit)) {
         return TB_STATUS_OK;
     }
