@@ -566,9 +566,8 @@ int tb__scene_block_derivative(double t, const double *y, double *dydt, size_t f
 int tb__scene_block_normalize(double t, double *y, size_t first, size_t count, void *ctx);
 
 /* The run-time stability gate (stability.c): TB_STATUS_UNSTABLE_STEP, with a detail (of
- * TB_DETAIL_SIZE bytes) naming the body or effect, its rate and the largest stable step, when a
- * fixed step dt of method is beyond the scene's stability limit at state y, unless the scene
- * allows unstable steps. */
+ * TB_DETAIL_SIZE bytes) naming the body or effect, its rate and the largest stable step, when
+ * a fixed step dt of method is beyond the scene's limit at y, unless the scene allows it. */
 tb_status tb__scene_check_step(const tb_scene *scene, const double *y, tb_method method, double dt,
                                char *detail);
 
@@ -580,8 +579,7 @@ int tb__scene_event_gaps(double t, const double *y, double *gap, void *ctx);
  * g[n .. 2n): the root functions of a scene whose bodies can sleep. */
 int tb__scene_event_and_wake_gaps(double t, const double *y, double *g, void *ctx);
 double tb__scene_step_limit(double t, const double *y, const double *dydt, void *ctx);
-/* All the scene's root functions, how many: the effects' gaps (and wake gaps), then the
- * constraints' (tb__constraint_ops.roots). */
+/* The scene's root functions: the effects' (wake) gaps, then tb__constraint_ops.roots. */
 size_t tb__scene_root_count(const tb_scene *scene);
 int tb__scene_roots(double t, const double *y, double *g, void *ctx);
 /* The longest fixed step at y in which no body can pass through another (INFINITY: none): the
