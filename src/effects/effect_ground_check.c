@@ -107,9 +107,8 @@ tb_status tb__ground_check_points(const tb__effect *effect, const tb_scene *scen
                                   size_t id, size_t first, char *detail)
 {
     const tb__ground_params *ground = tb__ground_of(effect);
-    tb__ground_note before;
-    const tb_status noted = tb__ground_shapes_note_points(
-        effect, scene, id, first < scene->contact_count, &before, detail);
+    const tb_status noted =
+        tb__ground_shapes_note_points(effect, scene, id, first < scene->contact_count, detail);
     tb_status status = noted;
     for (size_t j = first; j < scene->contact_count && status == TB_STATUS_OK; ++j) {
         status = check_point_start(ground, scene, y, j, detail);
@@ -122,7 +121,7 @@ tb_status tb__ground_check_points(const tb__effect *effect, const tb_scene *scen
         status = tb__ground_shapes_check_start(effect, scene, y, id, id + 1, limit, detail);
     }
     if (noted == TB_STATUS_OK && status != TB_STATUS_OK) { /* refused: the flag as it was */
-        tb__ground_shapes_unnote(effect, id, &before);
+        tb__ground_shapes_unnote(effect);
     }
     return status;
 }

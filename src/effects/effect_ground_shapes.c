@@ -21,17 +21,16 @@
 #include <string.h>
 
 typedef struct tb__ground_shapes {
-    /* the law's and friction's constants (pairs, bodies and lookahead unused); friction: the
-     * slot pool, NULL for none */
+    /* the law's, friction's constants (pairs, bodies, lookahead unused); friction: NULL or pool */
     tb__contact_params law;
     size_t pool_bodies; /* ids below this may hold slots */
     double presliding;  /* m, the pool's scale */
     /* TB__GROUND_SLOTS_PER_SHAPE per body met through its shape, 1 + the largest such id (an
      * upper bound), at least the bodies met: at the last refresh, kept by note_points since */
     size_t slots_wanted, ids_wanted, met_bound;
-    /* has_points[i]: body i has contact points, for i below capacity (the body count at the
-     * last refresh, or more); bodies past it have none: points are only set through
-     * tb_scene_set_contact_points, whose check notes the body's flag */
+    tb__ground_note undo; /* what the last note_points changed, as it was */
+    /* has_points[i]: body i has contact points, for i below capacity (bodies past it have
+     * none: points are set by tb_scene_set_contact_points, whose check notes the flag) */
     unsigned char *has_points;
     size_t capacity;
 } tb__ground_shapes;
@@ -384,7 +383,7 @@ bool tb__ground_meets_shape(const tb__effect *effect, const tb_scene *scene, siz
 }
 
 tb_status tb__ground_shapes_note_points(const tb__effect *effect, const tb_scene *scene, size_t id,
-                                        bool has_points, tb__ground_note *before, char *detail)
+                                        bool has_points, char *detail)
 {
     tb__ground_shapes *shapes = tb__ground_of(effect)->shapes;
     if (id >= shapes->capacity) { /* doubling: bodies given points one by one, O(n) in all */
@@ -399,8 +398,8 @@ tb_status tb__ground_shapes_note_points(const tb__effect *effect, const tb_scene
         shapes->has_points = flags;
         shapes->capacity = n;
     }
-    *before = (tb__ground_note){shapes->slots_wanted, shapes->ids_wanted, shapes->met_bound,
-                                shapes->has_points[id] != 0};
+    shapes->undo = (tb__ground_note){id, shapes->slots_wanted, shapes->ids_wanted,
+                                     shapes->met_bound, shapes->has_points[id] != 0};
     const bool was = meets_shape(shapes, scene, id);
     shapes->has_points[id] = has_points;
     const bool now = meets_shape(shapes, scene, id);
@@ -417,10 +416,11 @@ tb_status tb__ground_shapes_note_points(const tb__effect *effect, const tb_scene
     return TB_STATUS_OK;
 }
 
-void tb__ground_shapes_unnote(const tb__effect *effect, size_t id, const tb__ground_note *before)
+void tb__ground_shapes_unnote(const tb__effect *effect)
 {
     tb__ground_shapes *shapes = tb__ground_of(effect)->shapes;
-    shapes->has_points[id] = before->had;
+    const tb__ground_note *before = &shapes->undo;
+    shapes->has_points[before->id] = before->had;
     shapes->slots_wanted = before->slots_wanted;
     shapes->ids_wanted = before->ids_wanted;
     shapes->met_bound = before->met_bound;

@@ -49,15 +49,16 @@ tb_status tb__ground_shapes_refresh(const tb__effect *effect, const tb_scene *sc
 /* Body id's flag alone, after its points were set (has_points: it has some now), and the counts
  * of bodies met through their shapes with it: tb__ground_shapes_refresh's work for one body, so
  * that n bodies given points one by one cost O(n). TB_STATUS_OUT_OF_MEMORY (detail), nothing
- * changed, when the flags cannot grow; else what changed in *before. */
-typedef struct tb__ground_note { /* what note_points changed, as it was before */
-    size_t slots_wanted, ids_wanted, met_bound;
+ * changed, when the flags cannot grow. */
+typedef struct tb__ground_note { /* what note_points changed (body id's flag), as it was */
+    size_t id, slots_wanted, ids_wanted, met_bound;
     bool had;
 } tb__ground_note;
 tb_status tb__ground_shapes_note_points(const tb__effect *effect, const tb_scene *scene, size_t id,
-                                        bool has_points, tb__ground_note *before, char *detail);
-/* Puts back what a successful note_points changed (a check after it refused the points). */
-void tb__ground_shapes_unnote(const tb__effect *effect, size_t id, const tb__ground_note *before);
+                                        bool has_points, char *detail);
+/* tb__effect_stepping.uncheck_points: puts back what the last note_points changed (a check after
+ * it, this effect's or another's, refused the points). */
+void tb__ground_shapes_unnote(const tb__effect *effect);
 
 /* Whether the ground meets body id through its shape: it can move, has one and no points. */
 bool tb__ground_meets_shape(const tb__effect *effect, const tb_scene *scene, size_t id);
