@@ -456,6 +456,65 @@ static void test_removing_points_checks_the_shape_they_held_up(void **state)
     tb_scene_destroy(scene);
 }
 
+/* Points refused (one starting 0.4 m below the plane) leave the plane meeting the ball's shape:
+ * the refused call noted the body as one with points, so the plane skipped its shape and the
+ * ball, resting at z = 0.1 m, fell through it (z = -3.5 m one second later) under the integrator
+ * made before. It rests there still: its centre sinks by the penetration (8e-7 m by default);
+ * the tolerance, 1e-5 m, is 12 penetrations and far from the 4.9 m of a free fall. */
+static void test_refused_points_leave_the_plane_under_the_shape(void **state)
+{
+    (void)state;
+    tb_ground_def ground = tb_ground_def_default();
+    tb_scene *scene = scene_on_plane(0.0, &ground);
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+    const size_t id = add_shaped(scene, TB_SHAPE_SPHERE, 1.0, (double[]){0.0, 0.0, 0.1}, NULL);
+    tb_integrator *integrator = test_integrator_for(scene, TB_METHOD_CVODE_BDF, 0.0, 1e-8);
+    assert_int_equal(tb_integrator_advance(integrator, 0.2), TB_STATUS_OK);
+    const tb_contact_point deep = {{0.0, 0.0, -0.5}, 0.0};
+    assert_int_equal(tb_scene_set_contact_points(scene, id, &deep, 1, 1),
+                     TB_STATUS_INVALID_ARGUMENT);
+    assert_int_equal(tb_integrator_advance(integrator, 1.2), TB_STATUS_OK);
+    assert_true(fabs(height_of(scene, id) - 0.1) < 1e-5);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
+/* The same with two planes: a wall at x = -1 (added first) takes the points (the point is 0.6 m
+ * clear of it) and the floor refuses them; the wall had noted the body as one with points and
+ * kept that, so the ball rolling at 1 m/s passed through the wall (x = -1.44 m at 2 s). Now it
+ * meets the wall within a second and comes back: its centre never passes x = -0.9 m, the wall
+ * less its radius (the tolerance: the law's penetration, 8e-7 m, is far below the 0.5 m margin
+ * of the passing ball). */
+static void test_points_refused_by_one_plane_leave_the_others_as_they_were(void **state)
+{
+    (void)state;
+    tb_ground_def wall = tb_ground_def_default(), floor = tb_ground_def_default();
+    tb_scene *scene = scene_on_plane(0.0, &floor);
+    wall.normal[0] = 1.0;
+    wall.normal[2] = 0.0;
+    wall.offset = -1.0;
+    assert_int_equal(tb_scene_add_ground(scene, &wall), TB_STATUS_OK);
+    assert_int_equal(tb_scene_add_ground(scene, &floor), TB_STATUS_OK);
+    const size_t id = add_shaped(scene, TB_SHAPE_SPHERE, 1.0, (double[]){0.0, 0.0, 0.1}, NULL);
+    assert_int_equal(
+        tb_scene_set_velocity(scene, id, (double[]){-1.0, 0.0, 0.0}, (double[]){0.0, 0.0, 0.0}),
+        TB_STATUS_OK);
+    tb_integrator *integrator = test_integrator_for(scene, TB_METHOD_CVODE_BDF, 0.0, 1e-8);
+    assert_int_equal(tb_integrator_advance(integrator, 0.05), TB_STATUS_OK);
+    const tb_contact_point deep = {{0.0, 0.0, -0.5}, 0.0};
+    assert_int_equal(tb_scene_set_contact_points(scene, id, &deep, 1, 1),
+                     TB_STATUS_INVALID_ARGUMENT);
+    double least = INFINITY;
+    for (int k = 1; k <= 40; ++k) {
+        assert_int_equal(tb_integrator_advance(integrator, 0.05 * k), TB_STATUS_OK);
+        least = fmin(least, tb_scene_states_const(scene)[TB_STATE_SIZE * id]);
+    }
+    assert_true(least > -0.9 - 1e-6);
+    assert_true(tb_scene_states_const(scene)[TB_STATE_SIZE * id] > -0.9);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -470,6 +529,8 @@ int main(void)
         cmocka_unit_test(test_shape_on_the_ground_falls_asleep_where_it_rests),
         cmocka_unit_test(test_points_keep_their_law_when_the_body_has_a_shape),
         cmocka_unit_test(test_removing_points_checks_the_shape_they_held_up),
+        cmocka_unit_test(test_refused_points_leave_the_plane_under_the_shape),
+        cmocka_unit_test(test_points_refused_by_one_plane_leave_the_others_as_they_were),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -232,6 +232,43 @@ static void test_pair_list_with_a_nan_bound_gives_what_a_fresh_list_gives(void *
     tb__pair_list_free(&used);
 }
 
+/* A box at x = +infinity reaching across all of y (a body thrown off to infinity, as a step
+ * that blew up may ask the derivative about) meets no box with a finite x: the all-pairs check
+ * finds none of its pairs. Growing it by a skin (a share of its infinite side) made its x bounds
+ * inf - inf = NaN, and the sweep of the grown boxes then found pairs by the order it had sorted
+ * them in before: neither the boxes' pairs nor the same for a list used before. Twenty scenes
+ * of 60 boxes, each checked by a fresh list and by one list kept across them, exactly. */
+static void test_pair_list_with_an_infinite_box_gives_the_boxes_pairs(void **state)
+{
+    (void)state;
+    enum { N = 60, SCENES = 20 };
+    uint64_t rng = 23;
+    tb__pair_list used;
+    assert_int_equal(tb__pair_list_init(&used, N), TB_STATUS_OK);
+    static unsigned char active[N], seen[N * N];
+    memset(active, 1, sizeof active);
+    for (int scene = 0; scene < SCENES; ++scene) {
+        tb__pair_list fresh;
+        assert_int_equal(tb__pair_list_init(&fresh, N), TB_STATUS_OK);
+        for (size_t i = 0; i < N; ++i) {
+            const double c[3] = {test_uniform(&rng, 0.0, 3.0), test_uniform(&rng, 0.0, 3.0),
+                                 test_uniform(&rng, 0.0, 3.0)};
+            set_box(&fresh.bounds[i], c, test_uniform(&rng, 0.1, 0.4));
+        }
+        const size_t far = (size_t)test_uniform(&rng, 0.0, N - 0.5);
+        fresh.bounds[far].min[0] = fresh.bounds[far].max[0] = INFINITY;
+        fresh.bounds[far].min[1] = -INFINITY;
+        fresh.bounds[far].max[1] = INFINITY;
+        memcpy(fresh.broad.active, active, N);
+        memcpy(used.bounds, fresh.bounds, N * sizeof *fresh.bounds);
+        memcpy(used.broad.active, active, N);
+        check_pass(&fresh, active, N, false, 64, seen);
+        check_pass(&used, active, N, false, 7, seen);
+        tb__pair_list_free(&fresh);
+    }
+    tb__pair_list_free(&used);
+}
+
 /* A lattice of balls 1 mm into each other on a floor, jostled with random speeds and spins (so
  * each ball's six contact and friction forces differ), under gravity, ground and contact. */
 static tb_scene *jostled_balls(void)
@@ -327,6 +364,7 @@ int main(void)
         cmocka_unit_test(test_pair_list_gives_the_all_pairs_checks_pairs_in_order_at_every_pass),
         cmocka_unit_test(test_pair_list_gives_every_pair_once_when_it_cannot_hold_them),
         cmocka_unit_test(test_pair_list_with_a_nan_bound_gives_what_a_fresh_list_gives),
+        cmocka_unit_test(test_pair_list_with_an_infinite_box_gives_the_boxes_pairs),
         cmocka_unit_test(test_the_derivative_is_the_same_bits_whatever_was_evaluated_before),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -67,8 +67,9 @@ void tb__pair_list_invalidate(tb__pair_list *list)
     list->valid = false;
 }
 
-/* box grown by share of its largest side on every side into out (share 0: the box itself, also
- * with an infinite side, where share * side would be NaN). */
+/* box grown by share of its largest side on every side into out; the box itself for share 0,
+ * and for an infinite skin (a side of infinite length), which would make an infinite bound NaN
+ * (inf - inf) and the grown box's pairs depend on the sweep's order, not on the boxes. */
 static void grow(const tb__aabb *box, double share, tb__aabb *out)
 {
     double side = 0.0;
@@ -76,7 +77,7 @@ static void grow(const tb__aabb *box, double share, tb__aabb *out)
         const double s = box->max[k] - box->min[k];
         side = s > side ? s : side;
     }
-    const double skin = share > 0.0 ? share * side : 0.0;
+    const double skin = share > 0.0 && isfinite(share * side) ? share * side : 0.0;
     for (int k = 0; k < 3; ++k) {
         out->min[k] = box->min[k] - skin;
         out->max[k] = box->max[k] + skin;

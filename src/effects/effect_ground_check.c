@@ -107,8 +107,9 @@ tb_status tb__ground_check_points(const tb__effect *effect, const tb_scene *scen
                                   size_t id, size_t first, char *detail)
 {
     const tb__ground_params *ground = tb__ground_of(effect);
-    tb_status status =
+    const tb_status noted =
         tb__ground_shapes_note_points(effect, scene, id, first < scene->contact_count, detail);
+    tb_status status = noted;
     for (size_t j = first; j < scene->contact_count && status == TB_STATUS_OK; ++j) {
         status = check_point_start(ground, scene, y, j, detail);
     }
@@ -116,7 +117,11 @@ tb_status tb__ground_check_points(const tb__effect *effect, const tb_scene *scen
         status = tb__ground_check_shape(effect, (tb_scene *)scene, id); /* its size (F95) */
     }
     const double limit = TB__START_DEPTH_PENETRATIONS * ground->penetration;
-    return status == TB_STATUS_OK
-               ? tb__ground_shapes_check_start(effect, scene, y, id, id + 1, limit, detail)
-               : status;
+    if (status == TB_STATUS_OK) {
+        status = tb__ground_shapes_check_start(effect, scene, y, id, id + 1, limit, detail);
+    }
+    if (noted == TB_STATUS_OK && status != TB_STATUS_OK) { /* refused: the flag as it was */
+        tb__ground_shapes_unnote(effect);
+    }
+    return status;
 }

@@ -21,19 +21,16 @@
 #include <string.h>
 
 typedef struct tb__ground_shapes {
-    /* the law's and friction's constants (pairs, bodies and lookahead unused); friction: the
-     * slot pool, NULL for none */
+    /* the law's, friction's constants (pairs, bodies, lookahead unused); friction: NULL or pool */
     tb__contact_params law;
     size_t pool_bodies; /* ids below this may hold slots */
     double presliding;  /* m, the pool's scale */
-    /* at the last refresh: TB__GROUND_SLOTS_PER_SHAPE per body met through its shape, and
-     * 1 + the largest such body's id (kept by tb__ground_shapes_note_points since, the id an
-     * upper bound) */
-    size_t slots_wanted, ids_wanted;
-    size_t met_bound; /* at least the bodies met through their shapes now */
-    /* has_points[i]: body i has contact points, for i below capacity (the body count at the
-     * last refresh, or more); bodies past it have none: points are only set through
-     * tb_scene_set_contact_points, whose check notes the body's flag */
+    /* TB__GROUND_SLOTS_PER_SHAPE per body met through its shape, 1 + the largest such id (an
+     * upper bound), at least the bodies met: at the last refresh, kept by note_points since */
+    size_t slots_wanted, ids_wanted, met_bound;
+    tb__ground_note undo; /* what the last note_points changed, as it was */
+    /* has_points[i]: body i has contact points, for i below capacity (bodies past it have
+     * none: points are set by tb_scene_set_contact_points, whose check notes the flag) */
     unsigned char *has_points;
     size_t capacity;
 } tb__ground_shapes;
@@ -401,6 +398,8 @@ tb_status tb__ground_shapes_note_points(const tb__effect *effect, const tb_scene
         shapes->has_points = flags;
         shapes->capacity = n;
     }
+    shapes->undo = (tb__ground_note){id, shapes->slots_wanted, shapes->ids_wanted,
+                                     shapes->met_bound, shapes->has_points[id] != 0};
     const bool was = meets_shape(shapes, scene, id);
     shapes->has_points[id] = has_points;
     const bool now = meets_shape(shapes, scene, id);
@@ -415,6 +414,16 @@ tb_status tb__ground_shapes_note_points(const tb__effect *effect, const tb_scene
         shapes->slots_wanted -= TB__GROUND_SLOTS_PER_SHAPE;
     }
     return TB_STATUS_OK;
+}
+
+void tb__ground_shapes_unnote(const tb__effect *effect)
+{
+    tb__ground_shapes *shapes = tb__ground_of(effect)->shapes;
+    const tb__ground_note *before = &shapes->undo;
+    shapes->has_points[before->id] = before->had;
+    shapes->slots_wanted = before->slots_wanted;
+    shapes->ids_wanted = before->ids_wanted;
+    shapes->met_bound = before->met_bound;
 }
 
 tb_status tb__ground_shapes_refresh(const tb__effect *effect, const tb_scene *scene, char *detail)

@@ -50,8 +50,15 @@ tb_status tb__ground_shapes_refresh(const tb__effect *effect, const tb_scene *sc
  * of bodies met through their shapes with it: tb__ground_shapes_refresh's work for one body, so
  * that n bodies given points one by one cost O(n). TB_STATUS_OUT_OF_MEMORY (detail), nothing
  * changed, when the flags cannot grow. */
+typedef struct tb__ground_note { /* what note_points changed (body id's flag), as it was */
+    size_t id, slots_wanted, ids_wanted, met_bound;
+    bool had;
+} tb__ground_note;
 tb_status tb__ground_shapes_note_points(const tb__effect *effect, const tb_scene *scene, size_t id,
                                         bool has_points, char *detail);
+/* tb__effect_stepping.uncheck_points: puts back what the last note_points changed (a check after
+ * it, this effect's or another's, refused the points). */
+void tb__ground_shapes_unnote(const tb__effect *effect);
 
 /* Whether the ground meets body id through its shape: it can move, has one and no points. */
 bool tb__ground_meets_shape(const tb__effect *effect, const tb_scene *scene, size_t id);

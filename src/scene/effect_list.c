@@ -144,6 +144,12 @@ tb_status tb__scene_check_points(tb_scene *scene, const double *y, size_t id, si
         if (stepping->check_points != NULL) {
             const tb_status status =
                 stepping->check_points(effect, scene, y, id, first, scene->detail);
+            for (size_t k = 0; k < e && status != TB_STATUS_OK; ++k) { /* those that took them */
+                const tb__effect_stepping *taken = tb__stepping_of(&scene->effects[k]);
+                if (taken->check_points != NULL && taken->uncheck_points != NULL) {
+                    taken->uncheck_points(&scene->effects[k]);
+                }
+            }
             if (status != TB_STATUS_OK) {
                 return status;
             }

@@ -181,12 +181,12 @@ struct tb__effect_stepping {
      * is one the effect can push; a refusal (the scene's detail naming the body and the effect)
      * leaves the old shape in place. Changes nothing. NULL: every shape will do. */
     tb_status (*check_shape)(const tb__effect *effect, tb_scene *scene, size_t id);
-    /* Body id's contact points were just set (tb_scene_set_contact_points): they are
-     * contacts[first .. contact_count), none when first is the count. Refuses, as check_start
-     * would, what the change made wrong for body id alone, at y; the other bodies' points and
-     * shapes are as check_start last saw them. NULL: points change nothing the effect checks. */
+    /* Body id's points were just set: contacts[first .. contact_count). Refuses, as check_start
+     * would, what the change made wrong for body id alone, at y (the other bodies as check_start
+     * last saw them); uncheck_points undoes what it changed when a later effect's refuses. */
     tb_status (*check_points)(const tb__effect *effect, const tb_scene *scene, const double *y,
                               size_t id, size_t first, char *detail);
+    void (*uncheck_points)(const tb__effect *effect);
     /* Contact events (scene/contact_event_watch.c): writes the effect's pairs within
      * TB__EVENT_LOOKAHEAD at y, the first capacity of them into out (tb__event_pair), and
      * returns how many there are. Called at step boundaries only. NULL: no contact events. */
