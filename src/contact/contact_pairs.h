@@ -42,6 +42,14 @@ void tb__contact_pairs_skip_asleep(tb__contact_pairs *pairs, bool skip);
 tb_status tb__contact_pairs_check_ids(const tb_scene *scene, const size_t *bodies, size_t count,
                                       char *detail);
 
+/* Whether a pass needs a plain box pair's manifold, given a floor under its gap
+ * (tb__box_box_gap_floor, m); ctx as given. A pass that only lowers per-body gaps (the
+ * look-ahead's event gaps and wake links) passes over a pair whose floor already lies above
+ * what it could lower: the pair is not handed back, and the pass's result is the same bits.
+ * Set for the passes that follow (NULL, the default: every pair). */
+typedef bool (*tb__pair_needed)(void *ctx, size_t body_a, size_t body_b, double gap_floor);
+void tb__contact_pairs_filter(tb__contact_pairs *pairs, tb__pair_needed needed, void *ctx);
+
 /* Starts a pass at state y (the scene's state array) at time t (bodies without a state are
  * read there): bounds, sort. */
 void tb__contact_pairs_begin(tb__contact_pairs *pairs, const tb_scene *scene, double t,

@@ -490,3 +490,28 @@ int tb__box_box_framed(const tb__collision_shape *a, const double pose_a[TB__POS
     }
     return tb__reduce_candidates(&c, n, out);
 }
+
+double tb__box_box_gap_floor(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                             const tb__box_frame *frame_a, const tb__collision_shape *b,
+                             const double pose_b[TB__POSE_SIZE], const tb__box_frame *frame_b)
+{
+    box_pose A = {.center = pose_a, .half = a->half, .frame = frame_a};
+    box_pose B = {.center = pose_b, .half = b->half, .frame = frame_b};
+    memcpy(A.axis, frame_a->axis, sizeof A.axis);
+    memcpy(B.axis, frame_b->axis, sizeof B.axis);
+    const double T[3] = {pose_b[0] - pose_a[0], pose_b[1] - pose_a[1], pose_b[2] - pose_a[2]};
+    double faces[2][3];
+    pair_dots dots;
+    face_separations(&A, &B, T, faces, &dots);
+    double best = -INFINITY;
+    for (int k = 0; k < 6; ++k) {
+        best = faces[k / 3][k % 3] > best ? faces[k / 3][k % 3] : best;
+    }
+    const double size = a->half[0] + a->half[1] + a->half[2] + b->half[0] + b->half[1] + b->half[2];
+    double scale = 2.0 * size;
+    for (int k = 0; k < 3; ++k) {
+        scale += fabs(pose_a[k]) + fabs(pose_b[k]);
+    }
+    const double floor = best - 1e3 * dots.defect * scale;
+    return isfinite(floor) ? floor : -INFINITY;
+}
