@@ -85,17 +85,20 @@ typedef struct gaps_target {
     const double *gap, *wake;
 } gaps_target;
 
-/* tb__pair_needed for gaps_pass: a pair whose gap, at least floor, is above both bodies' gaps
- * (and, mixed, above both wake gaps plus TB__WAKE_DISTANCE: rounding is monotone) would leave
- * each fmin below as it is. */
-static bool gaps_needed(void *ctx, size_t a, size_t b, double floor)
+/* tb__pair_level for gaps_pass: a pair whose gap is above both bodies' gaps leaves each fmin
+ * below as it is (a NaN gap: every pair). A mixed pair's wake gaps are the gap less
+ * TB__WAKE_DISTANCE, rounded: +infinity, every mixed pair, when there are wake gaps. */
+static double gaps_level(void *ctx, size_t a, size_t b)
 {
     const gaps_target *t = ctx;
-    if (t->gap != NULL && !(floor > t->gap[a] && floor > t->gap[b])) {
-        return true;
+    if (t->wake != NULL && mixed(t->scene, a, b)) {
+        return INFINITY;
     }
-    const double w = floor - TB__WAKE_DISTANCE;
-    return t->wake != NULL && mixed(t->scene, a, b) && !(w > t->wake[a] && w > t->wake[b]);
+    if (t->gap == NULL) {
+        return -INFINITY;
+    }
+    const double ga = t->gap[a], gb = t->gap[b];
+    return isnan(ga) || isnan(gb) ? INFINITY : fmax(ga, gb);
 }
 
 static void gaps_pass(const tb__effect *effect, const tb_scene *scene, const double *y, double *gap,
@@ -104,7 +107,7 @@ static void gaps_pass(const tb__effect *effect, const tb_scene *scene, const dou
     tb__contact_pairs *pairs = tb__contact_of(effect)->lookahead;
     tb__pair_contact batch[TB__EVENT_BATCH];
     gaps_target target = {scene, gap, wake};
-    tb__contact_pairs_filter(pairs, gaps_needed, &target);
+    tb__contact_pairs_filter(pairs, gaps_level, &target);
     tb__contact_pairs_begin(pairs, scene, scene->time, y);
     size_t count;
     while ((count = tb__contact_pairs_next(pairs, scene, y, batch, TB__EVENT_BATCH)) > 0) {
@@ -157,10 +160,10 @@ static double link_gap(const links_target *t, size_t a, size_t b)
     return TB__CONTACT_MARGIN + 2.0 * closing * t->dt;
 }
 
-/* tb__pair_needed for the wake links: a pair whose gap is at least its link gap is not linked. */
-static bool links_needed(void *ctx, size_t a, size_t b, double floor)
+/* tb__pair_level for the wake links: a pair whose gap is above its link gap is not linked. */
+static double links_level(void *ctx, size_t a, size_t b)
 {
-    return !(floor >= link_gap(ctx, a, b));
+    return link_gap(ctx, a, b);
 }
 
 void tb__contact_wake_links(const tb__effect *effect, const tb_scene *scene, const double *y,
@@ -169,7 +172,7 @@ void tb__contact_wake_links(const tb__effect *effect, const tb_scene *scene, con
     tb__contact_pairs *pairs = tb__contact_of(effect)->lookahead;
     tb__pair_contact batch[TB__EVENT_BATCH];
     links_target target = {scene, y, dt};
-    tb__contact_pairs_filter(pairs, links_needed, &target);
+    tb__contact_pairs_filter(pairs, links_level, &target);
     tb__contact_pairs_begin(pairs, scene, scene->time, y);
     size_t count;
     while ((count = tb__contact_pairs_next(pairs, scene, y, batch, TB__EVENT_BATCH)) > 0) {
