@@ -160,19 +160,14 @@ static double link_gap(const links_target *t, size_t a, size_t b)
     return TB__CONTACT_MARGIN + 2.0 * closing * t->dt;
 }
 
-/* tb__pair_level for the wake links: a pair whose gap is above its link gap is not linked. */
-static double links_level(void *ctx, size_t a, size_t b)
-{
-    return link_gap(ctx, a, b);
-}
-
 void tb__contact_wake_links(const tb__effect *effect, const tb_scene *scene, const double *y,
                             double dt)
 {
     tb__contact_pairs *pairs = tb__contact_of(effect)->lookahead;
     tb__pair_contact batch[TB__EVENT_BATCH];
-    links_target target = {scene, y, dt};
-    tb__contact_pairs_filter(pairs, links_level, &target);
+    /* no level: a pair's link gap costs two bodies' motion bounds, more than the manifold it
+     * would spare (bench_contact_work's dominoes, docs/performance.md) */
+    const links_target target = {scene, y, dt};
     tb__contact_pairs_begin(pairs, scene, scene->time, y);
     size_t count;
     while ((count = tb__contact_pairs_next(pairs, scene, y, batch, TB__EVENT_BATCH)) > 0) {
@@ -183,7 +178,6 @@ void tb__contact_wake_links(const tb__effect *effect, const tb_scene *scene, con
             }
         }
     }
-    tb__contact_pairs_filter(pairs, NULL, NULL);
 }
 
 /* How far body id's shape reaches from its centre of mass at y (m). */
