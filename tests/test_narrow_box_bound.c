@@ -28,6 +28,8 @@
 #define tb__box_box ref_box_box
 #define tb__box_box_framed ref_box_box_framed
 #define tb__box_frame_at ref_box_frame_at
+#define tb__box_box_gap_floor ref_box_box_gap_floor
+#define tb__box_box_below ref_box_box_below
 #include "contact/narrow_box.c"
 #undef tb__box_sphere_candidate
 #undef tb__box_sphere
@@ -35,6 +37,8 @@
 #undef tb__box_box
 #undef tb__box_box_framed
 #undef tb__box_frame_at
+#undef tb__box_box_gap_floor
+#undef tb__box_box_below
 int tb__box_box(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
                 const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE], double margin,
                 tb__contact_manifold *out);

@@ -27,6 +27,8 @@ struct tb__contact_pairs {
     size_t batch_count, batch_next; /* fetched candidates and the next to test */
     size_t piece_a, piece_b;        /* the next piece pair of candidate batch_next */
     bool skip_asleep;               /* pairs of two asleep bodies are not tested */
+    tb__pair_level level;           /* NULL: every pair (tb__contact_pairs_filter) */
+    void *level_ctx;
     /* count: box b's pose, frame and bounds are those of its frozen body (sleep_frozen.h),
      * kept from an earlier pass while the asleep set and the shapes (their generations)
      * stay */
@@ -215,6 +217,26 @@ static bool pieces_near(const tb__collision_shape *a, const double pose_a[TB__PO
     return true;
 }
 
+void tb__contact_pairs_filter(tb__contact_pairs *pairs, tb__pair_level level, void *ctx)
+{
+    pairs->level = level;
+    pairs->level_ctx = ctx;
+}
+
+/* The narrow phase on the pieces, into o (bodies set); returns whether they touch. Two plain
+ * boxes (both frames given) are passed over above the pass's level, if it has one. */
+static bool test_pieces(const tb__contact_pairs *pairs, const tb__collision_shape *piece_a,
+                        const double world_a[TB__POSE_SIZE], const tb__box_frame *frame_a,
+                        const tb__collision_shape *piece_b, const double world_b[TB__POSE_SIZE],
+                        const tb__box_frame *frame_b, tb__pair_contact *o)
+{
+    const double level = pairs->level != NULL && frame_a != NULL && frame_b != NULL
+                             ? pairs->level(pairs->level_ctx, o->body_a, o->body_b)
+                             : INFINITY;
+    return tb__collide_below(piece_a, world_a, frame_a, piece_b, world_b, frame_b, level,
+                             pairs->margin, &o->manifold) > 0;
+}
+
 /* Runs the narrow phase on box pair c's piece pairs from the pass's next one, writing the
  * touching ones to out (up to capacity); returns how many. c is done when pairs->piece_a is
  * back at 0 (a pair of plain shapes: one test, as before pieces). */
@@ -258,8 +280,7 @@ static size_t test_pair(tb__contact_pairs *pairs, const tb_scene *scene, const t
             const bool box_a = shape_a->type == TB_SHAPE_BOX, box_b = shape_b->type == TB_SHAPE_BOX;
             const tb__box_frame *frame_a = box_a ? &pairs->frames[first] : NULL;
             const tb__box_frame *frame_b = box_b ? &pairs->frames[second] : NULL;
-            written += tb__collide_framed(piece_a, world_a, frame_a, piece_b, world_b, frame_b,
-                                          pairs->margin, &o->manifold) > 0;
+            written += test_pieces(pairs, piece_a, world_a, frame_a, piece_b, world_b, frame_b, o);
         }
         if (last) {
             break;

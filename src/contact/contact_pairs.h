@@ -42,6 +42,14 @@ void tb__contact_pairs_skip_asleep(tb__contact_pairs *pairs, bool skip);
 tb_status tb__contact_pairs_check_ids(const tb_scene *scene, const size_t *bodies, size_t count,
                                       char *detail);
 
+/* The level a pass needs a plain box pair's gap (minus its deepest point's depth, m) to be at
+ * most for the pair to count (ctx as given; +infinity: always). A pass that only lowers per-body
+ * gaps (the look-ahead's event and wake gaps) passes over a pair of boxes whose
+ * gap floor is above it (tb__collide_below): the pair is not handed back, and the pass's result
+ * is the same bits. Set for the passes that follow (NULL, the default: every pair). */
+typedef double (*tb__pair_level)(void *ctx, size_t body_a, size_t body_b);
+void tb__contact_pairs_filter(tb__contact_pairs *pairs, tb__pair_level level, void *ctx);
+
 /* Starts a pass at state y (the scene's state array) at time t (bodies without a state are
  * read there): bounds, sort. */
 void tb__contact_pairs_begin(tb__contact_pairs *pairs, const tb_scene *scene, double t,

@@ -406,13 +406,11 @@ static bool edge_cannot_win(const box_pose *a, const box_pose *b, const pair_dot
  * best never falls): the pair is apart whatever the edge axes say, and only its normal, which
  * tb__collide leaves unspecified for a pair apart, could differ. Most candidate pairs of a pile
  * are apart along a face. */
-static best_axis find_axis(const box_pose *a, const box_pose *b, const double T[3], double margin)
+static best_axis find_axis(const box_pose *a, const box_pose *b, const double T[3], double margin,
+                           double faces[2][3], const pair_dots *dots)
 {
     const double size = a->half[0] + a->half[1] + a->half[2] + b->half[0] + b->half[1] + b->half[2];
     best_axis best = {.separation = -INFINITY};
-    double faces[2][3];
-    pair_dots dots;
-    face_separations(a, b, T, faces, &dots);
     for (int kind = 0; kind < 2; ++kind) {
         for (int i = 0; i < 3; ++i) {
             const double *L = (kind == 0 ? a : b)->axis[i];
@@ -426,7 +424,7 @@ static best_axis find_axis(const box_pose *a, const box_pose *b, const double T[
     for (int i = 0; i < 3; ++i) {
         for (int j = 0; j < 3; ++j) {
             if (TB__BOX_EDGE_BOUND &&
-                edge_cannot_win(a, b, &dots, scale, i, j, best.separation + 1e-6 * size)) {
+                edge_cannot_win(a, b, dots, scale, i, j, best.separation + 1e-6 * size)) {
                 continue;
             }
             double L[3];
@@ -448,12 +446,72 @@ int tb__box_box(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE]
     return tb__box_box_framed(a, pose_a, NULL, b, pose_b, NULL, margin, out);
 }
 
+/* The floor of tb__box_box_gap_floor from the pair's face separations. */
+static double gap_floor(const box_pose *a, const box_pose *b, double faces[2][3],
+                        const pair_dots *dots)
+{
+    double best = -INFINITY;
+    for (int k = 0; k < 6; ++k) {
+        best = faces[k / 3][k % 3] > best ? faces[k / 3][k % 3] : best;
+    }
+    double scale = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        scale += 2.0 * (a->half[k] + b->half[k]) + fabs(a->center[k]) + fabs(b->center[k]);
+    }
+    const double floor = best - 1e3 * dots->defect * scale;
+    return isfinite(floor) ? floor : -INFINITY;
+}
+
+/* The pair's boxes at their poses and frames (NULL: worked out into own), T from a to b, and
+ * their face separations. */
+static void pair_setup(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                       const tb__box_frame *frame_a, const tb__collision_shape *b,
+                       const double pose_b[TB__POSE_SIZE], const tb__box_frame *frame_b,
+                       tb__box_frame own[2], box_pose *A, box_pose *B, double T[3],
+                       double faces[2][3], pair_dots *dots)
+{
+    if (frame_a == NULL) {
+        tb__box_frame_at(pose_a, &own[0]);
+        frame_a = &own[0];
+    }
+    if (frame_b == NULL) {
+        tb__box_frame_at(pose_b, &own[1]);
+        frame_b = &own[1];
+    }
+    *A = (box_pose){.center = pose_a, .half = a->half, .frame = frame_a};
+    *B = (box_pose){.center = pose_b, .half = b->half, .frame = frame_b};
+    memcpy(A->axis, frame_a->axis, sizeof A->axis);
+    memcpy(B->axis, frame_b->axis, sizeof B->axis);
+    tb__v3_set(T, pose_b[0] - pose_a[0], pose_b[1] - pose_a[1], pose_b[2] - pose_a[2]);
+    face_separations(A, B, T, faces, dots);
+}
+
+double tb__box_box_gap_floor(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                             const tb__box_frame *frame_a, const tb__collision_shape *b,
+                             const double pose_b[TB__POSE_SIZE], const tb__box_frame *frame_b)
+{
+    tb__box_frame own[2];
+    box_pose A, B;
+    double T[3], faces[2][3];
+    pair_dots dots;
+    pair_setup(a, pose_a, frame_a, b, pose_b, frame_b, own, &A, &B, T, faces, &dots);
+    return gap_floor(&A, &B, faces, &dots);
+}
+
 int tb__box_box_framed(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
                        const tb__box_frame *frame_a, const tb__collision_shape *b,
                        const double pose_b[TB__POSE_SIZE], const tb__box_frame *frame_b,
                        double margin, tb__contact_manifold *out)
 {
-    tb__box_frame own_a, own_b;
+    return tb__box_box_below(a, pose_a, frame_a, b, pose_b, frame_b, INFINITY, margin, out);
+}
+
+int tb__box_box_below(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                      const tb__box_frame *frame_a, const tb__collision_shape *b,
+                      const double pose_b[TB__POSE_SIZE], const tb__box_frame *frame_b,
+                      double level, double margin, tb__contact_manifold *out)
+{
+    tb__box_frame own_a, own_b; /* pair_setup's work inline: this is the derivative's hot path */
     if (frame_a == NULL) {
         tb__box_frame_at(pose_a, &own_a);
         frame_a = &own_a;
@@ -467,7 +525,15 @@ int tb__box_box_framed(const tb__collision_shape *a, const double pose_a[TB__POS
     memcpy(A.axis, frame_a->axis, sizeof A.axis);
     memcpy(B.axis, frame_b->axis, sizeof B.axis);
     const double T[3] = {pose_b[0] - pose_a[0], pose_b[1] - pose_a[1], pose_b[2] - pose_a[2]};
-    best_axis best = find_axis(&A, &B, T, margin);
+    double faces[2][3];
+    pair_dots dots;
+    face_separations(&A, &B, T, faces, &dots);
+    if (level < INFINITY && gap_floor(&A, &B, faces, &dots) > level) {
+        out->count = 0; /* its gap is above level: passed over */
+        tb__v3_set(out->normal, 0.0, 0.0, 0.0);
+        return 0;
+    }
+    best_axis best = find_axis(&A, &B, T, margin, faces, &dots);
     tb__candidates c;
     c.count = 0;
     double n[3];

@@ -101,5 +101,12 @@ int tb__box_box_framed(const tb__collision_shape *a, const double pose_a[TB__POS
                        const tb__box_frame *frame_a, const tb__collision_shape *b,
                        const double pose_b[TB__POSE_SIZE], const tb__box_frame *frame_b,
                        double margin, tb__contact_manifold *out);
+/* tb__box_box_framed, or no point when the pair's gap floor (tb__box_box_gap_floor) is above
+ * level (m; INFINITY: never): the floor comes from the face separations the test computes
+ * anyway, so a pair the caller needs costs no more. */
+int tb__box_box_below(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                      const tb__box_frame *frame_a, const tb__collision_shape *b,
+                      const double pose_b[TB__POSE_SIZE], const tb__box_frame *frame_b,
+                      double level, double margin, tb__contact_manifold *out);
 
 #endif

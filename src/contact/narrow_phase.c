@@ -388,6 +388,22 @@ int tb__collide_framed(const tb__collision_shape *a, const double pose_a[TB__POS
     return count;
 }
 
+int tb__collide_below(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                      const tb__box_frame *frame_a, const tb__collision_shape *b,
+                      const double pose_b[TB__POSE_SIZE], const tb__box_frame *frame_b,
+                      double level, double margin, tb__contact_manifold *out)
+{
+    if (a->type != TB_SHAPE_BOX || b->type != TB_SHAPE_BOX) {
+        return tb__collide_framed(a, pose_a, frame_a, b, pose_b, frame_b, margin, out);
+    }
+    if (!solve_swapped(a, pose_a, b, pose_b)) { /* the order tb__collide_framed solves in */
+        return tb__box_box_below(a, pose_a, frame_a, b, pose_b, frame_b, level, margin, out);
+    }
+    const int count = tb__box_box_below(b, pose_b, frame_b, a, pose_a, frame_a, level, margin, out);
+    tb__v3_set(out->normal, -out->normal[0], -out->normal[1], -out->normal[2]);
+    return count;
+}
+
 int tb__collide(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
                 const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE], double margin,
                 tb__contact_manifold *out)

@@ -71,6 +71,28 @@ int tb__collide_framed(const tb__collision_shape *a, const double pose_a[TB__POS
                        const double pose_b[TB__POSE_SIZE], const tb__box_frame *frame_b,
                        double margin, tb__contact_manifold *out);
 
+/* A floor under the gap of two boxes at their poses, frames given (tb__box_frame_at; NULL:
+ * worked out here): under minus the deepest point's depth of tb__collide_framed's manifold with
+ * any margin (+infinity when it has no point). Every point of a box pair's manifold lies no
+ * deeper than minus the separation along the separating axis test's winning axis, which is at
+ * least the largest separation along the six face axes; the floor is that largest one less a
+ * slack a thousand times the round-off and the frames' defect (their sum's floor, 1e-15) times
+ * the poses' scale (narrow_box.c). It is not the gap: the gap comes from the clipped points, by
+ * other arithmetic and, where the deepest corner is clipped off, another number.
+ * -infinity when the poses or frames are not finite or a frame is left-handed. */
+double tb__box_box_gap_floor(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                             const tb__box_frame *frame_a, const tb__collision_shape *b,
+                             const double pose_b[TB__POSE_SIZE], const tb__box_frame *frame_b);
+
+/* tb__collide_framed for a pass that needs a pair only where its gap may be at most level (m):
+ * two boxes whose gap floor is above level get no point (the floor comes from the face
+ * separations the test computes first, so a pair that is needed costs no more); every other
+ * pair, and every pair with level +infinity, the same result bit for bit. */
+int tb__collide_below(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                      const tb__box_frame *frame_a, const tb__collision_shape *b,
+                      const double pose_b[TB__POSE_SIZE], const tb__box_frame *frame_b,
+                      double level, double margin, tb__contact_manifold *out);
+
 /* Shape b against the plane normal . x = offset (normal unit, world, pointing out of the
  * solid half-space, which plays A): out->normal is the plane's normal; the points are the
  * shape's lowest ones (up to 4: a box's corners, a cylinder's rim, a hull's vertices, spread

@@ -64,11 +64,11 @@ static double pair_gap(const tb__pair_contact *pair)
 
 /* Whether one body of the pair is asleep and the other awake: the asleep one would meet the
  * other as a fixed body, so the pair must not touch before its island wakes. */
-static bool mixed(const tb_scene *scene, const tb__pair_contact *pair)
+static bool mixed(const tb_scene *scene, size_t a, size_t b)
 {
     /* a static body has no island to wake */
-    return tb__body_asleep(scene, pair->body_a) != tb__body_asleep(scene, pair->body_b) &&
-           !tb__body_static(scene, pair->body_a) && !tb__body_static(scene, pair->body_b);
+    return tb__body_asleep(scene, a) != tb__body_asleep(scene, b) && !tb__body_static(scene, a) &&
+           !tb__body_static(scene, b);
 }
 
 static bool any_asleep(const tb_scene *scene)
@@ -80,11 +80,34 @@ static bool any_asleep(const tb_scene *scene)
  * pair gap and wake (when not NULL) to each body's least mixed pair gap beyond
  * TB__WAKE_DISTANCE. fmin is exact, so either array gets the same bits whether or not the other
  * is filled in the same pass. */
+typedef struct gaps_target {
+    const tb_scene *scene;
+    const double *gap, *wake;
+} gaps_target;
+
+/* tb__pair_level for gaps_pass: a pair whose gap is above both bodies' gaps leaves each fmin
+ * below as it is (a NaN gap: every pair). A mixed pair's wake gaps are the gap less
+ * TB__WAKE_DISTANCE, rounded: +infinity, every mixed pair, when there are wake gaps. */
+static double gaps_level(void *ctx, size_t a, size_t b)
+{
+    const gaps_target *t = ctx;
+    if (t->wake != NULL && mixed(t->scene, a, b)) {
+        return INFINITY;
+    }
+    if (t->gap == NULL) {
+        return -INFINITY;
+    }
+    const double ga = t->gap[a], gb = t->gap[b];
+    return isnan(ga) || isnan(gb) ? INFINITY : fmax(ga, gb);
+}
+
 static void gaps_pass(const tb__effect *effect, const tb_scene *scene, const double *y, double *gap,
                       double *wake)
 {
     tb__contact_pairs *pairs = tb__contact_of(effect)->lookahead;
     tb__pair_contact batch[TB__EVENT_BATCH];
+    gaps_target target = {scene, gap, wake};
+    tb__contact_pairs_filter(pairs, gaps_level, &target);
     tb__contact_pairs_begin(pairs, scene, scene->time, y);
     size_t count;
     while ((count = tb__contact_pairs_next(pairs, scene, y, batch, TB__EVENT_BATCH)) > 0) {
@@ -95,12 +118,13 @@ static void gaps_pass(const tb__effect *effect, const tb_scene *scene, const dou
                 gap[a] = fmin(gap[a], g);
                 gap[b] = fmin(gap[b], g);
             }
-            if (wake != NULL && mixed(scene, &batch[k])) {
+            if (wake != NULL && mixed(scene, a, b)) {
                 wake[a] = fmin(wake[a], g - TB__WAKE_DISTANCE);
                 wake[b] = fmin(wake[b], g - TB__WAKE_DISTANCE);
             }
         }
     }
+    tb__contact_pairs_filter(pairs, NULL, NULL);
 }
 
 void tb__contact_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
@@ -121,21 +145,35 @@ void tb__contact_wake_gaps(const tb__effect *effect, const tb_scene *scene, cons
 
 static double motion_speed(const tb_scene *scene, const double *y, size_t id);
 
+typedef struct links_target {
+    const tb_scene *scene;
+    const double *y;
+    double dt;
+} links_target;
+
+/* The gap below which bodies a and b are linked: a step's stages reach dt ahead; twice the
+ * pair's speed bound leaves room for the speeds' change over the step (the margin for the
+ * rest). */
+static double link_gap(const links_target *t, size_t a, size_t b)
+{
+    const double closing = motion_speed(t->scene, t->y, a) + motion_speed(t->scene, t->y, b);
+    return TB__CONTACT_MARGIN + 2.0 * closing * t->dt;
+}
+
 void tb__contact_wake_links(const tb__effect *effect, const tb_scene *scene, const double *y,
                             double dt)
 {
     tb__contact_pairs *pairs = tb__contact_of(effect)->lookahead;
     tb__pair_contact batch[TB__EVENT_BATCH];
+    /* no level: a pair's link gap costs two bodies' motion bounds, more than the manifold it
+     * would spare (bench_contact_work's dominoes, docs/performance.md) */
+    const links_target target = {scene, y, dt};
     tb__contact_pairs_begin(pairs, scene, scene->time, y);
     size_t count;
     while ((count = tb__contact_pairs_next(pairs, scene, y, batch, TB__EVENT_BATCH)) > 0) {
         for (size_t k = 0; k < count; ++k) {
             const tb__pair_contact *pair = &batch[k];
-            /* a step's stages reach dt ahead; twice the pair's speed bound leaves room for the
-             * speeds' change over the step (the margin for the rest) */
-            const double closing =
-                motion_speed(scene, y, pair->body_a) + motion_speed(scene, y, pair->body_b);
-            if (pair_gap(pair) < TB__CONTACT_MARGIN + 2.0 * closing * dt) {
+            if (pair_gap(pair) < link_gap(&target, pair->body_a, pair->body_b)) {
                 tb__scene_sleep_link(scene, pair->body_a, pair->body_b);
             }
         }
@@ -281,7 +319,7 @@ double tb__contact_step_limit(const tb__effect *effect, const tb_scene *scene, c
     while ((count = tb__contact_pairs_next(contact->lookahead, scene, y, batch, TB__EVENT_BATCH)) >
            0) {
         for (size_t k = 0; k < count; ++k) {
-            if (mixed(scene, &batch[k])) {
+            if (mixed(scene, batch[k].body_a, batch[k].body_b)) {
                 waking = fmin(waking, pair_limit(contact, scene, y, dydt, &batch[k], 0.0));
             } else if (dydt != NULL) {
                 limit = fmin(limit, pair_limit(contact, scene, y, dydt, &batch[k], floor));
