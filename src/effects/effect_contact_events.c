@@ -181,18 +181,25 @@ static double link_gap(const links_target *t, size_t a, size_t b)
     return TB__CONTACT_MARGIN + 2.0 * closing * t->dt;
 }
 
+/* tb__pair_level for the wake links: a pair whose gap floor is above its link gap is not
+ * linked (a NaN link gap: every pair). */
+static double links_level(void *ctx, size_t a, size_t b)
+{
+    const double g = link_gap(ctx, a, b);
+    return isnan(g) ? INFINITY : g;
+}
+
 void tb__contact_wake_links(const tb__effect *effect, const tb_scene *scene, const double *y,
                             double dt)
 {
     const tb__contact_params *contact = tb__contact_of(effect);
     tb__contact_pairs *pairs = contact->lookahead;
     tb__pair_contact batch[TB__EVENT_BATCH];
-    /* no level: a pair's link gap costs two bodies' motion bounds, more than the manifold it
-     * would spare (bench_contact_work's dominoes, docs/performance.md) */
-    const links_target target = {scene, y, dt, contact->speeds};
+    links_target target = {scene, y, dt, contact->speeds};
     for (size_t k = 0; k < contact->body_count; ++k) {
         contact->speeds[contact->bodies[k]] = NAN;
     }
+    tb__contact_pairs_filter(pairs, links_level, &target);
     tb__contact_pairs_begin(pairs, scene, scene->time, y);
     size_t count;
     while ((count = tb__contact_pairs_next(pairs, scene, y, batch, TB__EVENT_BATCH)) > 0) {
@@ -203,6 +210,7 @@ void tb__contact_wake_links(const tb__effect *effect, const tb_scene *scene, con
             }
         }
     }
+    tb__contact_pairs_filter(pairs, NULL, NULL);
 }
 
 /* How far body id's shape reaches from its centre of mass at y (m). */
