@@ -20,6 +20,8 @@ typedef struct tb__contact_params {
     double slip_velocity; /* m/s: v_reg of the memoryless law a point without a slot gets */
     struct tb__friction_pool *friction; /* owned; effects/contact_friction.h */
     struct tb__pass_memo *memo;         /* owned: the step boundary's pass (contact_pass_memo.h) */
+    double *speeds; /* owned: the wake links' speed bounds by body id, up to the largest listed
+                       (effect_contact_events.c) */
 } tb__contact_params;
 
 /* A pair's two bodies as one point of its manifold sees them (effect_contact.c). */

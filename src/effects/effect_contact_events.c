@@ -32,6 +32,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 
 static double half_thickness(const tb__collision_shape *shape);
 
@@ -42,6 +43,14 @@ static double half_thickness(const tb__collision_shape *shape);
 
 tb_status tb__contact_events_create(tb_scene *scene, tb__contact_params *contact)
 {
+    size_t ids = 0; /* after the pair finder, which checked the ids */
+    for (size_t k = 0; k < contact->body_count; ++k) {
+        ids = contact->bodies[k] >= ids ? contact->bodies[k] + 1 : ids;
+    }
+    contact->speeds = malloc((ids > 0 ? ids : 1) * sizeof *contact->speeds);
+    if (contact->speeds == NULL) {
+        return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "contact speed bounds: %zu", ids);
+    }
     return tb__contact_pairs_create(scene, contact->bodies, contact->body_count,
                                     TB__EVENT_LOOKAHEAD, &contact->lookahead, scene->detail);
 }
@@ -50,6 +59,8 @@ void tb__contact_events_release(tb__contact_params *contact)
 {
     tb__contact_pairs_destroy(contact->lookahead);
     contact->lookahead = NULL;
+    free(contact->speeds);
+    contact->speeds = NULL;
 }
 
 /* Minus the deepest point's depth: the pair's gap, m. */
@@ -149,25 +160,46 @@ typedef struct links_target {
     const tb_scene *scene;
     const double *y;
     double dt;
+    double *speeds; /* by body id, NaN: not yet worked out in this pass */
 } links_target;
+
+/* Body id's speed bound at y, worked out once per pass (a body is in several pairs). */
+static double link_speed(const links_target *t, size_t id)
+{
+    if (isnan(t->speeds[id])) {
+        t->speeds[id] = motion_speed(t->scene, t->y, id);
+    }
+    return t->speeds[id];
+}
 
 /* The gap below which bodies a and b are linked: a step's stages reach dt ahead; twice the
  * pair's speed bound leaves room for the speeds' change over the step (the margin for the
  * rest). */
 static double link_gap(const links_target *t, size_t a, size_t b)
 {
-    const double closing = motion_speed(t->scene, t->y, a) + motion_speed(t->scene, t->y, b);
+    const double closing = link_speed(t, a) + link_speed(t, b);
     return TB__CONTACT_MARGIN + 2.0 * closing * t->dt;
+}
+
+/* tb__pair_level for the wake links: a pair whose gap floor is above its link gap is not
+ * linked (a NaN link gap: every pair). */
+static double links_level(void *ctx, size_t a, size_t b)
+{
+    const double g = link_gap(ctx, a, b);
+    return isnan(g) ? INFINITY : g;
 }
 
 void tb__contact_wake_links(const tb__effect *effect, const tb_scene *scene, const double *y,
                             double dt)
 {
-    tb__contact_pairs *pairs = tb__contact_of(effect)->lookahead;
+    const tb__contact_params *contact = tb__contact_of(effect);
+    tb__contact_pairs *pairs = contact->lookahead;
     tb__pair_contact batch[TB__EVENT_BATCH];
-    /* no level: a pair's link gap costs two bodies' motion bounds, more than the manifold it
-     * would spare (bench_contact_work's dominoes, docs/performance.md) */
-    const links_target target = {scene, y, dt};
+    links_target target = {scene, y, dt, contact->speeds};
+    for (size_t k = 0; k < contact->body_count; ++k) {
+        contact->speeds[contact->bodies[k]] = NAN;
+    }
+    tb__contact_pairs_filter(pairs, links_level, &target);
     tb__contact_pairs_begin(pairs, scene, scene->time, y);
     size_t count;
     while ((count = tb__contact_pairs_next(pairs, scene, y, batch, TB__EVENT_BATCH)) > 0) {
@@ -178,6 +210,7 @@ void tb__contact_wake_links(const tb__effect *effect, const tb_scene *scene, con
             }
         }
     }
+    tb__contact_pairs_filter(pairs, NULL, NULL);
 }
 
 /* How far body id's shape reaches from its centre of mass at y (m). */

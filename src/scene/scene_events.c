@@ -35,13 +35,22 @@ static void fill_gaps(tb_scene *scene, double t, const double *y, double *gap, d
     }
     /* nothing asleep: no pair of an awake and an asleep body, every wake gap the look-ahead */
     const bool any_asleep = scene->sleep != NULL && scene->sleep->asleep_count > 0;
-    for (size_t k = 0; k < scene->effect_count; ++k) {
-        const tb__effect *effect = &scene->effects[k];
-        const tb__effect_stepping *stepping = tb__stepping_of(effect);
-        if (wake != NULL && any_asleep && stepping->wake_gaps != NULL) {
-            stepping->wake_gaps(effect, scene, y, stepping->event_gaps != NULL ? gap : NULL, wake);
-        } else if (stepping->event_gaps != NULL) {
-            stepping->event_gaps(effect, scene, y, gap);
+    /* Effects with wake gaps (contact between bodies) last: their pass skips the pairs above
+     * both bodies' gaps so far, more of them once the ground's are in; fmin is exact and
+     * commutative, so the gaps are the same bits in any order. */
+    for (int last = 0; last < 2; ++last) {
+        for (size_t k = 0; k < scene->effect_count; ++k) {
+            const tb__effect *effect = &scene->effects[k];
+            const tb__effect_stepping *stepping = tb__stepping_of(effect);
+            if ((stepping->wake_gaps != NULL) != (last == 1)) {
+                continue;
+            }
+            if (wake != NULL && any_asleep && stepping->wake_gaps != NULL) {
+                stepping->wake_gaps(effect, scene, y, stepping->event_gaps != NULL ? gap : NULL,
+                                    wake);
+            } else if (stepping->event_gaps != NULL) {
+                stepping->event_gaps(effect, scene, y, gap);
+            }
         }
     }
     /* A gap is a difference of positions (z ~ 0.2 m: doubles 3e-17 m apart), so a slow crossing
