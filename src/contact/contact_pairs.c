@@ -224,15 +224,13 @@ void tb__contact_pairs_filter(tb__contact_pairs *pairs, tb__pair_level level, vo
 }
 
 /* The narrow phase on the pieces, into o (bodies set); returns whether they touch. Two plain
- * boxes (both frames given) are passed over above the pass's level, if it has one. */
+ * boxes (both frames given) are passed over above the pair's level. */
 static bool test_pieces(const tb__contact_pairs *pairs, const tb__collision_shape *piece_a,
                         const double world_a[TB__POSE_SIZE], const tb__box_frame *frame_a,
                         const tb__collision_shape *piece_b, const double world_b[TB__POSE_SIZE],
-                        const tb__box_frame *frame_b, tb__pair_contact *o)
+                        const tb__box_frame *frame_b, double level, tb__pair_contact *o)
 {
-    const double level = pairs->level != NULL && frame_a != NULL && frame_b != NULL
-                             ? pairs->level(pairs->level_ctx, o->body_a, o->body_b)
-                             : INFINITY;
+    level = frame_a != NULL && frame_b != NULL ? level : INFINITY;
     return tb__collide_below(piece_a, world_a, frame_a, piece_b, world_b, frame_b, level,
                              pairs->margin, &o->manifold) > 0;
 }
@@ -252,6 +250,13 @@ static size_t test_pair(tb__contact_pairs *pairs, const tb_scene *scene, const t
         return 0; /* a sleeping island: no narrow phase inside it */
     }
     const bool in_order = a < b;
+    const double level = pairs->level != NULL
+                             ? pairs->level(pairs->level_ctx, in_order ? a : b, in_order ? b : a)
+                             : INFINITY;
+    if (level == -INFINITY) { /* the pass needs nothing of this pair, whatever its shapes */
+        pairs->piece_a = pairs->piece_b = 0;
+        return 0;
+    }
     const size_t first = in_order ? c->first : c->second, second = in_order ? c->second : c->first;
     const tb__collision_shape *shape_a = tb__scene_body_collision_shape(scene, in_order ? a : b);
     const tb__collision_shape *shape_b = tb__scene_body_collision_shape(scene, in_order ? b : a);
@@ -280,7 +285,8 @@ static size_t test_pair(tb__contact_pairs *pairs, const tb_scene *scene, const t
             const bool box_a = shape_a->type == TB_SHAPE_BOX, box_b = shape_b->type == TB_SHAPE_BOX;
             const tb__box_frame *frame_a = box_a ? &pairs->frames[first] : NULL;
             const tb__box_frame *frame_b = box_b ? &pairs->frames[second] : NULL;
-            written += test_pieces(pairs, piece_a, world_a, frame_a, piece_b, world_b, frame_b, o);
+            written +=
+                test_pieces(pairs, piece_a, world_a, frame_a, piece_b, world_b, frame_b, level, o);
         }
         if (last) {
             break;

@@ -301,9 +301,9 @@ static void ground_rate(const tb__effect *effect, const tb_scene *scene, const d
 /* The gaps of the bodies' points (effect_contact_events.c), then of the shapes of the bodies
  * without points. */
 static void ground_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
-                              double *gap)
+                              double *gap, bool signs)
 {
-    tb__ground_event_gaps(effect, scene, y, gap);
+    tb__ground_event_gaps(effect, scene, y, gap, signs);
     tb__ground_shapes_event_gaps(effect, scene, y, gap);
 }
 
