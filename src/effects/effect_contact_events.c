@@ -199,10 +199,15 @@ static double link_gap(const links_target *t, size_t a, size_t b)
 }
 
 /* tb__pair_level for the wake links: a pair whose gap floor is above its link gap is not
- * linked (a NaN link gap: every pair). */
+ * linked (a NaN link gap: every pair); a pair already in one island (linked by the step's
+ * post_step passes, touching) needs no link. */
 static double links_level(void *ctx, size_t a, size_t b)
 {
-    const double g = link_gap(ctx, a, b);
+    const links_target *t = ctx;
+    if (tb__scene_sleep_linked(t->scene, a, b)) {
+        return -INFINITY;
+    }
+    const double g = link_gap(t, a, b);
     return isnan(g) ? INFINITY : g;
 }
 
