@@ -102,7 +102,11 @@ static void pair_masses(const tb_scene *scene, const tb__pair_contact *pair, tb_
     double along = 0.0, across = 0.0, t1[3], t2[3];
     tb__tangent_basis(n, t1, t2); /* once for both bodies */
     for (int k = 0; k < 2; ++k) {
-        const tb__body *body = tb__body_constants(scene, k == 0 ? pair->body_a : pair->body_b);
+        const size_t id = k == 0 ? pair->body_a : pair->body_b;
+        if (tb__body_fixed(scene, id)) {
+            continue; /* no inverse mass: its terms are 0 exactly, and x + 0 is x */
+        }
+        const tb__body *body = tb__body_constants(scene, id);
         double arm[3];
         for (int i = 0; i < 3; ++i) {
             arm[i] = centre[i] / m->load - m->body[k]->x[i];
