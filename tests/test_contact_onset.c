@@ -297,6 +297,117 @@ static void test_a_bounce_at_1_240_s_keeps_e_better_with_onsets(void **unused)
     }
 }
 
+/* A box of edge lengths size at x, with its eight corners as ground points where points. */
+static size_t signs_box(tb_scene *scene, const double size[3], const double x[3], bool points)
+{
+    const size_t id = test_add_box(scene, 0.05, size, x);
+    tb_contact_point corners[8];
+    size_t count = 0;
+    if (points) {
+        assert_int_equal(tb_contact_points_box(size, corners, 8, &count), TB_STATUS_OK);
+        assert_int_equal(tb_scene_set_contact_points(scene, id, corners, count, 4), TB_STATUS_OK);
+    }
+    return id;
+}
+
+/* x in [low, high) from a linear congruential generator (deterministic, portable). */
+static double signs_uniform(unsigned long long *state, double low, double high)
+{
+    *state = *state * 6364136223846793005ull + 1442695040888963407ull;
+    return low + (high - low) * (double)(*state >> 11) / 9007199254740992.0;
+}
+
+/* Body id put at a random pose in y among the resting row: overlapping it, touching,
+ * within the look-ahead (5 cm) and beyond it, turned at random. */
+static void place_flyer(tb_scene *scene, double *y, size_t id, unsigned long long *rng)
+{
+    tb_body_state s;
+    assert_int_equal(tb_scene_get_state(scene, id, &s), TB_STATUS_OK);
+    const double x[3] = {signs_uniform(rng, -0.06, 0.36), signs_uniform(rng, -0.08, 0.08),
+                         signs_uniform(rng, -0.01, 0.12)};
+    double q[4], norm = 0.0;
+    for (int k = 0; k < 4; ++k) {
+        q[k] = signs_uniform(rng, -1.0, 1.0);
+        norm += q[k] * q[k];
+    }
+    for (int k = 0; k < 3; ++k) {
+        y[TB_STATE_SIZE * id + TB_STATE_X + k] = x[k];
+    }
+    for (int k = 0; k < 4; ++k) {
+        y[TB_STATE_SIZE * id + TB_STATE_Q + k] = q[k] / sqrt(norm);
+    }
+}
+
+/* The fixed-step onset search reads only the roots' signs, and a scene gives it root_signs,
+ * which pass over the pairs that cannot change one (src/effects/effect_contact_events.c): each
+ * must be above zero exactly where roots' is, with no tolerance (one sign changed would end a
+ * step elsewhere). Seven 4 cm boxes rest asleep in a row on the ground (four with corner points,
+ * three by their shapes), two boxes thrown up from far away are awake; the flyers are put at
+ * 600 random poses among the row (into it, touching, within the look-ahead, beyond, into the
+ * ground), where both kinds of root (gaps, and wake gaps to the asleep row) are seen on both
+ * sides of zero. */
+static void test_root_signs_are_the_roots_signs(void **unused)
+{
+    (void)unused;
+    tb_scene *scene = test_empty_scene();
+    assert_int_equal(tb_scene_add_gravity(scene, (double[]){0, 0, -G}), TB_STATUS_OK);
+    const double cube[3] = {0.04, 0.04, 0.04}, slab[3] = {0.05, 0.03, 0.02};
+    for (int k = 0; k < 7; ++k) {
+        signs_box(scene, cube, (double[]){0.05 * k, 0.0, 0.02}, k % 2 == 0);
+    }
+    const size_t flyers[2] = {signs_box(scene, slab, (double[]){1.0, 0.0, 0.5}, true),
+                              signs_box(scene, cube, (double[]){1.3, 0.0, 0.5}, false)};
+    for (int k = 0; k < 2; ++k) {
+        assert_int_equal(tb_scene_set_velocity(scene, flyers[k], (double[]){0, 0, 3.0},
+                                               (double[]){1.0, 2.0, 0.0}),
+                         TB_STATUS_OK);
+    }
+    tb_ground_def ground = tb_ground_def_default();
+    ground.penetration = 1e-5; /* a longer default step: the test is about signs, not depths */
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+    tb_contact_def contact = tb_contact_def_default();
+    contact.penetration = 1e-5;
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    assert_int_equal(tb_scene_set_sleeping(scene, true), TB_STATUS_OK);
+    tb_integrator *integrator = test_integrator_for(scene, TB_METHOD_RK4, 0.0, 0.0);
+    assert_int_equal(tb_integrator_advance(integrator, 0.65), TB_STATUS_OK);
+    size_t asleep = 0;
+    assert_int_equal(tb_scene_asleep_count(scene, &asleep), TB_STATUS_OK);
+    assert_int_equal(asleep, 7); /* the row; the flyers are still in the air */
+    tb_ode_system system;
+    assert_int_equal(tb_scene_ode_system(scene, &system), TB_STATUS_OK);
+    assert_non_null(system.events.root_signs);
+    const size_t n = system.n, count = system.events.root_count, bodies = 9;
+    assert_int_equal(count, 2 * bodies); /* gaps, then wake gaps */
+    double *y = malloc(n * sizeof *y), *g = malloc(count * sizeof *g);
+    double *signs = malloc(count * sizeof *signs);
+    assert_true(y != NULL && g != NULL && signs != NULL);
+    memcpy(y, tb_scene_states_const(scene), n * sizeof *y);
+    unsigned long long rng = 23, seen[2][2] = {{0, 0}, {0, 0}}; /* [gap, wake][above, not] */
+    for (int trial = 0; trial < 600; ++trial) {
+        for (int k = 0; k < 2; ++k) {
+            place_flyer(scene, y, flyers[k], &rng);
+        }
+        assert_int_equal(system.events.roots(0.65, y, g, system.ctx), 0);
+        assert_int_equal(system.events.root_signs(0.65, y, signs, system.ctx), 0);
+        for (size_t i = 0; i < count; ++i) {
+            assert_int_equal(g[i] > 0.0, signs[i] > 0.0);
+        }
+        for (int k = 0; k < 2; ++k) {
+            seen[0][!(g[flyers[k]] > 0.0)]++;
+            seen[1][!(g[bodies + flyers[k]] > 0.0)]++;
+        }
+    }
+    print_message("flyers' gaps above 0 / not: %llu / %llu; wake gaps %llu / %llu\n", seen[0][0],
+                  seen[0][1], seen[1][0], seen[1][1]);
+    for (int kind = 0; kind < 2; ++kind) {
+        assert_true(seen[kind][0] >= 50 && seen[kind][1] >= 50);
+    }
+    free(y), free(g), free(signs);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -304,6 +415,7 @@ int main(void)
         cmocka_unit_test(test_a_ball_landing_with_backspin_leaves_by_the_friction_law),
         cmocka_unit_test(test_steps_without_an_onset_are_those_of_before_bit_for_bit),
         cmocka_unit_test(test_a_bounce_at_1_240_s_keeps_e_better_with_onsets),
+        cmocka_unit_test(test_root_signs_are_the_roots_signs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

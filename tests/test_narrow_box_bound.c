@@ -12,7 +12,9 @@
  *   - quaternions off unit length by up to 1e-6, which the pose's frames inherit (the slack
  *     grows with the frames' defect);
  *   - and, on two cubes at rest, that the bound does skip (else the above would prove nothing),
- *     and stands aside for a mirrored frame (a reflection, for which its closed form is wrong). */
+ *     and stands aside for a mirrored frame (a reflection, for which its closed form is wrong).
+ * The one-face floor (one_face_above) likewise: every pair is also tested below levels about its
+ * gap floor against the reference, which has it off. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -47,6 +49,10 @@ int tb__box_box_framed(const tb__collision_shape *a, const double pose_a[TB__POS
                        const double pose_b[TB__POSE_SIZE], const tb__box_frame *frame_b,
                        double margin, tb__contact_manifold *out);
 void tb__box_frame_at(const double pose[TB__POSE_SIZE], tb__box_frame *out);
+int tb__box_box_below(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
+                      const tb__box_frame *frame_a, const tb__collision_shape *b,
+                      const double pose_b[TB__POSE_SIZE], const tb__box_frame *frame_b,
+                      double level, double margin, tb__contact_manifold *out);
 
 #include "geometry.h"
 
@@ -63,6 +69,32 @@ static int same_manifold(const tb__contact_manifold *x, const tb__contact_manifo
            memcmp(x->points, y->points, (size_t)x->count * sizeof x->points[0]) == 0;
 }
 
+/* The look-ahead's test below a level (tb__box_box_below, whose one-face floor passes a pair
+ * over after one face axis where the six would) against the reference at levels at, a rounding
+ * either side of and around the pair's gap floor, and at 0 and 5 cm: the same manifold, or the
+ * same passing over, bit for bit. */
+static void check_levels(const tb__collision_shape *a, const double pa[TB__POSE_SIZE],
+                         const tb__box_frame *fa, const tb__collision_shape *b,
+                         const double pb[TB__POSE_SIZE], const tb__box_frame *fb)
+{
+    const double floor = ref_box_box_gap_floor(a, pa, fa, b, pb, fb);
+    const double levels[] = {floor,
+                             nextafter(floor, -INFINITY),
+                             nextafter(floor, INFINITY),
+                             floor - 1e-3,
+                             floor + 1e-3,
+                             0.0,
+                             0.05};
+    for (size_t k = 0; k < sizeof levels / sizeof levels[0]; ++k) {
+        tb__contact_manifold got, want;
+        const int n = ref_box_box_below(a, pa, fa, b, pb, fb, levels[k], 0.05, &want);
+        assert_int_equal(tb__box_box_below(a, pa, fa, b, pb, fb, levels[k], 0.05, &got), n);
+        if (!same_manifold(&got, &want)) {
+            fail_msg("below %a: manifolds differ", levels[k]);
+        }
+    }
+}
+
 /* Both orders of the pair through the library and the reference; returns the touching count. */
 static int check_pair(const tb__collision_shape *a, const double pa[TB__POSE_SIZE],
                       const tb__collision_shape *b, const double pb[TB__POSE_SIZE])
@@ -75,6 +107,7 @@ static int check_pair(const tb__collision_shape *a, const double pa[TB__POSE_SIZ
         tb__box_frame f1, f2; /* the pair finder's way: frames worked out beforehand */
         tb__box_frame_at(p1, &f1);
         tb__box_frame_at(p2, &f2);
+        check_levels(first, p1, &f1, second, p2, &f2);
         for (int framed = 0; framed < 2; ++framed) {
             assert_int_equal(framed
                                  ? tb__box_box_framed(first, p1, &f1, second, p2, &f2, MARGIN, &got)

@@ -21,6 +21,7 @@ struct tb__contact_pairs {
     size_t *local;         /* count: the set's index of each box in use (bodies with shapes) */
     double *poses;         /* TB__POSE_SIZE * count, at the pass's y */
     tb__box_frame *frames; /* count: a plain box's frame at its pose, once per pass, not per pair */
+    unsigned char *framed; /* count: frames[b] is that of poses[b] (worked out when first needed) */
     double margin;
     tb__pair_list list; /* the broad phase, its candidates kept between passes */
     tb__index_pair batch[PAIR_BATCH];
@@ -86,9 +87,11 @@ tb_status tb__contact_pairs_create(const tb_scene *scene, const size_t *bodies, 
         p->poses = tb__malloc_array(n, TB__POSE_SIZE * sizeof(double));
         p->frames = tb__malloc_array(n, sizeof *p->frames);
         p->kept = calloc(n, 1);
+        p->framed = calloc(n, 1);
     }
     if (p == NULL || p->ids == NULL || p->local == NULL || p->poses == NULL || p->frames == NULL ||
-        p->kept == NULL || tb__pair_list_init(&p->list, count) != TB_STATUS_OK) {
+        p->kept == NULL || p->framed == NULL ||
+        tb__pair_list_init(&p->list, count) != TB_STATUS_OK) {
         tb__contact_pairs_destroy(p);
         return tb__set_detail(detail, TB_STATUS_OUT_OF_MEMORY, "contact pairs for %zu bodies",
                               count);
@@ -112,6 +115,7 @@ void tb__contact_pairs_destroy(tb__contact_pairs *pairs)
         free(pairs->poses);
         free(pairs->frames);
         free(pairs->kept);
+        free(pairs->framed);
         free(pairs);
     }
 }
@@ -132,16 +136,14 @@ static bool any_keyframed(const tb__contact_pairs *pairs, const tb_scene *scene)
     return false;
 }
 
-/* Box b's pose, frame and bounds (grown by half the margin each way, so that pairs within it
- * meet) for body id at (t, y). */
+/* Box b's pose and bounds (grown by half the margin each way, so that pairs within it meet)
+ * for body id at (t, y); its frame is worked out when a pair first needs it (box_frame). */
 static void place_box(tb__contact_pairs *pairs, const tb_scene *scene, double t, const double *y,
                       size_t id, const tb__collision_shape *shape, size_t b)
 {
     double *pose = pairs->poses + TB__POSE_SIZE * b;
     tb__shape_pose(scene, t, y, id, pose);
-    if (shape->type == TB_SHAPE_BOX) {
-        tb__box_frame_at(pose, &pairs->frames[b]);
-    }
+    pairs->framed[b] = 0;
     tb__aabb *box = &pairs->list.bounds[b];
     tb__collision_shape_bounds(shape, pose, box->min, box->max);
     for (int i = 0; i < 3; ++i) {
@@ -201,6 +203,17 @@ void tb__contact_pairs_begin(tb__contact_pairs *pairs, const tb_scene *scene, do
     pairs->piece_a = pairs->piece_b = 0;
 }
 
+/* Plain box b's frame at its pose, worked out once per pose: most boxes of a pass are in no
+ * tested pair (a row of dominoes standing apart), and a frame is a function of the pose alone. */
+static const tb__box_frame *box_frame(tb__contact_pairs *pairs, size_t b)
+{
+    if (!pairs->framed[b]) {
+        tb__box_frame_at(pairs->poses + TB__POSE_SIZE * b, &pairs->frames[b]);
+        pairs->framed[b] = 1;
+    }
+    return &pairs->frames[b];
+}
+
 /* Whether the boxes of two pieces at their world poses come within the margin. */
 static bool pieces_near(const tb__collision_shape *a, const double pose_a[TB__POSE_SIZE],
                         const tb__collision_shape *b, const double pose_b[TB__POSE_SIZE],
@@ -224,15 +237,13 @@ void tb__contact_pairs_filter(tb__contact_pairs *pairs, tb__pair_level level, vo
 }
 
 /* The narrow phase on the pieces, into o (bodies set); returns whether they touch. Two plain
- * boxes (both frames given) are passed over above the pass's level, if it has one. */
+ * boxes (both frames given) are passed over above the pair's level. */
 static bool test_pieces(const tb__contact_pairs *pairs, const tb__collision_shape *piece_a,
                         const double world_a[TB__POSE_SIZE], const tb__box_frame *frame_a,
                         const tb__collision_shape *piece_b, const double world_b[TB__POSE_SIZE],
-                        const tb__box_frame *frame_b, tb__pair_contact *o)
+                        const tb__box_frame *frame_b, double level, tb__pair_contact *o)
 {
-    const double level = pairs->level != NULL && frame_a != NULL && frame_b != NULL
-                             ? pairs->level(pairs->level_ctx, o->body_a, o->body_b)
-                             : INFINITY;
+    level = frame_a != NULL && frame_b != NULL ? level : INFINITY;
     return tb__collide_below(piece_a, world_a, frame_a, piece_b, world_b, frame_b, level,
                              pairs->margin, &o->manifold) > 0;
 }
@@ -252,6 +263,13 @@ static size_t test_pair(tb__contact_pairs *pairs, const tb_scene *scene, const t
         return 0; /* a sleeping island: no narrow phase inside it */
     }
     const bool in_order = a < b;
+    const double level = pairs->level != NULL
+                             ? pairs->level(pairs->level_ctx, in_order ? a : b, in_order ? b : a)
+                             : INFINITY;
+    if (level == -INFINITY) { /* the pass needs nothing of this pair, whatever its shapes */
+        pairs->piece_a = pairs->piece_b = 0;
+        return 0;
+    }
     const size_t first = in_order ? c->first : c->second, second = in_order ? c->second : c->first;
     const tb__collision_shape *shape_a = tb__scene_body_collision_shape(scene, in_order ? a : b);
     const tb__collision_shape *shape_b = tb__scene_body_collision_shape(scene, in_order ? b : a);
@@ -278,9 +296,10 @@ static size_t test_pair(tb__contact_pairs *pairs, const tb_scene *scene, const t
             /* a box shape's one piece is itself at its pose: its frame of the pass (a compound's
              * pieces have poses of their own) */
             const bool box_a = shape_a->type == TB_SHAPE_BOX, box_b = shape_b->type == TB_SHAPE_BOX;
-            const tb__box_frame *frame_a = box_a ? &pairs->frames[first] : NULL;
-            const tb__box_frame *frame_b = box_b ? &pairs->frames[second] : NULL;
-            written += test_pieces(pairs, piece_a, world_a, frame_a, piece_b, world_b, frame_b, o);
+            const tb__box_frame *frame_a = box_a ? box_frame(pairs, first) : NULL;
+            const tb__box_frame *frame_b = box_b ? box_frame(pairs, second) : NULL;
+            written +=
+                test_pieces(pairs, piece_a, world_a, frame_a, piece_b, world_b, frame_b, level, o);
         }
         if (last) {
             break;

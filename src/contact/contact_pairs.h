@@ -43,11 +43,13 @@ tb_status tb__contact_pairs_check_ids(const tb_scene *scene, const size_t *bodie
                                       char *detail);
 
 /* The level a pass needs a plain box pair's gap (minus its deepest point's depth, m) to be at
- * most for the pair to count (ctx as given; +infinity: always). A pass that only lowers per-body
- * gaps or links pairs below a gap (the look-ahead's event and wake gaps, the wake links) passes
- * over a pair of boxes whose
- * gap floor is above it (tb__collide_below): the pair is not handed back, and the pass's result
- * is the same bits. Set for the passes that follow (NULL, the default: every pair). */
+ * most for the pair to count (ctx as given, the bodies in increasing order; +infinity: always;
+ * -infinity: the pass needs nothing of the pair, whatever its shapes). A pass that only lowers
+ * per-body gaps or links pairs below a gap (the look-ahead's event and wake gaps, the wake
+ * links) passes over a pair of boxes whose gap floor is above it (tb__collide_below), and over
+ * every pair at -infinity: the pair is not handed back, and the pass's result is the same bits.
+ * Asked as each pair is tested. Set for the passes that follow (NULL, the default: every
+ * pair). */
 typedef double (*tb__pair_level)(void *ctx, size_t body_a, size_t body_b);
 void tb__contact_pairs_filter(tb__contact_pairs *pairs, tb__pair_level level, void *ctx);
 

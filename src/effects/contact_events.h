@@ -19,10 +19,10 @@ void tb__contact_events_release(tb__contact_params *contact);
 
 /* tb__effect_stepping.event_gaps, adaptive_step_limit and tunnel_step of contact between bodies. */
 void tb__contact_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
-                            double *gap);
+                            double *gap, bool signs);
 /* tb__effect_stepping.wake_gaps and wake_links of contact between bodies (sleeping islands). */
 void tb__contact_wake_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
-                           double *gap, double *wake);
+                           double *gap, double *wake, bool signs);
 void tb__contact_wake_links(const tb__effect *effect, const tb_scene *scene, const double *y,
                             double dt);
 double tb__contact_step_limit(const tb__effect *effect, const tb_scene *scene, const double *y,
@@ -44,9 +44,10 @@ double tb__contact_half_thickness(const tb_scene *scene, size_t id);
 tb_status tb__contact_check_impacts(const tb__effect *effect, const tb_scene *scene,
                                     const double *y, char *detail);
 
-/* tb__effect_stepping.event_gaps of a ground plane: each body's lowest contact point's height. */
+/* tb__effect_stepping.event_gaps of a ground plane: each body's lowest contact point's height
+ * (signs: see tb__effect_stepping.event_gaps). */
 void tb__ground_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
-                           double *gap);
+                           double *gap, bool signs);
 
 /* tb__effect_ops.event_pairs of contact between bodies and of a ground plane
  * (effect_contact_event_pairs.c): the pairs contact events watch. */

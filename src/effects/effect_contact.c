@@ -1,10 +1,9 @@
-/* Contact between bodies: the geometry branch's pairs (contact/contact_pairs.h: broad phase,
- * narrow phase, a manifold of up to 4 points with a normal from A to B) turned into forces by the
- * shared normal law (contact/contact_law.h) and Coulomb friction. Each point's force acts on
- * both bodies at the same world point with opposite signs, so the effect conserves linear and
- * angular momentum to round-off. Friction is the ground's stick anchor at the points that hold
- * a slot of the effect's friction pool (effects/contact_friction.h), the memoryless law at the
- * others. */
+/* Contact between bodies: the pairs of contact/contact_pairs.h (broad and narrow phase, a
+ * manifold of up to 4 points, normal from A to B) turned into forces by the shared normal law
+ * (contact/contact_law.h) and Coulomb friction. Each point's force acts on both bodies at one
+ * world point with opposite signs: linear and angular momentum are conserved to round-off.
+ * Friction: the ground's stick anchor where a point holds a slot of the friction pool
+ * (effects/contact_friction.h), the memoryless law elsewhere. */
 #include "effects/effect_contact.h"
 
 #include "contact/contact_law.h"
@@ -44,9 +43,8 @@ static void point_load(const tb__effect *effect, const tb_scene *scene,
     tb__point_velocity(m->body[1], arm_b, v_b);
     const double relative[3] = {v_b[0] - v_a[0], v_b[1] - v_a[1], v_b[2] - v_a[2]};
     const double approach = tb__v3_dot(relative, n);
-    /* k = M_min omega^2 share and c = 2 zeta sqrt(k m_j): point j's dashpot pushes its part of
-     * the effective mass at the centre of pressure (pair_masses), so an off-centre hit keeps the
-     * user's restitution */
+    /* k = M_min omega^2 share, c = 2 zeta sqrt(k m_j): point j's dashpot pushes its part of the
+     * effective mass at the centre of pressure (pair_masses): an off-centre hit keeps e */
     const double part = point->depth > 0.0 ? point->depth / m->load : 0.0;
     const double N =
         tb__contact_point_force(m->light * share * contact->omega * contact->omega,
@@ -103,6 +101,9 @@ static void pair_masses(const tb_scene *scene, const tb__pair_contact *pair, tb_
     tb__tangent_basis(n, t1, t2); /* once for both bodies */
     for (int k = 0; k < 2; ++k) {
         const tb__body *body = tb__body_constants(scene, k == 0 ? pair->body_a : pair->body_b);
+        if (body->inv_mass == 0.0) {
+            continue; /* a body without a state (a board): its terms are 0 exactly */
+        }
         double arm[3];
         for (int i = 0; i < 3; ++i) {
             arm[i] = centre[i] / m->load - m->body[k]->x[i];

@@ -94,7 +94,21 @@ static bool any_asleep(const tb_scene *scene)
 typedef struct gaps_target {
     const tb_scene *scene;
     const double *gap, *wake;
+    bool signs; /* only whether each gap is below zero need be exact */
 } gaps_target;
+
+/* tb__pair_level for gaps_pass in signs: a pair is needed only where it could take a body's gap
+ * below zero (a pair gap below 0), or a mixed pair's wake gap (below TB__WAKE_DISTANCE: g - W
+ * is below zero exactly where g < W), for a body whose gap is not yet below; a pair above the
+ * level leaves every sign as it is, and at -infinity the pass passes over the pair whatever
+ * its shapes (tb__contact_pairs_filter). */
+static double signs_level(const gaps_target *t, size_t a, size_t b)
+{
+    const bool gap_open = t->gap != NULL && !(t->gap[a] < 0.0 && t->gap[b] < 0.0);
+    const bool wake_open =
+        t->wake != NULL && mixed(t->scene, a, b) && !(t->wake[a] < 0.0 && t->wake[b] < 0.0);
+    return wake_open ? TB__WAKE_DISTANCE : gap_open ? 0.0 : -INFINITY;
+}
 
 /* tb__pair_level for gaps_pass: a pair whose gap is above both bodies' gaps leaves each fmin
  * below as it is (a NaN gap: every pair). A mixed pair's wake gaps are the gap less
@@ -102,6 +116,9 @@ typedef struct gaps_target {
 static double gaps_level(void *ctx, size_t a, size_t b)
 {
     const gaps_target *t = ctx;
+    if (t->signs) {
+        return signs_level(t, a, b);
+    }
     if (t->wake != NULL && mixed(t->scene, a, b)) {
         return INFINITY;
     }
@@ -113,11 +130,11 @@ static double gaps_level(void *ctx, size_t a, size_t b)
 }
 
 static void gaps_pass(const tb__effect *effect, const tb_scene *scene, const double *y, double *gap,
-                      double *wake)
+                      double *wake, bool signs)
 {
     tb__contact_pairs *pairs = tb__contact_of(effect)->lookahead;
     tb__pair_contact batch[TB__EVENT_BATCH];
-    gaps_target target = {scene, gap, wake};
+    gaps_target target = {scene, gap, wake, signs};
     tb__contact_pairs_filter(pairs, gaps_level, &target);
     tb__contact_pairs_begin(pairs, scene, scene->time, y);
     size_t count;
@@ -139,18 +156,18 @@ static void gaps_pass(const tb__effect *effect, const tb_scene *scene, const dou
 }
 
 void tb__contact_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
-                            double *gap)
+                            double *gap, bool signs)
 {
-    gaps_pass(effect, scene, y, gap, NULL);
+    gaps_pass(effect, scene, y, gap, NULL, signs);
 }
 
 void tb__contact_wake_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
-                           double *gap, double *wake)
+                           double *gap, double *wake, bool signs)
 {
     if (any_asleep(scene)) {
-        gaps_pass(effect, scene, y, gap, wake);
+        gaps_pass(effect, scene, y, gap, wake, signs);
     } else if (gap != NULL) { /* no mixed pair: every wake gap stays */
-        gaps_pass(effect, scene, y, gap, NULL);
+        gaps_pass(effect, scene, y, gap, NULL, signs);
     }
 }
 
@@ -182,10 +199,15 @@ static double link_gap(const links_target *t, size_t a, size_t b)
 }
 
 /* tb__pair_level for the wake links: a pair whose gap floor is above its link gap is not
- * linked (a NaN link gap: every pair). */
+ * linked (a NaN link gap: every pair); a pair already in one island (linked by the step's
+ * post_step passes, touching) needs no link. */
 static double links_level(void *ctx, size_t a, size_t b)
 {
-    const double g = link_gap(ctx, a, b);
+    const links_target *t = ctx;
+    if (tb__scene_sleep_linked(t->scene, a, b)) {
+        return -INFINITY;
+    }
+    const double g = link_gap(t, a, b);
     return isnan(g) ? INFINITY : g;
 }
 
@@ -522,21 +544,26 @@ tb_status tb__contact_check_impacts(const tb__effect *effect, const tb_scene *sc
 }
 
 void tb__ground_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
-                           double *gap)
+                           double *gap, bool signs)
 {
     const tb__ground_params *ground = tb__ground_of(effect);
     tb__motion motion;
-    size_t current = TB_ALL_BODIES;
-    for (size_t j = 0; j < scene->contact_count; ++j) {
-        const tb__contact *c = &scene->contacts[j];
-        if (c->body != current) {
-            current = c->body;
-            tb__body_motion_at(scene, scene->time, y, current, &motion);
+    for (size_t first = 0, end; first < scene->contact_count; first = end) {
+        const size_t body = scene->contacts[first].body;
+        end = tb__ground_run_end(scene, first);
+        tb__body_motion_at(scene, scene->time, y, body, &motion);
+        /* signs: a body surely above the plane has every point's gap above zero */
+        if (signs && tb__ground_body_clear(ground, scene, first, end, &motion)) {
+            continue;
         }
-        double arm[3];
-        tb__point_arm(&motion, c->r, arm);
-        const double height = tb__v3_dot(ground->normal, motion.x) +
-                              tb__v3_dot(ground->normal, arm) - ground->offset - c->radius;
-        gap[current] = fmin(gap[current], height);
+        /* signs: once a point is below zero, so is the body's gap */
+        for (size_t j = first; j < end && !(signs && gap[body] < 0.0); ++j) {
+            const tb__contact *c = &scene->contacts[j];
+            double arm[3];
+            tb__point_arm(&motion, c->r, arm);
+            const double height = tb__v3_dot(ground->normal, motion.x) +
+                                  tb__v3_dot(ground->normal, arm) - ground->offset - c->radius;
+            gap[body] = fmin(gap[body], height);
+        }
     }
 }

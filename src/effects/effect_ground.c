@@ -15,6 +15,16 @@
 
 #define TB__GROUND_COOKIE 0x960d
 
+/* Whether hypot(z[0], z[1]) <= cone surely, from the squares: |z|^2 rounds within 3 ulps and
+ * hypot within a few (glibc: 1), so a square below cone^2 (1 - 1e-14) leaves the deflection at
+ * most the cone, where bristles() needs no more of it (an anchor at rest, most of them). A cone
+ * below 1e-140 (its square near underflow), or anything not finite, asks hypot. */
+static bool inside_cone(const double z[2], double cone)
+{
+    return cone > 1e-140 && cone < 1e140 &&
+           z[0] * z[0] + z[1] * z[1] <= cone * cone * (1.0 - 1e-14);
+}
+
 /* Friction at one point: writes dz and returns the friction force (N, tangent basis). A stick
  * anchor with plastic slip (docs/effects.md, "Friction"): z is the elastic deflection of a
  * tangential spring of stiffness k = m g s0 for the mass m the point carries and a dashpot
@@ -37,8 +47,8 @@ static void bristles(const tb__ground_params *ground, double mass, double dampin
     }
     const double stiffness = mass * ground->gravity * ground->bristle_stiffness;
     const double damping = sqrt(stiffness * damping_mass);
-    const double deflection = hypot(z[0], z[1]);
     const double cone = ground->static_friction * N / stiffness;
+    const double deflection = inside_cone(z, cone) ? 0.0 : hypot(z[0], z[1]);
     const double excess = deflection > cone ? deflection - cone : 0.0;
     const double slip = TB__BRISTLE_MAX_RATE * excess / ground->stribeck_velocity;
     /* exp(-0) is 1 exactly: a point inside its cone (at rest, most of them) skips the call */
@@ -301,9 +311,9 @@ static void ground_rate(const tb__effect *effect, const tb_scene *scene, const d
 /* The gaps of the bodies' points (effect_contact_events.c), then of the shapes of the bodies
  * without points. */
 static void ground_event_gaps(const tb__effect *effect, const tb_scene *scene, const double *y,
-                              double *gap)
+                              double *gap, bool signs)
 {
-    tb__ground_event_gaps(effect, scene, y, gap);
+    tb__ground_event_gaps(effect, scene, y, gap, signs);
     tb__ground_shapes_event_gaps(effect, scene, y, gap);
 }
 

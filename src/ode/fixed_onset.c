@@ -84,6 +84,14 @@ void tb__onset_forget(tb_integrator *integrator)
     }
 }
 
+/* The roots' signs at (t, y) into g: the search reads nothing else, so the system's cheaper
+ * root_signs where it has them. */
+static int root_signs(const tb_ode_system *system, double t, const double *y, double *g)
+{
+    return system->events.root_signs != NULL ? system->events.root_signs(t, y, g, system->ctx)
+                                             : system->events.roots(t, y, g, system->ctx);
+}
+
 /* y(s) on [t, t + h], s in [0, 1], from both ends' values and slopes. */
 static void hermite(const double *y0, const double *f0, const double *y1, const double *f1,
                     double h, double s, double *out, size_t n)
@@ -123,8 +131,7 @@ static int bisect(tb_integrator *integrator, const double *y0, const double *y1,
     while (high - low > TB__ONSET_TOLERANCE) {
         const double s = 0.5 * (low + high);
         hermite(y0, onset->f_start, y1, onset->f_end, h, s, onset->y_probe, n);
-        const int rc =
-            system->events.roots(integrator->t + s * h, onset->y_probe, trial, system->ctx);
+        const int rc = root_signs(system, integrator->t + s * h, onset->y_probe, trial);
         if (rc != 0) {
             return rc;
         }
@@ -150,8 +157,8 @@ int tb__onset_locate(tb_integrator *integrator, const double *y0, const double *
     const size_t count = system->events.root_count;
     const double t = integrator->t;
     *h_onset = h;
-    int rc = onset->have_start ? 0 : system->events.roots(t, y0, onset->g_start, system->ctx);
-    rc = rc != 0 ? rc : system->events.roots(t + h, y1, onset->g_end, system->ctx);
+    int rc = onset->have_start ? 0 : root_signs(system, t, y0, onset->g_start);
+    rc = rc != 0 ? rc : root_signs(system, t + h, y1, onset->g_end);
     if (rc != 0) {
         return rc;
     }
@@ -205,7 +212,7 @@ void tb__onset_reached(tb_integrator *integrator)
     system->events.at_event(integrator->t, integrator->y, system->ctx);
     /* the roots anew (at_event may have changed them), but the functions found touching stay
      * touching at the start: the step to the onset may end a rounding error apart */
-    if (system->events.roots(integrator->t, integrator->y, onset->g_start, system->ctx) != 0) {
+    if (root_signs(system, integrator->t, integrator->y, onset->g_start) != 0) {
         onset->have_start = false; /* the next step's search reports the failure */
         return;
     }

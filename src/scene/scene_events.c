@@ -23,8 +23,10 @@ bool tb__scene_has_events(const tb_scene *scene)
 }
 
 /* Every body's gap (and, with wake not NULL, wake gap) at y: each effect's event_gaps, or its
- * wake_gaps doing both in one pass where there are wake gaps to find. */
-static void fill_gaps(tb_scene *scene, double t, const double *y, double *gap, double *wake)
+ * wake_gaps doing both in one pass where there are wake gaps to find; with signs, exact in sign
+ * only (tb__effect_stepping.event_gaps). */
+static void fill_gaps(tb_scene *scene, double t, const double *y, double *gap, double *wake,
+                      bool signs)
 {
     scene->time = t; /* bodies without a state, at t */
     for (size_t i = 0; i < scene->body_count; ++i) {
@@ -47,9 +49,9 @@ static void fill_gaps(tb_scene *scene, double t, const double *y, double *gap, d
             }
             if (wake != NULL && any_asleep && stepping->wake_gaps != NULL) {
                 stepping->wake_gaps(effect, scene, y, stepping->event_gaps != NULL ? gap : NULL,
-                                    wake);
+                                    wake, signs);
             } else if (stepping->event_gaps != NULL) {
-                stepping->event_gaps(effect, scene, y, gap);
+                stepping->event_gaps(effect, scene, y, gap, signs);
             }
         }
     }
@@ -69,14 +71,7 @@ static void fill_gaps(tb_scene *scene, double t, const double *y, double *gap, d
 
 int tb__scene_event_gaps(double t, const double *y, double *gap, void *ctx)
 {
-    fill_gaps(ctx, t, y, gap, NULL);
-    return 0;
-}
-
-int tb__scene_event_and_wake_gaps(double t, const double *y, double *g, void *ctx)
-{
-    tb_scene *scene = ctx;
-    fill_gaps(scene, t, y, g, g + scene->body_count);
+    fill_gaps(ctx, t, y, gap, NULL, false);
     return 0;
 }
 
@@ -96,18 +91,29 @@ size_t tb__scene_root_count(const tb_scene *scene)
     return effect_root_count(scene) + constraint_root_count(scene);
 }
 
+/* The effects' gaps (and wake gaps where bodies can sleep), then the constraints' roots. */
+static int roots(tb_scene *scene, double t, const double *y, double *g, bool signs)
+{
+    const size_t effects = effect_root_count(scene);
+    if (effects > 0) {
+        fill_gaps(scene, t, y, g, effects > scene->body_count ? g + scene->body_count : NULL,
+                  signs);
+    }
+    if (constraint_root_count(scene) > 0) {
+        scene->time = t; /* bodies without a state, at t */
+        return scene->constraint_ops->roots(scene->constraints, scene, t, y, g + effects);
+    }
+    return 0;
+}
+
 int tb__scene_roots(double t, const double *y, double *g, void *ctx)
 {
-    tb_scene *scene = ctx;
-    const size_t effects = effect_root_count(scene);
-    int rc = effects == 0                  ? 0
-             : effects > scene->body_count ? tb__scene_event_and_wake_gaps(t, y, g, ctx)
-                                           : tb__scene_event_gaps(t, y, g, ctx);
-    if (rc == 0 && constraint_root_count(scene) > 0) {
-        scene->time = t; /* bodies without a state, at t */
-        rc = scene->constraint_ops->roots(scene->constraints, scene, t, y, g + effects);
-    }
-    return rc;
+    return roots(ctx, t, y, g, false);
+}
+
+int tb__scene_root_signs(double t, const double *y, double *g, void *ctx)
+{
+    return roots(ctx, t, y, g, true);
 }
 
 double tb__scene_step_limit(double t, const double *y, const double *dydt, void *ctx)

@@ -127,9 +127,10 @@ struct tb__effect_stepping {
     /* Events (effect_contact_events.c): lowers gap[i] (m, filled with TB__EVENT_LOOKAHEAD) to
      * body i's gap to what the effect makes it touch, where that is smaller: negative in
      * contact, continuous in y. The scene's root functions are these gaps, one per body, so an
-     * adaptive step ends where a body's contact begins or ends. NULL: no events. */
+     * adaptive step ends where a body's contact begins or ends. With signs, only whether each
+     * gap is below zero need be exact (tb__scene_root_signs). NULL: no events. */
     void (*event_gaps)(const tb__effect *effect, const tb_scene *scene, const double *y,
-                       double *gap);
+                       double *gap, bool signs);
     /* Waking under adaptive methods (sleep.c): lowers wake[i] (filled with
      * TB__EVENT_LOOKAHEAD) to the distance beyond TB__WAKE_DISTANCE of the nearest pair the
      * effect finds between body i and a body of the other sleep state (one asleep, one
@@ -137,9 +138,9 @@ struct tb__effect_stepping {
      * so that CVODE stops before such a pair can touch and wakes the island there. NULL: the
      * effect brings no body to a sleeping one (but through sleep_partner). With gap not NULL
      * it also does event_gaps' work on gap, in the same pass over the pairs (the two root sets
-     * come at the same (t, y); an effect with wake_gaps has event_gaps). */
+     * come at the same (t, y); an effect with wake_gaps has event_gaps); signs as there. */
     void (*wake_gaps)(const tb__effect *effect, const tb_scene *scene, const double *y, double *gap,
-                      double *wake);
+                      double *wake, bool signs);
     /* Links (tb__scene_sleep_link) every pair of its bodies that could come within its margin
      * in a step of dt from y (dt 0: within the margin now), so that a fixed step never starts
      * with a sleeping body that it would bring into contact. NULL: none. */
@@ -575,13 +576,12 @@ tb_status tb__scene_check_step(const tb_scene *scene, const double *y, tb_method
  * gap per body, tb__effect_stepping.event_gaps) and adaptive step limit, for tb_ode_system. */
 bool tb__scene_has_events(const tb_scene *scene);
 int tb__scene_event_gaps(double t, const double *y, double *gap, void *ctx);
-/* The same gaps in g[0 .. n), then each body's wake gap (tb__effect_stepping.wake_gaps) in
- * g[n .. 2n): the root functions of a scene whose bodies can sleep. */
-int tb__scene_event_and_wake_gaps(double t, const double *y, double *g, void *ctx);
 double tb__scene_step_limit(double t, const double *y, const double *dydt, void *ctx);
-/* The scene's root functions: the effects' (wake) gaps, then tb__constraint_ops.roots. */
+/* The scene's root functions: the effects' gaps, where bodies can sleep each body's wake gap
+ * (tb__effect_stepping.wake_gaps), then tb__constraint_ops.roots; root_signs exact in sign. */
 size_t tb__scene_root_count(const tb_scene *scene);
 int tb__scene_roots(double t, const double *y, double *g, void *ctx);
+int tb__scene_root_signs(double t, const double *y, double *g, void *ctx);
 /* The longest fixed step at y in which no body can pass through another (INFINITY: none): the
  * least of the effects' tunnel_step for a step dt (0: their quick bounds alone, as the default
  * step uses), the pair that sets it in which (TB_DETAIL_SIZE bytes). */

@@ -119,6 +119,22 @@ void tb__scene_sleep_begin(const tb_scene *scene)
     }
 }
 
+/* i's root, the parents left as they are */
+static size_t root_of(const size_t *parent, size_t i)
+{
+    while (parent[i] != i) {
+        i = parent[i];
+    }
+    return i;
+}
+
+bool tb__scene_sleep_linked(const tb_scene *scene, size_t a, size_t b)
+{
+    const tb__sleep *sleep = scene->sleep;
+    return sleep != NULL && a != b && a < sleep->capacity && b < sleep->capacity &&
+           root_of(sleep->parent, a) == root_of(sleep->parent, b);
+}
+
 /* Whether keyframed body id moves (or is about to: an acceleration from rest) at the scene's
  * time, when the links are made. */
 static bool keyframed_moving(const tb_scene *scene, size_t id)

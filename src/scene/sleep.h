@@ -52,6 +52,9 @@ void tb__scene_sleep_free(tb_scene *scene);
  * (tb__scene_sleep_at_event). */
 void tb__scene_sleep_begin(const tb_scene *scene);
 void tb__scene_sleep_link(const tb_scene *scene, size_t a, size_t b);
+/* Whether a and b (a != b) are in one island of the links made since begin: linking them again
+ * would change nothing (the effects' passes skip such pairs). */
+bool tb__scene_sleep_linked(const tb_scene *scene, size_t a, size_t b);
 void tb__scene_sleep_end(tb_scene *scene, double t, const double *y);
 void tb__scene_sleep_apply_pending(tb_scene *scene);
 /* Wakes body id's island (a user change of its state), or every body. */
