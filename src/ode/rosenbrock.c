@@ -33,12 +33,14 @@
  *
  * Where contact points come and go inside the step (a die's corner, then an edge) no single
  * matrix describes it and the step can still throw a body off. A step whose change is not
- * explained by the rates at its ends (trusted) is therefore taken as two halves, each checked
- * alike, down to 1/128 of the step; the caller's grid and step count are unchanged, the cost is
- * not (docs/integrators.md measures it). A step longer than the system's split_limit (a scene's
- * tunnelling bound: two bodies that could pass through each other within it) is halved alike
- * before it is tried, so that the scene's guard refuses a step only where a quarter of it is too
- * long (the dominoes at 1/240 s, refused at domino20's fall before).
+ * explained by the rates at its ends (trusted: no larger than twice h times their sum, and
+ * within their range, which a made-up push is not) is therefore taken as two halves, each
+ * checked alike, down to 1/128 of the step, which is taken with the start's Jacobian alone; the
+ * caller's grid and step count are unchanged, the cost is not (docs/integrators.md measures it). A
+ * step longer than the system's split_limit (a scene's tunnelling bound: two bodies that could pass
+ * through each other within it) is halved alike before it is tried, so that the scene's guard
+ * refuses a step only where a quarter of it is too long (the dominoes at 1/240 s, refused at
+ * domino20's fall before).
  *
  * Reuse. Any matrix keeping the order, a factorisation that served a trusted step of the same h
  * is tried again on the next (a halved step's second half included), without a Jacobian: the
@@ -58,9 +60,13 @@
 /* Times a step is taken again with the Jacobian at its end merged in (tb__rosenbrock_refine) */
 #define TB__ROS2_REFINES 2
 
-/* Halvings of a step whose solutions disagree (trusted), and how far they may disagree */
+/* Halvings of a step whose solutions disagree (trusted), and how far they may disagree: in
+ * size, and outside the range of the rates at the step's ends (by this part of their sum, and
+ * this part of the largest |y|) */
 #define TB__ROS2_SPLITS 7
 #define TB__ROS2_TRUST 2.0
+#define TB__ROS2_RANGE 0.25
+#define TB__ROS2_RANGE_FLOOR 1e-4
 _Static_assert((1 << TB__ROS2_SPLITS) == TB__ROSENBROCK_FINEST, "the finest part, rosenbrock.h");
 
 /* out = y + a p (+ b q when q is not NULL) */
@@ -133,13 +139,14 @@ static int still(tb_integrator *integrator, double t_last, const double *y, cons
     return rc;
 }
 
-/* One ROS2 step of size h from (t, y), whose rate is fy, into y_new with its refinements. */
+/* One ROS2 step of size h from (t, y), whose rate is fy, into y_new with up to refines
+ * refinements. */
 static int one_step(tb_integrator *integrator, double t, double h, double t_last, const double *y,
-                    const double *fy, double *y_new, double *work, long *evals)
+                    const double *fy, double *y_new, double *work, long *evals, int refines)
 {
     int rc = tb__rosenbrock_factor(integrator, t, h, TB__ROS2_GAMMA, y, fy);
     rc = rc != 0 ? rc : stages(integrator, t_last, h, y, fy, y_new, work, evals);
-    for (int pass = 0; rc == 0 && pass < TB__ROS2_REFINES; ++pass) {
+    for (int pass = 0; rc == 0 && pass < refines; ++pass) {
         bool changed = false;
         rc = tb__rosenbrock_refine(integrator, t + h, h, TB__ROS2_GAMMA, y_new, &changed);
         if (rc != 0 || !changed) {
@@ -150,14 +157,34 @@ static int one_step(tb_integrator *integrator, double t, double h, double t_last
     return rc;
 }
 
-/* The change below which a component is at rest: 1e-9 of the largest |y|. */
-static double rest_floor(const double *y, size_t n)
+/* The largest |y_i|. */
+static double largest(const double *y, size_t n)
 {
     double size = 0.0;
     for (size_t i = 0; i < n; ++i) {
         size = fmax(size, fabs(y[i]));
     }
-    return 1e-9 * size;
+    return size;
+}
+
+/* The change below which a component is at rest: 1e-9 of the largest |y|. */
+static double rest_floor(const double *y, size_t n)
+{
+    return 1e-9 * largest(y, n);
+}
+
+/* Whether a component's change d over the step lies within h times the range of its rates at the
+ * ends (f0, f1), widened by TB__ROS2_RANGE of h (|f0| + |f1|) and by floor. A smooth rate that
+ * stays between its end values moves y by h times a value between them (the mean value theorem);
+ * ROS2's own damping of a linear mode moves it past them by at most (sqrt(2) - 1) / 2 = 0.207 of
+ * that sum (the oscillator and the damped oscillator at any h omega and damping ratio). A change
+ * outside is a push the ends do not show: a contact made and gone inside the step, or a kick the
+ * matrix made up (a die's second corner landing while it slides on the first, thrown forward,
+ * docs/integrators.md). */
+static bool within_rates(double d, double h, double f0, double f1, double floor)
+{
+    const double slack = TB__ROS2_RANGE * h * (fabs(f0) + fabs(f1)) + floor;
+    return d <= h * fmax(f0, f1) + slack && d >= h * fmin(f0, f1) - slack;
 }
 
 /* Whether the step's change is explained by the derivative at its ends: a step that blows up
@@ -175,10 +202,13 @@ static int trusted(tb_integrator *integrator, double t_end, double h, const doub
     double *end = work + n;
     ++*evals;
     const int rc = system->derivative(t_end, y_new, end, system->ctx);
-    const double floor = rest_floor(y, n);
+    const double size = largest(y, n), floor = 1e-9 * size;
+    const double range_floor = TB__ROS2_RANGE_FLOOR * size;
     bool ok = rc == 0;
     for (size_t i = 0; ok && i < n; ++i) {
-        ok = fabs(y_new[i] - y[i]) <= TB__ROS2_TRUST * h * (fabs(start[i]) + fabs(end[i])) + floor;
+        const double d = y_new[i] - y[i];
+        ok = fabs(d) <= TB__ROS2_TRUST * h * (fabs(start[i]) + fabs(end[i])) + floor &&
+             within_rates(d, h, start[i], end[i], range_floor);
     }
     *out = ok;
     return rc;
@@ -242,6 +272,23 @@ static int start(tb_integrator *integrator, double t, double t_last, const doubl
 static int split_step(tb_integrator *integrator, double t, double h, double t_last, const double *y,
                       double *y_new, double *work, long *evals, int depth);
 
+/* The last halving (1/128 of the step, h omega about 0.1 on a contact at 1/240 s): taken with the
+ * start's Jacobian alone, neither the predictor's merged in nor the end's, and unchecked. Merged
+ * entry by entry from two states, the matrix had, where a contact was just touching, an
+ * eigenvalue near 1 / (gamma h) and threw a die off within 33 us (its energy from 0.20 to 0.54
+ * J); a matrix singular even so falls back to Heun's explicit step. */
+static int finest_step(tb_integrator *integrator, double t, double h, double t_last,
+                       const double *y, const double *fy, double *y_new, double *work, long *evals)
+{
+    tb__rosenbrock_hold(integrator, 0.0);
+    tb__rosenbrock_speculate(integrator, false);
+    int rc = one_step(integrator, t, h, t_last, y, fy, y_new, work, evals, 0);
+    tb__rosenbrock_speculate(integrator, true);
+    return rc == TB__ROSENBROCK_LINEAR_FAILED
+               ? heun(integrator, t, h, t_last, y, y_new, work, evals)
+               : rc;
+}
+
 /* The step as two halves, each taken (and checked, and halved) alike one level deeper. */
 static int halves(tb_integrator *integrator, double t, double h, double t_last, const double *y,
                   double *y_new, double *work, long *evals, int depth)
@@ -285,27 +332,18 @@ static int split_step(tb_integrator *integrator, double t, double h, double t_la
         }
         tb__rosenbrock_hold(integrator, 0.0);
     }
-    rc = one_step(integrator, t, h, t_last, y, fy, y_new, work, evals);
+    if (depth >= TB__ROS2_SPLITS) {
+        return finest_step(integrator, t, h, t_last, y, fy, y_new, work, evals);
+    }
+    rc = one_step(integrator, t, h, t_last, y, fy, y_new, work, evals, TB__ROS2_REFINES);
     bool ok = rc == 0;
-    if (rc == 0 && depth < TB__ROS2_SPLITS) {
+    if (rc == 0) {
         rc = trusted(integrator, t + h, h, y, y_new, work, evals, &ok);
     }
-    tb__rosenbrock_hold(integrator, rc == 0 && ok && depth < TB__ROS2_SPLITS ? h : 0.0);
-    /* a matrix made singular by the speculation is another sign of a step too long; at the last
-     * halving the step is taken with the start's Jacobian alone */
+    tb__rosenbrock_hold(integrator, rc == 0 && ok ? h : 0.0);
+    /* a matrix made singular by the speculation is another sign of a step too long */
     const bool halve = rc == TB__ROSENBROCK_LINEAR_FAILED || (rc == 0 && !ok);
-    if (depth >= TB__ROS2_SPLITS && rc == TB__ROSENBROCK_LINEAR_FAILED) {
-        tb__rosenbrock_speculate(integrator, false);
-        rc = one_step(integrator, t, h, t_last, y, fy, y_new, work, evals);
-        tb__rosenbrock_speculate(integrator, true);
-        rc = rc == TB__ROSENBROCK_LINEAR_FAILED
-                 ? heun(integrator, t, h, t_last, y, y_new, work, evals)
-                 : rc;
-    }
-    if (depth >= TB__ROS2_SPLITS || !halve) {
-        return rc;
-    }
-    return halves(integrator, t, h, t_last, y, y_new, work, evals, depth);
+    return halve ? halves(integrator, t, h, t_last, y, y_new, work, evals, depth) : rc;
 }
 
 int tb__rosenbrock_step(tb_integrator *integrator, double t, double h, double t_last,

@@ -27,8 +27,9 @@
  * its 7 halvings, leaving five to the trust check; the guard refuses a dt whose quarter is still
  * too long): enough for the dominoes' last fall (2 parts) and a ball meeting a 1 cm plate at
  * 3.1 m/s (3), while a body thrown off fast (the base's dice at 1/240 s, a die closing at 29.6
- * m/s: 5 parts) or the paddle's 10 m/s against a 2 cm ball (5 parts, which 8 parts did not
- * resolve: the ball thrown at 38.6 m/s) is still refused. */
+ * m/s: 5 parts) or the paddle's 10 m/s against a 2 cm ball (5 parts; in 8 parts the ball
+ * leaves right, at 15.3 m/s, but the boxes beside it at 19.2 and 12.8 m/s for 15.0, and the
+ * scene's impact check stops the run at 0.046 s) is still refused. */
 #define TB__ROSENBROCK_TUNNEL_PARTS 4
 
 typedef struct tb__rosenbrock tb__rosenbrock;
