@@ -408,6 +408,51 @@ static void test_root_signs_are_the_roots_signs(void **unused)
     tb_scene_destroy(scene);
 }
 
+/* A user's event added to a scene's system (its roots wrapped): the scene's root_signs answer
+ * for the scene's roots only, so the onset search must call the user's roots. The event 0.3 - t
+ * falls through zero once before 0.35 s, where the ball (1 m up) is still falling: exactly one
+ * event, at 0.3 s, located on RK4's interpolant of a linear function (exact but for rounding:
+ * 1e-9). Before root_signs_for the search read the scene's signs alone and never found it (the
+ * user's slot unwritten). */
+static tb_ode_system scene_system;
+
+static int user_roots(double t, const double *y, double *g, void *ctx)
+{
+    const int rc = scene_system.events.roots(t, y, g, ctx);
+    g[scene_system.events.root_count] = 0.3 - t;
+    return rc;
+}
+
+static void test_a_users_event_added_to_a_scenes_roots_is_found(void **unused)
+{
+    (void)unused;
+    tb_scene *scene = test_empty_scene();
+    test_add_ball(scene, "ball", MASS, RADIUS, (double[]){0, 0, 1.0}, (double[]){0, 0, 0});
+    assert_int_equal(tb_scene_add_gravity(scene, (double[]){0, 0, -G}), TB_STATUS_OK);
+    tb_ground_def ground = tb_ground_def_default();
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+    assert_int_equal(tb_scene_ode_system(scene, &scene_system), TB_STATUS_OK);
+    assert_non_null(scene_system.events.root_signs);
+    tb_ode_system system = scene_system;
+    system.events.root_count = scene_system.events.root_count + 1;
+    system.events.roots = user_roots;
+    tb_integrator_def def = tb_integrator_def_default();
+    assert_int_equal(tb_integrator_def_set_method(&def, TB_METHOD_RK4), TB_STATUS_OK);
+    def.dt = 0.007;
+    tb_integrator *integrator = NULL;
+    assert_int_equal(
+        tb_integrator_create(&system, &def, 0.0, tb_scene_states(scene), &integrator, NULL),
+        TB_STATUS_OK);
+    assert_int_equal(tb_integrator_advance(integrator, 0.35), TB_STATUS_OK);
+    tb_integrator_events events;
+    assert_int_equal(tb_integrator_get_events(integrator, &events), TB_STATUS_OK);
+    assert_int_equal(events.count, 1);
+    assert_int_equal(events.last_root, (long)scene_system.events.root_count);
+    assert_true(fabs(events.last_time - 0.3) < 1e-9);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -416,6 +461,7 @@ int main(void)
         cmocka_unit_test(test_steps_without_an_onset_are_those_of_before_bit_for_bit),
         cmocka_unit_test(test_a_bounce_at_1_240_s_keeps_e_better_with_onsets),
         cmocka_unit_test(test_root_signs_are_the_roots_signs),
+        cmocka_unit_test(test_a_users_event_added_to_a_scenes_roots_is_found),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -110,16 +110,16 @@ typedef struct tb_ode_events {
      * NULL (default): none. */
     size_t root_count;
     int (*roots)(double t, const double *y, double *g, void *ctx);
-    /* Optional, read only where roots is set: the same functions exact in sign only, each
-     * g_i > 0 exactly where roots' is (the values may differ), which may cost less (for a
-     * scene: pairs that cannot change a gap's sign are passed over). The fixed-step methods'
-     * onset search reads only the signs and calls it in roots' place; the adaptive methods,
-     * which locate a root from the values, and rosenbrock's onset prediction, do not. It
-     * answers for roots and root_count as they are: a system that replaces roots or changes
-     * root_count (a user's events added to tb_scene_ode_system's) must replace root_signs too,
-     * or set it NULL, or the onset search reads functions it never wrote. NULL (default): roots
-     * everywhere. */
+    /* Optional, read only where roots is set and is root_signs_for: the same functions exact in
+     * sign only, each g_i > 0 exactly where roots' is (the values may differ), which may cost
+     * less (for a scene: pairs that cannot change a gap's sign are passed over). The fixed-step
+     * methods' onset search reads only the signs and calls it in roots' place; the adaptive
+     * methods, which locate a root from the values, and rosenbrock's onset prediction, do not.
+     * root_signs_for names the roots it answers for: a system that replaces roots (a user's
+     * events added to tb_scene_ode_system's, under a ctx of its own) gets roots everywhere
+     * without touching either. NULL (default): roots everywhere. */
     int (*root_signs)(double t, const double *y, double *g, void *ctx);
+    int (*root_signs_for)(double t, const double *y, double *g, void *ctx);
     /* The longest step (> 0, in the system's time unit) the method may take from the accepted
      * state (t, y), whose derivative is dydt (CVODE's, from its history; NULL before the first
      * step), asked before every step; INFINITY or 0 for no limit. Applies with

@@ -238,8 +238,8 @@ TB_API size_t tb_scene_effect_count(const tb_scene *scene);
  *   state (n + i: body i came within 0.5 mm of it, and the island woke there; at_event wakes
  *   it); tb_integrator_events.last_root is then the body whose gap changed sign, last_direction
  *   -1 a contact onset and +1 a separation; root_signs the same exact in sign only, cheaper,
- *   for the fixed-step onset search (replace or clear it with roots: tumble/ode.h). step_limit
- *   steps long in free flight and short near a contact (docs/effects.md); next_break is a
+ *   for the fixed-step onset search, read only while roots is the scene's (tumble/ode.h).
+ * step_limit steps long in free flight and short near a contact (docs/effects.md); next_break is a
  *   keyframed body's next key time.
  * - jacobian (with contact, bodies not separable): the contact's sparse Jacobian, its pattern
  *   the bodies' contact graph (docs/integrators.md, "BDF's sparse Jacobian").

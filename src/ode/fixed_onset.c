@@ -85,11 +85,14 @@ void tb__onset_forget(tb_integrator *integrator)
 }
 
 /* The roots' signs at (t, y) into g: the search reads nothing else, so the system's cheaper
- * root_signs where it has them. */
+ * root_signs where it has them for these roots (a system that replaced roots keeps a stale
+ * root_signs, which would leave its own functions unwritten). */
 static int root_signs(const tb_ode_system *system, double t, const double *y, double *g)
 {
-    return system->events.root_signs != NULL ? system->events.root_signs(t, y, g, system->ctx)
-                                             : system->events.roots(t, y, g, system->ctx);
+    const tb_ode_events *events = &system->events;
+    return events->root_signs != NULL && events->root_signs_for == events->roots
+               ? events->root_signs(t, y, g, system->ctx)
+               : events->roots(t, y, g, system->ctx);
 }
 
 /* y(s) on [t, t + h], s in [0, 1], from both ends' values and slopes. */

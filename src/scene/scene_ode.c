@@ -305,6 +305,7 @@ static void set_events_and_jacobian(const tb_scene *scene, tb_ode_system *out_sy
     out_system->events.root_count = tb__scene_root_count(scene);
     out_system->events.roots = out_system->events.root_count > 0 ? tb__scene_roots : NULL;
     out_system->events.root_signs = out_system->events.root_count > 0 ? tb__scene_root_signs : NULL;
+    out_system->events.root_signs_for = out_system->events.roots;
     if (scene->constraint_ops != NULL && out_system->events.root_count > 0) {
         out_system->events.at_event = tb__scene_at_event;
     }
