@@ -13,9 +13,11 @@
 #include "contact/contact_pairs.h"
 #include "contact/narrow_phase.h"
 #include "counting_malloc.h"
+#include "fixtures.h"
 #include "tumble/tumble.h"
 
 #include <stdlib.h>
+#include <string.h>
 
 static tb_shape shape_of(int type)
 {
@@ -99,11 +101,91 @@ static void test_contact_pair_passes_allocate_nothing(void **state)
     tb_scene_destroy(scene);
 }
 
+/* A scene of two ground planes (a floor and a wall) that meet three box shapes through their
+ * friction pools, a box resting on the floor so that the floor's anchors hold loaded states, an
+ * RK4 integrator 50 ms in, and a fourth box without a shape. */
+static tb_scene *two_planes_and_boxes(tb_integrator **out_integrator)
+{
+    tb_scene *scene = test_empty_scene();
+    const double size[3] = {0.2, 0.2, 0.2};
+    for (int i = 0; i < 3; ++i) {
+        test_add_box(scene, 1.0, size, (const double[]){0.5 * i, 0, 0.1 - 8e-7});
+    }
+    tb_body_def body = tb_body_def_default();
+    assert_int_equal(tb_mass_from_box(TB_MASS_GIVEN, 1.0, size, &body.mass, NULL), TB_STATUS_OK);
+    body.position[0] = 3.0;
+    body.position[2] = 1.0;
+    assert_int_equal(tb_scene_add_body(scene, &body, NULL), TB_STATUS_OK);
+    assert_int_equal(tb_scene_add_gravity(scene, (const double[]){0.3, 0, -9.81}), TB_STATUS_OK);
+    tb_ground_def ground = tb_ground_def_default();
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+    ground.normal[0] = 1; /* a wall at x = -5 */
+    ground.normal[2] = 0;
+    ground.offset = -5;
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+    *out_integrator = test_integrator_for(scene, TB_METHOD_RK4, 0, 0);
+    assert_int_equal(tb_integrator_advance(*out_integrator, 0.05), TB_STATUS_OK);
+    return scene;
+}
+
+/* A failed call leaves every object as it was (docs/robustness.md, F105): giving the fourth box
+ * a shape grows both planes' friction pools and lays the states out again; each allocation of
+ * the call is made to fail in turn, and a failure must leave the state array's length and bytes
+ * (the floor's loaded anchors among them), the body's lack of a shape and the integrator able to
+ * advance, where before the floor kept a grown pool and a new layout (the integrator refused
+ * with LAYOUT_CHANGED and the anchors were zeroed) when the wall's pool failed. */
+static void test_a_shape_refused_for_memory_leaves_every_plane_as_it_was(void **state)
+{
+    (void)state;
+    const double size[3] = {0.2, 0.2, 0.2};
+    tb_shape box = tb_shape_default();
+    box.type = TB_SHAPE_BOX;
+    memcpy(box.size, size, sizeof box.size);
+    int refused = 0;
+    for (long k = 1; k < 200; ++k) {
+        tb_integrator *integrator = NULL;
+        tb_scene *scene = two_planes_and_boxes(&integrator);
+        const size_t n = tb_scene_state_size(scene);
+        double *before = malloc(n * sizeof *before);
+        assert_non_null(before);
+        memcpy(before, tb_scene_states(scene), n * sizeof *before);
+        bool loaded = false; /* the anchors hold something a new layout would zero */
+        for (size_t i = 13 * 4; i < n; ++i) {
+            loaded = loaded || before[i] != 0.0;
+        }
+        assert_true(loaded);
+        failing_allocation_at = k;
+        const tb_status status = tb_scene_set_body_shape(scene, 3, &box);
+        const bool failed_here = failing_allocation_at == 0;
+        failing_allocation_at = 0;
+        if (status == TB_STATUS_OK) {
+            assert_false(failed_here); /* every allocation of the call was tried */
+            free(before);
+            tb_integrator_destroy(integrator);
+            tb_scene_destroy(scene);
+            break;
+        }
+        refused += 1;
+        assert_int_equal(status, TB_STATUS_OUT_OF_MEMORY);
+        assert_int_equal(tb_scene_state_size(scene), n);
+        assert_memory_equal(tb_scene_states(scene), before, n * sizeof *before);
+        tb_shape_type type = TB_SHAPE_BOX;
+        assert_int_equal(tb_scene_body_shape_type(scene, 3, &type), TB_STATUS_OK);
+        assert_int_equal(type, TB_SHAPE_NONE);
+        assert_int_equal(tb_integrator_advance(integrator, 0.06), TB_STATUS_OK);
+        free(before);
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+    assert_true(refused >= 4); /* the shape, both pools and the layout each allocate */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_narrow_phase_allocates_nothing),
         cmocka_unit_test(test_contact_pair_passes_allocate_nothing),
+        cmocka_unit_test(test_a_shape_refused_for_memory_leaves_every_plane_as_it_was),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

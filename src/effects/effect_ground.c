@@ -317,6 +317,7 @@ static const tb__effect_stepping ground_stepping = {
     .check_points = tb__ground_check_points,
     .uncheck_points = tb__ground_shapes_unnote,
     .shapes_changed = tb__ground_shapes_changed,
+    .shapes_settled = tb__ground_shapes_settled,
     .event_pairs = tb__ground_event_pairs, /* effect_contact_event_pairs.c */
     .impact_law = tb__ground_impact_law,
 };
