@@ -414,8 +414,8 @@ tb_status tb__scene_impacts_prepare(tb_scene *scene, const double *y, tb_method 
                                     struct tb__impacts **out_pending);
 void tb__scene_impacts_commit(tb_scene *scene, struct tb__impacts *pending);
 void tb__scene_impacts_discard(struct tb__impacts *pending);
-/* An integrator reset to t (tb_integrator_reset, accepted): a count holding an impact later than
- * t starts again from zero. */
+/* An integrator reset to t (tb_integrator_reset, accepted): the count keeps the impacts at or
+ * before t (from zero if memory ran out for their log). */
 void tb__scene_impacts_reset(tb_scene *scene, double t);
 struct tb__event_watch *tb__scene_impact_watch(const tb_scene *scene);
 void tb__scene_impacts_free(tb_scene *scene);
