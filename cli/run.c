@@ -165,12 +165,17 @@ static int on_frame(size_t frame, double t, const tb_scene *scene, void *ctx)
     return 0;
 }
 
-/* Finishes the output: the CSV stream, or the library's writer (which writes npz and glTF
- * now, or, after a failed run, removes its unfinished file). */
-static bool close_output(writer *w, tb_status status, char *message, size_t size)
+/* Finishes the output: the CSV stream into path (NULL: standard output), removed when its
+ * write failed (its last line cut short, as the events' file is), or the library's writer
+ * (which writes npz and glTF now, or, after a failed run, removes its unfinished file). */
+static bool close_output(writer *w, const char *path, tb_status status, char *message, size_t size)
 {
     if (w->frames == NULL) {
-        return cli_output_close(&w->output, message, size);
+        const bool written = cli_output_close(&w->output, message, size);
+        if (!written) {
+            cli_output_remove_partial(path);
+        }
+        return written;
     }
     tb_error error;
     if (w->frames_failed) {
@@ -237,7 +242,7 @@ static int simulate(const cli_options *o, tb_scene *scene, const tb_run_def *run
     if (!joints_ok && !stopped) {
         fprintf(stderr, "tumble: %s: %s\n", o->scene, message);
     }
-    if (!close_output(w, status, message, sizeof message) && !stopped) {
+    if (!close_output(w, o->out, status, message, sizeof message) && !stopped) {
         fprintf(stderr, "tumble: %s: %s\n", o->scene, message);
         return CLI_EXIT_SIMULATION;
     }
