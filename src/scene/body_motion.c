@@ -248,6 +248,7 @@ tb_status tb__scene_set_body_motion_source(tb_scene *scene, size_t id, tb_body_m
     kind->break_times = times;
     kind->break_count = break_count;
     scene->effects_generation++; /* the right-hand side changed: CVODE restarts */
+    scene->set_since = "keyframed bodies' motions were"; /* checked as a start (scene_ode.c) */
     tb__scene_wake_all(scene);
     return TB_STATUS_OK;
 }

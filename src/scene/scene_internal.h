@@ -364,10 +364,10 @@ struct tb_scene {
     /* The state the newest integrator last left (states_left_size doubles, 0 for none; room for
      * states_left_capacity, made by tb_scene_ode_system), kept when an effect checks starts: a
      * state that differs at the next advance, step or reset (tb_scene_set_state, a write through
-     * tb_scene_states), or one whose shapes were set since (shape_set), is checked as a start. */
+     * tb_scene_states), or once shapes or motions were set (set_since says which), is checked. */
     double *states_left;
     size_t states_left_size, states_left_capacity;
-    bool shape_set;
+    const char *set_since; /* "bodies' shapes were", "keyframed bodies' motions were", NULL */
     /* Contact events (contact_event_watch.c): NULL until tb_scene_set_contact_events. */
     struct tb__event_watch *contact_events;
     /* Unresolved impacts (impact_watch.c): NULL until an integrator of a step too long for some

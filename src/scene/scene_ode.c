@@ -74,7 +74,7 @@ static void remember_state(tb_scene *scene)
 {
     const size_t n = tb_scene_state_size(scene);
     scene->states_left_size = 0;
-    scene->shape_set = false;
+    scene->set_since = NULL;
     if (n <= scene->states_left_capacity && has_start_checks(scene)) {
         memcpy(scene->states_left, scene->states, n * sizeof(double));
         scene->states_left_size = n;
@@ -101,23 +101,26 @@ static bool poses_changed(const tb_scene *scene)
  * that changes it (tb_scene_set_state, tb_scene_set_velocity, writes through tb_scene_states,
  * the bindings' assignments) meets here, at the next advance, step or reset of every method.
  * So does a shape set since (tb_scene_set_body_shape, _pieces: a ball grown into another was
- * thrown out at 580 m/s under CVODE); once they pass, the shapes are the start's. */
+ * thrown out at 580 m/s under CVODE) or a keyframed body's motion (tb_scene_set_body_keys,
+ * _motion_fn: a slab moved up through a ball threw it at 246 m/s); once they pass, they are the
+ * start's. */
 static tb_status check_changed_state(tb_scene *scene, char *detail)
 {
     const size_t n = scene->states_left_size;
-    if (n == 0 || n != tb_scene_state_size(scene) || !(scene->shape_set || poses_changed(scene))) {
+    if (n == 0 || n != tb_scene_state_size(scene) ||
+        !(scene->set_since != NULL || poses_changed(scene))) {
         return TB_STATUS_OK;
     }
     char found[TB_DETAIL_SIZE];
     const tb_status status = check_start(scene, scene->states, found);
     if (status == TB_STATUS_OK) {
-        scene->shape_set = false;
+        scene->set_since = NULL;
         return status;
     }
     return tb__set_detail(detail, status,
                           "the %s changed since the last step, and the state is refused as a "
                           "start would be: %.*s",
-                          scene->shape_set ? "bodies' shapes were" : "state was",
+                          scene->set_since != NULL ? scene->set_since : "state was",
                           TB_DETAIL_SIZE - 96, found);
 }
 
