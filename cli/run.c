@@ -365,6 +365,21 @@ static int open_joints(const cli_options *o, tb_scene *scene, writer *w)
     return CLI_EXIT_OK;
 }
 
+/* --out is neither the events' nor the joints' file, which exist by now: spelt otherwise
+ * (./x.csv and x.csv) before either was made, their paths could not be told apart. */
+static int check_out_apart(const cli_options *o)
+{
+    const char *const others[2] = {o->events, o->joints};
+    for (int k = 0; k < 2; ++k) {
+        if (o->out != NULL && others[k] != NULL && cli_output_same_file(o->out, others[k])) {
+            fprintf(stderr, "tumble: --out %s is the %s file\n", o->out,
+                    k == 0 ? "--events" : "--joints");
+            return CLI_EXIT_INPUT;
+        }
+    }
+    return CLI_EXIT_OK;
+}
+
 int cli_run_command(const cli_options *o)
 {
     tb_scene *scene = NULL;
@@ -397,6 +412,9 @@ int cli_run_command(const cli_options *o)
     }
     if (code == CLI_EXIT_OK && o->joints != NULL) {
         code = open_joints(o, scene, &w);
+    }
+    if (code == CLI_EXIT_OK) {
+        code = check_out_apart(o);
     }
     w.gltf = def.format == TB_OUTPUT_GLB || def.format == TB_OUTPUT_GLTF;
     if (code == CLI_EXIT_OK && def.format != TB_OUTPUT_CSV) {
