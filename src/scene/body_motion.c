@@ -79,6 +79,44 @@ int tb__body_motion_at(const tb_scene *scene, double t, const double *y, size_t 
     return 0;
 }
 
+/* A bound of |q(s)| on [0, 1] for q quadratic in s, from q(0) = a, q(1/2) = m and q(1) = b: the
+ * largest of its Bezier points a, 2 m - (a + b) / 2 and b, which hold the curve in their hull. */
+static double quadratic_bound(const double a[3], const double m[3], const double b[3])
+{
+    double c[3];
+    for (int k = 0; k < 3; ++k) {
+        c[k] = 2.0 * m[k] - 0.5 * (a[k] + b[k]);
+    }
+    return fmax(tb__v3_norm(a), fmax(tb__v3_norm(c), tb__v3_norm(b)));
+}
+
+double tb__body_fastest_from(const tb_scene *scene, double t, const double *y, size_t id,
+                             double reach)
+{
+    tb__motion now;
+    tb__body_motion_at(scene, t, y, id, &now);
+    double fastest = tb__v3_norm(now.v) + tb__v3_norm(now.omega) * reach;
+    if (!tb__body_fixed(scene, id)) {
+        return fastest;
+    }
+    const tb__body_kind *kind = &scene->kinds[id];
+    double from = t;
+    for (size_t k = 0; k < kind->break_count; ++k) { /* each piece from t to the last key */
+        const double to = kind->break_times[k];
+        if (!(to > from)) {
+            continue;
+        }
+        tb__motion a, m, b; /* its start, middle and end (the left limit) */
+        tb__body_motion_at(scene, from, y, id, &a);
+        tb__body_motion_at(scene, from + 0.5 * (to - from), y, id, &m);
+        tb__body_motion_at(scene, nextafter(to, from), y, id, &b);
+        fastest = fmax(fastest, quadratic_bound(a.v, m.v, b.v) +
+                                    quadratic_bound(a.omega, m.omega, b.omega) * reach);
+        from = to;
+    }
+    return fastest;
+}
+
 void tb__body_pose_at(const tb_scene *scene, double t, const double *y, size_t id, double out_x[3],
                       double out_q[4])
 {

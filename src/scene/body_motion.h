@@ -31,6 +31,14 @@ void tb__scene_release_motion_sources(tb_scene *scene);
  * tb_ode_system.events.next_break (ctx the scene). */
 double tb__scene_next_break(double t, void *ctx);
 
+/* The fastest body id's points move from t on (|v| + |omega| reach, m/s, reach a radius about
+ * its centre that holds its shape): its speed at t, and for a keyframed body with break times
+ * (keys) the largest over each piece of its curve up to its last key, bounded on a piece by the
+ * velocity taken as quadratic in time through its ends and middle (exact for linear and cubic
+ * positions: the Bezier hull of the velocity; an estimate for the rotation). */
+double tb__body_fastest_from(const tb_scene *scene, double t, const double *y, size_t id,
+                             double reach);
+
 /* Body id's slot (the index of its 13 doubles in y), or TB_NO_SLOT. */
 static inline size_t tb__body_slot(const tb_scene *scene, size_t id)
 {
