@@ -264,6 +264,13 @@ static void test_contact_points_too_far_for_the_plane_are_refused(void **state)
                      TB_STATUS_INVALID_ARGUMENT);
     assert_detail_has(tb_scene_detail(scene), "the ground plane's penetration 8e-07 m");
     assert_unchanged(scene, &before);
+    /* F116: a point 1e300 m out was refused as "inf m from the body's centre of mass" (the
+     * squares of its reach overflowed); the detail now gives its distance */
+    point.position[2] = -1e300;
+    assert_int_equal(tb_scene_set_contact_points(scene, 0, &point, 1, 1),
+                     TB_STATUS_INVALID_ARGUMENT);
+    assert_detail_has(tb_scene_detail(scene), "points[0]: 1e+300 m from the body's centre");
+    assert_unchanged(scene, &before);
     tb_scene_destroy(scene);
 }
 

@@ -29,7 +29,7 @@ static tb_status check_points(tb_scene *scene, size_t id, const tb_contact_point
         }
         double r[3];
         tb__shape_point_to_principal(&scene->mass_props[id], points[k].position, r);
-        const double reach = tb__v3_norm(r) + points[k].radius;
+        const double reach = tb__v3_hypot(r) + points[k].radius; /* 1e300 m, not inf */
         const double arm[3] = {reach, 0.0, 0.0};
         const tb__body *body = tb__body_constants(scene, id);
         if (!isfinite(body->mass * tb__inverse_mass_at(body, arm))) {
