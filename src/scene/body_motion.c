@@ -9,6 +9,7 @@
 #include "core/validate.h"
 #include "math/tb_math.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -77,6 +78,56 @@ int tb__body_motion_at(const tb_scene *scene, double t, const double *y, size_t 
     }
     tb__body_motion(&scene->bodies[slot], y + TB_STATE_SIZE * slot, out);
     return 0;
+}
+
+bool tb__scene_fixed_poses_move(const tb_scene *scene, double t)
+{
+    for (size_t k = 0; k < scene->body_count - scene->slot_count; ++k) {
+        const size_t id = scene->fixed_ids[k];
+        double x[3], q[4], x_t[3], q_t[4];
+        tb__body_pose_at(scene, scene->time, scene->states, id, x, q);
+        tb__body_pose_at(scene, t, scene->states, id, x_t, q_t);
+        if (memcmp(x, x_t, sizeof x) != 0 || memcmp(q, q_t, sizeof q) != 0) {
+            return true;
+        }
+    }
+    return false;
+}
+
+/* Whether keyframed body id jumps at its break t: its pose there (the piece that starts at t)
+ * lies farther from the limit from the left than a continuous curve moves in one rounding of t
+ * (1e-9 m and 1e-9 rad leave room for the latter at any speed a contact takes). */
+static bool jumps_at(const tb_scene *scene, size_t id, double t)
+{
+    tb__motion left, right;
+    tb__body_motion_at(scene, nextafter(t, -INFINITY), scene->states, id, &left);
+    tb__body_motion_at(scene, t, scene->states, id, &right);
+    double dx[3], minus = 0.0, plus = 0.0; /* q and -q: one rotation */
+    for (int k = 0; k < 3; ++k) {
+        dx[k] = right.x[k] - left.x[k];
+    }
+    for (int k = 0; k < 4; ++k) {
+        minus += (right.q[k] - left.q[k]) * (right.q[k] - left.q[k]);
+        plus += (right.q[k] + left.q[k]) * (right.q[k] + left.q[k]);
+    }
+    /* |q_r - q_l| is about half the angle between them */
+    return tb__v3_hypot(dx) > 1e-9 + 1e-12 * tb__v3_hypot(right.x) || fmin(minus, plus) > 1e-18;
+}
+
+bool tb__scene_fixed_poses_jump(const tb_scene *scene, double t)
+{
+    for (size_t k = 0; k < scene->body_count - scene->slot_count; ++k) {
+        const size_t id = scene->fixed_ids[k];
+        const tb__body_kind *kind = &scene->kinds[id];
+        const double near = 8.0 * DBL_EPSILON * fabs(t); /* CVODE's t_origin + tau */
+        for (size_t b = 0; b < kind->break_count && kind->break_times[b] <= t + near; ++b) {
+            const double at = kind->break_times[b];
+            if (fabs(at - t) <= near && jumps_at(scene, id, at)) {
+                return true;
+            }
+        }
+    }
+    return false;
 }
 
 /* A bound of |q(s)| on [0, 1] for q quadratic in s, from q(0) = a, q(1/2) = m and q(1) = b: the

@@ -31,6 +31,13 @@ void tb__scene_release_motion_sources(tb_scene *scene);
  * tb_ode_system.events.next_break (ctx the scene). */
 double tb__scene_next_break(double t, void *ctx);
 
+/* Whether a body without a state stands elsewhere at t than at the scene's time (keys). */
+bool tb__scene_fixed_poses_move(const tb_scene *scene, double t);
+/* Whether a keyframed body's keys jump at t (a break within 8 ulps of t where the pose is not
+ * the limit from the left: a step key), so that the state at t is checked as a start
+ * (scene_ode.c). */
+bool tb__scene_fixed_poses_jump(const tb_scene *scene, double t);
+
 /* The fastest body id's points move from t on (|v| + |omega| reach, m/s, reach a radius about
  * its centre that holds its shape): its speed at t, and for a keyframed body with break times
  * (keys) the largest over each piece of its curve up to its last key, bounded on a piece by the
