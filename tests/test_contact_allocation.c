@@ -229,6 +229,102 @@ static void test_points_refused_for_memory_leave_the_plane_under_the_shape(void 
     assert_true(refused >= 2); /* the points and the layout each allocate */
 }
 
+/* Adding a ground plane or a contact effect that runs out of memory at any of its allocations
+ * adds nothing: the effect count, the state's length and bytes (the first plane's loaded
+ * anchors among them) as before, and the integrator made before still advances. */
+static void test_effects_refused_for_memory_change_nothing(void **state)
+{
+    (void)state;
+    for (int kind = 0; kind < 2; ++kind) {
+        int refused = 0;
+        for (long k = 1; k < 400; ++k) {
+            tb_integrator *integrator = NULL;
+            tb_scene *scene = two_planes_and_boxes(&integrator);
+            const size_t n = tb_scene_state_size(scene), effects = tb_scene_effect_count(scene);
+            double *before = malloc(n * sizeof *before);
+            assert_non_null(before);
+            memcpy(before, tb_scene_states(scene), n * sizeof *before);
+            tb_ground_def ceiling = tb_ground_def_default();
+            ceiling.normal[2] = -1.0;
+            ceiling.offset = -5.0;
+            const tb_contact_def contact = tb_contact_def_default();
+            failing_allocation_at = k;
+            const tb_status status = kind == 0 ? tb_scene_add_ground(scene, &ceiling)
+                                               : tb_scene_add_contact(scene, &contact);
+            const bool failed_here = failing_allocation_at == 0;
+            failing_allocation_at = 0;
+            if (status == TB_STATUS_OK) {
+                assert_false(failed_here);
+            } else {
+                refused += 1;
+                assert_int_equal(status, TB_STATUS_OUT_OF_MEMORY);
+                assert_int_equal(tb_scene_effect_count(scene), effects);
+                assert_int_equal(tb_scene_state_size(scene), n);
+                assert_memory_equal(tb_scene_states(scene), before, n * sizeof *before);
+                assert_int_equal(tb_integrator_advance(integrator, 0.06), TB_STATUS_OK);
+            }
+            free(before);
+            tb_integrator_destroy(integrator);
+            tb_scene_destroy(scene);
+            if (status == TB_STATUS_OK) {
+                break;
+            }
+        }
+        print_message("%s: %d allocations refused in turn\n", kind == 0 ? "ground" : "contact",
+                      refused);
+        assert_true(refused >= 2);
+    }
+}
+
+/* Making a second integrator that runs out of memory at any of its allocations makes none
+ * (*out NULL), leaves the state's bytes as they were and leaves the first integrator able to
+ * advance (a made one would take the scene from it: F30), under RK4 and Euler. Not the methods
+ * that make a SUNDIALS context: SUNDIALS 6's SUNContext_Create crashes in SUNLogger_Create when an
+ * allocation inside it fails (docs/robustness.md, "Known and left"). */
+static void test_an_integrator_refused_for_memory_changes_nothing(void **state)
+{
+    (void)state;
+    const tb_method methods[2] = {TB_METHOD_RK4, TB_METHOD_EULER};
+    for (int m = 0; m < 2; ++m) {
+        int refused = 0;
+        for (long k = 1; k < 400; ++k) {
+            tb_integrator *first = NULL;
+            tb_scene *scene = two_planes_and_boxes(&first);
+            const size_t n = tb_scene_state_size(scene);
+            double *before = malloc(n * sizeof *before);
+            assert_non_null(before);
+            memcpy(before, tb_scene_states(scene), n * sizeof *before);
+            const tb_integrator_def def = test_integrator_def(methods[m], m == 0 ? 0.0 : 1e-3, 0);
+            tb_scene_set_allow_unstable(scene, m == 1); /* Euler at 1/1000 s */
+            tb_integrator *second = first;
+            failing_allocation_at = k;
+            const tb_status status = tb_scene_integrator_create(scene, &def, 0.05, &second);
+            const bool failed_here = failing_allocation_at == 0;
+            failing_allocation_at = 0;
+            if (status == TB_STATUS_OK) {
+                assert_false(failed_here);
+            } else {
+                refused += 1;
+                assert_int_equal(status, TB_STATUS_OUT_OF_MEMORY);
+                assert_null(second);
+                assert_memory_equal(tb_scene_states(scene), before, n * sizeof *before);
+                assert_int_equal(tb_integrator_advance(first, 0.06), TB_STATUS_OK);
+            }
+            free(before);
+            tb_integrator_destroy(second);
+            if (second != first) {
+                tb_integrator_destroy(first);
+            }
+            tb_scene_destroy(scene);
+            if (status == TB_STATUS_OK) {
+                break;
+            }
+        }
+        print_message("%s: %d allocations refused in turn\n", tb_method_name(methods[m]), refused);
+        assert_true(refused >= 2);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -236,6 +332,8 @@ int main(void)
         cmocka_unit_test(test_contact_pair_passes_allocate_nothing),
         cmocka_unit_test(test_a_shape_refused_for_memory_leaves_every_plane_as_it_was),
         cmocka_unit_test(test_points_refused_for_memory_leave_the_plane_under_the_shape),
+        cmocka_unit_test(test_effects_refused_for_memory_change_nothing),
+        cmocka_unit_test(test_an_integrator_refused_for_memory_changes_nothing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
