@@ -163,8 +163,8 @@ static bool has_nonzero_digit(const char *text)
     return false;
 }
 
-/* A finite decimal number > 0 (>= 0 when zero_ok), all of the text; *underflow when it is a
- * number other than 0 that rounds to 0 (1e-400). */
+/* A finite decimal number > 0 (>= 0 when zero_ok, where 1e-400 is 0), all of the text;
+ * *underflow when it must be > 0 and is a number other than 0 that rounds to 0 (1e-400). */
 static bool parse_number(const char *text, bool zero_ok, double *out, bool *underflow)
 {
     *underflow = false;
@@ -173,7 +173,7 @@ static bool parse_number(const char *text, bool zero_ok, double *out, bool *unde
     }
     char *end;
     const double value = strtod(text, &end);
-    *underflow = value == 0.0 && has_nonzero_digit(text);
+    *underflow = !zero_ok && value == 0.0 && has_nonzero_digit(text);
     if (*end != '\0' || !isfinite(value) || value < 0 || *underflow || (!zero_ok && value == 0)) {
         return false;
     }
