@@ -113,6 +113,10 @@ static const struct {
      "\"aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa\", "
      "\"mass\": 1, \"inertia\": [1, 1, 1]}]}",
      TB_STATUS_BAD_SCENE, "t.json: bodies[0]: name: must have 1 to 63 characters, got 64"},
+    /* F119: the subnormal 1e-320 was shown as the double's 9.99989e-321 */
+    {"subnormal rtol",
+     "{\"bodies\": [" BODY "], \"integrator\": {\"method\": \"cvode-bdf\", \"rtol\": 1e-320}}",
+     TB_STATUS_BAD_SCENE, "t.json: integrator.rtol: must be in [1e-15, 1), got 1e-320"},
     {"momentum overflow",
      "{\"bodies\": [{\"name\": \"a\", \"mass\": 1e100, \"inertia\": [1, 1, 1], "
      "\"velocity\": [1e300, 0, 0]}]}",
