@@ -22,20 +22,27 @@ typedef struct option_info {
     size_t value_offset; /* bool (flag), const char * (text) or double (number) */
     size_t seen_offset;  /* numbers: the bool saying the option was given */
     bool zero_ok;        /* numbers: 0 is allowed (otherwise > 0) */
+    size_t text_offset;  /* numbers: the const char * keeping the text as typed (0: none) */
 } option_info;
 
 #define FLAG(name, short_name, commands, field)                                                    \
     {                                                                                              \
-        name, short_name, commands, OPTION_FLAG, offsetof(cli_options, field), 0, false            \
+        name, short_name, commands, OPTION_FLAG, offsetof(cli_options, field), 0, false, 0         \
     }
 #define TEXT(name, short_name, commands, field)                                                    \
     {                                                                                              \
-        name, short_name, commands, OPTION_TEXT, offsetof(cli_options, field), 0, false            \
+        name, short_name, commands, OPTION_TEXT, offsetof(cli_options, field), 0, false, 0         \
     }
 #define NUMBER(name, commands, field, seen, zero_ok)                                               \
     {                                                                                              \
         name, 0, commands, OPTION_NUMBER, offsetof(cli_options, field),                            \
-            offsetof(cli_options, seen), zero_ok                                                   \
+            offsetof(cli_options, seen), zero_ok, 0                                                \
+    }
+/* A number whose range cli_apply checks, quoting the text (1e-320 is not 9.99989e-321) */
+#define NUMBER_AS_TYPED(name, commands, field, seen, text)                                         \
+    {                                                                                              \
+        name, 0, commands, OPTION_NUMBER, offsetof(cli_options, field),                            \
+            offsetof(cli_options, seen), false, offsetof(cli_options, text)                        \
     }
 
 static const option_info option_table[] = {
@@ -49,9 +56,9 @@ static const option_info option_table[] = {
     TEXT("events", 0, CLI_RUN, events),
     TEXT("joints", 0, CLI_RUN, joints),
     NUMBER("dt", RUN_OR_CHECK, dt, has_dt, false),
-    NUMBER("rtol", RUN_OR_CHECK, rtol, has_rtol, false),
+    NUMBER_AS_TYPED("rtol", RUN_OR_CHECK, rtol, has_rtol, rtol_text),
     NUMBER("atol", RUN_OR_CHECK, atol, has_atol, true),
-    NUMBER("max-steps", RUN_OR_CHECK, max_steps, has_max_steps, false),
+    NUMBER_AS_TYPED("max-steps", RUN_OR_CHECK, max_steps, has_max_steps, max_steps_text),
     NUMBER("fps", ALL_COMMANDS, fps, has_fps, false),
     NUMBER("duration", ALL_COMMANDS, duration, has_duration, true),
     NUMBER("target-error", CLI_ACCURACY, target_error, has_target, false),
@@ -145,15 +152,29 @@ static bool is_decimal(const char *text)
     return *text == '\0';
 }
 
-/* A finite decimal number > 0 (>= 0 when zero_ok), all of the text. */
-static bool parse_number(const char *text, bool zero_ok, double *out)
+/* Whether decimal text has a digit other than 0 before its exponent. */
+static bool has_nonzero_digit(const char *text)
 {
+    for (; *text != '\0' && *text != 'e' && *text != 'E'; ++text) {
+        if (*text >= '1' && *text <= '9') {
+            return true;
+        }
+    }
+    return false;
+}
+
+/* A finite decimal number > 0 (>= 0 when zero_ok, where 1e-400 is 0), all of the text;
+ * *underflow when it must be > 0 and is a number other than 0 that rounds to 0 (1e-400). */
+static bool parse_number(const char *text, bool zero_ok, double *out, bool *underflow)
+{
+    *underflow = false;
     if (!is_decimal(text)) {
         return false;
     }
     char *end;
     const double value = strtod(text, &end);
-    if (*end != '\0' || !isfinite(value) || value < 0 || (!zero_ok && value == 0)) {
+    *underflow = !zero_ok && value == 0.0 && has_nonzero_digit(text);
+    if (*end != '\0' || !isfinite(value) || value < 0 || *underflow || (!zero_ok && value == 0)) {
         return false;
     }
     *out = value == 0.0 ? 0.0 : value; /* -0 is 0: "--duration -0" ran for "-0 s" */
@@ -164,6 +185,7 @@ static bool store_option(const option_info *o, const char *value, const cli_opti
                          char *message, size_t size)
 {
     char *field = (char *)options + o->value_offset;
+    bool underflow = false;
     if (!(o->commands & options->command)) {
         char names[64];
         command_names(o->commands, names, sizeof names);
@@ -175,11 +197,15 @@ static bool store_option(const option_info *o, const char *value, const cli_opti
         *(bool *)field = true;
     } else if (o->kind == OPTION_TEXT) {
         *(const char **)field = value;
-    } else if (parse_number(value, o->zero_ok, (double *)field)) {
+    } else if (parse_number(value, o->zero_ok, (double *)field, &underflow)) {
         *(bool *)((char *)options + o->seen_offset) = true;
+        if (o->text_offset != 0) {
+            *(const char **)((char *)options + o->text_offset) = value;
+        }
     } else {
-        snprintf(message, size, "--%s: expected a finite decimal number %s, got \"%s\"", o->name,
-                 o->zero_ok ? ">= 0" : "> 0", value);
+        snprintf(message, size, "--%s: expected a finite decimal number %s, got \"%s\"%s", o->name,
+                 o->zero_ok ? ">= 0" : "> 0", value,
+                 underflow ? " (closer to 0 than a double can hold: it rounds to 0)" : "");
         return false;
     }
     return true;
@@ -292,12 +318,12 @@ bool cli_apply(const cli_options *o, tb_run_def *run, char *message, size_t size
         }
     }
     if (o->has_max_steps && !(o->max_steps == floor(o->max_steps) && o->max_steps <= 1e18)) {
-        snprintf(message, size, "--max-steps: expected a whole number from 1 to 1e18, got %g",
-                 o->max_steps);
+        snprintf(message, size, "--max-steps: expected a whole number from 1 to 1e18, got %s",
+                 o->max_steps_text);
         return false;
     }
     if (o->has_rtol && !(o->rtol >= 1e-15 && o->rtol < 1)) {
-        snprintf(message, size, "--rtol: expected a number in [1e-15, 1), got %g", o->rtol);
+        snprintf(message, size, "--rtol: expected a number in [1e-15, 1), got %s", o->rtol_text);
         return false;
     }
     /* every core for the chunks of a fixed step (the same bits as one thread) */

@@ -32,6 +32,7 @@ typedef struct cli_options {
     bool has_target;
     double dt, rtol, atol, fps, duration, max_steps;
     bool has_dt, has_rtol, has_atol, has_fps, has_duration, has_max_steps;
+    const char *rtol_text, *max_steps_text; /* as typed, for the messages of their ranges */
     double hit_speed; /* run, --events: m/s, hits closing slower are left out (0: none) */
     bool has_hit_speed;
 } cli_options;

@@ -165,12 +165,17 @@ static int on_frame(size_t frame, double t, const tb_scene *scene, void *ctx)
     return 0;
 }
 
-/* Finishes the output: the CSV stream, or the library's writer (which writes npz and glTF
- * now, or, after a failed run, removes its unfinished file). */
-static bool close_output(writer *w, tb_status status, char *message, size_t size)
+/* Finishes the output: the CSV stream into path (NULL: standard output), removed when its
+ * write failed (its last line cut short, as the events' file is), or the library's writer
+ * (which writes npz and glTF now, or, after a failed run, removes its unfinished file). */
+static bool close_output(writer *w, const char *path, tb_status status, char *message, size_t size)
 {
     if (w->frames == NULL) {
-        return cli_output_close(&w->output, message, size);
+        const bool written = cli_output_close(&w->output, message, size);
+        if (!written) {
+            cli_output_remove_partial(path);
+        }
+        return written;
     }
     tb_error error;
     if (w->frames_failed) {
@@ -237,7 +242,7 @@ static int simulate(const cli_options *o, tb_scene *scene, const tb_run_def *run
     if (!joints_ok && !stopped) {
         fprintf(stderr, "tumble: %s: %s\n", o->scene, message);
     }
-    if (!close_output(w, status, message, sizeof message) && !stopped) {
+    if (!close_output(w, o->out, status, message, sizeof message) && !stopped) {
         fprintf(stderr, "tumble: %s: %s\n", o->scene, message);
         return CLI_EXIT_SIMULATION;
     }
@@ -360,6 +365,21 @@ static int open_joints(const cli_options *o, tb_scene *scene, writer *w)
     return CLI_EXIT_OK;
 }
 
+/* --out is neither the events' nor the joints' file, which exist by now: spelt otherwise
+ * (./x.csv and x.csv) before either was made, their paths could not be told apart. */
+static int check_out_apart(const cli_options *o)
+{
+    const char *const others[2] = {o->events, o->joints};
+    for (int k = 0; k < 2; ++k) {
+        if (o->out != NULL && others[k] != NULL && cli_output_same_file(o->out, others[k])) {
+            fprintf(stderr, "tumble: --out %s is the %s file\n", o->out,
+                    k == 0 ? "--events" : "--joints");
+            return CLI_EXIT_INPUT;
+        }
+    }
+    return CLI_EXIT_OK;
+}
+
 int cli_run_command(const cli_options *o)
 {
     tb_scene *scene = NULL;
@@ -392,6 +412,9 @@ int cli_run_command(const cli_options *o)
     }
     if (code == CLI_EXIT_OK && o->joints != NULL) {
         code = open_joints(o, scene, &w);
+    }
+    if (code == CLI_EXIT_OK) {
+        code = check_out_apart(o);
     }
     w.gltf = def.format == TB_OUTPUT_GLB || def.format == TB_OUTPUT_GLTF;
     if (code == CLI_EXIT_OK && def.format != TB_OUTPUT_CSV) {

@@ -264,6 +264,13 @@ static void test_contact_points_too_far_for_the_plane_are_refused(void **state)
                      TB_STATUS_INVALID_ARGUMENT);
     assert_detail_has(tb_scene_detail(scene), "the ground plane's penetration 8e-07 m");
     assert_unchanged(scene, &before);
+    /* F116: a point 1e300 m out was refused as "inf m from the body's centre of mass" (the
+     * squares of its reach overflowed); the detail now gives its distance */
+    point.position[2] = -1e300;
+    assert_int_equal(tb_scene_set_contact_points(scene, 0, &point, 1, 1),
+                     TB_STATUS_INVALID_ARGUMENT);
+    assert_detail_has(tb_scene_detail(scene), "points[0]: 1e+300 m from the body's centre");
+    assert_unchanged(scene, &before);
     tb_scene_destroy(scene);
 }
 
@@ -529,10 +536,89 @@ static void test_a_contact_whose_rate_overflows_is_refused(void **state)
     tb_contact_def contact = tb_contact_def_default();
     contact.penetration = 1e90; /* past the depth's rounding, 1e100 m 2^-52 */
     contact.gravity = 1e90;
+    contact.presliding = 1e90; /* the friction spring's rate as slow as the normal law's (F107) */
     assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_INVALID_ARGUMENT);
     assert_detail_has(tb_scene_detail(scene), "of effect 0 (a contact) overflows");
     assert_unchanged(scene, &before);
     tb_scene_destroy(scene);
+}
+
+/* F107: presliding 1e-300 m (contact or plane) was taken and asked for steps of 1e-151 s, and
+ * static_friction 1e300 for 1e-306 s (CVODE then stopped on a non-finite derivative). The
+ * friction spring's rate sqrt(gravity static_friction / presliding) is now bounded as the normal
+ * law's sqrt(gravity / penetration) is, at 1e9 rad/s: with mu_s 0.6 and g 9.81 m/s^2 presliding
+ * must be at least 9.81 0.6 / 1e18 = 5.886e-18 m, and with presliding 5e-7 m mu_s at most
+ * 1e18 5e-7 / 9.81 = 5.097e10. Each limit is crossed by a factor of 2 either side; the detail
+ * names the field, its value and the bound. */
+static void test_friction_rates_out_of_range_are_refused(void **state)
+{
+    (void)state;
+    tb_scene *scene = test_empty_scene();
+    add_ball(scene, "a", 1.0, 0.1, 0.0);
+    add_ball(scene, "b", 1.0, 0.1, 0.5);
+    const double least = 9.81 * 0.6 / 1e18, most = 1e18 * 5e-7 / 9.81;
+    for (int plane = 0; plane < 2; ++plane) {
+        const double presliding[] = {1e-300, 0.5 * least, 2 * least, 5e-7, 5e-7};
+        const double static_friction[] = {0.6, 0.6, 0.6, 2 * most, 1e300};
+        const char *named[] = {"presliding: 1e-300 m", "presliding: ", NULL,
+                               "static_friction: ", "static_friction: 1e+300"};
+        for (int k = 0; k < 5; ++k) {
+            tb_ground_def ground = tb_ground_def_default();
+            tb_contact_def contact = tb_contact_def_default();
+            ground.offset = -1.0;
+            ground.presliding = contact.presliding = presliding[k];
+            ground.static_friction = contact.static_friction = static_friction[k];
+            const tb_status status =
+                plane ? tb_scene_add_ground(scene, &ground) : tb_scene_add_contact(scene, &contact);
+            if (named[k] == NULL) {
+                assert_int_equal(status, TB_STATUS_OK);
+                continue;
+            }
+            assert_int_equal(status, TB_STATUS_INVALID_ARGUMENT);
+            assert_detail_has(tb_scene_detail(scene), named[k]);
+            assert_detail_has(tb_scene_detail(scene), k < 2 ? "at least 5.89e-18 m" : "5.1e+10]");
+        }
+    }
+    assert_int_equal(tb_scene_effect_count(scene), 2); /* the two taken */
+    tb_scene_destroy(scene);
+    scene = test_empty_scene();
+    add_ball(scene, "a", 1.0, 0.1, 0.0);
+    add_ball(scene, "b", 1.0, 0.1, 0.5);
+    tb_contact_def contact = tb_contact_def_default();
+    contact.static_friction = 0.5 * most; /* the other side of mu_s's limit */
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    tb_scene_destroy(scene);
+}
+
+/* F108: a contact's friction_points far beyond the points that can ever touch was taken (1e7
+ * for two balls: 240 MB of state). Two bodies make one pair, of at most 4 touching points, each
+ * with a slot that may still relax beside it: 8; the default, 6 per body, is 12, so 12 slots are
+ * the most two bodies take and 13 are refused, naming the field, the value and the range. */
+static void test_friction_points_beyond_use_are_refused(void **state)
+{
+    (void)state;
+    const size_t asked[] = {10000000, 13, 12, 1};
+    for (int k = 0; k < 4; ++k) {
+        tb_scene *scene = test_empty_scene();
+        add_ball(scene, "a", 1.0, 0.1, 0.0);
+        add_ball(scene, "b", 1.0, 0.1, 0.5);
+        const size_t states = tb_scene_state_size(scene);
+        tb_contact_def contact = tb_contact_def_default();
+        contact.friction_points = asked[k];
+        const tb_status status = tb_scene_add_contact(scene, &contact);
+        if (k < 2) {
+            assert_int_equal(status, TB_STATUS_INVALID_ARGUMENT);
+            assert_detail_has(tb_scene_detail(scene), k == 0 ? "friction_points: 10000000 slots"
+                                                             : "friction_points: 13 slots");
+            assert_detail_has(tb_scene_detail(scene), "must be in [1, 12]");
+            assert_int_equal(tb_scene_effect_count(scene), 0);
+            assert_int_equal(tb_scene_state_size(scene), states);
+        } else {
+            assert_int_equal(status, TB_STATUS_OK);
+            assert_int_equal(tb_scene_state_size(scene), states + 3 * asked[k]);
+        }
+        tb_scene_destroy(scene);
+    }
 }
 
 int main(void)
@@ -549,6 +635,8 @@ int main(void)
         cmocka_unit_test(test_a_ground_rate_out_of_range_is_refused),
         cmocka_unit_test(test_a_far_hull_point_does_not_hang_the_derivative),
         cmocka_unit_test(test_a_contact_whose_rate_overflows_is_refused),
+        cmocka_unit_test(test_friction_rates_out_of_range_are_refused),
+        cmocka_unit_test(test_friction_points_beyond_use_are_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -515,6 +515,40 @@ static void test_points_refused_by_one_plane_leave_the_others_as_they_were(void 
     tb_scene_destroy(scene);
 }
 
+/* A box on a slope of 28 degrees (tan 0.53, between mu_k 0.5 and mu_s 0.6) is held by its stick
+ * anchors alone. A second body given a shape after the plane grows the plane's friction pool and
+ * the states are laid out again; with three static bodies (no state) before them, that layout
+ * put the effects' states at 13 doubles per body, not per body with a state: past the end of y
+ * (F106), and the box slid 0.27 m in a second under RK4 (what lay past y). Held, it moves by its
+ * anchor's deflection, at most presliding (5e-7 m) along the slope; tolerance 1e-5 m. */
+static void test_a_shape_set_beside_static_bodies_keeps_the_anchors_in_the_state(void **state)
+{
+    (void)state;
+    const double degrees = 28.0, a = degrees * PI / 180.0;
+    tb_ground_def ground = tb_ground_def_default();
+    tb_scene *scene = scene_on_plane(degrees, &ground);
+    for (int k = 0; k < 3; ++k) {
+        tb_body_def fixed = tb_body_def_default();
+        fixed.motion = TB_MOTION_STATIC;
+        fixed.position[0] = -100.0 - k;
+        fixed.position[2] = 100.0;
+        assert_int_equal(tb_scene_add_body(scene, &fixed, NULL), TB_STATUS_OK);
+    }
+    const double q[4] = {cos(-a / 2), 0.0, sin(-a / 2), 0.0}, up = 0.1 - 5e-7;
+    const size_t box =
+        add_shaped(scene, TB_SHAPE_BOX, 8.0, (double[]){-sin(a) * up, 0.0, cos(a) * up}, q);
+    assert_int_equal(tb_scene_add_ground(scene, &ground), TB_STATUS_OK);
+    add_shaped(scene, TB_SHAPE_SPHERE, 1.0, (double[]){-50.0, 0.0, 5.0}, NULL);
+    const double x0 = tb_scene_states_const(scene)[TB_STATE_SIZE * 0];
+    tb_integrator *integrator = test_integrator_for(scene, TB_METHOD_RK4, 0.0, 0.0);
+    assert_int_equal(tb_integrator_advance(integrator, 1.0), TB_STATUS_OK);
+    const double moved = tb_scene_states_const(scene)[TB_STATE_SIZE * 0] - x0;
+    print_message("the box moved %.3g m along x (slot 0 is body %zu)\n", moved, box);
+    assert_true(fabs(moved) < 1e-5);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -531,6 +565,7 @@ int main(void)
         cmocka_unit_test(test_removing_points_checks_the_shape_they_held_up),
         cmocka_unit_test(test_refused_points_leave_the_plane_under_the_shape),
         cmocka_unit_test(test_points_refused_by_one_plane_leave_the_others_as_they_were),
+        cmocka_unit_test(test_a_shape_set_beside_static_bodies_keeps_the_anchors_in_the_state),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

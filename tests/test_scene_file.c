@@ -105,6 +105,22 @@ static const struct {
      TB_STATUS_BAD_SCENE, "bodies[0].shape.radius: must be > 0, got 0"},
     {"duplicate name", "{\"bodies\": [" BODY ", " BODY "]}", TB_STATUS_BAD_SCENE,
      "bodies[1]: name: \"a\" is already the name of bodies[0]"},
+    /* F111: the library's detail named the C field ("bodies[0]: def.name: ...") */
+    {"empty name", "{\"bodies\": [{\"name\": \"\", \"mass\": 1, \"inertia\": [1, 1, 1]}]}",
+     TB_STATUS_BAD_SCENE, "t.json: bodies[0]: name: must have 1 to 63 characters, got 0"},
+    {"64-character name",
+     "{\"bodies\": [{\"name\": "
+     "\"aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa\", "
+     "\"mass\": 1, \"inertia\": [1, 1, 1]}]}",
+     TB_STATUS_BAD_SCENE, "t.json: bodies[0]: name: must have 1 to 63 characters, got 64"},
+    /* F119: the subnormal 1e-320 was shown as the double's 9.99989e-321 */
+    {"subnormal rtol",
+     "{\"bodies\": [" BODY "], \"integrator\": {\"method\": \"cvode-bdf\", \"rtol\": 1e-320}}",
+     TB_STATUS_BAD_SCENE, "t.json: integrator.rtol: must be in [1e-15, 1), got 1e-320"},
+    {"momentum overflow",
+     "{\"bodies\": [{\"name\": \"a\", \"mass\": 1e100, \"inertia\": [1, 1, 1], "
+     "\"velocity\": [1e300, 0, 0]}]}",
+     TB_STATUS_BAD_SCENE, "t.json: bodies[0]: velocity: (1e+300, 0, 0) m/s"},
     {"non-unit orientation",
      "{\"bodies\": [{\"name\": \"a\", \"mass\": 1, \"inertia\": [1, 1, 1], \"orientation\": "
      "[1, 1, 0, 0]}]}",

@@ -1,7 +1,8 @@
 /* Changes to a scene's state between advances: a body moved deep into another body or into a
  * ground plane after the integrator exists is refused at the next advance, step or reset under
  * every method, as it is at the start (F26); and a second integrator on one scene takes the
- * state where the first left it (F30). So is a shape grown into another body after the start.
+ * state where the first left it (F30). So is a shape grown into another body after the start,
+ * and a keyframed body's motion moved into one.
  * Each refusal names the bodies and changes nothing. */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -280,12 +281,67 @@ static void test_a_state_the_run_reached_too_fast_says_so(void **state)
     }
 }
 
+/* F113: the same for a keyframed body's motion: ball a at rest, a keyframed ball b held 1 m away
+ * by one key; after the first advance b's keys (tb_scene_set_body_keys) put it 0.1 m from a's
+ * centre, 0.1 m inside it. No state changed, so no check ran, and RK4 threw ball a out at 246
+ * m/s with OK (a slab moved up through a ball). Every call that steps now refuses as a start
+ * would, under every method, the state and time unchanged; with the key back the ball stays at
+ * rest (no force acts: the speed is exactly 0), and a motion function
+ * (tb_scene_set_body_motion_fn, here the curve sampled by tb_keyframes_sample) is checked
+ * alike. */
+static void test_a_keyframed_body_moved_into_another_after_the_start_is_refused(void **state)
+{
+    (void)state;
+    for (int m = 0; m < METHOD_COUNT; ++m) {
+        tb_scene *scene = test_empty_scene();
+        add_ball(scene, "a", -0.5, 0.0);
+        tb_body_def def = tb_body_def_default();
+        def.name = "b";
+        def.motion = TB_MOTION_KEYFRAMED;
+        size_t b = 0;
+        assert_int_equal(tb_scene_add_body(scene, &def, &b), TB_STATUS_OK);
+        tb_shape shape = tb_shape_default();
+        shape.type = TB_SHAPE_SPHERE;
+        shape.radius = 0.1;
+        assert_int_equal(tb_scene_set_body_shape(scene, b, &shape), TB_STATUS_OK);
+        tb_body_key key = tb_body_key_default();
+        key.position[0] = 0.5;
+        assert_int_equal(tb_scene_set_body_keys(scene, b, &key, 1, TB_INTERPOLATION_LINEAR),
+                         TB_STATUS_OK);
+        tb_contact_def contact = tb_contact_def_default();
+        assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+        tb_integrator *integrator = make_integrator(scene, every_method[m]);
+        assert_int_equal(tb_integrator_advance(integrator, 0.01), TB_STATUS_OK);
+        key.position[0] = -0.4;
+        assert_int_equal(tb_scene_set_body_keys(scene, b, &key, 1, TB_INTERPOLATION_LINEAR),
+                         TB_STATUS_OK);
+        assert_every_call_refuses(scene, integrator, "0 (\"a\") and 1 (\"b\")");
+        assert_detail_has(tb_integrator_detail(integrator), "motions were changed");
+        key.position[0] = 0.5;
+        assert_int_equal(tb_scene_set_body_keys(scene, b, &key, 1, TB_INTERPOLATION_LINEAR),
+                         TB_STATUS_OK);
+        assert_int_equal(tb_integrator_advance(integrator, 0.02), TB_STATUS_OK);
+        assert_true(fastest(scene) == 0.0);
+        key.position[0] = -0.4; /* and through a motion function */
+        tb_keyframes *curve = NULL;
+        assert_int_equal(tb_keyframes_create(&key, 1, TB_INTERPOLATION_LINEAR, &curve, NULL),
+                         TB_STATUS_OK);
+        assert_int_equal(tb_scene_set_body_motion_fn(scene, b, tb_keyframes_sample, curve),
+                         TB_STATUS_OK);
+        assert_every_call_refuses(scene, integrator, "0 (\"a\") and 1 (\"b\")");
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+        tb_keyframes_destroy(curve);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_a_body_moved_into_another_after_the_start_is_refused),
         cmocka_unit_test(test_a_body_moved_into_the_ground_after_the_start_is_refused),
         cmocka_unit_test(test_a_shape_grown_into_another_after_the_start_is_refused),
+        cmocka_unit_test(test_a_keyframed_body_moved_into_another_after_the_start_is_refused),
         cmocka_unit_test(test_a_second_integrator_takes_the_state_where_the_first_left_it),
         cmocka_unit_test(test_a_state_the_run_reached_too_fast_says_so),
     };

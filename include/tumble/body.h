@@ -88,7 +88,9 @@ typedef int (*tb_body_motion_fn)(double t, void *ctx, tb_body_motion_sample *out
  * holds the pose it was added with). Every read of the body at time t (the derivative's t, or
  * the scene's time for read-outs, tb_scene_time) asks fn, so a contact sees its true surface
  * velocity. Refused (TB_STATUS_INVALID_ARGUMENT, nothing changed) for a body that is not
- * keyframed, and while the scene is being stepped (TB_STATUS_BUSY). */
+ * keyframed, and while the scene is being stepped (TB_STATUS_BUSY). Set after an integrator
+ * exists, the next advance, step or reset checks the state as a start (a body moved inside
+ * another is refused, as a shape grown into one is). */
 TB_API tb_status tb_scene_set_body_motion_fn(tb_scene *scene, size_t id, tb_body_motion_fn fn,
                                              void *ctx);
 

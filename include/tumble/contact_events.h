@@ -103,8 +103,8 @@ typedef struct tb_unresolved_impacts {
                           adaptive method (error control resolves impacts) or a resolving step */
     double dt;         /* s: the step counted against (0 when not watched) */
     double resolution; /* the dt omega above which an impact counts (0 when not watched) */
-    size_t count;      /* impacts since the integrator was made; a tb_integrator_reset to a time
-                          before one of them starts the count again at zero */
+    size_t count;      /* impacts since the integrator was made; a tb_integrator_reset to t
+                          keeps those at or before t, as a run stopped at t counted them */
     tb_impact first;   /* the earliest of them (zeros when count is 0) */
     tb_impact fastest; /* the one that closed fastest, the earliest of equals */
 } tb_unresolved_impacts;

@@ -89,7 +89,8 @@ TB_API tb_status tb_scene_add_spring(tb_scene *scene, const tb_spring_def *def);
  * reaching so far from its body's centre of mass that its depth's rounding (the reach times
  * 2^-52) exceeds the penetration, or that the contact's rate M reach^2 / I overflows: the force
  * would be noise larger than the body's weight (a 1e90 m sphere on 1 kg). A rate
- * sqrt(gravity / penetration) of 0 or above 1e9 rad/s is refused, as the contact's is. A plane
+ * sqrt(gravity / penetration) of 0 or above 1e9 rad/s is refused, as the contact's is, and so is
+ * a friction spring rate sqrt(gravity static_friction / presliding) above 1e9 rad/s. A plane
  * facing the way an
  * earlier ground plane faces (normals within 1e-6 rad) is refused (TB_STATUS_INVALID_ARGUMENT
  * naming the earlier one): the two would push the same points twice, or one would lie buried in the
@@ -108,7 +109,9 @@ typedef struct tb_ground_def {
     double stribeck_velocity; /* m/s, > 0: speed over which mu falls from mu_s to mu_k;
                                  default 0.01 */
     double presliding;        /* deflection at breakaway under a body's own weight, m, > 0;
-                                 default 5e-7 */
+                                 default 5e-7; the friction spring's rate sqrt(gravity
+                                 static_friction / presliding) at most 1e9 rad/s, as the
+                                 normal law's (so >= 5.9e-18 m at mu_s 0.6, g 9.81) */
     int internal_cookie;
 } tb_ground_def;
 
@@ -165,9 +168,11 @@ typedef struct tb_contact_def {
     double penetration;       /* m, > 0: sets omega = sqrt(g / penetration); default 8e-7 */
     double gravity;           /* m/s^2, > 0, sizes the contact; default 9.81 */
     double stribeck_velocity; /* m/s, > 0; default 0.01 */
-    double presliding;        /* m, > 0: the spring's deflection at breakaway; default 5e-7 */
+    double presliding;        /* m, > 0: the spring's deflection at breakaway; default 5e-7;
+                                 bounded as the ground's (its rate at most 1e9 rad/s) */
     /* Touching points that keep a friction state (slots of the pool); 0 (default): 6 per
-     * body of the effect (a box on a box takes 4). */
+     * body of the effect (a box on a box takes 4). At most 8 per pair of the effect's bodies
+     * (4 touching points, each with a slot relaxing beside it) or 6 per body, if more. */
     size_t friction_points;
     int internal_cookie;
 } tb_contact_def;
@@ -176,7 +181,9 @@ TB_API tb_contact_def tb_contact_def_default(void);
 /* Refuses (TB_STATUS_INVALID_ARGUMENT, naming the field or the bodies; nothing added) a bad
  * field (NaN or infinite: TB_STATUS_NOT_FINITE); a list of bodies with body_count 0, of one body,
  * or of static and keyframed bodies only (an effect that touches nothing); a contact rate
- * sqrt(gravity / penetration) above 1e9 rad/s (an impact shorter than 3 ns); a repeated id (so a
+ * sqrt(gravity / penetration) above 1e9 rad/s (an impact shorter than 3 ns), or a friction spring
+ * rate sqrt(gravity static_friction / presliding) above it; friction_points past its bound; a
+ * repeated id (so a
  * body_count past the scene's is refused after reading at most body count + 1 ids), an id past
  * the scene (TB_STATUS_OUT_OF_RANGE); a listed body without a collision shape, or with one whose
  * reach from its centre of mass is too large for penetration (as a ground plane's shapes are;

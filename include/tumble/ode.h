@@ -142,6 +142,13 @@ typedef struct tb_ode_events {
      * it, its history being of the curve before. NULL (default): none, and every method steps as
      * before, bit for bit. */
     double (*next_break)(double t, void *ctx);
+    /* With next_break: whether the call may go on from the break at t it reached with state y
+     * (the right-hand side's next piece starts there): TB_STATUS_OK, or a status with detail
+     * (TB_DETAIL_SIZE bytes) written, which ends the call there, its time t and the state y,
+     * the last good one. Asked where a fixed step ends on a break inside a call and where CVODE
+     * restarts on one (a break at a call's end is the next call's start: the system's acquire
+     * sees it). NULL (default): every break is taken. */
+    tb_status (*check_break)(double t, const double *y, void *ctx, char *detail);
     /* The time until which the system rests from (t, y): its right-hand side zero there and
      * its post-step hook leaving y as it is (a scene all of whose bodies sleep, with nothing
      * that moves them by time: docs/effects.md, "Sleeping"); t itself, or less, where it does

@@ -65,8 +65,8 @@ static tb_status replace_shape(tb_scene *scene, size_t id, tb__collision_shape *
     }
     free(old);
     tb__scene_swap_visuals(scene, id, visuals);
-    ++scene->effects_generation;    /* contact effects' right-hand side changed */
-    scene->shape_set = true;        /* the next advance checks the state as a start (scene_ode.c) */
+    ++scene->effects_generation;              /* contact effects' right-hand side changed */
+    scene->set_since = "bodies' shapes were"; /* the next advance checks it as a start */
     tb__scene_wake_body(scene, id); /* asleep, its pairs would be skipped: by that check too */
     return TB_STATUS_OK;
 }

@@ -5,6 +5,7 @@
 
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 
 const char *tb_version(void)
 {
@@ -70,4 +71,15 @@ void tb__clear_error(tb_error *error)
         error->status = TB_STATUS_OK;
         error->message[0] = '\0';
     }
+}
+
+const char *tb__shortest(double value, char *out)
+{
+    for (int digits = 1; digits <= 17; ++digits) {
+        snprintf(out, 32, "%.*g", digits, value);
+        if (strtod(out, NULL) == value) {
+            return out;
+        }
+    }
+    return out; /* NaN: "nan" */
 }

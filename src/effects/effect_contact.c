@@ -451,14 +451,9 @@ static tb_status copy_bodies(tb_scene *scene, const tb_contact_def *def, tb__con
 static tb_status validate_friction(tb_scene *scene, const tb_contact_def *def)
 {
     tb_status status = tb__validate_positive(scene->detail, def->presliding, "presliding");
-    const double s0 = def->static_friction / def->presliding;
-    if (status == TB_STATUS_OK &&
-        (!isfinite(s0) || !isfinite(def->gravity * s0) || !isfinite(s0 / def->gravity))) {
-        status = tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
-                                "presliding: %g m makes the friction spring's stiffness "
-                                "static_friction / presliding (%g 1/m) or its rate under gravity "
-                                "%g m/s^2 overflow",
-                                def->presliding, s0, def->gravity);
+    if (status == TB_STATUS_OK) {
+        status = tb__contact_check_friction_rate(scene, def->static_friction, def->gravity,
+                                                 def->presliding);
     }
     size_t bytes;
     if (status == TB_STATUS_OK) {
@@ -477,6 +472,10 @@ static tb_status make_pool(tb_scene *scene, const tb_contact_def *def, tb__effec
     const size_t bodies = contact->body_count > 0 ? contact->body_count : 1;
     const size_t slots =
         def->friction_points > 0 ? def->friction_points : TB__FRICTION_POINTS_PER_BODY * bodies;
+    const tb_status status = tb__contact_check_friction_points(scene, def->friction_points, bodies);
+    if (status != TB_STATUS_OK) {
+        return status;
+    }
     size_t ids = 0; /* 1 + the largest id: the pairs' bodies */
     for (size_t k = 0; k < contact->body_count; ++k) {
         ids = contact->bodies[k] >= ids ? contact->bodies[k] + 1 : ids;

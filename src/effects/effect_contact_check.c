@@ -3,6 +3,7 @@
 #include "effects/effect_contact_check.h"
 
 #include "contact/contact_pairs.h"
+#include "contact/narrow_phase.h"
 #include "core/detail.h"
 #include "effects/contact_events.h"
 
@@ -51,6 +52,53 @@ static tb_status check_movers(tb_scene *scene, const size_t *bodies, size_t coun
                               count);
     }
     return TB_STATUS_OK;
+}
+
+tb_status tb__contact_check_friction_rate(tb_scene *scene, double static_friction, double gravity,
+                                          double presliding)
+{
+    const double s0 = static_friction / presliding; /* 1/m */
+    if (!isfinite(s0) || !isfinite(gravity * s0) || !isfinite(s0 / gravity)) {
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "presliding: %g m makes the friction spring's stiffness "
+                              "static_friction / presliding (%g 1/m) or its rate under gravity "
+                              "%g m/s^2 overflow",
+                              presliding, s0, gravity);
+    }
+    const double rate = sqrt(gravity * s0), most = TB__CONTACT_RATE_MAX * TB__CONTACT_RATE_MAX;
+    if (rate <= TB__CONTACT_RATE_MAX) {
+        return TB_STATUS_OK;
+    }
+    if (fabs(log(static_friction / 0.6)) > fabs(log(presliding / 5e-7))) { /* the defaults */
+        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                              "static_friction: %g with presliding %g m and gravity %g m/s^2 "
+                              "makes the friction spring's rate sqrt(gravity static_friction / "
+                              "presliding) %g rad/s, above %g (the contact's bound): "
+                              "static_friction must be in [kinetic_friction, %.3g] there",
+                              static_friction, presliding, gravity, rate, TB__CONTACT_RATE_MAX,
+                              most * presliding / gravity);
+    }
+    return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                          "presliding: %g m with static_friction %g and gravity %g m/s^2 makes "
+                          "the friction spring's rate sqrt(gravity static_friction / presliding) "
+                          "%g rad/s, above %g (the contact's bound): presliding must be at least "
+                          "%.3g m there",
+                          presliding, static_friction, gravity, rate, TB__CONTACT_RATE_MAX,
+                          gravity * static_friction / most);
+}
+
+tb_status tb__contact_check_friction_points(tb_scene *scene, size_t friction_points, size_t bodies)
+{
+    const double n = (double)bodies, pairs = 0.5 * n * (n - 1.0);
+    const double most = fmax(2.0 * TB__MANIFOLD_POINTS * pairs, 6.0 * n);
+    if ((double)friction_points <= most) {
+        return TB_STATUS_OK;
+    }
+    return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
+                          "friction_points: %zu slots for %zu bodies is more than they can ever "
+                          "use: must be in [1, %.0f] (%d touching points per pair, each with a "
+                          "slot relaxing beside it, or 6 per body), or 0 for 6 per body",
+                          friction_points, bodies, most, TB__MANIFOLD_POINTS);
 }
 
 tb_status tb__contact_check_shapes(tb_scene *scene, const size_t *bodies, size_t count)

@@ -15,6 +15,20 @@
  * for max_steps). Gravity 1e300 m/s^2 passed every check before and failed the run. */
 #define TB__CONTACT_RATE_MAX 1e9
 
+/* Refuses (TB_STATUS_INVALID_ARGUMENT, the scene's detail naming the field, its value and the
+ * range the others allow) a friction spring whose rate sqrt(gravity static_friction /
+ * presliding) overflows or passes TB__CONTACT_RATE_MAX, as the normal law's may not: presliding
+ * 1e-300 m asked for steps of 1e-151 s, static_friction 1e300 for 1e-306 s. Names presliding or
+ * static_friction, whichever lies further from its default. presliding > 0 checked already. */
+tb_status tb__contact_check_friction_rate(tb_scene *scene, double static_friction, double gravity,
+                                          double presliding);
+
+/* Refuses (TB_STATUS_INVALID_ARGUMENT, naming the field, the value and the range) a friction
+ * pool of more slots than bodies bodies can ever use: 2 TB__MANIFOLD_POINTS per pair (each point
+ * with a slot relaxing beside it) or the default's 6 per body, whichever is more (1e7 slots for
+ * two balls took 240 MB). 0 (the default) passes. */
+tb_status tb__contact_check_friction_points(tb_scene *scene, size_t friction_points, size_t bodies);
+
 /* Refuses a list with no pair that could touch (one body, or no dynamic body) and a listed body
  * without a collision shape (TB_STATUS_INVALID_ARGUMENT, the scene's detail naming it): the
  * effect would never see it touch anything (the scene file's loader refuses the same through

@@ -29,7 +29,7 @@ static tb_status check_points(tb_scene *scene, size_t id, const tb_contact_point
         }
         double r[3];
         tb__shape_point_to_principal(&scene->mass_props[id], points[k].position, r);
-        const double reach = tb__v3_norm(r) + points[k].radius;
+        const double reach = tb__v3_hypot(r) + points[k].radius; /* 1e300 m, not inf */
         const double arm[3] = {reach, 0.0, 0.0};
         const tb__body *body = tb__body_constants(scene, id);
         if (!isfinite(body->mass * tb__inverse_mass_at(body, arm))) {
@@ -93,7 +93,8 @@ static size_t contact_bodies_end(const tb_scene *scene)
 /* The effects' checks of body id's points, now contacts[first ..] (tb__scene_check_points: those
  * alone, so that n bodies given points one by one cost O(n), not the O(n^2) of every point's
  * depth at every body), and the states' layout for the points now held (their bodies below
- * end); on failure the points before (old, old_count, old_capacity) are put back. */
+ * end); on failure the points before (old, old_count, old_capacity) are put back, and where the
+ * layout failed, the notes the effects' checks took (uncheck_points). */
 static tb_status commit_points(tb_scene *scene, size_t id, size_t first, size_t end,
                                tb__contact *old, size_t old_count, size_t old_capacity)
 {
@@ -102,6 +103,12 @@ static tb_status commit_points(tb_scene *scene, size_t id, size_t first, size_t 
     tb_status status = tb__scene_check_points(scene, scene->states, id, first);
     if (status == TB_STATUS_OK) {
         status = tb__scene_layout_states(scene, scene->slot_count);
+        for (size_t e = 0; e < scene->effect_count && status != TB_STATUS_OK; ++e) {
+            const tb__effect_stepping *stepping = tb__stepping_of(&scene->effects[e]);
+            if (stepping->check_points != NULL && stepping->uncheck_points != NULL) {
+                stepping->uncheck_points(&scene->effects[e]); /* F118: every plane's note */
+            }
+        }
     }
     if (status != TB_STATUS_OK && old != scene->contacts) {
         free(scene->contacts);

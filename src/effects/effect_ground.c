@@ -327,6 +327,7 @@ static const tb__effect_stepping ground_stepping = {
     .check_points = tb__ground_check_points,
     .uncheck_points = tb__ground_shapes_unnote,
     .shapes_changed = tb__ground_shapes_changed,
+    .shapes_settled = tb__ground_shapes_settled,
     .event_pairs = tb__ground_event_pairs, /* effect_contact_event_pairs.c */
     .impact_law = tb__ground_impact_law,
 };
@@ -375,10 +376,10 @@ tb_ground_def tb_ground_def_default(void)
 
 /* The contact's rates are numbers (F18: presliding 1e-310 m made the bristle stiffness
  * static_friction / presliding infinite, and the guard's largest stable step 0 s): bouncing
- * g / penetration, the bristles' stiffness and their g s0 and s0 / g (see ground_params). */
+ * g / penetration, the bristles' stiffness and their g s0 and s0 / g (see ground_params); both
+ * rates at most TB__CONTACT_RATE_MAX (F98, F107). */
 static tb_status validate_ground_rates(tb_scene *scene, const tb_ground_def *def)
 {
-    const double s0 = def->static_friction / def->presliding;
     if (!isfinite(def->gravity / def->penetration)) {
         return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
                               "penetration: %g m under gravity %g m/s^2 makes the contact's rate "
@@ -398,13 +399,8 @@ static tb_status validate_ground_rates(tb_scene *scene, const tb_ground_def *def
                                   : "penetration",
                               def->penetration, def->gravity, omega, TB__CONTACT_RATE_MAX);
     }
-    if (!isfinite(s0) || !isfinite(def->gravity * s0) || !isfinite(s0 / def->gravity)) {
-        return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
-                              "presliding: %g m makes the bristles' stiffness static_friction / "
-                              "presliding (%g 1/m) or its rate under gravity %g m/s^2 overflow",
-                              def->presliding, s0, def->gravity);
-    }
-    return TB_STATUS_OK;
+    return tb__contact_check_friction_rate(scene, def->static_friction, def->gravity,
+                                           def->presliding);
 }
 
 static tb_status validate_ground(tb_scene *scene, const tb_ground_def *def)

@@ -7,6 +7,8 @@
  * M g / (M omega^2) = penetration, as on contact points. */
 #include "effects/ground_shapes.h"
 
+#include "effects/ground_shapes_internal.h"
+
 #include "contact/contact_law.h"
 #include "contact/contact_pairs.h"
 #include "core/detail.h"
@@ -19,21 +21,6 @@
 
 #include <stdlib.h>
 #include <string.h>
-
-typedef struct tb__ground_shapes {
-    /* the law's, friction's constants (pairs, bodies, lookahead unused); friction: NULL or pool */
-    tb__contact_params law;
-    size_t pool_bodies; /* ids below this may hold slots */
-    double presliding;  /* m, the pool's scale */
-    /* TB__GROUND_SLOTS_PER_SHAPE per body met through its shape, 1 + the largest such id (an
-     * upper bound), at least the bodies met: at the last refresh, kept by note_points since */
-    size_t slots_wanted, ids_wanted, met_bound;
-    tb__ground_note undo; /* what the last note_points changed, as it was */
-    /* has_points[i]: body i has contact points, for i below capacity (bodies past it have
-     * none: points are set by tb_scene_set_contact_points, whose check notes the flag) */
-    unsigned char *has_points;
-    size_t capacity;
-} tb__ground_shapes;
 
 /* The plane as body A: at rest at the origin, unturned (friction keys and z in the world). */
 static const tb__motion plane_motion = {{0, 0, 0}, {1.0, 0.0, 0.0, 0.0}, {0, 0, 0}, {0, 0, 0}};
@@ -116,14 +103,6 @@ static int plane_manifold(const tb__ground_params *ground, const tb_scene *scene
     return tb__collide_plane(ground->normal, ground->offset, shape, pose, margin, &out->manifold);
 }
 
-/* Whether the ground meets body id through its shape: it can move, has one and no contact
- * points. */
-static bool meets_shape(const tb__ground_shapes *shapes, const tb_scene *scene, size_t id)
-{
-    return !tb__body_fixed(scene, id) && !(id < shapes->capacity && shapes->has_points[id]) &&
-           tb__scene_body_collision_shape(scene, id) != NULL;
-}
-
 static size_t pool_first_state(const tb__effect *effect, const tb_scene *scene)
 {
     return effect->state_offset + effect->states_per_contact * scene->contact_count;
@@ -154,7 +133,7 @@ static bool presses(const tb__ground_params *ground, const tb_scene *scene, doub
                     const double *y, size_t id, size_t *fresh, pressing *out)
 {
     const tb__ground_shapes *shapes = ground->shapes;
-    if (!meets_shape(shapes, scene, id) || tb__body_asleep(scene, id) ||
+    if (!tb__ground_shapes_meet(shapes, scene, id) || tb__body_asleep(scene, id) ||
         plane_manifold(ground, scene, t, y, id, TB__CONTACT_MARGIN, &out->pair) == 0) {
         return false;
     }
@@ -276,7 +255,7 @@ void tb__ground_shapes_post_step(const tb__effect *effect, const tb_scene *scene
     tb__friction_boundary_begin(pool);
     size_t fresh = 0;
     for (size_t id = 0; id < scene->body_count; ++id) {
-        if (!meets_shape(shapes, scene, id)) {
+        if (!tb__ground_shapes_meet(shapes, scene, id)) {
             continue;
         }
         tb__pair_contact pair;
@@ -317,7 +296,7 @@ void tb__ground_shapes_rate(const tb__effect *effect, const tb_scene *scene, con
     const tb__ground_shapes *shapes = tb__ground_of(effect)->shapes;
     const tb__contact_params *law = &shapes->law;
     for (size_t id = 0; id < scene->body_count; ++id) {
-        if (!meets_shape(shapes, scene, id)) {
+        if (!tb__ground_shapes_meet(shapes, scene, id)) {
             continue;
         }
         const tb__collision_shape *shape = tb__scene_body_collision_shape(scene, id);
@@ -345,7 +324,7 @@ void tb__ground_shapes_rate(const tb__effect *effect, const tb_scene *scene, con
 static bool deepest(const tb__ground_params *ground, const tb_scene *scene, const double *y,
                     size_t id, double margin, double *depth, int *touching)
 {
-    if (!meets_shape(ground->shapes, scene, id)) {
+    if (!tb__ground_shapes_meet(ground->shapes, scene, id)) {
         return false;
     }
     tb__pair_contact pair;
@@ -379,185 +358,7 @@ bool tb__ground_shape_touch(const tb__effect *effect, const tb_scene *scene, con
 
 bool tb__ground_meets_shape(const tb__effect *effect, const tb_scene *scene, size_t id)
 {
-    return meets_shape(tb__ground_of(effect)->shapes, scene, id);
-}
-
-tb_status tb__ground_shapes_note_points(const tb__effect *effect, const tb_scene *scene, size_t id,
-                                        bool has_points, char *detail)
-{
-    tb__ground_shapes *shapes = tb__ground_of(effect)->shapes;
-    if (id >= shapes->capacity) { /* doubling: bodies given points one by one, O(n) in all */
-        const size_t n =
-            scene->body_count > 2 * shapes->capacity ? scene->body_count : 2 * shapes->capacity;
-        unsigned char *flags = realloc(shapes->has_points, n);
-        if (flags == NULL) {
-            return tb__set_detail(detail, TB_STATUS_OUT_OF_MEMORY,
-                                  "the ground's flags of bodies with points: %zu bodies", n);
-        }
-        memset(flags + shapes->capacity, 0, n - shapes->capacity); /* added since: no points */
-        shapes->has_points = flags;
-        shapes->capacity = n;
-    }
-    shapes->undo = (tb__ground_note){id, shapes->slots_wanted, shapes->ids_wanted,
-                                     shapes->met_bound, shapes->has_points[id] != 0};
-    const bool was = meets_shape(shapes, scene, id);
-    shapes->has_points[id] = has_points;
-    const bool now = meets_shape(shapes, scene, id);
-    if (now && !was) {
-        shapes->met_bound += 1;
-        shapes->slots_wanted += TB__GROUND_SLOTS_PER_SHAPE;
-        shapes->ids_wanted = id + 1 > shapes->ids_wanted ? id + 1 : shapes->ids_wanted;
-    } else if (was && !now && shapes->slots_wanted >= TB__GROUND_SLOTS_PER_SHAPE) {
-        /* ids_wanted stays an upper bound until the next refresh; slots_wanted may be behind
-         * the shapes set since it (tb__ground_shapes_changed leaves it when the pool has room),
-         * so it is not taken below 0 */
-        shapes->slots_wanted -= TB__GROUND_SLOTS_PER_SHAPE;
-    }
-    return TB_STATUS_OK;
-}
-
-void tb__ground_shapes_unnote(const tb__effect *effect)
-{
-    tb__ground_shapes *shapes = tb__ground_of(effect)->shapes;
-    const tb__ground_note *before = &shapes->undo;
-    shapes->has_points[before->id] = before->had;
-    shapes->slots_wanted = before->slots_wanted;
-    shapes->ids_wanted = before->ids_wanted;
-    shapes->met_bound = before->met_bound;
-}
-
-tb_status tb__ground_shapes_refresh(const tb__effect *effect, const tb_scene *scene, char *detail)
-{
-    tb__ground_shapes *shapes = tb__ground_of(effect)->shapes;
-    const size_t n = scene->body_count;
-    if (n > shapes->capacity) {
-        unsigned char *flags = realloc(shapes->has_points, n);
-        if (flags == NULL) {
-            return tb__set_detail(detail, TB_STATUS_OUT_OF_MEMORY,
-                                  "the ground's flags of bodies with points: %zu bodies", n);
-        }
-        shapes->has_points = flags;
-        shapes->capacity = n;
-    }
-    if (shapes->capacity > 0) { /* a scene without bodies has no flags yet (NULL) */
-        memset(shapes->has_points, 0, shapes->capacity);
-    }
-    for (size_t j = 0; j < scene->contact_count; ++j) {
-        shapes->has_points[scene->contacts[j].body] = 1;
-    }
-    size_t met = 0;
-    shapes->ids_wanted = 0;
-    for (size_t id = 0; id < n; ++id) {
-        if (meets_shape(shapes, scene, id)) {
-            met += 1;
-            shapes->ids_wanted = id + 1;
-        }
-    }
-    shapes->slots_wanted = TB__GROUND_SLOTS_PER_SHAPE * met; /* met <= n, allocated above */
-    shapes->met_bound = met;
-    return TB_STATUS_OK;
-}
-
-/* A new, empty pool of `slots` slots for ids below `bodies` in place of the ground's, whose old
- * one (NULL for none) goes into *old with its body bound and states; nothing changes on failure. */
-static tb_status swap_pool(tb_scene *scene, tb__effect *effect, size_t slots, size_t bodies,
-                           tb__friction_pool **old, size_t *old_bodies)
-{
-    tb__ground_shapes *shapes = tb__ground_of(effect)->shapes;
-    size_t bytes;
-    tb_status status = tb__validate_size_product(
-        scene->detail, slots, TB__FRICTION_SLOT_STATES * sizeof(double), "bodies", &bytes);
-    tb__friction_pool *pool =
-        status == TB_STATUS_OK ? tb__friction_pool_create(slots, bodies, shapes->presliding) : NULL;
-    if (pool == NULL) {
-        return status != TB_STATUS_OK
-                   ? status
-                   : tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY,
-                                    "the ground's friction pool: %zu slots", slots);
-    }
-    *old = shapes->law.friction;
-    *old_bodies = shapes->pool_bodies;
-    shapes->law.friction = pool;
-    shapes->pool_bodies = bodies;
-    effect->fixed_states = TB__FRICTION_SLOT_STATES * slots;
-    return TB_STATUS_OK;
-}
-
-tb_status tb__ground_shapes_changed(tb__effect *effect, tb_scene *scene, size_t id)
-{
-    tb__ground_shapes *shapes = tb__ground_of(effect)->shapes;
-    const size_t have = effect->fixed_states / TB__FRICTION_SLOT_STATES;
-    if (!meets_shape(shapes, scene, id)) { /* points, or no shape: nothing more to hold */
-        return TB_STATUS_OK;
-    }
-    shapes->met_bound += 1;
-    if (TB__GROUND_SLOTS_PER_SHAPE * shapes->met_bound <= have && id < shapes->pool_bodies) {
-        return TB_STATUS_OK;
-    }
-    tb_status status = tb__ground_shapes_refresh(effect, scene, scene->detail);
-    if (status != TB_STATUS_OK ||
-        (shapes->slots_wanted <= have && shapes->ids_wanted <= shapes->pool_bodies)) {
-        return status;
-    }
-    /* doubling: n bodies given shapes one by one grow it log n times, not n */
-    const size_t slots = shapes->slots_wanted > 2 * have ? shapes->slots_wanted : 2 * have;
-    const size_t bodies =
-        scene->body_count > 2 * shapes->pool_bodies ? scene->body_count : 2 * shapes->pool_bodies;
-    tb__friction_pool *old = NULL;
-    size_t old_bodies = 0;
-    status = swap_pool(scene, effect, slots, bodies, &old, &old_bodies);
-    if (status == TB_STATUS_OK) {
-        status = tb__scene_layout_states(scene, scene->body_count);
-        if (status != TB_STATUS_OK) { /* the old pool back: the layout did not change */
-            tb__friction_pool_destroy(shapes->law.friction);
-            shapes->law.friction = old;
-            shapes->pool_bodies = old_bodies;
-            effect->fixed_states = TB__FRICTION_SLOT_STATES * have;
-            return status;
-        }
-        tb__friction_pool_destroy(old);
-    }
-    return status;
-}
-
-tb_status tb__ground_shapes_create(tb_scene *scene, const tb_ground_def *def, tb__effect *effect)
-{
-    tb__ground_params *ground = tb__ground_of(effect);
-    ground->shapes = calloc(1, sizeof *ground->shapes);
-    if (ground->shapes == NULL) {
-        return tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "the ground's shaped bodies");
-    }
-    tb__contact_params *law = &ground->shapes->law;
-    law->omega = ground->omega;
-    law->damping_ratio = ground->damping_ratio;
-    law->static_friction = ground->static_friction;
-    law->kinetic_friction = ground->kinetic_friction;
-    law->stribeck_velocity = ground->stribeck_velocity;
-    law->gravity = ground->gravity;
-    law->bristle_stiffness = ground->bristle_stiffness;
-    law->slip_velocity =
-        tb__contact_slip_velocity(def->static_friction, def->gravity, def->presliding);
-    ground->shapes->presliding = def->presliding;
-    ground->shapes->pool_bodies = scene->body_count;
-    tb_status status = tb__ground_shapes_refresh(effect, scene, scene->detail);
-    if (status == TB_STATUS_OK && ground->shapes->slots_wanted > 0) { /* none for none */
-        tb__friction_pool *none;
-        size_t bodies;
-        status = swap_pool(scene, effect, ground->shapes->slots_wanted, scene->body_count, &none,
-                           &bodies);
-    }
-    return status;
-}
-
-void tb__ground_shapes_release(tb__effect *effect)
-{
-    tb__ground_shapes *shapes = tb__ground_of(effect)->shapes;
-    if (shapes != NULL) {
-        tb__friction_pool_destroy(shapes->law.friction);
-        free(shapes->has_points);
-        free(shapes);
-        tb__ground_of(effect)->shapes = NULL;
-    }
+    return tb__ground_shapes_meet(tb__ground_of(effect)->shapes, scene, id);
 }
 
 size_t tb__ground_shapes_event_pairs(const tb__effect *effect, const tb_scene *scene,
@@ -567,7 +368,7 @@ size_t tb__ground_shapes_event_pairs(const tb__effect *effect, const tb_scene *s
     const tb__ground_params *ground = tb__ground_of(effect);
     for (size_t id = 0; id < scene->body_count; ++id) {
         tb__pair_contact pair;
-        if (!meets_shape(ground->shapes, scene, id) ||
+        if (!tb__ground_shapes_meet(ground->shapes, scene, id) ||
             plane_manifold(ground, scene, scene->time, y, id, TB__EVENT_LOOKAHEAD, &pair) == 0) {
             continue;
         }

@@ -31,13 +31,16 @@ tb_status tb__ground_shapes_check_sizes(const tb__effect *effect, tb_scene *scen
 tb_status tb__ground_check_shape(const tb__effect *effect, tb_scene *scene, size_t id);
 
 /* The ground's shapes_changed op for body id: a pool with room for TB__GROUND_SLOTS_PER_SHAPE
- * slots per body it meets through its shape now and for their ids, grown by doubling when short,
- * laid out in the scene's states (which zeroes every effect's states, as any change of layout
- * does: the anchors start unloaded). A pool with room already changes nothing; the bodies are
- * counted again (O(bodies + points)) only when an upper bound of their number, raised by each
- * body given a shape, passes the pool's room, so that n shapes set one by one cost O(n log n).
- * On failure nothing changes, the scene's detail naming what failed. */
+ * slots per body it meets through its shape now and for their ids, grown by doubling when short
+ * (its state count then grows, and the scene lays the states out again, which zeroes every
+ * effect's states, as any change of layout does: the anchors start unloaded). A pool with room
+ * already changes nothing; the bodies are counted again (O(bodies + points)) only when an upper
+ * bound of their number, raised by each body given a shape, passes the pool's room, so that n
+ * shapes set one by one cost O(n log n). The old pool is kept until the shapes_settled op
+ * (tb__ground_shapes_settled), which frees it, or puts it and the counts back when the change
+ * was refused (by this effect, a later one or the layout). The scene's detail names a failure. */
 tb_status tb__ground_shapes_changed(tb__effect *effect, tb_scene *scene, size_t id);
+void tb__ground_shapes_settled(tb__effect *effect, bool undo);
 
 /* Which bodies have contact points, noted again for the scene now: at every start check, so at
  * every change of points (tb_scene_set_contact_points checks), every integrator's creation and

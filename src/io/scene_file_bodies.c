@@ -237,9 +237,10 @@ static tb_status add_body(tb__loader *ld, const char *path, tb__body_build *b, c
     if (status == TB_STATUS_OK && k->keys != NULL) {
         status = tb_scene_set_body_keys(ld->scene, id, k->keys, k->count, k->interpolation);
     }
-    if (status != TB_STATUS_OK) {
+    if (status != TB_STATUS_OK) { /* the file's key, not the C field ("def.name") it went to */
+        const char *detail = tb_scene_detail(ld->scene);
         return tb__load_fail(ld, status == TB_STATUS_OUT_OF_MEMORY ? status : TB_STATUS_BAD_SCENE,
-                             path, "%s", tb_scene_detail(ld->scene));
+                             path, "%s", detail + (strncmp(detail, "def.", 4) == 0 ? 4 : 0));
     }
     if (b->has_contacts && b->def.motion == TB_MOTION_DYNAMIC) { /* the ground's, for bodies
                                                                      that can move */

@@ -56,8 +56,9 @@ static tb_status load_step_settings(tb__loader *ld, const json_t *object, tb_int
         status = tb__json_number(ld, object, "integrator", "rtol", false, &def->rtol);
     }
     if (status == TB_STATUS_OK && !(def->rtol >= 1e-15 && def->rtol < 1)) {
+        char typed[32]; /* 1e-320 as written, not 9.99989e-321 (F119) */
         status = tb__load_fail(ld, TB_STATUS_BAD_SCENE, "integrator.rtol",
-                               "must be in [1e-15, 1), got %g", def->rtol);
+                               "must be in [1e-15, 1), got %s", tb__shortest(def->rtol, typed));
     }
     if (status == TB_STATUS_OK) {
         status = tb__json_number(ld, object, "integrator", "atol", false, &def->atol);

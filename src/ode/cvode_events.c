@@ -14,7 +14,6 @@
 #include <nvector/nvector_serial.h>
 
 #include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 
 /* CVODE's root function: the system's at t = t_origin + tau. */
@@ -181,10 +180,14 @@ int tb__cvode_march(tb_integrator *integrator, double tau_out, int mode, double 
             }
         }
         /* on a break: the curve after it is another; restart there (on the output: at the
-         * next call; a break past tau_out is beyond this call) */
-        const bool on_break = flag == CV_TSTOP_RETURN && *tau_reached == cvode->break_stop;
+         * next call; a break past tau_out is beyond this call). A root found on the break (a gap
+         * a jumping key closed) is on it too: CVODE must not go on with the history before. */
+        const bool on_break = (flag == CV_TSTOP_RETURN || flag == CV_ROOT_RETURN) &&
+                              *tau_reached == cvode->break_stop;
         if (on_break && (mode == CV_ONE_STEP || *tau_reached < tau_out)) {
-            changed_at_event(integrator, *tau_reached); /* e.g. what a moving body wakes */
+            if (flag == CV_TSTOP_RETURN) {                  /* a root's at_event ran above */
+                changed_at_event(integrator, *tau_reached); /* e.g. what a moving body wakes */
+            }
             return TB__CV_EVENT_RESTART;
         }
         cvode->stale = cvode->stale || (on_break && *tau_reached == tau_out);

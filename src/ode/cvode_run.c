@@ -229,6 +229,9 @@ static tb_status run(tb_integrator *integrator, double t_out, int mode)
                  : go_on  ? restart(integrator, cvode->t_origin + tau_reached)
                           : hand_out(integrator,
                                     mode == CV_NORMAL ? t_out : cvode->t_origin + tau_reached);
+        if (go_on && status == TB_STATUS_OK) { /* at an event or a break: may it go on? */
+            status = tb__integrator_check_break(integrator);
+        }
         cvode->stale = cvode->stale || (flag == TB__CV_EVENT_RESTART && !go_on);
         if (!go_on || status != TB_STATUS_OK) {
             return status;

@@ -84,8 +84,10 @@ static tb_status validate_tolerances(const tb_integrator *integrator, const tb_i
                              def->rtol);
     }
     if (!(def->rtol >= 1e-15 && def->rtol < 1.0)) {
+        char typed[32];
         return tb__set_error(error, TB_STATUS_INVALID_ARGUMENT,
-                             "def.rtol: must be in [1e-15, 1), got %g", def->rtol);
+                             "def.rtol: must be in [1e-15, 1), got %s",
+                             tb__shortest(def->rtol, typed));
     }
     tb_status status = check_bound(def->atol, 0.0, false, "atol", error);
     for (size_t i = 0;

@@ -460,9 +460,9 @@ static tb_status fixed_step(tb_integrator *integrator)
     tb__onset_forget(integrator); /* y may have been changed since */
     bool cut;
     const double t_end = end_at_break(integrator, integrator->t + integrator->dt, &cut);
-    const tb_status status =
-        check_time_resolution(integrator->detail, integrator->dt, t_end, "t + dt");
-    return status != TB_STATUS_OK ? status : take_step(integrator, t_end - integrator->t, t_end);
+    tb_status status = check_time_resolution(integrator->detail, integrator->dt, t_end, "t + dt");
+    status = status != TB_STATUS_OK ? status : take_step(integrator, t_end - integrator->t, t_end);
+    return status == TB_STATUS_OK && cut ? tb__integrator_check_break(integrator) : status;
 }
 
 /* Steps to t_target are counted as advance lands them (see fixed_advance); more than
@@ -563,6 +563,9 @@ static tb_status fixed_advance(tb_integrator *integrator, double t_target)
             return budget_used(integrator, t_target, i - 1);
         }
         status = take_step(integrator, t_end - integrator->t, t_end);
+        if (status == TB_STATUS_OK && cut && integrator->t == t_end) { /* on a break */
+            status = tb__integrator_check_break(integrator);
+        }
         if (status != TB_STATUS_OK) {
             return status;
         }

@@ -357,6 +357,15 @@ double tb_integrator_time(const tb_integrator *integrator)
     return integrator == NULL ? NAN : integrator->t;
 }
 
+tb_status tb__integrator_check_break(tb_integrator *integrator)
+{
+    const tb_ode_system *system = &integrator->system;
+    return system->events.check_break == NULL
+               ? TB_STATUS_OK
+               : system->events.check_break(integrator->t, integrator->y, system->ctx,
+                                            integrator->detail);
+}
+
 tb_status tb_integrator_reset(tb_integrator *integrator, double t)
 {
     if (integrator == NULL) {

@@ -137,6 +137,10 @@ tb_status tb__fixed_report(tb_integrator *integrator, const tb__step_failure *fa
 void tb__chunk_layout(tb_integrator *integrator, int threads);
 tb_status tb__take_chunked_step(tb_integrator *integrator, double h, double t_last, double t_end);
 
+/* The system's events.check_break at the integrator's time and state (a step, or CVODE's
+ * restart, on a break inside a call); TB_STATUS_OK without one. */
+tb_status tb__integrator_check_break(tb_integrator *integrator);
+
 /* Fixed steps ending at onsets (fixed_onset.c), for systems with roots that step whole: create
  * allocates the search's buffers (nothing for other systems); forget drops the roots kept from
  * the last step's end (y may have changed); locate writes into *h_onset the step from

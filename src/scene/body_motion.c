@@ -9,6 +9,7 @@
 #include "core/validate.h"
 #include "math/tb_math.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -77,6 +78,126 @@ int tb__body_motion_at(const tb_scene *scene, double t, const double *y, size_t 
     }
     tb__body_motion(&scene->bodies[slot], y + TB_STATE_SIZE * slot, out);
     return 0;
+}
+
+/* A bound of |q(s)| on [0, 1] for q quadratic in s, from q(0) = a, q(1/2) = m and q(1) = b: the
+ * largest of its Bezier points a, 2 m - (a + b) / 2 and b, which hold the curve in their hull. */
+static double quadratic_bound(const double a[3], const double m[3], const double b[3])
+{
+    double c[3];
+    for (int k = 0; k < 3; ++k) {
+        c[k] = 2.0 * m[k] - 0.5 * (a[k] + b[k]);
+    }
+    return fmax(tb__v3_norm(a), fmax(tb__v3_norm(c), tb__v3_norm(b)));
+}
+
+/* Keyframed body id's speeds after each break k (pieces [b_j, b_j+1], j >= k, of its curve):
+ * the largest |v| into break_times[n + k], |omega| into break_times[2 n + k], each piece bounded
+ * by the velocity taken as quadratic in time through its ends and middle (exact for linear and
+ * cubic positions; an estimate for the rotation). Made once when the source is set, so that
+ * each check reads them in O(log n) (a curve of 1e5 keys at every frame's check). */
+static void fill_speeds_after(const tb_scene *scene, size_t id)
+{
+    const tb__body_kind *kind = &scene->kinds[id];
+    const size_t n = kind->break_count;
+    double *times = kind->break_times, fastest_v = 0.0, fastest_w = 0.0;
+    for (size_t k = n; k-- > 0;) {
+        if (k + 1 < n) {
+            const double from = times[k], to = times[k + 1];
+            tb__motion a, m, b; /* the piece's start, middle and end (the left limit) */
+            tb__body_motion_at(scene, from, scene->states, id, &a);
+            tb__body_motion_at(scene, from + 0.5 * (to - from), scene->states, id, &m);
+            tb__body_motion_at(scene, nextafter(to, from), scene->states, id, &b);
+            fastest_v = fmax(fastest_v, quadratic_bound(a.v, m.v, b.v));
+            fastest_w = fmax(fastest_w, quadratic_bound(a.omega, m.omega, b.omega));
+        }
+        times[n + k] = fastest_v;
+        times[2 * n + k] = fastest_w;
+    }
+}
+
+/* The first of kind's break times at or after t (break_count: none). */
+static size_t first_break_from(const tb__body_kind *kind, double t)
+{
+    size_t low = 0, high = kind->break_count;
+    while (low < high) {
+        const size_t middle = low + (high - low) / 2;
+        if (kind->break_times[middle] < t) {
+            low = middle + 1;
+        } else {
+            high = middle;
+        }
+    }
+    return low;
+}
+
+double tb__body_fastest_from(const tb_scene *scene, double t, const double *y, size_t id,
+                             double reach)
+{
+    tb__motion now;
+    tb__body_motion_at(scene, t, y, id, &now);
+    double fastest = tb__v3_norm(now.v) + tb__v3_norm(now.omega) * reach;
+    if (!tb__body_fixed(scene, id) || scene->kinds[id].break_count == 0) {
+        return fastest;
+    }
+    const tb__body_kind *kind = &scene->kinds[id];
+    const size_t n = kind->break_count, next = first_break_from(kind, t);
+    /* the piece t lies in (the whole of it), and every one after */
+    const size_t k = next > 0 && next < n && t < kind->break_times[next] ? next - 1 : next;
+    if (k < n) {
+        fastest = fmax(fastest, kind->break_times[n + k] + kind->break_times[2 * n + k] * reach);
+    }
+    return fastest;
+}
+
+bool tb__scene_fixed_poses_move(const tb_scene *scene, double t)
+{
+    for (size_t k = 0; k < scene->body_count - scene->slot_count; ++k) {
+        const size_t id = scene->fixed_ids[k];
+        double x[3], q[4], x_t[3], q_t[4];
+        tb__body_pose_at(scene, scene->time, scene->states, id, x, q);
+        tb__body_pose_at(scene, t, scene->states, id, x_t, q_t);
+        if (memcmp(x, x_t, sizeof x) != 0 || memcmp(q, q_t, sizeof q) != 0) {
+            return true;
+        }
+    }
+    return false;
+}
+
+/* Whether keyframed body id jumps at its break t: its pose there (the piece that starts at t)
+ * lies farther from the limit from the left than a continuous curve moves in one rounding of t
+ * (1e-9 m and 1e-9 rad leave room for the latter at any speed a contact takes). */
+static bool jumps_at(const tb_scene *scene, size_t id, double t)
+{
+    tb__motion left, right;
+    tb__body_motion_at(scene, nextafter(t, -INFINITY), scene->states, id, &left);
+    tb__body_motion_at(scene, t, scene->states, id, &right);
+    double dx[3], minus = 0.0, plus = 0.0; /* q and -q: one rotation */
+    for (int k = 0; k < 3; ++k) {
+        dx[k] = right.x[k] - left.x[k];
+    }
+    for (int k = 0; k < 4; ++k) {
+        minus += (right.q[k] - left.q[k]) * (right.q[k] - left.q[k]);
+        plus += (right.q[k] + left.q[k]) * (right.q[k] + left.q[k]);
+    }
+    /* |q_r - q_l| is about half the angle between them */
+    return tb__v3_hypot(dx) > 1e-9 + 1e-12 * tb__v3_hypot(right.x) || fmin(minus, plus) > 1e-18;
+}
+
+bool tb__scene_fixed_poses_jump(const tb_scene *scene, double t)
+{
+    for (size_t k = 0; k < scene->body_count - scene->slot_count; ++k) {
+        const size_t id = scene->fixed_ids[k];
+        const tb__body_kind *kind = &scene->kinds[id];
+        const double near = 8.0 * DBL_EPSILON * fabs(t); /* CVODE's t_origin + tau */
+        for (size_t b = first_break_from(kind, t - near);
+             b < kind->break_count && kind->break_times[b] <= t + near; ++b) {
+            if (jumps_at(scene, id, kind->break_times[b])) {
+                return true;
+            }
+        }
+    }
+    return false;
 }
 
 void tb__body_pose_at(const tb_scene *scene, double t, const double *y, size_t id, double out_x[3],
@@ -225,7 +346,7 @@ tb_status tb__scene_set_body_motion_source(tb_scene *scene, size_t id, tb_body_m
     tb_status status = check_source(scene, id, break_times, break_count);
     double *times = NULL;
     if (status == TB_STATUS_OK && break_count > 0) {
-        times = tb__malloc_array(break_count, sizeof(double));
+        times = tb__malloc_array(break_count, 3 * sizeof(double)); /* with the speeds after */
         status = times == NULL ? tb__scene_fail(scene, TB_STATUS_OUT_OF_MEMORY, "%zu break times",
                                                 break_count)
                                : TB_STATUS_OK;
@@ -247,7 +368,9 @@ tb_status tb__scene_set_body_motion_source(tb_scene *scene, size_t id, tb_body_m
     kind->release = release;
     kind->break_times = times;
     kind->break_count = break_count;
+    fill_speeds_after(scene, id);
     scene->effects_generation++; /* the right-hand side changed: CVODE restarts */
+    scene->set_since = "keyframed bodies' motions were"; /* checked as a start (scene_ode.c) */
     tb__scene_wake_all(scene);
     return TB_STATUS_OK;
 }

@@ -14,7 +14,9 @@ typedef struct tb__body_kind {
     tb_body_motion_fn fn;
     void *ctx;
     void (*release)(void *ctx); /* frees ctx when the source is replaced or the scene destroyed */
-    double *break_times;        /* owned, ascending: where the motion is only C1 (key times) */
+    /* owned, ascending: where the motion is only C1 (key times); 3 break_count doubles, the
+     * largest speed and spin of the curve after each following (body_motion.c) */
+    double *break_times;
     size_t break_count;
 } tb__body_kind;
 
@@ -30,6 +32,22 @@ void tb__scene_release_motion_sources(tb_scene *scene);
 /* The earliest break time of the keyframed bodies after t (INFINITY: none): the scene's
  * tb_ode_system.events.next_break (ctx the scene). */
 double tb__scene_next_break(double t, void *ctx);
+
+/* Whether a body without a state stands elsewhere at t than at the scene's time (keys). */
+bool tb__scene_fixed_poses_move(const tb_scene *scene, double t);
+/* Whether a keyframed body's keys jump at t (a break within 8 ulps of t where the pose is not
+ * the limit from the left: a step key), so that the state at t is checked as a start
+ * (scene_ode.c). */
+bool tb__scene_fixed_poses_jump(const tb_scene *scene, double t);
+
+/* A bound of the speed of body id's points from t on (|v| + |omega| reach, m/s, reach a radius
+ * about its centre that holds its shape): its speed at t, and for a keyframed body with break
+ * times (keys) the largest speed plus the largest spin times reach over the pieces of its curve
+ * from the one t lies in to its last key, each piece bounded by the velocity taken as quadratic
+ * in time through its ends and middle (exact for linear and cubic positions: the Bezier hull of
+ * the velocity; an estimate for the rotation), found once when the keys are set: O(log keys). */
+double tb__body_fastest_from(const tb_scene *scene, double t, const double *y, size_t id,
+                             double reach);
 
 /* Body id's slot (the index of its 13 doubles in y), or TB_NO_SLOT. */
 static inline size_t tb__body_slot(const tb_scene *scene, size_t id)

@@ -160,9 +160,10 @@ tb_status tb__scene_check_points(tb_scene *scene, const double *y, size_t id, si
 
 const tb__effect_stepping tb__effect_no_stepping = {.post_step = NULL};
 
-tb_status tb__scene_shapes_changed(tb_scene *scene, size_t id)
+/* Every check_shape op before any change. */
+static tb_status check_shapes(tb_scene *scene, size_t id)
 {
-    for (size_t e = 0; e < scene->effect_count; ++e) { /* every check before any change */
+    for (size_t e = 0; e < scene->effect_count; ++e) {
         const tb__effect *effect = &scene->effects[e];
         if (tb__stepping_of(effect)->check_shape != NULL) {
             const tb_status status = tb__stepping_of(effect)->check_shape(effect, scene, id);
@@ -171,16 +172,32 @@ tb_status tb__scene_shapes_changed(tb_scene *scene, size_t id)
             }
         }
     }
-    for (size_t e = 0; e < scene->effect_count; ++e) {
-        tb__effect *effect = &scene->effects[e];
+    return TB_STATUS_OK;
+}
+
+tb_status tb__scene_shapes_changed(tb_scene *scene, size_t id)
+{
+    tb_status status = check_shapes(scene, id);
+    bool layout = false; /* an effect's state count changed: lay the states out once, at the end */
+    size_t changed = 0;  /* effects [0, changed) were asked (the one that failed too) */
+    for (; changed < scene->effect_count && status == TB_STATUS_OK; ++changed) {
+        tb__effect *effect = &scene->effects[changed];
         if (tb__stepping_of(effect)->shapes_changed != NULL) {
-            const tb_status status = tb__stepping_of(effect)->shapes_changed(effect, scene, id);
-            if (status != TB_STATUS_OK) {
-                return status;
-            }
+            const size_t states = tb__effect_state_count(effect, scene);
+            status = tb__stepping_of(effect)->shapes_changed(effect, scene, id);
+            layout = layout || tb__effect_state_count(effect, scene) != states;
         }
     }
-    return TB_STATUS_OK;
+    if (status == TB_STATUS_OK && layout) { /* fails before it changes anything */
+        status = tb__scene_layout_states(scene, scene->slot_count);
+    }
+    for (size_t e = 0; e < changed; ++e) {
+        tb__effect *effect = &scene->effects[e];
+        if (tb__stepping_of(effect)->shapes_settled != NULL) {
+            tb__stepping_of(effect)->shapes_settled(effect, status != TB_STATUS_OK);
+        }
+    }
+    return status;
 }
 
 void tb__effect_rate_add_decay(tb__effect_rate *out, double rate, size_t body)

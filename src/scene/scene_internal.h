@@ -174,10 +174,11 @@ struct tb__effect_stepping {
      * from y alone, unless it continues where the last boundary was, so that a run from a state
      * is the same whatever ran on the scene before. NULL: none. */
     void (*restart)(const tb__effect *effect, const tb_scene *scene, double t, const double *y);
-    /* Body id's shape was set or removed (tb_scene_set_body_shape, the scene idle): the effect
-     * may change how many states it owns and lay the scene's states out again
-     * (tb__scene_layout_states), or fail with nothing changed. NULL: shapes change nothing. */
+    /* Body id's shape was set or removed (scene idle): the effect may change its state count (the
+     * scene lays the states out once all passed) or fail (detail); shapes_settled(undo) ends each
+     * that ran, the failing one too: undo (a failure anywhere) puts all back. */
     tb_status (*shapes_changed)(tb__effect *effect, tb_scene *scene, size_t id);
+    void (*shapes_settled)(tb__effect *effect, bool undo);
     /* Before any effect's shapes_changed: whether body id's new shape (set, or NULL: removed)
      * is one the effect can push; a refusal (the scene's detail naming the body and the effect)
      * leaves the old shape in place. Changes nothing. NULL: every shape will do. */
@@ -364,10 +365,10 @@ struct tb_scene {
     /* The state the newest integrator last left (states_left_size doubles, 0 for none; room for
      * states_left_capacity, made by tb_scene_ode_system), kept when an effect checks starts: a
      * state that differs at the next advance, step or reset (tb_scene_set_state, a write through
-     * tb_scene_states), or one whose shapes were set since (shape_set), is checked as a start. */
+     * tb_scene_states), or once shapes or motions were set (set_since says which), is checked. */
     double *states_left;
     size_t states_left_size, states_left_capacity;
-    bool shape_set;
+    const char *set_since; /* "bodies' shapes were", "keyframed bodies' motions were", NULL */
     /* Contact events (contact_event_watch.c): NULL until tb_scene_set_contact_events. */
     struct tb__event_watch *contact_events;
     /* Unresolved impacts (impact_watch.c): NULL until an integrator of a step too long for some
@@ -414,8 +415,8 @@ tb_status tb__scene_impacts_prepare(tb_scene *scene, const double *y, tb_method 
                                     struct tb__impacts **out_pending);
 void tb__scene_impacts_commit(tb_scene *scene, struct tb__impacts *pending);
 void tb__scene_impacts_discard(struct tb__impacts *pending);
-/* An integrator reset to t (tb_integrator_reset, accepted): a count holding an impact later than
- * t starts again from zero. */
+/* An integrator reset to t (tb_integrator_reset, accepted): the count keeps the impacts at or
+ * before t (from zero if memory ran out for their log). */
 void tb__scene_impacts_reset(tb_scene *scene, double t);
 struct tb__event_watch *tb__scene_impact_watch(const tb_scene *scene);
 void tb__scene_impacts_free(tb_scene *scene);
@@ -478,12 +479,11 @@ int tb__scene_post_step(double t, double *y, void *ctx);
  * body deep inside a ground plane); the first refusal's status, with its detail. */
 tb_status tb__scene_check_effects_start(tb_scene *scene, const double *y);
 
-/* Every effect's check_points op for body id's points, now contacts[first ..], at y: the first
- * refusal's status, with its detail in the scene's. */
+/* Every check_points op for body id's points, contacts[first ..], at y: the first refusal. */
 tb_status tb__scene_check_points(tb_scene *scene, const double *y, size_t id, size_t first);
 
-/* Every effect's shapes_changed op, after body id's shape was set or removed; the first failure's
- * status (the scene's detail names it), the effects before it keeping their change. */
+/* Every effect's check_shape, shapes_changed, then the layout if a state count changed, after
+ * body id's shape was set or removed: all or nothing (on failure every effect as it was). */
 tb_status tb__scene_shapes_changed(tb_scene *scene, size_t id);
 
 /* TB_STATUS_BUSY (detail naming `what`) while an integrator is stepping the scene: a call from

@@ -74,7 +74,7 @@ static void remember_state(tb_scene *scene)
 {
     const size_t n = tb_scene_state_size(scene);
     scene->states_left_size = 0;
-    scene->shape_set = false;
+    scene->set_since = NULL;
     if (n <= scene->states_left_capacity && has_start_checks(scene)) {
         memcpy(scene->states_left, scene->states, n * sizeof(double));
         scene->states_left_size = n;
@@ -101,23 +101,26 @@ static bool poses_changed(const tb_scene *scene)
  * that changes it (tb_scene_set_state, tb_scene_set_velocity, writes through tb_scene_states,
  * the bindings' assignments) meets here, at the next advance, step or reset of every method.
  * So does a shape set since (tb_scene_set_body_shape, _pieces: a ball grown into another was
- * thrown out at 580 m/s under CVODE); once they pass, the shapes are the start's. */
+ * thrown out at 580 m/s under CVODE) or a keyframed body's motion (tb_scene_set_body_keys,
+ * _motion_fn: a slab moved up through a ball threw it at 246 m/s); once they pass, they are the
+ * start's. */
 static tb_status check_changed_state(tb_scene *scene, char *detail)
 {
     const size_t n = scene->states_left_size;
-    if (n == 0 || n != tb_scene_state_size(scene) || !(scene->shape_set || poses_changed(scene))) {
+    if (n == 0 || n != tb_scene_state_size(scene) ||
+        !(scene->set_since != NULL || poses_changed(scene))) {
         return TB_STATUS_OK;
     }
     char found[TB_DETAIL_SIZE];
     const tb_status status = check_start(scene, scene->states, found);
     if (status == TB_STATUS_OK) {
-        scene->shape_set = false;
+        scene->set_since = NULL;
         return status;
     }
     return tb__set_detail(detail, status,
                           "the %s changed since the last step, and the state is refused as a "
                           "start would be: %.*s",
-                          scene->shape_set ? "bodies' shapes were" : "state was",
+                          scene->set_since != NULL ? scene->set_since : "state was",
                           TB_DETAIL_SIZE - 96, found);
 }
 
@@ -157,6 +160,28 @@ static unsigned long long claim(void *ctx)
     return scene->layout_generation;
 }
 
+/* tb_ode_system.events.check_break (and every call's start, acquire): where a keyframed body's
+ * keys jump at t (a step key), the state there gets the checks of a start, so that a body the
+ * jump put inside another is refused rather than thrown out (F117); continuous keys pass. */
+static tb_status check_break(double t, const double *y, void *ctx, char *detail)
+{
+    tb_scene *scene = ctx;
+    if (!has_start_checks(scene) || !tb__scene_fixed_poses_jump(scene, t)) {
+        return TB_STATUS_OK;
+    }
+    const double time_before = scene->time;
+    scene->time = t; /* the bodies without a state where the jump put them */
+    char found[TB_DETAIL_SIZE];
+    const tb_status status = check_start(scene, y, found);
+    scene->time = status == TB_STATUS_OK ? time_before : t;
+    return status == TB_STATUS_OK
+               ? status
+               : tb__set_detail(detail, status,
+                                "at t = %.17g a keyframed body's keys jump, and the state there "
+                                "is refused as a start would be: %.*s",
+                                t, TB_DETAIL_SIZE - 128, found);
+}
+
 static tb_status acquire(void *ctx, unsigned long long generation, char *detail)
 {
     tb_scene *scene = ctx;
@@ -176,7 +201,10 @@ static tb_status acquire(void *ctx, unsigned long long generation, char *detail)
                               "an effect coupling bodies was added after this integrator was "
                               "made for independent bodies: make a new integrator");
     }
-    const tb_status changed = check_changed_state(scene, detail);
+    tb_status changed = check_changed_state(scene, detail);
+    if (changed == TB_STATUS_OK) { /* a jump at the call's start: the last ended on it */
+        changed = check_break(scene->time, scene->states, scene, detail);
+    }
     if (changed != TB_STATUS_OK) {
         return changed;
     }
@@ -202,28 +230,13 @@ static tb_status acquire(void *ctx, unsigned long long generation, char *detail)
     return TB_STATUS_OK;
 }
 
-/* Whether a body without a state stands elsewhere at t than at the scene's time (keys). */
-static bool fixed_poses_move(const tb_scene *scene, double t)
-{
-    for (size_t k = 0; k < scene->body_count - scene->slot_count; ++k) {
-        const size_t id = scene->fixed_ids[k];
-        double x[3], q[4], x_t[3], q_t[4];
-        tb__body_pose_at(scene, scene->time, scene->states, id, x, q);
-        tb__body_pose_at(scene, t, scene->states, id, x_t, q_t);
-        if (memcmp(x, x_t, sizeof x) != 0 || memcmp(q, q_t, sizeof q) != 0) {
-            return true;
-        }
-    }
-    return false;
-}
-
 /* tb_ode_system.lifetime.check_reset: keys may put a keyframed body inside another at the new time,
  * so a reset that moves one gets the checks of a start there (as creation does at t0); the scene's
  * time becomes t, or stays on a refusal. */
 static tb_status check_reset(double t, const double *y, void *ctx, char *detail)
 {
     tb_scene *scene = ctx;
-    if (!has_start_checks(scene) || !fixed_poses_move(scene, t)) {
+    if (!has_start_checks(scene) || !tb__scene_fixed_poses_move(scene, t)) {
         scene->time = t;
         tb__scene_restart(scene, t, y);
         tb__scene_impacts_reset(scene, t);
@@ -345,6 +358,7 @@ tb_status tb_scene_ode_system(tb_scene *scene, tb_ode_system *out_system)
                      .check_reset = check_reset},
         /* the key times of bodies without a state */
         .events.next_break = scene->slot_count < scene->body_count ? tb__scene_next_break : NULL,
+        .events.check_break = scene->slot_count < scene->body_count ? check_break : NULL,
     };
     const tb_status rooms = prepare_rooms(scene, out_system->n);
     if (rooms != TB_STATUS_OK) {

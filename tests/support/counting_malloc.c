@@ -11,6 +11,7 @@ extern void __libc_free(void *pointer);
 
 long counted_allocations;
 long failing_allocations;
+long failing_allocation_at;
 
 /* Whether this allocation is one of those made to fail. */
 static int fails(void)
@@ -18,6 +19,9 @@ static int fails(void)
     if (failing_allocations > 0) {
         --failing_allocations;
         return 1;
+    }
+    if (failing_allocation_at > 0) {
+        return --failing_allocation_at == 0;
     }
     return 0;
 }

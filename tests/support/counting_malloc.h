@@ -9,5 +9,9 @@ extern long counted_allocations; /* malloc, calloc and realloc calls so far */
 /* While above 0, each malloc, calloc and realloc fails (returns NULL) and counts it down: a
  * test of what a failed allocation leaves. 0 by default. */
 extern long failing_allocations;
+/* While above 0, each malloc, calloc and realloc counts it down, and the one that takes it to 0
+ * fails: failing_allocation_at = k fails the k-th allocation from now alone (a sweep over k
+ * fails each allocation of a call in turn). 0 by default. */
+extern long failing_allocation_at;
 
 #endif
