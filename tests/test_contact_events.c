@@ -618,12 +618,14 @@ static tb_status jump_a_plate(tb_method method, double landing, double *out_t, d
  * where the contact's gap root fell on it). Where keys jump, the state is now checked as a
  * start: the advance stops at the jump (t = 0.052 s, the state the last good one: the ball still
  * at rest, no force having acted) refused, naming the bodies; a jump to x = -0.5 m, clear of the
- * ball, is taken and leaves it at rest (speed exactly 0: nothing touches it). */
+ * ball, is taken and leaves it at rest (speed exactly 0: nothing touches it). Every family: the
+ * fixed steps (RK4; rosenbrock's halving inside), CVODE's two and ARKODE's restart. */
 static void test_a_step_key_jumping_into_a_body_is_refused(void **u)
 {
     (void)u;
-    const tb_method methods[] = {TB_METHOD_RK4, TB_METHOD_CVODE_ADAMS, TB_METHOD_CVODE_BDF};
-    for (int m = 0; m < 3; ++m) {
+    const tb_method methods[] = {TB_METHOD_RK4, TB_METHOD_CVODE_ADAMS, TB_METHOD_CVODE_BDF,
+                                 TB_METHOD_ROSENBROCK, TB_METHOD_ARK_IMEX};
+    for (int m = 0; m < 5; ++m) {
         double t = 0.0, speed = -1.0;
         assert_int_equal(jump_a_plate(methods[m], 0.05, &t, &speed), TB_STATUS_INVALID_ARGUMENT);
         assert_true(fabs(t - 0.052) < 1e-12);
