@@ -16,8 +16,8 @@
 
 static const char *shape_name(const tb_scene *scene, size_t id)
 {
-    static const char *const names[] = {"none",     "sphere",    "box",         "capsule",
-                                        "cylinder", "ellipsoid", "convex hull", "points"};
+    static const char *const names[] = {"none",      "sphere",      "box",    "capsule", "cylinder",
+                                        "ellipsoid", "convex hull", "points", "compound"};
     tb_shape_type type = TB_SHAPE_NONE;
     tb_scene_body_shape_type(scene, id, &type);
     return (unsigned)type < sizeof names / sizeof names[0] ? names[type] : "?";

@@ -72,7 +72,7 @@ static const char check_help[] =
     "On a scene with joints it prints each joint (type, bodies) and how far the start is off\n"
     "it, and refuses a start off a joint by more than 1e-6 (m or rad, m/s or rad/s) unless\n"
     "--project-joints is given.\n"
-    "Exit codes: 0 the scene would run, 2 it would be refused.\n";
+    "Exit codes: 0 the scene would run, 1 writing the report failed, 2 it would be refused.\n";
 
 static const char accuracy_help[] =
     "usage: tumble accuracy SCENE.json [options]\n"

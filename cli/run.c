@@ -462,5 +462,10 @@ int cli_check_command(const cli_options *o)
         cli_check_contact(scene);
     }
     tb_scene_destroy(scene);
+    /* the report is the command's output: one standard error could not take is a failure (its
+     * stream is the one that would say so, so this exit code is all that tells) */
+    if (code == CLI_EXIT_OK && (fflush(stderr) != 0 || ferror(stderr))) {
+        code = CLI_EXIT_SIMULATION;
+    }
     return code;
 }

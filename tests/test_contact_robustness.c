@@ -621,6 +621,61 @@ static void test_friction_points_beyond_use_are_refused(void **state)
     }
 }
 
+/* A 40 cm box (40 kg) resting across the corner where four 1 m tiles of one static floor body
+ * meet: each tile is a piece of its own, and each piece pair has its own manifold, so the box's
+ * face touches the floor at 4 points per tile, 16 in all, on 4 piece pairs. Effect 1 is a
+ * contact between them with friction_points slots; 0.1 s under RK4 at its default step. */
+static tb_contact_friction_stats box_across_four_tiles(size_t friction_points, tb_status *status)
+{
+    const char *json =
+        "{\"bodies\": [{\"name\": \"floor\", \"motion\": \"static\", \"shape\": ["
+        "{\"type\": \"box\", \"size\": [1, 1, 0.1], \"position\": [-0.5, -0.5, -0.05]},"
+        "{\"type\": \"box\", \"size\": [1, 1, 0.1], \"position\": [0.5, -0.5, -0.05]},"
+        "{\"type\": \"box\", \"size\": [1, 1, 0.1], \"position\": [-0.5, 0.5, -0.05]},"
+        "{\"type\": \"box\", \"size\": [1, 1, 0.1], \"position\": [0.5, 0.5, -0.05]}]},"
+        "{\"name\": \"box\", \"density\": 625, \"shape\": {\"type\": \"box\", "
+        "\"size\": [0.4, 0.4, 0.4]}, \"position\": [0, 0, 0.1999992]}],"
+        "\"effects\": [{\"type\": \"gravity\"}]}";
+    tb_scene *scene = NULL;
+    tb_error error;
+    assert_int_equal(tb_scene_load_string(json, "tiles", NULL, &scene, NULL, &error), TB_STATUS_OK);
+    tb_contact_def contact = tb_contact_def_default();
+    contact.friction_points = friction_points;
+    tb_contact_friction_stats stats = {0};
+    *status = tb_scene_add_contact(scene, &contact);
+    if (*status == TB_STATUS_OK) {
+        tb_integrator *integrator = test_integrator_for(scene, TB_METHOD_RK4, 0.0, 0.0);
+        assert_int_equal(tb_integrator_advance(integrator, 0.1), TB_STATUS_OK);
+        assert_int_equal(tb_scene_contact_friction_stats(scene, 1, &stats), TB_STATUS_OK);
+        tb_integrator_destroy(integrator);
+    }
+    tb_scene_destroy(scene);
+    return stats;
+}
+
+/* F108's bound counted pairs of bodies, 4 touching points each; pieces meet piece by piece
+ * (include/tumble/shape.h), so a box across four tiles of one floor holds 16 points on 4 piece
+ * pairs, and the 12 slots the bound allowed two bodies left 4 of them the memoryless law that
+ * creeps. The bound is 8 per pair of pieces: 32 here is taken and every touching point holds a
+ * slot (overflows exactly 0, at least 16 in use at the peak); 33 is refused; the default's 12
+ * run short (overflows counted). */
+static void test_friction_points_count_pairs_of_pieces(void **state)
+{
+    (void)state;
+    tb_status status;
+    tb_contact_friction_stats stats = box_across_four_tiles(32, &status);
+    assert_int_equal(status, TB_STATUS_OK);
+    print_message("32 slots: peak in use %zu, overflows %llu\n", stats.peak_in_use,
+                  stats.overflows);
+    assert_true(stats.overflows == 0 && stats.peak_in_use >= 16);
+    box_across_four_tiles(33, &status);
+    assert_int_equal(status, TB_STATUS_INVALID_ARGUMENT);
+    stats = box_across_four_tiles(0, &status);
+    assert_int_equal(status, TB_STATUS_OK);
+    print_message("default: %zu slots, overflows %llu\n", stats.slots, stats.overflows);
+    assert_true(stats.slots == 12 && stats.overflows > 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -637,6 +692,7 @@ int main(void)
         cmocka_unit_test(test_a_contact_whose_rate_overflows_is_refused),
         cmocka_unit_test(test_friction_rates_out_of_range_are_refused),
         cmocka_unit_test(test_friction_points_beyond_use_are_refused),
+        cmocka_unit_test(test_friction_points_count_pairs_of_pieces),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

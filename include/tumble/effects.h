@@ -171,8 +171,9 @@ typedef struct tb_contact_def {
     double presliding;        /* m, > 0: the spring's deflection at breakaway; default 5e-7;
                                  bounded as the ground's (its rate at most 1e9 rad/s) */
     /* Touching points that keep a friction state (slots of the pool); 0 (default): 6 per
-     * body of the effect (a box on a box takes 4). At most 8 per pair of the effect's bodies
-     * (4 touching points, each with a slot relaxing beside it) or 6 per body, if more. */
+     * body of the effect (a box on a box takes 4). At most 8 per pair of pieces of the effect's
+     * bodies as they are when it is added (a manifold of 4 touching points per piece pair, each
+     * with a slot relaxing beside it; a plain shape is one piece) or 6 per body, if more. */
     size_t friction_points;
     int internal_cookie;
 } tb_contact_def;

@@ -145,9 +145,10 @@ typedef struct tb_ode_events {
     /* With next_break: whether the call may go on from the break at t it reached with state y
      * (the right-hand side's next piece starts there): TB_STATUS_OK, or a status with detail
      * (TB_DETAIL_SIZE bytes) written, which ends the call there, its time t and the state y,
-     * the last good one. Asked where a fixed step ends on a break inside a call and where CVODE
-     * restarts on one (a break at a call's end is the next call's start: the system's acquire
-     * sees it). NULL (default): every break is taken. */
+     * the last good one. Asked where a fixed step ends on a break inside a call, where CVODE or
+     * ARKODE restarts on one, and at the start of every advance and step (a call may have ended
+     * on a break; a reset is not asked at the time it leaves). NULL (default): every break is
+     * taken. */
     tb_status (*check_break)(double t, const double *y, void *ctx, char *detail);
     /* The time until which the system rests from (t, y): its right-hand side zero there and
      * its post-step hook leaving y as it is (a scene all of whose bodies sleep, with nothing

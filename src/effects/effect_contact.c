@@ -472,7 +472,8 @@ static tb_status make_pool(tb_scene *scene, const tb_contact_def *def, tb__effec
     const size_t bodies = contact->body_count > 0 ? contact->body_count : 1;
     const size_t slots =
         def->friction_points > 0 ? def->friction_points : TB__FRICTION_POINTS_PER_BODY * bodies;
-    const tb_status status = tb__contact_check_friction_points(scene, def->friction_points, bodies);
+    const tb_status status = tb__contact_check_friction_points(
+        scene, def->friction_points, contact->bodies, contact->body_count);
     if (status != TB_STATUS_OK) {
         return status;
     }

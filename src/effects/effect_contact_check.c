@@ -2,6 +2,7 @@
  * deep inside each other. Both run outside the derivative. */
 #include "effects/effect_contact_check.h"
 
+#include "contact/collision_shape.h"
 #include "contact/contact_pairs.h"
 #include "contact/narrow_phase.h"
 #include "core/detail.h"
@@ -87,18 +88,29 @@ tb_status tb__contact_check_friction_rate(tb_scene *scene, double static_frictio
                           gravity * static_friction / most);
 }
 
-tb_status tb__contact_check_friction_points(tb_scene *scene, size_t friction_points, size_t bodies)
+tb_status tb__contact_check_friction_points(tb_scene *scene, size_t friction_points,
+                                            const size_t *bodies, size_t count)
 {
-    const double n = (double)bodies, pairs = 0.5 * n * (n - 1.0);
+    /* each piece of one body meets each piece of another through a manifold of its own: the
+     * piece pairs are ((sum p)^2 - sum p^2) / 2, in doubles (no count wraps) */
+    double pieces = 0.0, squares = 0.0;
+    for (size_t k = 0; k < count; ++k) {
+        const tb__collision_shape *shape = tb__scene_body_collision_shape(scene, bodies[k]);
+        const size_t p = shape != NULL ? tb__collision_shape_piece_count(shape) : 1;
+        pieces += (double)p;
+        squares += (double)p * (double)p;
+    }
+    const double n = count > 0 ? (double)count : 1.0, pairs = 0.5 * (pieces * pieces - squares);
     const double most = fmax(2.0 * TB__MANIFOLD_POINTS * pairs, 6.0 * n);
     if ((double)friction_points <= most) {
         return TB_STATUS_OK;
     }
     return tb__scene_fail(scene, TB_STATUS_INVALID_ARGUMENT,
-                          "friction_points: %zu slots for %zu bodies is more than they can ever "
-                          "use: must be in [1, %.0f] (%d touching points per pair, each with a "
-                          "slot relaxing beside it, or 6 per body), or 0 for 6 per body",
-                          friction_points, bodies, most, TB__MANIFOLD_POINTS);
+                          "friction_points: %zu slots for %zu bodies (%.0f pairs of their "
+                          "pieces) is more than they can ever use: must be in [1, %.0f] (%d "
+                          "touching points per pair of pieces, each with a slot relaxing beside "
+                          "it, or 6 per body), or 0 for 6 per body",
+                          friction_points, count, pairs, most, TB__MANIFOLD_POINTS);
 }
 
 tb_status tb__contact_check_shapes(tb_scene *scene, const size_t *bodies, size_t count)

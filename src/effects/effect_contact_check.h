@@ -24,10 +24,13 @@ tb_status tb__contact_check_friction_rate(tb_scene *scene, double static_frictio
                                           double presliding);
 
 /* Refuses (TB_STATUS_INVALID_ARGUMENT, naming the field, the value and the range) a friction
- * pool of more slots than bodies bodies can ever use: 2 TB__MANIFOLD_POINTS per pair (each point
- * with a slot relaxing beside it) or the default's 6 per body, whichever is more (1e7 slots for
- * two balls took 240 MB). 0 (the default) passes. */
-tb_status tb__contact_check_friction_points(tb_scene *scene, size_t friction_points, size_t bodies);
+ * pool of more slots than bodies[0 .. count) can ever use: 2 TB__MANIFOLD_POINTS per pair of
+ * their pieces (a manifold per piece pair, each point with a slot relaxing beside it; a body
+ * without a shape or of one shape counts one piece) or the default's 6 per body, whichever is
+ * more (1e7 slots for two balls took 240 MB). Pieces are counted as the bodies have them now.
+ * 0 (the default) passes. */
+tb_status tb__contact_check_friction_points(tb_scene *scene, size_t friction_points,
+                                            const size_t *bodies, size_t count);
 
 /* Refuses a list with no pair that could touch (one body, or no dynamic body) and a listed body
  * without a collision shape (TB_STATUS_INVALID_ARGUMENT, the scene's detail naming it): the

@@ -419,15 +419,16 @@ static double half_thickness(const tb__collision_shape *shape)
  * ahead: a keyframed body's speed is the fastest its keys take from the scene's time on (a bat
  * at rest that keys swing at 1000 m/s within an advance passed through a ball, F115). */
 typedef struct extremes {
-    double speed[2], thinnest; /* m/s (-1: none), half-thickness m (INFINITY: none) */
-    size_t fast[2], thin;      /* TB_ALL_BODIES: none */
+    double speed[2], thinnest, dynamic_speed; /* m/s (-1: none), half-thickness m (INFINITY) */
+    size_t fast[2], thin, dynamic; /* TB_ALL_BODIES: none; dynamic: the fastest with a state */
 } extremes;
 
 static extremes find_extremes(const tb__contact_params *contact, const tb_scene *scene,
                               const double *y, bool ahead)
 {
     /* speeds start below any speed: a body at rest counts */
-    extremes e = {{-1.0, -1.0}, INFINITY, {TB_ALL_BODIES, TB_ALL_BODIES}, TB_ALL_BODIES};
+    extremes e = {{-1.0, -1.0},  INFINITY,     -1.0, {TB_ALL_BODIES, TB_ALL_BODIES},
+                  TB_ALL_BODIES, TB_ALL_BODIES};
     double thin_speed = INFINITY;
     for (size_t k = 0; k < contact->body_count; ++k) {
         const size_t id = contact->bodies[k];
@@ -444,6 +445,9 @@ static extremes find_extremes(const tb__contact_params *contact, const tb_scene 
         }
         if (slot < 2) {
             e.speed[slot] = s, e.fast[slot] = id;
+        }
+        if (!tb__body_fixed(scene, id) && s > e.dynamic_speed) {
+            e.dynamic_speed = s, e.dynamic = id;
         }
         /* of equally thin bodies the slowest, so that the mover named is another */
         if (t < e.thinnest || (t == e.thinnest && s < thin_speed)) {
@@ -491,17 +495,22 @@ static double tip_radius(const tb_scene *scene, size_t id)
 }
 
 /* At least how deep two of the effect's bodies sink into each other before one's tip passes the
- * other's middle, where the normal turns (m): the least over pairs a != b of a's tip radius plus
+ * other's middle, where the normal turns (m): the least over pairs a != b, one of them with a
+ * state (two static or keyframed bodies never touch), of a's tip radius plus
  * b's half-thickness (a box's corner passes a plate's middle at the plate's half-thickness, a
  * ball's centre at its radius more). Names a in tip and b in thin; INFINITY: no such pair. */
 static double least_sinking_to_pass(const tb__contact_params *contact, const tb_scene *scene,
                                     size_t *tip, size_t *thin)
 {
     double h[2] = {INFINITY, INFINITY}; /* the two thinnest, of ids thinnest[] */
-    size_t thinnest[2] = {TB_ALL_BODIES, TB_ALL_BODIES};
+    size_t thinnest[2] = {TB_ALL_BODIES, TB_ALL_BODIES}, thinnest_dynamic = TB_ALL_BODIES;
+    double h_dynamic = INFINITY; /* the thinnest body with a state: what a fixed tip may pass */
     for (size_t k = 0; k < contact->body_count; ++k) {
         const size_t id = contact->bodies[k];
         const double t = tb__contact_half_thickness(scene, id);
+        if (id < scene->body_count && !tb__body_fixed(scene, id) && t < h_dynamic) {
+            h_dynamic = t, thinnest_dynamic = id;
+        }
         const int slot = t < h[0] ? 0 : t < h[1] ? 1 : 2;
         if (slot == 0) {
             h[1] = h[0], thinnest[1] = thinnest[0];
@@ -517,9 +526,10 @@ static double least_sinking_to_pass(const tb__contact_params *contact, const tb_
             continue;
         }
         const int other = thinnest[0] != id ? 0 : 1;
-        const double depth = tip_radius(scene, id) + h[other];
+        const bool fixed = tb__body_fixed(scene, id);
+        const double depth = tip_radius(scene, id) + (fixed ? h_dynamic : h[other]);
         if (depth < least) {
-            least = depth, *tip = id, *thin = thinnest[other];
+            least = depth, *tip = id, *thin = fixed ? thinnest_dynamic : thinnest[other];
         }
     }
     return least;
@@ -532,8 +542,12 @@ tb_status tb__contact_check_impacts(const tb__effect *effect, const tb_scene *sc
     const extremes e = find_extremes(contact, scene, y, true);
     size_t tip = TB_ALL_BODIES, thin = TB_ALL_BODIES;
     const double depth = least_sinking_to_pass(contact, scene, &tip, &thin);
-    const double closing = e.speed[0] + e.speed[1];
-    if (e.fast[1] == TB_ALL_BODIES || !(closing > contact->omega * depth)) {
+    /* the fastest pair that can meet: the two fastest, or, both without a state, the fastest
+     * with one and the fastest (every pair a, b with a state has s_a + s_b at most that) */
+    const bool fixed = e.dynamic != e.fast[0] && e.dynamic != e.fast[1];
+    const double closing = e.speed[0] + (fixed ? e.dynamic_speed : e.speed[1]);
+    if (e.fast[1] == TB_ALL_BODIES || e.dynamic == TB_ALL_BODIES ||
+        !(closing > contact->omega * depth)) {
         return TB_STATUS_OK; /* NaN speeds are the stability guard's and the integrator's */
     }
     const double penetration = contact->gravity * (depth / closing) * (depth / closing);

@@ -335,7 +335,9 @@ tb_status tb_integrator_advance(tb_integrator *integrator, double t_target)
                                 "t_target: must be >= current time %.17g, got %.17g", integrator->t,
                                 t_target);
     } else if (t_target > integrator->t) {
-        status = integrator->entry->backend->advance(integrator, t_target);
+        status = tb__integrator_check_break(integrator); /* the last call may have ended on one */
+        status = status != TB_STATUS_OK ? status
+                                        : integrator->entry->backend->advance(integrator, t_target);
     }
     return leave(integrator, status);
 }
@@ -345,11 +347,13 @@ tb_status tb_integrator_step(tb_integrator *integrator)
     if (integrator == NULL) {
         return TB_STATUS_NULL_POINTER;
     }
-    const tb_status status = enter(integrator, "step");
+    tb_status status = enter(integrator, "step");
     if (status != TB_STATUS_OK) {
         return status;
     }
-    return leave(integrator, integrator->entry->backend->step(integrator));
+    status = tb__integrator_check_break(integrator); /* the last call may have ended on one */
+    return leave(integrator,
+                 status != TB_STATUS_OK ? status : integrator->entry->backend->step(integrator));
 }
 
 double tb_integrator_time(const tb_integrator *integrator)

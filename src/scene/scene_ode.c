@@ -160,7 +160,7 @@ static unsigned long long claim(void *ctx)
     return scene->layout_generation;
 }
 
-/* tb_ode_system.events.check_break (and every call's start, acquire): where a keyframed body's
+/* tb_ode_system.events.check_break (and every advance's or step's start): where a keyframed body's
  * keys jump at t (a step key), the state there gets the checks of a start, so that a body the
  * jump put inside another is refused rather than thrown out (F117); continuous keys pass. */
 static tb_status check_break(double t, const double *y, void *ctx, char *detail)
@@ -201,10 +201,7 @@ static tb_status acquire(void *ctx, unsigned long long generation, char *detail)
                               "an effect coupling bodies was added after this integrator was "
                               "made for independent bodies: make a new integrator");
     }
-    tb_status changed = check_changed_state(scene, detail);
-    if (changed == TB_STATUS_OK) { /* a jump at the call's start: the last ended on it */
-        changed = check_break(scene->time, scene->states, scene, detail);
-    }
+    const tb_status changed = check_changed_state(scene, detail);
     if (changed != TB_STATUS_OK) {
         return changed;
     }

@@ -84,6 +84,22 @@ def test_a_refused_value_is_a_tumble_error_and_a_value_error(options, field):
     assert caught.value.message.startswith(field)
 
 
+@pytest.mark.parametrize("options, named", [({"method": "cvode-adams", "rtol": 2.0},
+                                             "rtol: must be in [1e-15, 1), got 2"),
+                                            ({"method": "cvode-bdf", "atol": -1.0},
+                                             "atol: must be >= 0, got -1"),
+                                            ({"method": "rk4", "dt": float("nan")},
+                                             "dt: must be finite, got nan")])
+def test_a_refused_setting_names_the_argument_not_the_c_field(options, named):
+    # Simulation(rtol=2) was refused as "integrator: def.rtol: ...", the C struct's field that
+    # a Python caller never sees; the message names the argument as it was passed.
+    for make in (lambda: tumble.Simulation(_ball(), **options), lambda: _ball().run(**options)):
+        with pytest.raises(ValueError) as caught:
+            make()
+        assert caught.value.message.startswith(named), caught.value.message
+        assert "def." not in caught.value.message
+
+
 @pytest.mark.parametrize("method, options, named", [("rk4", {"rtol": 1e-8}, "rtol"),
                                                     ("euler", {"atol": 1e-9}, "atol"),
                                                     ("cvode-bdf", {"dt": 0.01}, "dt")])

@@ -4,6 +4,7 @@ arguments made before calling it."""
 import contextlib
 import ctypes
 import numbers
+import re
 import signal
 import threading
 
@@ -54,6 +55,16 @@ def failure(status, message):
     """The exception for a library status: TumbleValueError for a refused value."""
     name = lib.tb_status_name(status).decode()
     return (TumbleValueError if name in _VALUE_STATUSES else TumbleError)(status, message)
+
+
+# "integrator: def.rtol: must be in [1e-15, 1)": the library names the C field of tb_integrator_def
+_SETTING_FIELD = re.compile(r"\bintegrator: def\.(dt|rtol|atol|threads|max_steps):")
+
+
+def settings_failure(status, message):
+    """failure() for a run made with apply_settings' arguments: a refused setting is named as
+    the caller typed it (rtol), not as the C field it fills (integrator: def.rtol)."""
+    return failure(status, _SETTING_FIELD.sub(r"\1:", message))
 
 
 def number(name, value):

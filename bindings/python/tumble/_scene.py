@@ -12,7 +12,8 @@ import numpy as np
 
 from . import _events, _export, _joints, _native
 from ._core import (_BAD_SCENE, _PARSE_ERROR, TumbleError, TumbleValueError, apply_settings,
-                    deferred_interrupt, failure, lib, method_code, number, stats_dict)
+                    deferred_interrupt, failure, lib, method_code, number, settings_failure,
+                    stats_dict)
 
 
 def _json_ready(value, name, path):
@@ -495,7 +496,7 @@ class Scene:
             recorder.failure.frames = frames
             raise recorder.failure
         if status != 0:
-            failed = failure(status, error.message.decode())
+            failed = settings_failure(status, error.message.decode())
             failed.frames = frames
             raise failed
         return frames

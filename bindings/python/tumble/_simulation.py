@@ -8,7 +8,7 @@ import numpy as np
 
 from . import _joints, _native
 from ._core import (_active, apply_settings, as_pointer, deferred_interrupt, failure, lib,
-                    number, stats_dict)
+                    number, settings_failure, stats_dict)
 from ._builder import SceneBuilder  # noqa: F401 (hints)
 from ._scene import Frames, Scene, _Recorder  # noqa: F401 (hints)
 
@@ -127,7 +127,7 @@ class Simulation:
         status = lib.tb_scene_integrator_create(self._handle, ctypes.byref(self._run.integrator),
                                                 t0, ctypes.byref(self._integrator))
         if status != 0:
-            raise failure(status, lib.tb_scene_detail(self._handle).decode())
+            raise settings_failure(status, lib.tb_scene_detail(self._handle).decode())
 
     def _free(self):
         if getattr(self, "_integrator", None):
