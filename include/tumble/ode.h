@@ -138,9 +138,11 @@ typedef struct tb_ode_events {
      * fixed-step method shortens the step that would cross it so that the step ends on it (the
      * steps after keep their grid), and a step that ends on it evaluates its stage at the end
      * (RK4's last) at the largest double below it, so that the step sees the piece it lies in (a
-     * linear key's velocity jumps there); CVODE stops there (CVodeSetStopTime) and restarts from
-     * it, its history being of the curve before. NULL (default): none, and every method steps as
-     * before, bit for bit. */
+     * linear key's velocity jumps there); CVODE and ARKODE stop there (the stop time), take f at
+     * the largest double below it wherever they ask for it on or past it (a step's end), and
+     * restart from it, their history being of the curve before (also where a step reached it past
+     * a call's output: the next call restarts there first). NULL (default): none, and every
+     * method steps as before, bit for bit. */
     double (*next_break)(double t, void *ctx);
     /* With next_break: whether the call may go on from the break at t it reached with state y
      * (the right-hand side's next piece starts there): TB_STATUS_OK, or a status with detail

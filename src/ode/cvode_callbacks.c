@@ -8,13 +8,19 @@
 
 #include <math.h>
 
+double tb__sundials_system_time(const tb__cvode *cvode, double tau)
+{
+    const double t = cvode->t_origin + tau;
+    return t < cvode->break_at ? t : nextafter(cvode->break_at, -INFINITY);
+}
+
 /* f (the system's derivative, or its split's explicit part) at the solver's time tau
- * (t = t_origin + tau), keeping its failures. */
+ * (t = tb__sundials_system_time), keeping its failures. */
 static int evaluate_part(tb_integrator *integrator, tb_ode_derivative f, double tau,
                          const double *y, double *dydt)
 {
     tb__cvode *cvode = integrator->cvode;
-    const double t = cvode->t_origin + tau;
+    const double t = tb__sundials_system_time(cvode, tau);
     /* A fatal failure stays fatal for the rest of the run: SUNDIALS 6's fixed-point solver
      * (Adams) reports a failed system function as a recoverable convergence failure, and
      * CVODE would otherwise keep shrinking the step towards the failing time. */

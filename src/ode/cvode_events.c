@@ -99,11 +99,12 @@ static int limit_next_step(tb_integrator *integrator, sunrealtype tn)
     tb__cvode *cvode = integrator->cvode;
     const tb_ode_system *system = &integrator->system;
     /* a break ahead: CVODE stops on it (and the march restarts there) */
-    const double next =
-        system->events.next_break != NULL
-            ? system->events.next_break(cvode->t_origin + tn, system->ctx) - cvode->t_origin
-            : INFINITY;
+    const double next_t = system->events.next_break != NULL
+                              ? system->events.next_break(cvode->t_origin + tn, system->ctx)
+                              : INFINITY;
+    const double next = next_t - cvode->t_origin;
     cvode->break_stop = isfinite(next) && next > tn ? next : INFINITY;
+    cvode->break_at = isfinite(cvode->break_stop) ? next_t : INFINITY;
     if (system->events.step_limit == NULL) {
         return cvode->ops->set_stop_time(cvode->mem, isfinite(cvode->break_stop) ? cvode->break_stop
                                                                                  : tn + 1e300);
@@ -143,6 +144,22 @@ static bool changed_at_event(tb_integrator *integrator, double tau)
            system->lifetime.rhs_generation(system->ctx) != before;
 }
 
+/* The last step ended on the break at tn, past the last call's output (interpolated before it):
+ * the curve after it is another, so the march restarts there, with the solver's y on it, as where
+ * a step stops on one inside a call (tb__cvode_march). Without it the next call went on from tn
+ * with the history of the piece before and no check of the break. */
+static int restart_on_break_reached(tb_integrator *integrator, sunrealtype tn,
+                                    sunrealtype *tau_reached)
+{
+    *tau_reached = tn;
+    const int flag =
+        integrator->cvode->ops->get_dky(integrator->cvode->mem, tn, 0, integrator->cvode->y);
+    if (flag == CV_SUCCESS) {
+        changed_at_event(integrator, tn); /* as at a stop on a break in tb__cvode_march */
+    }
+    return flag == CV_SUCCESS ? TB__CV_EVENT_RESTART : flag;
+}
+
 int tb__cvode_march(tb_integrator *integrator, double tau_out, int mode, double horizon,
                     sunrealtype *tau_reached)
 {
@@ -154,6 +171,9 @@ int tb__cvode_march(tb_integrator *integrator, double tau_out, int mode, double 
         }
         if (mode == CV_NORMAL && cvode->started && tn >= tau_out) {
             return cvode->ops->get_dky(cvode->mem, tau_out, 0, cvode->y);
+        }
+        if (cvode->started && tn == cvode->break_stop && *tau_reached < tn) {
+            return restart_on_break_reached(integrator, tn, tau_reached);
         }
         if (calls == integrator->max_steps) {
             snprintf(cvode->message, sizeof cvode->message,

@@ -82,6 +82,7 @@ struct tb__cvode {
     tb__cvode_sparse *sparse; /* BDF with the system's sparse Jacobian (cvode_sparse.c) */
     bool started;             /* the first step since creation or restart has been taken */
     double break_stop;        /* the stop time set at the system's next break (INFINITY: none) */
+    double break_at;          /* that break as the system's t (INFINITY: none), for system_time */
     bool stale;               /* CVODE's history went past the last good output (a non-finite
                                  output was refused): restart from y before the next step */
     unsigned long long rhs_generation; /* the system's, at the last (re)start */
@@ -139,6 +140,13 @@ tb_status tb__sundials_advance(tb_integrator *integrator, double t_target);
 tb_status tb__sundials_step(tb_integrator *integrator);
 tb_status tb__sundials_reset(tb_integrator *integrator, double t);
 void tb__sundials_get_stats(const tb_integrator *integrator, tb_integrator_stats *stats);
+
+/* The system's t for the solver's time tau: t_origin + tau, but the largest double below the
+ * next break (break_at) from it on. A step to a break evaluates f at its end (ARKStep's last
+ * stage and its interpolant's end derivative; CVODE's corrector, where tn + h rounds onto it), and
+ * the piece after a break may differ in t alone (a step key jumps a body): the step sees the
+ * piece it lies in, its left limit, as a fixed step's last stage does (fixed_step.c). */
+double tb__sundials_system_time(const tb__cvode *cvode, double tau);
 
 /* CVODE's right-hand side (user_data is the tb_integrator): the system's derivative, keeping
  * its failures in derivative_status. */

@@ -59,6 +59,7 @@ static tb_status restart(tb_integrator *integrator, double t)
     }
     integrator->t = t;
     cvode->t_origin = t;
+    cvode->break_at = INFINITY; /* the march sets the next before its first step */
     cvode->rhs_generation = tb__sundials_rhs_generation(&integrator->system);
     cvode->started = false;
     cvode->stale = false;

@@ -228,6 +228,7 @@ tb_status tb__sundials_create(tb_integrator *integrator, const tb__sundials_ops 
     cvode->y = N_VMake_Serial((sunindextype)n, integrator->y, cvode->context);
     cvode->y_seen = tb__malloc_array(n, sizeof(double));
     cvode->t_origin = integrator->t;
+    cvode->break_at = INFINITY;
     if (cvode->y == NULL || cvode->y_seen == NULL) {
         return tb__set_error(error, TB_STATUS_OUT_OF_MEMORY, "%s memory for n = %zu", ops->name, n);
     }

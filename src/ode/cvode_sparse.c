@@ -136,9 +136,10 @@ int tb__cvode_sparse_jacobian(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix 
         N_VLinearSum(1.0, fy, 1.0, tmp1, tmp1);
         fy = tmp1;
     }
-    rc = rc != 0 ? rc
-                 : system->jacobian.evaluate(cvode->t_origin + t, N_VGetArrayPointer(y),
-                                             N_VGetArrayPointer(fy), &sparse->J, system->ctx);
+    rc = rc != 0
+             ? rc
+             : system->jacobian.evaluate(tb__sundials_system_time(cvode, t), N_VGetArrayPointer(y),
+                                         N_VGetArrayPointer(fy), &sparse->J, system->ctx);
     const size_t entries = rc == 0 ? sparse->J.row_starts[sparse->J.n] : 0;
     if (rc != 0 || entries > (size_t)SUNSparseMatrix_NNZ(A)) {
         snprintf(cvode->message, sizeof cvode->message,
