@@ -508,6 +508,21 @@ static void test_a_ball_made_too_fast_between_advances_is_refused(void **u)
     }
 }
 
+/* A keyframed plate, 2 cm thick and 1 m tall and wide, without keys yet; returns its id. */
+static size_t add_keyed_plate(tb_scene *scene)
+{
+    tb_body_def plate = tb_body_def_default();
+    plate.motion = TB_MOTION_KEYFRAMED;
+    size_t id = 0;
+    assert_int_equal(tb_scene_add_body(scene, &plate, &id), TB_STATUS_OK);
+    tb_shape box = tb_shape_default();
+    box.type = TB_SHAPE_BOX;
+    box.size[0] = 0.02;
+    box.size[1] = box.size[2] = 1.0;
+    assert_int_equal(tb_scene_set_body_shape(scene, id, &box), TB_STATUS_OK);
+    return id;
+}
+
 /* A 2 cm keyframed bat, 1 m tall and wide, at rest at x = -1 m until 0.05 s, then keyed to
  * x = +1 m 2 ms later (1000 m/s), and a 1 kg ball of radius 0.1 m at rest at the origin, e = 0.5,
  * no gravity. The contact at penetration p, integrator by method; *out_vx the ball's velocity
@@ -515,15 +530,7 @@ static void test_a_ball_made_too_fast_between_advances_is_refused(void **u)
 static tb_status swing_a_bat(tb_method method, double penetration, double *out_vx)
 {
     tb_scene *scene = test_empty_scene();
-    tb_body_def bat = tb_body_def_default();
-    bat.motion = TB_MOTION_KEYFRAMED;
-    size_t id = 0;
-    assert_int_equal(tb_scene_add_body(scene, &bat, &id), TB_STATUS_OK);
-    tb_shape plate = tb_shape_default();
-    plate.type = TB_SHAPE_BOX;
-    plate.size[0] = 0.02;
-    plate.size[1] = plate.size[2] = 1.0;
-    assert_int_equal(tb_scene_set_body_shape(scene, id, &plate), TB_STATUS_OK);
+    size_t id = add_keyed_plate(scene);
     tb_body_key keys[3] = {tb_body_key_default(), tb_body_key_default(), tb_body_key_default()};
     keys[0].position[0] = keys[1].position[0] = -1.0;
     keys[1].t = 0.05;
@@ -581,15 +588,7 @@ static void test_a_bat_its_keys_swing_too_fast_later_is_refused(void **u)
 static tb_status swing_past_a_shelf(bool shelf_moves, double *out_speed)
 {
     tb_scene *scene = test_empty_scene();
-    tb_body_def bat = tb_body_def_default();
-    bat.motion = TB_MOTION_KEYFRAMED;
-    size_t id = 0;
-    assert_int_equal(tb_scene_add_body(scene, &bat, &id), TB_STATUS_OK);
-    tb_shape plate = tb_shape_default();
-    plate.type = TB_SHAPE_BOX;
-    plate.size[0] = 0.02;
-    plate.size[1] = plate.size[2] = 1.0;
-    assert_int_equal(tb_scene_set_body_shape(scene, id, &plate), TB_STATUS_OK);
+    size_t id = add_keyed_plate(scene);
     tb_body_key keys[3] = {tb_body_key_default(), tb_body_key_default(), tb_body_key_default()};
     for (int k = 0; k < 3; ++k) {
         keys[k].position[0] = k < 2 ? -1.0 : 0.0;
@@ -607,9 +606,10 @@ static tb_status swing_past_a_shelf(bool shelf_moves, double *out_speed)
         shelf.motion = TB_MOTION_STATIC;
         shelf.position[1] = -5.0;
         assert_int_equal(tb_scene_add_body(scene, &shelf, &id), TB_STATUS_OK);
-        plate.size[0] = plate.size[1] = 1.0;
-        plate.size[2] = 0.001;
-        assert_int_equal(tb_scene_set_body_shape(scene, id, &plate), TB_STATUS_OK);
+        tb_shape slab = tb_shape_default();
+        slab.type = TB_SHAPE_BOX;
+        memcpy(slab.size, shelf_size, sizeof slab.size);
+        assert_int_equal(tb_scene_set_body_shape(scene, id, &slab), TB_STATUS_OK);
     }
     const size_t ball = test_add_ball(scene, "ball", 1.0, 0.1, (const double[]){0, 0, 0}, NULL);
     tb_contact_def contact = tb_contact_def_default();
@@ -655,15 +655,7 @@ static tb_status jump_a_plate(tb_method method, double landing, double t_first, 
                               double *out_speed)
 {
     tb_scene *scene = test_empty_scene();
-    tb_body_def plate = tb_body_def_default();
-    plate.motion = TB_MOTION_KEYFRAMED;
-    size_t id = 0;
-    assert_int_equal(tb_scene_add_body(scene, &plate, &id), TB_STATUS_OK);
-    tb_shape box = tb_shape_default();
-    box.type = TB_SHAPE_BOX;
-    box.size[0] = 0.02;
-    box.size[1] = box.size[2] = 1.0;
-    assert_int_equal(tb_scene_set_body_shape(scene, id, &box), TB_STATUS_OK);
+    const size_t id = add_keyed_plate(scene);
     tb_body_key keys[2] = {tb_body_key_default(), tb_body_key_default()};
     keys[0].position[0] = -1.0;
     keys[1].t = 0.052;
