@@ -135,6 +135,16 @@ static tb_scene *two_planes_and_boxes(tb_integrator **out_integrator)
  * (the floor's loaded anchors among them), the body's lack of a shape and the integrator able to
  * advance, where before the floor kept a grown pool and a new layout (the integrator refused
  * with LAYOUT_CHANGED and the anchors were zeroed) when the wall's pool failed. */
+/* A copy of the scene's states (tb_scene_state_size doubles), to compare after a refusal. */
+static double *states_copy(tb_scene *scene)
+{
+    const size_t n = tb_scene_state_size(scene);
+    double *copy = malloc(n * sizeof *copy);
+    assert_non_null(copy);
+    memcpy(copy, tb_scene_states(scene), n * sizeof *copy);
+    return copy;
+}
+
 static void test_a_shape_refused_for_memory_leaves_every_plane_as_it_was(void **state)
 {
     (void)state;
@@ -147,9 +157,7 @@ static void test_a_shape_refused_for_memory_leaves_every_plane_as_it_was(void **
         tb_integrator *integrator = NULL;
         tb_scene *scene = two_planes_and_boxes(&integrator);
         const size_t n = tb_scene_state_size(scene);
-        double *before = malloc(n * sizeof *before);
-        assert_non_null(before);
-        memcpy(before, tb_scene_states(scene), n * sizeof *before);
+        double *before = states_copy(scene);
         bool loaded = false; /* the anchors hold something a new layout would zero */
         for (size_t i = 13 * 4; i < n; ++i) {
             loaded = loaded || before[i] != 0.0;
@@ -241,9 +249,7 @@ static void test_effects_refused_for_memory_change_nothing(void **state)
             tb_integrator *integrator = NULL;
             tb_scene *scene = two_planes_and_boxes(&integrator);
             const size_t n = tb_scene_state_size(scene), effects = tb_scene_effect_count(scene);
-            double *before = malloc(n * sizeof *before);
-            assert_non_null(before);
-            memcpy(before, tb_scene_states(scene), n * sizeof *before);
+            double *before = states_copy(scene);
             tb_ground_def ceiling = tb_ground_def_default();
             ceiling.normal[2] = -1.0;
             ceiling.offset = -5.0;
@@ -291,9 +297,7 @@ static void test_an_integrator_refused_for_memory_changes_nothing(void **state)
             tb_integrator *first = NULL;
             tb_scene *scene = two_planes_and_boxes(&first);
             const size_t n = tb_scene_state_size(scene);
-            double *before = malloc(n * sizeof *before);
-            assert_non_null(before);
-            memcpy(before, tb_scene_states(scene), n * sizeof *before);
+            double *before = states_copy(scene);
             const tb_integrator_def def = test_integrator_def(methods[m], m == 0 ? 0.0 : 1e-3, 0);
             tb_scene_set_allow_unstable(scene, m == 1); /* Euler at 1/1000 s */
             tb_integrator *second = first;
