@@ -342,10 +342,11 @@ static void row(kind k, const char *engine, size_t bodies, const char *method, d
                 const result *r, double duration)
 {
     const int ball = k == CASE_BALL, cloud_case = k == CASE_CLOUD;
-    printf("%s,%s,%zu,%s,%.4g,%.4g,%.4g,%ld,%.3g,%.3g,%.4g,%.3g\n", case_names[k], engine, bodies,
-           method, setting, r->seconds / duration, r->seconds, r->steps, r->track.deepest,
+    printf("%s,%s,%zu,%s,%.4g,%.4g,%.4g,%ld,%.3g,%.3g,%.4g,%.3g,%.4g\n", case_names[k], engine,
+           bodies, method, setting, r->seconds / duration, r->seconds, r->steps, r->track.deepest,
            r->track.fastest, ball ? r->track.rebound / -r->track.impact : NAN,
-           cloud_case ? r->momentum : NAN);
+           cloud_case ? r->momentum : NAN,
+           r->steps > 0 ? 1e6 * r->seconds / (double)r->steps : NAN);
 }
 
 typedef struct options {
@@ -482,7 +483,7 @@ int main(int argc, char **argv)
     o.mujoco = 0;
 #endif
     printf("case,engine,bodies,method,setting,cpu_per_simulated_s,cpu_seconds,steps,"
-           "deepest_m,fastest_m_per_s,restitution,momentum_error\n");
+           "deepest_m,fastest_m_per_s,restitution,momentum_error,cpu_per_step_us\n");
     for (int k = 0; k < CASES; ++k) {
         if (o.cases[k]) {
             run_case((kind)k, &o);

@@ -204,7 +204,7 @@ def main():
     print(f"bench_peer_pybullet: pybullet API {pybullet.getAPIVersion()}; load average "
           f"{os.getloadavg()[0]:.2f} at the start", file=sys.stderr, flush=True)
     print("case,engine,bodies,method,setting,cpu_per_simulated_s,cpu_seconds,steps,"
-          "deepest_m,fastest_m_per_s,restitution,momentum_error", flush=True)
+          "deepest_m,fastest_m_per_s,restitution,momentum_error,cpu_per_step_us", flush=True)
     for world in worlds:
         for method, dt, iterations in SETTINGS:
             times = []
@@ -217,7 +217,8 @@ def main():
             momentum = f["momentum"] if world["case"] == "cloud" else math.nan
             print(f"{world['case']},pybullet,{len(world['bodies'])},{method},{dt:.4g},"
                   f"{seconds / world['duration']:.4g},{seconds:.4g},{steps},{f['deepest']:.3g},"
-                  f"{f['fastest']:.3g},{restitution:.4g},{momentum:.3g}", flush=True)
+                  f"{f['fastest']:.3g},{restitution:.4g},{momentum:.3g},"
+                  f"{1e6 * seconds / steps if steps else math.nan:.4g}", flush=True)
     print(f"bench_peer_pybullet: load average {os.getloadavg()[0]:.2f} at the end",
           file=sys.stderr)
 
