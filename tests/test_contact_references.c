@@ -336,8 +336,8 @@ static bounce land_corner(const test_contact_method *c, double e)
  * e at the contact point within 2 % for e = 0.5 and 0.8: the law is one oscillator of the point's
  * effective mass whatever its arm (docs/effects.md, measured to 3e-6 under CVODE at rtol 1e-8),
  * and 2 % holds what gravity does during the ball's push (g pi / omega over the impact speed,
- * 0.3 %), the corner's turn through its push (the law's e is for an arm that stays put: 0.4962
- * measured under every resolving method) and the default tolerances' error. rosenbrock at 1/240 s
+ * 0.3 %), the corner's turn through its push (the law's e is for an arm that stays put: 0.4948
+ * to 0.4966 measured) and the default tolerances' error. rosenbrock at 1/240 s
  * and 1/1000 s steps over the 0.9-1.8 ms push in one or a few steps: documented as unresolved, so
  * the run counts the impact at its speed (within 1 %), and the L-stable step stores no energy (e at
  * most e + 1 %). */
