@@ -137,7 +137,7 @@ static void sum_stiffness_into(tb__joints *js, const tb_scene *scene, size_t n,
 int tb__joints_rate(void *constraints, const tb_scene *scene, const double *y, tb__effect_rate *out)
 {
     tb__joints *js = constraints;
-    *out = (tb__effect_rate){0.0, 0, 0.0, 0};
+    *out = (tb__effect_rate){0.0, 0, 0.0, 0, 0.0};
     for (size_t j = 0; j < js->count; ++j) {
         const tb__joint *joint = &js->joints[j];
         if (joint->def.soft_frequency > 0.0 && !joint->broken) {

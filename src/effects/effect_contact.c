@@ -270,7 +270,7 @@ static void contact_rate(const tb__effect *effect, const tb_scene *scene, const 
                          tb__effect_rate *out)
 {
     const tb__contact_params *contact = tb__contact_of(effect);
-    *out = (tb__effect_rate){0.0, TB_ALL_BODIES, 0.0, TB_ALL_BODIES};
+    *out = (tb__effect_rate){0.0, TB_ALL_BODIES, 0.0, TB_ALL_BODIES, 0.0};
     tb__contact_bounds b;
     contact_bounds(contact, scene, y, &b);
     if (b.body == TB_ALL_BODIES) {

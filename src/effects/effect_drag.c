@@ -65,7 +65,7 @@ static double drag_body_rate(const tb__drag_params *drag, const tb__body *body, 
 static void drag_rate(const tb__effect *effect, const tb_scene *scene, const double *y,
                       tb__effect_rate *out)
 {
-    *out = (tb__effect_rate){0.0, TB_ALL_BODIES, 0.0, TB_ALL_BODIES};
+    *out = (tb__effect_rate){0.0, TB_ALL_BODIES, 0.0, TB_ALL_BODIES, 0.0};
     const bool all = effect->body == TB_ALL_BODIES;
     for (size_t i = all ? 0 : effect->slot; i < (all ? scene->slot_count : effect->slot + 1); ++i) {
         const double rate =

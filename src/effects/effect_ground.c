@@ -282,7 +282,7 @@ static void ground_rate(const tb__effect *effect, const tb_scene *scene, const d
 {
     (void)y;
     const tb__ground_params *ground = tb__ground_of(effect);
-    *out = (tb__effect_rate){0.0, TB_ALL_BODIES, 0.0, TB_ALL_BODIES};
+    *out = (tb__effect_rate){0.0, TB_ALL_BODIES, 0.0, TB_ALL_BODIES, 0.0};
     const double omega0 = ground->omega;
     const double bristles = sqrt(ground->gravity * ground->bristle_stiffness);
     size_t first = 0;

@@ -18,18 +18,18 @@
  * A penalty contact's stiffness exists only where bodies overlap, so J at the step's start
  * misses a contact made inside the step, and the step is then explicit in it (a blow-up by
  * (omega h)^2). After the step, where the Jacobian at its end holds an entry more than twice the
- * matrix's, the step is taken again with that entry (TB__ROS2_REFINES times at most). Dense
- * difference quotients (a system without its own Jacobian, which has no refinement) take the
- * matrix speculatively instead: the Jacobian at the start or at a predictor of the end,
- * whichever entry is larger (rosenbrock_linear.c). With the system's own Jacobian the predictor's
- * is merged only where the system's root functions (a scene's gaps) foresee an onset: a gap
- * falling below zero, or to below twice its depth at the start, between the start and the
- * predictor. Always merged, the explicit predictor's overshoot into a far deeper contact at
- * omega h >> 1 made resting steps over-stiff and halved (the stack at 1/240 s cost 10 times
- * more); never merged, an impact shorter than the step, made at the stage and gone by the end
- * (which the refinement cannot see), stored energy (Newton's cradle at 1/240 s threw a ball off at
- * 9.4 m/s; test_an_impact_inside_a_step_stores_no_energy). Any matrix keeps the order, so none
- * of this changes a step on a smooth system whose Jacobian does not grow.
+ * matrix's, the step is taken again with that entry's column of it added (TB__ROS2_REFINES times at
+ * most). Dense difference quotients (a system without its own Jacobian, which has no refinement)
+ * take the matrix speculatively instead: the Jacobian at the start plus, in each column where one
+ * of its entries is larger, that of a predictor of the end (whole columns keep the momentum:
+ * sparse_copy.h). With the system's own Jacobian the predictor's is merged only where the system's
+ * root functions (a scene's gaps) foresee an onset: a gap falling below zero, or to below twice its
+ * depth at the start, between the start and the predictor. Always merged, the explicit predictor's
+ * overshoot into a far deeper contact at omega h >> 1 made resting steps over-stiff and halved (the
+ * stack at 1/240 s cost 10 times more); never merged, an impact shorter than the step, made at the
+ * stage and gone by the end (which the refinement cannot see), stored energy (Newton's cradle at
+ * 1/240 s threw a ball off at 9.4 m/s; test_an_impact_inside_a_step_stores_no_energy). Any matrix
+ * keeps the order, so none of this changes a step on a smooth system whose Jacobian does not grow.
  *
  * Where contact points come and go inside the step (a die's corner, then an edge) no single
  * matrix describes it and the step can still throw a body off. A step whose change is not
@@ -274,7 +274,7 @@ static int split_step(tb_integrator *integrator, double t, double h, double t_la
 
 /* The last halving (1/128 of the step, h omega about 0.1 on a contact at 1/240 s): taken with the
  * start's Jacobian alone, neither the predictor's merged in nor the end's, and unchecked. Merged
- * entry by entry from two states, the matrix had, where a contact was just touching, an
+ * from two states, the matrix had, where a contact was just touching, an
  * eigenvalue near 1 / (gamma h) and threw a die off within 33 us (its energy from 0.20 to 0.54
  * J); a matrix singular even so falls back to Heun's explicit step. */
 static int finest_step(tb_integrator *integrator, double t, double h, double t_last,

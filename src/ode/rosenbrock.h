@@ -48,9 +48,9 @@ void tb__rosenbrock_destroy(tb_integrator *integrator);
 int tb__rosenbrock_factor(tb_integrator *integrator, double t, double h, double gamma,
                           const double *y, const double *fy);
 
-/* After a step to (t, y) with the last factorisation: the Jacobian there, entry by entry where it
- * is more than twice the matrix's (and matters at this step, above 1 / (gamma h)), replaces the
- * matrix's, refactorised; *changed says whether any did (a contact the step made). 0, a
+/* After a step to (t, y) with the last factorisation: the Jacobian there, in each column where an
+ * entry is more than twice the matrix's (and matters at this step, above 1 / (gamma h)), is added
+ * to the matrix's, refactorised; *changed says whether any was (a contact the step made). 0, a
  * derivative's or the Jacobian's non-zero return, or TB__ROSENBROCK_LINEAR_FAILED. */
 int tb__rosenbrock_refine(tb_integrator *integrator, double t, double h, double gamma,
                           const double *y, bool *changed);

@@ -37,8 +37,9 @@
  * sparse solver does, docs/integrators.md). */
 #define TB__ROSENBROCK_SMALL 32
 
-/* tb__rosenbrock_refine takes an entry of the end's Jacobian that is this many times the
- * matrix's */
+/* The matrix takes a column of the Jacobian ahead or at the step's end (tb__rosenbrock_refine)
+ * where one of its entries is this many times the matrix's: a contact switching on, not the
+ * rounding of two quotients of one stiffness, which added would double the column */
 #define TB__ROSENBROCK_REFINE_RATIO 2.0
 
 struct tb__rosenbrock {
@@ -301,11 +302,11 @@ static int evaluate(tb_integrator *integrator, double t, const double *y, const 
  * and nothing before, so the Jacobian at a step's start has no stiffness for a contact that
  * switches on in the step, and the step is explicit in it: at omega h = 14 (a die at 1/240 s) that
  * multiplies the impact speed by about (omega h)^2 / 2. The matrix is therefore the Jacobian at (t,
- * y) or at a predictor of the step's end, the explicit midpoint y + h f(t + h/2, y + h/2 f(t, y))
- * (second order, so that it carries a body's fall through gravity, h^2 g / 2), entry by entry
- * whichever is larger in magnitude: a contact in force at the start or at the predicted end is
- * implicit. ROS2 keeps its order 2 with any matrix (a W-method). The predictor is only a probe: it
- * may overshoot. */
+ * y) plus, in each column where one of its entries is larger in magnitude, that at a predictor of
+ * the step's end, the explicit midpoint y + h f(t + h/2, y + h/2 f(t, y)) (second order, so that
+ * it carries a body's fall through gravity, h^2 g / 2): a contact in force at the start or at the
+ * predicted end is implicit. ROS2 keeps its order 2 with any matrix (a W-method). The predictor is
+ * only a probe: it may overshoot. */
 static int predict(tb_integrator *integrator, double t, double h, const double *y, const double *fy)
 {
     tb__rosenbrock *r = integrator->rosenbrock;
@@ -321,20 +322,6 @@ static int predict(tb_integrator *integrator, double t, double h, const double *
         r->predicted[i] = y[i] + h * r->predicted_rate[i];
     }
     return rc != 0 ? rc : system->derivative(t + h, r->predicted, r->predicted_rate, system->ctx);
-}
-
-/* into[e] = from[e] where that is larger in magnitude; how many were. */
-static size_t merge_larger(double *into, const double *from, size_t count, double ratio,
-                           double floor)
-{
-    size_t taken = 0;
-    for (size_t e = 0; e < count; ++e) {
-        if (fabs(from[e]) > ratio * fabs(into[e]) && fabs(from[e]) > floor) {
-            into[e] = from[e];
-            ++taken;
-        }
-    }
-    return taken;
 }
 
 /* Whether the system wrote the same pattern into ahead as into J. */
@@ -357,7 +344,8 @@ static int dense_speculative(tb_integrator *integrator, double t, double h, cons
     rc = rc != 0 || r->plain ? rc : predict(integrator, t, h, y, fy);
     if (rc == 0 && !r->plain &&
         dense_quotients(integrator, t + h, r->predicted, r->predicted_rate, r->dense_ahead) == 0) {
-        merge_larger(m, r->dense_ahead, n * n, 1.0, 0.0);
+        tb__add_larger_columns(m, r->dense_ahead, n * n, NULL, n, TB__ROSENBROCK_REFINE_RATIO, 0.0,
+                               r->column);
     }
     if (rc != 0) {
         return rc;
@@ -422,7 +410,8 @@ static int speculate_at_onsets(tb_integrator *integrator, double t, double h, co
     }
     rc = evaluate(integrator, t + h, r->predicted, r->predicted_rate, &r->ahead);
     if (rc == 0 && same_pattern(r)) {
-        merge_larger(r->J.values, r->ahead.values, r->J.row_starts[r->J.n], 1.0, 0.0);
+        tb__add_larger_columns(r->J.values, r->ahead.values, r->J.row_starts[r->J.n], r->J.columns,
+                               r->J.n, TB__ROSENBROCK_REFINE_RATIO, 0.0, r->column);
     }
     return rc > 0 ? 0 : rc; /* a derivative that fails ahead leaves the start's Jacobian */
 }
@@ -494,8 +483,9 @@ int tb__rosenbrock_refine(tb_integrator *integrator, double t, double h, double 
     if (rc != 0 || !same_pattern(r)) {
         return rc > 0 ? 0 : rc;
     }
-    *changed = merge_larger(r->J.values, r->ahead.values, r->J.row_starts[n],
-                            TB__ROSENBROCK_REFINE_RATIO, 1.0 / (gamma * h)) > 0;
+    *changed =
+        tb__add_larger_columns(r->J.values, r->ahead.values, r->J.row_starts[n], r->J.columns, n,
+                               TB__ROSENBROCK_REFINE_RATIO, 1.0 / (gamma * h), r->column) > 0;
     if (!*changed) {
         return 0;
     }

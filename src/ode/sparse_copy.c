@@ -3,6 +3,7 @@
 
 #include "core/validate.h"
 
+#include <math.h>
 #include <stdint.h>
 #include <string.h>
 
@@ -17,6 +18,27 @@ bool tb__ode_sparse_reserve(tb_ode_sparse *J, size_t capacity)
     }
     J->capacity = capacity;
     return true;
+}
+
+size_t tb__add_larger_columns(double *into, const double *from, size_t count,
+                              const size_t *column_of, size_t n, double ratio, double floor,
+                              double *taken)
+{
+    memset(taken, 0, n * sizeof *taken);
+    size_t columns = 0;
+    for (size_t e = 0; e < count; ++e) {
+        const size_t j = column_of != NULL ? column_of[e] : e / n;
+        if (taken[j] == 0.0 && fabs(from[e]) > ratio * fabs(into[e]) && fabs(from[e]) > floor) {
+            taken[j] = 1.0;
+            ++columns;
+        }
+    }
+    for (size_t e = 0; e < count && columns > 0; ++e) {
+        if (taken[column_of != NULL ? column_of[e] : e / n] != 0.0) {
+            into[e] += from[e];
+        }
+    }
+    return columns;
 }
 
 #ifdef TB_HAVE_KLU

@@ -400,7 +400,29 @@ static void end(tb__watch *watch, const tb__watched_pair *was, const tb__event_p
     e->impulse = was->inverse_mass > 0.0 ? change / was->inverse_mass : 0.0;
 }
 
-/* A pair seen at both boundaries (was at last_t, pair at t). */
+/* A touch made and gone inside one step: the pair apart at both ends, closing at the first and
+ * opening at the second, and its approach carried on straight would have touched inside the step
+ * (the step's cubic need not dip: a push shorter than the step turns the gap's rate between its
+ * ends, and the cubic through them bends smoothly above zero). The touch at that approach's zero,
+ * at the approach speed. */
+static bool turned(const tb__event_pair *before, const tb__event_pair *after, double t0, double t1,
+                   tb__crossing *out)
+{
+    const double h = t1 - t0;
+    if (!(before->gap_rate < 0.0) || !(after->gap_rate > 0.0) || !(h > 0.0)) {
+        return false;
+    }
+    const double s = -before->gap / (before->gap_rate * h);
+    if (!(s >= 0.0 && s <= 1.0)) {
+        return false;
+    }
+    *out = (tb__crossing){t0 + s * h, before->gap_rate, s};
+    return true;
+}
+
+/* A pair seen at both boundaries (was at last_t, pair at t). The scene's impact count (a fixed
+ * watch without a callback) also hears a touch made and gone inside one step: the push shorter
+ * than the step that the count is for. */
 static void follow(tb__watch *watch, const tb__watched_pair *was, tb__watched_pair *pair, double t)
 {
     pair->begin_t = was->begin_t, pair->begin_rate = was->begin_rate;
@@ -418,6 +440,12 @@ static void follow(tb__watch *watch, const tb__watched_pair *was, tb__watched_pa
         } else {
             end(watch, was, &pair->now, c);
         }
+        return;
+    }
+    tb__crossing c;
+    if (watch->fn == NULL && watch->fixed && !pair->touching &&
+        turned(&was->now, &pair->now, watch->last_t, t, &c)) {
+        begin(watch, pair, &was->now, c);
     }
 }
 

@@ -210,6 +210,7 @@ void tb__effect_rate_add_decay(tb__effect_rate *out, double rate, size_t body)
 
 void tb__effect_rate_add_damped_mode(tb__effect_rate *out, double omega, double zeta, size_t body)
 {
+    out->ringing = fmax(out->ringing, omega);
     if (zeta > 1.0) {
         tb__effect_rate_add_decay(out, omega * (zeta + sqrt(zeta * zeta - 1.0)), body);
     } else if (omega > out->oscillation) {

@@ -45,11 +45,12 @@ typedef struct tb__effect_rate {
     size_t oscillation_body;
     double decay; /* 1/s, >= 0 */
     size_t decay_body;
+    double ringing; /* 1/s: its damped modes' fastest natural rate, overdamped too (impacts) */
 } tb__effect_rate;
 
 /* Raise out's fastest modes by a damped mode of natural rate omega and damping ratio zeta on
- * body: oscillating (|lambda| = omega) when underdamped, decaying at its fast root
- * omega (zeta + sqrt(zeta^2 - 1)) when overdamped; or by a decay at rate (1/s). */
+ * body: oscillating (|lambda| = omega) when underdamped, decaying at its fast root omega (zeta +
+ * sqrt(zeta^2 - 1)) when overdamped, ringing at omega either way; or by a decay at rate (1/s). */
 void tb__effect_rate_add_damped_mode(tb__effect_rate *out, double omega, double zeta, size_t body);
 void tb__effect_rate_add_decay(tb__effect_rate *out, double rate, size_t body);
 
@@ -421,8 +422,7 @@ void tb__scene_impacts_reset(tb_scene *scene, double t);
 struct tb__event_watch *tb__scene_impact_watch(const tb_scene *scene);
 void tb__scene_impacts_free(tb_scene *scene);
 
-/* The h omega a fixed method resolves an impact at (its restitution), and the scene's fastest
- * oscillation at y (1/s, the guard's bound): stability.c. */
+/* The h omega a fixed method resolves an impact at; out: the impacts' rates' bound (stability.c) */
 double tb__scene_impact_resolution(const tb_scene *scene, const double *y, tb_method method,
                                    double *out_oscillation);
 

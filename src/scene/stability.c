@@ -25,6 +25,7 @@ typedef struct guard {
     double imaginary, real; /* the method's limits */
     double dt;
     double oscillation; /* the fastest oscillation's rate seen, 1/s */
+    double ringing;     /* the effects' fastest natural rate, overdamped modes too, 1/s */
     bool overflowed;    /* a rate that is not a number (inf, NaN): no step can be given */
     char which[TB_DETAIL_SIZE];
 } guard;
@@ -109,6 +110,7 @@ static void effect_modes(guard *g, const tb_scene *scene, size_t k, const double
     }
     tb__effect_rate rate;
     e->ops->rate(e, scene, y, &rate);
+    g->ringing = fmax(g->ringing, rate.ringing);
     const size_t bodies[2] = {rate.oscillation_body, rate.decay_body};
     const double rates[2] = {rate.oscillation, rate.decay};
     for (int axis = 0; axis < 2; ++axis) {
@@ -145,6 +147,7 @@ static void stable_step(const tb_scene *scene, const double *y, tb_method method
     tb_method_info info;
     g->dt = INFINITY;
     g->oscillation = 0.0;
+    g->ringing = 0.0;
     g->overflowed = false;
     g->which[0] = '\0';
     if (tb_method_get_info(method, &info) != TB_STATUS_OK || info.adaptive) {
@@ -279,7 +282,9 @@ double tb__scene_impact_resolution(const tb_scene *scene, const double *y, tb_me
 {
     guard g;
     stable_step(scene, y, method, &g);
-    *out_oscillation = g.overflowed ? INFINITY : g.oscillation;
+    /* an impact rings at its law's natural rate even where the guard's bound on the rocking
+     * damps the fastest mode past critical (a box on its corners: no oscillation at all) */
+    *out_oscillation = g.overflowed ? INFINITY : fmax(g.oscillation, g.ringing);
     if (tb_method_is_adaptive(method)) {
         return INFINITY;
     }
