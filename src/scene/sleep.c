@@ -353,9 +353,11 @@ static void wake_where(tb_scene *scene, size_t island, bool every)
 void tb__scene_wake_body(tb_scene *scene, size_t id)
 {
     /* island[] holds every body's island of the last boundary: a decision to put the body's
-     * island to sleep that waits for the next acquire is cancelled too */
+     * island to sleep that waits for the next acquire is cancelled too. A body without a state
+     * joins no island (tb__scene_sleep_link), so the bodies resting on it (a table's shape
+     * changed) may be in any: every body wakes */
     if (scene->sleep != NULL && id < scene->sleep->capacity) {
-        wake_where(scene, scene->sleep->island[id], false);
+        wake_where(scene, scene->sleep->island[id], tb__body_fixed(scene, id));
     }
 }
 

@@ -57,7 +57,8 @@ void tb__scene_sleep_link(const tb_scene *scene, size_t a, size_t b);
 bool tb__scene_sleep_linked(const tb_scene *scene, size_t a, size_t b);
 void tb__scene_sleep_end(tb_scene *scene, double t, const double *y);
 void tb__scene_sleep_apply_pending(tb_scene *scene);
-/* Wakes body id's island (a user change of its state), or every body. */
+/* Wakes body id's island (a user change of its state or shape; every body for a body without
+ * a state, which is in no island), or every body. */
 void tb__scene_wake_body(tb_scene *scene, size_t id);
 void tb__scene_wake_all(tb_scene *scene);
 /* An integrator made or reset at t: before the sleep clock's last boundary (a run again from
