@@ -1,4 +1,4 @@
-"""What the bindings promise at their edges (docs/robustness.md F55-F64): read-only views stay
+"""What the bindings promise at their edges (docs/robustness.md F55-F64, F121): read-only views stay
 read-only, an ensemble returns a failed item in its place, counts a C int or long cannot hold
 are refused, a run's frames are bounded before anything is allocated, every way of naming a
 scene works or says why not, and the step budget is every method's and can be raised."""
@@ -170,3 +170,20 @@ def test_every_method_takes_a_step_budget(method):
     if method in ("euler", "midpoint", "rk4", "rosenbrock"):
         with pytest.raises(tumble.TumbleError, match="more than max_steps = 8"):
             scene.run(method=method, dt=0.01, max_steps=8)
+
+
+# --- a refused change changes nothing (F121) --------------------------------------------------
+
+def test_a_velocity_the_integrator_refuses_is_put_back():
+    # Before: tb_scene_set_velocity took 1e308 rad/s, the integrator's restart refused it
+    # (UNSTABLE_STEP: the guard's step for such a spin), and the error was raised with the
+    # velocity left in the state. A failed call leaves the state as it was, bit for bit.
+    sim = tumble.Simulation(ball(), method="rk4", dt=0.01)
+    sim.advance(0.05)
+    before = sim.state.copy()
+    with pytest.raises(tumble.TumbleError, match="UNSTABLE_STEP"):
+        sim.set_velocity("ball", angular_velocity=[0, 0, 1e308])
+    assert np.array_equal(sim.state, before)
+    sim.advance(0.1)  # and the simulation goes on from it: free flight, z = z0 + vz t - g t^2/2
+    assert sim.position[0, 2] == pytest.approx(1 + 5 * 0.1 - 0.5 * G * 0.1 ** 2, abs=1e-12)
+

@@ -428,11 +428,16 @@ class Simulation:
         v = self.velocity[slot] if velocity is None else _vector("velocity", velocity, 3)
         w = (self.angular_velocity[slot] if angular_velocity is None
              else _vector("angular_velocity", angular_velocity, 3))
+        saved = self._y_writable.copy()
         status = lib.tb_scene_set_velocity(self._handle, i, as_pointer(np.ascontiguousarray(v)),
                                            as_pointer(np.ascontiguousarray(w)))
         if status != 0:
             raise failure(status, lib.tb_scene_detail(self._handle).decode())
-        self._restart(self.t)
+        try:  # a velocity the integrator refuses to start from (its guard) is put back
+            self._restart(self.t)
+        except Exception:
+            self._y_writable[:] = saved
+            raise
 
     def _set_part(self, start, stop, name, value):
         array = np.asarray(value, dtype=float) if _is_numeric(value) else None
