@@ -1,4 +1,4 @@
-"""What the bindings promise at their edges (docs/robustness.md F55-F64, F121): read-only views stay
+"""What the bindings promise at their edges (docs/robustness.md F55-F64, F121, F122): read-only views stay
 read-only, an ensemble returns a failed item in its place, counts a C int or long cannot hold
 are refused, a run's frames are bounded before anything is allocated, every way of naming a
 scene works or says why not, and the step budget is every method's and can be raised."""
@@ -172,7 +172,7 @@ def test_every_method_takes_a_step_budget(method):
             scene.run(method=method, dt=0.01, max_steps=8)
 
 
-# --- a refused change changes nothing (F121) --------------------------------------------------
+# --- a refused change changes nothing; a force function's return named (F121, F122) -----------
 
 def test_a_velocity_the_integrator_refuses_is_put_back():
     # Before: tb_scene_set_velocity took 1e308 rad/s, the integrator's restart refused it
@@ -187,3 +187,20 @@ def test_a_velocity_the_integrator_refuses_is_put_back():
     sim.advance(0.1)  # and the simulation goes on from it: free flight, z = z0 + vz t - g t^2/2
     assert sim.position[0, 2] == pytest.approx(1 + 5 * 0.1 - 0.5 * G * 0.1 ** 2, abs=1e-12)
 
+
+@pytest.mark.parametrize("returned, error, words", [
+    (None, TypeError, "got None"),
+    ((np.zeros((1, 3)),) * 3, ValueError, "got a tuple of 3"),
+    ((np.zeros((1, 3)),), ValueError, "got a tuple of 1"),
+    ({"force": 1.0}, TypeError, "forces must be an array of real numbers, got dict"),
+    (np.zeros((1, 3)) + 1j, TypeError, "got an array of complex128"),
+    ((np.zeros((1, 3)), "up"), TypeError, "torques must be an array of real numbers, got str"),
+])
+def test_a_force_function_returning_something_else_is_named(returned, error, words):
+    # Before: None was taken as no force, a complex array lost its imaginary part with a
+    # warning, and the rest failed with Python's own words ("too many values to unpack").
+    sim = tumble.Simulation(ball(), method="rk4", dt=0.01, forces=[lambda t, state: returned])
+    before = sim.state.copy()
+    with pytest.raises(error, match=words):
+        sim.advance(0.05)
+    assert np.array_equal(sim.state, before)  # the failed step left the state where it was

@@ -17,7 +17,8 @@ Body = Union[int, str]
 #: the derivative is evaluated at (read-only; x, q, P, L per body with a state, the rows of
 #: Simulation.state, in Simulation.dynamic_bodies' order);
 #: forces (N, 3) in N act at each body's centre of mass, torques (N, 3) in N m, both in the
-#: world frame. Rows of zeros cost nothing more.
+#: world frame. Rows of zeros cost nothing more; anything else (None, a tuple of another
+#: length, complex numbers) fails the step with an error naming it.
 ForceFunction = Callable[[float, np.ndarray], object]
 
 
@@ -522,10 +523,21 @@ class Simulation:
 
 def _apply_loads(handle, y, dydt, state, loads, ids):
     bodies = len(ids)
+    if isinstance(loads, tuple) and len(loads) != 2:
+        raise ValueError(f"a force function returns forces (N, 3) or a tuple (forces, torques), "
+                         f"got a tuple of {len(loads)}")
     forces, torques = loads if isinstance(loads, tuple) else (loads, None)
+    if forces is None and not isinstance(loads, tuple):
+        raise TypeError("a force function returns forces (N, 3) or a tuple (forces, torques), "
+                        "got None")
     for name, array in (("forces", forces), ("torques", torques)):
         if array is None:
             continue
+        if not _is_numeric(array):
+            kind = (f"an array of {array.dtype}" if isinstance(array, np.ndarray)
+                    else type(array).__name__)
+            raise TypeError(f"a force function's {name} must be an array of real numbers, got "
+                            f"{kind}")
         array = np.ascontiguousarray(array, dtype=float)
         if array.shape != (bodies, 3):
             raise ValueError(f"a force function's {name} must have shape ({bodies}, 3), got "
