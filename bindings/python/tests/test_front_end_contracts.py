@@ -1,4 +1,4 @@
-"""What the bindings promise at their edges (docs/robustness.md F55-F64, F121, F122): read-only views stay
+"""What the bindings promise at their edges (docs/robustness.md F55-F64, F121-F123): read-only views stay
 read-only, an ensemble returns a failed item in its place, counts a C int or long cannot hold
 are refused, a run's frames are bounded before anything is allocated, every way of naming a
 scene works or says why not, and the step budget is every method's and can be raised."""
@@ -204,3 +204,32 @@ def test_a_force_function_returning_something_else_is_named(returned, error, wor
     with pytest.raises(error, match=words):
         sim.advance(0.05)
     assert np.array_equal(sim.state, before)  # the failed step left the state where it was
+
+
+@pytest.mark.parametrize("call, error, words", [
+    (lambda b: b.add_keyframed_body("lift", [[0, 1]], [[0, 0, 0], [0, 0, 1]]), ValueError,
+     r"t must be one time per key \(K,\), got shape \(1, 2\)"),
+    (lambda b: b.add_keyframed_body("lift", [0, 1, 2], [[0, 0, 0], [0, 0, 1]]), ValueError,
+     r"position must have shape \(3, 3\) for 3 keys"),
+    (lambda b: b.add_keyframed_body("lift", [0, 1], [[0, 0], [0, 1]]), ValueError,
+     r"position must have shape \(2, 3\)"),
+    (lambda b: b.add_keyframed_body("lift", [0, 1], [0, 0, 0], velocity=[[0, 0, 1]] * 3),
+     ValueError, r"velocity must have shape \(2, 3\)"),
+    (lambda b: b.add_keyframed_body("lift", [], []), ValueError, "at least one key"),
+    (lambda b: b.add_keyframed_body("lift", "01", [0, 0, 0]), TypeError,
+     "t must be real numbers"),
+    (lambda b: b.add_keyframed_body("lift", [0, 1j], [0, 0, 0]), TypeError,
+     "t must be real numbers, got an array of complex128"),
+    (lambda b: b.set_body_pieces("ball", {"type": "sphere", "radius": 0.1}), TypeError,
+     "pieces must be a sequence of shapes"),
+    (lambda b: b.set_body_pieces("ball", [{"type": "sphere", "radius": 0.1}, 5]), TypeError,
+     r"pieces\[1\] must be a shape"),
+])
+def test_a_builder_call_of_the_wrong_shape_or_type_is_named(call, error, words):
+    # Before: NumPy's broadcasting words ("operands could not be broadcast together with
+    # remapped shapes"), "float() argument must be ...", "dictionary update sequence element
+    # #0 has length 1", and t = [[0, 1]] read as one key; each now names the argument.
+    builder = tumble.SceneBuilder()
+    builder.add_body("ball", shape={"type": "sphere", "radius": 0.1}, mass=1.0)
+    with pytest.raises(error, match=words):
+        call(builder)
