@@ -358,7 +358,9 @@ typedef struct tb_integrator_def {
     long max_steps;      /* every method: steps allowed in one advance or step call, > 0; default
                             100000. Used up: TB_STATUS_TOO_MANY_STEPS naming it and the time
                             reached, y at the last good step. A fixed-step advance whose target is
-                            more than max_steps steps of dt away is refused before any step */
+                            more than max_steps steps of dt away is refused before any step; its
+                            steps cut short at a break or an onset have a budget of max_steps of
+                            their own */
     double initial_step; /* first step size; 0 (default) lets CVODE estimate it */
     double max_step;     /* largest step size; 0 (default) for no limit. With
                             tb_ode_system.events.step_limit the tighter limit wins */
