@@ -1,4 +1,4 @@
-"""What the bindings promise at their edges (docs/robustness.md F55-F64, F121-F123): read-only views stay
+"""What the bindings promise at their edges (docs/robustness.md F55-F64, F121-F123, F128): read-only views stay
 read-only, an ensemble returns a failed item in its place, counts a C int or long cannot hold
 are refused, a run's frames are bounded before anything is allocated, every way of naming a
 scene works or says why not, and the step budget is every method's and can be raised."""
@@ -233,3 +233,15 @@ def test_a_builder_call_of_the_wrong_shape_or_type_is_named(call, error, words):
     builder.add_body("ball", shape={"type": "sphere", "radius": 0.1}, mass=1.0)
     with pytest.raises(error, match=words):
         call(builder)
+
+
+def test_a_callback_that_is_not_a_function_is_named_before_the_run():
+    # Before: Simulation(forces=f) with f a function failed as "'function' object is not
+    # iterable", and Scene.run(on_frame=5) ran up to its first frame to fail as "'int' object is
+    # not callable"; both now name the argument, and the run does not start.
+    with pytest.raises(TypeError, match="forces must be a list of force functions"):
+        tumble.Simulation(ball(), method="rk4", dt=0.01, forces=lambda t, state: np.zeros((1, 3)))
+    scene = tumble.Scene.from_dict(ball())
+    for name in ("on_frame", "on_event"):
+        with pytest.raises(TypeError, match=f"{name} must be a function or None, got int"):
+            scene.run(method="rk4", dt=0.01, **{name: 5})

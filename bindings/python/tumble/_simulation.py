@@ -91,6 +91,10 @@ class Simulation:
             self._run = run
             self.bodies = lib.tb_scene_body_count(self._handle)
             self._views()
+            if (callable(forces) or isinstance(forces, (str, bytes, dict))
+                    or not hasattr(forces, "__iter__")):
+                raise TypeError(f"forces must be a list of force functions force(t, state), "
+                                f"got {type(forces).__name__}")
             for force in forces:
                 self._add_user_effect(force)
             if project_joints:  # before the integrator, which keeps its own copy (CVODE)
