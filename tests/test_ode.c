@@ -257,6 +257,49 @@ static void test_steps_cut_at_breaks_are_held_to_max_steps(void **state)
     }
 }
 
+/* A system's check_break or check_reset that refuses without writing a detail (the contract asks
+ * for one) left the call's detail empty: a refusal that said nothing. The integrator now names the
+ * check, the time and the status. y' = 1 with a break at 0.25 s refused: RK4 at dt 0.1 stops on
+ * it, at 0.25 s exactly (the step cut there), y = 0.25 to round-off. */
+static double break_at_a_quarter(double t, void *ctx)
+{
+    (void)ctx;
+    return t < 0.25 ? 0.25 : INFINITY;
+}
+
+static tb_status refuse_silently(double t, const double *y, void *ctx, char *detail)
+{
+    (void)y;
+    (void)ctx;
+    (void)detail;
+    return t >= 0.25 ? TB_STATUS_INVALID_ARGUMENT : TB_STATUS_OK;
+}
+
+static void test_a_check_that_refuses_without_a_detail_is_named(void **state)
+{
+    (void)state;
+    double y[1] = {0.0};
+    tb_ode_system system = {.n = 1, .derivative = unit_rate};
+    system.events.next_break = break_at_a_quarter;
+    system.events.check_break = refuse_silently;
+    system.lifetime.check_reset = refuse_silently;
+    tb_integrator_def def = tb_integrator_def_default();
+    def.method = TB_METHOD_RK4;
+    def.dt = 0.1;
+    tb_integrator *integrator = NULL;
+    assert_int_equal(tb_integrator_create(&system, &def, 0.0, y, &integrator, NULL), TB_STATUS_OK);
+    ulp_break_calls = 0;
+    assert_int_equal(tb_integrator_advance(integrator, 1.0), TB_STATUS_INVALID_ARGUMENT);
+    assert_true(tb_integrator_time(integrator) == 0.25);
+    assert_true(fabs(y[0] - 0.25) <= 1e-15);
+    assert_non_null(
+        strstr(tb_integrator_detail(integrator), "events.check_break refused t = 0.25"));
+    assert_int_equal(tb_integrator_reset(integrator, 0.5), TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(
+        strstr(tb_integrator_detail(integrator), "lifetime.check_reset refused t = 0.5"));
+    tb_integrator_destroy(integrator);
+}
+
 static void test_a_rest_is_jumped_over_without_steps(void **state)
 {
     (void)state;
@@ -833,6 +876,7 @@ int main(void)
         cmocka_unit_test(test_post_step_hook_runs_once_per_step_and_can_stop_the_run),
         cmocka_unit_test(test_a_rest_is_jumped_over_without_steps),
         cmocka_unit_test(test_steps_cut_at_breaks_are_held_to_max_steps),
+        cmocka_unit_test(test_a_check_that_refuses_without_a_detail_is_named),
         cmocka_unit_test(test_a_state_that_overflows_is_reported_and_not_kept),
         cmocka_unit_test(test_invalid_definitions_are_rejected_with_the_field_named),
         cmocka_unit_test(test_method_names_round_trip_in_any_case),

@@ -147,7 +147,8 @@ typedef struct tb_ode_events {
     /* With next_break: whether the call may go on from the break at t it reached with state y
      * (the right-hand side's next piece starts there): TB_STATUS_OK, or a status with detail
      * (TB_DETAIL_SIZE bytes) written, which ends the call there, its time t and the state y,
-     * the last good one. Asked where a fixed step ends on a break inside a call, where CVODE or
+     * the last good one (no detail written: the integrator writes one naming check_break and
+     * the time). Asked where a fixed step ends on a break inside a call, where CVODE or
      * ARKODE restarts on one, and at the start of every advance and step (a call may have ended
      * on a break; a reset is not asked at the time it leaves). NULL (default): every break is
      * taken. */
