@@ -284,12 +284,55 @@ static void test_double_pendulum_keeps_its_steps(void **state)
     tb_scene_destroy(scene);
 }
 
+/* A soft joint over-damped far past any use: damping ratio zeta = 1e300 at 1e-300 Hz decays at
+ * the faster root of s^2 + 2 zeta w s + w^2, w (zeta + sqrt(zeta^2 - 1)) = 2 zeta w = 4 pi /s
+ * (w = 2 pi 1e-300 rad/s), a slow joint; zeta^2 overflowed, the guard took the rate as infinite
+ * and refused every step. RK4's largest stable step is now real_limit / (4 pi), to round-off. At
+ * 1 Hz and zeta = 1e308 the rate, 4 pi 1e308, is infinite indeed: the integrator's creation at
+ * the default step is refused naming that rate, not "def.dt: must be > 0, got 0" (the default
+ * step it had taken as 0, a dt the caller never gave). */
+static void test_a_soft_joint_overdamped_far_past_use_is_judged_by_its_rate(void **state)
+{
+    (void)state;
+    tb_method_info info;
+    assert_int_equal(tb_method_get_info(TB_METHOD_RK4, &info), TB_STATUS_OK);
+    const double frequencies[2] = {1e-300, 1.0}, ratios[2] = {1e300, 1e308};
+    for (int k = 0; k < 2; ++k) {
+        tb_scene *scene = test_empty_scene();
+        const size_t ball = test_add_ball(scene, NULL, 1.0, 0.1, (double[]){0.0, 0.0, 0.0}, NULL);
+        tb_joint_def def = tb_joint_def_default();
+        def.body_a = ball;
+        def.soft_frequency = frequencies[k];
+        def.soft_damping_ratio = ratios[k];
+        assert_int_equal(tb_scene_add_joint(scene, &def, NULL), TB_STATUS_OK);
+        double dt = 0.0;
+        const tb_status stable = tb_scene_max_stable_step(scene, TB_METHOD_RK4, &dt, NULL);
+        tb_integrator_def step = test_integrator_def(TB_METHOD_RK4, 0.0, 0.0);
+        tb_integrator *integrator = NULL;
+        const tb_status made = tb_scene_integrator_create(scene, &step, 0.0, &integrator);
+        if (k == 0) {
+            assert_int_equal(stable, TB_STATUS_OK);
+            assert_true(fabs(info.real_limit / dt - 4.0 * TEST_PI) <= 1e-12 * 4.0 * TEST_PI);
+            assert_int_equal(made, TB_STATUS_OK);
+        } else {
+            assert_int_equal(stable, TB_STATUS_NOT_FINITE);
+            assert_int_equal(made, TB_STATUS_NOT_FINITE);
+            assert_non_null(strstr(tb_scene_detail(scene), "rate inf"));
+            assert_null(strstr(tb_scene_detail(scene), "def.dt"));
+            assert_null(integrator);
+        }
+        tb_integrator_destroy(integrator);
+        tb_scene_destroy(scene);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_guard_sees_the_light_links_sway_under_the_weight),
         cmocka_unit_test(test_default_step_keeps_the_heavy_chain_energy),
         cmocka_unit_test(test_guard_sees_a_soft_joint_spring),
+        cmocka_unit_test(test_a_soft_joint_overdamped_far_past_use_is_judged_by_its_rate),
         cmocka_unit_test(test_guard_sees_a_motor_servo),
         cmocka_unit_test(test_double_pendulum_keeps_its_steps),
     };

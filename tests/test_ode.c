@@ -204,6 +204,102 @@ static tb_integrator *resting_integrator(tb_method method, hook_log *log, long m
     return integrator;
 }
 
+/* y' = 1 with a break one ulp after every time (next_break): each fixed step was cut at the
+ * break and only steps on the grid counted against max_steps, so an advance of 10 steps of 0.1
+ * under max_steps = 1000 stepped an ulp at a time for ever. Steps cut short have a budget of
+ * max_steps as well: the advance stops with TB_STATUS_TOO_MANY_STEPS after exactly max_steps of
+ * them, at t = max_steps ulps, y that of the last good step. A derivative that counts past 1e6
+ * calls fails the call instead, so the test fails rather than hangs without the budget. */
+static long ulp_break_calls;
+
+static int unit_rate(double t, const double *y, double *dydt, void *ctx)
+{
+    (void)t;
+    (void)y;
+    (void)ctx;
+    dydt[0] = 1.0;
+    return ++ulp_break_calls > 1000000 ? -1 : 0;
+}
+
+static double break_an_ulp_later(double t, void *ctx)
+{
+    (void)ctx;
+    return nextafter(t, INFINITY);
+}
+
+static void test_steps_cut_at_breaks_are_held_to_max_steps(void **state)
+{
+    (void)state;
+    const tb_method methods[] = {TB_METHOD_EULER, TB_METHOD_MIDPOINT, TB_METHOD_RK4,
+                                 TB_METHOD_ROSENBROCK};
+    for (size_t m = 0; m < sizeof methods / sizeof methods[0]; ++m) {
+        double y[1] = {0.0};
+        tb_ode_system system = {.n = 1, .derivative = unit_rate};
+        system.events.next_break = break_an_ulp_later;
+        tb_integrator_def def = tb_integrator_def_default();
+        def.method = methods[m];
+        def.dt = 0.1;
+        def.max_steps = 1000;
+        tb_integrator *integrator = NULL;
+        assert_int_equal(tb_integrator_create(&system, &def, 0.0, y, &integrator, NULL),
+                         TB_STATUS_OK);
+        ulp_break_calls = 0;
+        assert_int_equal(tb_integrator_advance(integrator, 1.0), TB_STATUS_TOO_MANY_STEPS);
+        assert_non_null(strstr(tb_integrator_detail(integrator), "1000 cut short at breaks"));
+        tb_integrator_stats stats;
+        assert_int_equal(tb_integrator_get_stats(integrator, &stats), TB_STATUS_OK);
+        assert_int_equal(stats.steps, 1000);
+        assert_true(tb_integrator_time(integrator) == 1000 * nextafter(0.0, 1.0));
+        /* y' = 1 over steps one subnormal ulp long: y is t to their rounding (RK4's h / 6
+         * rounds to 0 there), a finite state between 0 and 2 t */
+        assert_true(y[0] >= 0.0 && y[0] <= 2.0 * tb_integrator_time(integrator));
+        tb_integrator_destroy(integrator);
+    }
+}
+
+/* A system's check_break or check_reset that refuses without writing a detail (the contract asks
+ * for one) left the call's detail empty: a refusal that said nothing. The integrator now names the
+ * check, the time and the status. y' = 1 with a break at 0.25 s refused: RK4 at dt 0.1 stops on
+ * it, at 0.25 s exactly (the step cut there), y = 0.25 to round-off. */
+static double break_at_a_quarter(double t, void *ctx)
+{
+    (void)ctx;
+    return t < 0.25 ? 0.25 : INFINITY;
+}
+
+static tb_status refuse_silently(double t, const double *y, void *ctx, char *detail)
+{
+    (void)y;
+    (void)ctx;
+    (void)detail;
+    return t >= 0.25 ? TB_STATUS_INVALID_ARGUMENT : TB_STATUS_OK;
+}
+
+static void test_a_check_that_refuses_without_a_detail_is_named(void **state)
+{
+    (void)state;
+    double y[1] = {0.0};
+    tb_ode_system system = {.n = 1, .derivative = unit_rate};
+    system.events.next_break = break_at_a_quarter;
+    system.events.check_break = refuse_silently;
+    system.lifetime.check_reset = refuse_silently;
+    tb_integrator_def def = tb_integrator_def_default();
+    def.method = TB_METHOD_RK4;
+    def.dt = 0.1;
+    tb_integrator *integrator = NULL;
+    assert_int_equal(tb_integrator_create(&system, &def, 0.0, y, &integrator, NULL), TB_STATUS_OK);
+    ulp_break_calls = 0;
+    assert_int_equal(tb_integrator_advance(integrator, 1.0), TB_STATUS_INVALID_ARGUMENT);
+    assert_true(tb_integrator_time(integrator) == 0.25);
+    assert_true(fabs(y[0] - 0.25) <= 1e-15);
+    assert_non_null(
+        strstr(tb_integrator_detail(integrator), "events.check_break refused t = 0.25"));
+    assert_int_equal(tb_integrator_reset(integrator, 0.5), TB_STATUS_INVALID_ARGUMENT);
+    assert_non_null(
+        strstr(tb_integrator_detail(integrator), "lifetime.check_reset refused t = 0.5"));
+    tb_integrator_destroy(integrator);
+}
+
 static void test_a_rest_is_jumped_over_without_steps(void **state)
 {
     (void)state;
@@ -779,6 +875,8 @@ int main(void)
         cmocka_unit_test(test_derivative_error_keeps_the_last_good_state),
         cmocka_unit_test(test_post_step_hook_runs_once_per_step_and_can_stop_the_run),
         cmocka_unit_test(test_a_rest_is_jumped_over_without_steps),
+        cmocka_unit_test(test_steps_cut_at_breaks_are_held_to_max_steps),
+        cmocka_unit_test(test_a_check_that_refuses_without_a_detail_is_named),
         cmocka_unit_test(test_a_state_that_overflows_is_reported_and_not_kept),
         cmocka_unit_test(test_invalid_definitions_are_rejected_with_the_field_named),
         cmocka_unit_test(test_method_names_round_trip_in_any_case),

@@ -406,6 +406,133 @@ static void test_removing_an_asleep_bodys_points_wakes_it(void **state)
     tb_scene_destroy(scene);
 }
 
+/* A box asleep on a slab that has no state (static, or keyframed at rest) wakes when the slab's
+ * shape changes: the slab is in no island, so waking its island alone (the body whose shape was
+ * set) left the box asleep, hovering 4.5 cm above the slab made 1 cm thin, through the
+ * integrator made before and a new one. It now rests on the thin slab's top, z = 0.005 + 0.05 m
+ * less the contact's static deflection (8e-7 m at the default penetration): within 1e-5 m. */
+static void box_on_a_thinned_slab(tb_body_motion motion)
+{
+    tb_scene_def def = tb_scene_def_default();
+    def.sleeping = true;
+    tb_scene *scene = NULL;
+    assert_int_equal(tb_scene_create(&def, &scene, NULL), TB_STATUS_OK);
+    tb_body_def slab = tb_body_def_default();
+    slab.motion = motion;
+    size_t slab_id = 0;
+    assert_int_equal(tb_scene_add_body(scene, &slab, &slab_id), TB_STATUS_OK);
+    if (motion == TB_MOTION_KEYFRAMED) { /* at rest at the origin */
+        tb_body_key keys[2] = {tb_body_key_default(), tb_body_key_default()};
+        keys[1].t = 10.0;
+        assert_int_equal(tb_scene_set_body_keys(scene, slab_id, keys, 2, TB_INTERPOLATION_LINEAR),
+                         TB_STATUS_OK);
+    }
+    tb_shape shape = tb_shape_default();
+    shape.type = TB_SHAPE_BOX;
+    shape.size[0] = shape.size[1] = 1.0;
+    shape.size[2] = 0.1;
+    assert_int_equal(tb_scene_set_body_shape(scene, slab_id, &shape), TB_STATUS_OK);
+    const size_t box = test_add_box(scene, BOX_MASS, (double[]){EDGE, EDGE, EDGE},
+                                    (double[]){0.0, 0.0, 0.05 + 0.5 * EDGE});
+    assert_int_equal(tb_scene_add_gravity(scene, (double[]){0.0, 0.0, -9.81}), TB_STATUS_OK);
+    tb_contact_def contact = tb_contact_def_default();
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    tb_integrator *integrator = test_integrator_for(scene, TB_METHOD_RK4, 0.0, 0.0);
+    assert_int_equal(tb_integrator_advance(integrator, 1.5), TB_STATUS_OK);
+    bool asleep = false;
+    assert_int_equal(tb_scene_body_asleep(scene, box, &asleep), TB_STATUS_OK);
+    assert_true(asleep);
+    shape.size[2] = 0.01; /* the slab's top drops from 0.05 m to 0.005 m */
+    assert_int_equal(tb_scene_set_body_shape(scene, slab_id, &shape), TB_STATUS_OK);
+    assert_int_equal(tb_scene_body_asleep(scene, box, &asleep), TB_STATUS_OK);
+    assert_false(asleep);
+    assert_int_equal(tb_integrator_advance(integrator, 2.0), TB_STATUS_OK);
+    tb_body_state fallen;
+    assert_int_equal(tb_scene_get_state(scene, box, &fallen), TB_STATUS_OK);
+    assert_true(fabs(fallen.x[2] - (0.005 + 0.5 * EDGE)) < 1e-5);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
+static void test_an_asleep_box_wakes_when_its_static_slab_thins(void **state)
+{
+    (void)state;
+    box_on_a_thinned_slab(TB_MOTION_STATIC);
+}
+
+static void test_an_asleep_box_wakes_when_its_keyframed_slab_thins(void **state)
+{
+    (void)state;
+    box_on_a_thinned_slab(TB_MOTION_KEYFRAMED);
+}
+
+/* A box asleep on a keyframed platform whose keys lower it by 0.5 m between 2 s and 3 s, the run
+ * then continued from 5 s (a reset to a later time, or an integrator made there): no boundary saw
+ * the platform move, and the box stayed asleep, hovering 0.5 m above it with status OK. It now
+ * wakes and rests on the lowered platform by 6 s: its centre at -0.45 + 0.05 m less the static
+ * deflection (8e-7 m), within 1e-5 m. */
+static void box_on_a_platform_lowered_while_away(bool reset)
+{
+    tb_scene_def def = tb_scene_def_default();
+    def.sleeping = true;
+    tb_scene *scene = NULL;
+    assert_int_equal(tb_scene_create(&def, &scene, NULL), TB_STATUS_OK);
+    tb_body_def platform = tb_body_def_default();
+    platform.motion = TB_MOTION_KEYFRAMED;
+    size_t platform_id = 0;
+    assert_int_equal(tb_scene_add_body(scene, &platform, &platform_id), TB_STATUS_OK);
+    tb_body_key keys[4] = {tb_body_key_default(), tb_body_key_default(), tb_body_key_default(),
+                           tb_body_key_default()};
+    keys[1].t = 2.0;
+    keys[2].t = 3.0;
+    keys[2].position[2] = -0.5;
+    keys[3].t = 100.0;
+    keys[3].position[2] = -0.5;
+    assert_int_equal(tb_scene_set_body_keys(scene, platform_id, keys, 4, TB_INTERPOLATION_LINEAR),
+                     TB_STATUS_OK);
+    tb_shape shape = tb_shape_default();
+    shape.type = TB_SHAPE_BOX;
+    shape.size[0] = shape.size[1] = 1.0;
+    shape.size[2] = 0.1;
+    assert_int_equal(tb_scene_set_body_shape(scene, platform_id, &shape), TB_STATUS_OK);
+    const size_t box = test_add_box(scene, BOX_MASS, (double[]){EDGE, EDGE, EDGE},
+                                    (double[]){0.0, 0.0, 0.05 + 0.5 * EDGE});
+    assert_int_equal(tb_scene_add_gravity(scene, (double[]){0.0, 0.0, -9.81}), TB_STATUS_OK);
+    tb_contact_def contact = tb_contact_def_default();
+    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
+    tb_integrator *integrator = test_integrator_for(scene, TB_METHOD_RK4, 0.0, 0.0);
+    assert_int_equal(tb_integrator_advance(integrator, 1.5), TB_STATUS_OK);
+    bool asleep = false;
+    assert_int_equal(tb_scene_body_asleep(scene, box, &asleep), TB_STATUS_OK);
+    assert_true(asleep);
+    if (reset) {
+        assert_int_equal(tb_integrator_reset(integrator, 5.0), TB_STATUS_OK);
+    } else {
+        tb_integrator_destroy(integrator);
+        const tb_integrator_def step = test_integrator_def(TB_METHOD_RK4, 0.0, 0.0);
+        integrator = NULL;
+        assert_int_equal(tb_scene_integrator_create(scene, &step, 5.0, &integrator), TB_STATUS_OK);
+    }
+    assert_int_equal(tb_integrator_advance(integrator, 6.0), TB_STATUS_OK);
+    tb_body_state rest;
+    assert_int_equal(tb_scene_get_state(scene, box, &rest), TB_STATUS_OK);
+    assert_true(fabs(rest.x[2] - (-0.45 + 0.5 * EDGE)) < 1e-5);
+    tb_integrator_destroy(integrator);
+    tb_scene_destroy(scene);
+}
+
+static void test_a_reset_past_a_platform_lowered_wakes_the_box_on_it(void **state)
+{
+    (void)state;
+    box_on_a_platform_lowered_while_away(true);
+}
+
+static void test_an_integrator_made_past_a_platform_lowered_wakes_the_box_on_it(void **state)
+{
+    (void)state;
+    box_on_a_platform_lowered_while_away(false);
+}
+
 int main(int argc, char **argv)
 {
     if (argc > 1) { /* a pattern of test names to run (cmocka's filter) */
@@ -417,6 +544,10 @@ int main(int argc, char **argv)
         cmocka_unit_test(test_one_cvode_step_at_a_time_wakes_the_box_before_the_touch),
         cmocka_unit_test(test_a_fast_ball_wakes_a_sleeping_box_a_step_ahead_under_rk4),
         cmocka_unit_test(test_removing_an_asleep_bodys_points_wakes_it),
+        cmocka_unit_test(test_an_asleep_box_wakes_when_its_static_slab_thins),
+        cmocka_unit_test(test_an_asleep_box_wakes_when_its_keyframed_slab_thins),
+        cmocka_unit_test(test_a_reset_past_a_platform_lowered_wakes_the_box_on_it),
+        cmocka_unit_test(test_an_integrator_made_past_a_platform_lowered_wakes_the_box_on_it),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -147,7 +147,8 @@ typedef struct tb_ode_events {
     /* With next_break: whether the call may go on from the break at t it reached with state y
      * (the right-hand side's next piece starts there): TB_STATUS_OK, or a status with detail
      * (TB_DETAIL_SIZE bytes) written, which ends the call there, its time t and the state y,
-     * the last good one. Asked where a fixed step ends on a break inside a call, where CVODE or
+     * the last good one (no detail written: the integrator writes one naming check_break and
+     * the time). Asked where a fixed step ends on a break inside a call, where CVODE or
      * ARKODE restarts on one, and at the start of every advance and step (a call may have ended
      * on a break; a reset is not asked at the time it leaves). NULL (default): every break is
      * taken. */
@@ -358,7 +359,9 @@ typedef struct tb_integrator_def {
     long max_steps;      /* every method: steps allowed in one advance or step call, > 0; default
                             100000. Used up: TB_STATUS_TOO_MANY_STEPS naming it and the time
                             reached, y at the last good step. A fixed-step advance whose target is
-                            more than max_steps steps of dt away is refused before any step */
+                            more than max_steps steps of dt away is refused before any step; its
+                            steps cut short at a break or an onset have a budget of max_steps of
+                            their own */
     double initial_step; /* first step size; 0 (default) lets CVODE estimate it */
     double max_step;     /* largest step size; 0 (default) for no limit. With
                             tb_ode_system.events.step_limit the tighter limit wins */

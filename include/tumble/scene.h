@@ -363,7 +363,8 @@ TB_API bool tb_scene_allow_unstable(const tb_scene *scene);
  * contact effect skips the narrow phase between two of them. It wakes when a moving body comes
  * within the contact's margin of it, when tb_scene_set_state, tb_scene_set_velocity,
  * tb_scene_set_body_shape or tb_scene_set_contact_points changes one of its bodies (or a write
- * into tb_scene_states is seen at the next boundary), or when an effect is added. Decisions happen
+ * into tb_scene_states is seen at the next boundary), when a body without a state (in no island)
+ * is given another shape (every island wakes), or when an effect is added. Decisions happen
  * at step boundaries: after every step of a fixed-step integrator made by
  * tb_scene_integrator_create, at every output of the others (CVODE restarts there). A scene holding
  * a user effect never sleeps. set refuses with TB_STATUS_BUSY while the scene is being stepped;

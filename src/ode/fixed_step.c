@@ -481,13 +481,14 @@ static tb_status check_budget(tb_integrator *integrator, double t_target)
 }
 
 /* The budget ran out (or a step stopped moving time) before t_target: y is the last good
- * step's state. */
-static tb_status budget_used(tb_integrator *integrator, double t_target, long steps)
+ * step's state. steps on the grid and cuts, the steps cut short at a break or an onset, each
+ * have a budget of max_steps (breaks one ulp apart would cut steps for ever). */
+static tb_status budget_used(tb_integrator *integrator, double t_target, long steps, long cuts)
 {
     return tb__set_detail(integrator->detail, TB_STATUS_TOO_MANY_STEPS,
-                          "max_steps = %ld used up (%ld steps) on the way to t = %.17g: stopped "
-                          "at t = %.17g",
-                          integrator->max_steps, steps, t_target, integrator->t);
+                          "max_steps = %ld used up (%ld steps, and %ld cut short at breaks or "
+                          "onsets) on the way to t = %.17g: stopped at t = %.17g",
+                          integrator->max_steps, steps, cuts, t_target, integrator->t);
 }
 
 /* Where the system's rest from the integrator's state ends (tb_ode_events.rest_until): its
@@ -544,6 +545,7 @@ static tb_status fixed_advance(tb_integrator *integrator, double t_target)
     /* Step times are t_start + i dt rather than a running sum, so round-off does not
      * accumulate over long runs; a step cut at a break or an onset leaves i for the rest of the
      * way. */
+    long cuts = 0; /* steps cut short at a break or an onset: a budget of max_steps too */
     for (long i = 1; integrator->t < t_target;) {
         if (jump_at_rest(integrator, t_target, &status)) {
             t_start = integrator->t; /* the steps after a rest keep a grid from its end */
@@ -559,8 +561,9 @@ static tb_status fixed_advance(tb_integrator *integrator, double t_target)
         }
         bool cut;
         t_end = end_at_break(integrator, t_end, &cut);
-        if (i > integrator->max_steps || !(t_end > integrator->t)) {
-            return budget_used(integrator, t_target, i - 1);
+        if (i > integrator->max_steps || cuts >= integrator->max_steps ||
+            !(t_end > integrator->t)) {
+            return budget_used(integrator, t_target, i - 1, cuts);
         }
         status = take_step(integrator, t_end - integrator->t, t_end);
         if (status == TB_STATUS_OK && cut && integrator->t == t_end) { /* on a break */
@@ -569,7 +572,9 @@ static tb_status fixed_advance(tb_integrator *integrator, double t_target)
         if (status != TB_STATUS_OK) {
             return status;
         }
-        i += cut || integrator->t < t_end ? 0 : 1;
+        const bool short_step = cut || integrator->t < t_end;
+        i += short_step ? 0 : 1;
+        cuts += short_step ? 1 : 0;
     }
     return TB_STATUS_OK;
 }

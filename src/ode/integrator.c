@@ -361,13 +361,28 @@ double tb_integrator_time(const tb_integrator *integrator)
     return integrator == NULL ? NAN : integrator->t;
 }
 
+/* A system's refusal (check_break, check_reset) that wrote no detail gets one naming it. */
+static tb_status refused_by(tb_integrator *integrator, tb_status status, const char *check,
+                            double t)
+{
+    if (status != TB_STATUS_OK && integrator->detail[0] == '\0') {
+        tb__set_detail(integrator->detail, status,
+                       "the system's %s refused t = %.17g (%s), writing no detail", check, t,
+                       tb_status_string(status));
+    }
+    return status;
+}
+
 tb_status tb__integrator_check_break(tb_integrator *integrator)
 {
     const tb_ode_system *system = &integrator->system;
-    return system->events.check_break == NULL
-               ? TB_STATUS_OK
-               : system->events.check_break(integrator->t, integrator->y, system->ctx,
-                                            integrator->detail);
+    if (system->events.check_break == NULL) {
+        return TB_STATUS_OK;
+    }
+    integrator->detail[0] = '\0';
+    const tb_status status =
+        system->events.check_break(integrator->t, integrator->y, system->ctx, integrator->detail);
+    return refused_by(integrator, status, "events.check_break", integrator->t);
 }
 
 tb_status tb_integrator_reset(tb_integrator *integrator, double t)
@@ -385,6 +400,7 @@ tb_status tb_integrator_reset(tb_integrator *integrator, double t)
                                 "t: must be finite, got %g", t);
     } else if (system->lifetime.check_reset != NULL) {
         status = system->lifetime.check_reset(t, integrator->y, system->ctx, integrator->detail);
+        status = refused_by(integrator, status, "lifetime.check_reset", t);
     }
     if (status == TB_STATUS_OK) {
         status = integrator->entry->backend->reset(integrator, t);

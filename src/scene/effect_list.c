@@ -211,8 +211,10 @@ void tb__effect_rate_add_decay(tb__effect_rate *out, double rate, size_t body)
 void tb__effect_rate_add_damped_mode(tb__effect_rate *out, double omega, double zeta, size_t body)
 {
     out->ringing = fmax(out->ringing, omega);
-    if (zeta > 1.0) {
-        tb__effect_rate_add_decay(out, omega * (zeta + sqrt(zeta * zeta - 1.0)), body);
+    if (zeta > 1.0) { /* the faster root, omega (zeta + sqrt(zeta^2 - 1)); past 1e150 zeta^2
+                         overflows and sqrt(zeta^2 - 1) is zeta in doubles */
+        const double root = zeta < 1e150 ? sqrt(zeta * zeta - 1.0) : zeta;
+        tb__effect_rate_add_decay(out, omega * (zeta + root), body);
     } else if (omega > out->oscillation) {
         out->oscillation = omega;
         out->oscillation_body = body;

@@ -520,11 +520,11 @@ static tb_status create_at(tb_scene *scene, const tb_integrator_def *def, double
     tb_integrator_def stepped; /* def.dt 0: the scene's default step */
     if (status == TB_STATUS_OK) {
         stepped = *def;
-        if (!tb_method_is_adaptive(def->method) && def->dt == 0.0) {
-            stepped.dt = tb__scene_default_step(scene, scene->states, def->method);
+        if (!tb_method_is_adaptive(def->method) && def->dt == 0.0) { /* none: the rate named */
+            status = tb_scene_default_step(scene, def->method, &stepped.dt);
         }
         def = &stepped;
-        status = check_fixed_step(scene, def, t0);
+        status = status != TB_STATUS_OK ? status : check_fixed_step(scene, def, t0);
     }
     if (status == TB_STATUS_OK) {
         char detail[TB_DETAIL_SIZE];

@@ -353,9 +353,11 @@ static void wake_where(tb_scene *scene, size_t island, bool every)
 void tb__scene_wake_body(tb_scene *scene, size_t id)
 {
     /* island[] holds every body's island of the last boundary: a decision to put the body's
-     * island to sleep that waits for the next acquire is cancelled too */
+     * island to sleep that waits for the next acquire is cancelled too. A body without a state
+     * joins no island (tb__scene_sleep_link), so the bodies resting on it (a table's shape
+     * changed) may be in any: every body wakes */
     if (scene->sleep != NULL && id < scene->sleep->capacity) {
-        wake_where(scene, scene->sleep->island[id], false);
+        wake_where(scene, scene->sleep->island[id], tb__body_fixed(scene, id));
     }
 }
 
@@ -364,11 +366,25 @@ void tb__scene_wake_all(tb_scene *scene)
     wake_where(scene, 0, true);
 }
 
+/* Whether the scene has a keyframed body (one that moves by time). */
+static bool has_keyframed(const tb_scene *scene)
+{
+    for (size_t id = 0; id < scene->body_count; ++id) {
+        if (tb__body_fixed(scene, id) && !tb__body_static(scene, id)) {
+            return true;
+        }
+    }
+    return false;
+}
+
 void tb__scene_sleep_restart(tb_scene *scene, double t)
 {
     /* the clock counts forward only (tb__scene_sleep_end): left at a later run's end, it would
-     * count no stillness in this run until it passed that time */
-    if (scene->sleep != NULL && isfinite(scene->sleep->last_t) && t < scene->sleep->last_t) {
+     * count no stillness in this run until it passed that time. Later than the clock, keys may
+     * have moved a keyframed body in the time passed over (a platform lowered under a box
+     * asleep on it), which no boundary saw */
+    if (scene->sleep != NULL && isfinite(scene->sleep->last_t) &&
+        (t < scene->sleep->last_t || (t > scene->sleep->last_t && has_keyframed(scene)))) {
         tb__scene_wake_all(scene);
         scene->sleep->last_t = NAN;
     }

@@ -57,12 +57,15 @@ void tb__scene_sleep_link(const tb_scene *scene, size_t a, size_t b);
 bool tb__scene_sleep_linked(const tb_scene *scene, size_t a, size_t b);
 void tb__scene_sleep_end(tb_scene *scene, double t, const double *y);
 void tb__scene_sleep_apply_pending(tb_scene *scene);
-/* Wakes body id's island (a user change of its state), or every body. */
+/* Wakes body id's island (a user change of its state or shape; every body for a body without
+ * a state, which is in no island), or every body. */
 void tb__scene_wake_body(tb_scene *scene, size_t id);
 void tb__scene_wake_all(tb_scene *scene);
 /* An integrator made or reset at t: before the sleep clock's last boundary (a run again from
  * an earlier time) the stillness counted belongs to another history, so every body wakes and
- * the clock restarts at t; at or after it (a run continued) nothing changes. */
+ * the clock restarts at t; so too after it in a scene with a keyframed body (its keys may have
+ * moved it in the time passed over); at it (a run continued), or after it in a scene without
+ * one, nothing changes. */
 void tb__scene_sleep_restart(tb_scene *scene, double t);
 /* An integrator made or reset at t from y: the sleep clock's restart, then every effect's
  * restart op (tb__effect_stepping.restart) and the constraints' (a joint broken later whole

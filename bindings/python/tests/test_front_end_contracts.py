@@ -1,4 +1,4 @@
-"""What the bindings promise at their edges (docs/robustness.md F55-F64): read-only views stay
+"""What the bindings promise at their edges (docs/robustness.md F55-F64, F121-F123, F128): read-only views stay
 read-only, an ensemble returns a failed item in its place, counts a C int or long cannot hold
 are refused, a run's frames are bounded before anything is allocated, every way of naming a
 scene works or says why not, and the step budget is every method's and can be raised."""
@@ -170,3 +170,78 @@ def test_every_method_takes_a_step_budget(method):
     if method in ("euler", "midpoint", "rk4", "rosenbrock"):
         with pytest.raises(tumble.TumbleError, match="more than max_steps = 8"):
             scene.run(method=method, dt=0.01, max_steps=8)
+
+
+# --- a refused change changes nothing; a force function's return named (F121, F122) -----------
+
+def test_a_velocity_the_integrator_refuses_is_put_back():
+    # Before: tb_scene_set_velocity took 1e308 rad/s, the integrator's restart refused it
+    # (UNSTABLE_STEP: the guard's step for such a spin), and the error was raised with the
+    # velocity left in the state. A failed call leaves the state as it was, bit for bit.
+    sim = tumble.Simulation(ball(), method="rk4", dt=0.01)
+    sim.advance(0.05)
+    before = sim.state.copy()
+    with pytest.raises(tumble.TumbleError, match="UNSTABLE_STEP"):
+        sim.set_velocity("ball", angular_velocity=[0, 0, 1e308])
+    assert np.array_equal(sim.state, before)
+    sim.advance(0.1)  # and the simulation goes on from it: free flight, z = z0 + vz t - g t^2/2
+    assert sim.position[0, 2] == pytest.approx(1 + 5 * 0.1 - 0.5 * G * 0.1 ** 2, abs=1e-12)
+
+
+@pytest.mark.parametrize("returned, error, words", [
+    (None, TypeError, "got None"),
+    ((np.zeros((1, 3)),) * 3, ValueError, "got a tuple of 3"),
+    ((np.zeros((1, 3)),), ValueError, "got a tuple of 1"),
+    ({"force": 1.0}, TypeError, "forces must be an array of real numbers, got dict"),
+    (np.zeros((1, 3)) + 1j, TypeError, "got an array of complex128"),
+    ((np.zeros((1, 3)), "up"), TypeError, "torques must be an array of real numbers, got str"),
+])
+def test_a_force_function_returning_something_else_is_named(returned, error, words):
+    # Before: None was taken as no force, a complex array lost its imaginary part with a
+    # warning, and the rest failed with Python's own words ("too many values to unpack").
+    sim = tumble.Simulation(ball(), method="rk4", dt=0.01, forces=[lambda t, state: returned])
+    before = sim.state.copy()
+    with pytest.raises(error, match=words):
+        sim.advance(0.05)
+    assert np.array_equal(sim.state, before)  # the failed step left the state where it was
+
+
+@pytest.mark.parametrize("call, error, words", [
+    (lambda b: b.add_keyframed_body("lift", [[0, 1]], [[0, 0, 0], [0, 0, 1]]), ValueError,
+     r"t must be one time per key \(K,\), got shape \(1, 2\)"),
+    (lambda b: b.add_keyframed_body("lift", [0, 1, 2], [[0, 0, 0], [0, 0, 1]]), ValueError,
+     r"position must have shape \(3, 3\) for 3 keys"),
+    (lambda b: b.add_keyframed_body("lift", [0, 1], [[0, 0], [0, 1]]), ValueError,
+     r"position must have shape \(2, 3\)"),
+    (lambda b: b.add_keyframed_body("lift", [0, 1], [0, 0, 0], velocity=[[0, 0, 1]] * 3),
+     ValueError, r"velocity must have shape \(2, 3\)"),
+    (lambda b: b.add_keyframed_body("lift", [], []), ValueError, "at least one key"),
+    (lambda b: b.add_keyframed_body("lift", "01", [0, 0, 0]), TypeError,
+     "t must be real numbers"),
+    (lambda b: b.add_keyframed_body("lift", [0, 1j], [0, 0, 0]), TypeError,
+     "t must be real numbers, got an array of complex128"),
+    (lambda b: b.set_body_pieces("ball", {"type": "sphere", "radius": 0.1}), TypeError,
+     "pieces must be a sequence of shapes"),
+    (lambda b: b.set_body_pieces("ball", [{"type": "sphere", "radius": 0.1}, 5]), TypeError,
+     r"pieces\[1\] must be a shape"),
+])
+def test_a_builder_call_of_the_wrong_shape_or_type_is_named(call, error, words):
+    # Before: NumPy's broadcasting words ("operands could not be broadcast together with
+    # remapped shapes"), "float() argument must be ...", "dictionary update sequence element
+    # #0 has length 1", and t = [[0, 1]] read as one key; each now names the argument.
+    builder = tumble.SceneBuilder()
+    builder.add_body("ball", shape={"type": "sphere", "radius": 0.1}, mass=1.0)
+    with pytest.raises(error, match=words):
+        call(builder)
+
+
+def test_a_callback_that_is_not_a_function_is_named_before_the_run():
+    # Before: Simulation(forces=f) with f a function failed as "'function' object is not
+    # iterable", and Scene.run(on_frame=5) ran up to its first frame to fail as "'int' object is
+    # not callable"; both now name the argument, and the run does not start.
+    with pytest.raises(TypeError, match="forces must be a list of force functions"):
+        tumble.Simulation(ball(), method="rk4", dt=0.01, forces=lambda t, state: np.zeros((1, 3)))
+    scene = tumble.Scene.from_dict(ball())
+    for name in ("on_frame", "on_event"):
+        with pytest.raises(TypeError, match=f"{name} must be a function or None, got int"):
+            scene.run(method="rk4", dt=0.01, **{name: 5})

@@ -39,15 +39,20 @@ class SceneBuilder:
         rad/s (world) are the cubic curve's tangents at the keys (rows of NaN: Catmull-Rom's);
         interpolation "linear", "cubic" or "step". fields as add_body's (a shape, a contact);
         it needs no mass. The library checks the keys when the scene is built."""
-        t = np.atleast_1d(np.asarray(t, dtype=float))
+        t = np.atleast_1d(_numbers(name, "t", t))
+        if t.ndim != 1:
+            raise ValueError(f"add_keyframed_body({name!r}): t must be one time per key (K,), "
+                             f"got shape {t.shape}")
         count = len(t)
-        position = np.broadcast_to(np.asarray(position, dtype=float), (count, 3))
-        orientation = np.broadcast_to(np.asarray([1.0, 0, 0, 0] if orientation is None
-                                                 else orientation, dtype=float), (count, 4))
+        if count == 0:
+            raise ValueError(f"add_keyframed_body({name!r}): t must hold at least one key")
+        position = _rows(name, "position", position, count, 3)
+        orientation = _rows(name, "orientation",
+                            [1.0, 0, 0, 0] if orientation is None else orientation, count, 4)
         tangents = {}
         for key, value in (("velocity", velocity), ("angular_velocity", angular_velocity)):
             if value is not None:
-                tangents[key] = np.broadcast_to(np.asarray(value, dtype=float), (count, 3))
+                tangents[key] = _rows(name, key, value, count, 3)
         keys = []
         for k in range(count):
             entry = {"t": float(t[k]), "position": position[k].tolist(),
@@ -68,6 +73,14 @@ class SceneBuilder:
         properties are the pieces' combined by the parallel-axis theorem (tb_mass_combine).
         ValueError for a name not added or no pieces; the library checks each piece when the
         scene is built, naming it."""
+        if isinstance(pieces, (dict, str, bytes)) or not hasattr(pieces, "__iter__"):
+            raise TypeError(f"set_body_pieces({name!r}): pieces must be a sequence of shapes "
+                            f"(dicts), got {type(pieces).__name__}")
+        pieces = list(pieces)
+        for k, piece in enumerate(pieces):
+            if not isinstance(piece, dict):
+                raise TypeError(f"set_body_pieces({name!r}): pieces[{k}] must be a shape (a dict), "
+                                f"got {type(piece).__name__}")
         pieces = [dict(piece) for piece in pieces]
         if not pieces:
             raise ValueError(f"set_body_pieces({name!r}): pieces must not be empty")
@@ -114,3 +127,27 @@ class SceneBuilder:
         if output:
             description["output"] = output
         return Scene.from_dict(description, name="<builder>")
+
+
+def _numbers(body, argument, value):
+    """value as an array of floats, or TypeError naming the argument (strings, booleans and
+    complex numbers are not numbers here, as in the scene format)."""
+    try:
+        array = np.asarray(value)
+    except (TypeError, ValueError):
+        array = None
+    if array is None or array.dtype.kind not in "iuf":
+        kind = f"an array of {array.dtype}" if array is not None else type(value).__name__
+        raise TypeError(f"add_keyframed_body({body!r}): {argument} must be real numbers, got "
+                        f"{kind}")
+    return array.astype(float)
+
+
+def _rows(body, argument, value, count, width):
+    """value as (count, width) floats, one row given for every key, or an error naming it."""
+    array = _numbers(body, argument, value)
+    if array.shape not in ((width,), (count, width)):
+        raise ValueError(f"add_keyframed_body({body!r}): {argument} must have shape "
+                         f"({count}, {width}) for {count} keys (or ({width},) for all), got "
+                         f"{array.shape}")
+    return np.broadcast_to(array, (count, width))

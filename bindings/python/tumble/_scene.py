@@ -461,6 +461,9 @@ class Scene:
         it cannot). Raises TumbleError if the integrator refuses the settings or the run fails;
         a KeyboardInterrupt (Ctrl-C, seen at the next frame) or an exception from on_frame stops
         the run, and the frames made so far are on the exception's `frames` attribute."""
+        for name, fn in (("on_frame", on_frame), ("on_event", on_event)):
+            if fn is not None and not callable(fn):  # before the run, not at its first frame
+                raise TypeError(f"{name} must be a function or None, got {type(fn).__name__}")
         handle, run = self._load()
         asleep, impacts = ctypes.c_size_t(), _native.UnresolvedImpacts()
         try:

@@ -17,7 +17,8 @@ Body = Union[int, str]
 #: the derivative is evaluated at (read-only; x, q, P, L per body with a state, the rows of
 #: Simulation.state, in Simulation.dynamic_bodies' order);
 #: forces (N, 3) in N act at each body's centre of mass, torques (N, 3) in N m, both in the
-#: world frame. Rows of zeros cost nothing more.
+#: world frame. Rows of zeros cost nothing more; anything else (None, a tuple of another
+#: length, complex numbers) fails the step with an error naming it.
 ForceFunction = Callable[[float, np.ndarray], object]
 
 
@@ -90,6 +91,10 @@ class Simulation:
             self._run = run
             self.bodies = lib.tb_scene_body_count(self._handle)
             self._views()
+            if (callable(forces) or isinstance(forces, (str, bytes, dict))
+                    or not hasattr(forces, "__iter__")):
+                raise TypeError(f"forces must be a list of force functions force(t, state), "
+                                f"got {type(forces).__name__}")
             for force in forces:
                 self._add_user_effect(force)
             if project_joints:  # before the integrator, which keeps its own copy (CVODE)
@@ -428,11 +433,16 @@ class Simulation:
         v = self.velocity[slot] if velocity is None else _vector("velocity", velocity, 3)
         w = (self.angular_velocity[slot] if angular_velocity is None
              else _vector("angular_velocity", angular_velocity, 3))
+        saved = self._y_writable.copy()
         status = lib.tb_scene_set_velocity(self._handle, i, as_pointer(np.ascontiguousarray(v)),
                                            as_pointer(np.ascontiguousarray(w)))
         if status != 0:
             raise failure(status, lib.tb_scene_detail(self._handle).decode())
-        self._restart(self.t)
+        try:  # a velocity the integrator refuses to start from (its guard) is put back
+            self._restart(self.t)
+        except Exception:
+            self._y_writable[:] = saved
+            raise
 
     def _set_part(self, start, stop, name, value):
         array = np.asarray(value, dtype=float) if _is_numeric(value) else None
@@ -517,10 +527,21 @@ class Simulation:
 
 def _apply_loads(handle, y, dydt, state, loads, ids):
     bodies = len(ids)
+    if isinstance(loads, tuple) and len(loads) != 2:
+        raise ValueError(f"a force function returns forces (N, 3) or a tuple (forces, torques), "
+                         f"got a tuple of {len(loads)}")
     forces, torques = loads if isinstance(loads, tuple) else (loads, None)
+    if forces is None and not isinstance(loads, tuple):
+        raise TypeError("a force function returns forces (N, 3) or a tuple (forces, torques), "
+                        "got None")
     for name, array in (("forces", forces), ("torques", torques)):
         if array is None:
             continue
+        if not _is_numeric(array):
+            kind = (f"an array of {array.dtype}" if isinstance(array, np.ndarray)
+                    else type(array).__name__)
+            raise TypeError(f"a force function's {name} must be an array of real numbers, got "
+                            f"{kind}")
         array = np.ascontiguousarray(array, dtype=float)
         if array.shape != (bodies, 3):
             raise ValueError(f"a force function's {name} must have shape ({bodies}, 3), got "
