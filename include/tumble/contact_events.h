@@ -44,7 +44,8 @@ typedef struct tb_contact_event {
  * never inside a derivative; events come in the order of t, then body_a, body_b, effect, kind. It
  * must not change the scene (it is given none; changing calls refuse with TB_STATUS_BUSY), must
  * not step the scene's integrator, and must not destroy the scene. It may destroy the integrator
- * (to stop at the first hit): it is freed as its advance, step or reset returns. */
+ * (to stop at the first hit): the advance stops at that step boundary (after the events of that
+ * boundary) and returns TB_STATUS_OK, and the integrator is freed as it returns. */
 typedef void (*tb_contact_event_fn)(const tb_contact_event *event, void *ctx);
 
 typedef struct tb_contact_events_def {

@@ -160,11 +160,24 @@ static int restart_on_break_reached(tb_integrator *integrator, sunrealtype tn,
     return flag == CV_SUCCESS ? TB__CV_EVENT_RESTART : flag;
 }
 
+/* max_steps used up before tau_out. */
+static int too_much_work(tb_integrator *integrator, double tau_out)
+{
+    snprintf(integrator->cvode->message, sizeof integrator->cvode->message,
+             "max_steps = %ld steps taken (one at a time, for the events and the step limit) "
+             "before reaching t = %.17g",
+             integrator->max_steps, tau_out);
+    return CV_TOO_MUCH_WORK;
+}
+
 int tb__cvode_march(tb_integrator *integrator, double tau_out, int mode, double horizon,
                     sunrealtype *tau_reached)
 {
     tb__cvode *cvode = integrator->cvode;
     for (long calls = 0;; ++calls) {
+        if (integrator->destroy_pending) {
+            return TB__CV_STOPPED; /* destroyed by a callback at the last step: stop there */
+        }
         sunrealtype tn = *tau_reached;
         if (cvode->started) {
             cvode->ops->current_time(cvode->mem, &tn);
@@ -176,11 +189,7 @@ int tb__cvode_march(tb_integrator *integrator, double tau_out, int mode, double 
             return restart_on_break_reached(integrator, tn, tau_reached);
         }
         if (calls == integrator->max_steps) {
-            snprintf(cvode->message, sizeof cvode->message,
-                     "max_steps = %ld steps taken (one at a time, for the events and the step "
-                     "limit) before reaching t = %.17g",
-                     integrator->max_steps, (double)tau_out);
-            return CV_TOO_MUCH_WORK;
+            return too_much_work(integrator, tau_out);
         }
         int flag = limit_next_step(integrator, tn);
         flag = flag == CV_SUCCESS ? tb__cvode_sparse_refresh(integrator, tn) : flag;

@@ -195,8 +195,10 @@ void tb__cvode_sparse_free(tb__cvode *cvode);
  * one step or event (CV_ONE_STEP). Returns CVODE's flag; *tau_reached as CVode's tret; or
  * TB__CV_EVENT_RESTART: it stopped at an event at *tau_reached (y there) before tau_out (or in
  * CV_ONE_STEP), where the system's at_event changed its right-hand side, so CVODE must restart
- * from there. */
+ * from there; or TB__CV_STOPPED: a callback at a step (a contact event) destroyed the
+ * integrator, which stops there. */
 #define TB__CV_EVENT_RESTART 1000
+#define TB__CV_STOPPED 1001
 tb_status tb__cvode_events_init(tb_integrator *integrator, tb_error *error);
 void tb__cvode_events_free(tb__cvode *cvode);
 bool tb__cvode_marches(const tb_integrator *integrator);

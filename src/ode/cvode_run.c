@@ -224,6 +224,9 @@ static tb_status run(tb_integrator *integrator, double t_out, int mode)
         const int flag = tb__cvode_marches(integrator)
                              ? tb__cvode_march(integrator, tau_out, mode, horizon, &tau_reached)
                              : step_freely(cvode, tau_out, mode, horizon, &tau_reached);
+        if (flag == TB__CV_STOPPED) {
+            return TB_STATUS_OK; /* destroyed from a callback: freed as the call returns */
+        }
         /* the rhs changed at an event: restart there, go on (one step: the next call does) */
         const bool go_on = flag == TB__CV_EVENT_RESTART && mode == CV_NORMAL;
         status = flag < 0 ? fail(integrator, flag, tau_reached, t_out)
@@ -234,7 +237,7 @@ static tb_status run(tb_integrator *integrator, double t_out, int mode)
             status = tb__integrator_check_break(integrator);
         }
         cvode->stale = cvode->stale || (flag == TB__CV_EVENT_RESTART && !go_on);
-        if (!go_on || status != TB_STATUS_OK) {
+        if (!go_on || status != TB_STATUS_OK || integrator->destroy_pending) {
             return status;
         }
     }

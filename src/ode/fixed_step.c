@@ -569,8 +569,8 @@ static tb_status fixed_advance(tb_integrator *integrator, double t_target)
         if (status == TB_STATUS_OK && cut && integrator->t == t_end) { /* on a break */
             status = tb__integrator_check_break(integrator);
         }
-        if (status != TB_STATUS_OK) {
-            return status;
+        if (status != TB_STATUS_OK || integrator->destroy_pending) {
+            return status; /* destroyed from a callback at this step: it stops here */
         }
         const bool short_step = cut || integrator->t < t_end;
         i += short_step ? 0 : 1;
