@@ -406,12 +406,13 @@ static void test_removing_an_asleep_bodys_points_wakes_it(void **state)
     tb_scene_destroy(scene);
 }
 
-/* A box asleep on a slab that has no state (static, or keyframed at rest) wakes when the slab's
- * shape changes: the slab is in no island, so waking its island alone (the body whose shape was
- * set) left the box asleep, hovering 4.5 cm above the slab made 1 cm thin, through the
- * integrator made before and a new one. It now rests on the thin slab's top, z = 0.005 + 0.05 m
- * less the contact's static deflection (8e-7 m at the default penetration): within 1e-5 m. */
-static void box_on_a_thinned_slab(tb_body_motion motion)
+/* A sleeping scene: a 1 x 1 x 0.1 m slab of `motion` centred at the origin (keys, when given,
+ * set with linear interpolation), a box resting on its top, gravity and the default contact; run
+ * by RK4 at its default step to 1.5 s, where the box is asleep. The slab's shape into
+ * *out_shape, its id and the box's into out_ids. */
+static tb_integrator *box_asleep_on_a_slab(tb_scene **out_scene, tb_body_motion motion,
+                                           const tb_body_key *keys, size_t key_count,
+                                           tb_shape *out_shape, size_t out_ids[2])
 {
     tb_scene_def def = tb_scene_def_default();
     def.sleeping = true;
@@ -419,36 +420,53 @@ static void box_on_a_thinned_slab(tb_body_motion motion)
     assert_int_equal(tb_scene_create(&def, &scene, NULL), TB_STATUS_OK);
     tb_body_def slab = tb_body_def_default();
     slab.motion = motion;
-    size_t slab_id = 0;
-    assert_int_equal(tb_scene_add_body(scene, &slab, &slab_id), TB_STATUS_OK);
-    if (motion == TB_MOTION_KEYFRAMED) { /* at rest at the origin */
-        tb_body_key keys[2] = {tb_body_key_default(), tb_body_key_default()};
-        keys[1].t = 10.0;
-        assert_int_equal(tb_scene_set_body_keys(scene, slab_id, keys, 2, TB_INTERPOLATION_LINEAR),
-                         TB_STATUS_OK);
+    assert_int_equal(tb_scene_add_body(scene, &slab, &out_ids[0]), TB_STATUS_OK);
+    if (key_count > 0) {
+        assert_int_equal(
+            tb_scene_set_body_keys(scene, out_ids[0], keys, key_count, TB_INTERPOLATION_LINEAR),
+            TB_STATUS_OK);
     }
-    tb_shape shape = tb_shape_default();
-    shape.type = TB_SHAPE_BOX;
-    shape.size[0] = shape.size[1] = 1.0;
-    shape.size[2] = 0.1;
-    assert_int_equal(tb_scene_set_body_shape(scene, slab_id, &shape), TB_STATUS_OK);
-    const size_t box = test_add_box(scene, BOX_MASS, (double[]){EDGE, EDGE, EDGE},
-                                    (double[]){0.0, 0.0, 0.05 + 0.5 * EDGE});
+    *out_shape = tb_shape_default();
+    out_shape->type = TB_SHAPE_BOX;
+    out_shape->size[0] = out_shape->size[1] = 1.0;
+    out_shape->size[2] = 0.1;
+    assert_int_equal(tb_scene_set_body_shape(scene, out_ids[0], out_shape), TB_STATUS_OK);
+    out_ids[1] = test_add_box(scene, BOX_MASS, (double[]){EDGE, EDGE, EDGE},
+                              (double[]){0.0, 0.0, 0.05 + 0.5 * EDGE});
     assert_int_equal(tb_scene_add_gravity(scene, (double[]){0.0, 0.0, -9.81}), TB_STATUS_OK);
     tb_contact_def contact = tb_contact_def_default();
     assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
     tb_integrator *integrator = test_integrator_for(scene, TB_METHOD_RK4, 0.0, 0.0);
     assert_int_equal(tb_integrator_advance(integrator, 1.5), TB_STATUS_OK);
     bool asleep = false;
-    assert_int_equal(tb_scene_body_asleep(scene, box, &asleep), TB_STATUS_OK);
+    assert_int_equal(tb_scene_body_asleep(scene, out_ids[1], &asleep), TB_STATUS_OK);
     assert_true(asleep);
+    *out_scene = scene;
+    return integrator;
+}
+
+/* A box asleep on a slab that has no state (static, or keyframed at rest) wakes when the slab's
+ * shape changes: the slab is in no island, so waking its island alone (the body whose shape was
+ * set) left the box asleep, hovering 4.5 cm above the slab made 1 cm thin, through the
+ * integrator made before and a new one. It now rests on the thin slab's top, z = 0.005 + 0.05 m
+ * less the contact's static deflection (8e-7 m at the default penetration): within 1e-5 m. */
+static void box_on_a_thinned_slab(tb_body_motion motion)
+{
+    tb_body_key keys[2] = {tb_body_key_default(), tb_body_key_default()}; /* at rest */
+    keys[1].t = 10.0;
+    tb_scene *scene = NULL;
+    tb_shape shape;
+    size_t ids[2];
+    tb_integrator *integrator = box_asleep_on_a_slab(
+        &scene, motion, keys, motion == TB_MOTION_KEYFRAMED ? 2 : 0, &shape, ids);
     shape.size[2] = 0.01; /* the slab's top drops from 0.05 m to 0.005 m */
-    assert_int_equal(tb_scene_set_body_shape(scene, slab_id, &shape), TB_STATUS_OK);
-    assert_int_equal(tb_scene_body_asleep(scene, box, &asleep), TB_STATUS_OK);
+    assert_int_equal(tb_scene_set_body_shape(scene, ids[0], &shape), TB_STATUS_OK);
+    bool asleep = true;
+    assert_int_equal(tb_scene_body_asleep(scene, ids[1], &asleep), TB_STATUS_OK);
     assert_false(asleep);
     assert_int_equal(tb_integrator_advance(integrator, 2.0), TB_STATUS_OK);
     tb_body_state fallen;
-    assert_int_equal(tb_scene_get_state(scene, box, &fallen), TB_STATUS_OK);
+    assert_int_equal(tb_scene_get_state(scene, ids[1], &fallen), TB_STATUS_OK);
     assert_true(fabs(fallen.x[2] - (0.005 + 0.5 * EDGE)) < 1e-5);
     tb_integrator_destroy(integrator);
     tb_scene_destroy(scene);
@@ -473,14 +491,6 @@ static void test_an_asleep_box_wakes_when_its_keyframed_slab_thins(void **state)
  * deflection (8e-7 m), within 1e-5 m. */
 static void box_on_a_platform_lowered_while_away(bool reset)
 {
-    tb_scene_def def = tb_scene_def_default();
-    def.sleeping = true;
-    tb_scene *scene = NULL;
-    assert_int_equal(tb_scene_create(&def, &scene, NULL), TB_STATUS_OK);
-    tb_body_def platform = tb_body_def_default();
-    platform.motion = TB_MOTION_KEYFRAMED;
-    size_t platform_id = 0;
-    assert_int_equal(tb_scene_add_body(scene, &platform, &platform_id), TB_STATUS_OK);
     tb_body_key keys[4] = {tb_body_key_default(), tb_body_key_default(), tb_body_key_default(),
                            tb_body_key_default()};
     keys[1].t = 2.0;
@@ -488,23 +498,11 @@ static void box_on_a_platform_lowered_while_away(bool reset)
     keys[2].position[2] = -0.5;
     keys[3].t = 100.0;
     keys[3].position[2] = -0.5;
-    assert_int_equal(tb_scene_set_body_keys(scene, platform_id, keys, 4, TB_INTERPOLATION_LINEAR),
-                     TB_STATUS_OK);
-    tb_shape shape = tb_shape_default();
-    shape.type = TB_SHAPE_BOX;
-    shape.size[0] = shape.size[1] = 1.0;
-    shape.size[2] = 0.1;
-    assert_int_equal(tb_scene_set_body_shape(scene, platform_id, &shape), TB_STATUS_OK);
-    const size_t box = test_add_box(scene, BOX_MASS, (double[]){EDGE, EDGE, EDGE},
-                                    (double[]){0.0, 0.0, 0.05 + 0.5 * EDGE});
-    assert_int_equal(tb_scene_add_gravity(scene, (double[]){0.0, 0.0, -9.81}), TB_STATUS_OK);
-    tb_contact_def contact = tb_contact_def_default();
-    assert_int_equal(tb_scene_add_contact(scene, &contact), TB_STATUS_OK);
-    tb_integrator *integrator = test_integrator_for(scene, TB_METHOD_RK4, 0.0, 0.0);
-    assert_int_equal(tb_integrator_advance(integrator, 1.5), TB_STATUS_OK);
-    bool asleep = false;
-    assert_int_equal(tb_scene_body_asleep(scene, box, &asleep), TB_STATUS_OK);
-    assert_true(asleep);
+    tb_scene *scene = NULL;
+    tb_shape shape;
+    size_t ids[2];
+    tb_integrator *integrator =
+        box_asleep_on_a_slab(&scene, TB_MOTION_KEYFRAMED, keys, 4, &shape, ids);
     if (reset) {
         assert_int_equal(tb_integrator_reset(integrator, 5.0), TB_STATUS_OK);
     } else {
@@ -515,7 +513,7 @@ static void box_on_a_platform_lowered_while_away(bool reset)
     }
     assert_int_equal(tb_integrator_advance(integrator, 6.0), TB_STATUS_OK);
     tb_body_state rest;
-    assert_int_equal(tb_scene_get_state(scene, box, &rest), TB_STATUS_OK);
+    assert_int_equal(tb_scene_get_state(scene, ids[1], &rest), TB_STATUS_OK);
     assert_true(fabs(rest.x[2] - (-0.45 + 0.5 * EDGE)) < 1e-5);
     tb_integrator_destroy(integrator);
     tb_scene_destroy(scene);
