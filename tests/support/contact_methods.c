@@ -61,33 +61,6 @@ tb_scene *test_scene_with_gravity(double g)
     return scene;
 }
 
-size_t test_add_shaped_body(tb_scene *scene, tb_shape_type type, double m, const double size[3],
-                            const double x[3], const double q[4], const double v[3],
-                            const double w[3])
-{
-    tb_body_def def = tb_body_def_default();
-    tb_shape shape = tb_shape_default();
-    shape.type = type;
-    if (type == TB_SHAPE_SPHERE) {
-        shape.radius = size[0];
-        assert_int_equal(tb_mass_from_sphere(TB_MASS_GIVEN, m, size[0], &def.mass, NULL),
-                         TB_STATUS_OK);
-    } else {
-        memcpy(shape.size, size, sizeof shape.size);
-        assert_int_equal(tb_mass_from_box(TB_MASS_GIVEN, m, size, &def.mass, NULL), TB_STATUS_OK);
-    }
-    memcpy(def.position, x, sizeof def.position);
-    if (q != NULL) {
-        memcpy(def.orientation, q, sizeof def.orientation);
-    }
-    size_t id = 0;
-    assert_int_equal(tb_scene_add_body(scene, &def, &id), TB_STATUS_OK);
-    assert_int_equal(tb_scene_set_body_shape(scene, id, &shape), TB_STATUS_OK);
-    const double zero[3] = {0, 0, 0};
-    assert_int_equal(tb_scene_set_velocity(scene, id, v ? v : zero, w ? w : zero), TB_STATUS_OK);
-    return id;
-}
-
 void test_add_tilted_plane(tb_scene *scene, double degrees, double e, double mu_s, double mu_k)
 {
     const double a = degrees * PI / 180.0;

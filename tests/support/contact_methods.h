@@ -32,12 +32,6 @@ tb_integrator *test_contact_integrator(tb_scene *scene, const test_contact_metho
 /* An empty scene under gravity -g z (g 0: none). */
 tb_scene *test_scene_with_gravity(double g);
 
-/* A body of mass m with a sphere (size[0] its radius) or box shape, its centre of mass the
- * shape's centre, at x turned by q (NULL: level), moving at v and w (NULL: at rest). */
-size_t test_add_shaped_body(tb_scene *scene, tb_shape_type type, double m, const double size[3],
-                            const double x[3], const double q[4], const double v[3],
-                            const double w[3]);
-
 /* A ground plane through the origin tilted by `degrees` about y (normal (-sin a, 0, cos a)). */
 void test_add_tilted_plane(tb_scene *scene, double degrees, double e, double mu_s, double mu_k);
 

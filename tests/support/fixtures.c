@@ -81,16 +81,37 @@ tb_integrator *test_integrator_for(tb_scene *scene, tb_method method, double dt,
     return test_integrator(scene, &def);
 }
 
-size_t test_add_box(tb_scene *scene, double m, const double size[3], const double x[3])
+size_t test_add_shaped_body(tb_scene *scene, tb_shape_type type, double m, const double size[3],
+                            const double x[3], const double q[4], const double v[3],
+                            const double w[3])
 {
     tb_body_def def = tb_body_def_default();
-    assert_int_equal(tb_mass_from_box(TB_MASS_GIVEN, m, size, &def.mass, NULL), TB_STATUS_OK);
+    tb_shape shape = tb_shape_default();
+    shape.type = type;
+    if (type == TB_SHAPE_SPHERE) {
+        shape.radius = size[0];
+        assert_int_equal(tb_mass_from_sphere(TB_MASS_GIVEN, m, size[0], &def.mass, NULL),
+                         TB_STATUS_OK);
+    } else {
+        memcpy(shape.size, size, sizeof shape.size);
+        assert_int_equal(tb_mass_from_box(TB_MASS_GIVEN, m, size, &def.mass, NULL), TB_STATUS_OK);
+    }
     memcpy(def.position, x, sizeof def.position);
+    if (q != NULL) {
+        memcpy(def.orientation, q, sizeof def.orientation);
+    }
     size_t id = 0;
     assert_int_equal(tb_scene_add_body(scene, &def, &id), TB_STATUS_OK);
-    tb_shape shape = tb_shape_default();
-    shape.type = TB_SHAPE_BOX;
-    memcpy(shape.size, size, sizeof shape.size);
     assert_int_equal(tb_scene_set_body_shape(scene, id, &shape), TB_STATUS_OK);
+    if (v != NULL || w != NULL) { /* a new body is at rest: nothing to set, nothing woken */
+        const double zero[3] = {0, 0, 0};
+        assert_int_equal(tb_scene_set_velocity(scene, id, v ? v : zero, w ? w : zero),
+                         TB_STATUS_OK);
+    }
     return id;
+}
+
+size_t test_add_box(tb_scene *scene, double m, const double size[3], const double x[3])
+{
+    return test_add_shaped_body(scene, TB_SHAPE_BOX, m, size, x, NULL, NULL, NULL);
 }

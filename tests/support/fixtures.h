@@ -33,4 +33,10 @@ tb_integrator *test_integrator_for(tb_scene *scene, tb_method method, double dt,
  * collision shape of the same size. Fails the test on error. */
 size_t test_add_box(tb_scene *scene, double m, const double size[3], const double x[3]);
 
+/* A body of mass m with a sphere (size[0] its radius) or box shape, its centre of mass the
+ * shape's centre, at x turned by q (NULL: level), moving at v and w (NULL: at rest). */
+size_t test_add_shaped_body(tb_scene *scene, tb_shape_type type, double m, const double size[3],
+                            const double x[3], const double q[4], const double v[3],
+                            const double w[3]);
+
 #endif
