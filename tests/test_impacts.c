@@ -425,18 +425,8 @@ static void test_a_reset_before_an_impact_counts_it_once(void **unused)
 static void test_a_reset_between_impacts_keeps_those_before_it(void **unused)
 {
     (void)unused;
-    char path[512];
-    snprintf(path, sizeof path, "%s/newtons_cradle.json", TUMBLE_SCENES_DIR);
-    tb_scene *scene = NULL;
-    tb_run_def run;
-    tb_error error;
-    assert_int_equal(tb_scene_load_file(path, &scene, &run, &error), TB_STATUS_OK);
-    assert_int_equal(tb_integrator_def_set_method(&run.integrator, TB_METHOD_ROSENBROCK),
-                     TB_STATUS_OK);
-    run.integrator.dt = 1e-3;
     tb_integrator *integrator = NULL;
-    assert_int_equal(tb_scene_integrator_create(scene, &run.integrator, 0.0, &integrator),
-                     TB_STATUS_OK);
+    tb_scene *scene = start_example("newtons_cradle", TB_METHOD_ROSENBROCK, 1e-3, &integrator);
     const double middle = 0.6;
     assert_int_equal(tb_integrator_advance(integrator, middle), TB_STATUS_OK);
     tb_unresolved_impacts before, after, again;
